@@ -1,0 +1,17 @@
+//! guideway: bodies moving on flexible structures.
+//!
+//! The physics (beam, bodies, contact, integrators, the contact-force
+//! iteration of Lee 1994) lives in the modules below `simulation`; it knows
+//! nothing of FMI. The `model` module turns a scene into a table of named,
+//! typed variables; the `fmi2` layer exports that table through the FMI 2.0
+//! co-simulation C ABI and knows nothing of beams.
+
+pub mod beam;
+pub mod body;
+pub mod contact;
+pub mod iteration;
+pub mod scene;
+pub mod simulation;
+
+pub use scene::Scene;
+pub use simulation::{Advance, OutputInfo, OutputKind, SimState, Simulation, SolverError};

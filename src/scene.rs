@@ -1,0 +1,222 @@
+//! Scene description: beam, moving body, sensors and solver settings.
+//!
+//! Read from TOML with serde. Every length is in metres, mass in kilograms,
+//! force in newtons, time in seconds.
+
+use serde::{Deserialize, Serialize};
+
+/// A complete, self-contained description of one simulation.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short identifier, used as the FMU's model name.
+    pub name: String,
+    /// One line saying what the scene is.
+    #[serde(default)]
+    pub description: String,
+    pub beam: BeamSpec,
+    pub body: BodySpec,
+    #[serde(default)]
+    pub sensors: Vec<SensorSpec>,
+    #[serde(default)]
+    pub solver: SolverSpec,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamSpec {
+    /// Length L of the beam (m).
+    pub length: f64,
+    /// Mass per unit length (kg/m).
+    pub mass_per_length: f64,
+    /// Bending stiffness EI (N m^2).
+    pub bending_stiffness: f64,
+    /// Distance h from the neutral axis to the top surface (m).
+    pub surface_offset: f64,
+    /// Number of Hermite cubic elements.
+    pub elements: usize,
+    #[serde(default)]
+    pub supports: SupportsSpec,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportsSpec {
+    #[serde(default = "pinned")]
+    pub left: EndSupport,
+    #[serde(default = "pinned")]
+    pub right: EndSupport,
+    /// Abscissae (m) of intermediate pinned supports for multi-span beams.
+    #[serde(default)]
+    pub intermediate: Vec<f64>,
+}
+
+fn pinned() -> EndSupport {
+    EndSupport::Pinned
+}
+
+impl Default for SupportsSpec {
+    fn default() -> Self {
+        SupportsSpec {
+            left: EndSupport::Pinned,
+            right: EndSupport::Pinned,
+            intermediate: Vec::new(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum EndSupport {
+    /// Deflection held, rotation free.
+    Pinned,
+    /// Deflection and rotation held.
+    Clamped,
+    /// Nothing held.
+    Free,
+}
+
+/// The moving body: a rolling wheel or a maglev glider.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BodySpec {
+    /// Prefix of the body's variables (`wheel.x`, `glider.x`, ...).
+    pub name: String,
+    pub kind: BodyKind,
+    /// Mass m (kg).
+    pub mass: f64,
+    /// Centroidal moment of inertia J (kg m^2); wheels only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub inertia: Option<f64>,
+    /// Radius r (m); wheels only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub radius: Option<f64>,
+    /// Abscissa of the contact point at t = 0 (m).
+    #[serde(default)]
+    pub initial_position: f64,
+    /// Initial travel speed (m/s), positive to the right.
+    pub initial_speed: f64,
+    /// Constant force on the body's centre, x component (N).
+    #[serde(default)]
+    pub force_x: f64,
+    /// Constant force on the body's centre, y component (N); the paper's
+    /// scenes use -600 kN.
+    #[serde(default)]
+    pub force_y: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BodyKind {
+    /// Rigid disc rolling without slip (mass, inertia, radius).
+    Wheel,
+    /// Point body gliding at the surface (r = 0, J = 0): the maglev model.
+    Glider,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    /// Sensor name; its output is `sensor.<name>.deflection`.
+    pub name: String,
+    /// Abscissa along the beam (m).
+    pub position: f64,
+}
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSpec {
+    /// Fixed internal time step (s).
+    #[serde(default = "default_step")]
+    pub step: f64,
+    /// Tolerance on the velocity error |e| (m/s); paper: 1e-7.
+    #[serde(default = "default_velocity_tolerance")]
+    pub velocity_tolerance: f64,
+    /// Tolerance on the gap error |g| (m); paper: 1e-5.
+    #[serde(default = "default_gap_tolerance")]
+    pub gap_tolerance: f64,
+    /// Cap on contact-force iterations per stage and step.
+    #[serde(default = "default_max_iterations")]
+    pub max_iterations: u32,
+    /// Time integrator of the bodies.
+    #[serde(default)]
+    pub integrator: IntegratorKind,
+    /// Stop time (s) if the body has not left the beam before.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_time: Option<f64>,
+}
+
+fn default_step() -> f64 {
+    0.0025
+}
+fn default_velocity_tolerance() -> f64 {
+    1e-7
+}
+fn default_gap_tolerance() -> f64 {
+    1e-5
+}
+fn default_max_iterations() -> u32 {
+    50
+}
+
+impl Default for SolverSpec {
+    fn default() -> Self {
+        SolverSpec {
+            step: default_step(),
+            velocity_tolerance: default_velocity_tolerance(),
+            gap_tolerance: default_gap_tolerance(),
+            max_iterations: default_max_iterations(),
+            integrator: IntegratorKind::default(),
+            end_time: None,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IntegratorKind {
+    /// Classical fourth-order Runge-Kutta, the paper's scheme.
+    #[default]
+    Rk4,
+}
+
+impl Scene {
+    /// The paper's model 1 (Vu-Quoc & Olsson's beam) with the given body.
+    pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
+        let (name, inertia, radius) = match kind {
+            BodyKind::Wheel => ("wheel", Some(135.0), Some(0.3)),
+            BodyKind::Glider => ("glider", None, None),
+        };
+        Scene {
+            name: format!("lee1994-{name}-{initial_speed}"),
+            description: String::new(),
+            beam: BeamSpec {
+                length: 24.0,
+                mass_per_length: 1250.0,
+                bending_stiffness: 1e9,
+                surface_offset: 0.6,
+                elements: 2,
+                supports: SupportsSpec::default(),
+            },
+            body: BodySpec {
+                name: name.to_string(),
+                kind,
+                mass: 3000.0,
+                inertia,
+                radius,
+                initial_position: 0.0,
+                initial_speed,
+                force_x: 0.0,
+                force_y: -600e3,
+            },
+            sensors: vec![SensorSpec {
+                name: "midspan".into(),
+                position: 12.0,
+            }],
+            solver: SolverSpec {
+                step,
+                ..SolverSpec::default()
+            },
+        }
+    }
+}
