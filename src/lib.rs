@@ -10,6 +10,7 @@ pub mod beam;
 pub mod body;
 pub mod contact;
 pub mod iteration;
+pub mod model;
 pub mod scene;
 pub mod simulation;
 
