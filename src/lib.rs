@@ -9,6 +9,7 @@
 pub mod beam;
 pub mod body;
 pub mod contact;
+pub mod fmi2;
 pub mod iteration;
 pub mod model;
 pub mod scene;

@@ -82,7 +82,7 @@ pub struct Model<D: Dynamics> {
 pub fn validate(scene: &Scene) -> Result<(), String> {
     let name = &scene.body.name;
     let length = scene.beam.length;
-    if !(scene.body.initial_position < length) {
+    if scene.body.initial_position >= length {
         return Err(format!(
             "{name}.initial_position = {}: must be < beam.length = {length}",
             scene.body.initial_position
