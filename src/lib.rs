@@ -10,6 +10,7 @@ pub mod beam;
 pub mod body;
 pub mod contact;
 pub mod fmi2;
+pub mod fmu;
 pub mod iteration;
 pub mod model;
 pub mod scene;
