@@ -176,3 +176,110 @@ pub fn foot_point(
     }
     Err(FootPointError { last_x: x })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{BeamSpec, SupportsSpec};
+
+    fn deformed_beam() -> (Beam, DVector<f64>) {
+        let beam = Beam::new(&BeamSpec {
+            length: 24.0,
+            mass_per_length: 1250.0,
+            bending_stiffness: 1e9,
+            surface_offset: 0.6,
+            elements: 3,
+            supports: SupportsSpec::default(),
+        })
+        .unwrap();
+        let n = beam.free_dofs();
+        // A smooth, clearly non-trivial shape.
+        let u = DVector::from_fn(n, |i, _| 0.05 * ((i as f64) * 1.3).sin());
+        (beam, u)
+    }
+
+    #[test]
+    fn foot_point_is_perpendicular_and_crosses_elements() {
+        let (beam, u) = deformed_beam();
+        // Start the search two elements away from the answer.
+        let centre = Vector2::new(17.3, 1.2);
+        let frame = foot_point(&beam, &u, &centre, 1.0).unwrap();
+        let d = Vector2::new(frame.x, frame.deflection);
+        let along = frame.tangent().dot(&(centre - d));
+        assert!(along.abs() < 1e-12, "tangential offset {along}");
+        assert_eq!(frame.shape.element, beam.element_at(frame.x));
+        assert!((frame.x - 17.3).abs() < 0.2);
+    }
+
+    #[test]
+    fn contact_power_is_force_times_velocity_error() {
+        // The loads are the transposes of the constraint rows, so the power
+        // the contact force puts into body and beam together is p · e.
+        let (beam, u) = deformed_beam();
+        let body = RigidBody {
+            mass: 3000.0,
+            inertia: 135.0,
+            radius: 0.3,
+            rolls: true,
+        };
+        let centre = Vector2::new(9.1, 0.95);
+        let frame = foot_point(&beam, &u, &centre, 9.0).unwrap();
+        let state = BodyState {
+            position: centre,
+            velocity: Vector2::new(10.0, -0.4),
+            angle: 0.0,
+            angular_velocity: -31.0,
+        };
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let p = ContactForce {
+            tangential: 1.5e4,
+            normal: 6e5,
+        };
+        let force = frame.tangent() * p.tangential + frame.normal() * p.normal;
+        let body_power =
+            force.dot(&state.velocity) + p.tangential * body.radius * state.angular_velocity;
+        let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
+        let mut load = DVector::zeros(beam.free_dofs());
+        frame.shape.scatter(&t_row, -p.tangential, &mut load);
+        frame.shape.scatter(&n_row, -p.normal, &mut load);
+        let beam_power = load.dot(&v);
+        let e = frame.velocity_error(&beam, &body, &state, &v);
+        let expected = p.as_vector().dot(&e);
+        assert!(
+            (body_power + beam_power - expected).abs() < 1e-9 * body_power.abs(),
+            "{} vs {expected}",
+            body_power + beam_power
+        );
+    }
+
+    #[test]
+    fn normal_velocity_error_is_the_rate_of_the_gap() {
+        // The normal row is the exact derivative of g: check by finite differences.
+        let (beam, u) = deformed_beam();
+        let body = RigidBody {
+            mass: 3000.0,
+            inertia: 135.0,
+            radius: 0.3,
+            rolls: true,
+        };
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let state = BodyState {
+            position: Vector2::new(9.1, 0.95),
+            velocity: Vector2::new(10.0, -0.4),
+            angle: 0.0,
+            angular_velocity: -31.0,
+        };
+        let gap_at = |h: f64| {
+            let u_h = &u + &v * h;
+            let c = state.position + state.velocity * h;
+            foot_point(&beam, &u_h, &c, 9.0)
+                .unwrap()
+                .gap(&beam, &body, &c)
+        };
+        let h = 1e-6;
+        let rate = (gap_at(h) - gap_at(-h)) / (2.0 * h);
+        let frame = foot_point(&beam, &u, &state.position, 9.0).unwrap();
+        let e = frame.velocity_error(&beam, &body, &state, &v);
+        assert!((rate - e.y).abs() < 1e-7, "{rate} vs {}", e.y);
+    }
+}

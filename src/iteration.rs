@@ -128,20 +128,32 @@ impl ContactIteration {
         }
     }
 
-    fn delassus(&mut self, system: &System, frame: &ContactFrame, dt: f64) -> Delassus {
+    /// Sensitivities of the errors measured in `measure` (the end-of-step
+    /// frame) to a force applied in `apply` (where the step starts).
+    fn delassus(
+        &mut self,
+        system: &System,
+        apply: &ContactFrame,
+        measure: &ContactFrame,
+        dt: f64,
+    ) -> Delassus {
         let beam = &system.beam;
         let body = &system.body;
-        let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
+        let (t_row, n_row) = apply.beam_rows(beam.surface_offset);
         let rows = [t_row, n_row];
+        let (mt_row, mn_row) = measure.beam_rows(beam.surface_offset);
+        let measure_rows = [mt_row, mn_row];
         let active = if body.rolls { 0..2 } else { 1..2 };
         for j in active.clone() {
             self.load.fill(0.0);
-            frame.shape.scatter(&rows[j], 1.0, &mut self.load);
+            apply.shape.scatter(&rows[j], 1.0, &mut self.load);
             let (u, v) = (&mut self.response_u[j], &mut self.response_v[j]);
             self.rk4.beam_response(system, &self.load, dt, u, v);
         }
-        let (bt, bn) = frame.body_rows(body.radius);
+        let (bt, bn) = apply.body_rows(body.radius);
         let body_rows = [bt, bn];
+        let (mbt, mbn) = measure.body_rows(body.radius);
+        let measure_body_rows = [mbt, mbn];
         let inverse_inertia = if body.rolls && body.inertia > 0.0 {
             1.0 / body.inertia
         } else {
@@ -150,16 +162,18 @@ impl ContactIteration {
         let mut velocity = Matrix2::zeros();
         for i in active.clone() {
             for j in active.clone() {
-                let (a, b) = (&body_rows[i], &body_rows[j]);
+                let (a, b) = (&measure_body_rows[i], &body_rows[j]);
                 let body_part =
                     dt * ((a.x * b.x + a.y * b.y) / body.mass + a.z * b.z * inverse_inertia);
-                velocity[(i, j)] = body_part + frame.shape.dot(&rows[i], &self.response_v[j]);
+                velocity[(i, j)] =
+                    body_part + measure.shape.dot(&measure_rows[i], &self.response_v[j]);
             }
         }
         if !body.rolls {
             velocity[(0, 0)] = 1.0;
         }
-        let gap = dt * dt / (2.0 * body.mass) + frame.shape.dot(&n_row, &self.response_u[1]);
+        let gap = dt * dt / (2.0 * body.mass) * measure.normal().dot(&apply.normal())
+            + measure.shape.dot(&mn_row, &self.response_u[1]);
         Delassus { velocity, gap }
     }
 
@@ -205,11 +219,7 @@ impl ContactIteration {
             start.contact_x,
         )
         .map_err(|e| StepError::LostContact { x: e.last_x })?;
-        let delassus = self.delassus(system, &start_frame, dt);
-        let acceleration_matrix = delassus
-            .velocity
-            .try_inverse()
-            .ok_or(StepError::NonFinite { stage: "velocity" })?;
+        let mut delassus: Option<(Delassus, Matrix2<f64>)> = None;
 
         let mut force = guess;
         if !body.rolls {
@@ -249,6 +259,15 @@ impl ContactIteration {
                     tolerance: settings.velocity_tolerance,
                 });
             }
+            if delassus.is_none() {
+                let d = self.delassus(system, &start_frame, &frame, dt);
+                let a = d
+                    .velocity
+                    .try_inverse()
+                    .ok_or(StepError::NonFinite { stage: "velocity" })?;
+                delassus = Some((d, a));
+            }
+            let (_, acceleration_matrix) = delassus.as_ref().expect("built above");
             force = ContactForce::from_vector(force.as_vector() - acceleration_matrix * e);
         };
         // Position stage (eq. 17).
@@ -266,7 +285,12 @@ impl ContactIteration {
                     tolerance: settings.gap_tolerance,
                 });
             }
-            force.normal -= gap / delassus.gap;
+            if delassus.is_none() {
+                let d = self.delassus(system, &start_frame, &frame, dt);
+                delassus = Some((d, Matrix2::identity()));
+            }
+            let (d, _) = delassus.as_ref().expect("built above");
+            force.normal -= gap / d.gap;
             frame = self.integrate_and_measure(system, start, force, external, dt, end)?;
             gap = frame.gap(beam, body, &end.body.position);
             iterations += 1;

@@ -60,9 +60,11 @@ pub struct SimState {
     /// Index of the last grid point k·Δt reached (the grid of `solver.step`).
     pub grid_step: u64,
     pub dynamic: DynamicState,
-    pub force: ContactForce,
-    pub previous_force: ContactForce,
-    pub previous_step: f64,
+    /// Converged contact force of the last steps, newest first, and the
+    /// lengths of the steps between them: the history the next step's
+    /// initial guess is extrapolated from.
+    pub force_history: [ContactForce; 3],
+    pub step_history: [f64; 2],
     pub body_force: [f64; 2],
     pub external_work: f64,
     pub initial_energy: f64,
@@ -72,6 +74,24 @@ pub struct SimState {
     pub steps: u64,
     pub total_iterations: u64,
     pub exit_time: Option<f64>,
+}
+
+/// Initial guess of the next step's contact force (procedure step 1):
+/// quadratic extrapolation of the last three converged forces, at times
+/// 0, −h₀, −h₀−h₁, to time `dt`.
+fn extrapolate(history: &[ContactForce; 3], steps: &[f64; 2], dt: f64) -> ContactForce {
+    let nodes = [0.0, -steps[0], -steps[0] - steps[1]];
+    let mut guess = Vector2::zeros();
+    for (i, force) in history.iter().enumerate() {
+        let mut weight = 1.0;
+        for (j, node) in nodes.iter().enumerate() {
+            if i != j {
+                weight *= (dt - node) / (nodes[i] - node);
+            }
+        }
+        guess += weight * force.as_vector();
+    }
+    ContactForce::from_vector(guess)
 }
 
 /// Which quantity an output reports.
@@ -340,9 +360,8 @@ impl Simulation {
                 time: 0.0,
                 grid_step: 0,
                 dynamic,
-                force,
-                previous_force: force,
-                previous_step: step,
+                force_history: [force; 3],
+                step_history: [step; 2],
                 body_force,
                 external_work: 0.0,
                 initial_energy: 0.0,
@@ -398,8 +417,8 @@ impl Simulation {
                     f.nominal_speed(beam, body, &d.body, &d.beam_velocity)
                 }),
                 Quantity::ContactPosition => d.contact_x,
-                Quantity::TangentialForce => self.state.force.tangential,
-                Quantity::NormalForce => self.state.force.normal,
+                Quantity::TangentialForce => self.state.force_history[0].tangential,
+                Quantity::NormalForce => self.state.force_history[0].normal,
                 Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, self.sensors[i]),
                 Quantity::BodyKinetic => body.kinetic_energy(&d.body),
                 Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
@@ -492,9 +511,7 @@ impl Simulation {
     fn step_to(&mut self, to: f64) -> Result<(), SolverError> {
         let dt = to - self.state.time;
         let s = &self.state;
-        // Linear extrapolation of the force history (procedure step 1).
-        let slope = (s.force.as_vector() - s.previous_force.as_vector()) / s.previous_step;
-        let guess = ContactForce::from_vector(s.force.as_vector() + slope * dt);
+        let guess = extrapolate(&s.force_history, &s.step_history, dt);
         let external = Vector2::new(s.body_force[0], s.body_force[1]);
         let solution = self.solve(guess, dt)?;
         let length = self.system.beam.length;
@@ -514,9 +531,8 @@ impl Simulation {
         let s = &mut self.state;
         s.external_work += external.dot(&(self.scratch.body.position - s.dynamic.body.position));
         std::mem::swap(&mut s.dynamic, &mut self.scratch);
-        s.previous_force = s.force;
-        s.force = solution.force;
-        s.previous_step = dt;
+        s.force_history = [solution.force, s.force_history[0], s.force_history[1]];
+        s.step_history = [dt, s.step_history[0]];
         s.time = if boundary.is_some() { s.time + dt } else { to };
         s.last_iterations = solution.iterations;
         s.last_velocity_error = solution.velocity_error;
