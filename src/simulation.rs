@@ -354,7 +354,7 @@ impl Simulation {
                 gap_tolerance: scene.solver.gap_tolerance,
                 max_iterations: scene.solver.max_iterations,
             },
-            iteration: ContactIteration::new(n),
+            iteration: ContactIteration::new(n, beam.elements(), step),
             scratch: dynamic.clone(),
             state: SimState {
                 time: 0.0,
