@@ -11,10 +11,12 @@ pub mod body;
 pub mod contact;
 pub mod fmi2;
 pub mod fmu;
+pub mod integrate;
 pub mod iteration;
 pub mod model;
 pub mod scene;
 pub mod simulation;
+pub mod system;
 
 pub use scene::Scene;
 pub use simulation::{Advance, OutputInfo, OutputKind, SimState, Simulation, SolverError};
