@@ -9,5 +9,9 @@ fn main() {
         Advance::Exited { time } => time,
         Advance::Reached => f64::NAN,
     };
-    println!("exit at {time} s after {:?} in {:?}", sim.counters(), start.elapsed());
+    println!(
+        "exit at {time} s after {:?} in {:?}",
+        sim.counters(),
+        start.elapsed()
+    );
 }

@@ -251,8 +251,7 @@ impl ContactIteration {
         if !body.rolls {
             velocity[(0, 0)] = 1.0;
         }
-        let gap =
-            dt * dt / (2.0 * body.mass) * measure.normal().dot(&apply.normal()) + beam_gap;
+        let gap = dt * dt / (2.0 * body.mass) * measure.normal().dot(&apply.normal()) + beam_gap;
         Delassus { velocity, gap }
     }
 
@@ -311,7 +310,8 @@ impl ContactIteration {
         let mut first_residual = None;
         // Velocity stage (eq. 16).
         let mut frame = loop {
-            let frame = self.integrate_and_measure(system, start, &start_frame, force, external, dt, end)?;
+            let frame =
+                self.integrate_and_measure(system, start, &start_frame, force, external, dt, end)?;
             iterations += 1;
             let mut e = frame.velocity_error(beam, body, &end.body, &end.beam_velocity);
             if !body.rolls {
@@ -373,7 +373,8 @@ impl ContactIteration {
             }
             let (d, _) = delassus.as_ref().expect("built above");
             force.normal -= gap / d.gap;
-            frame = self.integrate_and_measure(system, start, &start_frame, force, external, dt, end)?;
+            frame =
+                self.integrate_and_measure(system, start, &start_frame, force, external, dt, end)?;
             gap = frame.gap(beam, body, &end.body.position);
             iterations += 1;
             position_iterations += 1;
