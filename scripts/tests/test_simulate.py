@@ -128,3 +128,18 @@ def test_libcosimpy_agrees_with_fmpy():
                 np.testing.assert_allclose(value, result[name][k], rtol=1e-9, err_msg=name)
             compared += 1
     assert compared == 4
+
+
+def test_main_job_script_prints_the_summary_and_writes_the_plot(tmp_path, capsys):
+    import importlib.util
+    from conftest import ROOT
+    spec = importlib.util.spec_from_file_location("simulate_fmu_script",
+                                                  ROOT / "scripts" / "simulate_fmu.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    png = tmp_path / "plot.png"
+    assert script.main([str(fmu_path(WHEEL)), "--interval", "0.01", "--plot", str(png)]) == 0
+    out = capsys.readouterr().out
+    assert "fmi2LastSuccessfulTime" in out
+    assert "sensor.midspan.deflection  peak" in out
+    assert png.stat().st_size > 10_000
