@@ -192,3 +192,28 @@ def test_resource_location_in_short_file_form_with_percent_encoding(slave, tmp_p
     assert c is not None, msgs.text()
     lib.fmi2FreeInstance.argtypes = [C.c_void_p]
     lib.fmi2FreeInstance(c)
+
+
+def test_solver_failure_rolls_the_step_back_and_the_master_can_retry(slave):
+    from fmpy.fmi2 import fmi2Terminated, fmi2LastSuccessfulTime
+    s = slave(WHEEL).init()
+    s.fmu.doStep(0.0, 0.1)
+    before = s.outputs()
+    # pulling the wheel up makes the bilateral contact force tensile: the
+    # solver refuses the step
+    s.fmu.setReal([s.vr["wheel.force_y"]], [5e6])
+    with pytest.raises(FMICallException) as e:
+        s.fmu.doStep(0.1, 0.1)
+    assert e.value.status == 2  # fmi2Discard
+    assert "rolled back to t = 0.1" in s.messages.text()
+    assert np.array_equal(before, s.outputs())
+    assert np.all(np.isfinite(s.outputs()))
+    assert not s.fmu.getBooleanStatus(fmi2Terminated)
+    assert s.fmu.getRealStatus(fmi2LastSuccessfulTime) == pytest.approx(0.1)
+    # retry with the force restored: same result as an undisturbed run
+    s.fmu.setReal([s.vr["wheel.force_y"]], [-600e3])
+    s.fmu.doStep(0.1, 0.1)
+    ref = slave(WHEEL, name="ref").init()
+    ref.fmu.doStep(0.0, 0.1)
+    ref.fmu.doStep(0.1, 0.1)
+    assert np.array_equal(ref.outputs(), s.outputs())

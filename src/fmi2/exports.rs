@@ -783,3 +783,66 @@ pub unsafe extern "C" fn fmi2GetStringStatus(
     }
 }
 const _: fmi2GetStringStatusTYPE = Some(fmi2GetStringStatus);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi2::describe;
+    use crate::scene::{BodyKind, Scene};
+
+    fn component() -> fmi2Component {
+        let scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
+        let guid = describe::<Physics>(&scene).unwrap().guid;
+        let logger = Logger::new(None, std::ptr::null_mut(), "t", false);
+        let inst = Inst::new(scene, &guid, logger).unwrap_or_else(|(_, e)| panic!("{e}"));
+        Box::into_raw(Box::new(inst)) as fmi2Component
+    }
+
+    #[test]
+    fn a_panic_becomes_fatal_and_only_free_is_left() {
+        let c = component();
+        let status = unsafe { with_instance(c, "fmi2Test", |_| panic!("boom")) };
+        assert_eq!(status, FATAL);
+        assert_eq!(unsafe { fmi2EnterInitializationMode(c) }, ERROR);
+        unsafe { fmi2FreeInstance(c) };
+    }
+
+    #[test]
+    fn null_component_gives_error_and_free_of_null_does_nothing() {
+        unsafe {
+            assert_eq!(fmi2DoStep(std::ptr::null_mut(), 0.0, 0.1, 1), ERROR);
+            assert_eq!(fmi2Reset(std::ptr::null_mut()), ERROR);
+            fmi2FreeInstance(std::ptr::null_mut());
+        }
+    }
+
+    #[test]
+    fn null_arrays_are_refused_unless_empty() {
+        let c = component();
+        unsafe {
+            assert_eq!(fmi2EnterInitializationMode(c), OK);
+            assert_eq!(
+                fmi2GetReal(c, std::ptr::null(), 0, std::ptr::null_mut()),
+                OK
+            );
+            assert_eq!(
+                fmi2GetReal(c, std::ptr::null(), 2, std::ptr::null_mut()),
+                ERROR
+            );
+            let vr = [0u32];
+            assert_eq!(fmi2GetReal(c, vr.as_ptr(), 1, std::ptr::null_mut()), ERROR);
+            let mut x = [0.0];
+            assert_eq!(fmi2GetReal(c, vr.as_ptr(), 1, x.as_mut_ptr()), OK);
+            assert_eq!(x[0], 24.0);
+            let mut state: fmi2FMUstate = std::ptr::null_mut();
+            assert_eq!(fmi2GetFMUstate(c, &mut state), OK);
+            assert!(!state.is_null());
+            assert_eq!(fmi2FreeFMUstate(c, &mut state), OK);
+            assert!(state.is_null());
+            assert_eq!(fmi2FreeFMUstate(c, &mut state), OK, "freeing NULL is fine");
+            let mut foreign = 8usize as fmi2FMUstate;
+            assert_eq!(fmi2FreeFMUstate(c, &mut foreign), ERROR);
+            fmi2FreeInstance(c);
+        }
+    }
+}

@@ -21,7 +21,9 @@ pub enum Mode {
     InitializationMode,
     StepComplete,
     /// Last doStep returned fmi2Discard: the body left the beam
-    /// (terminated) or the solver failed (rolled back, retry possible).
+    /// (terminated), or the solver failed: then the state was rolled back to
+    /// the start of the step and, beyond the standard's state machine, inputs
+    /// may be set and the step retried (e.g. with a smaller size).
     StepFailed,
     Terminated,
     /// An internal fault (a caught panic): only fmi2FreeInstance is useful.
@@ -190,7 +192,11 @@ impl<D: Dynamics> Instance<D> {
     }
 
     pub fn set(&mut self, function: &str, vrs: &[u32], values: &[Value]) -> Result<(), String> {
-        self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
+        // After a rolled-back solver failure (StepFailed, not terminated) the
+        // master may change inputs and retry the step.
+        if !(self.mode == StepFailed && !self.terminated()) {
+            self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
+        }
         self.model
             .set(vrs, values)
             .map_err(|e| format!("{function}: {e}"))
