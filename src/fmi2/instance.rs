@@ -194,7 +194,7 @@ impl<D: Dynamics> Instance<D> {
     pub fn set(&mut self, function: &str, vrs: &[u32], values: &[Value]) -> Result<(), String> {
         // After a rolled-back solver failure (StepFailed, not terminated) the
         // master may change inputs and retry the step.
-        if !(self.mode == StepFailed && !self.terminated()) {
+        if self.mode != StepFailed || self.terminated() {
             self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
         }
         self.model
