@@ -75,11 +75,21 @@ unsafe fn with_instance(
     }
 }
 
+/// Refuse lengths no array can have (more bytes than `isize::MAX`).
+fn check_len<T>(n: usize, what: &str) -> Result<(), String> {
+    let max = isize::MAX as usize / std::mem::size_of::<T>().max(1);
+    if n > max {
+        return Err(format!("the length of {what}, {n}, is impossibly large"));
+    }
+    Ok(())
+}
+
 /// A slice of `n` elements at `p`; NULL is allowed only when `n` is 0.
 ///
 /// # Safety
 /// If not NULL, `p` points to `n` valid elements.
 unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+    check_len::<T>(n, what)?;
     if n == 0 {
         Ok(&[])
     } else if p.is_null() {
@@ -93,6 +103,7 @@ unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Str
 /// # Safety
 /// If not NULL, `p` points to `n` writable elements.
 unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], String> {
+    check_len::<T>(n, what)?;
     if n == 0 {
         Ok(&mut [])
     } else if p.is_null() {
@@ -840,6 +851,11 @@ mod tests {
             assert_eq!(fmi2FreeFMUstate(c, &mut state), OK);
             assert!(state.is_null());
             assert_eq!(fmi2FreeFMUstate(c, &mut state), OK, "freeing NULL is fine");
+            let vr = [0u32];
+            assert_eq!(
+                fmi2GetReal(c, vr.as_ptr(), usize::MAX, x.as_mut_ptr()),
+                ERROR
+            );
             let mut foreign = 8usize as fmi2FMUstate;
             assert_eq!(fmi2FreeFMUstate(c, &mut foreign), ERROR);
             fmi2FreeInstance(c);
