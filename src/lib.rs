@@ -10,6 +10,7 @@ pub mod beam;
 pub mod body;
 pub mod contact;
 pub mod iteration;
+pub mod report;
 pub mod scene;
 pub mod simulation;
 

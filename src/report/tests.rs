@@ -1,0 +1,214 @@
+use super::*;
+use crate::scene::{builtin, Scene, DEFAULT_SCENE};
+use crate::simulation::OutputKind;
+
+fn scene() -> Scene {
+    builtin(DEFAULT_SCENE).unwrap()
+}
+
+/// A made-up run of the default scene: 5 rows at the scene's step, exit at
+/// the last one.
+fn synthetic_trace() -> Trace {
+    let mut trace = Trace::with_names([
+        "wheel.nominal_speed",
+        "sensor.midspan.deflection",
+        "energy.balance",
+        "solver.iterations",
+    ]);
+    trace.kinds[3] = OutputKind::Integer;
+    let rows = [
+        (0.0, [10.0, 0.0, 150_000.0, 0.0]),
+        (0.0025, [10.5, -0.05, 150_000.3, 4.0]),
+        (0.005, [11.2, -0.19, 149_999.4, 3.0]),
+        (0.0075, [10.1, -0.12, 150_000.0, 3.0]),
+        (0.008, [9.96, 0.02, 150_000.15, 2.0]),
+    ];
+    for (time, values) in rows {
+        trace.push(time, &values);
+    }
+    trace
+}
+
+#[test]
+fn trace_columns_follow_the_pushed_rows() {
+    let trace = synthetic_trace();
+    assert_eq!(trace.len(), 5);
+    assert_eq!(
+        trace.column("sensor.midspan.deflection").unwrap(),
+        [0.0, -0.05, -0.19, -0.12, 0.02]
+    );
+    assert!(trace.column("wheel.x").is_none());
+}
+
+#[test]
+fn summary_takes_peaks_exit_drift_and_sums() {
+    let summary = RunSummary::from_trace(&scene(), &synthetic_trace(), Some(0.008), 0.5);
+    assert_eq!(summary.scene, "lee1994-wheel-10");
+    assert_eq!(summary.exit_time, Some(0.008));
+    assert_eq!(summary.exit_nominal_speed, Some(9.96));
+    assert_eq!(summary.peak_nominal_speed, Some(11.2));
+    assert_eq!(summary.peak_sensor_deflection["midspan"], -0.19);
+    let drift = summary.max_energy_drift.unwrap();
+    assert!((drift - 0.6 / 150_000.0).abs() < 1e-15, "{drift}");
+    assert_eq!(summary.steps, 4);
+    assert_eq!(summary.iterations, Some(12));
+    assert_eq!(summary.wall_time_s, 0.5);
+}
+
+#[test]
+fn summary_without_exit_or_outputs_has_nulls() {
+    let mut trace = Trace::with_names(["other"]);
+    trace.push(0.0, &[1.0]);
+    trace.push(0.1, &[2.0]);
+    let summary = RunSummary::from_trace(&scene(), &trace, None, 0.0);
+    let json: serde_json::Value = serde_json::from_str(&summary.to_json()).unwrap();
+    for key in [
+        "exit_time",
+        "exit_nominal_speed",
+        "peak_nominal_speed",
+        "max_energy_drift",
+        "iterations",
+    ] {
+        assert!(json[key].is_null(), "{key} should be null: {json}");
+    }
+    assert_eq!(json["steps"], 1);
+    assert_eq!(json["peak_sensor_deflection"], serde_json::json!({}));
+
+    // Exited, but the exit speed is only known with a speed output.
+    let with_exit = RunSummary::from_trace(&scene(), &synthetic_trace(), None, 0.0);
+    assert_eq!(with_exit.exit_nominal_speed, None, "no exit, no exit speed");
+}
+
+#[test]
+fn summary_json_has_the_documented_keys() {
+    let summary = RunSummary::from_trace(&scene(), &synthetic_trace(), Some(0.008), 0.25);
+    let json: serde_json::Value = serde_json::from_str(&summary.to_json()).unwrap();
+    assert_eq!(json["scene"], "lee1994-wheel-10");
+    assert_eq!(json["exit_time"], 0.008);
+    assert_eq!(json["peak_sensor_deflection"]["midspan"], -0.19);
+    assert_eq!(json["iterations"], 12);
+    assert_eq!(json["wall_time_s"], 0.25);
+    let back: RunSummary = serde_json::from_value(json).unwrap();
+    assert_eq!(back, summary);
+}
+
+#[test]
+fn human_summary_names_every_figure() {
+    let text = RunSummary::from_trace(&scene(), &synthetic_trace(), Some(0.008), 0.002).to_string();
+    for expected in [
+        "exit time          0.008000 s",
+        "exit speed V       9.9600 m/s",
+        "peak speed V       11.2000 m/s",
+        "-0.190000 m at sensor midspan",
+        "max energy drift   4.000e-4 %",
+        "steps              4",
+        "iterations         12",
+        "2.000 ms",
+    ] {
+        assert!(text.contains(expected), "{expected:?} missing from\n{text}");
+    }
+}
+
+#[test]
+fn energy_drift_of_a_blown_up_run_is_infinite() {
+    let mut trace = Trace::with_names(["energy.balance"]);
+    trace.push(0.0, &[2.0]);
+    trace.push(1.0, &[f64::NAN]);
+    let summary = RunSummary::from_trace(&scene(), &trace, None, 0.0);
+    assert_eq!(summary.max_energy_drift, Some(f64::INFINITY));
+}
+
+#[test]
+fn csv_has_a_header_and_full_precision_rows() {
+    let mut trace = Trace::with_names(["a", "n"]);
+    trace.kinds[1] = OutputKind::Integer;
+    trace.push(0.0, &[0.1 + 0.2, 3.0]);
+    trace.push(0.0025, &[-1e-7, 4.0]);
+    trace.push(0.005, &[f64::NAN, 5.0]);
+    let mut bytes = Vec::new();
+    csv::write_csv(&trace, &mut bytes).unwrap();
+    let text = String::from_utf8(bytes).unwrap();
+    assert_eq!(
+        text,
+        "time,a,n\n0.0,0.30000000000000004,3\n0.0025,-1e-7,4\n0.005,NaN,5\n"
+    );
+    // Every real reads back bit for bit.
+    let second: Vec<f64> = text
+        .lines()
+        .nth(2)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(second, [0.0025, -1e-7, 4.0]);
+}
+
+#[test]
+fn static_deflection_is_the_papers_0_1728_m() {
+    let delta = plot::static_deflection(&scene());
+    assert!((delta - 0.1728).abs() < 1e-12, "{delta}");
+}
+
+fn assert_png(path: &std::path::Path) {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
+    assert!(
+        bytes.len() > 5_000,
+        "suspiciously small plot: {} bytes",
+        bytes.len()
+    );
+}
+
+#[test]
+fn plot_is_written_with_and_without_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let trace = synthetic_trace();
+
+    let labelled = dir.path().join("labelled.png");
+    plot::write_plot(&scene(), &trace, &labelled).unwrap();
+    assert_png(&labelled);
+
+    let bare = dir.path().join("bare.png");
+    plot::draw(&scene(), &trace, &bare, plot::Text::Omitted).unwrap();
+    assert_png(&bare);
+}
+
+#[test]
+fn plot_survives_empty_and_constant_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.png");
+    plot::write_plot(&scene(), &Trace::with_names(["x"]), &path).unwrap();
+    assert_png(&path);
+
+    let mut flat = Trace::with_names(["wheel.nominal_speed", "energy.balance"]);
+    flat.push(0.0, &[10.0, 0.0]);
+    flat.push(1.0, &[10.0, 0.0]);
+    plot::write_plot(&scene(), &flat, &path).unwrap();
+}
+
+#[test]
+fn plot_into_a_missing_directory_is_an_error_not_a_panic() {
+    let error = plot::write_plot(
+        &scene(),
+        &synthetic_trace(),
+        std::path::Path::new("/no/such/dir/plot.png"),
+    )
+    .unwrap_err();
+    assert!(error.contains("/no/such/dir/plot.png"), "{error}");
+}
+
+#[test]
+fn stop_time_defaults_to_ten_rigid_beam_travel_times() {
+    let mut scene = scene();
+    assert_eq!(stop_time(&scene), 10.0 * 24.0 / 10.0);
+    scene.solver.end_time = Some(1.5);
+    assert_eq!(stop_time(&scene), 1.5);
+}
+
+#[test]
+fn travel_position_prefers_the_contact_abscissa() {
+    let names: Vec<String> = ["wheel.x", "contact.x"].map(String::from).to_vec();
+    assert_eq!(output_names::travel_position(&names, "wheel"), Some(1));
+    assert_eq!(output_names::travel_position(&names[..1], "wheel"), Some(0));
+    assert_eq!(output_names::travel_position(&names[..1], "glider"), None);
+}
