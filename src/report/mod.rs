@@ -8,7 +8,9 @@ mod run;
 mod summary;
 mod trace;
 
-pub use run::{run_scene, stop_time, Run, RunError, StepProgress, DEFAULT_END_TIME_FACTOR};
+pub use run::{
+    drive, run_scene, stop_time, Run, RunError, StepProgress, Steppable, DEFAULT_END_TIME_FACTOR,
+};
 pub use summary::RunSummary;
 pub use trace::Trace;
 

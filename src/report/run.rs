@@ -4,7 +4,7 @@ use super::output_names;
 use super::summary::RunSummary;
 use super::trace::Trace;
 use crate::scene::Scene;
-use crate::simulation::{Advance, Simulation, SolverError};
+use crate::simulation::{Advance, OutputInfo, Simulation, SolverError};
 use std::fmt;
 use std::time::{Duration, Instant};
 
@@ -72,11 +72,44 @@ pub fn stop_time(scene: &Scene) -> f64 {
     })
 }
 
+/// What the driver needs of a simulation: `Simulation` itself, or anything
+/// that steps like it (a test double, an FMU).
+pub trait Steppable {
+    fn time(&self) -> f64;
+    fn outputs(&self) -> &[OutputInfo];
+    fn output_values(&self, values: &mut [f64]);
+    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError>;
+}
+
+impl Steppable for Simulation {
+    fn time(&self) -> f64 {
+        Simulation::time(self)
+    }
+    fn outputs(&self) -> &[OutputInfo] {
+        Simulation::outputs(self)
+    }
+    fn output_values(&self, values: &mut [f64]) {
+        Simulation::output_values(self, values)
+    }
+    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError> {
+        Simulation::advance_to(self, t)
+    }
+}
+
 /// Run a valid scene until the body leaves the beam (or the stop time),
 /// recording the outputs after every internal step of `solver.step`, and
 /// calling `on_step` after each.
-pub fn run_scene(scene: &Scene, mut on_step: impl FnMut(StepProgress)) -> Result<Run, RunError> {
+pub fn run_scene(scene: &Scene, on_step: impl FnMut(StepProgress)) -> Result<Run, RunError> {
     let mut simulation = Simulation::new(scene).map_err(RunError::Setup)?;
+    drive(scene, &mut simulation, on_step)
+}
+
+/// Drive an already built simulation of `scene` as `run_scene` does.
+pub fn drive(
+    scene: &Scene,
+    simulation: &mut impl Steppable,
+    mut on_step: impl FnMut(StepProgress),
+) -> Result<Run, RunError> {
     let mut trace = Trace::for_outputs(simulation.outputs());
     let mut values = vec![0.0; trace.names.len()];
     simulation.output_values(&mut values);

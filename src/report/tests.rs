@@ -212,3 +212,111 @@ fn travel_position_prefers_the_contact_abscissa() {
     assert_eq!(output_names::travel_position(&names[..1], "wheel"), Some(0));
     assert_eq!(output_names::travel_position(&names[..1], "glider"), None);
 }
+
+/// A body sliding at constant speed along the default scene's beam; fails
+/// at `fail_at` if given.
+struct Slider {
+    time: f64,
+    speed: f64,
+    length: f64,
+    fail_at: Option<f64>,
+    outputs: Vec<crate::simulation::OutputInfo>,
+}
+
+impl Slider {
+    fn new(speed: f64, fail_at: Option<f64>) -> Slider {
+        let output = |name: &str, kind| crate::simulation::OutputInfo {
+            name: name.to_string(),
+            unit: "",
+            description: String::new(),
+            kind,
+        };
+        Slider {
+            time: 0.0,
+            speed,
+            length: 24.0,
+            fail_at,
+            outputs: vec![
+                output("wheel.x", OutputKind::Real),
+                output("wheel.nominal_speed", OutputKind::Real),
+                output("solver.iterations", OutputKind::Integer),
+            ],
+        }
+    }
+}
+
+impl Steppable for Slider {
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn outputs(&self) -> &[crate::simulation::OutputInfo] {
+        &self.outputs
+    }
+    fn output_values(&self, values: &mut [f64]) {
+        values.copy_from_slice(&[self.speed * self.time, self.speed, 2.0]);
+    }
+    fn advance_to(&mut self, t: f64) -> Result<crate::simulation::Advance, crate::SolverError> {
+        if self.fail_at.is_some_and(|fail| t > fail) {
+            return Err(crate::SolverError {
+                time: self.time,
+                message: "diverged".into(),
+            });
+        }
+        let exit = self.length / self.speed;
+        if t >= exit {
+            self.time = exit;
+            return Ok(crate::simulation::Advance::Exited { time: exit });
+        }
+        self.time = t;
+        Ok(crate::simulation::Advance::Reached)
+    }
+}
+
+#[test]
+fn drive_records_every_step_up_to_the_exit() {
+    let scene = scene();
+    let mut fractions = Vec::new();
+    let run = drive(&scene, &mut Slider::new(10.0, None), |p| {
+        fractions.push(p.fraction)
+    })
+    .unwrap();
+    // 2.4 s at 0.0025 s: 960 steps, the last one landing on the exit.
+    assert_eq!(run.exit_time, Some(2.4));
+    let time = &run.trace.time;
+    assert_eq!(time.len(), 961);
+    assert_eq!(time[0], 0.0);
+    assert_eq!(time[1], 0.0025);
+    assert_eq!(time[401], 401.0 * 0.0025, "exact multiples of the step");
+    assert_eq!(*time.last().unwrap(), 2.4);
+    assert_eq!(fractions.len(), 960);
+    assert!(fractions.windows(2).all(|w| w[1] >= w[0]));
+    assert!((fractions[479] - 0.5).abs() < 1e-9, "{}", fractions[479]);
+    assert_eq!(*fractions.last().unwrap(), 1.0);
+
+    let summary = run.summary(&scene);
+    assert_eq!(summary.steps, 960);
+    assert_eq!(summary.iterations, Some(2 * 960));
+    assert_eq!(summary.exit_nominal_speed, Some(10.0));
+}
+
+#[test]
+fn drive_stops_at_the_end_time_without_an_exit() {
+    let mut scene = scene();
+    scene.solver.end_time = Some(0.01);
+    let run = drive(&scene, &mut Slider::new(10.0, None), |_| {}).unwrap();
+    assert_eq!(run.exit_time, None);
+    assert_eq!(run.trace.time, [0.0, 0.0025, 0.005, 0.0075, 0.01]);
+    assert_eq!(run.summary(&scene).exit_nominal_speed, None);
+}
+
+#[test]
+fn drive_returns_the_steps_before_a_solver_failure() {
+    let scene = scene();
+    let error = drive(&scene, &mut Slider::new(10.0, Some(0.006)), |_| {}).unwrap_err();
+    let RunError::Solver { error, partial } = error else {
+        panic!("expected a solver failure");
+    };
+    assert_eq!(error.message, "diverged");
+    assert_eq!(partial.trace.time, [0.0, 0.0025, 0.005]);
+    assert_eq!(partial.exit_time, None);
+}

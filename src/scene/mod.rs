@@ -3,6 +3,7 @@
 //! Read from TOML with serde. Every length is in metres, mass in kilograms,
 //! force in newtons, time in seconds.
 
+mod annotate;
 mod builtin;
 mod error;
 mod validate;

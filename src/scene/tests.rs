@@ -543,3 +543,27 @@ fn load_reports_missing_files_and_unknown_names() {
         "lists the built-ins: {message}"
     );
 }
+
+#[test]
+fn annotated_toml_reads_back_to_the_same_scene() {
+    let mut scenes: Vec<Scene> = builtins()
+        .iter()
+        .map(|(n, _)| builtin(n).unwrap())
+        .collect();
+    let mut varied = default_scene();
+    varied.solver.end_time = Some(0.25);
+    varied.beam.supports.intermediate = vec![8.0, 16.5];
+    varied.body.force_x = 1.5e-4;
+    varied.sensors.push(SensorSpec {
+        name: "quarter".into(),
+        position: 6.0,
+    });
+    scenes.push(varied);
+    for scene in scenes {
+        let text = scene.to_annotated_toml();
+        assert!(text.contains("bending_stiffness = 1e9"), "{text}");
+        assert!(text.contains("# N m^2, EI > 0"), "{text}");
+        let reread = Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(reread, scene, "{text}");
+    }
+}
