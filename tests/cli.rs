@@ -107,6 +107,17 @@ fn a_wrong_type_is_named_and_exits_with_2() {
 }
 
 #[test]
+fn a_run_that_could_never_end_is_refused_with_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = edited_scene_file(dir.path(), "initial_speed = 10.0", "initial_speed = 0.0");
+    let output = guideway(&["run", &file, "--quiet"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    let message = stderr(&output);
+    assert!(message.contains("body.initial_speed = 0.0"), "{message}");
+    assert!(message.contains("solver.end_time"), "{message}");
+}
+
+#[test]
 fn a_missing_scene_file_exits_with_2() {
     let output = guideway(&["run", "no/such/scene.toml"]);
     assert_eq!(output.status.code(), Some(2));

@@ -64,12 +64,22 @@ impl fmt::Display for RunError {
 impl std::error::Error for RunError {}
 
 /// The time at which a run stops if the body has not left the beam:
-/// `solver.end_time`, or `DEFAULT_END_TIME_FACTOR` × (L − x0) / V0.
-pub fn stop_time(scene: &Scene) -> f64 {
-    scene.solver.end_time.unwrap_or_else(|| {
+/// `solver.end_time`, or `DEFAULT_END_TIME_FACTOR` × (L − x0) / V0. Without
+/// an end time the body must start moving towards the exit.
+pub fn stop_time(scene: &Scene) -> Result<f64, String> {
+    if let Some(end) = scene.solver.end_time {
+        return Ok(end);
+    }
+    let speed = scene.body.initial_speed;
+    if speed > 0.0 {
         let travel = scene.beam.length - scene.body.initial_position;
-        DEFAULT_END_TIME_FACTOR * travel / scene.body.initial_speed
-    })
+        Ok(DEFAULT_END_TIME_FACTOR * travel / speed)
+    } else {
+        Err(format!(
+            "body.initial_speed = {speed:?}: must be > 0 for a run without solver.end_time \
+             (the run ends when the body leaves the beam at x = L)"
+        ))
+    }
 }
 
 /// What the driver needs of a simulation: `Simulation` itself, or anything
@@ -100,6 +110,7 @@ impl Steppable for Simulation {
 /// recording the outputs after every internal step of `solver.step`, and
 /// calling `on_step` after each.
 pub fn run_scene(scene: &Scene, on_step: impl FnMut(StepProgress)) -> Result<Run, RunError> {
+    stop_time(scene).map_err(RunError::Setup)?;
     let mut simulation = Simulation::new(scene).map_err(RunError::Setup)?;
     drive(scene, &mut simulation, on_step)
 }
@@ -110,6 +121,7 @@ pub fn drive(
     simulation: &mut impl Steppable,
     mut on_step: impl FnMut(StepProgress),
 ) -> Result<Run, RunError> {
+    let stop = stop_time(scene).map_err(RunError::Setup)?;
     let mut trace = Trace::for_outputs(simulation.outputs());
     let mut values = vec![0.0; trace.names.len()];
     simulation.output_values(&mut values);
@@ -119,7 +131,6 @@ pub fn drive(
     let start_position = scene.body.initial_position;
     let travel = scene.beam.length - start_position;
     let start_time = simulation.time();
-    let stop = stop_time(scene);
     let fraction_done = |time: f64, values: &[f64]| {
         let by_time = (time - start_time) / (stop - start_time);
         let by_position = position.map_or(0.0, |i| (values[i] - start_position) / travel);

@@ -200,9 +200,13 @@ fn plot_into_a_missing_directory_is_an_error_not_a_panic() {
 #[test]
 fn stop_time_defaults_to_ten_rigid_beam_travel_times() {
     let mut scene = scene();
-    assert_eq!(stop_time(&scene), 10.0 * 24.0 / 10.0);
+    assert_eq!(stop_time(&scene), Ok(10.0 * 24.0 / 10.0));
+    scene.body.initial_speed = 0.0;
+    let error = stop_time(&scene).unwrap_err();
+    assert!(error.contains("body.initial_speed = 0.0"), "{error}");
+    assert!(error.contains("solver.end_time"), "{error}");
     scene.solver.end_time = Some(1.5);
-    assert_eq!(stop_time(&scene), 1.5);
+    assert_eq!(stop_time(&scene), Ok(1.5));
 }
 
 #[test]

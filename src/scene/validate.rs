@@ -11,7 +11,7 @@ use std::collections::HashSet;
 const RESERVED_BODY_NAMES: [&str; 4] = ["contact", "energy", "sensor", "solver"];
 
 /// More elements than this is a typo, not a model (and memory to match).
-pub const MAX_ELEMENTS: usize = 1_000_000;
+pub const MAX_ELEMENTS: usize = 100_000;
 
 pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     let mut checks = Checks::default();
@@ -165,16 +165,7 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             );
         }
     }
-    if checks.finite("body.initial_speed", body.initial_speed)
-        && scene.solver.end_time.is_none()
-        && body.initial_speed <= 0.0
-    {
-        checks.fail(
-            "body.initial_speed",
-            fmt_f64(body.initial_speed),
-            "must be > 0 unless solver.end_time is given (without it the run ends when the body leaves the beam at x = L)",
-        );
-    }
+    checks.finite("body.initial_speed", body.initial_speed);
     checks.finite("body.force_x", body.force_x);
     checks.finite("body.force_y", body.force_y);
 }
