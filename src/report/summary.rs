@@ -46,14 +46,14 @@ impl RunSummary {
             .iter()
             .filter_map(|sensor| {
                 let column = trace.column(&output_names::sensor_deflection(&sensor.name))?;
-                Some((sensor.name.clone(), finite_min(column)?))
+                Some((sensor.name.clone(), finite_extreme(column, f64::min)?))
             })
             .collect();
         RunSummary {
             scene: scene.name.clone(),
             exit_time,
             exit_nominal_speed: exit_time.and(speed.and_then(|v| v.last().copied())),
-            peak_nominal_speed: speed.and_then(finite_max),
+            peak_nominal_speed: speed.and_then(|v| finite_extreme(v, f64::max)),
             peak_sensor_deflection,
             max_energy_drift: trace
                 .column(output_names::ENERGY_BALANCE)
@@ -108,20 +108,13 @@ impl fmt::Display for RunSummary {
     }
 }
 
-fn finite_max(values: &[f64]) -> Option<f64> {
+/// The extreme of the finite values by `pick` (`f64::max`, `f64::min`).
+fn finite_extreme(values: &[f64], pick: fn(f64, f64) -> f64) -> Option<f64> {
     values
         .iter()
         .copied()
         .filter(|v| v.is_finite())
-        .reduce(f64::max)
-}
-
-fn finite_min(values: &[f64]) -> Option<f64> {
-    values
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .reduce(f64::min)
+        .reduce(pick)
 }
 
 /// max |E − E0| / |E0|; `None` without a usable E0. A non-finite energy

@@ -365,6 +365,16 @@ fn solver_settings_must_be_positive() {
 }
 
 #[test]
+fn description_is_one_line() {
+    assert_single_problem(
+        |s| s.description = "two\nlines".into(),
+        "description",
+        "\"two\\nlines\"",
+        "one line",
+    );
+}
+
+#[test]
 fn scene_name_is_usable_as_a_file_name() {
     assert_single_problem(|s| s.name = String::new(), "name", "\"\"", "non-empty");
     assert_single_problem(|s| s.name = "a/b".into(), "name", "\"a/b\"", "letters");

@@ -42,6 +42,13 @@ fn check_name(checks: &mut Checks, scene: &Scene) {
             "must be non-empty and use only ASCII letters, digits, '-', '_' and '.'",
         );
     }
+    if scene.description.contains(['\n', '\r']) {
+        checks.fail(
+            "description",
+            format!("{:?}", scene.description),
+            "must be one line",
+        );
+    }
 }
 
 /// Returns whether the beam length is usable for range checks elsewhere.
