@@ -1,1 +1,285 @@
-//! contact
+//! Contact between the body and the beam's top surface.
+//!
+//! The foot point d of the perpendicular from the body's centre on the
+//! deformed neutral axis, the contact frame (t, n) there, the gap error g and
+//! the velocity error e of METHOD.md.
+//!
+//! Kinematics and loads form the *exact pair* of METHOD.md: the normal row is
+//! the time derivative of the exact gap g = n·(centre − d) − (r + h), so the
+//! normal force passes through the neutral axis and puts no moment on the
+//! section; the tangential row is the paper's small-deformation surface
+//! velocity (eq. 7) rotated into the frame. The beam load is the transpose of
+//! the same rows (`ContactFrame::beam_rows`), so the contact does no work
+//! whenever e = 0.
+
+use nalgebra::{DVector, Vector2, Vector3};
+
+use crate::beam::{Beam, Shape};
+use crate::body::{BodyState, RigidBody};
+
+/// Contact force on the body in the contact frame (N): tangential and normal
+/// components. The beam receives the opposite force.
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+pub struct ContactForce {
+    pub tangential: f64,
+    pub normal: f64,
+}
+
+impl ContactForce {
+    pub fn as_vector(&self) -> Vector2<f64> {
+        Vector2::new(self.tangential, self.normal)
+    }
+    pub fn from_vector(v: Vector2<f64>) -> ContactForce {
+        ContactForce {
+            tangential: v.x,
+            normal: v.y,
+        }
+    }
+}
+
+/// The contact frame at the foot point, and the constraint rows there.
+#[derive(Debug, Clone, Copy)]
+pub struct ContactFrame {
+    /// Abscissa x_d of the foot point (m).
+    pub x: f64,
+    pub shape: Shape,
+    /// w(x_d), w'(x_d), w''(x_d) of the deformed neutral axis.
+    pub deflection: f64,
+    pub slope: f64,
+    pub curvature: f64,
+    pub cos: f64,
+    pub sin: f64,
+}
+
+/// Why the foot point could not be found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FootPointError {
+    pub last_x: f64,
+}
+
+impl ContactFrame {
+    /// Unit tangent t = (cos φ, sin φ).
+    pub fn tangent(&self) -> Vector2<f64> {
+        Vector2::new(self.cos, self.sin)
+    }
+    /// Unit normal n = (−sin φ, cos φ).
+    pub fn normal(&self) -> Vector2<f64> {
+        Vector2::new(-self.sin, self.cos)
+    }
+
+    /// Rows over the element's four DOFs giving the beam surface velocity at
+    /// the contact in the frame: (v_ct, v_cn) = (t_row · u̇, n_row · u̇).
+    pub fn beam_rows(&self, surface_offset: f64) -> ([f64; 4], [f64; 4]) {
+        let s = &self.shape;
+        let mut t_row = [0.0; 4];
+        let mut n_row = [0.0; 4];
+        for k in 0..4 {
+            t_row[k] = self.sin * s.n[k] - surface_offset * self.cos * s.dn[k];
+            n_row[k] = self.cos * s.n[k];
+        }
+        (t_row, n_row)
+    }
+
+    /// Rows over (ẋ, ẏ, θ̇) giving the rim point's velocity in the frame.
+    pub fn body_rows(&self, radius: f64) -> (Vector3<f64>, Vector3<f64>) {
+        (
+            Vector3::new(self.cos, self.sin, radius),
+            Vector3::new(-self.sin, self.cos, 0.0),
+        )
+    }
+
+    /// Velocity error e = rim velocity − surface velocity, in the frame (m/s).
+    pub fn velocity_error(
+        &self,
+        beam: &Beam,
+        body: &RigidBody,
+        state: &BodyState,
+        beam_velocity: &DVector<f64>,
+    ) -> Vector2<f64> {
+        let (bt, bn) = self.body_rows(body.radius);
+        let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
+        let (t_row, n_row) = self.beam_rows(beam.surface_offset);
+        Vector2::new(
+            bt.dot(&q) - self.shape.dot(&t_row, beam_velocity),
+            bn.dot(&q) - self.shape.dot(&n_row, beam_velocity),
+        )
+    }
+
+    /// Gap error g = n·(centre − d) − (r + h) (m); negative is penetration.
+    pub fn gap(&self, beam: &Beam, body: &RigidBody, centre: &Vector2<f64>) -> f64 {
+        let d = Vector2::new(self.x, self.deflection);
+        self.normal().dot(&(centre - d)) - (body.radius + beam.surface_offset)
+    }
+
+    /// Nominal travel speed V = ẋ_centre + (r + h) φ̇ (METHOD.md, eq. 24), with
+    /// φ̇ the total rate of the surface angle at the moving foot point.
+    pub fn nominal_speed(
+        &self,
+        beam: &Beam,
+        body: &RigidBody,
+        state: &BodyState,
+        beam_velocity: &DVector<f64>,
+    ) -> f64 {
+        let s = &self.shape;
+        let w_rate = s.dot(&s.n, beam_velocity);
+        let slope_rate = s.dot(&s.dn, beam_velocity);
+        let height = state.position.y - self.deflection;
+        // d/dt of the foot-point condition (X − x) + (Y − w(x)) w'(x) = 0.
+        let foot_speed =
+            (state.velocity.x + (state.velocity.y - w_rate) * self.slope + height * slope_rate)
+                / (1.0 + self.slope * self.slope - height * self.curvature);
+        let angle_rate =
+            (slope_rate + self.curvature * foot_speed) / (1.0 + self.slope * self.slope);
+        state.velocity.x + (body.radius + beam.surface_offset) * angle_rate
+    }
+}
+
+/// Find the foot of the perpendicular from `centre` on the deformed neutral
+/// axis by Newton's method, starting at `guess` and moving across elements.
+/// Beyond the beam's ends the end elements' cubics are extended, so that the
+/// exit instant can be found by interpolation.
+pub fn foot_point(
+    beam: &Beam,
+    u: &DVector<f64>,
+    centre: &Vector2<f64>,
+    guess: f64,
+) -> Result<ContactFrame, FootPointError> {
+    let mut x = guess;
+    let max_move = beam.min_element_length();
+    for _ in 0..50 {
+        let shape = beam.shape(beam.element_at(x), x);
+        let w = shape.dot(&shape.n, u);
+        let slope = shape.dot(&shape.dn, u);
+        let curvature = shape.dot(&shape.ddn, u);
+        let height = centre.y - w;
+        let residual = (centre.x - x) + height * slope;
+        let derivative = -1.0 - slope * slope + height * curvature;
+        if !(derivative.is_finite() && residual.is_finite()) || derivative.abs() < 1e-12 {
+            return Err(FootPointError { last_x: x });
+        }
+        let dx = (-residual / derivative).clamp(-max_move, max_move);
+        x += dx;
+        if dx.abs() <= 1e-14 * beam.length.max(1.0) {
+            let shape = beam.shape(beam.element_at(x), x);
+            let slope = shape.dot(&shape.dn, u);
+            let secant = (1.0 + slope * slope).sqrt();
+            return Ok(ContactFrame {
+                x,
+                shape,
+                deflection: shape.dot(&shape.n, u),
+                slope,
+                curvature: shape.dot(&shape.ddn, u),
+                cos: 1.0 / secant,
+                sin: slope / secant,
+            });
+        }
+    }
+    Err(FootPointError { last_x: x })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{BeamSpec, SupportsSpec};
+
+    fn deformed_beam() -> (Beam, DVector<f64>) {
+        let beam = Beam::new(&BeamSpec {
+            length: 24.0,
+            mass_per_length: 1250.0,
+            bending_stiffness: 1e9,
+            surface_offset: 0.6,
+            elements: 3,
+            supports: SupportsSpec::default(),
+        })
+        .unwrap();
+        let n = beam.free_dofs();
+        // A smooth, clearly non-trivial shape.
+        let u = DVector::from_fn(n, |i, _| 0.05 * ((i as f64) * 1.3).sin());
+        (beam, u)
+    }
+
+    #[test]
+    fn foot_point_is_perpendicular_and_crosses_elements() {
+        let (beam, u) = deformed_beam();
+        // Start the search two elements away from the answer.
+        let centre = Vector2::new(17.3, 1.2);
+        let frame = foot_point(&beam, &u, &centre, 1.0).unwrap();
+        let d = Vector2::new(frame.x, frame.deflection);
+        let along = frame.tangent().dot(&(centre - d));
+        assert!(along.abs() < 1e-12, "tangential offset {along}");
+        assert_eq!(frame.shape.element, beam.element_at(frame.x));
+        assert!((frame.x - 17.3).abs() < 0.2);
+    }
+
+    #[test]
+    fn contact_power_is_force_times_velocity_error() {
+        // The loads are the transposes of the constraint rows, so the power
+        // the contact force puts into body and beam together is p · e.
+        let (beam, u) = deformed_beam();
+        let body = RigidBody {
+            mass: 3000.0,
+            inertia: 135.0,
+            radius: 0.3,
+            rolls: true,
+        };
+        let centre = Vector2::new(9.1, 0.95);
+        let frame = foot_point(&beam, &u, &centre, 9.0).unwrap();
+        let state = BodyState {
+            position: centre,
+            velocity: Vector2::new(10.0, -0.4),
+            angle: 0.0,
+            angular_velocity: -31.0,
+        };
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let p = ContactForce {
+            tangential: 1.5e4,
+            normal: 6e5,
+        };
+        let force = frame.tangent() * p.tangential + frame.normal() * p.normal;
+        let body_power =
+            force.dot(&state.velocity) + p.tangential * body.radius * state.angular_velocity;
+        let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
+        let mut load = DVector::zeros(beam.free_dofs());
+        frame.shape.scatter(&t_row, -p.tangential, &mut load);
+        frame.shape.scatter(&n_row, -p.normal, &mut load);
+        let beam_power = load.dot(&v);
+        let e = frame.velocity_error(&beam, &body, &state, &v);
+        let expected = p.as_vector().dot(&e);
+        assert!(
+            (body_power + beam_power - expected).abs() < 1e-9 * body_power.abs(),
+            "{} vs {expected}",
+            body_power + beam_power
+        );
+    }
+
+    #[test]
+    fn normal_velocity_error_is_the_rate_of_the_gap() {
+        // The normal row is the exact derivative of g: check by finite differences.
+        let (beam, u) = deformed_beam();
+        let body = RigidBody {
+            mass: 3000.0,
+            inertia: 135.0,
+            radius: 0.3,
+            rolls: true,
+        };
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let state = BodyState {
+            position: Vector2::new(9.1, 0.95),
+            velocity: Vector2::new(10.0, -0.4),
+            angle: 0.0,
+            angular_velocity: -31.0,
+        };
+        let gap_at = |h: f64| {
+            let u_h = &u + &v * h;
+            let c = state.position + state.velocity * h;
+            foot_point(&beam, &u_h, &c, 9.0)
+                .unwrap()
+                .gap(&beam, &body, &c)
+        };
+        let h = 1e-6;
+        let rate = (gap_at(h) - gap_at(-h)) / (2.0 * h);
+        let frame = foot_point(&beam, &u, &state.position, 9.0).unwrap();
+        let e = frame.velocity_error(&beam, &body, &state, &v);
+        assert!((rate - e.y).abs() < 1e-7, "{rate} vs {}", e.y);
+    }
+}

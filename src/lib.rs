@@ -9,10 +9,12 @@
 pub mod beam;
 pub mod body;
 pub mod contact;
+pub mod integrate;
 pub mod iteration;
 pub mod report;
 pub mod scene;
 pub mod simulation;
+pub mod system;
 
 pub use scene::Scene;
 pub use simulation::{Advance, OutputInfo, OutputKind, SimState, Simulation, SolverError};

@@ -125,7 +125,6 @@ fn a_missing_scene_file_exits_with_2() {
 }
 
 #[test]
-#[ignore = "needs the physics (Simulation is todo!() until the lead's work lands)"]
 fn run_of_the_default_scene_writes_csv_summary_and_plot() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("results.csv");

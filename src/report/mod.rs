@@ -37,7 +37,7 @@ pub mod output_names {
     /// is: the contact abscissa, else the body's x.
     pub fn travel_position(names: &[String], body: &str) -> Option<usize> {
         let body_x = format!("{body}.x");
-        ["contact.x", body_x.as_str()]
+        ["contact.position", body_x.as_str()]
             .iter()
             .find_map(|wanted| names.iter().position(|n| n == wanted))
     }

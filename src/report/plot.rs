@@ -77,6 +77,8 @@ struct Panel {
     y_label: String,
     /// Digits after the point on the y axis; scientific notation if `None`.
     y_decimals: Option<usize>,
+    /// Where the legend least hides the curves of the paper's cases.
+    legend: SeriesLabelPosition,
     curves: Vec<Curve>,
 }
 
@@ -165,18 +167,21 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             title: "Nominal speed".to_string(),
             y_label: "V (m/s)".to_string(),
             y_decimals: Some(2),
+            legend: SeriesLabelPosition::UpperLeft,
             curves: speed.into_iter().collect(),
         },
         Panel {
             title: "Sensor deflection".to_string(),
             y_label,
             y_decimals: Some(2),
+            legend: SeriesLabelPosition::LowerLeft,
             curves: deflections,
         },
         Panel {
             title: "Energy balance, relative drift".to_string(),
             y_label: "(E - E0) / E0".to_string(),
             y_decimals: None,
+            legend: SeriesLabelPosition::UpperRight,
             curves: drift.into_iter().collect(),
         },
     ]
@@ -240,6 +245,7 @@ fn draw_panel(
     if labelled && !panel.curves.is_empty() {
         chart
             .configure_series_labels()
+            .position(panel.legend.clone())
             .label_font((FONT, 15))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)

@@ -211,7 +211,7 @@ fn stop_time_defaults_to_ten_rigid_beam_travel_times() {
 
 #[test]
 fn travel_position_prefers_the_contact_abscissa() {
-    let names: Vec<String> = ["wheel.x", "contact.x"].map(String::from).to_vec();
+    let names: Vec<String> = ["wheel.x", "contact.position"].map(String::from).to_vec();
     assert_eq!(output_names::travel_position(&names, "wheel"), Some(1));
     assert_eq!(output_names::travel_position(&names[..1], "wheel"), Some(0));
     assert_eq!(output_names::travel_position(&names[..1], "glider"), None);

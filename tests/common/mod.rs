@@ -1,0 +1,89 @@
+//! Helpers shared by the integration tests: run a scene to its exit and
+//! collect the figures the paper reports.
+#![allow(dead_code)]
+
+use guideway::scene::{BodyKind, Scene};
+use guideway::{Advance, Simulation};
+
+pub struct RunFigures {
+    pub exit_time: f64,
+    pub exit_nominal_speed: f64,
+    pub exit_vx: f64,
+    pub peak_nominal_speed: f64,
+    pub max_energy_drift: f64,
+    pub peak_midspan_deflection: f64,
+    pub steps: u64,
+    pub final_values: Vec<f64>,
+    pub initial_values: Vec<f64>,
+    pub names: Vec<String>,
+    pub max_abs_tangential_force: f64,
+}
+
+impl RunFigures {
+    pub fn value(&self, name: &str) -> f64 {
+        self.final_values[self.index(name)]
+    }
+    pub fn initial(&self, name: &str) -> f64 {
+        self.initial_values[self.index(name)]
+    }
+    fn index(&self, name: &str) -> usize {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .unwrap_or_else(|| panic!("no output {name}"))
+    }
+}
+
+pub fn paper_scene(kind: BodyKind, speed: f64, step: f64) -> Scene {
+    Scene::lee1994(kind, speed, step)
+}
+
+/// Run `scene` to the exit, sampling outputs at every internal step.
+pub fn run_to_exit(scene: &Scene) -> RunFigures {
+    let mut sim = Simulation::new(scene).expect("scene builds");
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let body = &scene.body.name;
+    let at = |n: &str| names.iter().position(|x| x == n).unwrap();
+    let (speed, balance) = (at(&format!("{body}.nominal_speed")), at("energy.balance"));
+    let midspan = names.iter().position(|x| x == "sensor.midspan.deflection");
+    let mut values = vec![0.0; names.len()];
+    sim.output_values(&mut values);
+    let initial_values = values.clone();
+    let e0 = sim.initial_energy();
+    let dt = scene.solver.step;
+    let mut figures = RunFigures {
+        exit_time: f64::NAN,
+        exit_nominal_speed: f64::NAN,
+        exit_vx: f64::NAN,
+        peak_nominal_speed: values[speed],
+        max_energy_drift: 0.0,
+        peak_midspan_deflection: 0.0,
+        steps: 0,
+        final_values: vec![],
+        initial_values,
+        names: names.clone(),
+        max_abs_tangential_force: 0.0,
+    };
+    for k in 1..10_000_000u64 {
+        let advance = sim.advance_to(k as f64 * dt).expect("step converges");
+        sim.output_values(&mut values);
+        figures.peak_nominal_speed = figures.peak_nominal_speed.max(values[speed]);
+        figures.max_energy_drift = figures
+            .max_energy_drift
+            .max(((values[balance] - e0) / e0).abs());
+        if let Some(m) = midspan {
+            figures.peak_midspan_deflection = figures.peak_midspan_deflection.min(values[m]);
+        }
+        let force = sim.state().force_history[0].tangential.abs();
+        figures.max_abs_tangential_force = figures.max_abs_tangential_force.max(force);
+        if let Advance::Exited { time } = advance {
+            figures.exit_time = time;
+            figures.exit_nominal_speed = values[speed];
+            figures.exit_vx = values[at(&format!("{body}.vx"))];
+            figures.steps = sim.counters().0;
+            figures.final_values = values.clone();
+            return figures;
+        }
+    }
+    panic!("the body never left the beam");
+}

@@ -1,0 +1,41 @@
+//! The explicit scheme refuses steps beyond its stability limit, and the
+//! solution converges with the mesh.
+
+mod common;
+use common::{paper_scene, run_to_exit};
+use guideway::scene::BodyKind;
+use guideway::Simulation;
+
+#[test]
+fn rk4_beyond_its_stability_limit_is_refused_before_running() {
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
+    scene.beam.elements = 8;
+    let message = Simulation::new(&scene).err().expect("refused");
+    // Names the element length, the limit (0.0563 ℓ² √(μ/EI) = 0.57 ms) and the step.
+    assert!(message.contains("3.0000 m"), "{message}");
+    assert!(message.contains("5.6"), "{message}");
+    assert!(message.contains("0.0025"), "{message}");
+    scene.solver.step = 5e-4;
+    assert!(Simulation::new(&scene).is_ok());
+}
+
+#[test]
+fn exit_speed_converges_with_the_mesh() {
+    // 2, 4 and 8 elements at stable steps: energy stays within the paper's
+    // bound and the exit speed within its 9.96 ± 0.01 m/s on every mesh.
+    let mut speeds = Vec::new();
+    for (elements, step) in [(2, 0.0025), (4, 0.001), (8, 0.00025)] {
+        let mut scene = paper_scene(BodyKind::Wheel, 10.0, step);
+        scene.beam.elements = elements;
+        let run = run_to_exit(&scene);
+        assert!(
+            run.max_energy_drift < 2.9e-5,
+            "{elements}: {}",
+            run.max_energy_drift
+        );
+        speeds.push(run.exit_nominal_speed);
+    }
+    for v in &speeds {
+        assert!((v - 9.96).abs() <= 0.01, "{speeds:?}");
+    }
+}
