@@ -118,6 +118,17 @@ fn a_run_that_could_never_end_is_refused_with_2() {
 }
 
 #[test]
+fn a_step_beyond_the_stability_limit_is_refused_with_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = edited_scene_file(dir.path(), "elements = 2", "elements = 128");
+    let output = guideway(&["run", &file, "--quiet"]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    let message = stderr(&output);
+    assert!(message.contains("cannot be simulated"), "{message}");
+    assert!(message.contains("solver.step"), "{message}");
+}
+
+#[test]
 fn a_missing_scene_file_exits_with_2() {
     let output = guideway(&["run", "no/such/scene.toml"]);
     assert_eq!(output.status.code(), Some(2));
