@@ -158,21 +158,20 @@ pub fn foot_point(
             return Err(FootPointError { last_x: x });
         }
         let dx = (-residual / derivative).clamp(-max_move, max_move);
-        x += dx;
+        // Converged: the remaining Newton correction is at round-off level.
         if dx.abs() <= 1e-14 * beam.length.max(1.0) {
-            let shape = beam.shape(beam.element_at(x), x);
-            let slope = shape.dot(&shape.dn, u);
             let secant = (1.0 + slope * slope).sqrt();
             return Ok(ContactFrame {
                 x,
                 shape,
-                deflection: shape.dot(&shape.n, u),
+                deflection: w,
                 slope,
-                curvature: shape.dot(&shape.ddn, u),
+                curvature,
                 cos: 1.0 / secant,
                 sin: slope / secant,
             });
         }
+        x += dx;
     }
     Err(FootPointError { last_x: x })
 }

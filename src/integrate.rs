@@ -8,7 +8,7 @@
 use nalgebra::{DVector, Vector2};
 use serde::{Deserialize, Serialize};
 
-use crate::contact::{foot_point, ContactForce};
+use crate::contact::{foot_point, ContactForce, ContactFrame};
 use crate::system::System;
 
 /// Positions and velocities of everything that moves, plus the foot point
@@ -51,11 +51,14 @@ impl Rk4 {
         }
     }
 
-    /// Advance `start` by `dt` with `force` held, into `end`.
+    /// Advance `start` by `dt` with `force` held, into `end`. `start_frame`
+    /// is the contact frame of `start` (the same for every iteration of a step).
+    #[allow(clippy::too_many_arguments)]
     pub fn step(
         &mut self,
         system: &System,
         start: &DynamicState,
+        start_frame: &ContactFrame,
         force: ContactForce,
         external: Vector2<f64>,
         dt: f64,
@@ -75,8 +78,12 @@ impl Rk4 {
         let (mut sum_angle, mut sum_rate) = (0.0, 0.0);
 
         for stage in 0..4 {
-            let frame = foot_point(beam, &self.stage_u, &stage_body.position, contact_x)
-                .map_err(|e| IntegrationError::LostContact { x: e.last_x })?;
+            let frame = if stage == 0 {
+                *start_frame
+            } else {
+                foot_point(beam, &self.stage_u, &stage_body.position, contact_x)
+                    .map_err(|e| IntegrationError::LostContact { x: e.last_x })?
+            };
             contact_x = frame.x;
             // Beam: receives the opposite of the force on the body.
             let (t_row, n_row) = frame.beam_rows(beam.surface_offset);

@@ -354,7 +354,7 @@ impl Simulation {
                 gap_tolerance: scene.solver.gap_tolerance,
                 max_iterations: scene.solver.max_iterations,
             },
-            iteration: ContactIteration::new(n),
+            iteration: ContactIteration::new(n, beam.elements(), step),
             scratch: dynamic.clone(),
             state: SimState {
                 time: 0.0,
@@ -514,6 +514,19 @@ impl Simulation {
         let guess = extrapolate(&s.force_history, &s.step_history, dt);
         let external = Vector2::new(s.body_force[0], s.body_force[1]);
         let solution = self.solve(guess, dt)?;
+        if solution.force.normal < 0.0 {
+            // The contact is bilateral: a tensile normal force means the body
+            // would leave the surface, which this model does not follow.
+            return Err(SolverError {
+                time: self.state.time,
+                message: format!(
+                    "lift-off: the normal contact force would become tensile ({:.6e} N) in the \
+                     step from t = {} s at x = {:.6} m; the contact is bilateral, so the run \
+                     stops at the last step with compression",
+                    solution.force.normal, self.state.time, self.scratch.contact_x
+                ),
+            });
+        }
         let length = self.system.beam.length;
         let end_x = self.scratch.contact_x;
         let start_x = self.state.dynamic.contact_x;

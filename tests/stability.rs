@@ -39,3 +39,33 @@ fn exit_speed_converges_with_the_mesh() {
         assert!((v - 9.96).abs() <= 0.01, "{speeds:?}");
     }
 }
+
+#[test]
+fn tensile_contact_force_stops_the_run_as_lift_off() {
+    // Far above the beam's critical speed (about 117 m/s) the bilateral
+    // contact force turns tensile near the exit (from about 150 m/s). Two
+    // elements are too coarse to show it; eight at a stable step do.
+    let mut scene = paper_scene(BodyKind::Wheel, 300.0, 1e-4);
+    scene.beam.elements = 8;
+    let mut sim = Simulation::new(&scene).unwrap();
+    let error = sim.advance_to(1.0).expect_err("lift-off");
+    assert!(error.message.contains("lift-off"), "{error}");
+    // The state is the last good one: compression, on the beam, finite.
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let mut values = vec![0.0; names.len()];
+    sim.output_values(&mut values);
+    assert!(values.iter().all(|v| v.is_finite()));
+    let normal = values[names
+        .iter()
+        .position(|n| n == "contact.normal_force")
+        .unwrap()];
+    assert!(normal >= 0.0);
+    assert!(sim.exit_time().is_none());
+    assert!((sim.time() - error.time).abs() < 1e-15);
+}
+
+#[test]
+fn below_the_critical_speed_the_contact_stays_compressed() {
+    let run = run_to_exit(&paper_scene(BodyKind::Wheel, 100.0, 0.0025));
+    assert!(run.value("contact.normal_force") > 0.0);
+}
