@@ -129,6 +129,22 @@ fn a_step_beyond_the_stability_limit_is_refused_with_2() {
 }
 
 #[test]
+fn an_output_into_a_missing_directory_fails_before_the_run() {
+    let output = guideway(&["run", "--summary", "no/such/dir/summary.json"]);
+    assert_eq!(output.status.code(), Some(1));
+    let message = stderr(&output);
+    assert!(
+        message.contains("cannot write no/such/dir/summary.json"),
+        "{message}"
+    );
+    assert!(
+        stdout(&output).is_empty(),
+        "nothing ran: {}",
+        stdout(&output)
+    );
+}
+
+#[test]
 fn a_missing_scene_file_exits_with_2() {
     let output = guideway(&["run", "no/such/scene.toml"]);
     assert_eq!(output.status.code(), Some(2));

@@ -9,6 +9,9 @@ use std::path::Path;
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let scene = Scene::load(&args.scene)?;
+    for path in [&args.out, &args.summary, &args.plot].into_iter().flatten() {
+        check_writable(path)?;
+    }
     let mut progress = Progress::new(args.quiet);
     let outcome = run_scene(&scene, |step| progress.update(step));
     progress.finish();
@@ -59,6 +62,27 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         println!("{summary}");
     }
     Ok(())
+}
+
+/// Fail before the run, not after it, when an output cannot be written.
+fn check_writable(path: &Path) -> Result<(), Failure> {
+    let parent = match path.parent() {
+        Some(parent) if !parent.as_os_str().is_empty() => parent,
+        _ => Path::new("."),
+    };
+    let cannot = |why: String| {
+        Err(Failure::Run(format!(
+            "cannot write {}: {why}",
+            path.display()
+        )))
+    };
+    if path.is_dir() {
+        cannot("it is a directory".to_string())
+    } else if !parent.is_dir() {
+        cannot(format!("{} is not a directory", parent.display()))
+    } else {
+        Ok(())
+    }
 }
 
 fn write_csv(run: &Run, path: &Path) -> Result<(), Failure> {
