@@ -145,6 +145,26 @@ fn an_output_into_a_missing_directory_fails_before_the_run() {
 }
 
 #[test]
+fn a_solver_failure_exits_with_1_and_keeps_the_steps_before_it() {
+    // Pulling the wheel up makes the bilateral contact force tensile: the
+    // solver stops with a lift-off diagnostic.
+    let dir = tempfile::tempdir().unwrap();
+    let file = edited_scene_file(dir.path(), "force_y = -600000.0", "force_y = 600000.0");
+    let csv = dir.path().join("partial.csv");
+    let output = guideway(&["run", &file, "--out", csv.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let message = stderr(&output);
+    assert!(message.contains("the solver failed at t = "), "{message}");
+    assert!(message.contains("partial.csv"), "{message}");
+    let text = std::fs::read_to_string(csv).unwrap();
+    assert!(text.starts_with("time,"), "{text}");
+    assert!(
+        text.lines().count() >= 2,
+        "header and initial state: {text}"
+    );
+}
+
+#[test]
 fn a_missing_scene_file_exits_with_2() {
     let output = guideway(&["run", "no/such/scene.toml"]);
     assert_eq!(output.status.code(), Some(2));
