@@ -3,7 +3,17 @@
 //! Read from TOML with serde. Every length is in metres, mass in kilograms,
 //! force in newtons, time in seconds.
 
+mod annotate;
+mod builtin;
+mod error;
+mod validate;
+
+pub use builtin::{builtin, builtins, DEFAULT_SCENE};
+pub use error::{Problem, SceneError};
+pub use validate::{is_identifier, MAX_ELEMENTS};
+
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 
 /// A complete, self-contained description of one simulation.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -181,6 +191,45 @@ pub enum IntegratorKind {
 }
 
 impl Scene {
+    /// Parse a scene from TOML text and validate it.
+    pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
+        let scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
+            .map_err(|e| error::from_toml_error(e, text))?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// Check every rule; the error lists every broken one with the field's
+    /// path, its value and the rule.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        validate::validate(self)
+    }
+
+    /// Load a scene from a TOML file, or a built-in scene by name. An
+    /// existing file wins over a built-in of the same name; anything ending
+    /// in `.toml` or containing a path separator is taken as a file.
+    pub fn load(file_or_builtin: &str) -> Result<Scene, SceneError> {
+        let path = Path::new(file_or_builtin);
+        let looks_like_file = file_or_builtin.ends_with(".toml")
+            || file_or_builtin.contains(std::path::MAIN_SEPARATOR)
+            || file_or_builtin.contains('/');
+        if path.is_file() || looks_like_file {
+            let text = std::fs::read_to_string(path).map_err(|e| SceneError::Read {
+                path: file_or_builtin.to_string(),
+                message: e.to_string(),
+            })?;
+            return Scene::from_toml_str(&text);
+        }
+        builtin(file_or_builtin).ok_or_else(|| SceneError::NotFound {
+            name: file_or_builtin.to_string(),
+        })
+    }
+
+    /// The scene as TOML that `from_toml_str` reads back to the same scene.
+    pub fn to_toml_string(&self) -> String {
+        toml::to_string_pretty(self).expect("a scene always serialises to TOML")
+    }
+
     /// The paper's model 1 (Vu-Quoc & Olsson's beam) with the given body.
     pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
         let (name, inertia, radius) = match kind {
@@ -220,3 +269,6 @@ impl Scene {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;

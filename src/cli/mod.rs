@@ -1,0 +1,92 @@
+//! The `guideway` command line (binary only; the library does the work).
+//!
+//! Exit codes: 0 success, 1 the run or an output file failed, 2 bad command
+//! line or bad scene (every problem listed on stderr).
+
+mod progress;
+mod run;
+mod scenes;
+
+use clap::{Parser, Subcommand};
+use guideway::scene::{SceneError, DEFAULT_SCENE};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Debug, Parser)]
+#[command(
+    name = "guideway",
+    version,
+    about = "Simulate a wheel or a maglev glider moving on a flexible beam (Lee 1994)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+enum Command {
+    /// Run a scene until the body leaves the beam; write CSV, summary, plot.
+    Run(RunArgs),
+    /// List the built-in scenes, or print one as a TOML scene file.
+    Scenes(ScenesArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct RunArgs {
+    /// Scene file (TOML) or name of a built-in scene (see `guideway scenes`).
+    #[arg(default_value = DEFAULT_SCENE)]
+    scene: String,
+    /// Write every output at every internal step to this CSV file.
+    #[arg(long, short, value_name = "CSV")]
+    out: Option<PathBuf>,
+    /// Write the run's figures (exit time and speed, peaks, energy drift,
+    /// steps, iterations, wall time) to this JSON file.
+    #[arg(long, value_name = "JSON")]
+    summary: Option<PathBuf>,
+    /// Draw nominal speed, sensor deflection and energy drift to this PNG.
+    #[arg(long, value_name = "PNG")]
+    plot: Option<PathBuf>,
+    /// No progress bar, no summary on the terminal; errors only.
+    #[arg(long, short)]
+    quiet: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct ScenesArgs {
+    /// Print this scene (built-in name or file) as TOML, ready to edit.
+    #[arg(long, value_name = "NAME")]
+    show: Option<String>,
+}
+
+/// How a command failed, deciding the exit code.
+enum Failure {
+    /// The scene (or what it asks for) is wrong: exit code 2.
+    Scene(String),
+    /// The run or writing its outputs failed: exit code 1.
+    Run(String),
+}
+
+impl From<SceneError> for Failure {
+    fn from(error: SceneError) -> Self {
+        Failure::Scene(error.to_string())
+    }
+}
+
+pub fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => run::run(args),
+        Command::Scenes(args) => scenes::scenes(args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(Failure::Scene(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(2)
+        }
+        Err(Failure::Run(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::FAILURE
+        }
+    }
+}

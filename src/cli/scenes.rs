@@ -1,0 +1,27 @@
+//! `guideway scenes [--show NAME]`.
+
+use super::{Failure, ScenesArgs};
+use guideway::scene::{builtins, Scene, DEFAULT_SCENE};
+
+pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
+    match args.show {
+        Some(name) => {
+            let scene = Scene::load(&name)?;
+            print!("{}", scene.to_annotated_toml());
+        }
+        None => {
+            let width = builtins()
+                .iter()
+                .map(|(name, _)| name.len())
+                .max()
+                .unwrap_or(0);
+            for (name, description) in builtins() {
+                println!("{name:width$}  {description}");
+            }
+            println!();
+            println!("`guideway run NAME` runs one ({DEFAULT_SCENE} when none is given);");
+            println!("`guideway scenes --show NAME > my.toml` starts a scene file from one.");
+        }
+    }
+    Ok(())
+}

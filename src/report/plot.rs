@@ -1,0 +1,274 @@
+//! The run as a PNG in the manner of the paper's Fig. 10: nominal speed,
+//! sensor deflections over the static midspan deflection, and the energy
+//! balance's relative drift, against normalised time t·V0/L.
+
+use super::output_names;
+use super::trace::Trace;
+use crate::scene::Scene;
+use plotters::prelude::*;
+use std::ops::Range;
+use std::path::Path;
+use std::sync::OnceLock;
+
+/// Where the plot's font is looked for, first found wins. Without one the
+/// plot is drawn without any text.
+pub const FONT_PATHS: [&str; 3] = [
+    "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf",
+    "/usr/share/fonts/TTF/DejaVuSans.ttf",
+    "/usr/share/fonts/dejavu/DejaVuSans.ttf",
+];
+
+/// Environment variable naming a TTF file to use instead.
+pub const FONT_ENV: &str = "GUIDEWAY_PLOT_FONT";
+
+const SIZE: (u32, u32) = (1000, 1200);
+const FONT: &str = "sans-serif";
+const COLOURS: [RGBColor; 5] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+];
+
+/// Whether text can be drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Text {
+    /// Titles, axis labels and legends.
+    Labelled,
+    /// Lines and grid only (no font found).
+    Omitted,
+}
+
+/// Register a font with plotters once per process; says whether one was
+/// found.
+pub fn load_font() -> Text {
+    static LOADED: OnceLock<Text> = OnceLock::new();
+    *LOADED.get_or_init(|| {
+        let from_env = std::env::var(FONT_ENV).ok();
+        let candidates = from_env.iter().map(String::as_str).chain(FONT_PATHS);
+        for path in candidates {
+            let Ok(bytes) = std::fs::read(path) else {
+                continue;
+            };
+            // plotters keeps fonts for the life of the process.
+            let bytes: &'static [u8] = Box::leak(bytes.into_boxed_slice());
+            if plotters::style::register_font(FONT, FontStyle::Normal, bytes).is_ok() {
+                return Text::Labelled;
+            }
+        }
+        Text::Omitted
+    })
+}
+
+/// Write the three-panel plot, with text if a font can be found.
+pub fn write_plot(scene: &Scene, trace: &Trace, path: &Path) -> Result<(), String> {
+    draw(scene, trace, path, load_font())
+}
+
+/// One curve of a panel.
+struct Curve {
+    label: String,
+    points: Vec<(f64, f64)>,
+}
+
+struct Panel {
+    title: String,
+    y_label: String,
+    /// Digits after the point on the y axis; scientific notation if `None`.
+    y_decimals: Option<usize>,
+    /// Where the legend least hides the curves of the paper's cases.
+    legend: SeriesLabelPosition,
+    curves: Vec<Curve>,
+}
+
+/// Write the plot, drawing text or not.
+pub fn draw(scene: &Scene, trace: &Trace, path: &Path, text: Text) -> Result<(), String> {
+    let (x, x_label) = normalised_time(scene, trace);
+    let panels = panels(scene, trace, &x);
+    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let areas = root.split_evenly((panels.len(), 1));
+    let x_range = padded_range(x.iter().copied());
+    for (panel, area) in panels.iter().zip(&areas) {
+        draw_panel(panel, area, x_range.clone(), &x_label, text).map_err(|e| e.to_string())?;
+    }
+    root.present()
+        .map_err(|e| format!("cannot write the plot to {}: {e}", path.display()))
+}
+
+/// t·V0/L when the body starts moving, t otherwise; and the axis label.
+fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
+    let speed = scene.body.initial_speed;
+    if speed > 0.0 {
+        let scale = speed / scene.beam.length;
+        (
+            trace.time.iter().map(|t| t * scale).collect(),
+            "t V0 / L".to_string(),
+        )
+    } else {
+        (trace.time.clone(), "t (s)".to_string())
+    }
+}
+
+/// P L³ / (48 EI): the static midspan deflection of the single simply
+/// supported span under the body's load P = |force_y|.
+pub fn static_deflection(scene: &Scene) -> f64 {
+    let beam = &scene.beam;
+    scene.body.force_y.abs() * beam.length.powi(3) / (48.0 * beam.bending_stiffness)
+}
+
+fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
+    let curve = |label: String, values: &[f64], scale: f64| Curve {
+        label,
+        points: x
+            .iter()
+            .zip(values)
+            .map(|(&x, &v)| (x, v / scale))
+            .filter(|(_, y)| y.is_finite())
+            .collect(),
+    };
+
+    let body = &scene.body.name;
+    let speed = trace
+        .column(&output_names::nominal_speed(body))
+        .map(|v| curve(format!("{body}.nominal_speed"), v, 1.0));
+
+    let static_deflection = static_deflection(scene);
+    let (scale, y_label) = if static_deflection > 0.0 && static_deflection.is_finite() {
+        (
+            static_deflection,
+            format!("deflection / (P L^3 / 48 EI = {static_deflection:.4} m)"),
+        )
+    } else {
+        (1.0, "deflection (m)".to_string())
+    };
+    let deflections = scene
+        .sensors
+        .iter()
+        .filter_map(|sensor| {
+            let name = output_names::sensor_deflection(&sensor.name);
+            trace.column(&name).map(|v| curve(name, v, scale))
+        })
+        .collect();
+
+    let drift = trace
+        .column(output_names::ENERGY_BALANCE)
+        .and_then(|energy| {
+            let initial = *energy.first()?;
+            (initial != 0.0 && initial.is_finite()).then(|| {
+                let relative: Vec<f64> = energy.iter().map(|e| (e - initial) / initial).collect();
+                curve("(E - E0) / E0".to_string(), &relative, 1.0)
+            })
+        });
+
+    vec![
+        Panel {
+            title: "Nominal speed".to_string(),
+            y_label: "V (m/s)".to_string(),
+            y_decimals: Some(2),
+            legend: SeriesLabelPosition::UpperLeft,
+            curves: speed.into_iter().collect(),
+        },
+        Panel {
+            title: "Sensor deflection".to_string(),
+            y_label,
+            y_decimals: Some(2),
+            legend: SeriesLabelPosition::LowerLeft,
+            curves: deflections,
+        },
+        Panel {
+            title: "Energy balance, relative drift".to_string(),
+            y_label: "(E - E0) / E0".to_string(),
+            y_decimals: None,
+            legend: SeriesLabelPosition::UpperRight,
+            curves: drift.into_iter().collect(),
+        },
+    ]
+}
+
+fn draw_panel(
+    panel: &Panel,
+    area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
+    x_range: Range<f64>,
+    x_label: &str,
+    text: Text,
+) -> Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>> {
+    let y_range = padded_range(
+        panel
+            .curves
+            .iter()
+            .flat_map(|c| c.points.iter().map(|&(_, y)| y)),
+    );
+    let labelled = text == Text::Labelled;
+    let mut builder = ChartBuilder::on(area);
+    builder.margin(15);
+    if labelled {
+        builder
+            .caption(&panel.title, (FONT, 22))
+            .x_label_area_size(40)
+            .y_label_area_size(90);
+    }
+    let mut chart = builder.build_cartesian_2d(x_range.clone(), y_range.clone())?;
+    if labelled {
+        let format_y = |y: &f64| match panel.y_decimals {
+            Some(decimals) => format!("{y:.decimals$}"),
+            None => format!("{y:.1e}"),
+        };
+        chart
+            .configure_mesh()
+            .x_desc(x_label)
+            .y_desc(&panel.y_label)
+            .label_style((FONT, 15))
+            .y_label_formatter(&format_y)
+            .draw()?;
+    } else {
+        // Without a font the mesh cannot be labelled: frame the panel.
+        chart.draw_series(std::iter::once(Rectangle::new(
+            [(x_range.start, y_range.start), (x_range.end, y_range.end)],
+            BLACK.stroke_width(1),
+        )))?;
+    }
+
+    for (i, curve) in panel.curves.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let series = chart.draw_series(LineSeries::new(
+            curve.points.iter().copied(),
+            colour.stroke_width(2),
+        ))?;
+        if labelled {
+            series.label(&curve.label).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        }
+    }
+    if labelled && !panel.curves.is_empty() {
+        chart
+            .configure_series_labels()
+            .position(panel.legend.clone())
+            .label_font((FONT, 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// The range of the finite values, widened by 5 % (or by 1 when they are
+/// all equal, or [0, 1] when there are none).
+fn padded_range(values: impl Iterator<Item = f64>) -> Range<f64> {
+    let (low, high) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if low > high {
+        return 0.0..1.0;
+    }
+    let span = high - low;
+    if span <= f64::EPSILON * high.abs().max(low.abs()) {
+        let pad = if high == 0.0 { 1.0 } else { high.abs() * 0.05 };
+        return (low - pad)..(high + pad);
+    }
+    (low - 0.05 * span)..(high + 0.05 * span)
+}

@@ -1,0 +1,326 @@
+use super::*;
+use crate::scene::{builtin, Scene, DEFAULT_SCENE};
+use crate::simulation::OutputKind;
+
+fn scene() -> Scene {
+    builtin(DEFAULT_SCENE).unwrap()
+}
+
+/// A made-up run of the default scene: 5 rows at the scene's step, exit at
+/// the last one.
+fn synthetic_trace() -> Trace {
+    let mut trace = Trace::with_names([
+        "wheel.nominal_speed",
+        "sensor.midspan.deflection",
+        "energy.balance",
+        "solver.iterations",
+    ]);
+    trace.kinds[3] = OutputKind::Integer;
+    let rows = [
+        (0.0, [10.0, 0.0, 150_000.0, 0.0]),
+        (0.0025, [10.5, -0.05, 150_000.3, 4.0]),
+        (0.005, [11.2, -0.19, 149_999.4, 3.0]),
+        (0.0075, [10.1, -0.12, 150_000.0, 3.0]),
+        (0.008, [9.96, 0.02, 150_000.15, 2.0]),
+    ];
+    for (time, values) in rows {
+        trace.push(time, &values);
+    }
+    trace
+}
+
+#[test]
+fn trace_columns_follow_the_pushed_rows() {
+    let trace = synthetic_trace();
+    assert_eq!(trace.len(), 5);
+    assert_eq!(
+        trace.column("sensor.midspan.deflection").unwrap(),
+        [0.0, -0.05, -0.19, -0.12, 0.02]
+    );
+    assert!(trace.column("wheel.x").is_none());
+}
+
+#[test]
+fn summary_takes_peaks_exit_drift_and_sums() {
+    let summary = RunSummary::from_trace(&scene(), &synthetic_trace(), Some(0.008), 0.5);
+    assert_eq!(summary.scene, "lee1994-wheel-10");
+    assert_eq!(summary.exit_time, Some(0.008));
+    assert_eq!(summary.exit_nominal_speed, Some(9.96));
+    assert_eq!(summary.peak_nominal_speed, Some(11.2));
+    assert_eq!(summary.peak_sensor_deflection["midspan"], -0.19);
+    let drift = summary.max_energy_drift.unwrap();
+    assert!((drift - 0.6 / 150_000.0).abs() < 1e-15, "{drift}");
+    assert_eq!(summary.steps, 4);
+    assert_eq!(summary.iterations, Some(12));
+    assert_eq!(summary.wall_time_s, 0.5);
+}
+
+#[test]
+fn summary_without_exit_or_outputs_has_nulls() {
+    let mut trace = Trace::with_names(["other"]);
+    trace.push(0.0, &[1.0]);
+    trace.push(0.1, &[2.0]);
+    let summary = RunSummary::from_trace(&scene(), &trace, None, 0.0);
+    let json: serde_json::Value = serde_json::from_str(&summary.to_json()).unwrap();
+    for key in [
+        "exit_time",
+        "exit_nominal_speed",
+        "peak_nominal_speed",
+        "max_energy_drift",
+        "iterations",
+    ] {
+        assert!(json[key].is_null(), "{key} should be null: {json}");
+    }
+    assert_eq!(json["steps"], 1);
+    assert_eq!(json["peak_sensor_deflection"], serde_json::json!({}));
+
+    // Exited, but the exit speed is only known with a speed output.
+    let with_exit = RunSummary::from_trace(&scene(), &synthetic_trace(), None, 0.0);
+    assert_eq!(with_exit.exit_nominal_speed, None, "no exit, no exit speed");
+}
+
+#[test]
+fn summary_json_has_the_documented_keys() {
+    let summary = RunSummary::from_trace(&scene(), &synthetic_trace(), Some(0.008), 0.25);
+    let json: serde_json::Value = serde_json::from_str(&summary.to_json()).unwrap();
+    assert_eq!(json["scene"], "lee1994-wheel-10");
+    assert_eq!(json["exit_time"], 0.008);
+    assert_eq!(json["peak_sensor_deflection"]["midspan"], -0.19);
+    assert_eq!(json["iterations"], 12);
+    assert_eq!(json["wall_time_s"], 0.25);
+    let back: RunSummary = serde_json::from_value(json).unwrap();
+    assert_eq!(back, summary);
+}
+
+#[test]
+fn human_summary_names_every_figure() {
+    let text = RunSummary::from_trace(&scene(), &synthetic_trace(), Some(0.008), 0.002).to_string();
+    for expected in [
+        "exit time          0.008000 s",
+        "exit speed V       9.9600 m/s",
+        "peak speed V       11.2000 m/s",
+        "-0.190000 m at sensor midspan",
+        "max energy drift   4.000e-4 %",
+        "steps              4",
+        "iterations         12",
+        "2.000 ms",
+    ] {
+        assert!(text.contains(expected), "{expected:?} missing from\n{text}");
+    }
+}
+
+#[test]
+fn energy_drift_of_a_blown_up_run_is_infinite() {
+    let mut trace = Trace::with_names(["energy.balance"]);
+    trace.push(0.0, &[2.0]);
+    trace.push(1.0, &[f64::NAN]);
+    let summary = RunSummary::from_trace(&scene(), &trace, None, 0.0);
+    assert_eq!(summary.max_energy_drift, Some(f64::INFINITY));
+}
+
+#[test]
+fn csv_has_a_header_and_full_precision_rows() {
+    let mut trace = Trace::with_names(["a", "n"]);
+    trace.kinds[1] = OutputKind::Integer;
+    trace.push(0.0, &[0.1 + 0.2, 3.0]);
+    trace.push(0.0025, &[-1e-7, 4.0]);
+    trace.push(0.005, &[f64::NAN, 5.0]);
+    let mut bytes = Vec::new();
+    csv::write_csv(&trace, &mut bytes).unwrap();
+    let text = String::from_utf8(bytes).unwrap();
+    assert_eq!(
+        text,
+        "time,a,n\n0.0,0.30000000000000004,3\n0.0025,-1e-7,4\n0.005,NaN,5\n"
+    );
+    // Every real reads back bit for bit.
+    let second: Vec<f64> = text
+        .lines()
+        .nth(2)
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(second, [0.0025, -1e-7, 4.0]);
+}
+
+#[test]
+fn static_deflection_is_the_papers_0_1728_m() {
+    let delta = plot::static_deflection(&scene());
+    assert!((delta - 0.1728).abs() < 1e-12, "{delta}");
+}
+
+fn assert_png(path: &std::path::Path) {
+    let bytes = std::fs::read(path).unwrap();
+    assert!(bytes.starts_with(b"\x89PNG\r\n\x1a\n"), "not a PNG");
+    assert!(
+        bytes.len() > 5_000,
+        "suspiciously small plot: {} bytes",
+        bytes.len()
+    );
+}
+
+#[test]
+fn plot_is_written_with_and_without_text() {
+    let dir = tempfile::tempdir().unwrap();
+    let trace = synthetic_trace();
+
+    let labelled = dir.path().join("labelled.png");
+    plot::write_plot(&scene(), &trace, &labelled).unwrap();
+    assert_png(&labelled);
+
+    let bare = dir.path().join("bare.png");
+    plot::draw(&scene(), &trace, &bare, plot::Text::Omitted).unwrap();
+    assert_png(&bare);
+}
+
+#[test]
+fn plot_survives_empty_and_constant_data() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.png");
+    plot::write_plot(&scene(), &Trace::with_names(["x"]), &path).unwrap();
+    assert_png(&path);
+
+    let mut flat = Trace::with_names(["wheel.nominal_speed", "energy.balance"]);
+    flat.push(0.0, &[10.0, 0.0]);
+    flat.push(1.0, &[10.0, 0.0]);
+    plot::write_plot(&scene(), &flat, &path).unwrap();
+}
+
+#[test]
+fn plot_into_a_missing_directory_is_an_error_not_a_panic() {
+    let error = plot::write_plot(
+        &scene(),
+        &synthetic_trace(),
+        std::path::Path::new("/no/such/dir/plot.png"),
+    )
+    .unwrap_err();
+    assert!(error.contains("/no/such/dir/plot.png"), "{error}");
+}
+
+#[test]
+fn stop_time_defaults_to_ten_rigid_beam_travel_times() {
+    let mut scene = scene();
+    assert_eq!(stop_time(&scene), Ok(10.0 * 24.0 / 10.0));
+    scene.body.initial_speed = 0.0;
+    let error = stop_time(&scene).unwrap_err();
+    assert!(error.contains("body.initial_speed = 0.0"), "{error}");
+    assert!(error.contains("solver.end_time"), "{error}");
+    scene.solver.end_time = Some(1.5);
+    assert_eq!(stop_time(&scene), Ok(1.5));
+}
+
+#[test]
+fn travel_position_prefers_the_contact_abscissa() {
+    let names: Vec<String> = ["wheel.x", "contact.position"].map(String::from).to_vec();
+    assert_eq!(output_names::travel_position(&names, "wheel"), Some(1));
+    assert_eq!(output_names::travel_position(&names[..1], "wheel"), Some(0));
+    assert_eq!(output_names::travel_position(&names[..1], "glider"), None);
+}
+
+/// A body sliding at constant speed along the default scene's beam; fails
+/// at `fail_at` if given.
+struct Slider {
+    time: f64,
+    speed: f64,
+    length: f64,
+    fail_at: Option<f64>,
+    outputs: Vec<crate::simulation::OutputInfo>,
+}
+
+impl Slider {
+    fn new(speed: f64, fail_at: Option<f64>) -> Slider {
+        let output = |name: &str, kind| crate::simulation::OutputInfo {
+            name: name.to_string(),
+            unit: "",
+            description: String::new(),
+            kind,
+        };
+        Slider {
+            time: 0.0,
+            speed,
+            length: 24.0,
+            fail_at,
+            outputs: vec![
+                output("wheel.x", OutputKind::Real),
+                output("wheel.nominal_speed", OutputKind::Real),
+                output("solver.iterations", OutputKind::Integer),
+            ],
+        }
+    }
+}
+
+impl Steppable for Slider {
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn outputs(&self) -> &[crate::simulation::OutputInfo] {
+        &self.outputs
+    }
+    fn output_values(&self, values: &mut [f64]) {
+        values.copy_from_slice(&[self.speed * self.time, self.speed, 2.0]);
+    }
+    fn advance_to(&mut self, t: f64) -> Result<crate::simulation::Advance, crate::SolverError> {
+        if self.fail_at.is_some_and(|fail| t > fail) {
+            return Err(crate::SolverError {
+                time: self.time,
+                message: "diverged".into(),
+            });
+        }
+        let exit = self.length / self.speed;
+        if t >= exit {
+            self.time = exit;
+            return Ok(crate::simulation::Advance::Exited { time: exit });
+        }
+        self.time = t;
+        Ok(crate::simulation::Advance::Reached)
+    }
+}
+
+#[test]
+fn drive_records_every_step_up_to_the_exit() {
+    let scene = scene();
+    let mut fractions = Vec::new();
+    let run = drive(&scene, &mut Slider::new(10.0, None), |p| {
+        fractions.push(p.fraction)
+    })
+    .unwrap();
+    // 2.4 s at 0.0025 s: 960 steps, the last one landing on the exit.
+    assert_eq!(run.exit_time, Some(2.4));
+    let time = &run.trace.time;
+    assert_eq!(time.len(), 961);
+    assert_eq!(time[0], 0.0);
+    assert_eq!(time[1], 0.0025);
+    assert_eq!(time[401], 401.0 * 0.0025, "exact multiples of the step");
+    assert_eq!(*time.last().unwrap(), 2.4);
+    assert_eq!(fractions.len(), 960);
+    assert!(fractions.windows(2).all(|w| w[1] >= w[0]));
+    assert!((fractions[479] - 0.5).abs() < 1e-9, "{}", fractions[479]);
+    assert_eq!(*fractions.last().unwrap(), 1.0);
+
+    let summary = run.summary(&scene);
+    assert_eq!(summary.steps, 960);
+    assert_eq!(summary.iterations, Some(2 * 960));
+    assert_eq!(summary.exit_nominal_speed, Some(10.0));
+}
+
+#[test]
+fn drive_stops_at_the_end_time_without_an_exit() {
+    let mut scene = scene();
+    scene.solver.end_time = Some(0.01);
+    let run = drive(&scene, &mut Slider::new(10.0, None), |_| {}).unwrap();
+    assert_eq!(run.exit_time, None);
+    assert_eq!(run.trace.time, [0.0, 0.0025, 0.005, 0.0075, 0.01]);
+    assert_eq!(run.summary(&scene).exit_nominal_speed, None);
+}
+
+#[test]
+fn drive_returns_the_steps_before_a_solver_failure() {
+    let scene = scene();
+    let error = drive(&scene, &mut Slider::new(10.0, Some(0.006)), |_| {}).unwrap_err();
+    let RunError::Solver { error, partial } = error else {
+        panic!("expected a solver failure");
+    };
+    assert_eq!(error.message, "diverged");
+    assert_eq!(partial.trace.time, [0.0, 0.0025, 0.005]);
+    assert_eq!(partial.exit_time, None);
+}

@@ -1,0 +1,145 @@
+//! A scene as TOML with units and rules as comments: the starting point for
+//! a new scene file (`guideway scenes --show`).
+
+use super::Scene;
+use toml_edit::{DocumentMut, Item, Table, Value};
+
+/// Comment after each field: unit, meaning, rule.
+const FIELD_NOTES: [(&str, &str); 27] = [
+    ("name", "letters, digits, - _ . ; the FMU's model name"),
+    ("description", "one line"),
+    ("beam.length", "m, L"),
+    ("beam.mass_per_length", "kg/m"),
+    ("beam.bending_stiffness", "N m^2, EI > 0"),
+    (
+        "beam.surface_offset",
+        "m, h: neutral axis to top surface, >= 0",
+    ),
+    ("beam.elements", "Hermite cubic elements, >= 1"),
+    ("beam.supports.left", "pinned | clamped | free"),
+    ("beam.supports.right", "pinned | clamped | free"),
+    (
+        "beam.supports.intermediate",
+        "m, pinned supports strictly inside, increasing",
+    ),
+    ("body.name", "identifier; outputs are <name>.x, ..."),
+    ("body.kind", "wheel | glider"),
+    ("body.mass", "kg, > 0"),
+    ("body.inertia", "kg m^2, centroidal J; wheel only"),
+    ("body.radius", "m, r; wheel only"),
+    (
+        "body.initial_position",
+        "m, contact abscissa at t = 0, 0 <= x < L",
+    ),
+    ("body.initial_speed", "m/s, positive to the right"),
+    ("body.force_x", "N, constant force on the body's centre"),
+    ("body.force_y", "N, y up: the paper's load is -600 kN"),
+    (
+        "sensors.name",
+        "identifier; output sensor.<name>.deflection",
+    ),
+    ("sensors.position", "m, 0 <= x <= L"),
+    ("solver.step", "s, fixed internal time step"),
+    (
+        "solver.velocity_tolerance",
+        "m/s, on the velocity error |e|",
+    ),
+    ("solver.gap_tolerance", "m, on the gap error |g|"),
+    ("solver.max_iterations", "per stage and step"),
+    (
+        "solver.integrator",
+        "rk4: classical Runge-Kutta, the paper's",
+    ),
+    ("solver.end_time", "s, stop here if the body has not left"),
+];
+
+/// Comment above each table.
+const TABLE_NOTES: [(&str, &str); 4] = [
+    ("beam", "Euler-Bernoulli beam on the x axis from 0 to L"),
+    (
+        "body",
+        "The moving body: a rolling wheel or a maglev glider",
+    ),
+    ("sensors", "A point whose deflection is reported"),
+    (
+        "solver",
+        "Fixed-step solver; add end_time = <s> to stop before the exit",
+    ),
+];
+
+/// Column at which field comments start, where the line allows.
+const COMMENT_COLUMN: usize = 36;
+
+impl Scene {
+    /// The scene as TOML with each field's unit and rule as a comment;
+    /// reads back to the same scene.
+    pub fn to_annotated_toml(&self) -> String {
+        let mut document: DocumentMut = self
+            .to_toml_string()
+            .parse()
+            .expect("serialised TOML parses");
+        annotate_table(document.as_table_mut(), "");
+        let header = format!(
+            "# guideway scene `{}`. Units: m, kg, s, N. See README, \"Scene files\".\n",
+            self.name
+        );
+        header + &document.to_string()
+    }
+}
+
+fn annotate_table(table: &mut Table, prefix: &str) {
+    for (key, item) in table.iter_mut() {
+        let path = if prefix.is_empty() {
+            key.get().to_string()
+        } else {
+            format!("{prefix}.{}", key.get())
+        };
+        match item {
+            Item::Value(value) => annotate_value(value, key.get(), &path),
+            Item::Table(inner) => {
+                note_table(inner, &path);
+                annotate_table(inner, &path);
+            }
+            Item::ArrayOfTables(array) => {
+                for inner in array.iter_mut() {
+                    note_table(inner, &path);
+                    annotate_table(inner, &path);
+                }
+            }
+            Item::None => {}
+        }
+    }
+}
+
+fn note_table(table: &mut Table, path: &str) {
+    if let Some((_, note)) = TABLE_NOTES.iter().find(|(p, _)| *p == path) {
+        table.decor_mut().set_prefix(format!("\n# {note}\n"));
+    }
+}
+
+fn annotate_value(value: &mut Value, key: &str, path: &str) {
+    if let Value::Float(number) = value {
+        if let Ok(readable) = float_literal(*number.value()).parse::<Value>() {
+            *value = readable;
+        }
+    }
+    let Some((_, note)) = FIELD_NOTES.iter().find(|(p, _)| *p == path) else {
+        return;
+    };
+    let line = format!("{key} = {}", value.to_string().trim());
+    let padding = COMMENT_COLUMN.saturating_sub(line.len()).max(2);
+    value
+        .decor_mut()
+        .set_suffix(format!("{}# {note}", " ".repeat(padding)));
+}
+
+/// `1e9` rather than `1000000000.0`, `1e-7` rather than `0.0000001`; the
+/// same `f64` either way.
+fn float_literal(x: f64) -> String {
+    let magnitude = x.abs();
+    if x.is_finite() && x != 0.0 && !(1e-3..1e5).contains(&magnitude) {
+        format!("{x:e}")
+    } else {
+        format!("{x:?}")
+    }
+}

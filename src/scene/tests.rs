@@ -1,0 +1,578 @@
+use super::*;
+
+fn default_scene() -> Scene {
+    builtin(DEFAULT_SCENE).expect("the default scene is built in")
+}
+
+/// The problems of a scene changed by `edit`, which must be invalid.
+fn problems_after(edit: impl FnOnce(&mut Scene)) -> Vec<Problem> {
+    let mut scene = default_scene();
+    edit(&mut scene);
+    match scene.validate() {
+        Err(SceneError::Invalid { problems }) => problems,
+        other => panic!("expected an invalid scene, got {other:?}"),
+    }
+}
+
+/// Asserts that exactly one problem is reported, at `path`, with `value`,
+/// and a rule containing `rule`.
+fn assert_single_problem(edit: impl FnOnce(&mut Scene), path: &str, value: &str, rule: &str) {
+    let problems = problems_after(edit);
+    assert_eq!(problems.len(), 1, "{problems:#?}");
+    let problem = &problems[0];
+    assert_eq!(problem.path, path, "{problem}");
+    assert_eq!(problem.value, value, "{problem}");
+    assert!(problem.rule.contains(rule), "{problem} lacks {rule:?}");
+}
+
+#[test]
+fn every_builtin_is_valid_and_round_trips_through_toml() {
+    assert_eq!(builtins().len(), 4);
+    for &(name, description) in builtins() {
+        let scene = builtin(name).unwrap_or_else(|| panic!("{name} is listed but not built"));
+        assert_eq!(scene.name, name);
+        assert_eq!(scene.description, description);
+        scene.validate().unwrap();
+        let text = scene.to_toml_string();
+        let reread = Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(reread, scene, "{name} changed through TOML:\n{text}");
+    }
+}
+
+#[test]
+fn builtins_are_the_papers_cases() {
+    let expect = [
+        ("lee1994-wheel-1", BodyKind::Wheel, 1.0, 0.005),
+        ("lee1994-wheel-10", BodyKind::Wheel, 10.0, 0.0025),
+        ("lee1994-wheel-100", BodyKind::Wheel, 100.0, 0.0025),
+        ("lee1994-glider-30", BodyKind::Glider, 30.0, 0.005),
+    ];
+    for (name, kind, speed, step) in expect {
+        let scene = builtin(name).unwrap();
+        assert_eq!(scene.body.kind, kind, "{name}");
+        assert_eq!(scene.body.initial_speed, speed, "{name}");
+        assert_eq!(scene.solver.step, step, "{name}");
+        assert_eq!(scene.beam.elements, 2, "{name}");
+        assert_eq!(scene.beam.length, 24.0, "{name}");
+        assert_eq!(scene.sensors.len(), 1, "{name}");
+        assert_eq!(scene.sensors[0].name, "midspan");
+        assert_eq!(scene.sensors[0].position, 12.0);
+    }
+    assert_eq!(DEFAULT_SCENE, "lee1994-wheel-10");
+    assert!(builtin("lee1994-wheel-2").is_none());
+}
+
+#[test]
+fn a_minimal_scene_gets_the_documented_defaults() {
+    let text = r#"
+        name = "minimal"
+        [beam]
+        length = 10
+        mass_per_length = 100
+        bending_stiffness = 1e6
+        surface_offset = 0
+        elements = 4
+        [body]
+        name = "puck"
+        kind = "glider"
+        mass = 10
+        initial_speed = 5
+    "#;
+    let scene = Scene::from_toml_str(text).unwrap();
+    assert_eq!(scene.beam.length, 10.0, "integers are read as numbers");
+    assert_eq!(scene.beam.supports, SupportsSpec::default());
+    assert_eq!(scene.solver, SolverSpec::default());
+    assert_eq!(scene.solver.step, 0.0025);
+    assert_eq!(scene.solver.velocity_tolerance, 1e-7);
+    assert_eq!(scene.solver.gap_tolerance, 1e-5);
+    assert_eq!(scene.solver.max_iterations, 50);
+    assert!(scene.sensors.is_empty());
+    assert_eq!(scene.body.initial_position, 0.0);
+    assert_eq!((scene.body.force_x, scene.body.force_y), (0.0, 0.0));
+    assert_eq!(scene.description, "");
+}
+
+// ---- validation rules, one test each ----
+
+#[test]
+fn beam_length_must_be_positive() {
+    assert_single_problem(|s| s.beam.length = 0.0, "beam.length", "0.0", "> 0");
+}
+
+#[test]
+fn beam_mass_per_length_must_be_positive() {
+    assert_single_problem(
+        |s| s.beam.mass_per_length = -1250.0,
+        "beam.mass_per_length",
+        "-1250.0",
+        "> 0",
+    );
+}
+
+#[test]
+fn bending_stiffness_must_be_positive() {
+    assert_single_problem(
+        |s| s.beam.bending_stiffness = 0.0,
+        "beam.bending_stiffness",
+        "0.0",
+        "> 0",
+    );
+}
+
+#[test]
+fn surface_offset_must_not_be_negative_but_may_be_zero() {
+    assert_single_problem(
+        |s| s.beam.surface_offset = -0.1,
+        "beam.surface_offset",
+        "-0.1",
+        ">= 0",
+    );
+    let mut scene = default_scene();
+    scene.beam.surface_offset = 0.0;
+    scene.validate().unwrap();
+}
+
+#[test]
+fn beam_needs_at_least_one_element() {
+    assert_single_problem(|s| s.beam.elements = 0, "beam.elements", "0", ">= 1");
+    assert_single_problem(
+        |s| s.beam.elements = MAX_ELEMENTS + 1,
+        "beam.elements",
+        &(MAX_ELEMENTS + 1).to_string(),
+        "<=",
+    );
+}
+
+#[test]
+fn numbers_must_be_finite() {
+    assert_single_problem(
+        |s| s.beam.bending_stiffness = f64::NAN,
+        "beam.bending_stiffness",
+        "NaN",
+        "finite",
+    );
+    assert_single_problem(
+        |s| s.body.force_y = f64::NEG_INFINITY,
+        "body.force_y",
+        "-inf",
+        "finite",
+    );
+    assert_single_problem(
+        |s| s.body.force_x = f64::NAN,
+        "body.force_x",
+        "NaN",
+        "finite",
+    );
+    assert_single_problem(
+        |s| s.sensors[0].position = f64::INFINITY,
+        "sensors[0].position",
+        "inf",
+        "finite",
+    );
+}
+
+#[test]
+fn intermediate_supports_lie_strictly_inside_and_increase() {
+    let mut scene = default_scene();
+    scene.beam.supports.intermediate = vec![8.0, 16.0];
+    scene.validate().unwrap();
+
+    assert_single_problem(
+        |s| s.beam.supports.intermediate = vec![0.0],
+        "beam.supports.intermediate[0]",
+        "0.0",
+        "strictly inside",
+    );
+    assert_single_problem(
+        |s| s.beam.supports.intermediate = vec![8.0, 24.0],
+        "beam.supports.intermediate[1]",
+        "24.0",
+        "strictly inside",
+    );
+    assert_single_problem(
+        |s| s.beam.supports.intermediate = vec![16.0, 8.0],
+        "beam.supports.intermediate[1]",
+        "8.0",
+        "greater than the support before",
+    );
+    assert_single_problem(
+        |s| s.beam.supports.intermediate = vec![f64::NAN],
+        "beam.supports.intermediate[0]",
+        "NaN",
+        "finite",
+    );
+}
+
+#[test]
+fn supports_must_hold_the_beam() {
+    let problems = problems_after(|s| {
+        s.beam.supports.left = EndSupport::Free;
+        s.beam.supports.right = EndSupport::Free;
+    });
+    assert_eq!(problems.len(), 1);
+    assert_eq!(problems[0].path, "beam.supports");
+    assert!(problems[0].rule.contains("rigid motion"));
+
+    // A cantilever and a propped free end are held.
+    let mut scene = default_scene();
+    scene.beam.supports.left = EndSupport::Clamped;
+    scene.beam.supports.right = EndSupport::Free;
+    scene.validate().unwrap();
+    scene.beam.supports.left = EndSupport::Pinned;
+    scene.beam.supports.intermediate = vec![12.0];
+    scene.validate().unwrap();
+}
+
+#[test]
+fn body_name_is_an_identifier_and_not_reserved() {
+    assert_single_problem(
+        |s| s.body.name = "front wheel".into(),
+        "body.name",
+        "\"front wheel\"",
+        "identifier",
+    );
+    assert_single_problem(
+        |s| s.body.name = "1wheel".into(),
+        "body.name",
+        "\"1wheel\"",
+        "identifier",
+    );
+    assert_single_problem(
+        |s| s.body.name = "energy".into(),
+        "body.name",
+        "\"energy\"",
+        "reserved",
+    );
+}
+
+#[test]
+fn body_mass_must_be_positive() {
+    assert_single_problem(|s| s.body.mass = 0.0, "body.mass", "0.0", "> 0");
+}
+
+#[test]
+fn wheel_requires_positive_inertia_and_radius() {
+    assert_single_problem(
+        |s| s.body.inertia = None,
+        "body.inertia",
+        "missing",
+        "a wheel needs",
+    );
+    assert_single_problem(|s| s.body.radius = Some(-0.3), "body.radius", "-0.3", "> 0");
+    assert_single_problem(|s| s.body.radius = None, "body.radius", "missing", "> 0");
+    assert_single_problem(|s| s.body.inertia = Some(0.0), "body.inertia", "0.0", "> 0");
+}
+
+#[test]
+fn glider_must_not_have_inertia_or_radius() {
+    let mut glider = builtin("lee1994-glider-30").unwrap();
+    glider.validate().unwrap();
+    glider.body.inertia = Some(135.0);
+    glider.body.radius = Some(0.3);
+    let Err(SceneError::Invalid { problems }) = glider.validate() else {
+        panic!("a glider with a radius must be invalid");
+    };
+    let paths: Vec<&str> = problems.iter().map(|p| p.path.as_str()).collect();
+    assert_eq!(paths, ["body.inertia", "body.radius"]);
+    assert!(problems.iter().all(|p| p.rule.contains("glider")));
+}
+
+#[test]
+fn start_must_lie_on_the_beam() {
+    assert_single_problem(
+        |s| s.body.initial_position = -1.0,
+        "body.initial_position",
+        "-1.0",
+        "0 <= x < beam.length = 24.0",
+    );
+    assert_single_problem(
+        |s| s.body.initial_position = 24.0,
+        "body.initial_position",
+        "24.0",
+        "0 <= x < beam.length",
+    );
+    let mut scene = default_scene();
+    scene.body.initial_position = 23.9;
+    scene.validate().unwrap();
+}
+
+#[test]
+fn initial_speed_must_be_finite_and_may_be_zero() {
+    assert_single_problem(
+        |s| s.body.initial_speed = f64::NAN,
+        "body.initial_speed",
+        "NaN",
+        "finite",
+    );
+    let mut scene = default_scene();
+    scene.body.initial_speed = 0.0;
+    scene.validate().unwrap();
+}
+
+#[test]
+fn sensors_lie_on_the_beam_with_unique_identifier_names() {
+    assert_single_problem(
+        |s| s.sensors[0].position = 24.5,
+        "sensors[0].position",
+        "24.5",
+        "0 <= x <= beam.length",
+    );
+    let mut scene = default_scene();
+    scene.sensors[0].position = 24.0;
+    scene.validate().unwrap();
+
+    assert_single_problem(
+        |s| s.sensors[0].name = "mid.span".into(),
+        "sensors[0].name",
+        "\"mid.span\"",
+        "identifier",
+    );
+    assert_single_problem(
+        |s| s.sensors.push(s.sensors[0].clone()),
+        "sensors[1].name",
+        "\"midspan\"",
+        "unique",
+    );
+}
+
+#[test]
+fn solver_settings_must_be_positive() {
+    assert_single_problem(|s| s.solver.step = 0.0, "solver.step", "0.0", "> 0");
+    assert_single_problem(
+        |s| s.solver.velocity_tolerance = -1e-7,
+        "solver.velocity_tolerance",
+        "-1e-7",
+        "> 0",
+    );
+    assert_single_problem(
+        |s| s.solver.gap_tolerance = 0.0,
+        "solver.gap_tolerance",
+        "0.0",
+        "> 0",
+    );
+    assert_single_problem(
+        |s| s.solver.max_iterations = 0,
+        "solver.max_iterations",
+        "0",
+        ">= 1",
+    );
+    assert_single_problem(
+        |s| s.solver.end_time = Some(-2.0),
+        "solver.end_time",
+        "-2.0",
+        "> 0",
+    );
+}
+
+#[test]
+fn description_is_one_line() {
+    assert_single_problem(
+        |s| s.description = "two\nlines".into(),
+        "description",
+        "\"two\\nlines\"",
+        "one line",
+    );
+}
+
+#[test]
+fn scene_name_is_usable_as_a_file_name() {
+    assert_single_problem(|s| s.name = String::new(), "name", "\"\"", "non-empty");
+    assert_single_problem(|s| s.name = "a/b".into(), "name", "\"a/b\"", "letters");
+}
+
+#[test]
+fn every_problem_is_reported_each_on_its_own_line() {
+    let mut scene = default_scene();
+    scene.beam.bending_stiffness = -1e9;
+    scene.body.mass = 0.0;
+    scene.solver.step = f64::NAN;
+    scene.sensors[0].position = 30.0;
+    let error = scene.validate().unwrap_err();
+    let paths: Vec<String> = error.problems().into_iter().map(|p| p.path).collect();
+    assert_eq!(
+        paths,
+        [
+            "beam.bending_stiffness",
+            "body.mass",
+            "sensors[0].position",
+            "solver.step"
+        ]
+    );
+    let text = error.to_string();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 5, "{text}");
+    assert!(lines[0].contains("4 problems"));
+    assert_eq!(
+        lines[1].trim(),
+        "beam.bending_stiffness = -1000000000.0: must be > 0"
+    );
+    assert!(lines[4].contains("solver.step = NaN"));
+}
+
+// ---- parse errors ----
+
+fn parse_error(text: &str) -> (String, String) {
+    match Scene::from_toml_str(text) {
+        Err(error @ SceneError::Parse { .. }) => {
+            let SceneError::Parse { ref path, .. } = error else {
+                unreachable!()
+            };
+            (path.clone(), error.to_string())
+        }
+        other => panic!("expected a parse error, got {other:?}"),
+    }
+}
+
+/// The default scene's TOML with `from` replaced by `to`.
+fn edited_default(from: &str, to: &str) -> String {
+    let text = default_scene().to_toml_string();
+    assert!(text.contains(from), "{from:?} not in\n{text}");
+    text.replacen(from, to, 1)
+}
+
+#[test]
+fn unknown_field_is_named_with_its_path_and_line() {
+    let text = edited_default("elements = 2", "elements = 2\nstiffnes = 3");
+    let (path, message) = parse_error(&text);
+    assert_eq!(path, "beam.stiffnes");
+    assert!(
+        message.contains("beam.stiffnes: unknown field"),
+        "{message}"
+    );
+    assert!(message.contains("expected one of `length`"), "{message}");
+    let line = text
+        .lines()
+        .position(|l| l.starts_with("stiffnes"))
+        .unwrap()
+        + 1;
+    assert!(
+        message.contains(&format!("line {line}, column 1")),
+        "{message}"
+    );
+}
+
+#[test]
+fn unknown_top_level_and_sensor_fields_are_named() {
+    let (path, _) = parse_error(&edited_default("[beam]", "colour = \"red\"\n[beam]"));
+    assert_eq!(path, "colour");
+    let (path, _) = parse_error(&edited_default(
+        "position = 12.0",
+        "position = 12.0\nunit = 1",
+    ));
+    assert_eq!(path, "sensors[0].unit");
+}
+
+#[test]
+fn wrong_type_is_named_with_what_was_expected() {
+    let (path, message) = parse_error(&edited_default("length = 24.0", "length = \"24 m\""));
+    assert_eq!(path, "beam.length");
+    assert!(
+        message.contains("invalid type: string \"24 m\", expected a number"),
+        "{message}"
+    );
+
+    let (path, message) = parse_error(&edited_default("elements = 2", "elements = 2.5"));
+    assert_eq!(path, "beam.elements");
+    assert!(message.contains("expected a whole number"), "{message}");
+
+    let (path, message) = parse_error(&edited_default("elements = 2", "elements = -2"));
+    assert_eq!(path, "beam.elements");
+    assert!(message.contains("-2"), "{message}");
+}
+
+#[test]
+fn missing_field_and_unknown_variant_are_named() {
+    let (path, message) = parse_error(&edited_default("mass = 3000.0\n", ""));
+    assert_eq!(path, "body.mass");
+    assert!(message.contains("missing field"), "{message}");
+
+    let (path, message) = parse_error(&edited_default("kind = \"wheel\"", "kind = \"tank\""));
+    assert_eq!(path, "body.kind");
+    assert!(
+        message.contains("expected `wheel` or `glider`"),
+        "{message}"
+    );
+
+    let (path, message) = parse_error(&edited_default("left = \"pinned\"", "left = \"hinged\""));
+    assert_eq!(path, "beam.supports.left");
+    assert!(message.contains("`pinned`, `clamped`, `free`"), "{message}");
+}
+
+#[test]
+fn malformed_toml_reports_its_location() {
+    let (path, message) = parse_error("name = \"x\"\n[beam\n");
+    assert_eq!(path, "");
+    assert!(message.contains("line 2"), "{message}");
+}
+
+#[test]
+fn parsed_scenes_are_validated() {
+    let text = edited_default(
+        "bending_stiffness = 1000000000.0",
+        "bending_stiffness = -1.0",
+    );
+    match Scene::from_toml_str(&text) {
+        Err(SceneError::Invalid { problems }) => {
+            assert_eq!(problems.len(), 1);
+            assert_eq!(problems[0].path, "beam.bending_stiffness");
+        }
+        other => panic!("expected an invalid scene, got {other:?}"),
+    }
+}
+
+// ---- loading ----
+
+#[test]
+fn load_finds_builtins_and_files() {
+    assert_eq!(
+        Scene::load("lee1994-glider-30").unwrap().body.kind,
+        BodyKind::Glider
+    );
+
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mine.toml");
+    let mut scene = default_scene();
+    scene.name = "mine".into();
+    std::fs::write(&path, scene.to_toml_string()).unwrap();
+    assert_eq!(Scene::load(path.to_str().unwrap()).unwrap(), scene);
+}
+
+#[test]
+fn load_reports_missing_files_and_unknown_names() {
+    match Scene::load("no/such/scene.toml") {
+        Err(SceneError::Read { path, .. }) => assert_eq!(path, "no/such/scene.toml"),
+        other => panic!("expected a read error, got {other:?}"),
+    }
+    let error = Scene::load("lee1994-wheel-7").unwrap_err();
+    assert!(matches!(error, SceneError::NotFound { .. }));
+    let message = error.to_string();
+    assert!(message.contains("lee1994-wheel-7"), "{message}");
+    assert!(
+        message.contains("lee1994-wheel-10"),
+        "lists the built-ins: {message}"
+    );
+}
+
+#[test]
+fn annotated_toml_reads_back_to_the_same_scene() {
+    let mut scenes: Vec<Scene> = builtins()
+        .iter()
+        .map(|(n, _)| builtin(n).unwrap())
+        .collect();
+    let mut varied = default_scene();
+    varied.solver.end_time = Some(0.25);
+    varied.beam.supports.intermediate = vec![8.0, 16.5];
+    varied.body.force_x = 1.5e-4;
+    varied.sensors.push(SensorSpec {
+        name: "quarter".into(),
+        position: 6.0,
+    });
+    scenes.push(varied);
+    for scene in scenes {
+        let text = scene.to_annotated_toml();
+        assert!(text.contains("bending_stiffness = 1e9"), "{text}");
+        assert!(text.contains("# N m^2, EI > 0"), "{text}");
+        let reread = Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
+        assert_eq!(reread, scene, "{text}");
+    }
+}

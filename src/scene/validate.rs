@@ -1,0 +1,294 @@
+//! The rules a scene must satisfy before a model is built from it.
+//!
+//! Every rule is checked and every broken one reported, so that a person can
+//! fix a scene file in one pass.
+
+use super::{BodyKind, EndSupport, Scene, SceneError};
+use crate::scene::error::Problem;
+use std::collections::HashSet;
+
+/// Output-name prefixes the simulation uses itself; a body may not take one.
+const RESERVED_BODY_NAMES: [&str; 4] = ["contact", "energy", "sensor", "solver"];
+
+/// More elements than this is a typo, not a model (and memory to match).
+pub const MAX_ELEMENTS: usize = 100_000;
+
+pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
+    let mut checks = Checks::default();
+    check_name(&mut checks, scene);
+    let length_ok = check_beam(&mut checks, scene);
+    check_body(&mut checks, scene, length_ok);
+    check_sensors(&mut checks, scene, length_ok);
+    check_solver(&mut checks, scene);
+    if checks.problems.is_empty() {
+        Ok(())
+    } else {
+        Err(SceneError::Invalid {
+            problems: checks.problems,
+        })
+    }
+}
+
+fn check_name(checks: &mut Checks, scene: &Scene) {
+    let valid = !scene.name.is_empty()
+        && scene
+            .name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+    if !valid {
+        checks.fail(
+            "name",
+            format!("{:?}", scene.name),
+            "must be non-empty and use only ASCII letters, digits, '-', '_' and '.'",
+        );
+    }
+    if scene.description.contains(['\n', '\r']) {
+        checks.fail(
+            "description",
+            format!("{:?}", scene.description),
+            "must be one line",
+        );
+    }
+}
+
+/// Returns whether the beam length is usable for range checks elsewhere.
+fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
+    let beam = &scene.beam;
+    let length_ok = checks.positive("beam.length", beam.length);
+    checks.positive("beam.mass_per_length", beam.mass_per_length);
+    checks.positive("beam.bending_stiffness", beam.bending_stiffness);
+    checks.non_negative("beam.surface_offset", beam.surface_offset);
+    if beam.elements < 1 {
+        checks.fail("beam.elements", beam.elements.to_string(), "must be >= 1");
+    } else if beam.elements > MAX_ELEMENTS {
+        checks.fail(
+            "beam.elements",
+            beam.elements.to_string(),
+            format!("must be <= {MAX_ELEMENTS}"),
+        );
+    }
+
+    let supports = &beam.supports;
+    let mut previous: Option<f64> = None;
+    for (i, &x) in supports.intermediate.iter().enumerate() {
+        let path = format!("beam.supports.intermediate[{i}]");
+        if !x.is_finite() {
+            checks.fail(path, fmt_f64(x), "must be a finite number");
+            continue;
+        }
+        if length_ok && !(x > 0.0 && x < beam.length) {
+            checks.fail(
+                &path,
+                fmt_f64(x),
+                format!(
+                    "must lie strictly inside the beam, 0 < x < beam.length = {}",
+                    fmt_f64(beam.length)
+                ),
+            );
+        }
+        if let Some(before) = previous {
+            if x <= before {
+                checks.fail(
+                    &path,
+                    fmt_f64(x),
+                    format!(
+                        "must be greater than the support before it ({})",
+                        fmt_f64(before)
+                    ),
+                );
+            }
+        }
+        previous = Some(x);
+    }
+
+    let held = |end: EndSupport| match end {
+        EndSupport::Pinned => 1,
+        EndSupport::Clamped => 2,
+        EndSupport::Free => 0,
+    };
+    let constraints = held(supports.left) + held(supports.right) + supports.intermediate.len();
+    if constraints < 2 {
+        checks.fail(
+            "beam.supports",
+            format!(
+                "left = {:?}, right = {:?}, {} intermediate",
+                supports.left,
+                supports.right,
+                supports.intermediate.len()
+            )
+            .to_lowercase(),
+            "must hold the beam against rigid motion (e.g. two pinned ends, or one clamped end)",
+        );
+    }
+    length_ok
+}
+
+fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let body = &scene.body;
+    if !is_identifier(&body.name) {
+        checks.fail(
+            "body.name",
+            format!("{:?}", body.name),
+            "must be an identifier: a letter or '_' followed by letters, digits or '_'",
+        );
+    } else if RESERVED_BODY_NAMES.contains(&body.name.as_str()) {
+        checks.fail(
+            "body.name",
+            format!("{:?}", body.name),
+            format!(
+                "is reserved for the simulation's own outputs ({})",
+                RESERVED_BODY_NAMES.join(", ")
+            ),
+        );
+    }
+    checks.positive("body.mass", body.mass);
+    match body.kind {
+        BodyKind::Wheel => {
+            checks.required_positive("body.inertia", body.inertia, "a wheel needs");
+            checks.required_positive("body.radius", body.radius, "a wheel needs");
+        }
+        BodyKind::Glider => {
+            for (path, value) in [("body.inertia", body.inertia), ("body.radius", body.radius)] {
+                if let Some(v) = value {
+                    checks.fail(
+                        path,
+                        fmt_f64(v),
+                        "must be left out for a glider (it is a point body: J = 0, r = 0)",
+                    );
+                }
+            }
+        }
+    }
+    if checks.finite("body.initial_position", body.initial_position) && length_ok {
+        let x = body.initial_position;
+        if !(0.0..scene.beam.length).contains(&x) {
+            checks.fail(
+                "body.initial_position",
+                fmt_f64(x),
+                format!(
+                    "must lie on the beam, 0 <= x < beam.length = {}",
+                    fmt_f64(scene.beam.length)
+                ),
+            );
+        }
+    }
+    checks.finite("body.initial_speed", body.initial_speed);
+    checks.finite("body.force_x", body.force_x);
+    checks.finite("body.force_y", body.force_y);
+}
+
+fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let mut seen = HashSet::new();
+    for (i, sensor) in scene.sensors.iter().enumerate() {
+        let name_path = format!("sensors[{i}].name");
+        if !is_identifier(&sensor.name) {
+            checks.fail(
+                name_path,
+                format!("{:?}", sensor.name),
+                "must be an identifier: a letter or '_' followed by letters, digits or '_'",
+            );
+        } else if !seen.insert(sensor.name.as_str()) {
+            checks.fail(
+                name_path,
+                format!("{:?}", sensor.name),
+                "must be unique among the sensors",
+            );
+        }
+        let position_path = format!("sensors[{i}].position");
+        if checks.finite(&position_path, sensor.position)
+            && length_ok
+            && !(0.0..=scene.beam.length).contains(&sensor.position)
+        {
+            checks.fail(
+                position_path,
+                fmt_f64(sensor.position),
+                format!(
+                    "must lie on the beam, 0 <= x <= beam.length = {}",
+                    fmt_f64(scene.beam.length)
+                ),
+            );
+        }
+    }
+}
+
+fn check_solver(checks: &mut Checks, scene: &Scene) {
+    let solver = &scene.solver;
+    checks.positive("solver.step", solver.step);
+    checks.positive("solver.velocity_tolerance", solver.velocity_tolerance);
+    checks.positive("solver.gap_tolerance", solver.gap_tolerance);
+    if solver.max_iterations < 1 {
+        checks.fail(
+            "solver.max_iterations",
+            solver.max_iterations.to_string(),
+            "must be >= 1",
+        );
+    }
+    if let Some(end) = solver.end_time {
+        checks.positive("solver.end_time", end);
+    }
+}
+
+/// A letter or `_`, then letters, digits or `_` (ASCII): safe inside
+/// output names such as `sensor.<name>.deflection`.
+pub fn is_identifier(name: &str) -> bool {
+    let mut chars = name.chars();
+    match chars.next() {
+        Some(c) if c.is_ascii_alphabetic() || c == '_' => {}
+        _ => return false,
+    }
+    chars.all(|c| c.is_ascii_alphanumeric() || c == '_')
+}
+
+/// Shortest text that reads back as the same number (`-1.0`, `NaN`, `inf`).
+fn fmt_f64(x: f64) -> String {
+    format!("{x:?}")
+}
+
+#[derive(Default)]
+struct Checks {
+    problems: Vec<Problem>,
+}
+
+impl Checks {
+    fn fail(&mut self, path: impl Into<String>, value: impl Into<String>, rule: impl Into<String>) {
+        self.problems.push(Problem::new(path, value, rule));
+    }
+
+    /// Finite; reports and returns false otherwise.
+    fn finite(&mut self, path: &str, x: f64) -> bool {
+        if x.is_finite() {
+            true
+        } else {
+            self.fail(path, fmt_f64(x), "must be a finite number");
+            false
+        }
+    }
+
+    /// Finite and > 0; reports and returns false otherwise.
+    fn positive(&mut self, path: &str, x: f64) -> bool {
+        if !self.finite(path, x) {
+            return false;
+        }
+        if x <= 0.0 {
+            self.fail(path, fmt_f64(x), "must be > 0");
+            return false;
+        }
+        true
+    }
+
+    /// Finite and >= 0.
+    fn non_negative(&mut self, path: &str, x: f64) {
+        if self.finite(path, x) && x < 0.0 {
+            self.fail(path, fmt_f64(x), "must be >= 0");
+        }
+    }
+
+    fn required_positive(&mut self, path: &str, x: Option<f64>, who: &str) {
+        match x {
+            None => self.fail(path, "missing", format!("{who} a value > 0")),
+            Some(x) => {
+                self.positive(path, x);
+            }
+        }
+    }
+}
