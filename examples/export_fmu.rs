@@ -1,31 +1,16 @@
 //! Export an FMU without the CLI (used by scripts/test.sh):
 //!
-//!     cargo run --example export_fmu -- <scene.toml | lee1994-wheel-10 | lee1994-glider-20> \
+//!     cargo run --example export_fmu -- <scene.toml | built-in name> \
 //!         -o Name.fmu [--cross-check DIR]
 //!
 //! `guideway export` (src/main.rs) is the user-facing command; this example
 //! calls the same `guideway::fmu::export`.
 
-use guideway::scene::{BodyKind, Scene};
+use guideway::scene::Scene;
 use std::path::PathBuf;
 
 fn scene(arg: &str) -> Result<Scene, String> {
-    if arg.ends_with(".toml") {
-        let text = std::fs::read_to_string(arg).map_err(|e| format!("{arg}: {e}"))?;
-        return toml::from_str(&text).map_err(|e| format!("{arg}: {e}"));
-    }
-    let parts: Vec<&str> = arg.split('-').collect();
-    let (kind, speed) = match parts.as_slice() {
-        ["lee1994", "wheel", v] => (BodyKind::Wheel, v),
-        ["lee1994", "glider", v] => (BodyKind::Glider, v),
-        _ => {
-            return Err(format!(
-                "unknown scene {arg}: give a .toml file or lee1994-<wheel|glider>-<speed>"
-            ))
-        }
-    };
-    let speed: f64 = speed.parse().map_err(|e| format!("{arg}: speed: {e}"))?;
-    Ok(Scene::lee1994(kind, speed, 0.0025))
+    Scene::load(arg).map_err(|e| e.to_string())
 }
 
 fn run() -> Result<(), String> {

@@ -73,7 +73,7 @@ pub fn read_scene(resources: &std::path::Path) -> Result<Scene, String> {
     let path = resources.join(SCENE_FILE);
     let text = std::fs::read_to_string(&path)
         .map_err(|e| format!("cannot read the scene {}: {e}", path.display()))?;
-    toml::from_str(&text).map_err(|e| format!("invalid scene {}: {e}", path.display()))
+    Scene::from_toml_str(&text).map_err(|e| format!("invalid scene {}: {e}", path.display()))
 }
 
 impl<D: Dynamics> Instance<D> {

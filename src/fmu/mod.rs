@@ -70,9 +70,8 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
 pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, String> {
     // The FMU reads its scene back from TOML; describe the scene as it will
     // read it, so the GUID it computes at instantiation is the same.
-    let scene_text = toml::to_string(scene).map_err(|e| format!("cannot write the scene: {e}"))?;
-    let scene: Scene =
-        toml::from_str(&scene_text).map_err(|e| format!("scene does not read back: {e}"))?;
+    let scene_text = scene.to_toml_string();
+    let scene = Scene::from_toml_str(&scene_text).map_err(|e| e.to_string())?;
     let d = describe::<Physics>(&scene)?;
     let binary = std::fs::read(cdylib)
         .map_err(|e| format!("cannot read the FMU binary {}: {e}", cdylib.display()))?;

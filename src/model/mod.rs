@@ -15,7 +15,7 @@ pub mod variables;
 pub use dynamics::Dynamics;
 pub use variables::{Causality, Role, Value, VarType, Variability, Variable, VariableTable};
 
-use crate::scene::{BodyKind, Scene};
+use crate::scene::Scene;
 use crate::simulation::Advance;
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
@@ -78,39 +78,44 @@ pub struct Model<D: Dynamics> {
     sim: Option<D>,
 }
 
-/// Rules that involve more than one field of the scene.
+/// The FMU variable that a scene field path stands for: `body.mass` is
+/// `wheel.mass`, `sensors[0].position` is `sensor.midspan.position`; other
+/// paths (`beam.*`, `solver.*`) are the same.
+pub fn variable_name(scene: &Scene, path: &str) -> String {
+    if let Some(rest) = path.strip_prefix("body.") {
+        return format!("{}.{rest}", scene.body.name);
+    }
+    if let Some(rest) = path.strip_prefix("sensors[") {
+        if let Some((index, field)) = rest.split_once("].") {
+            if let Some(s) = index
+                .parse::<usize>()
+                .ok()
+                .and_then(|i| scene.sensors.get(i))
+            {
+                return format!("sensor.{}.{field}", s.name);
+            }
+        }
+    }
+    path.to_string()
+}
+
+/// Check every rule of the scene (`Scene::validate`), reporting each broken
+/// one with the FMU variable's name, its value and the rule.
 pub fn validate(scene: &Scene) -> Result<(), String> {
-    let name = &scene.body.name;
-    let length = scene.beam.length;
-    if scene.body.initial_position >= length {
-        return Err(format!(
-            "{name}.initial_position = {}: must be < beam.length = {length}",
-            scene.body.initial_position
-        ));
-    }
-    for s in &scene.sensors {
-        if !(s.position >= 0.0 && s.position <= length) {
-            return Err(format!(
-                "sensor.{}.position = {}: must lie on the beam, in [0, beam.length = {length}]",
-                s.name, s.position
-            ));
+    scene.validate().map_err(|e| {
+        let problems = e.problems();
+        if problems.is_empty() {
+            return e.to_string();
         }
-    }
-    if scene.body.kind == BodyKind::Wheel {
-        if !scene.body.radius.is_some_and(|r| r > 0.0) {
-            return Err(format!(
-                "{name}.radius = {:?}: a wheel needs a radius > 0",
-                scene.body.radius
-            ));
-        }
-        if !scene.body.inertia.is_some_and(|j| j > 0.0) {
-            return Err(format!(
-                "{name}.inertia = {:?}: a wheel needs an inertia > 0",
-                scene.body.inertia
-            ));
-        }
-    }
-    Ok(())
+        problems
+            .into_iter()
+            .map(|mut p| {
+                p.path = variable_name(scene, &p.path);
+                p.to_string()
+            })
+            .collect::<Vec<_>>()
+            .join("; ")
+    })
 }
 
 impl<D: Dynamics> Model<D> {

@@ -1,5 +1,6 @@
 use super::fake::{FakeDynamics, FAIL_FORCE};
 use super::*;
+use crate::scene::BodyKind;
 
 fn model(kind: BodyKind) -> Model<FakeDynamics> {
     Model::new(Scene::lee1994(kind, 10.0, 0.0025)).unwrap()

@@ -400,8 +400,8 @@ pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String
     Ok(())
 }
 
-/// Upper bound on `beam.elements` accepted through the FMI interface.
-pub const MAX_ELEMENTS: i32 = 100_000;
+/// Upper bound on `beam.elements`: the scene's rule.
+const MAX_ELEMENTS: i32 = crate::scene::MAX_ELEMENTS as i32;
 
 fn input_start(scene: &Scene, i: Input) -> f64 {
     match i {
