@@ -15,9 +15,15 @@ cargo build --release --lib --bins --examples
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
 rm -rf "$GUIDEWAY_FMU_DIR"
 mkdir -p "$GUIDEWAY_FMU_DIR"
+# `guideway export` once the CLI has it, else the example calling the same
+# guideway::fmu::export
+export_fmu=(target/release/examples/export_fmu)
+if target/release/guideway export --help >/dev/null 2>&1; then
+    export_fmu=(target/release/guideway export)
+fi
 for scene in lee1994-wheel-10 lee1994-glider-30; do
     id=${scene//-/_}
-    target/release/examples/export_fmu "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
+    "${export_fmu[@]}" "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
         --cross-check "$GUIDEWAY_FMU_DIR/cross-check"
 done
 
