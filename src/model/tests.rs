@@ -177,3 +177,18 @@ fn reset_returns_to_start_values() {
     assert_eq!(real(&mut m, "beam.length"), 24.0);
     assert_eq!(real(&mut m, "wheel.x"), 0.0);
 }
+
+#[test]
+fn a_start_time_offsets_communication_times_only() {
+    let mut a = model(BodyKind::Glider);
+    a.initialize().unwrap();
+    a.do_step(0.0, 0.1).unwrap();
+    let mut b = model(BodyKind::Glider);
+    b.set_start_time(10.0).unwrap();
+    b.initialize().unwrap();
+    assert_eq!(b.time(), 10.0);
+    assert!(b.do_step(0.0, 0.1).is_err());
+    b.do_step(10.0, 0.1).unwrap();
+    assert_eq!(real(&mut a, "glider.x"), real(&mut b, "glider.x"));
+    assert!((b.time() - 10.1).abs() < 1e-12);
+}
