@@ -189,6 +189,8 @@ fn a_start_time_offsets_communication_times_only() {
     assert_eq!(b.time(), 10.0);
     assert!(b.do_step(0.0, 0.1).is_err());
     b.do_step(10.0, 0.1).unwrap();
-    assert_eq!(real(&mut a, "glider.x"), real(&mut b, "glider.x"));
+    // same motion; the offset only rounds the target time (10.1 - 10)
+    let (xa, xb) = (real(&mut a, "glider.x"), real(&mut b, "glider.x"));
+    assert!((xa - xb).abs() <= 1e-12 * xa.abs(), "{xa} vs {xb}");
     assert!((b.time() - 10.1).abs() < 1e-12);
 }
