@@ -1,5 +1,24 @@
 #!/usr/bin/env bash
 # Runs every test of guideway. Usage: bash scripts/test.sh
+#  1. set-up (libclang, .venv), idempotent
+#  2. cargo test (unit, integration, FMU import with the `fmi` crate)
+#  3. export the FMUs of the built-in scenes (+ cross-check files)
+#  4. pytest scripts/tests: fmpy, fmutool, libcosimpy against those FMUs
 set -euo pipefail
 cd "$(dirname "$0")/.."
+
+bash scripts/setup.sh
+
 cargo test --release --all-targets
+
+cargo build --release --lib --bins --examples
+export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
+rm -rf "$GUIDEWAY_FMU_DIR"
+mkdir -p "$GUIDEWAY_FMU_DIR"
+for scene in lee1994-wheel-10 lee1994-glider-30; do
+    id=${scene//-/_}
+    target/release/examples/export_fmu "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
+        --cross-check "$GUIDEWAY_FMU_DIR/cross-check"
+done
+
+.venv/bin/python -m pytest -q scripts/tests

@@ -9,8 +9,11 @@
 pub mod beam;
 pub mod body;
 pub mod contact;
+pub mod fmi2;
+pub mod fmu;
 pub mod integrate;
 pub mod iteration;
+pub mod model;
 pub mod report;
 pub mod scene;
 pub mod simulation;

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Set-up for building and testing guideway; idempotent, quick on re-run.
+#  - libclang (Debian libclang-dev): fmi-sys runs bindgen at build time.
+#  - .venv in the repository root with scripts/requirements.txt (fmpy,
+#    libcosimpy, fmu-manipulation-toolbox, pytest, numpy).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+apt_install() {
+    if [ "$(id -u)" != 0 ]; then
+        echo "setup: need root to apt-get install $*" >&2
+        exit 1
+    fi
+    if [ -z "${APT_UPDATED:-}" ]; then
+        apt-get update -qq
+        APT_UPDATED=1
+    fi
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+}
+
+if ! compgen -G "/usr/lib/llvm-*/lib/libclang*.so*" >/dev/null \
+    && ! compgen -G "/usr/lib/*/libclang*.so*" >/dev/null; then
+    echo "setup: installing libclang-dev (for fmi-sys/bindgen)"
+    apt_install libclang-dev
+fi
+
+if ! python3 -c "import venv, ensurepip" 2>/dev/null; then
+    echo "setup: installing python3-venv"
+    apt_install python3-venv
+fi
+
+want=$(sha256sum scripts/requirements.txt | cut -d' ' -f1)
+stamp=.venv/.requirements.sha256
+if [ ! -x .venv/bin/python ] || [ "$(cat "$stamp" 2>/dev/null)" != "$want" ]; then
+    echo "setup: creating .venv from scripts/requirements.txt"
+    python3 -m venv .venv
+    .venv/bin/pip install -q --disable-pip-version-check -r scripts/requirements.txt
+    echo "$want" >"$stamp"
+fi

@@ -1,0 +1,432 @@
+//! modelDescription.xml, generated from the variable table with quick-xml
+//! and serde, in the element order of the FMI 2.0 schema.
+//!
+//! The GUID is derived from the document itself: the SHA-256 of the XML
+//! written with an empty guid attribute, formatted like a UUID. Two FMUs that
+//! differ in anything their description says never share a GUID, and an
+//! identical rebuild keeps it.
+
+use crate::model::{Causality, Value, VarType, VariableTable};
+use crate::scene::Scene;
+use serde::Serialize;
+use sha2::{Digest, Sha256};
+
+/// Log categories the FMU declares (and filters on with fmi2SetDebugLogging).
+pub const LOG_CATEGORIES: &[(&str, &str)] = &[
+    (
+        "logEvents",
+        "initialization, exit of the body, state save and restore",
+    ),
+    ("logStatusWarning", "calls that returned fmi2Warning"),
+    (
+        "logStatusDiscard",
+        "steps that returned fmi2Discard (exit, solver failure)",
+    ),
+    (
+        "logStatusError",
+        "calls that returned fmi2Error, with the reason",
+    ),
+    ("logStatusFatal", "internal faults (fmi2Fatal)"),
+];
+
+/// The model identifier for a scene name: a C identifier.
+pub fn model_identifier(scene_name: &str) -> String {
+    let mut id: String = scene_name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+        .collect();
+    if id.is_empty() || id.starts_with(|c: char| c.is_ascii_digit()) {
+        id.insert_str(0, "m_");
+    }
+    id
+}
+
+/// Stop time of the default experiment: the scene's end time, else a quarter
+/// more than the time the body needs to cross the beam at its initial speed
+/// (so the exit is part of the run), else 1 s.
+pub fn default_stop_time(scene: &Scene) -> f64 {
+    if let Some(t) = scene.solver.end_time {
+        return t;
+    }
+    let travel = scene.beam.length - scene.body.initial_position;
+    let v = scene.body.initial_speed;
+    if v > 0.0 && travel > 0.0 {
+        1.25 * travel / v
+    } else {
+        1.0
+    }
+}
+
+/// Base-unit exponents (kg, m, s, rad) of the units the outputs may use.
+fn base_unit(unit: &str) -> Option<BaseUnit> {
+    let (kg, m, s, rad) = match unit {
+        "m" => (0, 1, 0, 0),
+        "kg" => (1, 0, 0, 0),
+        "s" => (0, 0, 1, 0),
+        "N" => (1, 1, -2, 0),
+        "J" => (1, 2, -2, 0),
+        "W" => (1, 2, -3, 0),
+        "m/s" => (0, 1, -1, 0),
+        "m/s2" => (0, 1, -2, 0),
+        "rad" => (0, 0, 0, 1),
+        "rad/s" => (0, 0, -1, 1),
+        "rad/s2" => (0, 0, -2, 1),
+        "kg/m" => (1, -1, 0, 0),
+        "kg.m2" => (1, 2, 0, 0),
+        "N.m2" => (1, 3, -2, 0),
+        "N/m" => (1, 0, -2, 0),
+        "N.m" => (1, 2, -2, 0),
+        _ => return None,
+    };
+    let nz = |x: i32| (x != 0).then_some(x);
+    Some(BaseUnit {
+        kg: nz(kg),
+        m: nz(m),
+        s: nz(s),
+        rad: nz(rad),
+    })
+}
+
+#[derive(Serialize)]
+#[serde(rename = "fmiModelDescription")]
+struct Document<'a> {
+    #[serde(rename = "@fmiVersion")]
+    fmi_version: &'a str,
+    #[serde(rename = "@modelName")]
+    model_name: &'a str,
+    #[serde(rename = "@guid")]
+    guid: String,
+    #[serde(rename = "@description", skip_serializing_if = "str::is_empty")]
+    description: &'a str,
+    #[serde(rename = "@version")]
+    version: &'a str,
+    #[serde(rename = "@generationTool")]
+    generation_tool: String,
+    #[serde(rename = "@variableNamingConvention")]
+    naming: &'a str,
+    #[serde(rename = "@numberOfEventIndicators")]
+    event_indicators: u32,
+    #[serde(rename = "CoSimulation")]
+    co_simulation: CoSimulation,
+    #[serde(rename = "UnitDefinitions")]
+    units: Units,
+    #[serde(rename = "LogCategories")]
+    log_categories: LogCategories,
+    #[serde(rename = "DefaultExperiment")]
+    default_experiment: DefaultExperiment,
+    #[serde(rename = "ModelVariables")]
+    variables: ModelVariables,
+    #[serde(rename = "ModelStructure")]
+    structure: ModelStructure,
+}
+
+#[derive(Serialize)]
+struct CoSimulation {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: String,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@canHandleVariableCommunicationStepSize")]
+    variable_step: bool,
+    #[serde(rename = "@canInterpolateInputs")]
+    interpolate_inputs: bool,
+    #[serde(rename = "@maxOutputDerivativeOrder")]
+    max_output_derivative_order: u32,
+    #[serde(rename = "@canRunAsynchronuously")]
+    asynchronous: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    once_per_process: bool,
+    #[serde(rename = "@canNotUseMemoryManagementFunctions")]
+    no_memory_management: bool,
+    #[serde(rename = "@canGetAndSetFMUstate")]
+    get_set_state: bool,
+    #[serde(rename = "@canSerializeFMUstate")]
+    serialize_state: bool,
+    #[serde(rename = "@providesDirectionalDerivative")]
+    directional_derivative: bool,
+}
+
+#[derive(Serialize)]
+struct Units {
+    #[serde(rename = "Unit")]
+    units: Vec<Unit>,
+}
+
+#[derive(Serialize)]
+struct Unit {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "BaseUnit", skip_serializing_if = "Option::is_none")]
+    base: Option<BaseUnit>,
+}
+
+#[derive(Serialize)]
+struct BaseUnit {
+    #[serde(rename = "@kg", skip_serializing_if = "Option::is_none")]
+    kg: Option<i32>,
+    #[serde(rename = "@m", skip_serializing_if = "Option::is_none")]
+    m: Option<i32>,
+    #[serde(rename = "@s", skip_serializing_if = "Option::is_none")]
+    s: Option<i32>,
+    #[serde(rename = "@rad", skip_serializing_if = "Option::is_none")]
+    rad: Option<i32>,
+}
+
+#[derive(Serialize)]
+struct LogCategories {
+    #[serde(rename = "Category")]
+    categories: Vec<Category>,
+}
+
+#[derive(Serialize)]
+struct Category {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@description")]
+    description: &'static str,
+}
+
+#[derive(Serialize)]
+struct DefaultExperiment {
+    #[serde(rename = "@startTime")]
+    start_time: f64,
+    #[serde(rename = "@stopTime")]
+    stop_time: f64,
+    #[serde(rename = "@stepSize")]
+    step_size: f64,
+}
+
+#[derive(Serialize)]
+struct ModelVariables {
+    #[serde(rename = "ScalarVariable")]
+    variables: Vec<ScalarVariable>,
+}
+
+#[derive(Serialize)]
+struct ScalarVariable {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "@valueReference")]
+    value_reference: u32,
+    #[serde(rename = "@description", skip_serializing_if = "String::is_empty")]
+    description: String,
+    #[serde(rename = "@causality")]
+    causality: &'static str,
+    #[serde(rename = "@variability")]
+    variability: &'static str,
+    #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
+    initial: Option<&'static str>,
+    #[serde(rename = "$value")]
+    ty: TypeElement,
+}
+
+#[derive(Serialize)]
+enum TypeElement {
+    Real {
+        #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
+        unit: Option<String>,
+        #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+        start: Option<f64>,
+    },
+    Integer {
+        #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+        start: Option<i32>,
+    },
+    Boolean {
+        #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+        start: Option<bool>,
+    },
+}
+
+#[derive(Serialize)]
+struct ModelStructure {
+    #[serde(rename = "Outputs")]
+    outputs: Unknowns,
+    #[serde(rename = "InitialUnknowns")]
+    initial_unknowns: Unknowns,
+}
+
+#[derive(Serialize)]
+struct Unknowns {
+    #[serde(rename = "Unknown")]
+    unknowns: Vec<Unknown>,
+}
+
+#[derive(Serialize)]
+struct Unknown {
+    #[serde(rename = "@index")]
+    index: usize,
+}
+
+fn scalar_variable(v: &crate::model::Variable) -> ScalarVariable {
+    let ty = match v.ty {
+        VarType::Real => TypeElement::Real {
+            unit: v.unit.clone(),
+            start: match v.start {
+                Some(Value::Real(x)) => Some(x),
+                _ => None,
+            },
+        },
+        VarType::Integer => TypeElement::Integer {
+            start: match v.start {
+                Some(Value::Integer(n)) => Some(n),
+                _ => None,
+            },
+        },
+        VarType::Boolean => TypeElement::Boolean {
+            start: match v.start {
+                Some(Value::Boolean(b)) => Some(b),
+                _ => None,
+            },
+        },
+    };
+    ScalarVariable {
+        name: v.name.clone(),
+        value_reference: v.value_reference,
+        description: v.description.clone(),
+        causality: v.causality.as_str(),
+        variability: v.variability.as_str(),
+        initial: (v.causality == Causality::Parameter).then_some("exact"),
+        ty,
+    }
+}
+
+/// The modelDescription.xml of `scene` and its variable table, with its GUID.
+pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
+    let outputs: Vec<Unknown> = table
+        .variables()
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(i, _)| Unknown { index: i + 1 })
+        .collect();
+    let initial_unknowns = outputs.iter().map(|u| Unknown { index: u.index }).collect();
+    let mut doc = Document {
+        fmi_version: "2.0",
+        model_name: &scene.name,
+        guid: String::new(),
+        description: &scene.description,
+        version: env!("CARGO_PKG_VERSION"),
+        generation_tool: format!("guideway {}", env!("CARGO_PKG_VERSION")),
+        naming: "structured",
+        event_indicators: 0,
+        co_simulation: CoSimulation {
+            model_identifier: model_identifier(&scene.name),
+            needs_execution_tool: false,
+            variable_step: true,
+            interpolate_inputs: false,
+            max_output_derivative_order: 0,
+            asynchronous: false,
+            once_per_process: false,
+            no_memory_management: true,
+            get_set_state: true,
+            serialize_state: true,
+            directional_derivative: false,
+        },
+        units: Units {
+            units: table
+                .units()
+                .into_iter()
+                .map(|u| Unit {
+                    name: u.to_string(),
+                    base: base_unit(u),
+                })
+                .collect(),
+        },
+        log_categories: LogCategories {
+            categories: LOG_CATEGORIES
+                .iter()
+                .map(|&(name, description)| Category { name, description })
+                .collect(),
+        },
+        default_experiment: DefaultExperiment {
+            start_time: 0.0,
+            stop_time: default_stop_time(scene),
+            step_size: scene.solver.step,
+        },
+        variables: ModelVariables {
+            variables: table.variables().iter().map(scalar_variable).collect(),
+        },
+        structure: ModelStructure {
+            outputs: Unknowns { unknowns: outputs },
+            initial_unknowns: Unknowns {
+                unknowns: initial_unknowns,
+            },
+        },
+    };
+    let unsigned = to_xml(&doc);
+    let digest = Sha256::digest(unsigned.as_bytes());
+    let h: String = digest[..16].iter().map(|b| format!("{b:02x}")).collect();
+    let guid = format!(
+        "{{{}-{}-{}-{}-{}}}",
+        &h[0..8],
+        &h[8..12],
+        &h[12..16],
+        &h[16..20],
+        &h[20..32]
+    );
+    doc.guid = guid.clone();
+    (to_xml(&doc), guid)
+}
+
+fn to_xml(doc: &Document) -> String {
+    let mut body = String::new();
+    let mut ser = quick_xml::se::Serializer::new(&mut body);
+    ser.indent(' ', 2);
+    doc.serialize(ser)
+        .expect("the model description is plain data and always serializes");
+    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{fake::FakeDynamics, Dynamics};
+    use crate::scene::BodyKind;
+
+    fn xml(scene: &Scene) -> (String, String) {
+        let sim = FakeDynamics::build(scene).unwrap();
+        generate(scene, &VariableTable::new(scene, sim.outputs()))
+    }
+
+    #[test]
+    fn identifiers_are_c_identifiers() {
+        assert_eq!(model_identifier("lee1994-wheel-10"), "lee1994_wheel_10");
+        assert_eq!(model_identifier("3d beam"), "m_3d_beam");
+        assert_eq!(model_identifier(""), "m_");
+    }
+
+    #[test]
+    fn guid_is_deterministic_and_depends_on_content() {
+        let a = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        let (xa, ga) = xml(&a);
+        assert_eq!(xml(&a).1, ga);
+        assert!(xa.contains(&format!("guid=\"{ga}\"")));
+        let mut b = a.clone();
+        b.beam.length = 25.0;
+        assert_ne!(xml(&b).1, ga);
+    }
+
+    #[test]
+    fn elements_in_schema_order() {
+        let (x, _) = xml(&Scene::lee1994(BodyKind::Glider, 10.0, 0.0025));
+        let pos = |s: &str| x.find(s).unwrap_or_else(|| panic!("{s} missing in\n{x}"));
+        let order = [
+            "<fmiModelDescription",
+            "<CoSimulation",
+            "<UnitDefinitions",
+            "<LogCategories",
+            "<DefaultExperiment",
+            "<ModelVariables",
+            "<ModelStructure",
+            "<Outputs",
+            "<InitialUnknowns",
+        ];
+        for w in order.windows(2) {
+            assert!(pos(w[0]) < pos(w[1]), "{} before {}", w[0], w[1]);
+        }
+        assert!(x.contains("modelIdentifier=\"lee1994_glider_10\""));
+        assert!(x.contains("canNotUseMemoryManagementFunctions=\"true\""));
+        assert!(!x.contains("radius"));
+    }
+}

@@ -1,0 +1,86 @@
+//! Reference results following the FMI cross-check rules:
+//! `<Model>_ref.opt` (StartTime, StopTime, StepSize, RelTol) and
+//! `<Model>_ref.csv` (time, then every output, one row per step), computed by
+//! the same model code the FMU runs.
+
+use crate::fmi2::model_description::default_stop_time;
+use crate::model::{Dynamics, Model, StepOutcome, Value};
+use crate::scene::Scene;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Relative tolerance declared in the options file.
+pub const REL_TOL: f64 = 1e-6;
+
+/// The options file's text.
+pub fn ref_opt(scene: &Scene) -> String {
+    format!(
+        "StartTime, {:?}\nStopTime, {:?}\nStepSize, {:?}\nRelTol, {:?}\n",
+        0.0,
+        default_stop_time(scene),
+        scene.solver.step,
+        REL_TOL
+    )
+}
+
+/// Simulate `scene` with communication steps of `solver.step` until the
+/// default stop time or the exit, and return the CSV text.
+pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
+    let mut model = Model::<D>::new(scene.clone()).map_err(|e| e.0)?;
+    model.initialize().map_err(|e| e.0)?;
+    let outputs: Vec<_> = model.table().outputs().cloned().collect();
+    let mut csv = String::from("time");
+    for v in &outputs {
+        csv += ",";
+        csv += &v.name;
+    }
+    csv += "\n";
+    let stop = default_stop_time(scene);
+    let h = scene.solver.step;
+    let mut row = |model: &mut Model<D>| -> Result<(), String> {
+        write!(csv, "{:?}", model.time()).expect("write to String");
+        for v in &outputs {
+            let value = model.get(v.ty, &[v.value_reference]).map_err(|e| e.0)?[0];
+            match value {
+                Value::Real(x) => write!(csv, ",{x:?}"),
+                Value::Integer(n) => write!(csv, ",{n}"),
+                Value::Boolean(b) => write!(csv, ",{}", b as i32),
+            }
+            .expect("write to String");
+        }
+        csv += "\n";
+        Ok(())
+    };
+    row(&mut model)?;
+    let mut k = 0u64;
+    loop {
+        let t = k as f64 * h;
+        if t >= stop - 1e-9 * h {
+            break;
+        }
+        let step = (stop - t).min(h);
+        match model.do_step(model.time(), step).map_err(|e| e.0)? {
+            StepOutcome::Completed => row(&mut model)?,
+            StepOutcome::Exited { .. } => {
+                row(&mut model)?;
+                break;
+            }
+            StepOutcome::Failed { message } => return Err(message),
+        }
+        k += 1;
+    }
+    Ok(csv)
+}
+
+/// Write `<id>_ref.opt` and `<id>_ref.csv` into `dir`; returns their paths.
+pub fn write<D: Dynamics>(scene: &Scene, id: &str, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+    let files = [
+        (dir.join(format!("{id}_ref.opt")), ref_opt(scene)),
+        (dir.join(format!("{id}_ref.csv")), ref_csv::<D>(scene)?),
+    ];
+    for (path, text) in &files {
+        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    }
+    Ok(files.into_iter().map(|(p, _)| p).collect())
+}

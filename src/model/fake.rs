@@ -1,0 +1,160 @@
+//! A stand-in for the physics, for testing the model and FMI layers alone.
+//!
+//! A point mass sliding along the beam under `force_x`, with fixed internal
+//! steps like the real solver, an exit at the end of the beam, and a solver
+//! failure when `|force_y|` exceeds `FAIL_FORCE` (to exercise roll-back).
+//! Built only for unit tests and with the `fake-physics` feature (which
+//! builds a test FMU); the shipped FMU always uses `Simulation`.
+
+use super::Dynamics;
+use crate::scene::{BodyKind, Scene};
+use crate::simulation::{Advance, OutputInfo, OutputKind, SolverError};
+use serde::{Deserialize, Serialize};
+
+/// `|force_y|` above this makes the fake solver fail.
+pub const FAIL_FORCE: f64 = 1e9;
+
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FakeState {
+    pub time: f64,
+    pub x: f64,
+    pub vx: f64,
+    pub steps: u64,
+    pub exit_time: Option<f64>,
+}
+
+pub struct FakeDynamics {
+    outputs: Vec<OutputInfo>,
+    mass: f64,
+    length: f64,
+    step: f64,
+    radius: Option<f64>,
+    force: (f64, f64),
+    sensors: Vec<f64>,
+    state: FakeState,
+}
+
+fn real(name: String, unit: &'static str, description: &str) -> OutputInfo {
+    OutputInfo {
+        name,
+        unit,
+        description: description.to_string(),
+        kind: OutputKind::Real,
+    }
+}
+
+impl Dynamics for FakeDynamics {
+    type State = FakeState;
+
+    fn build(scene: &Scene) -> Result<Self, String> {
+        let b = &scene.body.name;
+        let mut outputs = vec![
+            real(format!("{b}.x"), "m", "abscissa of the body's centre"),
+            real(format!("{b}.vx"), "m/s", "horizontal velocity"),
+        ];
+        let radius = match scene.body.kind {
+            BodyKind::Wheel => {
+                outputs.push(real(
+                    format!("{b}.angular_velocity"),
+                    "rad/s",
+                    "angular velocity",
+                ));
+                Some(scene.body.radius.unwrap_or(1.0))
+            }
+            BodyKind::Glider => None,
+        };
+        for s in &scene.sensors {
+            outputs.push(real(
+                format!("sensor.{}.deflection", s.name),
+                "m",
+                "beam deflection at the sensor",
+            ));
+        }
+        outputs.push(OutputInfo {
+            name: "solver.iterations".into(),
+            unit: "",
+            description: "internal steps in the last advance".into(),
+            kind: OutputKind::Integer,
+        });
+        Ok(FakeDynamics {
+            outputs,
+            mass: scene.body.mass,
+            length: scene.beam.length,
+            step: scene.solver.step,
+            radius,
+            force: (scene.body.force_x, scene.body.force_y),
+            sensors: scene.sensors.iter().map(|s| s.position).collect(),
+            state: FakeState {
+                time: 0.0,
+                x: scene.body.initial_position,
+                vx: scene.body.initial_speed,
+                steps: 0,
+                exit_time: None,
+            },
+        })
+    }
+    fn time(&self) -> f64 {
+        self.state.time
+    }
+    fn outputs(&self) -> &[OutputInfo] {
+        &self.outputs
+    }
+    fn output_values(&self, values: &mut [f64]) {
+        let s = &self.state;
+        let mut v = vec![s.x, s.vx];
+        if let Some(r) = self.radius {
+            v.push(s.vx / r);
+        }
+        for p in &self.sensors {
+            v.push(-1e-3 * (-(s.x - p).powi(2)).exp());
+        }
+        v.push(s.steps as f64);
+        values.copy_from_slice(&v);
+    }
+    fn set_body_force(&mut self, fx: f64, fy: f64) {
+        self.force = (fx, fy);
+    }
+    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError> {
+        if let Some(time) = self.state.exit_time {
+            return Ok(Advance::Exited { time });
+        }
+        self.state.steps = 0;
+        while self.state.time < t {
+            if self.force.1.abs() > FAIL_FORCE {
+                return Err(SolverError {
+                    time: self.state.time,
+                    message: format!("fake solver: |force_y| > {FAIL_FORCE} N"),
+                });
+            }
+            let dt = self.step.min(t - self.state.time);
+            let s = &mut self.state;
+            s.vx += self.force.0 / self.mass * dt;
+            let x_new = s.x + s.vx * dt;
+            if x_new >= self.length && s.vx > 0.0 {
+                let frac = (self.length - s.x) / (x_new - s.x);
+                s.time += frac * dt;
+                s.x = self.length;
+                s.exit_time = Some(s.time);
+                return Ok(Advance::Exited { time: s.time });
+            }
+            s.x = x_new;
+            s.time = if t - s.time <= self.step {
+                t
+            } else {
+                s.time + dt
+            };
+            s.steps += 1;
+        }
+        Ok(Advance::Reached)
+    }
+    fn exit_time(&self) -> Option<f64> {
+        self.state.exit_time
+    }
+    fn state(&self) -> FakeState {
+        self.state.clone()
+    }
+    fn restore(&mut self, state: &FakeState) -> Result<(), String> {
+        self.state = state.clone();
+        Ok(())
+    }
+}

@@ -1,0 +1,482 @@
+//! The variable table: every exported variable of a scene, with its value
+//! reference, causality, variability, type, unit and start value.
+//!
+//! One table feeds modelDescription.xml, the getters and setters and the
+//! FMU's documentation page, so they cannot disagree.
+
+use crate::scene::{BodyKind, Scene};
+use crate::simulation::{OutputInfo, OutputKind};
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    Input,
+    Output,
+}
+
+impl Causality {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Causality::Parameter => "parameter",
+            Causality::Input => "input",
+            Causality::Output => "output",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variability {
+    Fixed,
+    Discrete,
+    Continuous,
+}
+
+impl Variability {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Variability::Fixed => "fixed",
+            Variability::Discrete => "discrete",
+            Variability::Continuous => "continuous",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum VarType {
+    Real,
+    Integer,
+    Boolean,
+}
+
+impl VarType {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            VarType::Real => "Real",
+            VarType::Integer => "Integer",
+            VarType::Boolean => "Boolean",
+        }
+    }
+}
+
+/// A scene value that is exported as a parameter.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Param {
+    BeamLength,
+    BeamMassPerLength,
+    BeamBendingStiffness,
+    BeamSurfaceOffset,
+    BeamElements,
+    BodyMass,
+    BodyInertia,
+    BodyRadius,
+    BodyInitialPosition,
+    BodyInitialSpeed,
+    SensorPosition(usize),
+    SolverStep,
+    SolverVelocityTolerance,
+    SolverGapTolerance,
+}
+
+/// Which input a variable is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Input {
+    ForceX,
+    ForceY,
+}
+
+/// What a variable is bound to in the model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    Parameter(Param),
+    Input(Input),
+    /// Index into the simulation's outputs.
+    Output(usize),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Value {
+    Real(f64),
+    Integer(i32),
+    Boolean(bool),
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct Variable {
+    pub name: String,
+    pub value_reference: u32,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub ty: VarType,
+    /// SI unit, as declared in UnitDefinitions; `None` for dimensionless.
+    pub unit: Option<String>,
+    pub description: String,
+    /// Start value (parameters and inputs); outputs are calculated.
+    pub start: Option<Value>,
+    pub role: Role,
+}
+
+/// All variables of one scene, ordered by value reference (= index).
+#[derive(Debug, Clone, PartialEq)]
+pub struct VariableTable {
+    variables: Vec<Variable>,
+}
+
+impl VariableTable {
+    /// Build the table of `scene`, whose simulation has `outputs`.
+    pub fn new(scene: &Scene, outputs: &[OutputInfo]) -> VariableTable {
+        let mut b = Builder::default();
+        let body = &scene.body.name;
+        let wheel = scene.body.kind == BodyKind::Wheel;
+
+        use Param::*;
+        b.param("beam.length", BeamLength, "m", "length of the beam");
+        b.param(
+            "beam.mass_per_length",
+            BeamMassPerLength,
+            "kg/m",
+            "mass per unit length",
+        );
+        b.param(
+            "beam.bending_stiffness",
+            BeamBendingStiffness,
+            "N.m2",
+            "bending stiffness EI",
+        );
+        b.param(
+            "beam.surface_offset",
+            BeamSurfaceOffset,
+            "m",
+            "distance from the neutral axis to the top surface",
+        );
+        b.param(
+            "beam.elements",
+            BeamElements,
+            "",
+            "number of Hermite cubic beam elements",
+        );
+        b.param(&format!("{body}.mass"), BodyMass, "kg", "mass of the body");
+        if wheel {
+            b.param(
+                &format!("{body}.inertia"),
+                BodyInertia,
+                "kg.m2",
+                "centroidal moment of inertia of the wheel",
+            );
+            b.param(
+                &format!("{body}.radius"),
+                BodyRadius,
+                "m",
+                "radius of the wheel",
+            );
+        }
+        b.param(
+            &format!("{body}.initial_position"),
+            BodyInitialPosition,
+            "m",
+            "abscissa of the contact point at t = 0",
+        );
+        b.param(
+            &format!("{body}.initial_speed"),
+            BodyInitialSpeed,
+            "m/s",
+            "initial travel speed, positive to the right",
+        );
+        for (i, s) in scene.sensors.iter().enumerate() {
+            b.param(
+                &format!("sensor.{}.position", s.name),
+                SensorPosition(i),
+                "m",
+                "abscissa of the sensor along the beam",
+            );
+        }
+        b.param("solver.step", SolverStep, "s", "fixed internal time step");
+        b.param(
+            "solver.velocity_tolerance",
+            SolverVelocityTolerance,
+            "m/s",
+            "tolerance on the velocity error |e|",
+        );
+        b.param(
+            "solver.gap_tolerance",
+            SolverGapTolerance,
+            "m",
+            "tolerance on the gap error |g|",
+        );
+
+        b.input(
+            &format!("{body}.force_x"),
+            Input::ForceX,
+            "horizontal force on the body's centre",
+        );
+        b.input(
+            &format!("{body}.force_y"),
+            Input::ForceY,
+            "vertical force on the body's centre",
+        );
+
+        for (i, o) in outputs.iter().enumerate() {
+            let (ty, variability) = match o.kind {
+                OutputKind::Real => (VarType::Real, Variability::Continuous),
+                OutputKind::Integer => (VarType::Integer, Variability::Discrete),
+            };
+            b.push(Variable {
+                name: o.name.clone(),
+                value_reference: 0,
+                causality: Causality::Output,
+                variability,
+                ty,
+                unit: unit(o.unit),
+                description: o.description.clone(),
+                start: None,
+                role: Role::Output(i),
+            });
+        }
+
+        let mut table = VariableTable { variables: b.vars };
+        for v in &mut table.variables {
+            if let Role::Parameter(p) = v.role {
+                v.start = Some(param_value(scene, p));
+            }
+            if let Role::Input(i) = v.role {
+                v.start = Some(Value::Real(input_start(scene, i)));
+            }
+        }
+        table
+    }
+
+    pub fn variables(&self) -> &[Variable] {
+        &self.variables
+    }
+
+    pub fn get(&self, vr: u32) -> Option<&Variable> {
+        self.variables.get(vr as usize)
+    }
+
+    pub fn by_name(&self, name: &str) -> Option<&Variable> {
+        self.variables.iter().find(|v| v.name == name)
+    }
+
+    pub fn outputs(&self) -> impl Iterator<Item = &Variable> {
+        self.variables
+            .iter()
+            .filter(|v| v.causality == Causality::Output)
+    }
+
+    /// Distinct units used by the variables, in order of first use.
+    pub fn units(&self) -> Vec<&str> {
+        let mut units: Vec<&str> = Vec::new();
+        for u in self.variables.iter().filter_map(|v| v.unit.as_deref()) {
+            if !units.contains(&u) {
+                units.push(u);
+            }
+        }
+        units
+    }
+}
+
+fn unit(u: &str) -> Option<String> {
+    match u.trim() {
+        "" | "1" | "-" => None,
+        u => Some(u.to_string()),
+    }
+}
+
+#[derive(Default)]
+struct Builder {
+    vars: Vec<Variable>,
+}
+
+impl Builder {
+    fn push(&mut self, mut v: Variable) {
+        v.value_reference = self.vars.len() as u32;
+        self.vars.push(v);
+    }
+    fn param(&mut self, name: &str, p: Param, u: &str, description: &str) {
+        let ty = if p == Param::BeamElements {
+            VarType::Integer
+        } else {
+            VarType::Real
+        };
+        self.push(Variable {
+            name: name.to_string(),
+            value_reference: 0,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            ty,
+            unit: unit(u),
+            description: description.to_string(),
+            start: None,
+            role: Role::Parameter(p),
+        });
+    }
+    fn input(&mut self, name: &str, i: Input, description: &str) {
+        self.push(Variable {
+            name: name.to_string(),
+            value_reference: 0,
+            causality: Causality::Input,
+            variability: Variability::Continuous,
+            ty: VarType::Real,
+            unit: Some("N".into()),
+            description: description.to_string(),
+            start: None,
+            role: Role::Input(i),
+        });
+    }
+}
+
+/// Current value of a parameter in `scene`.
+pub fn param_value(scene: &Scene, p: Param) -> Value {
+    use Param::*;
+    let r = match p {
+        BeamLength => scene.beam.length,
+        BeamMassPerLength => scene.beam.mass_per_length,
+        BeamBendingStiffness => scene.beam.bending_stiffness,
+        BeamSurfaceOffset => scene.beam.surface_offset,
+        BeamElements => return Value::Integer(scene.beam.elements.min(i32::MAX as usize) as i32),
+        BodyMass => scene.body.mass,
+        BodyInertia => scene.body.inertia.unwrap_or(0.0),
+        BodyRadius => scene.body.radius.unwrap_or(0.0),
+        BodyInitialPosition => scene.body.initial_position,
+        BodyInitialSpeed => scene.body.initial_speed,
+        SensorPosition(i) => scene.sensors[i].position,
+        SolverStep => scene.solver.step,
+        SolverVelocityTolerance => scene.solver.velocity_tolerance,
+        SolverGapTolerance => scene.solver.gap_tolerance,
+    };
+    Value::Real(r)
+}
+
+/// Check `value` against the rule of parameter `p`, then write it into
+/// `scene`. On error the scene is unchanged and the message states the rule.
+pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String> {
+    use Param::*;
+    if let BeamElements = p {
+        let Value::Integer(n) = value else {
+            return Err("must be an Integer".into());
+        };
+        if !(1..=MAX_ELEMENTS).contains(&n) {
+            return Err(format!("must be an integer in 1..={MAX_ELEMENTS}"));
+        }
+        scene.beam.elements = n as usize;
+        return Ok(());
+    }
+    let Value::Real(x) = value else {
+        return Err("must be a Real".into());
+    };
+    if !x.is_finite() {
+        return Err("must be finite".into());
+    }
+    let positive = |x: f64| {
+        if x > 0.0 {
+            Ok(x)
+        } else {
+            Err("must be > 0".to_string())
+        }
+    };
+    match p {
+        BeamLength => scene.beam.length = positive(x)?,
+        BeamMassPerLength => scene.beam.mass_per_length = positive(x)?,
+        BeamBendingStiffness => scene.beam.bending_stiffness = positive(x)?,
+        BeamSurfaceOffset if x < 0.0 => return Err("must be >= 0".into()),
+        BeamSurfaceOffset => scene.beam.surface_offset = x,
+        BodyMass => scene.body.mass = positive(x)?,
+        BodyInertia => scene.body.inertia = Some(positive(x)?),
+        BodyRadius => scene.body.radius = Some(positive(x)?),
+        BodyInitialPosition if x < 0.0 => return Err("must be >= 0 (on the beam)".into()),
+        BodyInitialPosition => scene.body.initial_position = x,
+        BodyInitialSpeed => scene.body.initial_speed = x,
+        SensorPosition(i) if x < 0.0 => {
+            return Err(format!(
+                "must be >= 0 (sensor {} on the beam)",
+                scene.sensors[i].name
+            ))
+        }
+        SensorPosition(i) => scene.sensors[i].position = x,
+        SolverStep => scene.solver.step = positive(x)?,
+        SolverVelocityTolerance => scene.solver.velocity_tolerance = positive(x)?,
+        SolverGapTolerance => scene.solver.gap_tolerance = positive(x)?,
+        BeamElements => unreachable!("handled above"),
+    }
+    Ok(())
+}
+
+/// Upper bound on `beam.elements` accepted through the FMI interface.
+pub const MAX_ELEMENTS: i32 = 100_000;
+
+fn input_start(scene: &Scene, i: Input) -> f64 {
+    match i {
+        Input::ForceX => scene.body.force_x,
+        Input::ForceY => scene.body.force_y,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::fake::FakeDynamics;
+    use crate::model::Dynamics;
+
+    fn table(kind: BodyKind) -> VariableTable {
+        let scene = Scene::lee1994(kind, 10.0, 0.0025);
+        let sim = FakeDynamics::build(&scene).unwrap();
+        VariableTable::new(&scene, sim.outputs())
+    }
+
+    #[test]
+    fn value_references_are_indices_and_names_unique() {
+        let t = table(BodyKind::Wheel);
+        for (i, v) in t.variables().iter().enumerate() {
+            assert_eq!(v.value_reference as usize, i);
+            assert_eq!(
+                t.by_name(&v.name).unwrap().value_reference,
+                v.value_reference
+            );
+        }
+    }
+
+    #[test]
+    fn glider_has_no_wheel_only_variables() {
+        let t = table(BodyKind::Glider);
+        assert!(t.by_name("glider.radius").is_none());
+        assert!(t.by_name("glider.inertia").is_none());
+        assert!(t.by_name("glider.mass").is_some());
+        let w = table(BodyKind::Wheel);
+        assert!(w.by_name("wheel.radius").is_some());
+        assert!(w.by_name("wheel.inertia").is_some());
+    }
+
+    #[test]
+    fn starts_come_from_the_scene() {
+        let t = table(BodyKind::Wheel);
+        assert_eq!(
+            t.by_name("beam.length").unwrap().start,
+            Some(Value::Real(24.0))
+        );
+        assert_eq!(
+            t.by_name("beam.elements").unwrap().start,
+            Some(Value::Integer(2))
+        );
+        assert_eq!(
+            t.by_name("wheel.force_y").unwrap().start,
+            Some(Value::Real(-600e3))
+        );
+        assert_eq!(
+            t.by_name("sensor.midspan.position").unwrap().start,
+            Some(Value::Real(12.0))
+        );
+    }
+
+    #[test]
+    fn bad_values_are_refused_and_leave_the_scene_alone() {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        let before = scene.clone();
+        assert!(set_param(&mut scene, Param::BodyMass, Value::Real(-1.0))
+            .unwrap_err()
+            .contains("> 0"));
+        assert!(set_param(&mut scene, Param::BeamLength, Value::Real(f64::NAN)).is_err());
+        assert!(set_param(&mut scene, Param::BeamElements, Value::Integer(0)).is_err());
+        assert_eq!(scene, before);
+        set_param(&mut scene, Param::BeamElements, Value::Integer(8)).unwrap();
+        assert_eq!(scene.beam.elements, 8);
+    }
+}
