@@ -240,14 +240,21 @@ fn export_writes_an_fmu_and_the_cross_check_files() {
     let dir = tempfile::tempdir().unwrap();
     let fmu = dir.path().join("glider.fmu");
     let cross_check = dir.path().join("cross-check");
-    let output = guideway(&[
-        "export",
-        "lee1994-glider-30",
-        "-o",
-        fmu.to_str().unwrap(),
-        "--cross-check",
-        cross_check.to_str().unwrap(),
-    ]);
+    // `cargo test` builds the cdylib next to the test binaries, in deps/,
+    // not next to the guideway binary where `export` looks by default.
+    let cdylib = guideway::fmu::default_cdylib().expect("the cdylib is built with the tests");
+    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .args([
+            "export",
+            "lee1994-glider-30",
+            "-o",
+            fmu.to_str().unwrap(),
+            "--cross-check",
+            cross_check.to_str().unwrap(),
+        ])
+        .env("GUIDEWAY_CDYLIB", cdylib)
+        .output()
+        .unwrap();
     assert!(output.status.success(), "{}", stderr(&output));
     assert!(
         stdout(&output).contains("lee1994_glider_30"),
