@@ -1,11 +1,10 @@
 //! `guideway export SCENE -o NAME.fmu [--cross-check DIR]`.
 
-use super::{ExportArgs, Failure};
+use super::{load_scene, ExportArgs, Failure};
 use guideway::fmu;
-use guideway::Scene;
 
 pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
-    let scene = Scene::load(&args.scene)?;
+    let scene = load_scene(&args.scene)?;
     let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
     let exported = fmu::export(&scene, &args.out, &cdylib).map_err(Failure::Run)?;
     println!(

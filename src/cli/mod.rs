@@ -10,6 +10,7 @@ mod scenes;
 
 use clap::{Parser, Subcommand};
 use guideway::scene::{SceneError, DEFAULT_SCENE};
+use guideway::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -83,10 +84,15 @@ enum Failure {
     Run(String),
 }
 
-impl From<SceneError> for Failure {
-    fn from(error: SceneError) -> Self {
-        Failure::Scene(error.to_string())
-    }
+/// Load a scene file or built-in; a scene file's problems are prefixed with
+/// its name.
+fn load_scene(file_or_builtin: &str) -> Result<Scene, Failure> {
+    Scene::load(file_or_builtin).map_err(|error| match error {
+        SceneError::Parse { .. } | SceneError::Invalid { .. } => {
+            Failure::Scene(format!("{file_or_builtin}: {error}"))
+        }
+        SceneError::Read { .. } | SceneError::NotFound { .. } => Failure::Scene(error.to_string()),
+    })
 }
 
 pub fn main() -> ExitCode {
