@@ -82,6 +82,10 @@ fn a_bad_scene_lists_every_problem_and_exits_with_2() {
         message.contains("beam.elements = 0: must be >= 1"),
         "{message}"
     );
+    assert!(
+        message.contains("edited.toml: scene is not valid (2 problems)"),
+        "{message}"
+    );
     assert!(!message.contains("panicked"), "{message}");
     assert!(!never.exists(), "nothing is written for a bad scene");
 }
