@@ -82,6 +82,10 @@ fn a_bad_scene_lists_every_problem_and_exits_with_2() {
         message.contains("beam.elements = 0: must be >= 1"),
         "{message}"
     );
+    assert!(
+        message.contains("edited.toml: scene is not valid (2 problems)"),
+        "{message}"
+    );
     assert!(!message.contains("panicked"), "{message}");
     assert!(!never.exists(), "nothing is written for a bad scene");
 }
@@ -233,4 +237,48 @@ fn run_of_the_default_scene_writes_csv_summary_and_plot() {
 
     let png = std::fs::read(plot).unwrap();
     assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"));
+}
+
+#[test]
+fn export_writes_an_fmu_and_the_cross_check_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let fmu = dir.path().join("glider.fmu");
+    let cross_check = dir.path().join("cross-check");
+    // `cargo test` builds the cdylib next to the test binaries, in deps/,
+    // not next to the guideway binary where `export` looks by default.
+    let cdylib = guideway::fmu::default_cdylib().expect("the cdylib is built with the tests");
+    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .args([
+            "export",
+            "lee1994-glider-30",
+            "-o",
+            fmu.to_str().unwrap(),
+            "--cross-check",
+            cross_check.to_str().unwrap(),
+        ])
+        .env("GUIDEWAY_CDYLIB", cdylib)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(
+        stdout(&output).contains("lee1994_glider_30"),
+        "{}",
+        stdout(&output)
+    );
+    let bytes = std::fs::read(&fmu).unwrap();
+    assert!(bytes.starts_with(b"PK\x03\x04"), "an FMU is a zip archive");
+    for file in ["lee1994_glider_30_ref.csv", "lee1994_glider_30_ref.opt"] {
+        assert!(cross_check.join(file).is_file(), "{file} missing");
+    }
+}
+
+#[test]
+fn export_of_a_bad_scene_exits_with_2_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = edited_scene_file(dir.path(), "mass = 3000.0", "mass = -3000.0");
+    let fmu = dir.path().join("bad.fmu");
+    let output = guideway(&["export", &file, "-o", fmu.to_str().unwrap()]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stderr(&output).contains("body.mass = -3000.0: must be > 0"));
+    assert!(!fmu.exists());
 }

@@ -3,12 +3,14 @@
 //! Exit codes: 0 success, 1 the run or an output file failed, 2 bad command
 //! line or bad scene (every problem listed on stderr).
 
+mod export;
 mod progress;
 mod run;
 mod scenes;
 
 use clap::{Parser, Subcommand};
 use guideway::scene::{SceneError, DEFAULT_SCENE};
+use guideway::Scene;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -29,6 +31,8 @@ enum Command {
     Run(RunArgs),
     /// List the built-in scenes, or print one as a TOML scene file.
     Scenes(ScenesArgs),
+    /// Export a scene as an FMI 2.0 co-simulation FMU.
+    Export(ExportArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -58,6 +62,20 @@ struct ScenesArgs {
     show: Option<String>,
 }
 
+#[derive(Debug, clap::Args)]
+struct ExportArgs {
+    /// Scene file (TOML) or name of a built-in scene (see `guideway scenes`).
+    #[arg(default_value = DEFAULT_SCENE)]
+    scene: String,
+    /// The FMU to write, e.g. `lee1994_wheel_10.fmu`.
+    #[arg(long, short, value_name = "FMU")]
+    out: PathBuf,
+    /// Also write the FMI cross-check reference files (`<model>_ref.csv`,
+    /// `<model>_ref.opt`) into this directory.
+    #[arg(long, value_name = "DIR")]
+    cross_check: Option<PathBuf>,
+}
+
 /// How a command failed, deciding the exit code.
 enum Failure {
     /// The scene (or what it asks for) is wrong: exit code 2.
@@ -66,10 +84,15 @@ enum Failure {
     Run(String),
 }
 
-impl From<SceneError> for Failure {
-    fn from(error: SceneError) -> Self {
-        Failure::Scene(error.to_string())
-    }
+/// Load a scene file or built-in; a scene file's problems are prefixed with
+/// its name.
+fn load_scene(file_or_builtin: &str) -> Result<Scene, Failure> {
+    Scene::load(file_or_builtin).map_err(|error| match error {
+        SceneError::Parse { .. } | SceneError::Invalid { .. } => {
+            Failure::Scene(format!("{file_or_builtin}: {error}"))
+        }
+        SceneError::Read { .. } | SceneError::NotFound { .. } => Failure::Scene(error.to_string()),
+    })
 }
 
 pub fn main() -> ExitCode {
@@ -77,6 +100,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(args),
         Command::Scenes(args) => scenes::scenes(args),
+        Command::Export(args) => export::export(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

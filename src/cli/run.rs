@@ -1,14 +1,13 @@
 //! `guideway run SCENE [--out CSV] [--summary JSON] [--plot PNG] [--quiet]`.
 
 use super::progress::Progress;
-use super::{Failure, RunArgs};
+use super::{load_scene, Failure, RunArgs};
 use guideway::report::{csv, plot, run_scene, Run, RunError};
-use guideway::Scene;
 use std::fs::File;
 use std::path::Path;
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
-    let scene = Scene::load(&args.scene)?;
+    let scene = load_scene(&args.scene)?;
     for path in [&args.out, &args.summary, &args.plot].into_iter().flatten() {
         check_writable(path)?;
     }

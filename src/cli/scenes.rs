@@ -1,12 +1,12 @@
 //! `guideway scenes [--show NAME]`.
 
-use super::{Failure, ScenesArgs};
-use guideway::scene::{builtins, Scene, DEFAULT_SCENE};
+use super::{load_scene, Failure, ScenesArgs};
+use guideway::scene::{builtins, DEFAULT_SCENE};
 
 pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
     match args.show {
         Some(name) => {
-            let scene = Scene::load(&name)?;
+            let scene = load_scene(&name)?;
             print!("{}", scene.to_annotated_toml());
         }
         None => {
