@@ -6,16 +6,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh
-cargo build --release --lib --bins --examples
+cargo build --release --lib --bins
 
 scene=lee1994-wheel-10
 id=${scene//-/_}
 mkdir -p out
-# `guideway export` once the CLI has it, else the example calling the same
-# guideway::fmu::export
-if target/release/guideway export --help >/dev/null 2>&1; then
-    target/release/guideway export "$scene" -o "out/$id.fmu"
-else
-    target/release/examples/export_fmu "$scene" -o "out/$id.fmu"
-fi
+target/release/guideway export "$scene" -o "out/$id.fmu"
 .venv/bin/python scripts/simulate_fmu.py "out/$id.fmu" --plot "out/$id.png"

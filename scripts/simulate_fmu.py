@@ -51,7 +51,9 @@ def main(argv=None):
     print(f"run          0 .. {t[-1]:.6g} s, {len(t) - 1} communication steps of {interval:g} s")
     print(f"exit         " + (f"t = {t[-1]:.9g} s (fmi2LastSuccessfulTime)" if exited
                              else f"none before the stop time {stop:g} s"))
-    print(f"speed        {result[body + '.vx'][0]:.6g} -> {result[body + '.vx'][-1]:.6g} m/s")
+    v = result[body + ".nominal_speed"]
+    print(f"nominal V    {v[0]:.6g} -> {v[-1]:.6g} m/s at the end, peak {v.max():.6g} m/s")
+    print(f"centre vx    {result[body + '.vx'][0]:.6g} -> {result[body + '.vx'][-1]:.6g} m/s")
     for name in names:
         if name.startswith("sensor.") and name.endswith(".deflection"):
             d = result[name]
@@ -60,7 +62,8 @@ def main(argv=None):
     n = result["contact.normal_force"]
     print(f"normal force {n.min():.6g} .. {n.max():.6g} N")
     e = result["energy.balance"]
-    print(f"energy       balance drift {(e[-1] - e[0]) / abs(e[0]):.3e} (relative)")
+    drift = np.abs(e - e[0]) / abs(e[0])
+    print(f"energy       balance drift {drift.max():.3e} at most (relative to E(0)), {(e[-1] - e[0]) / abs(e[0]):.3e} at the end")
     print(f"iterations   {int(result['solver.iterations'].sum())} contact iterations in total")
 
     if args.plot:

@@ -11,19 +11,14 @@ bash scripts/setup.sh
 
 cargo test --release --all-targets
 
-cargo build --release --lib --bins --examples
+# The CLI and the cdylib it packages (target/release/libguideway.so).
+cargo build --release --lib --bins
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
 rm -rf "$GUIDEWAY_FMU_DIR"
 mkdir -p "$GUIDEWAY_FMU_DIR"
-# `guideway export` once the CLI has it, else the example calling the same
-# guideway::fmu::export
-export_fmu=(target/release/examples/export_fmu)
-if target/release/guideway export --help >/dev/null 2>&1; then
-    export_fmu=(target/release/guideway export)
-fi
 for scene in lee1994-wheel-10 lee1994-glider-30; do
     id=${scene//-/_}
-    "${export_fmu[@]}" "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
+    target/release/guideway export "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
         --cross-check "$GUIDEWAY_FMU_DIR/cross-check"
 done
 
