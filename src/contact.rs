@@ -181,6 +181,27 @@ mod tests {
     use super::*;
     use crate::scene::{BeamSpec, SupportsSpec};
 
+    fn paper_wheel() -> RigidBody {
+        RigidBody {
+            mass: 3000.0,
+            inertia: 135.0,
+            radius: 0.3,
+            rolls: true,
+        }
+    }
+
+    /// A wheel rolling down a slope, and a vibrating beam under it.
+    fn moving_wheel(beam: &Beam) -> (BodyState, DVector<f64>) {
+        let state = BodyState {
+            position: Vector2::new(9.1, 0.95),
+            velocity: Vector2::new(10.0, -0.4),
+            angle: 0.0,
+            angular_velocity: -31.0,
+        };
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        (state, v)
+    }
+
     fn deformed_beam() -> (Beam, DVector<f64>) {
         let beam = Beam::new(&BeamSpec {
             length: 24.0,
@@ -215,21 +236,9 @@ mod tests {
         // The loads are the transposes of the constraint rows, so the power
         // the contact force puts into body and beam together is p · e.
         let (beam, u) = deformed_beam();
-        let body = RigidBody {
-            mass: 3000.0,
-            inertia: 135.0,
-            radius: 0.3,
-            rolls: true,
-        };
-        let centre = Vector2::new(9.1, 0.95);
-        let frame = foot_point(&beam, &u, &centre, 9.0).unwrap();
-        let state = BodyState {
-            position: centre,
-            velocity: Vector2::new(10.0, -0.4),
-            angle: 0.0,
-            angular_velocity: -31.0,
-        };
-        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let body = paper_wheel();
+        let (state, v) = moving_wheel(&beam);
+        let frame = foot_point(&beam, &u, &state.position, 9.0).unwrap();
         let p = ContactForce {
             tangential: 1.5e4,
             normal: 6e5,
@@ -255,19 +264,8 @@ mod tests {
     fn normal_velocity_error_is_the_rate_of_the_gap() {
         // The normal row is the exact derivative of g: check by finite differences.
         let (beam, u) = deformed_beam();
-        let body = RigidBody {
-            mass: 3000.0,
-            inertia: 135.0,
-            radius: 0.3,
-            rolls: true,
-        };
-        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
-        let state = BodyState {
-            position: Vector2::new(9.1, 0.95),
-            velocity: Vector2::new(10.0, -0.4),
-            angle: 0.0,
-            angular_velocity: -31.0,
-        };
+        let body = paper_wheel();
+        let (state, v) = moving_wheel(&beam);
         let gap_at = |h: f64| {
             let u_h = &u + &v * h;
             let c = state.position + state.velocity * h;

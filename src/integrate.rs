@@ -21,6 +21,17 @@ pub struct DynamicState {
     pub contact_x: f64,
 }
 
+/// What one step starts from: the state, its contact frame (the same for
+/// every iteration of the step), the external force on the body's centre
+/// (held over the step) and the step length.
+#[derive(Debug, Clone, Copy)]
+pub struct StepStart<'a> {
+    pub state: &'a DynamicState,
+    pub frame: &'a ContactFrame,
+    pub external: Vector2<f64>,
+    pub dt: f64,
+}
+
 /// Scratch vectors of the RK4 step, allocated once per simulation.
 pub struct Rk4 {
     stage_u: DVector<f64>,
@@ -51,19 +62,15 @@ impl Rk4 {
         }
     }
 
-    /// Advance `start` by `dt` with `force` held, into `end`. `start_frame`
-    /// is the contact frame of `start` (the same for every iteration of a step).
-    #[allow(clippy::too_many_arguments)]
+    /// Advance from `from` over its step with `force` held, into `end`.
     pub fn step(
         &mut self,
         system: &System,
-        start: &DynamicState,
-        start_frame: &ContactFrame,
+        from: &StepStart,
         force: ContactForce,
-        external: Vector2<f64>,
-        dt: f64,
         end: &mut DynamicState,
     ) -> Result<(), IntegrationError> {
+        let (start, external, dt) = (from.state, from.external, from.dt);
         const STAGE_TIME: [f64; 3] = [0.5, 0.5, 1.0];
         const WEIGHT: [f64; 4] = [1.0, 2.0, 2.0, 1.0];
         let beam = &system.beam;
@@ -79,7 +86,7 @@ impl Rk4 {
 
         for stage in 0..4 {
             let frame = if stage == 0 {
-                *start_frame
+                *from.frame
             } else {
                 foot_point(beam, &self.stage_u, &stage_body.position, contact_x)
                     .map_err(|e| IntegrationError::LostContact { x: e.last_x })?

@@ -10,7 +10,7 @@
 use nalgebra::{DVector, Matrix2, Matrix4, Vector2, Vector4};
 
 use crate::contact::{foot_point, ContactForce, ContactFrame};
-use crate::integrate::{DynamicState, IntegrationError, Rk4};
+use crate::integrate::{DynamicState, IntegrationError, Rk4, StepStart};
 use crate::system::System;
 
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
@@ -255,19 +255,14 @@ impl ContactIteration {
         Delassus { velocity, gap }
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn integrate_and_measure(
         &mut self,
         system: &System,
-        start: &DynamicState,
-        start_frame: &ContactFrame,
+        from: &StepStart,
         force: ContactForce,
-        external: Vector2<f64>,
-        dt: f64,
         end: &mut DynamicState,
     ) -> Result<ContactFrame, StepError> {
-        self.rk4
-            .step(system, start, start_frame, force, external, dt, end)?;
+        self.rk4.step(system, from, force, end)?;
         let frame = foot_point(
             &system.beam,
             &end.beam_displacement,
@@ -300,6 +295,12 @@ impl ContactIteration {
             start.contact_x,
         )
         .map_err(|e| StepError::LostContact { x: e.last_x })?;
+        let from = StepStart {
+            state: start,
+            frame: &start_frame,
+            external,
+            dt,
+        };
         let mut delassus: Option<(Delassus, Matrix2<f64>)> = None;
 
         let mut force = guess;
@@ -310,8 +311,7 @@ impl ContactIteration {
         let mut first_residual = None;
         // Velocity stage (eq. 16).
         let mut frame = loop {
-            let frame =
-                self.integrate_and_measure(system, start, &start_frame, force, external, dt, end)?;
+            let frame = self.integrate_and_measure(system, &from, force, end)?;
             iterations += 1;
             let mut e = frame.velocity_error(beam, body, &end.body, &end.beam_velocity);
             if !body.rolls {
@@ -373,8 +373,7 @@ impl ContactIteration {
             }
             let (d, _) = delassus.as_ref().expect("built above");
             force.normal -= gap / d.gap;
-            frame =
-                self.integrate_and_measure(system, start, &start_frame, force, external, dt, end)?;
+            frame = self.integrate_and_measure(system, &from, force, end)?;
             gap = frame.gap(beam, body, &end.body.position);
             iterations += 1;
             position_iterations += 1;

@@ -53,6 +53,35 @@ impl std::fmt::Display for SolverError {
 }
 impl std::error::Error for SolverError {}
 
+/// What a driver needs of a simulation: `Simulation` itself, or anything that
+/// steps like it (a test double). The CLI's run loop needs only this; the FMI
+/// model layer extends it (`model::Dynamics`).
+pub trait Steppable {
+    fn time(&self) -> f64;
+    /// The outputs, in a fixed order.
+    fn outputs(&self) -> &[OutputInfo];
+    /// Current output values, in the order of `outputs()`.
+    fn output_values(&self, values: &mut [f64]);
+    /// Advance to `t`; on error the state is that at the start of the
+    /// failing internal step.
+    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError>;
+}
+
+impl Steppable for Simulation {
+    fn time(&self) -> f64 {
+        Simulation::time(self)
+    }
+    fn outputs(&self) -> &[OutputInfo] {
+        Simulation::outputs(self)
+    }
+    fn output_values(&self, values: &mut [f64]) {
+        Simulation::output_values(self, values)
+    }
+    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError> {
+        Simulation::advance_to(self, t)
+    }
+}
+
 /// Everything needed to continue a run bit-identically.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SimState {

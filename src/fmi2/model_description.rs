@@ -383,6 +383,7 @@ mod tests {
     use super::*;
     use crate::model::{fake::FakeDynamics, Dynamics};
     use crate::scene::BodyKind;
+    use crate::simulation::Steppable;
 
     fn xml(scene: &Scene) -> (String, String) {
         let sim = FakeDynamics::build(scene).unwrap();

@@ -8,7 +8,7 @@
 
 use super::Dynamics;
 use crate::scene::{BodyKind, Scene};
-use crate::simulation::{Advance, OutputInfo, OutputKind, SolverError};
+use crate::simulation::{Advance, OutputInfo, OutputKind, SolverError, Steppable};
 use serde::{Deserialize, Serialize};
 
 /// `|force_y|` above this makes the fake solver fail.
@@ -93,6 +93,22 @@ impl Dynamics for FakeDynamics {
             },
         })
     }
+    fn set_body_force(&mut self, fx: f64, fy: f64) {
+        self.force = (fx, fy);
+    }
+    fn exit_time(&self) -> Option<f64> {
+        self.state.exit_time
+    }
+    fn state(&self) -> FakeState {
+        self.state.clone()
+    }
+    fn restore(&mut self, state: &FakeState) -> Result<(), String> {
+        self.state = state.clone();
+        Ok(())
+    }
+}
+
+impl Steppable for FakeDynamics {
     fn time(&self) -> f64 {
         self.state.time
     }
@@ -110,9 +126,6 @@ impl Dynamics for FakeDynamics {
         }
         v.push(s.steps as f64);
         values.copy_from_slice(&v);
-    }
-    fn set_body_force(&mut self, fx: f64, fy: f64) {
-        self.force = (fx, fy);
     }
     fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError> {
         if let Some(time) = self.state.exit_time {
@@ -146,15 +159,5 @@ impl Dynamics for FakeDynamics {
             s.steps += 1;
         }
         Ok(Advance::Reached)
-    }
-    fn exit_time(&self) -> Option<f64> {
-        self.state.exit_time
-    }
-    fn state(&self) -> FakeState {
-        self.state.clone()
-    }
-    fn restore(&mut self, state: &FakeState) -> Result<(), String> {
-        self.state = state.clone();
-        Ok(())
     }
 }

@@ -415,6 +415,7 @@ mod tests {
     use super::*;
     use crate::model::fake::FakeDynamics;
     use crate::model::Dynamics;
+    use crate::simulation::Steppable;
 
     fn table(kind: BodyKind) -> VariableTable {
         let scene = Scene::lee1994(kind, 10.0, 0.0025);

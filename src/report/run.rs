@@ -4,7 +4,7 @@ use super::output_names;
 use super::summary::RunSummary;
 use super::trace::Trace;
 use crate::scene::Scene;
-use crate::simulation::{Advance, OutputInfo, Simulation, SolverError};
+use crate::simulation::{Advance, Simulation, SolverError};
 use std::fmt;
 use std::time::{Duration, Instant};
 
@@ -82,29 +82,7 @@ pub fn stop_time(scene: &Scene) -> Result<f64, String> {
     }
 }
 
-/// What the driver needs of a simulation: `Simulation` itself, or anything
-/// that steps like it (a test double, an FMU).
-pub trait Steppable {
-    fn time(&self) -> f64;
-    fn outputs(&self) -> &[OutputInfo];
-    fn output_values(&self, values: &mut [f64]);
-    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError>;
-}
-
-impl Steppable for Simulation {
-    fn time(&self) -> f64 {
-        Simulation::time(self)
-    }
-    fn outputs(&self) -> &[OutputInfo] {
-        Simulation::outputs(self)
-    }
-    fn output_values(&self, values: &mut [f64]) {
-        Simulation::output_values(self, values)
-    }
-    fn advance_to(&mut self, t: f64) -> Result<Advance, SolverError> {
-        Simulation::advance_to(self, t)
-    }
-}
+pub use crate::simulation::Steppable;
 
 /// Run a valid scene until the body leaves the beam (or the stop time),
 /// recording the outputs after every internal step of `solver.step`, and
