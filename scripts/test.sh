@@ -9,10 +9,11 @@ cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh
 
+# One build for everything (tests, the CLI and the cdylib it packages,
+# target/release/libguideway.so), so that the features of the dependencies
+# are unified once and nothing is compiled twice.
+cargo build --release --all-targets
 cargo test --release --all-targets
-
-# The CLI and the cdylib it packages (target/release/libguideway.so).
-cargo build --release --lib --bins
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
 rm -rf "$GUIDEWAY_FMU_DIR"
 mkdir -p "$GUIDEWAY_FMU_DIR"

@@ -295,6 +295,17 @@ impl Beam {
         );
     }
 
+    /// Cholesky factor of M + `stiffness_weight` K, the effective matrix of
+    /// implicit schemes.
+    pub fn factor_mass_plus_stiffness(
+        &self,
+        stiffness_weight: f64,
+    ) -> Result<CscCholesky<f64>, String> {
+        let sum = &self.mass + &(&self.stiffness * stiffness_weight);
+        CscCholesky::factor(&CscMatrix::from(&sum))
+            .map_err(|e| format!("the implicit scheme's effective matrix cannot be factored: {e}"))
+    }
+
     /// `rhs ← M⁻¹ rhs`.
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
         self.mass_factor.solve_mut(rhs);

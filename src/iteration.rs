@@ -10,7 +10,7 @@
 use nalgebra::{DVector, Matrix2, Matrix4, Vector2, Vector4};
 
 use crate::contact::{foot_point, ContactForce, ContactFrame};
-use crate::integrate::{DynamicState, IntegrationError, Rk4, StepStart};
+use crate::integrate::{DynamicState, IntegrationError, Integrator, StepStart};
 use crate::system::System;
 
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
@@ -119,7 +119,7 @@ struct ElementResponse {
 
 /// The iteration's workspace: integrator scratch and unit-load responses.
 pub struct ContactIteration {
-    rk4: Rk4,
+    integrator: Integrator,
     load: DVector<f64>,
     response_u: [DVector<f64>; 2],
     response_v: [DVector<f64>; 2],
@@ -134,10 +134,15 @@ pub struct ContactIteration {
 
 impl ContactIteration {
     /// `nominal_step`: the fixed step whose unit-load responses are cached.
-    pub fn new(free_dofs: usize, elements: usize, nominal_step: f64) -> ContactIteration {
+    pub fn new(
+        integrator: Integrator,
+        free_dofs: usize,
+        elements: usize,
+        nominal_step: f64,
+    ) -> ContactIteration {
         let z = || DVector::zeros(free_dofs);
         ContactIteration {
-            rk4: Rk4::new(free_dofs),
+            integrator,
             load: z(),
             response_u: [z(), z()],
             response_v: [z(), z()],
@@ -161,7 +166,7 @@ impl ContactIteration {
             self.load.fill(0.0);
             self.load[loaded] = 1.0;
             let (u, v) = (&mut self.response_u[0], &mut self.response_v[0]);
-            self.rk4.beam_response(system, &self.load, dt, u, v);
+            self.integrator.beam_response(system, &self.load, dt, u, v);
             for (k, measured) in dofs.iter().enumerate() {
                 if let Some(measured) = *measured {
                     response.displacement[(k, l)] = self.response_u[0][measured];
@@ -208,7 +213,7 @@ impl ContactIteration {
             self.load.fill(0.0);
             apply.shape.scatter(&rows[j], 1.0, &mut self.load);
             let (u, v) = (&mut self.response_u[j], &mut self.response_v[j]);
-            self.rk4.beam_response(system, &self.load, dt, u, v);
+            self.integrator.beam_response(system, &self.load, dt, u, v);
         }
         for i in active.clone() {
             for j in active.clone() {
@@ -229,6 +234,7 @@ impl ContactIteration {
         dt: f64,
     ) -> Delassus {
         let body = &system.body;
+        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
         let (beam_velocity, beam_gap) = self.beam_compliance(system, apply, measure, dt);
         let (bt, bn) = apply.body_rows(body.radius);
         let body_rows = [bt, bn];
@@ -244,14 +250,14 @@ impl ContactIteration {
         for i in active.clone() {
             for j in active.clone() {
                 let (a, b) = (&measure_body_rows[i], &body_rows[j]);
-                velocity[(i, j)] +=
-                    dt * ((a.x * b.x + a.y * b.y) / body.mass + a.z * b.z * inverse_inertia);
+                velocity[(i, j)] += velocity_weight
+                    * ((a.x * b.x + a.y * b.y) / body.mass + a.z * b.z * inverse_inertia);
             }
         }
         if !body.rolls {
             velocity[(0, 0)] = 1.0;
         }
-        let gap = dt * dt / (2.0 * body.mass) * measure.normal().dot(&apply.normal()) + beam_gap;
+        let gap = position_weight / body.mass * measure.normal().dot(&apply.normal()) + beam_gap;
         Delassus { velocity, gap }
     }
 
@@ -262,7 +268,7 @@ impl ContactIteration {
         force: ContactForce,
         end: &mut DynamicState,
     ) -> Result<ContactFrame, StepError> {
-        self.rk4.step(system, from, force, end)?;
+        self.integrator.step(system, from, force, end)?;
         let frame = foot_point(
             &system.beam,
             &end.beam_displacement,
@@ -295,6 +301,7 @@ impl ContactIteration {
             start.contact_x,
         )
         .map_err(|e| StepError::LostContact { x: e.last_x })?;
+        self.integrator.begin_step();
         let from = StepStart {
             state: start,
             frame: &start_frame,

@@ -1,15 +1,16 @@
 //! Simulation: state of beam and body, fixed-step advance, exit, outputs and
 //! energy bookkeeping.
 
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{foot_point, ContactForce, ContactFrame};
 use crate::integrate::DynamicState;
+use crate::integrate::{contact_loads, Hht, Integrator, Rk4};
 use crate::iteration::{ContactIteration, IterationSettings};
-use crate::scene::{BodyKind, IntegratorKind, Scene};
+use crate::scene::{BodyKind, IntegratorKind, Scene, SolverSpec};
 use crate::system::System;
 
 /// How an output is typed when exported.
@@ -123,6 +124,55 @@ fn extrapolate(history: &[ContactForce; 3], steps: &[f64; 2], dt: f64) -> Contac
     ContactForce::from_vector(guess)
 }
 
+/// The largest step explicit RK4 is stable at for this beam (s): its
+/// stability region reaches 2√2 on the imaginary axis.
+pub fn rk4_step_limit(system: &System) -> f64 {
+    2.0 * std::f64::consts::SQRT_2 / system.beam.highest_frequency()
+}
+
+fn choose_integrator(system: &System, solver: &SolverSpec) -> Result<(Integrator, String), String> {
+    let step = solver.step;
+    let damping = solver.numerical_damping;
+    let hht = |why: String| -> Result<(Integrator, String), String> {
+        let integrator = Hht::new(system, damping, step)?;
+        Ok((
+            Integrator::Hht(Box::new(integrator)),
+            format!("hht (implicit HHT-α, α = {}){why}", -damping),
+        ))
+    };
+    match solver.integrator {
+        IntegratorKind::Hht => hht(String::new()),
+        IntegratorKind::Rk4 | IntegratorKind::Auto => {
+            let limit = rk4_step_limit(system);
+            let free = system.beam.free_dofs();
+            if step <= limit {
+                let why = if solver.integrator == IntegratorKind::Auto {
+                    format!("; auto: the step is within RK4's stability limit {limit:.3e} s")
+                } else {
+                    String::new()
+                };
+                return Ok((
+                    Integrator::Rk4(Rk4::new(free)),
+                    format!("rk4 (explicit){why}"),
+                ));
+            }
+            if solver.integrator == IntegratorKind::Auto {
+                return hht(format!(
+                    "; auto: RK4 would need a step of at most {limit:.3e} s for this mesh"
+                ));
+            }
+            Err(format!(
+                "solver.step = {step} s is beyond the stability limit of explicit RK4 \
+                 for this mesh: elements of {:.4} m give the beam a highest frequency of \
+                 {:.1} rad/s, so the step must not exceed {limit:.3e} s; shorten solver.step, \
+                 use fewer elements, or set solver.integrator = \"hht\" or \"auto\"",
+                system.beam.min_element_length(),
+                2.0 * std::f64::consts::SQRT_2 / limit
+            ))
+        }
+    }
+}
+
 /// Which quantity an output reports.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Quantity {
@@ -148,6 +198,8 @@ enum Quantity {
 
 pub struct Simulation {
     system: System,
+    /// Which integrator runs, and why (for `auto`).
+    integrator_choice: String,
     sensors: Vec<f64>,
     step: f64,
     settings: IterationSettings,
@@ -331,23 +383,9 @@ impl Simulation {
         let beam = Beam::new(&scene.beam)?;
         let body = RigidBody::from_spec(&scene.body);
         let step = scene.solver.step;
-        match scene.solver.integrator {
-            IntegratorKind::Rk4 => {
-                // RK4's stability region reaches 2√2 on the imaginary axis.
-                let highest = beam.highest_frequency();
-                let limit = 2.0 * std::f64::consts::SQRT_2 / highest;
-                if step > limit {
-                    return Err(format!(
-                        "solver.step = {step} s is beyond the stability limit of explicit RK4 \
-                         for this mesh: elements of {:.4} m give the beam a highest frequency of {:.1} rad/s, \
-                         so the step must not exceed {limit:.3e} s; shorten solver.step or use fewer \
-                         elements",
-                        beam.min_element_length(),
-                        highest
-                    ));
-                }
-            }
-        }
+        let system = System { beam, body };
+        let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
+        let (beam, body) = (&system.beam, &system.body);
         let x0 = scene.body.initial_position;
         let v0 = scene.body.initial_speed;
         let body_state = BodyState {
@@ -361,18 +399,38 @@ impl Simulation {
             },
         };
         let n = beam.free_dofs();
-        let dynamic = DynamicState {
-            beam_displacement: DVector::zeros(n),
-            beam_velocity: DVector::zeros(n),
-            body: body_state,
-            contact_x: x0,
-        };
         let body_force = [scene.body.force_x, scene.body.force_y];
         // Initial guess: the normal force balances the applied force.
-        let normal_guess = -body_force[1];
         let force = ContactForce {
             tangential: 0.0,
-            normal: normal_guess,
+            normal: -body_force[1],
+        };
+        // Loads and accelerations consistent with that force (the implicit
+        // scheme starts from them).
+        let undeformed = DVector::zeros(n);
+        let frame = foot_point(beam, &undeformed, &body_state.position, x0)
+            .map_err(|e| format!("no contact point at the start (x = {})", e.last_x))?;
+        let external = Vector2::new(body_force[0], body_force[1]);
+        let mut beam_load = DVector::zeros(n);
+        let body_load = contact_loads(&system, &frame, force, external, &mut beam_load);
+        let mut beam_acceleration = DVector::zeros(n);
+        beam.accelerations(&undeformed, &beam_load, &mut beam_acceleration);
+        let inertia = if body.rolls && body.inertia > 0.0 {
+            body.inertia
+        } else {
+            f64::INFINITY
+        };
+        let body_acceleration =
+            body_load.component_div(&Vector3::new(body.mass, body.mass, inertia));
+        let dynamic = DynamicState {
+            beam_displacement: undeformed,
+            beam_velocity: DVector::zeros(n),
+            beam_acceleration,
+            body_acceleration,
+            beam_load,
+            body_load,
+            body: body_state,
+            contact_x: x0,
         };
         let (outputs, quantities) = output_table(scene).into_iter().unzip();
         let mut simulation = Simulation {
@@ -383,7 +441,8 @@ impl Simulation {
                 gap_tolerance: scene.solver.gap_tolerance,
                 max_iterations: scene.solver.max_iterations,
             },
-            iteration: ContactIteration::new(n, beam.elements(), step),
+            iteration: ContactIteration::new(integrator, n, beam.elements(), step),
+            integrator_choice,
             scratch: dynamic.clone(),
             state: SimState {
                 time: 0.0,
@@ -401,7 +460,7 @@ impl Simulation {
                 total_iterations: 0,
                 exit_time: None,
             },
-            system: System { beam, body },
+            system,
             outputs,
             quantities,
         };
@@ -411,6 +470,11 @@ impl Simulation {
 
     pub fn time(&self) -> f64 {
         self.state.time
+    }
+
+    /// The integrator that runs, in words (`auto` says what it picked and why).
+    pub fn integrator_choice(&self) -> &str {
+        &self.integrator_choice
     }
 
     /// The outputs this scene has, in a fixed order.

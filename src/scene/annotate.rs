@@ -5,7 +5,7 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 27] = [
+const FIELD_NOTES: [(&str, &str); 28] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
     ("beam.length", "m, L"),
@@ -48,7 +48,11 @@ const FIELD_NOTES: [(&str, &str); 27] = [
     ("solver.max_iterations", "per stage and step"),
     (
         "solver.integrator",
-        "rk4: classical Runge-Kutta, the paper's",
+        "rk4 (the paper's, explicit) | hht (implicit) | auto",
+    ),
+    (
+        "solver.numerical_damping",
+        "HHT's -alpha in [0, 1/3]; 0 conserves energy",
     ),
     ("solver.end_time", "s, stop here if the body has not left"),
 ];

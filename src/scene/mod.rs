@@ -151,6 +151,10 @@ pub struct SolverSpec {
     /// Time integrator of the bodies.
     #[serde(default)]
     pub integrator: IntegratorKind,
+    /// Numerical damping of the implicit scheme, −α of HHT-α, in [0, 1/3]
+    /// (0: Newmark's average acceleration, energy-conserving).
+    #[serde(default)]
+    pub numerical_damping: f64,
     /// Stop time (s) if the body has not left the beam before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end_time: Option<f64>,
@@ -177,6 +181,7 @@ impl Default for SolverSpec {
             gap_tolerance: default_gap_tolerance(),
             max_iterations: default_max_iterations(),
             integrator: IntegratorKind::default(),
+            numerical_damping: 0.0,
             end_time: None,
         }
     }
@@ -185,9 +190,15 @@ impl Default for SolverSpec {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum IntegratorKind {
-    /// Classical fourth-order Runge-Kutta, the paper's scheme.
+    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
     #[default]
     Rk4,
+    /// HHT-α for the beam (implicit, unconditionally stable), damping
+    /// `numerical_damping`.
+    Hht,
+    /// RK4 where `step` is within its stability limit for the mesh, HHT-α
+    /// otherwise.
+    Auto,
 }
 
 impl Scene {

@@ -223,6 +223,14 @@ fn check_solver(checks: &mut Checks, scene: &Scene) {
             "must be >= 1",
         );
     }
+    let damping = solver.numerical_damping;
+    if checks.finite("solver.numerical_damping", damping) && !(0.0..=1.0 / 3.0).contains(&damping) {
+        checks.fail(
+            "solver.numerical_damping",
+            fmt_f64(damping),
+            "must be between 0 and 1/3 (HHT-α's −α)",
+        );
+    }
     if let Some(end) = solver.end_time {
         checks.positive("solver.end_time", end);
     }

@@ -1,36 +1,16 @@
-//! Time integration of beam and body over one step with the contact force
-//! held (the paper's scheme: classical RK4).
+//! The paper's scheme: classical RK4 for beam and body together, with the
+//! contact force held over the step.
 //!
 //! The force is held in the contact frame; the frame itself follows the
 //! foot point through the RK4 stages, so within a step the equations of
-//! motion are smooth and RK4 keeps its order.
+//! motion are smooth and RK4 keeps its order. Stable for
+//! Δt ≤ 2√2 / ω_max of the beam.
 
 use nalgebra::{DVector, Vector2};
-use serde::{Deserialize, Serialize};
 
-use crate::contact::{foot_point, ContactForce, ContactFrame};
+use super::{contact_loads, DynamicState, IntegrationError, StepStart};
+use crate::contact::{foot_point, ContactForce};
 use crate::system::System;
-
-/// Positions and velocities of everything that moves, plus the foot point
-/// (kept as the warm start of the next foot-point search).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DynamicState {
-    pub beam_displacement: DVector<f64>,
-    pub beam_velocity: DVector<f64>,
-    pub body: crate::body::BodyState,
-    pub contact_x: f64,
-}
-
-/// What one step starts from: the state, its contact frame (the same for
-/// every iteration of the step), the external force on the body's centre
-/// (held over the step) and the step length.
-#[derive(Debug, Clone, Copy)]
-pub struct StepStart<'a> {
-    pub state: &'a DynamicState,
-    pub frame: &'a ContactFrame,
-    pub external: Vector2<f64>,
-    pub dt: f64,
-}
 
 /// Scratch vectors of the RK4 step, allocated once per simulation.
 pub struct Rk4 {
@@ -40,13 +20,6 @@ pub struct Rk4 {
     sum_v: DVector<f64>,
     load: DVector<f64>,
     accel: DVector<f64>,
-}
-
-/// Failure of one integration.
-#[derive(Debug, Clone, PartialEq)]
-pub enum IntegrationError {
-    /// No foot point: the body is far from the beam or the beam is wildly deformed.
-    LostContact { x: f64 },
 }
 
 impl Rk4 {
@@ -92,20 +65,11 @@ impl Rk4 {
                     .map_err(|e| IntegrationError::LostContact { x: e.last_x })?
             };
             contact_x = frame.x;
-            // Beam: receives the opposite of the force on the body.
-            let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
-            self.load.fill(0.0);
-            frame
-                .shape
-                .scatter(&t_row, -force.tangential, &mut self.load);
-            frame.shape.scatter(&n_row, -force.normal, &mut self.load);
+            let generalized = contact_loads(system, &frame, force, external, &mut self.load);
             beam.accelerations(&self.stage_u, &self.load, &mut self.accel);
-            // Body.
-            let contact_on_body =
-                frame.tangent() * force.tangential + frame.normal() * force.normal;
-            let body_accel = (contact_on_body + external) / body.mass;
+            let body_accel = generalized.xy() / body.mass;
             let angular_accel = if body.rolls && body.inertia > 0.0 {
-                force.tangential * body.radius / body.inertia
+                generalized.z / body.inertia
             } else {
                 0.0
             };
