@@ -17,6 +17,7 @@ pub mod model;
 pub mod report;
 pub mod scene;
 pub mod simulation;
+pub mod study;
 pub mod system;
 
 pub use scene::Scene;

@@ -7,6 +7,7 @@ mod export;
 mod progress;
 mod run;
 mod scenes;
+mod work_precision;
 
 use clap::{Parser, Subcommand};
 use guideway::scene::{SceneError, DEFAULT_SCENE};
@@ -33,6 +34,27 @@ enum Command {
     Scenes(ScenesArgs),
     /// Export a scene as an FMI 2.0 co-simulation FMU.
     Export(ExportArgs),
+    /// Error against run time of every integrator on the paper's cases
+    /// (CSV for `scripts/work_precision.py`).
+    WorkPrecision(WorkPrecisionArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct WorkPrecisionArgs {
+    /// Where to write the points.
+    #[arg(
+        long,
+        short,
+        value_name = "CSV",
+        default_value = "report/work_precision.csv"
+    )]
+    out: PathBuf,
+    /// Runs per point; the wall time is their median.
+    #[arg(long, default_value_t = 5)]
+    repeats: usize,
+    /// Fewer steps and a coarser reference (for tests).
+    #[arg(long)]
+    quick: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -101,6 +123,7 @@ pub fn main() -> ExitCode {
         Command::Run(args) => run::run(args),
         Command::Scenes(args) => scenes::scenes(args),
         Command::Export(args) => export::export(args),
+        Command::WorkPrecision(args) => work_precision::work_precision(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
