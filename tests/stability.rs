@@ -148,3 +148,54 @@ fn numerical_damping_dissipates_energy() {
     }
     assert!(losses[0] < losses[1] && losses[1] < losses[2], "{losses:?}");
 }
+
+#[test]
+fn a_thousandfold_stiffer_beam_runs_with_auto_and_stays_conservative() {
+    // EI × 1000: RK4 at the paper's step is refused (limit 0.29 ms), auto
+    // runs HHT-α: the beam barely deflects and the wheel keeps its speed.
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
+    scene.beam.bending_stiffness = 1e12;
+    assert!(Simulation::new(&scene).is_err());
+    scene.solver.integrator = IntegratorKind::Auto;
+    let run = run_to_exit(&scene);
+    assert!(
+        (run.exit_nominal_speed - 10.0).abs() < 1e-3,
+        "{}",
+        run.exit_nominal_speed
+    );
+    assert!(run.max_energy_drift < 1e-6, "{}", run.max_energy_drift);
+}
+
+#[test]
+fn a_tolerance_below_round_off_with_a_tight_cap_stops_with_a_diagnostic() {
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
+    scene.solver.velocity_tolerance = 1e-14;
+    scene.solver.max_iterations = 5;
+    let mut sim = Simulation::new(&scene).unwrap();
+    let error = sim
+        .advance_to(2.0)
+        .expect_err("cannot converge below round-off in 5");
+    assert!(
+        error.message.contains("did not converge in 5 iterations"),
+        "{error}"
+    );
+    assert!(error.message.contains("tolerance 1.000e-14"), "{error}");
+    // The state is the last converged step's: finite, before the failure.
+    assert!(sim.time() <= error.time && sim.time() > 0.0);
+}
+
+#[test]
+fn the_implicit_scheme_takes_steps_far_beyond_rk4s_limit() {
+    // Δt = 20 ms, twice RK4's limit on the paper's mesh: HHT-α completes with
+    // the exit speed still within 0.02 m/s of the paper's.
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.02);
+    assert!(Simulation::new(&scene).is_err());
+    scene.solver.integrator = IntegratorKind::Hht;
+    let run = run_to_exit(&scene);
+    assert!(
+        (run.exit_nominal_speed - 9.96).abs() < 0.02,
+        "{}",
+        run.exit_nominal_speed
+    );
+    assert!(run.max_energy_drift < 1e-3, "{}", run.max_energy_drift);
+}

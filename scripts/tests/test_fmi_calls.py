@@ -217,3 +217,31 @@ def test_solver_failure_rolls_the_step_back_and_the_master_can_retry(slave):
     ref.fmu.doStep(0.0, 0.1)
     ref.fmu.doStep(0.1, 0.1)
     assert np.array_equal(ref.outputs(), s.outputs())
+
+
+def test_a_master_retries_a_discarded_step_with_smaller_steps_and_gets_further(slave):
+    """Far above the critical speed the contact force turns tensile (lift-off):
+    the FMU discards the communication step that contains it, rolled back to
+    its start; a master retrying with steps ten times smaller succeeds up to
+    the last step before the lift-off instead of losing the whole interval."""
+    s = slave(WHEEL).init(**{"wheel.initial_speed": 300.0, "beam.elements": 8, "solver.step": 1e-4})
+    s.fmu.doStep(0.0, 0.05)
+    with pytest.raises(FMICallException) as e:
+        s.fmu.doStep(0.05, 0.01)
+    assert e.value.status == 2  # fmi2Discard
+    assert "lift-off" in s.messages.text()
+    assert s.real("contact.position")[0] < 16.0
+    t, h = 0.05, 0.001
+    reached = t
+    for k in range(10):
+        try:
+            s.fmu.doStep(t + k * h, h)
+            reached = t + (k + 1) * h
+        except FMICallException as retry:
+            assert retry.status == 2
+            break
+    # The coarse step gave nothing past 0.05 s; the retried steps get to
+    # within one small step of the lift-off (about 0.058 s at x ≈ 17.5 m).
+    assert reached >= 0.057, reached
+    assert np.all(np.isfinite(s.outputs()))
+    assert s.real("contact.normal_force")[0] > 0.0
