@@ -198,17 +198,20 @@ def run_case(plugin, params):
         return row
 
 
-def _run_on_worker(plugin_name, params):
+def _run_on_worker(plugin_name, cases):
     from distributed import get_worker
 
-    return run_case(get_worker().plugins[plugin_name], params)
+    plugin = get_worker().plugins[plugin_name]
+    return [run_case(plugin, params) for params in cases]
 
 
 # ------------------------------------------------------------------ sweep
 
-def sweep(client, fmu_path, cases):
-    """Run `cases` (dicts of start values) on the Dask `client`; one
-    DataFrame, in the order of `cases`."""
+def sweep(client, fmu_path, cases, chunk=10):
+    """Run `cases` (dicts of start values) on the Dask `client`, `chunk`
+    runs per task (a run takes milliseconds: one task per run would cost
+    more in scheduling than in simulation); one DataFrame, in the order of
+    `cases`."""
     if __name__ != "__main__":
         # imported (tests, notebooks): ship this module's code to the
         # workers, which need not have scripts/ on their path
@@ -216,8 +219,9 @@ def sweep(client, fmu_path, cases):
         cloudpickle.register_pickle_by_value(sys.modules[__name__])
     plugin = FMUPlugin(fmu_path)
     client.register_plugin(plugin, name=plugin.name)
-    futures = client.map(_run_on_worker, [plugin.name] * len(cases), cases, pure=False)
-    return pd.DataFrame(client.gather(futures))
+    chunks = [cases[i:i + chunk] for i in range(0, len(cases), chunk)]
+    futures = client.map(_run_on_worker, [plugin.name] * len(chunks), chunks, pure=False)
+    return pd.DataFrame([row for rows in client.gather(futures) for row in rows])
 
 
 def critical_speed(length, mass_per_length, ei):
@@ -256,7 +260,7 @@ def plot(table, png, length, mass_per_length):
     ax.set_ylabel("peak |midspan deflection| / (P L³ / 48 EI)")
     ax.set_title("Dynamic amplification of midspan deflection (vertical lines: critical speeds)")
     ax.grid(True, alpha=0.4)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="upper right")
     fig.tight_layout()
     fig.savefig(png, dpi=110)
     plt.close(fig)
@@ -275,7 +279,8 @@ def main(argv=None):
                    help="processes of the LocalCluster (default 2; ignored with --scheduler)")
     p.add_argument("--scheduler", metavar="ADDRESS",
                    help="address of an existing Dask scheduler, e.g. tcp://10.0.0.5:8786")
-    p.add_argument("--out", default="sweep.csv", help="the table: .csv or .parquet (default sweep.csv)")
+    p.add_argument("--chunk", type=int, default=10, help="runs per Dask task (default 10)")
+    p.add_argument("--out", default="sweep.csv", help="the table, CSV (default sweep.csv)")
     p.add_argument("--plot", help="write the amplification plot to this PNG")
     args = p.parse_args(argv)
 
@@ -287,6 +292,8 @@ def main(argv=None):
     for needed in [f"{BODY}.initial_speed", f"{BODY}.mass", "beam.bending_stiffness", SENSOR]:
         if needed not in names:
             p.error(f"{args.fmu}: no variable {needed} (the sweep needs a wheel FMU with a `midspan` sensor)")
+    if args.chunk < 1:
+        p.error("--chunk must be >= 1")
     cases = grid(args.speeds, args.stiffness, args.mass)
 
     from distributed import Client, LocalCluster
@@ -299,7 +306,7 @@ def main(argv=None):
         client = Client(cluster)
     try:
         ready = time.perf_counter()
-        table = sweep(client, args.fmu, cases)
+        table = sweep(client, args.fmu, cases, chunk=args.chunk)
         wall = time.perf_counter() - ready
         workers = len(client.scheduler_info()["workers"])
     finally:
@@ -307,10 +314,7 @@ def main(argv=None):
         if cluster is not None:
             cluster.close()
 
-    if args.out.endswith(".parquet"):
-        table.to_parquet(args.out, index=False)
-    else:
-        table.to_csv(args.out, index=False)
+    table.to_csv(args.out, index=False)
     if args.plot:
         plot(table, args.plot, start_value(md, "beam.length"), start_value(md, "beam.mass_per_length"))
     counts = table["status"].value_counts().to_dict()

@@ -59,7 +59,7 @@ def test_sweep_on_an_existing_scheduler(cluster, tmp_path):
 def test_one_fmu_extraction_per_worker(cluster):
     with Client(cluster) as client:
         cases = sweep.grid([20.0, 40.0, 60.0, 80.0, 100.0, 120.0, 20.0, 20.0], [1e9], [3000.0])
-        table = sweep.sweep(client, str(fmu_path(WHEEL)), cases)
+        table = sweep.sweep(client, str(fmu_path(WHEEL)), cases, chunk=2)
     assert len(table) == 8 and (table["status"] == "exited").all()
     # each worker process extracted the FMU once and reused it for its runs
     per_worker = table.groupby("pid")["extract_dir"].nunique()
