@@ -30,7 +30,6 @@ from fmpy.logging import addLoggerProxy
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU_DIR = pathlib.Path(os.environ.get("GUIDEWAY_FMU_DIR", ROOT / "out" / "fmu"))
 PROFILE = os.environ.get("GUIDEWAY_PROFILE", "release")
-EXPORTER = ROOT / "target" / PROFILE / "examples" / "export_fmu"
 GUIDEWAY = ROOT / "target" / PROFILE / "guideway"
 
 # The built-in scenes whose FMUs the tests use: (scene name, body).
@@ -79,14 +78,14 @@ def set_in_toml(text, section, key, value):
 
 
 def native_reference(scene_toml_text, tmp_path):
-    """Run a scene natively (no FMI) with the exporter's cross-check writer:
+    """Run a scene natively (no FMI) with `guideway export --cross-check`:
     every output at every solver step until the exit or the default stop."""
     scene = tmp_path / "scene.toml"
     scene.write_text(scene_toml_text)
     name = tomllib.loads(scene_toml_text)["name"]
     cc = tmp_path / "cc"
     subprocess.run(
-        [str(EXPORTER), str(scene), "-o", str(tmp_path / "x.fmu"), "--cross-check", str(cc)],
+        [str(GUIDEWAY), "export", str(scene), "-o", str(tmp_path / "x.fmu"), "--cross-check", str(cc)],
         check=True,
         capture_output=True,
     )
