@@ -81,3 +81,14 @@ def test_bad_fmu_is_refused_with_a_message(tmp_path, capsys):
         sweep.main([str(bad)])
     assert e.value.code == 2
     assert "not an FMU" in capsys.readouterr().err
+
+
+def test_sweep_starts_a_local_cluster_without_scheduler(tmp_path, capsys):
+    out = tmp_path / "local.csv"
+    table = sweep.main([str(fmu_path(WHEEL)), "--speeds", "50,100", "--stiffness", "1e9,2e9",
+                        "--mass", "3000", "--workers", "1", "--out", str(out)])
+    assert "4 runs on 1 workers" in capsys.readouterr().out
+    assert len(pd.read_csv(out)) == 4 and table["pid"].nunique() == 1
+    # a stiffer beam deflects less at the same speed
+    at = table.set_index(["wheel.initial_speed", "beam.bending_stiffness"])["peak_deflection"]
+    assert at[(50.0, 2e9)] < at[(50.0, 1e9)]
