@@ -294,6 +294,9 @@ def main(argv=None):
             p.error(f"{args.fmu}: no variable {needed} (the sweep needs a wheel FMU with a `midspan` sensor)")
     if args.chunk < 1:
         p.error("--chunk must be >= 1")
+    for option, values in [("--speeds", args.speeds), ("--stiffness", args.stiffness), ("--mass", args.mass)]:
+        if not values or min(values) <= 0:
+            p.error(f"{option}: want values > 0, got {values}")
     cases = grid(args.speeds, args.stiffness, args.mass)
 
     from distributed import Client, LocalCluster

@@ -92,3 +92,10 @@ def test_sweep_starts_a_local_cluster_without_scheduler(tmp_path, capsys):
     # a stiffer beam deflects less at the same speed
     at = table.set_index(["wheel.initial_speed", "beam.bending_stiffness"])["peak_deflection"]
     assert at[(50.0, 2e9)] < at[(50.0, 1e9)]
+
+
+def test_non_positive_values_are_refused(capsys):
+    with pytest.raises(SystemExit) as e:
+        sweep.main([str(fmu_path(WHEEL)), "--speeds", "0,5"])
+    assert e.value.code == 2
+    assert "--speeds: want values > 0" in capsys.readouterr().err
