@@ -3,7 +3,9 @@
 #  1. set-up (libclang, .venv), idempotent
 #  2. cargo test (unit, integration, FMU import with the `fmi` crate)
 #  3. export the FMUs of the built-in scenes (+ cross-check files)
-#  4. pytest scripts/tests: fmpy, fmutool, libcosimpy against those FMUs
+#  4. `guideway release` into out/dist (all built-in scenes)
+#  5. pytest scripts/tests: fmpy, fmutool, libcosimpy against those FMUs;
+#     the release; the scripted examples; the Dask sweep
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -22,5 +24,9 @@ for scene in lee1994-wheel-10 lee1994-glider-30; do
     target/release/guideway export "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
         --cross-check "$GUIDEWAY_FMU_DIR/cross-check"
 done
+
+# The release of this version (every built-in scene), for the release tests.
+export GUIDEWAY_RELEASE_DIR="$PWD/out/dist"
+target/release/guideway release --out "$GUIDEWAY_RELEASE_DIR" --replace
 
 .venv/bin/python -m pytest -q scripts/tests

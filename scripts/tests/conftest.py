@@ -78,7 +78,7 @@ def set_in_toml(text, section, key, value):
 
 
 def native_reference(scene_toml_text, tmp_path):
-    """Run a scene natively (no FMI) with the exporter's cross-check writer:
+    """Run a scene natively (no FMI) with `guideway export --cross-check`:
     every output at every solver step until the exit or the default stop."""
     scene = tmp_path / "scene.toml"
     scene.write_text(scene_toml_text)

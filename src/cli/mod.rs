@@ -5,6 +5,7 @@
 
 mod export;
 mod progress;
+mod release;
 mod run;
 mod scenes;
 mod work_precision;
@@ -37,6 +38,9 @@ enum Command {
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
+    /// Build the release of this version: the FMUs of every built-in scene,
+    /// cross-check files, release notes and checksums in `<out>/<version>/`.
+    Release(ReleaseArgs),
 }
 
 #[derive(Debug, clap::Args)]
@@ -98,6 +102,20 @@ struct ExportArgs {
     cross_check: Option<PathBuf>,
 }
 
+#[derive(Debug, clap::Args)]
+struct ReleaseArgs {
+    /// Directory receiving `<version>/`.
+    #[arg(long, short, value_name = "DIR", default_value = "dist")]
+    out: PathBuf,
+    /// The Keep-a-Changelog file whose section for this version becomes the
+    /// release notes.
+    #[arg(long, value_name = "FILE", default_value = "CHANGELOG.md")]
+    changelog: PathBuf,
+    /// Replace `<out>/<version>/` if it exists (otherwise refused).
+    #[arg(long)]
+    replace: bool,
+}
+
 /// How a command failed, deciding the exit code.
 enum Failure {
     /// The scene (or what it asks for) is wrong: exit code 2.
@@ -124,6 +142,7 @@ pub fn main() -> ExitCode {
         Command::Scenes(args) => scenes::scenes(args),
         Command::Export(args) => export::export(args),
         Command::WorkPrecision(args) => work_precision::work_precision(args),
+        Command::Release(args) => release::release(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -14,6 +14,7 @@
 
 pub mod cross_check;
 mod documentation;
+pub mod release;
 
 use crate::fmi2::instance::SCENE_FILE;
 use crate::fmi2::{describe, Physics};
@@ -92,6 +93,10 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Stri
         ("documentation/index.html".into(), html.as_bytes(), 0o644),
     ];
     files.extend(TEMPLATE.iter().map(|&(p, b)| (p.to_string(), b, 0o644)));
+    // Reproducible archives: entries in name order, each with the same
+    // timestamp (the zip epoch, 1980-01-01 00:00) and fixed permissions, so
+    // packaging the same scene and binary twice gives the same bytes.
+    files.sort_by(|a, b| a.0.cmp(&b.0));
 
     if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
@@ -104,6 +109,7 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Stri
     for (name, bytes, mode) in files {
         let options = SimpleFileOptions::default()
             .compression_method(zip::CompressionMethod::Deflated)
+            .last_modified_time(zip::DateTime::default())
             .unix_permissions(mode);
         zip.start_file(name, options).map_err(zerr)?;
         zip.write_all(bytes).map_err(io)?;

@@ -1,0 +1,25 @@
+//! `guideway release [--out dist] [--changelog CHANGELOG.md] [--replace]`.
+
+use super::{Failure, ReleaseArgs};
+use guideway::fmu::{self, release};
+
+pub(super) fn release(args: ReleaseArgs) -> Result<(), Failure> {
+    let changelog = std::fs::read_to_string(&args.changelog).map_err(|e| {
+        Failure::Run(format!(
+            "cannot read the changelog {}: {e} (run from the repository root or pass --changelog)",
+            args.changelog.display()
+        ))
+    })?;
+    let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
+    let built =
+        release::build(&args.out, &cdylib, &changelog, args.replace).map_err(Failure::Run)?;
+    for fmu in &built.fmus {
+        println!("{}", fmu.display());
+    }
+    println!(
+        "guideway {} released into {} (README.md, RELEASE_NOTES.md, SHA256SUMS, cross-check/)",
+        release::VERSION,
+        built.dir.display()
+    );
+    Ok(())
+}
