@@ -20,16 +20,20 @@ pub struct Run {
     pub exit_time: Option<f64>,
     /// Wall-clock time spent inside `Simulation::advance_to`.
     pub solve_time: Duration,
+    /// The integrator that ran (`Simulation::integrator_choice`), when known.
+    pub integrator: Option<String>,
 }
 
 impl Run {
     pub fn summary(&self, scene: &Scene) -> RunSummary {
-        RunSummary::from_trace(
+        let mut summary = RunSummary::from_trace(
             scene,
             &self.trace,
             self.exit_time,
             self.solve_time.as_secs_f64(),
-        )
+        );
+        summary.integrator = self.integrator.clone();
+        summary
     }
 }
 
@@ -90,7 +94,18 @@ pub use crate::simulation::Steppable;
 pub fn run_scene(scene: &Scene, on_step: impl FnMut(StepProgress)) -> Result<Run, RunError> {
     stop_time(scene).map_err(RunError::Setup)?;
     let mut simulation = Simulation::new(scene).map_err(RunError::Setup)?;
-    drive(scene, &mut simulation, on_step)
+    let integrator = Some(simulation.integrator_choice().to_string());
+    match drive(scene, &mut simulation, on_step) {
+        Ok(run) => Ok(Run { integrator, ..run }),
+        Err(RunError::Solver { error, partial }) => Err(RunError::Solver {
+            error,
+            partial: Box::new(Run {
+                integrator,
+                ..*partial
+            }),
+        }),
+        Err(other) => Err(other),
+    }
 }
 
 /// Drive an already built simulation of `scene` as `run_scene` does.
@@ -133,6 +148,7 @@ pub fn drive(
                     trace,
                     exit_time: None,
                     solve_time,
+                    integrator: None,
                 });
                 return Err(RunError::Solver { error, partial });
             }
@@ -157,5 +173,6 @@ pub fn drive(
         trace,
         exit_time,
         solve_time,
+        integrator: None,
     })
 }

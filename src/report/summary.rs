@@ -30,6 +30,9 @@ pub struct RunSummary {
     pub iterations: Option<u64>,
     /// Wall-clock time (s) of the solve alone.
     pub wall_time_s: f64,
+    /// The integrator that ran, and for `auto` why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub integrator: Option<String>,
 }
 
 impl RunSummary {
@@ -63,6 +66,7 @@ impl RunSummary {
                 .column(output_names::ITERATIONS)
                 .map(|per_step| per_step.iter().skip(1).map(|&n| n.max(0.0) as u64).sum()),
             wall_time_s,
+            integrator: None,
         }
     }
 
@@ -80,6 +84,9 @@ impl fmt::Display for RunSummary {
             None => "-".to_string(),
         };
         writeln!(f, "scene              {}", self.scene)?;
+        if let Some(integrator) = &self.integrator {
+            writeln!(f, "integrator         {integrator}")?;
+        }
         match self.exit_time {
             Some(t) => writeln!(f, "exit time          {t:.6} s")?,
             None => writeln!(f, "exit time          - (the body did not leave the beam)")?,
