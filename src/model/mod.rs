@@ -217,6 +217,15 @@ impl<D: Dynamics> Model<D> {
                 values.len()
             ));
         }
+        // Parameters can be finite and valid one by one and still overflow
+        // an output (a huge speed squared): refuse rather than hand out inf.
+        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+            return err(format!(
+                "output {} is {} with these parameters; choose smaller values",
+                sim.outputs()[k].name,
+                values[k]
+            ));
+        }
         Ok(values)
     }
 

@@ -54,6 +54,26 @@ fn cross_field_rule_is_checked_when_initialization_is_left() {
     );
 }
 
+/// Found by scripts/fuzz_fmi.py: each parameter finite and valid, but an
+/// output overflowed to inf and was read with status OK.
+#[test]
+fn parameters_that_overflow_an_output_are_refused_when_outputs_are_read() {
+    let mut m = model(BodyKind::Wheel);
+    let radius = vr(&m, "wheel.radius");
+    m.set(&[radius], &[Value::Real(5e-324)]).unwrap();
+    let w = vr(&m, "wheel.angular_velocity");
+    let e = m.get(VarType::Real, &[w]).unwrap_err().0;
+    assert!(
+        e.contains("wheel.angular_velocity") && e.contains("inf"),
+        "{e}"
+    );
+    let e = m.initialize().unwrap_err().0;
+    assert!(e.contains("wheel.angular_velocity"), "{e}");
+    // a sensible radius makes the model usable again
+    m.set(&[radius], &[Value::Real(0.3)]).unwrap();
+    m.initialize().unwrap();
+}
+
 #[test]
 fn parameters_are_fixed_after_initialization_but_inputs_are_not() {
     let mut m = model(BodyKind::Wheel);
