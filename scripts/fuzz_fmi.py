@@ -48,6 +48,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 DEFAULT_FMU_DIR = pathlib.Path(os.environ.get("GUIDEWAY_FMU_DIR", ROOT / "out" / "fmu"))
 
 OK, WARNING, DISCARD, ERROR, FATAL = 0, 1, 2, 3, 4
+STATUS_NAMES = ["OK", "Warning", "Discard", "Error", "Fatal"]
 CO_SIMULATION = 1
 HUGE_LEN = (1 << 64) - 1
 REFERENCE_STEPS = 8
@@ -212,6 +213,7 @@ class Sequence:
         self.keep = []          # ctypes buffers that must outlive a call
         self.fatal = False
         self.logger = True
+        self.tally = {}         # "function status" -> count of checked calls
 
     # -- checked calls --
 
@@ -231,6 +233,8 @@ class Sequence:
             self.fail(f"{name} returned status {status} without a log message")
         if status == FATAL:
             self.fatal = True
+        key = f"{name} {STATUS_NAMES[status]}"
+        self.tally[key] = self.tally.get(key, 0) + 1
         return status
 
     def fail(self, message):
@@ -259,6 +263,9 @@ class Sequence:
             self.fail("fmi2Instantiate with valid arguments returned NULL")
         self.c = c
         try:
+            if self.rng.random() < 0.7:  # most sequences explore stepping
+                for name in ("fmi2EnterInitializationMode", "fmi2ExitInitializationMode"):
+                    self.call(name, c)
             while self.calls < self.max_calls and not self.fatal:
                 self.random_call()
             if not self.fatal:
@@ -356,6 +363,9 @@ class Sequence:
             status = self.call(name, self.c)
             if status == OK and name == "fmi2Reset":
                 self.time = 0.0
+                if rng.random() < 0.7:  # back to stepping, mostly
+                    for name in ("fmi2EnterInitializationMode", "fmi2ExitInitializationMode"):
+                        self.call(name, self.c)
 
     def get_values(self):
         kind = self.rng.choice(["Real", "Real", "Integer", "Boolean", "String"])
@@ -657,8 +667,9 @@ def worker(directories, seeds, max_calls):
     for seed in seeds:
         harness_self_test(seed)
         try:
-            calls = Sequence(models, refs, seed, max_calls).run()
-            print(json.dumps({"seed": seed, "calls": calls}), flush=True)
+            seq = Sequence(models, refs, seed, max_calls)
+            calls = seq.run()
+            print(json.dumps({"seed": seed, "calls": calls, "tally": seq.tally}), flush=True)
         except FuzzFailure as e:
             print(json.dumps({"seed": seed, "failure": str(e)}), flush=True)
 
@@ -684,7 +695,8 @@ def run_batch(directories, seeds, max_calls, timeout):
 
 def fuzz(fmus, total_calls, first_seed, batch, max_calls, timeout, log=print):
     """Fuzz until `total_calls` calls are made; return a summary dict."""
-    summary = {"calls": 0, "sequences": 0, "crashes": 0, "hangs": 0, "failures": []}
+    summary = {"calls": 0, "sequences": 0, "crashes": 0, "hangs": 0, "failures": [],
+               "tally": {}}
     started = time.monotonic()
     with tempfile.TemporaryDirectory() as tmp:
         dirs = [extract(f, tmp) for f in fmus]
@@ -709,11 +721,14 @@ def fuzz(fmus, total_calls, first_seed, batch, max_calls, timeout, log=print):
             for r in results.values():
                 summary["sequences"] += 1
                 summary["calls"] += r.get("calls", 0)
+                for k, v in r.get("tally", {}).items():
+                    summary["tally"][k] = summary["tally"].get(k, 0) + v
                 if "failure" in r:
                     summary["failures"].append(r["failure"])
             log(f"{summary['calls']} calls, {summary['sequences']} sequences, "
                 f"{len(summary['failures'])} failures")
     summary["seconds"] = round(time.monotonic() - started, 1)
+    summary["tally"] = dict(sorted(summary["tally"].items()))
     return summary
 
 
