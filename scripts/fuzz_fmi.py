@@ -340,7 +340,6 @@ class Sequence:
         if kind == "Real":
             return (C.c_double * max(n, 1))(*[real_value(rng) for _ in range(n)])
         if kind == "Integer":
-            known = [vr for vr, _, _ in self.model.vars.get("Integer", [])]
             return (C.c_int * max(n, 1))(*[int_value(rng) for _ in range(n)])
         if kind == "Boolean":
             return (C.c_int * max(n, 1))(*[rng.choice([0, 1, 2, -1, 255]) for _ in range(n)])

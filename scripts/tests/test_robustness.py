@@ -2,7 +2,6 @@
 independence of instances on threads, a state continued in another process,
 and nothing lost when a step fails."""
 
-import ctypes as C
 import pathlib
 import subprocess
 import sys
