@@ -264,6 +264,8 @@ class Sequence:
         self.c = c
         try:
             if self.rng.random() < 0.7:  # most sequences explore stepping
+                for _ in range(self.rng.choice([0, 0, 1, 2, 3])):
+                    self.set_one_special_real()
                 for name in ("fmi2EnterInitializationMode", "fmi2ExitInitializationMode"):
                     self.call(name, c)
             while self.calls < self.max_calls and not self.fatal:
@@ -303,7 +305,7 @@ class Sequence:
 
     def random_call(self):
         actions = [
-            (3, self.lifecycle), (6, self.get_values), (5, self.set_values),
+            (1, self.lifecycle), (6, self.get_values), (5, self.set_values),
             (8, self.do_step), (4, self.fmu_states), (3, self.serialization),
             (2, self.status), (1, self.debug_logging), (1, self.unsupported),
             (1, self.null_component), (1, self.platform),
@@ -383,11 +385,23 @@ class Sequence:
                     self.fail(f"fmi2GetReal gave {out[k]} for vr {vrs[k]} with status OK")
 
     def set_values(self):
+        if self.rng.random() < 0.3:
+            return self.set_one_special_real()
         kind = self.rng.choice(["Real", "Real", "Real", "Integer", "Boolean", "String"])
         vrs, n, real_n = self.vr_array(kind)
         vals = None if self.rng.random() < 0.05 else self.values(kind, real_n)
         self.keep.append(vals)
         self.call(f"fmi2Set{kind}", self.c, vrs, n, vals)
+
+    def set_one_special_real(self):
+        """One Real variable set to a boundary value: such single settings
+        (a zero speed, a subnormal solver step) reach the solver's corners
+        far more often than random arrays do."""
+        reals = self.model.vars["Real"]
+        params = [v for v in reals if v[1] == "parameter"]
+        vr = self.rng.choice(params if self.rng.random() < 0.7 else reals)[0]
+        self.call("fmi2SetReal", self.c, (C.c_uint * 1)(vr), 1,
+                  (C.c_double * 1)(self.rng.choice(SPECIAL_REALS)))
 
     def outputs(self):
         n = len(self.model.outputs)
@@ -400,7 +414,8 @@ class Sequence:
     def do_step(self):
         rng = self.rng
         h = rng.choice([0.01, 0.01, 0.02, 0.005, 1e-6]) if rng.random() < 0.7 else \
-            rng.choice([0.0, -0.0, -0.01, math.nan, math.inf, -math.inf, 5e-324, 1e-300])
+            rng.choice([0.0, -0.0, -0.01, math.nan, math.inf, -math.inf, 5e-324, 1e-300, 1e6,
+                        1e300])
         t = self.time if rng.random() < 0.85 else real_value(rng)
         status = self.call("fmi2DoStep", self.c, t, h, rng.randint(0, 1))
         if status == OK:

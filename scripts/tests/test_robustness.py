@@ -6,6 +6,7 @@ import pathlib
 import subprocess
 import sys
 import threading
+import time
 
 import pytest
 
@@ -45,6 +46,20 @@ def test_fuzz_driver_names_the_seed_of_a_crash_and_of_a_hang(monkeypatch):
     assert s["crashes"] == 1 and s["hangs"] == 1
     assert s["failures"][0].startswith("seed 3: crash")
     assert s["failures"][1].startswith("seed 5: hang")
+
+
+@pytest.mark.parametrize("params, h", [({"solver.step": 5e-324}, H),
+                                       ({"wheel.initial_speed": 0.0}, 1e6)])
+def test_a_step_that_would_take_hours_is_refused_at_once(model, params, h):
+    """Found while fuzzing: fmi2DoStep cannot be cancelled, so a call that
+    needs ~1e321 (or 4e8) internal steps would hang the importer."""
+    inst = Instance(model()).initialize(**params)
+    before = len(fuzz_fmi.MESSAGES)
+    started = time.monotonic()
+    assert inst.step(0.0, h) == ERROR
+    assert time.monotonic() - started < 1.0
+    assert b"internal steps" in b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
+    inst.free()
 
 
 # ---- determinism and independence ----------------------------------------------------

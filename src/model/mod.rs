@@ -20,6 +20,13 @@ use crate::simulation::Advance;
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
 
+/// Most internal solver steps one `do_step` may take. fmi2DoStep is
+/// synchronous and cannot be cancelled: a communication step of 1e6 s with a
+/// body at rest, or any step with a subnormal `solver.step`, would otherwise
+/// hold the importer's thread for hours or forever. Ten million steps take
+/// seconds on the built-in scenes.
+pub const MAX_INTERNAL_STEPS_PER_CALL: f64 = 1e7;
+
 /// A refused operation, with a message naming what was wrong.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelError(pub String);
@@ -320,6 +327,15 @@ impl<D: Dynamics> Model<D> {
         if !(h.is_finite() && h > 0.0) {
             return err(format!(
                 "communicationStepSize = {h}: must be finite and > 0"
+            ));
+        }
+        let internal_steps = (h / self.scene.solver.step).ceil();
+        if internal_steps > MAX_INTERNAL_STEPS_PER_CALL {
+            return err(format!(
+                "communicationStepSize = {h} s needs {internal_steps:e} internal steps of \
+                 solver.step = {:e} s, more than the {MAX_INTERNAL_STEPS_PER_CALL:e} one call \
+                 may take; use shorter communication steps",
+                self.scene.solver.step
             ));
         }
         let now = self.time();

@@ -74,6 +74,31 @@ fn parameters_that_overflow_an_output_are_refused_when_outputs_are_read() {
     m.initialize().unwrap();
 }
 
+/// Found while fuzzing: a subnormal solver.step (valid: > 0) made one
+/// fmi2DoStep take 1e321 internal steps, a hang in the importer's process.
+#[test]
+fn a_step_needing_too_many_internal_steps_is_refused_and_changes_nothing() {
+    let mut m = model(BodyKind::Wheel);
+    let step = vr(&m, "solver.step");
+    m.set(&[step], &[Value::Real(5e-324)]).unwrap();
+    m.initialize().unwrap();
+    let e = m.do_step(0.0, 0.01).unwrap_err().0;
+    assert!(
+        e.contains("solver.step") && e.contains("internal steps"),
+        "{e}"
+    );
+    assert_eq!(m.time(), 0.0);
+
+    let mut m = model(BodyKind::Wheel);
+    m.initialize().unwrap();
+    let limit = MAX_INTERNAL_STEPS_PER_CALL * m.scene().solver.step;
+    let e = m.do_step(0.0, 1.01 * limit).unwrap_err().0;
+    assert!(e.contains("communicationStepSize"), "{e}");
+    assert_eq!(m.time(), 0.0);
+    // the largest allowed step is not refused
+    m.do_step(0.0, limit).unwrap();
+}
+
 #[test]
 fn parameters_are_fixed_after_initialization_but_inputs_are_not() {
     let mut m = model(BodyKind::Wheel);
