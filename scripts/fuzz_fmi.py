@@ -36,10 +36,12 @@ import json
 import math
 import os
 import pathlib
+import queue
 import random
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import zipfile
 import xml.etree.ElementTree as ET
@@ -217,7 +219,7 @@ class Sequence:
 
     # -- checked calls --
 
-    def call(self, name, *args, component=True):
+    def call(self, name, *args):
         """Call `name`, check the status and the log; return the status."""
         before = len(MESSAGES)
         if TRACE:
@@ -229,7 +231,7 @@ class Sequence:
         self.calls += 1
         if status not in (OK, WARNING, DISCARD, ERROR, FATAL):
             self.fail(f"{name} returned the unknown status {status}")
-        if status != OK and component and self.logger and len(MESSAGES) == before:
+        if status != OK and self.logger and len(MESSAGES) == before:
             self.fail(f"{name} returned status {status} without a log message")
         if status == FATAL:
             self.fatal = True
@@ -283,6 +285,7 @@ class Sequence:
             variant = self.rng.randrange(6)
             if variant == 0:
                 c = m.f["fmi2Instantiate"](b"x", 1, m.guid, m.resources, None, 0, 0)
+                self.calls += 1
                 logged = True  # no logger to log through
             elif variant == 1:
                 c, logged = self.instantiate(guid=b"{00000000-wrong-guid}")
@@ -295,9 +298,10 @@ class Sequence:
                 c, logged = self.instantiate(name=None)
             else:
                 cb = callbacks()
+                before = len(MESSAGES)
                 c = m.f["fmi2Instantiate"](b"x", 1, None, None, C.addressof(cb), 0, 0)
-                logged = True
-            self.calls += 1
+                self.calls += 1
+                logged = len(MESSAGES) > before
             if c:
                 self.fail(f"hostile fmi2Instantiate variant {variant} returned an instance")
             if not logged:
@@ -689,21 +693,33 @@ def worker(directories, seeds, max_calls):
 
 
 def run_batch(directories, seeds, max_calls, timeout):
-    """Run `seeds` in one worker process: (results by seed, problem or None)."""
-    cmd = [sys.executable, __file__, "--worker", "--max-calls", str(max_calls),
-           "--seeds", ",".join(map(str, seeds)), *map(str, directories)]
-    try:
-        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-        out, problem = p.stdout, None
-        if p.returncode != 0:
-            problem = f"crash (exit status {p.returncode}): {p.stderr.strip()[-500:]}"
-    except subprocess.TimeoutExpired as e:
-        out = e.stdout.decode() if isinstance(e.stdout, bytes) else (e.stdout or "")
-        problem = f"hang (no end after {timeout} s)"
-    results = {}
-    for line in out.splitlines():
+    """Run `seeds` in one worker process, which must finish a sequence at
+    least every `timeout` seconds: (results by seed, problem or None)."""
+    cmd = [sys.executable, "-u", "-X", "faulthandler", __file__, "--worker",
+           "--max-calls", str(max_calls), "--seeds", ",".join(map(str, seeds)), *map(str, directories)]
+    err = tempfile.TemporaryFile("w+")  # a file: a full pipe would block the worker
+    p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, text=True)
+    lines = queue.Queue()
+    threading.Thread(target=lambda: [lines.put(x) for x in p.stdout] + [lines.put(None)],
+                     daemon=True).start()
+    results, problem = {}, None
+    while True:
+        try:
+            line = lines.get(timeout=timeout)
+        except queue.Empty:
+            p.kill()
+            problem = f"hang (no sequence ended within {timeout} s)"
+            break
+        if line is None:
+            break
         r = json.loads(line)
         results[r["seed"]] = r
+    p.wait()
+    err.seek(0)
+    stderr = err.read()
+    err.close()
+    if problem is None and p.returncode != 0:
+        problem = f"crash (exit status {p.returncode}): {stderr.strip()[-500:]}"
     return results, problem
 
 
@@ -720,7 +736,7 @@ def fuzz(fmus, total_calls, first_seed, batch, max_calls, timeout, log=print):
             n = min(batch, remaining // max_calls + 1)
             seeds = list(range(seed, seed + n))
             seed += n
-            results, problem = run_batch(dirs, seeds, max_calls, timeout * n)
+            results, problem = run_batch(dirs, seeds, max_calls, timeout)
             if problem:  # isolate: the unfinished seeds one per process
                 for s in seeds:
                     if s in results:
