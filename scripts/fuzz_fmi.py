@@ -696,7 +696,8 @@ def run_batch(directories, seeds, max_calls, timeout):
     """Run `seeds` in one worker process, which must finish a sequence at
     least every `timeout` seconds: (results by seed, problem or None)."""
     cmd = [sys.executable, "-u", "-X", "faulthandler", __file__, "--worker",
-           "--max-calls", str(max_calls), "--seeds", ",".join(map(str, seeds)), *map(str, directories)]
+           "--max-calls", str(max_calls), "--seeds", ",".join(map(str, seeds)),
+           *map(str, directories)]
     err = tempfile.TemporaryFile("w+")  # a file: a full pipe would block the worker
     p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, text=True)
     lines = queue.Queue()
