@@ -94,12 +94,6 @@ fn parent_table<'a>(doc: &'a mut DocumentMut, path: &[String]) -> Option<&'a mut
     }
     match item {
         Item::Table(t) => t.contains_key(last).then_some(t),
-        Item::ArrayOfTables(a) => {
-            // path ends in "<index>.<key>" handled above; "<key>" of an
-            // array of tables has no parent table
-            let _ = a;
-            None
-        }
         _ => None,
     }
 }
