@@ -20,6 +20,14 @@ use crate::simulation::Advance;
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
 
+/// Most internal solver steps one `do_step` may take. fmi2DoStep is
+/// synchronous and cannot be cancelled: a communication step of 1e6 s with a
+/// body at rest, or any step with a subnormal `solver.step`, would otherwise
+/// hold the importer's thread for hours or forever. A million steps take
+/// about 1.3 s on the built-in scenes, and allow communication steps of
+/// 2500 s at their solver step.
+pub const MAX_INTERNAL_STEPS_PER_CALL: f64 = 1e6;
+
 /// A refused operation, with a message naming what was wrong.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelError(pub String);
@@ -217,6 +225,15 @@ impl<D: Dynamics> Model<D> {
                 values.len()
             ));
         }
+        // Parameters can be finite and valid one by one and still overflow
+        // an output (a huge speed squared): refuse rather than hand out inf.
+        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+            return err(format!(
+                "output {} is {} with these parameters; choose smaller values",
+                sim.outputs()[k].name,
+                values[k]
+            ));
+        }
         Ok(values)
     }
 
@@ -311,6 +328,15 @@ impl<D: Dynamics> Model<D> {
         if !(h.is_finite() && h > 0.0) {
             return err(format!(
                 "communicationStepSize = {h}: must be finite and > 0"
+            ));
+        }
+        let internal_steps = (h / self.scene.solver.step).ceil();
+        if internal_steps > MAX_INTERNAL_STEPS_PER_CALL {
+            return err(format!(
+                "communicationStepSize = {h} s needs {internal_steps:e} internal steps of \
+                 solver.step = {:e} s, more than the {MAX_INTERNAL_STEPS_PER_CALL:e} one call \
+                 may take; use shorter communication steps",
+                self.scene.solver.step
             ));
         }
         let now = self.time();

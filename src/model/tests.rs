@@ -54,6 +54,51 @@ fn cross_field_rule_is_checked_when_initialization_is_left() {
     );
 }
 
+/// Found by scripts/fuzz_fmi.py: each parameter finite and valid, but an
+/// output overflowed to inf and was read with status OK.
+#[test]
+fn parameters_that_overflow_an_output_are_refused_when_outputs_are_read() {
+    let mut m = model(BodyKind::Wheel);
+    let radius = vr(&m, "wheel.radius");
+    m.set(&[radius], &[Value::Real(5e-324)]).unwrap();
+    let w = vr(&m, "wheel.angular_velocity");
+    let e = m.get(VarType::Real, &[w]).unwrap_err().0;
+    assert!(
+        e.contains("wheel.angular_velocity") && e.contains("inf"),
+        "{e}"
+    );
+    let e = m.initialize().unwrap_err().0;
+    assert!(e.contains("wheel.angular_velocity"), "{e}");
+    // a sensible radius makes the model usable again
+    m.set(&[radius], &[Value::Real(0.3)]).unwrap();
+    m.initialize().unwrap();
+}
+
+/// Found while fuzzing: a subnormal solver.step (valid: > 0) made one
+/// fmi2DoStep take 1e321 internal steps, a hang in the importer's process.
+#[test]
+fn a_step_needing_too_many_internal_steps_is_refused_and_changes_nothing() {
+    let mut m = model(BodyKind::Wheel);
+    let step = vr(&m, "solver.step");
+    m.set(&[step], &[Value::Real(5e-324)]).unwrap();
+    m.initialize().unwrap();
+    let e = m.do_step(0.0, 0.01).unwrap_err().0;
+    assert!(
+        e.contains("solver.step") && e.contains("internal steps"),
+        "{e}"
+    );
+    assert_eq!(m.time(), 0.0);
+
+    let mut m = model(BodyKind::Wheel);
+    m.initialize().unwrap();
+    let limit = MAX_INTERNAL_STEPS_PER_CALL * m.scene().solver.step;
+    let e = m.do_step(0.0, 1.01 * limit).unwrap_err().0;
+    assert!(e.contains("communicationStepSize"), "{e}");
+    assert_eq!(m.time(), 0.0);
+    // the largest allowed step is not refused
+    m.do_step(0.0, limit).unwrap();
+}
+
 #[test]
 fn parameters_are_fixed_after_initialization_but_inputs_are_not() {
     let mut m = model(BodyKind::Wheel);

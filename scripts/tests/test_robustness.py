@@ -1,0 +1,168 @@
+"""Robustness of the FMU: a short run of the FMI call fuzzer, determinism,
+independence of instances on threads, a state continued in another process,
+and nothing lost when a step fails."""
+
+import pathlib
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+from conftest import GLIDER, WHEEL, fmu_path
+from fmu_runs import Instance, H
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parents[1]))
+import fuzz_fmi  # noqa: E402
+
+DISCARD, ERROR = 2, 3
+HERE = pathlib.Path(__file__).resolve().parent
+
+
+@pytest.fixture
+def model(unzipped):
+    return lambda scene=WHEEL: fuzz_fmi.Model(unzipped(scene)[0])
+
+
+# ---- the fuzzer ------------------------------------------------------------------
+
+def test_short_fuzz_run_finds_no_crash_hang_or_broken_rule():
+    s = fuzz_fmi.fuzz([fmu_path(WHEEL), fmu_path(GLIDER)], 5000, first_seed=1, batch=50,
+                      max_calls=150, timeout=20, log=lambda _: None)
+    assert s["failures"] == [] and s["crashes"] == 0 and s["hangs"] == 0
+    assert s["calls"] >= 5000
+    # it reaches the interesting places: steps that pass and steps refused
+    for key in ("fmi2DoStep OK", "fmi2DoStep Discard", "fmi2DoStep Error",
+                "fmi2DeSerializeFMUstate OK", "fmi2DeSerializeFMUstate Error"):
+        assert s["tally"].get(key, 0) > 0, key
+
+
+def test_fuzz_driver_names_the_seed_of_a_crash_and_of_a_hang(monkeypatch):
+    monkeypatch.setenv("FUZZ_FMI_SELFTEST_CRASH", "3")
+    monkeypatch.setenv("FUZZ_FMI_SELFTEST_HANG", "5")
+    s = fuzz_fmi.fuzz([fmu_path(WHEEL)], 900, first_seed=1, batch=10, max_calls=100,
+                      timeout=2, log=lambda _: None)
+    assert s["crashes"] == 1 and s["hangs"] == 1
+    assert s["failures"][0].startswith("seed 3: crash")
+    assert s["failures"][1].startswith("seed 5: hang")
+
+
+@pytest.mark.parametrize("params, h", [({"solver.step": 5e-324}, H),
+                                       ({"wheel.initial_speed": 0.0}, 1e6)])
+def test_a_step_that_would_take_hours_is_refused_at_once(model, params, h):
+    """Found while fuzzing: fmi2DoStep cannot be cancelled, so a call that
+    needs ~1e321 (or 4e8) internal steps would hang the importer."""
+    inst = Instance(model()).initialize(**params)
+    before = len(fuzz_fmi.MESSAGES)
+    started = time.monotonic()
+    assert inst.step(0.0, h) == ERROR
+    assert time.monotonic() - started < 1.0
+    assert b"internal steps" in b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
+    inst.free()
+
+
+# ---- determinism and independence ----------------------------------------------------
+
+def speed_and_force(k):
+    """Scenario k: its own initial speed and a force input varying per step."""
+    speed = 5.0 + 2.5 * k
+    force = ("wheel.force_y", lambda step: -600e3 + 300.0 * k * step)
+    return speed, force
+
+
+def scenario_run(model, k, steps=100):
+    speed, force = speed_and_force(k)
+    inst = Instance(model, f"scenario {k}".encode()).initialize(**{"wheel.initial_speed": speed})
+    try:
+        return inst.run(0.0, steps, force)
+    finally:
+        inst.free()
+
+
+def test_same_scene_and_inputs_give_bit_identical_outputs_across_runs(model, tmp_path):
+    m = model()
+    first, second = scenario_run(m, 3), scenario_run(m, 3)
+    assert first == second
+    assert first != scenario_run(m, 4)  # the comparison can see a difference
+
+
+def test_eight_instances_on_eight_threads_match_sequential_runs(model):
+    m = model()
+    sequential = [scenario_run(m, k) for k in range(8)]
+    threaded = [None] * 8
+    barrier = threading.Barrier(8)
+
+    def work(k):
+        barrier.wait()  # ctypes releases the GIL: the steps really overlap
+        threaded[k] = scenario_run(m, k)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(8)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert len(set(sequential)) == 8
+    for k in range(8):
+        assert threaded[k] == sequential[k], f"instance {k} differs when run on a thread"
+
+
+def test_serialized_state_continues_bit_identically_in_another_process(model, unzipped,
+                                                                         tmp_path):
+    for scene, speed in ((WHEEL, "wheel.initial_speed"), (GLIDER, "glider.initial_speed")):
+        inst = Instance(model(scene)).initialize(**{speed: 12.0})
+        inst.run(0.0, 40)
+        state = inst.get_state()
+        (tmp_path / "state").write_bytes(inst.serialize(state))
+        here = inst.run(40 * H, 40)
+        inst.free()
+        subprocess.run([sys.executable, str(HERE / "fmu_runs.py"), str(unzipped(scene)[0]),
+                        str(tmp_path / "state"), str(40 * H), "40", str(tmp_path / "out")],
+                       check=True)
+        assert (tmp_path / "out").read_bytes() == here, scene
+
+
+# ---- nothing lost when a step fails -----------------------------------------------------
+
+def continue_elsewhere(model, blob, t0, steps):
+    other = Instance(model, b"elsewhere")
+    other.restore(blob)
+    try:
+        return other.outputs(), other.run(t0, steps)
+    finally:
+        other.free()
+
+
+def test_a_discarded_step_leaves_the_last_good_state_retrievable(model):
+    m = model()
+    reference = Instance(m, b"reference").initialize()
+    reference.run(0.0, 20)
+    undisturbed = reference.run(20 * H, 10)
+    reference.free()
+
+    inst = Instance(m).initialize()
+    inst.run(0.0, 20)
+    good = inst.outputs()
+    inst.set_real("wheel.force_y", 5e6)  # pulls the wheel off: the solver refuses
+    assert inst.step(20 * H) == DISCARD
+    inst.set_real("wheel.force_y", -600e3)
+    blob = inst.serialize(inst.get_state())  # fmi2GetFMUstate in the step-failed state
+    inst.free()
+    outputs, continued = continue_elsewhere(m, blob, 20 * H, 10)
+    assert outputs == good
+    assert continued == undisturbed
+
+
+@pytest.mark.parametrize("t, h", [(0.5, H), (20 * H, -H), (20 * H, float("nan"))])
+def test_a_step_refused_with_error_leaves_the_last_good_state_retrievable(model, t, h):
+    m = model()
+    inst = Instance(m).initialize()
+    inst.run(0.0, 20)
+    good = inst.outputs()
+    before = inst.serialize(inst.get_state())
+    assert inst.step(t, h) == ERROR
+    after = inst.serialize(inst.get_state())
+    assert after == before
+    assert continue_elsewhere(m, after, 20 * H, 5) == continue_elsewhere(m, before, 20 * H, 5)
+    assert continue_elsewhere(m, after, 20 * H, 0)[0] == good
+    inst.free()
