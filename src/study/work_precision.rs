@@ -196,17 +196,15 @@ pub struct Point {
     pub failure: Option<String>,
 }
 
-/// The settings swept for a scheme: steps 0.01 s / 2^k, and tolerances at
-/// the paper's step.
-fn settings(case: &Case, scheme: &Scheme) -> Vec<(f64, f64)> {
+/// The settings swept: steps 0.01 s / 2^k, and tolerances at the paper's
+/// step.
+fn settings(case: &Case) -> Vec<(f64, f64)> {
     let paper = (case.scene.solver.step, case.scene.solver.velocity_tolerance);
     let mut settings: Vec<(f64, f64)> = (1..=case.depth)
         .map(|k| (COARSE_GRID / f64::from(1u32 << k), paper.1))
         .collect();
-    if scheme.name == "rk4" {
-        for tolerance in [1e-4, 1e-5, 1e-9] {
-            settings.push((paper.0, tolerance));
-        }
+    for tolerance in [1e-4, 1e-5, 1e-9] {
+        settings.push((paper.0, tolerance));
     }
     settings
 }
@@ -222,7 +220,7 @@ pub fn measure(
     let mut points = Vec::new();
     let scale = static_deflection(&case.scene);
     for scheme in &SCHEMES {
-        for (step, tolerance) in settings(case, scheme) {
+        for (step, tolerance) in settings(case) {
             let mut scene = case.scene.clone();
             scene.solver.integrator = scheme.integrator;
             scene.solver.numerical_damping = scheme.damping;
