@@ -1,6 +1,6 @@
 //! Rigid moving bodies: a rolling wheel, or a glider (r = 0, J = 0).
 
-use nalgebra::Vector2;
+use nalgebra::{Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::scene::{BodyKind, BodySpec};
@@ -33,6 +33,33 @@ impl RigidBody {
                 rolls: false,
             },
         }
+    }
+
+    /// Whether the body turns under a torque (a wheel with J > 0).
+    fn turns(&self) -> bool {
+        self.rolls && self.inertia > 0.0
+    }
+
+    /// 1 / J, or 0 for a body that does not turn.
+    pub fn inverse_inertia(&self) -> f64 {
+        if self.turns() {
+            1.0 / self.inertia
+        } else {
+            0.0
+        }
+    }
+
+    /// (ẍ, ÿ, θ̈) under the generalized force (F_x, F_y, torque).
+    pub fn acceleration(&self, generalized: &Vector3<f64>) -> Vector3<f64> {
+        Vector3::new(
+            generalized.x / self.mass,
+            generalized.y / self.mass,
+            if self.turns() {
+                generalized.z / self.inertia
+            } else {
+                0.0
+            },
+        )
     }
 
     pub fn kinetic_energy(&self, state: &BodyState) -> f64 {

@@ -240,11 +240,7 @@ impl ContactIteration {
         let body_rows = [bt, bn];
         let (mbt, mbn) = measure.body_rows(body.radius);
         let measure_body_rows = [mbt, mbn];
-        let inverse_inertia = if body.rolls && body.inertia > 0.0 {
-            1.0 / body.inertia
-        } else {
-            0.0
-        };
+        let inverse_inertia = body.inverse_inertia();
         let active = if body.rolls { 0..2 } else { 1..2 };
         let mut velocity = beam_velocity;
         for i in active.clone() {
@@ -308,7 +304,8 @@ impl ContactIteration {
             external,
             dt,
         };
-        let mut delassus: Option<(Delassus, Matrix2<f64>)> = None;
+        // Built once per step, on the first correction that needs it.
+        let mut delassus: Option<Delassus> = None;
 
         let mut force = guess;
         if !body.rolls {
@@ -349,14 +346,13 @@ impl ContactIteration {
                 });
             }
             if delassus.is_none() {
-                let d = self.delassus(system, &start_frame, &frame, dt);
-                let a = d
-                    .velocity
-                    .try_inverse()
-                    .ok_or(StepError::NonFinite { stage: "velocity" })?;
-                delassus = Some((d, a));
+                delassus = Some(self.delassus(system, &start_frame, &frame, dt));
             }
-            let (_, acceleration_matrix) = delassus.as_ref().expect("built above");
+            let d = delassus.as_ref().expect("built above");
+            let acceleration_matrix = d
+                .velocity
+                .try_inverse()
+                .ok_or(StepError::NonFinite { stage: "velocity" })?;
             force = ContactForce::from_vector(force.as_vector() - acceleration_matrix * e);
         };
         // Position stage (eq. 17).
@@ -375,10 +371,9 @@ impl ContactIteration {
                 });
             }
             if delassus.is_none() {
-                let d = self.delassus(system, &start_frame, &frame, dt);
-                delassus = Some((d, Matrix2::identity()));
+                delassus = Some(self.delassus(system, &start_frame, &frame, dt));
             }
-            let (d, _) = delassus.as_ref().expect("built above");
+            let d = delassus.as_ref().expect("built above");
             force.normal -= gap / d.gap;
             frame = self.integrate_and_measure(system, &from, force, end)?;
             gap = frame.gap(beam, body, &end.body.position);

@@ -1,7 +1,7 @@
 //! Simulation: state of beam and body, fixed-step advance, exit, outputs and
 //! energy bookkeeping.
 
-use nalgebra::{DVector, Vector2, Vector3};
+use nalgebra::{DVector, Vector2};
 use serde::{Deserialize, Serialize};
 
 use crate::beam::Beam;
@@ -422,13 +422,7 @@ impl Simulation {
         let body_load = contact_loads(&system, &frame, force, external, &mut beam_load);
         let mut beam_acceleration = DVector::zeros(n);
         beam.accelerations(&undeformed, &beam_load, &mut beam_acceleration);
-        let inertia = if body.rolls && body.inertia > 0.0 {
-            body.inertia
-        } else {
-            f64::INFINITY
-        };
-        let body_acceleration =
-            body_load.component_div(&Vector3::new(body.mass, body.mass, inertia));
+        let body_acceleration = body.acceleration(&body_load);
         let dynamic = DynamicState {
             beam_displacement: undeformed,
             beam_velocity: DVector::zeros(n),

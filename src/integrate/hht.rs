@@ -136,17 +136,7 @@ impl Hht {
         self.rhs = a1;
 
         // Body: the same forcing and Newmark weights as the beam.
-        let inverse_mass = Vector3::new(
-            1.0 / body.mass,
-            1.0 / body.mass,
-            if body.rolls && body.inertia > 0.0 {
-                1.0 / body.inertia
-            } else {
-                0.0
-            },
-        );
-        let a1 =
-            ((1.0 + alpha) * generalized - alpha * start.body_load).component_mul(&inverse_mass);
+        let a1 = body.acceleration(&((1.0 + alpha) * generalized - alpha * start.body_load));
         let a0 = start.body_acceleration;
         let b = &start.body;
         let position_increment = dt * Vector3::new(b.velocity.x, b.velocity.y, b.angular_velocity)

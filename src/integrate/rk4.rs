@@ -67,12 +67,8 @@ impl Rk4 {
             contact_x = frame.x;
             let generalized = contact_loads(system, &frame, force, external, &mut self.load);
             beam.accelerations(&self.stage_u, &self.load, &mut self.accel);
-            let body_accel = generalized.xy() / body.mass;
-            let angular_accel = if body.rolls && body.inertia > 0.0 {
-                generalized.z / body.inertia
-            } else {
-                0.0
-            };
+            let acceleration = body.acceleration(&generalized);
+            let (body_accel, angular_accel) = (acceleration.xy(), acceleration.z);
 
             let weight = WEIGHT[stage];
             self.sum_u.axpy(weight, &self.stage_v, 1.0);
