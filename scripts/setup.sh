@@ -18,8 +18,9 @@ apt_install() {
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
 }
 
-if ! compgen -G "/usr/lib/llvm-*/lib/libclang*.so*" >/dev/null \
-    && ! compgen -G "/usr/lib/*/libclang*.so*" >/dev/null; then
+# shellcheck source=scripts/lib/libclang.sh
+. scripts/lib/libclang.sh
+if ! has_bindgen_libclang /; then
     echo "setup: installing libclang-dev (for fmi-sys/bindgen)"
     apt_install libclang-dev
 fi
