@@ -12,6 +12,7 @@ use crate::scene::Scene;
 use fmi_sys::fmi2::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The states of the FMI 2.0 co-simulation state machine that a synchronous
 /// slave can be in (`stepInProgress` never outlives a call here).
@@ -51,8 +52,21 @@ pub struct Instance<D: Dynamics> {
     mode: Mode,
     model: Model<D>,
     guid: String,
-    /// FMU states handed out, keyed by the address the importer holds.
-    states: HashMap<usize, Box<Snapshot<D::State>>>,
+    /// FMU states handed out, keyed by the handle the importer holds.
+    states: HashMap<usize, Snapshot<D::State>>,
+}
+
+/// The next FMU state handle. Handles are tokens, never addresses, and never
+/// reused within the process: a stale handle (freed, then the memory reused
+/// for another state) or another instance's handle is not in an instance's
+/// registry and is refused. The counter is the only thing instances share,
+/// and it carries no state of theirs.
+static NEXT_STATE_HANDLE: AtomicUsize = AtomicUsize::new(1);
+
+/// A fresh handle: a multiple of 8 above 0x4757_0000_0000 ("GW"), so
+/// that it is never NULL and never mistaken for a small integer.
+fn new_state_handle() -> usize {
+    0x4757_0000_0000 + 8 * NEXT_STATE_HANDLE.fetch_add(1, Ordering::Relaxed)
 }
 
 /// Path of a `file:` resource location (`file:///a/b`, `file:/a/b`,
@@ -276,21 +290,20 @@ impl<D: Dynamics> Instance<D> {
                     "fmi2GetFMUstate: FMUstate {existing:#x} was not created by this instance"
                 ));
             };
-            **slot = snap;
+            *slot = snap;
             return Ok(existing);
         }
         Ok(self.keep(snap))
     }
 
     fn keep(&mut self, snap: Snapshot<D::State>) -> usize {
-        let boxed = Box::new(snap);
-        let key = &*boxed as *const Snapshot<D::State> as usize;
-        self.states.insert(key, boxed);
+        let key = new_state_handle();
+        self.states.insert(key, snap);
         key
     }
 
     fn state(&self, function: &str, key: usize) -> Result<&Snapshot<D::State>, String> {
-        self.states.get(&key).map(|b| &**b).ok_or_else(|| {
+        self.states.get(&key).ok_or_else(|| {
             format!("{function}: FMUstate {key:#x} is not a live state of this instance")
         })
     }
