@@ -157,9 +157,15 @@ impl<D: Dynamics> Instance<D> {
         }
     }
 
-    pub fn setup_experiment(&mut self, start_time: f64) -> Result<(), String> {
+    pub fn setup_experiment(
+        &mut self,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<(), String> {
         self.require("fmi2SetupExperiment", &[Instantiated])?;
-        self.model.set_start_time(start_time).map_err(|e| e.0)
+        self.model
+            .set_experiment(start_time, stop_time)
+            .map_err(|e| e.0)
     }
 
     pub fn enter_initialization_mode(&mut self) -> Result<(), String> {
@@ -221,7 +227,8 @@ impl<D: Dynamics> Instance<D> {
     }
 
     /// fmi2DoStep: `Ok(fmi2OK)`, or `Ok(fmi2Discard)` with a logged reason
-    /// (exit: terminated; solver failure: rolled back, retry possible).
+    /// (exit: terminated; a failure a smaller step cures: rolled back, retry
+    /// possible), or `Err` for a failure no retry of it cures (rolled back).
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<fmi2Status, String> {
         self.require("fmi2DoStep", &[StepComplete, StepFailed])?;
         if self.terminated() {
@@ -247,12 +254,21 @@ impl<D: Dynamics> Instance<D> {
                 );
                 Ok(fmi2Status_fmi2Discard)
             }
-            StepOutcome::Failed { message } => {
+            StepOutcome::Failed {
+                message,
+                curable: true,
+            } => {
                 self.mode = StepFailed;
                 self.logger
                     .log(fmi2Status_fmi2Discard, &format!("fmi2DoStep: {message}"));
                 Ok(fmi2Status_fmi2Discard)
             }
+            // A master retrying this would loop forever: an error, not a
+            // Discard. The state is rolled back; other inputs may cure it.
+            StepOutcome::Failed {
+                message,
+                curable: false,
+            } => Err(format!("fmi2DoStep: {message}")),
         }
     }
 

@@ -80,7 +80,7 @@ fn calls_in_the_wrong_state_are_refused_and_change_nothing() {
     assert!(i.terminate().is_err());
     assert_eq!(i.mode(), Mode::Instantiated);
     i.enter_initialization_mode().unwrap();
-    assert!(i.setup_experiment(0.0).is_err());
+    assert!(i.setup_experiment(0.0, None).is_err());
     i.get("fmi2GetReal", VarType::Real, &[x]).unwrap();
     i.exit_initialization_mode().unwrap();
     assert_eq!(i.mode(), Mode::StepComplete);

@@ -6,6 +6,7 @@
 //! FMI layer above it knows nothing of beams, the physics below it nothing of
 //! FMI.
 
+mod advance;
 mod dynamics;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
@@ -13,7 +14,9 @@ pub mod snapshot;
 pub mod variables;
 
 pub use dynamics::Dynamics;
-pub use variables::{Causality, Role, Value, VarType, Variability, Variable, VariableTable};
+pub use variables::{
+    Causality, Role, Setting, Value, VarType, Variability, Variable, VariableTable,
+};
 
 use crate::scene::Scene;
 use crate::simulation::Advance;
@@ -27,6 +30,17 @@ use variables::{param_value, set_param, Input};
 /// about 1.3 s on the built-in scenes, and allow communication steps of
 /// 2500 s at their solver step.
 pub const MAX_INTERNAL_STEPS_PER_CALL: f64 = 1e6;
+
+/// Most internal steps a whole run may need (from the start to the stop
+/// time, or to the estimated exit at the initial speed): leaving
+/// initialization is refused beyond, before anything runs. At the built-in
+/// scenes' cost of about 2 µs a step this is a few minutes; on fine meshes,
+/// hours.
+pub const MAX_RUN_STEPS: f64 = 1e8;
+
+/// Default of `solver.wall_time_budget`: the wall-clock time one fmi2DoStep
+/// may take before it is rolled back and discarded.
+pub const DEFAULT_WALL_TIME_BUDGET: f64 = 10.0;
 
 /// A refused operation, with a message naming what was wrong.
 #[derive(Debug, Clone, PartialEq)]
@@ -59,8 +73,10 @@ pub enum StepOutcome {
     /// The body left the beam at `time` (communication time); the state is
     /// the exit state.
     Exited { time: f64 },
-    /// The solver failed; the state was rolled back to the start of the step.
-    Failed { message: String },
+    /// The step failed; the state was rolled back to the start of the step.
+    /// `curable`: a smaller communication step gets further (the message
+    /// names one); otherwise every retry of it would fail the same way.
+    Failed { message: String, curable: bool },
 }
 
 /// A saved state of the model (what `fmi2GetFMUstate` hands out).
@@ -84,6 +100,21 @@ pub struct Model<D: Dynamics> {
     /// Built on demand while configuring (to answer output getters), kept
     /// from initialization on.
     sim: Option<D>,
+    /// End of the experiment (fmi2SetupExperiment), if the importer gave one.
+    stop_time: Option<f64>,
+    /// Wall-clock seconds one `do_step` may take (`solver.wall_time_budget`).
+    wall_time_budget: f64,
+    /// The last step discarded as curable, and why: retried unchanged it
+    /// would fail again, so it is refused instead of run.
+    discarded: Option<(DiscardedStep, String)>,
+}
+
+/// What a step is determined by, besides the state: its time, size, inputs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct DiscardedStep {
+    t: f64,
+    h: f64,
+    inputs: [f64; 2],
 }
 
 /// The FMU variable that a scene field path stands for: `body.mass` is
@@ -141,6 +172,9 @@ impl<D: Dynamics> Model<D> {
             start_time: 0.0,
             phase: Phase::Configuring,
             sim: Some(sim),
+            stop_time: None,
+            wall_time_budget: DEFAULT_WALL_TIME_BUDGET,
+            discarded: None,
         })
     }
 
@@ -164,13 +198,26 @@ impl<D: Dynamics> Model<D> {
         self.start_time = 0.0;
         self.phase = Phase::Configuring;
         self.sim = None;
+        self.stop_time = None;
+        self.wall_time_budget = DEFAULT_WALL_TIME_BUDGET;
+        self.discarded = None;
     }
 
-    pub fn set_start_time(&mut self, t: f64) -> Result<(), ModelError> {
-        if !t.is_finite() {
-            return err(format!("startTime = {t}: must be finite"));
+    /// fmi2SetupExperiment's times: all or nothing. A stop time bounds the
+    /// run's length (checked when initialization is left).
+    pub fn set_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ModelError> {
+        if !start.is_finite() {
+            return err(format!("startTime = {start}: must be finite"));
         }
-        self.start_time = t;
+        if let Some(t) = stop {
+            if !(t.is_finite() && t >= start) {
+                return err(format!(
+                    "stopTime = {t}: must be finite and >= startTime = {start}"
+                ));
+            }
+        }
+        self.start_time = start;
+        self.stop_time = stop;
         Ok(())
     }
 
@@ -245,6 +292,7 @@ impl<D: Dynamics> Model<D> {
             let role = self.variable(vr, ty)?.role;
             let value = match role {
                 Role::Parameter(p) => param_value(&self.scene, p),
+                Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
                 Role::Input(i) => Value::Real(self.inputs[i as usize]),
                 Role::Output(k) => {
                     if outputs.is_none() {
@@ -268,6 +316,7 @@ impl<D: Dynamics> Model<D> {
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
         let mut scene = self.scene.clone();
         let mut inputs = self.inputs;
+        let mut budget = self.wall_time_budget;
         let mut params_changed = false;
         for (&vr, &value) in vrs.iter().zip(values) {
             let ty = match value {
@@ -284,7 +333,7 @@ impl<D: Dynamics> Model<D> {
             let refuse = |rule: &str| err(format!("cannot set {} = {shown}: {rule}", v.name));
             match v.role {
                 Role::Output(_) => return refuse("it is an output"),
-                Role::Parameter(_) if self.phase == Phase::Running => {
+                Role::Parameter(_) | Role::Setting(_) if self.phase == Phase::Running => {
                     return refuse(
                         "it is a fixed parameter, settable only before initialization mode is left",
                     )
@@ -295,6 +344,10 @@ impl<D: Dynamics> Model<D> {
                     }
                     params_changed = true;
                 }
+                Role::Setting(Setting::WallTimeBudget) => match value {
+                    Value::Real(x) if x.is_finite() && x > 0.0 => budget = x,
+                    _ => return refuse("must be a finite number of seconds > 0"),
+                },
                 Role::Input(i) => match value {
                     Value::Real(x) if x.is_finite() => inputs[i as usize] = x,
                     _ => return refuse("must be finite"),
@@ -303,6 +356,7 @@ impl<D: Dynamics> Model<D> {
         }
         self.scene = scene;
         self.inputs = inputs;
+        self.wall_time_budget = budget;
         if params_changed {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
@@ -314,14 +368,46 @@ impl<D: Dynamics> Model<D> {
     /// Leave initialization: check the whole scene and build the simulation.
     pub fn initialize(&mut self) -> Result<(), ModelError> {
         validate(&self.scene).map_err(|e| ModelError(format!("invalid parameters: {e}")))?;
+        self.check_run_length()?;
         self.output_values()?;
         self.phase = Phase::Running;
         Ok(())
     }
 
-    /// One communication step from `t` (which must match the model's time up
-    /// to accumulated rounding) to `t + h`.
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
+    /// Refuse a run that would need more than `MAX_RUN_STEPS` internal steps:
+    /// to the stop time (the experiment's, else the scene's), else to the
+    /// exit at the initial speed. A body at rest with no stop time is left
+    /// to the per-call limits.
+    fn check_run_length(&self) -> Result<(), ModelError> {
+        let (scene, step) = (&self.scene, self.scene.solver.step);
+        let v0 = scene.body.initial_speed;
+        let to_exit = if v0 > 0.0 {
+            (scene.beam.length - scene.body.initial_position) / v0
+        } else {
+            scene.body.initial_position / -v0
+        };
+        let (horizon, what) = match (self.stop_time, scene.solver.end_time) {
+            (Some(stop), _) => (stop - self.start_time, "to the stop time"),
+            (None, Some(end)) => (end, "to solver.end_time"),
+            (None, None) if v0 != 0.0 => (to_exit, "to the exit at the initial speed"),
+            (None, None) => return Ok(()),
+        };
+        let steps = (horizon / step).ceil();
+        if steps > MAX_RUN_STEPS {
+            return err(format!(
+                "the run would need {steps:e} internal steps of solver.step = {step:e} s \
+                 ({what}, {horizon:e} s), more than the {MAX_RUN_STEPS:e} allowed; \
+                 use a larger solver.step (integrator \"hht\" is stable at any step) \
+                 or a shorter run"
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuse a communication step the model cannot take as asked (before
+    /// anything runs): bad size, too many internal steps, wrong time, a size
+    /// below the resolution of the time.
+    fn check_step(&self, t: f64, h: f64) -> Result<(), ModelError> {
         if self.phase != Phase::Running {
             return err("the model is not initialized");
         }
@@ -345,38 +431,115 @@ impl<D: Dynamics> Model<D> {
                 "currentCommunicationPoint = {t} s does not match the model's time {now} s"
             ));
         }
+        // t + h must be a different number, close to the step asked for:
+        // otherwise the master's clock and the model's part ways.
+        let taken = (t + h) - t;
+        if (taken - h).abs() > 1e-6 * h {
+            return err(format!(
+                "communicationStepSize = {h:e} s is below the resolution of \
+                 currentCommunicationPoint = {t:e} s (t + h - t = {taken:e} s); \
+                 use larger steps or a start time nearer 0"
+            ));
+        }
+        Ok(())
+    }
+
+    /// One communication step from `t` (which must match the model's time up
+    /// to accumulated rounding) to `t + h`.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
+        self.check_step(t, h)?;
+        let now = self.time();
         let t0 = self.start_time;
-        let target = t + h - t0;
+        let this = DiscardedStep {
+            t,
+            h,
+            inputs: self.inputs,
+        };
+        if let Some((step, reason)) = &self.discarded {
+            if *step == this {
+                return Ok(StepOutcome::Failed {
+                    message: format!(
+                        "this step (t = {t} s, h = {h} s) was discarded by the previous call and \
+                         nothing has changed since, so it would fail again ({reason}); \
+                         retry with a smaller step or other inputs"
+                    ),
+                    curable: false,
+                });
+            }
+        }
+        let budget = std::time::Duration::try_from_secs_f64(self.wall_time_budget)
+            .unwrap_or(std::time::Duration::MAX);
+        let (step, probe) = (
+            self.scene.solver.step,
+            h.min(self.scene.solver.step) / 1024.0,
+        );
         let sim = self.sim.as_mut().expect("running model has a simulation");
         if let Some(time) = sim.exit_time() {
             return Ok(StepOutcome::Exited { time: t0 + time });
         }
         let saved = sim.state();
-        let outcome = match sim.advance_to(target) {
+        let start = sim.time();
+        let rolled_back = format!("step rolled back to t = {now} s");
+        let outcome = match advance::advance_within(sim, t + h - t0, step, budget) {
             Ok(Advance::Reached) => StepOutcome::Completed,
             Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
-            Err(e) => StepOutcome::Failed {
-                message: format!("solver failed {e}; step rolled back to t = {now} s"),
-            },
-        };
-        let mut values = vec![0.0; sim.outputs().len()];
-        sim.output_values(&mut values);
-        let outcome = match values.iter().position(|x| !x.is_finite()) {
-            Some(k) if !matches!(outcome, StepOutcome::Failed { .. }) => StepOutcome::Failed {
+            Err(advance::Stop::Solver(e)) => {
+                let (curable, cure) = match advance::curable(sim, start, &saved, probe) {
+                    Ok(m) => (true, m),
+                    Err(m) => (false, m),
+                };
+                StepOutcome::Failed {
+                    message: format!("solver failed {e}; {rolled_back}; {cure}"),
+                    curable,
+                }
+            }
+            Err(advance::Stop::OverBudget { reached }) => StepOutcome::Failed {
                 message: format!(
-                    "output {} became {} at t = {} s; step rolled back to t = {now} s",
-                    sim.outputs()[k].name,
-                    values[k],
-                    t0 + sim.time()
+                    "the step took longer than solver.wall_time_budget = {} s (it had reached \
+                     t = {} s of {} s); {rolled_back}; use shorter communication steps or a \
+                     larger budget",
+                    self.wall_time_budget,
+                    t0 + reached,
+                    t + h
                 ),
+                curable: true,
             },
-            _ => outcome,
         };
+        let outcome = Self::check_outputs(sim, outcome, t0, &rolled_back);
         if let StepOutcome::Failed { .. } = outcome {
             sim.restore(&saved)
                 .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
         }
+        self.discarded = match &outcome {
+            StepOutcome::Failed {
+                message,
+                curable: true,
+            } => Some((this, message.clone())),
+            _ => None,
+        };
         Ok(outcome)
+    }
+
+    /// A step that ended with a non-finite output failed (no step size
+    /// cures an overflow of the parameters).
+    fn check_outputs(sim: &D, outcome: StepOutcome, t0: f64, rolled_back: &str) -> StepOutcome {
+        if let StepOutcome::Failed { .. } = outcome {
+            return outcome;
+        }
+        let mut values = vec![0.0; sim.outputs().len()];
+        sim.output_values(&mut values);
+        match values.iter().position(|x| !x.is_finite()) {
+            Some(k) => StepOutcome::Failed {
+                message: format!(
+                    "output {} became {} at t = {} s; {rolled_back}",
+                    sim.outputs()[k].name,
+                    values[k],
+                    t0 + sim.time()
+                ),
+                curable: false,
+            },
+            None => outcome,
+        }
     }
 
     pub fn snapshot(&self) -> Snapshot<D::State> {
