@@ -48,7 +48,7 @@ def test_fuzz_driver_names_the_seed_of_a_crash_and_of_a_hang(monkeypatch):
     assert s["failures"][1].startswith("seed 5: hang")
 
 
-@pytest.mark.parametrize("params, h", [({"solver.step": 5e-324}, H),
+@pytest.mark.parametrize("params, h", [({"solver.step": 5e-324, "wheel.initial_speed": 0.0}, H),
                                        ({"wheel.initial_speed": 0.0}, 1e6)])
 def test_a_step_that_would_take_hours_is_refused_at_once(model, params, h):
     """Found while fuzzing: fmi2DoStep cannot be cancelled, so a call that
@@ -59,6 +59,39 @@ def test_a_step_that_would_take_hours_is_refused_at_once(model, params, h):
     assert inst.step(0.0, h) == ERROR
     assert time.monotonic() - started < 1.0
     assert b"internal steps" in b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
+    inst.free()
+
+
+def test_a_run_that_would_need_an_absurd_number_of_steps_is_refused_before_it_starts(model):
+    """Issue 13, defect 3: the crossing at 10 m/s with a subnormal step needs
+    ~1e324 steps: leaving initialization is refused, naming the count."""
+    inst = Instance(model())
+    inst.ok("fmi2SetupExperiment", 0, 0.0, 0.0, 0, 0.0)
+    inst.set_real("solver.step", 5e-324)
+    inst.ok("fmi2EnterInitializationMode")
+    before = len(fuzz_fmi.MESSAGES)
+    assert inst.f["fmi2ExitInitializationMode"](inst.c) == ERROR
+    said = b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
+    assert b"internal steps" in said and b"1e8" in said, said
+    inst.free()
+
+
+def test_a_step_over_its_wall_time_budget_is_rolled_back_and_discarded(model):
+    """Issue 13, defect 3: fmi2DoStep cannot be cancelled; past
+    solver.wall_time_budget the step is rolled back and discarded."""
+    inst = Instance(model())
+    inst.ok("fmi2SetupExperiment", 0, 0.0, 0.0, 0, 0.0)
+    inst.set_real("solver.wall_time_budget", 1e-9)
+    inst.ok("fmi2EnterInitializationMode")
+    inst.ok("fmi2ExitInitializationMode")
+    good = inst.outputs()
+    before = len(fuzz_fmi.MESSAGES)
+    assert inst.step(0.0, 1.0) == DISCARD
+    said = b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
+    assert b"wall_time_budget" in said and b"rolled back to t = 0 s" in said, said
+    assert inst.outputs() == good
+    # retried unchanged it is refused (it would be discarded again)
+    assert inst.step(0.0, 1.0) == ERROR
     inst.free()
 
 
@@ -144,7 +177,7 @@ def test_a_discarded_step_leaves_the_last_good_state_retrievable(model):
     inst.run(0.0, 20)
     good = inst.outputs()
     inst.set_real("wheel.force_y", 5e6)  # pulls the wheel off: the solver refuses
-    assert inst.step(20 * H) == DISCARD
+    assert inst.step(20 * H) == ERROR  # no smaller step would do better
     inst.set_real("wheel.force_y", -600e3)
     blob = inst.serialize(inst.get_state())  # fmi2GetFMUstate in the step-failed state
     inst.free()
