@@ -157,6 +157,14 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
     })
 }
 
+/// The first output of `sim` that is not finite, with its value.
+fn first_non_finite<D: Dynamics>(sim: &D) -> Option<(String, f64)> {
+    let mut values = vec![0.0; sim.outputs().len()];
+    sim.output_values(&mut values);
+    let k = values.iter().position(|x| !x.is_finite())?;
+    Some((sim.outputs()[k].name.clone(), values[k]))
+}
+
 impl<D: Dynamics> Model<D> {
     /// The model of `scene`, with the scene's values as start values.
     pub fn new(scene: Scene) -> Result<Model<D>, ModelError> {
@@ -526,14 +534,10 @@ impl<D: Dynamics> Model<D> {
         if let StepOutcome::Failed { .. } = outcome {
             return outcome;
         }
-        let mut values = vec![0.0; sim.outputs().len()];
-        sim.output_values(&mut values);
-        match values.iter().position(|x| !x.is_finite()) {
-            Some(k) => StepOutcome::Failed {
+        match first_non_finite(sim) {
+            Some((name, x)) => StepOutcome::Failed {
                 message: format!(
-                    "output {} became {} at t = {} s; {rolled_back}",
-                    sim.outputs()[k].name,
-                    values[k],
+                    "output {name} became {x} at t = {} s; {rolled_back}",
                     t0 + sim.time()
                 ),
                 curable: false,
@@ -555,24 +559,59 @@ impl<D: Dynamics> Model<D> {
         }
     }
 
-    pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
-        if snap.scene.body.name != self.start_scene.body.name
-            || snap.scene.sensors.len() != self.start_scene.sensors.len()
-        {
-            return err("the state belongs to another model");
+    /// Check a snapshot before anything of it is used: it may come from a
+    /// forged serialized state. It must be a state of this model: its scene
+    /// this model's with at most the parameters changed, each within its
+    /// rule (checked before any vector is sized by them), the whole scene
+    /// valid once running; finite inputs and times.
+    pub fn check_snapshot(&self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
+        let theirs = &snap.scene;
+        let refuse = |why: String| err(format!("the state does not fit this model: {why}"));
+        if theirs.sensors.len() != self.start_scene.sensors.len() {
+            return refuse(format!(
+                "it has {} sensors, this model {}",
+                theirs.sensors.len(),
+                self.start_scene.sensors.len()
+            ));
         }
-        let sim = match &snap.sim {
-            Some(state) => {
-                let mut sim = match self.sim.take() {
-                    Some(sim) if self.scene == snap.scene => sim,
-                    _ => D::build(&snap.scene)
-                        .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
-                };
-                sim.restore(state)
-                    .map_err(|e| ModelError(format!("cannot restore the state: {e}")))?;
-                sim.set_body_force(snap.inputs[0], snap.inputs[1]);
-                Some(sim)
+        let mut mine = self.start_scene.clone();
+        for v in self.table.variables() {
+            if let Role::Parameter(p) = v.role {
+                let value = param_value(theirs, p);
+                if let Err(rule) = set_param(&mut mine, p, value) {
+                    return refuse(format!("{} = {value:?}: {rule}", v.name));
+                }
             }
+        }
+        if mine != *theirs {
+            return refuse("its scene differs from this model's in more than parameters".into());
+        }
+        if snap.phase == Phase::Running {
+            validate(theirs)
+                .map_err(|e| ModelError(format!("the state's scene is invalid: {e}")))?;
+        }
+        if !(snap.inputs.iter().all(|x| x.is_finite()) && snap.start_time.is_finite()) {
+            return refuse("an input or the start time is not finite".into());
+        }
+        if (snap.phase == Phase::Running) != snap.sim.is_some() {
+            return refuse(format!(
+                "phase {:?} with the dynamics' state {}",
+                snap.phase,
+                if snap.sim.is_some() {
+                    "present"
+                } else {
+                    "missing"
+                }
+            ));
+        }
+        Ok(())
+    }
+
+    /// Restore `snap` (checked first); on any refusal the model is unchanged.
+    pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
+        self.check_snapshot(snap)?;
+        let sim = match &snap.sim {
+            Some(state) => Some(self.restored_sim(snap, state)?),
             None => None,
         };
         self.scene = snap.scene.clone();
@@ -580,7 +619,52 @@ impl<D: Dynamics> Model<D> {
         self.start_time = snap.start_time;
         self.phase = snap.phase;
         self.sim = sim;
+        self.discarded = None;
         Ok(())
+    }
+
+    /// The dynamics at `state`: this model's own (when the scene is the
+    /// same) or new ones built for the state's (valid) scene. The state must
+    /// fit them and give finite outputs; if not, this model's own dynamics
+    /// are put back as they were.
+    fn restored_sim(
+        &mut self,
+        snap: &Snapshot<D::State>,
+        state: &D::State,
+    ) -> Result<D, ModelError> {
+        let own = match self.sim.take() {
+            Some(sim) if self.scene == snap.scene => Some(sim),
+            other => {
+                self.sim = other;
+                None
+            }
+        };
+        let old = own.as_ref().map(|s| s.state());
+        let mut sim = match own {
+            Some(sim) => sim,
+            None => D::build(&snap.scene)
+                .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
+        };
+        let fitted = sim.restore(state).and_then(|()| {
+            sim.set_body_force(snap.inputs[0], snap.inputs[1]);
+            match first_non_finite(&sim) {
+                Some((name, x)) => Err(format!("output {name} would be {x}")),
+                None if !sim.time().is_finite() => Err(format!("its time is {}", sim.time())),
+                None => Ok(()),
+            }
+        });
+        match (fitted, old) {
+            (Ok(()), _) => Ok(sim),
+            (Err(e), old) => {
+                if let Some(old) = old {
+                    sim.restore(&old)
+                        .map_err(|e| ModelError(format!("cannot put the model back: {e}")))?;
+                    sim.set_body_force(self.inputs[0], self.inputs[1]);
+                    self.sim = Some(sim);
+                }
+                err(format!("cannot restore the state: {e}"))
+            }
+        }
     }
 
     /// The versioned byte form of a snapshot, tied to the model `guid`.

@@ -375,3 +375,104 @@ fn chunked_advance_gives_the_same_result_as_one_advance() {
         assert_eq!(x.to_bits(), want[k].to_bits(), "{}", sim.outputs()[k].name);
     }
 }
+
+// ---- issue 13, defect 4: a restored state is untrusted input ----------------------
+
+/// A running wheel model's state with `forge` applied, through the byte
+/// form (the checksum recomputed over the forged payload, as an attacker
+/// would).
+fn forged<D: Dynamics>(
+    m: &Model<D>,
+    forge: impl FnOnce(&mut Snapshot<D::State>),
+) -> Snapshot<D::State> {
+    let mut snap = m.snapshot();
+    forge(&mut snap);
+    let bytes = Model::<D>::serialize(&snap, "guid").unwrap();
+    Model::<D>::deserialize(&bytes, "guid").unwrap()
+}
+
+#[test]
+fn a_restored_state_must_be_a_state_of_this_model() {
+    let mut m = model(BodyKind::Wheel);
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.1).unwrap();
+    let x = real(&mut m, "wheel.x");
+    type Forge = fn(&mut Snapshot<super::fake::FakeState>);
+    let cases: [(Forge, &str); 9] = [
+        (|s| s.scene.beam.elements = 10_000_000, "beam.elements"),
+        (|s| s.scene.beam.elements = usize::MAX, "beam.elements"),
+        (|s| s.scene.body.mass = -3000.0, "wheel.mass"),
+        (
+            |s| s.scene.sensors[0].position = 1e9,
+            "sensor.midspan.position",
+        ),
+        (|s| s.scene.sensors.clear(), "sensors"),
+        (
+            |s| s.scene.body.kind = BodyKind::Glider,
+            "more than parameters",
+        ),
+        (
+            |s| s.scene.solver.max_iterations = u32::MAX as _,
+            "more than parameters",
+        ),
+        (|s| s.inputs[1] = f64::NAN, "not finite"),
+        (|s| s.sim = None, "missing"),
+    ];
+    for (forge, named) in cases {
+        let snap = forged(&m, forge);
+        let e = m.check_snapshot(&snap).unwrap_err().0;
+        assert!(e.contains(named), "{named}: {e}");
+        assert!(m.restore(&snap).is_err());
+        assert_eq!(real(&mut m, "wheel.x"), x, "{named}: model unchanged");
+        assert_eq!(m.phase(), Phase::Running);
+    }
+    // a parameter changed within its rule is a state of this model
+    let snap = forged(&m, |s| s.scene.body.mass = 6000.0);
+    m.restore(&snap).unwrap();
+}
+
+#[test]
+fn a_forged_physics_state_is_refused_and_the_model_left_as_it_was() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.1).unwrap();
+    let vr = m.table().by_name("wheel.x").unwrap().value_reference;
+    let x = m.get(VarType::Real, &[vr]).unwrap();
+    let good = m.snapshot();
+    type Forge = fn(&mut Snapshot<crate::simulation::SimState>);
+    let cases: [(Forge, &str); 5] = [
+        (
+            |s| s.sim.as_mut().unwrap().dynamic.beam_load = nalgebra::DVector::zeros(1),
+            "length",
+        ),
+        (
+            |s| {
+                let d = &mut s.sim.as_mut().unwrap().dynamic;
+                d.beam_displacement = nalgebra::DVector::zeros(3);
+                d.beam_velocity = nalgebra::DVector::zeros(3);
+                d.beam_acceleration = nalgebra::DVector::zeros(3);
+                d.beam_load = nalgebra::DVector::zeros(3);
+            },
+            "DOFs",
+        ),
+        (
+            |s| s.sim.as_mut().unwrap().dynamic.beam_velocity[0] = f64::INFINITY,
+            "non-finite",
+        ),
+        (|s| s.sim.as_mut().unwrap().time = f64::NAN, "non-finite"),
+        (
+            |s| s.sim.as_mut().unwrap().grid_step = 1000,
+            "not in its step",
+        ),
+    ];
+    for (forge, named) in cases {
+        let snap = forged(&m, forge);
+        let e = m.restore(&snap).unwrap_err().0;
+        assert!(e.contains(named), "{named}: {e}");
+        assert_eq!(m.get(VarType::Real, &[vr]).unwrap(), x, "{named}");
+        assert_eq!(m.do_step(0.1, 0.1).unwrap(), StepOutcome::Completed);
+        m.restore(&good).unwrap();
+    }
+}
