@@ -2,6 +2,7 @@
 independence of instances on threads, a state continued in another process,
 and nothing lost when a step fails."""
 
+import ctypes as C
 import pathlib
 import subprocess
 import sys
@@ -34,7 +35,8 @@ def test_short_fuzz_run_finds_no_crash_hang_or_broken_rule():
     assert s["calls"] >= 5000
     # it reaches the interesting places: steps that pass and steps refused
     for key in ("fmi2DoStep OK", "fmi2DoStep Discard", "fmi2DoStep Error",
-                "fmi2DeSerializeFMUstate OK", "fmi2DeSerializeFMUstate Error"):
+                "fmi2DeSerializeFMUstate OK", "fmi2DeSerializeFMUstate Error",
+                "forged state accepted", "forged state refused"):
         assert s["tally"].get(key, 0) > 0, key
 
 
@@ -92,6 +94,35 @@ def test_a_step_over_its_wall_time_budget_is_rolled_back_and_discarded(model):
     assert inst.outputs() == good
     # retried unchanged it is refused (it would be discarded again)
     assert inst.step(0.0, 1.0) == ERROR
+    inst.free()
+
+
+@pytest.mark.parametrize("where, value, named", [
+    (("scene", "beam", "elements"), 10**7, b"beam.elements"),
+    (("scene", "beam", "elements"), 2**64 - 1, b"beam.elements"),
+    (("scene", "body", "mass"), -3000.0, b"wheel.mass"),
+    (("scene", "sensors", 0, "position"), 1e9, b"sensor.midspan.position"),
+    (("scene", "solver", "max_iterations"), 10**9, b"more than parameters"),
+    (("sim", "dynamic", "beam_load"), [], b"length"),
+])
+def test_a_forged_state_with_a_valid_checksum_is_refused(model, where, value, named):
+    """Issue 13, defect 4: the payload of a serialized state is untrusted
+    even when its SHA-256 is right (an attacker recomputes it)."""
+    import fuzz_state
+    inst = Instance(model()).initialize()
+    inst.run(0.0, 10)
+    head, payload = fuzz_state.unframe(inst.serialize(inst.get_state()))
+    forged = fuzz_state.replace(fuzz_state.unpack(payload)[0], where, value)
+    blob = fuzz_state.frame(head, fuzz_state.pack(forged))
+    state = C.c_void_p()
+    buf = C.create_string_buffer(blob, len(blob))
+    before = len(fuzz_fmi.MESSAGES)
+    status = inst.f["fmi2DeSerializeFMUstate"](inst.c, buf, len(blob), C.byref(state))
+    if status == 0:  # refused when set, at the latest
+        status = inst.f["fmi2SetFMUstate"](inst.c, state)
+    assert status == ERROR
+    said = b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
+    assert named in said, said
     inst.free()
 
 
