@@ -467,7 +467,8 @@ class Sequence:
                                                            C.byref(restored)) == OK
                   and self.model.f["fmi2SetFMUstate"](other, restored) == OK)
             if not ok:
-                self.fail("the state saved after a failed step does not restore")
+                self.fail("the state saved after a failed step does not restore: "
+                          f"{MESSAGES[-1][2] if MESSAGES else ''}")
             n = len(self.model.outputs)
             vrs, out = (C.c_uint * n)(*self.model.outputs), (C.c_double * n)()
             if self.model.f["fmi2GetReal"](other, vrs, n, out) != OK:

@@ -20,7 +20,14 @@ pub trait Dynamics: Steppable + Sized {
     fn set_body_force(&mut self, fx: f64, fy: f64);
     fn exit_time(&self) -> Option<f64>;
     fn state(&self) -> Self::State;
+    /// Continue from `state`, which may come from a forged FMU state:
+    /// refused (Err naming why) unless it fits these dynamics.
     fn restore(&mut self, state: &Self::State) -> Result<(), String>;
+    /// Whether `state` is one `restore` accepts (every state a step reaches
+    /// must be: the importer may save and restore it).
+    fn check_state(&self, _state: &Self::State) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 impl Dynamics for Simulation {
@@ -41,6 +48,9 @@ impl Dynamics for Simulation {
     fn restore(&mut self, state: &SimState) -> Result<(), String> {
         check_sim_state(state, self.step_size())?;
         Simulation::restore(self, state)
+    }
+    fn check_state(&self, state: &SimState) -> Result<(), String> {
+        check_sim_state(state, self.step_size())
     }
 }
 

@@ -528,18 +528,23 @@ impl<D: Dynamics> Model<D> {
         Ok(outcome)
     }
 
-    /// A step that ended with a non-finite output failed (no step size
-    /// cures an overflow of the parameters).
+    /// A step that ended with a non-finite output, or in a state that
+    /// could not be restored, failed (no step size cures an overflow).
     fn check_outputs(sim: &D, outcome: StepOutcome, t0: f64, rolled_back: &str) -> StepOutcome {
         if let StepOutcome::Failed { .. } = outcome {
             return outcome;
         }
-        match first_non_finite(sim) {
-            Some((name, x)) => StepOutcome::Failed {
-                message: format!(
-                    "output {name} became {x} at t = {} s; {rolled_back}",
-                    t0 + sim.time()
-                ),
+        let at = t0 + sim.time();
+        let problem = match first_non_finite(sim) {
+            Some((name, x)) => Some(format!("output {name} became {x} at t = {at} s")),
+            None => sim
+                .check_state(&sim.state())
+                .err()
+                .map(|e| format!("the state at t = {at} s is unusable: {e}")),
+        };
+        match problem {
+            Some(p) => StepOutcome::Failed {
+                message: format!("{p}; {rolled_back}"),
                 curable: false,
             },
             None => outcome,

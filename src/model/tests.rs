@@ -476,3 +476,25 @@ fn a_forged_physics_state_is_refused_and_the_model_left_as_it_was() {
         m.restore(&good).unwrap();
     }
 }
+
+/// Found by the state fuzzer: a forged state, finite everywhere, stepped
+/// into one with an infinite number outside the outputs (a glider's angle);
+/// saved after a later failed step, it could not be restored.
+#[test]
+fn a_step_into_a_state_that_could_not_be_restored_fails() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Glider, 30.0, 0.005);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.1).unwrap();
+    let snap = forged(&m, |s| {
+        let body = &mut s.sim.as_mut().unwrap().dynamic.body;
+        body.angle = f64::MAX;
+        body.angular_velocity = f64::MAX;
+    });
+    m.restore(&snap).unwrap();
+    let (message, curable) = failed(m.do_step(0.1, 0.1).unwrap());
+    assert!(!curable && message.contains("unusable"), "{message}");
+    let now = m.snapshot();
+    m.restore(&now).unwrap();
+}
