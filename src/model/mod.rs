@@ -10,7 +10,9 @@ mod advance;
 mod dynamics;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
+mod restore;
 pub mod snapshot;
+mod step;
 pub mod variables;
 
 pub use dynamics::Dynamics;
@@ -19,7 +21,6 @@ pub use variables::{
 };
 
 use crate::scene::Scene;
-use crate::simulation::Advance;
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
 
@@ -382,175 +383,6 @@ impl<D: Dynamics> Model<D> {
         Ok(())
     }
 
-    /// Refuse a run that would need more than `MAX_RUN_STEPS` internal steps:
-    /// to the stop time (the experiment's, else the scene's), else to the
-    /// exit at the initial speed. A body at rest with no stop time is left
-    /// to the per-call limits.
-    fn check_run_length(&self) -> Result<(), ModelError> {
-        let (scene, step) = (&self.scene, self.scene.solver.step);
-        let v0 = scene.body.initial_speed;
-        let to_exit = if v0 > 0.0 {
-            (scene.beam.length - scene.body.initial_position) / v0
-        } else {
-            scene.body.initial_position / -v0
-        };
-        let (horizon, what) = match (self.stop_time, scene.solver.end_time) {
-            (Some(stop), _) => (stop - self.start_time, "to the stop time"),
-            (None, Some(end)) => (end, "to solver.end_time"),
-            (None, None) if v0 != 0.0 => (to_exit, "to the exit at the initial speed"),
-            (None, None) => return Ok(()),
-        };
-        let steps = (horizon / step).ceil();
-        if steps > MAX_RUN_STEPS {
-            return err(format!(
-                "the run would need {steps:e} internal steps of solver.step = {step:e} s \
-                 ({what}, {horizon:e} s), more than the {MAX_RUN_STEPS:e} allowed; \
-                 use a larger solver.step (integrator \"hht\" is stable at any step) \
-                 or a shorter run"
-            ));
-        }
-        Ok(())
-    }
-
-    /// Refuse a communication step the model cannot take as asked (before
-    /// anything runs): bad size, too many internal steps, wrong time, a size
-    /// below the resolution of the time.
-    fn check_step(&self, t: f64, h: f64) -> Result<(), ModelError> {
-        if self.phase != Phase::Running {
-            return err("the model is not initialized");
-        }
-        if !(h.is_finite() && h > 0.0) {
-            return err(format!(
-                "communicationStepSize = {h}: must be finite and > 0"
-            ));
-        }
-        let internal_steps = (h / self.scene.solver.step).ceil();
-        if internal_steps > MAX_INTERNAL_STEPS_PER_CALL {
-            return err(format!(
-                "communicationStepSize = {h} s needs {internal_steps:e} internal steps of \
-                 solver.step = {:e} s, more than the {MAX_INTERNAL_STEPS_PER_CALL:e} one call \
-                 may take; use shorter communication steps",
-                self.scene.solver.step
-            ));
-        }
-        let now = self.time();
-        if !t.is_finite() || (t - now).abs() > 1e-9 * now.abs().max(1.0) {
-            return err(format!(
-                "currentCommunicationPoint = {t} s does not match the model's time {now} s"
-            ));
-        }
-        // t + h must be a different number, close to the step asked for:
-        // otherwise the master's clock and the model's part ways.
-        let taken = (t + h) - t;
-        if (taken - h).abs() > 1e-6 * h {
-            return err(format!(
-                "communicationStepSize = {h:e} s is below the resolution of \
-                 currentCommunicationPoint = {t:e} s (t + h - t = {taken:e} s); \
-                 use larger steps or a start time nearer 0"
-            ));
-        }
-        Ok(())
-    }
-
-    /// One communication step from `t` (which must match the model's time up
-    /// to accumulated rounding) to `t + h`.
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
-        self.check_step(t, h)?;
-        let now = self.time();
-        let t0 = self.start_time;
-        let this = DiscardedStep {
-            t,
-            h,
-            inputs: self.inputs,
-        };
-        if let Some((step, reason)) = &self.discarded {
-            if *step == this {
-                return Ok(StepOutcome::Failed {
-                    message: format!(
-                        "this step (t = {t} s, h = {h} s) was discarded by the previous call and \
-                         nothing has changed since, so it would fail again ({reason}); \
-                         retry with a smaller step or other inputs"
-                    ),
-                    curable: false,
-                });
-            }
-        }
-        let budget = std::time::Duration::try_from_secs_f64(self.wall_time_budget)
-            .unwrap_or(std::time::Duration::MAX);
-        let (step, probe) = (
-            self.scene.solver.step,
-            h.min(self.scene.solver.step) / 1024.0,
-        );
-        let sim = self.sim.as_mut().expect("running model has a simulation");
-        if let Some(time) = sim.exit_time() {
-            return Ok(StepOutcome::Exited { time: t0 + time });
-        }
-        let saved = sim.state();
-        let start = sim.time();
-        let rolled_back = format!("step rolled back to t = {now} s");
-        let outcome = match advance::advance_within(sim, t + h - t0, step, budget) {
-            Ok(Advance::Reached) => StepOutcome::Completed,
-            Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
-            Err(advance::Stop::Solver(e)) => {
-                let (curable, cure) = match advance::curable(sim, start, &saved, probe) {
-                    Ok(m) => (true, m),
-                    Err(m) => (false, m),
-                };
-                StepOutcome::Failed {
-                    message: format!("solver failed {e}; {rolled_back}; {cure}"),
-                    curable,
-                }
-            }
-            Err(advance::Stop::OverBudget { reached }) => StepOutcome::Failed {
-                message: format!(
-                    "the step took longer than solver.wall_time_budget = {} s (it had reached \
-                     t = {} s of {} s); {rolled_back}; use shorter communication steps or a \
-                     larger budget",
-                    self.wall_time_budget,
-                    t0 + reached,
-                    t + h
-                ),
-                curable: true,
-            },
-        };
-        let outcome = Self::check_outputs(sim, outcome, t0, &rolled_back);
-        if let StepOutcome::Failed { .. } = outcome {
-            sim.restore(&saved)
-                .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
-        }
-        self.discarded = match &outcome {
-            StepOutcome::Failed {
-                message,
-                curable: true,
-            } => Some((this, message.clone())),
-            _ => None,
-        };
-        Ok(outcome)
-    }
-
-    /// A step that ended with a non-finite output, or in a state that
-    /// could not be restored, failed (no step size cures an overflow).
-    fn check_outputs(sim: &D, outcome: StepOutcome, t0: f64, rolled_back: &str) -> StepOutcome {
-        if let StepOutcome::Failed { .. } = outcome {
-            return outcome;
-        }
-        let at = t0 + sim.time();
-        let problem = match first_non_finite(sim) {
-            Some((name, x)) => Some(format!("output {name} became {x} at t = {at} s")),
-            None => sim
-                .check_state(&sim.state())
-                .err()
-                .map(|e| format!("the state at t = {at} s is unusable: {e}")),
-        };
-        match problem {
-            Some(p) => StepOutcome::Failed {
-                message: format!("{p}; {rolled_back}"),
-                curable: false,
-            },
-            None => outcome,
-        }
-    }
-
     pub fn snapshot(&self) -> Snapshot<D::State> {
         Snapshot {
             scene: self.scene.clone(),
@@ -561,114 +393,6 @@ impl<D: Dynamics> Model<D> {
                 Phase::Running => self.sim.as_ref().map(|s| s.state()),
                 Phase::Configuring => None,
             },
-        }
-    }
-
-    /// Check a snapshot before anything of it is used: it may come from a
-    /// forged serialized state. It must be a state of this model: its scene
-    /// this model's with at most the parameters changed, each within its
-    /// rule (checked before any vector is sized by them), the whole scene
-    /// valid once running; finite inputs and times.
-    pub fn check_snapshot(&self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
-        let theirs = &snap.scene;
-        let refuse = |why: String| err(format!("the state does not fit this model: {why}"));
-        if theirs.sensors.len() != self.start_scene.sensors.len() {
-            return refuse(format!(
-                "it has {} sensors, this model {}",
-                theirs.sensors.len(),
-                self.start_scene.sensors.len()
-            ));
-        }
-        let mut mine = self.start_scene.clone();
-        for v in self.table.variables() {
-            if let Role::Parameter(p) = v.role {
-                let value = param_value(theirs, p);
-                if let Err(rule) = set_param(&mut mine, p, value) {
-                    return refuse(format!("{} = {value:?}: {rule}", v.name));
-                }
-            }
-        }
-        if mine != *theirs {
-            return refuse("its scene differs from this model's in more than parameters".into());
-        }
-        if snap.phase == Phase::Running {
-            validate(theirs)
-                .map_err(|e| ModelError(format!("the state's scene is invalid: {e}")))?;
-        }
-        if !(snap.inputs.iter().all(|x| x.is_finite()) && snap.start_time.is_finite()) {
-            return refuse("an input or the start time is not finite".into());
-        }
-        if (snap.phase == Phase::Running) != snap.sim.is_some() {
-            return refuse(format!(
-                "phase {:?} with the dynamics' state {}",
-                snap.phase,
-                if snap.sim.is_some() {
-                    "present"
-                } else {
-                    "missing"
-                }
-            ));
-        }
-        Ok(())
-    }
-
-    /// Restore `snap` (checked first); on any refusal the model is unchanged.
-    pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
-        self.check_snapshot(snap)?;
-        let sim = match &snap.sim {
-            Some(state) => Some(self.restored_sim(snap, state)?),
-            None => None,
-        };
-        self.scene = snap.scene.clone();
-        self.inputs = snap.inputs;
-        self.start_time = snap.start_time;
-        self.phase = snap.phase;
-        self.sim = sim;
-        self.discarded = None;
-        Ok(())
-    }
-
-    /// The dynamics at `state`: this model's own (when the scene is the
-    /// same) or new ones built for the state's (valid) scene. The state must
-    /// fit them and give finite outputs; if not, this model's own dynamics
-    /// are put back as they were.
-    fn restored_sim(
-        &mut self,
-        snap: &Snapshot<D::State>,
-        state: &D::State,
-    ) -> Result<D, ModelError> {
-        let own = match self.sim.take() {
-            Some(sim) if self.scene == snap.scene => Some(sim),
-            other => {
-                self.sim = other;
-                None
-            }
-        };
-        let old = own.as_ref().map(|s| s.state());
-        let mut sim = match own {
-            Some(sim) => sim,
-            None => D::build(&snap.scene)
-                .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
-        };
-        let fitted = sim.restore(state).and_then(|()| {
-            sim.set_body_force(snap.inputs[0], snap.inputs[1]);
-            match first_non_finite(&sim) {
-                Some((name, x)) => Err(format!("output {name} would be {x}")),
-                None if !sim.time().is_finite() => Err(format!("its time is {}", sim.time())),
-                None => Ok(()),
-            }
-        });
-        match (fitted, old) {
-            (Ok(()), _) => Ok(sim),
-            (Err(e), old) => {
-                if let Some(old) = old {
-                    sim.restore(&old)
-                        .map_err(|e| ModelError(format!("cannot put the model back: {e}")))?;
-                    sim.set_body_force(self.inputs[0], self.inputs[1]);
-                    self.sim = Some(sim);
-                }
-                err(format!("cannot restore the state: {e}"))
-            }
         }
     }
 
