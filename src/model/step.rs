@@ -11,9 +11,10 @@ use std::time::Duration;
 
 impl<D: Dynamics> Model<D> {
     /// Refuse a run that would need more than `MAX_RUN_STEPS` internal steps:
-    /// to the stop time (the experiment's, else the scene's), else to the
-    /// exit at the initial speed. A body at rest with no stop time is left
-    /// to the per-call limits.
+    /// to whichever comes first of the experiment's stop time, the scene's
+    /// end time and the exit at the initial speed (an estimate: forces may
+    /// change the speed). A body at rest with no stop time is left to the
+    /// per-call limits.
     pub(super) fn check_run_length(&self) -> Result<(), ModelError> {
         let (scene, step) = (&self.scene, self.scene.solver.step);
         let v0 = scene.body.initial_speed;
@@ -22,11 +23,18 @@ impl<D: Dynamics> Model<D> {
         } else {
             scene.body.initial_position / -v0
         };
-        let (horizon, what) = match (self.stop_time, scene.solver.end_time) {
-            (Some(stop), _) => (stop - self.start_time, "to the stop time"),
-            (None, Some(end)) => (end, "to solver.end_time"),
-            (None, None) if v0 != 0.0 => (to_exit, "to the exit at the initial speed"),
-            (None, None) => return Ok(()),
+        let ends = [
+            self.stop_time
+                .map(|t| (t - self.start_time, "to the stop time")),
+            scene.solver.end_time.map(|t| (t, "to solver.end_time")),
+            (v0 != 0.0).then_some((to_exit, "to the exit at the initial speed")),
+        ];
+        let Some((horizon, what)) = ends
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+        else {
+            return Ok(());
         };
         let steps = (horizon / step).ceil();
         if steps > MAX_RUN_STEPS {

@@ -264,8 +264,15 @@ fn a_run_needing_an_absurd_number_of_steps_is_refused_before_it_starts() {
     m.initialize().unwrap();
     let mut m = model(BodyKind::Wheel);
     m.set(&[step], &[Value::Real(1e-6)]).unwrap();
+    let v0 = vr(&m, "wheel.initial_speed");
+    m.set(&[v0], &[Value::Real(1e-3)]).unwrap();
     m.set_experiment(0.0, Some(1000.0)).unwrap();
     assert!(m.initialize().unwrap_err().0.contains("to the stop time"));
+    // the exit comes first: a far stop time does not matter
+    let mut m = model(BodyKind::Wheel);
+    m.set(&[step], &[Value::Real(1e-6)]).unwrap();
+    m.set_experiment(0.0, Some(1e300)).unwrap();
+    m.initialize().unwrap();
 }
 
 #[test]
