@@ -65,7 +65,7 @@ pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
                 row(&mut model)?;
                 break;
             }
-            StepOutcome::Failed { message } => return Err(message),
+            StepOutcome::Failed { message, .. } => return Err(message),
         }
         k += 1;
     }
