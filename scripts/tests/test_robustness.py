@@ -7,7 +7,6 @@ import pathlib
 import subprocess
 import sys
 import threading
-import time
 
 import pytest
 
@@ -57,9 +56,9 @@ def test_a_step_that_would_take_hours_is_refused_at_once(model, params, h):
     needs ~1e321 (or 4e8) internal steps would hang the importer."""
     inst = Instance(model()).initialize(**params)
     before = len(fuzz_fmi.MESSAGES)
-    started = time.monotonic()
+    # The message names the step count: the call was refused before any
+    # step ran (no wall-clock assertion: the machine's load is not ours).
     assert inst.step(0.0, h) == ERROR
-    assert time.monotonic() - started < 1.0
     assert b"internal steps" in b"".join(m[2] for m in fuzz_fmi.MESSAGES[before:])
     inst.free()
 
