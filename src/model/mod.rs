@@ -15,6 +15,7 @@ pub mod variables;
 pub use dynamics::Dynamics;
 pub use variables::{Causality, Role, Value, VarType, Variability, Variable, VariableTable};
 
+use crate::report::non_finite_output;
 use crate::scene::Scene;
 use crate::simulation::Advance;
 use serde::{Deserialize, Serialize};
@@ -227,11 +228,9 @@ impl<D: Dynamics> Model<D> {
         }
         // Parameters can be finite and valid one by one and still overflow
         // an output (a huge speed squared): refuse rather than hand out inf.
-        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+        if let Some(bad) = non_finite_output(sim.outputs(), &values) {
             return err(format!(
-                "output {} is {} with these parameters; choose smaller values",
-                sim.outputs()[k].name,
-                values[k]
+                "{bad} with these parameters; choose smaller values"
             ));
         }
         Ok(values)
@@ -361,12 +360,10 @@ impl<D: Dynamics> Model<D> {
         };
         let mut values = vec![0.0; sim.outputs().len()];
         sim.output_values(&mut values);
-        let outcome = match values.iter().position(|x| !x.is_finite()) {
-            Some(k) if !matches!(outcome, StepOutcome::Failed { .. }) => StepOutcome::Failed {
+        let outcome = match non_finite_output(sim.outputs(), &values) {
+            Some(bad) if !matches!(outcome, StepOutcome::Failed { .. }) => StepOutcome::Failed {
                 message: format!(
-                    "output {} became {} at t = {} s; step rolled back to t = {now} s",
-                    sim.outputs()[k].name,
-                    values[k],
+                    "{bad} at t = {} s; step rolled back to t = {now} s",
                     t0 + sim.time()
                 ),
             },
