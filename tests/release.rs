@@ -52,6 +52,7 @@ fn model_description(fmu: &Path) -> String {
         .unwrap()
         .read_to_string(&mut xml)
         .unwrap();
+    guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
     xml
 }
 

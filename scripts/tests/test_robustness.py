@@ -48,7 +48,7 @@ def test_fuzz_driver_names_the_seed_of_a_crash_and_of_a_hang(monkeypatch):
     assert s["failures"][1].startswith("seed 5: hang")
 
 
-@pytest.mark.parametrize("params, h", [({"solver.step": 5e-324}, H),
+@pytest.mark.parametrize("params, h", [({"solver.step": 1e-12}, H),
                                        ({"wheel.initial_speed": 0.0}, 1e6)])
 def test_a_step_that_would_take_hours_is_refused_at_once(model, params, h):
     """Found while fuzzing: fmi2DoStep cannot be cancelled, so a call that

@@ -354,7 +354,7 @@ fn solver_settings_must_be_positive() {
         |s| s.solver.max_iterations = 0,
         "solver.max_iterations",
         "0",
-        ">= 1",
+        "between 1 and 1000",
     );
     assert_single_problem(
         |s| s.solver.end_time = Some(-2.0),
