@@ -19,8 +19,10 @@ use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
-/// Rows kept for the plot: between this and twice this.
-const PLOT_ROWS: usize = 20_000;
+/// Values (rows × outputs) kept for the plot: between this and twice this,
+/// so that 10 000 sensors do not take gigabytes. With the paper's 21
+/// outputs that is about 50 000 rows, more than a plot has pixels.
+const PLOT_VALUES: usize = 1_000_000;
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene)?;
@@ -180,7 +182,10 @@ impl Sink {
         Ok(Sink {
             csv,
             summary: SummaryBuilder::new(scene, &trace.names),
-            plot: plot.then(|| Decimated::new(trace, PLOT_ROWS)),
+            plot: plot.then(|| {
+                let rows = PLOT_VALUES / (trace.names.len() + 1);
+                Decimated::new(trace, rows)
+            }),
         })
     }
 
