@@ -109,6 +109,7 @@ fn a_stop_time_below_the_time_resolution_is_refused_not_run_for_nothing() {
 }
 
 /// Exit code and peak resident memory (kB) of the guideway binary.
+#[allow(clippy::zombie_processes)] // reaped by wait4, which also gives the rusage
 fn run_measuring_memory(args: &[&str]) -> (Option<i32>, i64) {
     let child = Command::new(env!("CARGO_BIN_EXE_guideway"))
         .args(args)

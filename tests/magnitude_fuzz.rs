@@ -189,6 +189,7 @@ struct Ended {
 
 /// Run the binary, killing it after `WALL_LIMIT`; `None` if it had to be
 /// killed.
+#[allow(clippy::zombie_processes)] // reaped by wait4, which also gives the rusage
 fn run_bounded(args: &[&str], stderr_path: &Path) -> Option<Ended> {
     let child = Command::new(env!("CARGO_BIN_EXE_guideway"))
         .args(args)

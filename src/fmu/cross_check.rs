@@ -40,7 +40,7 @@ pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
     let stop = default_stop_time(scene);
     let h = scene.solver.step;
     let steps = (stop / h).ceil();
-    if !(steps <= DEFAULT_MAX_STEPS as f64) {
+    if steps.is_nan() || steps > DEFAULT_MAX_STEPS as f64 {
         return Err(format!(
             "the cross-check reference would need {steps:e} steps of solver.step = {h:e} s to \
              reach the default stop time {stop:e} s, more than the limit of {DEFAULT_MAX_STEPS}"

@@ -68,7 +68,7 @@ pub fn check_run_length(scene: &Scene, max_steps: u64, how_to_raise: &str) -> Re
             super::DEFAULT_END_TIME_FACTOR
         ),
     };
-    if !(stop > 1e-9 * step) {
+    if stop.is_nan() || stop <= 1e-9 * step {
         return Err(format!(
             "the run would stop at t = {stop:e} s ({why_stop}), below the time resolution of \
              1e-9 × solver.step = {:e} s: no step would be taken",
@@ -76,7 +76,7 @@ pub fn check_run_length(scene: &Scene, max_steps: u64, how_to_raise: &str) -> Re
         ));
     }
     let steps = (stop / step).ceil();
-    if !(steps <= max_steps as f64) {
+    if steps.is_nan() || steps > max_steps as f64 {
         return Err(format!(
             "the run needs up to {steps:e} steps of solver.step = {step:e} s to reach t = \
              {stop:e} s ({why_stop}), more than the limit of {max_steps} steps{how_to_raise}"

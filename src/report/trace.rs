@@ -94,7 +94,7 @@ impl Decimated {
     }
 
     pub fn push(&mut self, time: f64, values: &[f64]) {
-        if self.seen % self.stride == 0 {
+        if self.seen.is_multiple_of(self.stride) {
             self.trace.push(time, values);
             self.last = None;
             if self.trace.len() >= 2 * self.rows {
@@ -108,7 +108,7 @@ impl Decimated {
 
     /// Drop every other kept row (row 0 stays).
     fn halve(&mut self) {
-        let keep = |i: usize| i % 2 == 0;
+        let keep = |i: usize| i.is_multiple_of(2);
         let thin = |v: &mut Vec<f64>| {
             let mut i = 0;
             v.retain(|_| {
