@@ -178,7 +178,9 @@ fn case() -> impl Strategy<Value = Scene> {
         })
 }
 
-/// How the binary ended, with its CPU time and peak memory.
+/// How the binary ended, with its CPU time and peak memory. The peak is
+/// wait4's ru_maxrss, which also counts the test process's memory shared
+/// until the child's exec: an upper bound, safe for a budget.
 struct Ended {
     code: Option<i32>,
     signal: Option<i32>,
