@@ -136,6 +136,14 @@ enum Failure {
     Interrupted(String),
 }
 
+impl Failure {
+    fn into_message(self) -> String {
+        match self {
+            Failure::Scene(m) | Failure::Usage(m) | Failure::Run(m) | Failure::Interrupted(m) => m,
+        }
+    }
+}
+
 /// Load a scene file or built-in; a scene file's problems are prefixed with
 /// its name.
 fn load_scene(file_or_builtin: &str) -> Result<Scene, Failure> {

@@ -10,7 +10,8 @@ use super::{interrupt, load_scene, Failure, RunArgs};
 use guideway::output_file::{check_distinct, Staged};
 use guideway::report::csv::CsvWriter;
 use guideway::report::{
-    check_run_length, drive_into, plot, Decimated, RowSink, StreamError, SummaryBuilder, Trace,
+    check_run_length, drive_into, plot, Decimated, RowSink, RunSummary, StreamError, Streamed,
+    SummaryBuilder, Trace,
 };
 use guideway::simulation::Simulation;
 use guideway::Scene;
@@ -24,14 +25,26 @@ use std::sync::atomic::Ordering;
 /// outputs that is about 50 000 rows, more than a plot has pixels.
 const PLOT_VALUES: usize = 1_000_000;
 
+/// The staged output files of a run, created before it starts.
+struct Outputs {
+    csv: Option<Staged>,
+    summary: Option<Staged>,
+    plot: Option<Staged>,
+}
+
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene)?;
     check_paths(&args)?;
     let interrupted = interrupt::install();
-    let stage = |path: &Option<PathBuf>| path.as_deref().map(Staged::new).transpose();
-    let (csv, summary_file, plot_file) =
-        (|| Ok((stage(&args.out)?, stage(&args.summary)?, stage(&args.plot)?)))()
-            .map_err(Failure::Run)?;
+    let stage = |path: &Option<PathBuf>| {
+        let staged = path.as_deref().map(Staged::new).transpose();
+        staged.map_err(Failure::Run)
+    };
+    let outputs = Outputs {
+        csv: stage(&args.out)?,
+        summary: stage(&args.summary)?,
+        plot: stage(&args.plot)?,
+    };
 
     let cannot_simulate =
         |m: String| Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name));
@@ -39,7 +52,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     check_run_length(&scene, args.max_steps, " (--max-steps N raises it)")
         .map_err(cannot_simulate)?;
 
-    let mut sink = Sink::new(&scene, &simulation, csv.as_ref(), plot_file.is_some())?;
+    let mut sink = Sink::new(&scene, &simulation, &outputs)?;
     let mut progress = Progress::new(args.quiet);
     let result = drive_into(&scene, &mut simulation, &mut sink, |step| {
         progress.update(step);
@@ -50,40 +63,53 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         }
     });
     progress.finish();
+    match result {
+        Ok(streamed) => {
+            let integrator = simulation.integrator_choice().to_string();
+            let summary = finish(sink, outputs, &streamed, integrator, &scene, args.quiet)?;
+            if !args.quiet {
+                println!("{summary}");
+            }
+            Ok(())
+        }
+        Err(error) => Err(failed(error, sink, outputs.csv, &scene)),
+    }
+}
 
-    let streamed = match result {
-        Ok(streamed) => streamed,
-        Err(error) => return Err(failed(error, sink, csv, &scene)),
-    };
-    let plot_trace = sink.plot.take().map(Decimated::finish);
-    if let Some(csv) = csv {
+/// Write what a finished run produced and move each file onto its path.
+fn finish(
+    mut sink: Sink,
+    outputs: Outputs,
+    streamed: &Streamed,
+    integrator: String,
+    scene: &Scene,
+    quiet: bool,
+) -> Result<RunSummary, Failure> {
+    if let Some(csv) = outputs.csv {
         sink.finish_csv()?;
         csv.commit().map_err(Failure::Run)?;
     }
     let mut summary = sink
         .summary
         .finish(streamed.exit_time, streamed.solve_time.as_secs_f64());
-    summary.integrator = Some(simulation.integrator_choice().to_string());
-    if let Some(staged) = summary_file {
+    summary.integrator = Some(integrator);
+    if let Some(staged) = outputs.summary {
         std::fs::write(staged.temp_path(), summary.to_json() + "\n")
             .map_err(|e| Failure::Run(format!("cannot write {}: {e}", staged.path().display())))?;
         staged.commit().map_err(Failure::Run)?;
     }
-    if let (Some(staged), Some(trace)) = (plot_file, plot_trace) {
-        if plot::load_font() == plot::Text::Omitted && !args.quiet {
+    if let (Some(staged), Some(trace)) = (outputs.plot, sink.plot.map(Decimated::finish)) {
+        if plot::load_font() == plot::Text::Omitted && !quiet {
             eprintln!(
                 "note: no font found ({} or ${}); the plot has no text",
                 plot::FONT_PATHS[0],
                 plot::FONT_ENV
             );
         }
-        plot::write_plot(&scene, &trace, staged.temp_path()).map_err(Failure::Run)?;
+        plot::write_plot(scene, &trace, staged.temp_path()).map_err(Failure::Run)?;
         staged.commit().map_err(Failure::Run)?;
     }
-    if !args.quiet {
-        println!("{summary}");
-    }
-    Ok(())
+    Ok(summary)
 }
 
 /// Refuse outputs that would overwrite the scene file or each other.
@@ -108,22 +134,27 @@ fn check_paths(args: &RunArgs) -> Result<(), Failure> {
 /// The message and exit code of a run that did not finish; the CSV rows
 /// written so far are kept as `<out>.incomplete`.
 fn failed(error: StreamError, mut sink: Sink, csv: Option<Staged>, scene: &Scene) -> Failure {
-    let (mut message, steps) = match error {
+    type Exit = fn(String) -> Failure;
+    let (mut message, steps, exit): (String, u64, Exit) = match error {
         StreamError::Refused(m) => {
             return Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name))
         }
         StreamError::Output { message, .. } => return Failure::Run(message),
-        StreamError::Solver { error, steps } => (format!("the solver failed {error}"), steps),
-        StreamError::Interrupted { time, steps } => {
-            (format!("interrupted (Ctrl-C) at t = {time} s"), steps)
+        StreamError::Solver { error, steps } => {
+            (format!("the solver failed {error}"), steps, Failure::Run)
         }
+        StreamError::Interrupted { time, steps } => (
+            format!("interrupted (Ctrl-C) at t = {time} s"),
+            steps,
+            Failure::Interrupted,
+        ),
     };
-    let interrupted = message.starts_with("interrupted");
     if let Some(csv) = csv {
         let out = csv.path().to_path_buf();
         let kept = sink
             .finish_csv()
-            .and_then(|()| csv.commit_as(&incomplete_path(&out)).map_err(Failure::Run));
+            .map_err(Failure::into_message)
+            .and_then(|()| csv.commit_as(&incomplete_path(&out)));
         match kept {
             Ok(path) => message.push_str(&format!(
                 "\n(the initial state and the {steps} steps before it are in {}, marked \
@@ -131,16 +162,10 @@ fn failed(error: StreamError, mut sink: Sink, csv: Option<Staged>, scene: &Scene
                 path.display(),
                 out.display()
             )),
-            Err(
-                Failure::Run(e) | Failure::Scene(e) | Failure::Usage(e) | Failure::Interrupted(e),
-            ) => message.push_str(&format!("\n{e}")),
+            Err(e) => message.push_str(&format!("\n{e}")),
         }
     }
-    if interrupted {
-        Failure::Interrupted(message)
-    } else {
-        Failure::Run(message)
-    }
+    exit(message)
 }
 
 /// `<out>.incomplete`: where the rows of a run that did not finish go.
@@ -159,15 +184,9 @@ struct Sink {
 }
 
 impl Sink {
-    fn new(
-        scene: &Scene,
-        simulation: &Simulation,
-        csv: Option<&Staged>,
-        plot: bool,
-    ) -> Result<Sink, Failure> {
-        let outputs = simulation.outputs();
-        let trace = Trace::for_outputs(outputs);
-        let csv = match csv {
+    fn new(scene: &Scene, simulation: &Simulation, outputs: &Outputs) -> Result<Sink, Failure> {
+        let trace = Trace::for_outputs(simulation.outputs());
+        let csv = match &outputs.csv {
             None => None,
             Some(staged) => {
                 let cannot = |e: String| {
@@ -182,7 +201,7 @@ impl Sink {
         Ok(Sink {
             csv,
             summary: SummaryBuilder::new(scene, &trace.names),
-            plot: plot.then(|| {
+            plot: outputs.plot.as_ref().map(|_| {
                 let rows = PLOT_VALUES / (trace.names.len() + 1);
                 Decimated::new(trace, rows)
             }),
