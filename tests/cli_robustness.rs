@@ -598,6 +598,35 @@ fn export_and_run_give_the_same_exit_code_for_a_scene_that_cannot_be_simulated()
 }
 
 #[test]
+fn a_cross_check_needing_too_many_steps_is_refused_before_anything_is_written() {
+    // 1.25 × 24 m / 1e-4 m/s = 3e5 s: 1.2e8 steps, not refused on main.
+    let dir = tempfile::tempdir().unwrap();
+    let file = scene_file(
+        dir.path(),
+        "slow.toml",
+        "initial_speed = 10.0",
+        "initial_speed = 1e-4",
+    );
+    let fmu = dir.path().join("slow.fmu");
+    let cross_check = dir.path().join("cc");
+    let output = guideway(&[
+        "export",
+        &file,
+        "-o",
+        s(&fmu),
+        "--cross-check",
+        s(&cross_check),
+    ]);
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("more than the limit of 1000000"),
+        "{}",
+        stderr(&output)
+    );
+    assert!(!fmu.exists() && !cross_check.exists());
+}
+
+#[test]
 fn max_iterations_has_an_upper_bound() {
     let dir = tempfile::tempdir().unwrap();
     let file = scene_file(

@@ -8,6 +8,14 @@ use std::path::{Path, PathBuf};
 pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene)?;
     check_paths(&args, &scene.name)?;
+    if args.cross_check.is_some() {
+        fmu::cross_check::check_length(&scene).map_err(|m| {
+            Failure::Scene(format!(
+                "scene `{}` cannot be cross-checked: {m}",
+                scene.name
+            ))
+        })?;
+    }
     let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
     let exported = fmu::export(&scene, &args.out, &cdylib).map_err(|e| match e {
         // The same scene problem gives the same exit code as `run`.

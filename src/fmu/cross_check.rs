@@ -25,6 +25,21 @@ pub fn ref_opt(scene: &Scene) -> String {
     )
 }
 
+/// Refuse a reference that would need more than `DEFAULT_MAX_STEPS` steps
+/// to reach the default stop time.
+pub fn check_length(scene: &Scene) -> Result<(), String> {
+    let stop = default_stop_time(scene);
+    let h = scene.solver.step;
+    let steps = (stop / h).ceil();
+    if steps.is_nan() || steps > DEFAULT_MAX_STEPS as f64 {
+        return Err(format!(
+            "the cross-check reference would need {steps:e} steps of solver.step = {h:e} s to \
+             reach the default stop time {stop:e} s, more than the limit of {DEFAULT_MAX_STEPS}"
+        ));
+    }
+    Ok(())
+}
+
 /// Simulate `scene` with communication steps of `solver.step` until the
 /// default stop time or the exit, and return the CSV text.
 pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
@@ -37,15 +52,9 @@ pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
         csv += &v.name;
     }
     csv += "\n";
+    check_length(scene)?;
     let stop = default_stop_time(scene);
     let h = scene.solver.step;
-    let steps = (stop / h).ceil();
-    if steps.is_nan() || steps > DEFAULT_MAX_STEPS as f64 {
-        return Err(format!(
-            "the cross-check reference would need {steps:e} steps of solver.step = {h:e} s to \
-             reach the default stop time {stop:e} s, more than the limit of {DEFAULT_MAX_STEPS}"
-        ));
-    }
     let mut row = |model: &mut Model<D>| -> Result<(), String> {
         write!(csv, "{:?}", model.time()).expect("write to String");
         for v in &outputs {
