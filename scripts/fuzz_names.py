@@ -35,7 +35,9 @@ import zipfile
 from xml.etree import ElementTree
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-GUIDEWAY = pathlib.Path(os.environ.get("GUIDEWAY_BIN", ROOT / "target" / "release" / "guideway"))
+# cargo builds into $CARGO_TARGET_DIR when it is set (relative to the root).
+TARGET_DIR = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
+GUIDEWAY = pathlib.Path(os.environ.get("GUIDEWAY_BIN", TARGET_DIR / "release" / "guideway"))
 
 IDENTIFIER = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_"
 SPECIAL = ["-", ".", " ", "<", ">", "&", '"', "'", "]]>", "\\", "é", "ü", "∂", "😀", "\t"]
