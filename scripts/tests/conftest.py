@@ -31,7 +31,9 @@ from fmpy.logging import addLoggerProxy
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU_DIR = pathlib.Path(os.environ.get("GUIDEWAY_FMU_DIR", ROOT / "out" / "fmu"))
 PROFILE = os.environ.get("GUIDEWAY_PROFILE", "release")
-GUIDEWAY = ROOT / "target" / PROFILE / "guideway"
+# cargo builds into $CARGO_TARGET_DIR when it is set (relative to the root).
+TARGET_DIR = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
+GUIDEWAY = TARGET_DIR / PROFILE / "guideway"
 
 # The built-in scenes whose FMUs the tests use: (scene name, body).
 WHEEL = "lee1994-wheel-10"
