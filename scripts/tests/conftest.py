@@ -13,6 +13,7 @@ import shutil
 import subprocess
 import tomllib
 import zipfile
+from xml.etree import ElementTree
 from ctypes import byref
 
 import numpy as np
@@ -48,7 +49,14 @@ def fmu_path(scene_name):
     path = FMU_DIR / f"{identifier(scene_name)}.fmu"
     if not path.is_file():
         pytest.fail(f"{path} missing: run scripts/test.sh (it exports the FMUs first)")
+    assert_well_formed(path)
     return path
+
+
+def assert_well_formed(fmu):
+    """Every exported FMU's modelDescription.xml must be XML (issue 13)."""
+    with zipfile.ZipFile(fmu) as z:
+        ElementTree.fromstring(z.read("modelDescription.xml"))
 
 
 def read_csv(path):

@@ -20,6 +20,7 @@ pub use variables::{
     Causality, Role, Setting, Value, VarType, Variability, Variable, VariableTable,
 };
 
+use crate::report::non_finite_output;
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
@@ -158,12 +159,11 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
     })
 }
 
-/// The first output of `sim` that is not finite, with its value.
-fn first_non_finite<D: Dynamics>(sim: &D) -> Option<(String, f64)> {
+/// The first output of `sim` that is not finite, named with its value.
+fn first_non_finite<D: Dynamics>(sim: &D) -> Option<String> {
     let mut values = vec![0.0; sim.outputs().len()];
     sim.output_values(&mut values);
-    let k = values.iter().position(|x| !x.is_finite())?;
-    Some((sim.outputs()[k].name.clone(), values[k]))
+    non_finite_output(sim.outputs(), &values)
 }
 
 impl<D: Dynamics> Model<D> {
@@ -283,11 +283,9 @@ impl<D: Dynamics> Model<D> {
         }
         // Parameters can be finite and valid one by one and still overflow
         // an output (a huge speed squared): refuse rather than hand out inf.
-        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+        if let Some(bad) = non_finite_output(sim.outputs(), &values) {
             return err(format!(
-                "output {} is {} with these parameters; choose smaller values",
-                sim.outputs()[k].name,
-                values[k]
+                "{bad} with these parameters; choose smaller values"
             ));
         }
         Ok(values)

@@ -97,7 +97,7 @@ impl<D: Dynamics> Model<D> {
         let fitted = sim.restore(state).and_then(|()| {
             sim.set_body_force(snap.inputs[0], snap.inputs[1]);
             match first_non_finite(&sim) {
-                Some((name, x)) => Err(format!("output {name} would be {x}")),
+                Some(bad) => Err(bad),
                 None if !sim.time().is_finite() => Err(format!("its time is {}", sim.time())),
                 None => Ok(()),
             }

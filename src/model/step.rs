@@ -178,7 +178,7 @@ fn check_reached<D: Dynamics>(
     }
     let at = t0 + sim.time();
     let problem = match first_non_finite(sim) {
-        Some((name, x)) => Some(format!("output {name} became {x} at t = {at} s")),
+        Some(bad) => Some(format!("{bad} at t = {at} s")),
         None => sim
             .check_state(&sim.state())
             .err()
