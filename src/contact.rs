@@ -138,6 +138,15 @@ impl ContactFrame {
 /// axis by Newton's method, starting at `guess` and moving across elements.
 /// Beyond the beam's ends the end elements' cubics are extended, so that the
 /// exit instant can be found by interpolation.
+///
+/// Each Newton move is limited to a trust radius of the larger of the
+/// current element's length, the centre's height over the axis (≈ r + h)
+/// and its horizontal distance from the iterate: the foot point lies within
+/// height × slope of the centre's abscissa, so the search reaches it in a
+/// few moves however many elements a step's travel spans, while on coarse
+/// meshes the limit stays one element as before. The element is found from
+/// the previous one (a short walk, bisection for a long move), never by a
+/// scan of the mesh.
 pub fn foot_point(
     beam: &Beam,
     u: &DVector<f64>,
@@ -145,9 +154,10 @@ pub fn foot_point(
     guess: f64,
 ) -> Result<ContactFrame, FootPointError> {
     let mut x = guess;
-    let max_move = beam.min_element_length();
+    let mut element = beam.element_at(x);
     for _ in 0..50 {
-        let shape = beam.shape(beam.element_at(x), x);
+        element = beam.element_near(x, element);
+        let shape = beam.shape(element, x);
         let w = shape.dot(&shape.n, u);
         let slope = shape.dot(&shape.dn, u);
         let curvature = shape.dot(&shape.ddn, u);
@@ -157,7 +167,11 @@ pub fn foot_point(
         if !(derivative.is_finite() && residual.is_finite()) || derivative.abs() < 1e-12 {
             return Err(FootPointError { last_x: x });
         }
-        let dx = (-residual / derivative).clamp(-max_move, max_move);
+        let trust = beam
+            .element_length(element)
+            .max(height.abs())
+            .max((centre.x - x).abs());
+        let dx = (-residual / derivative).clamp(-trust, trust);
         // Converged: the remaining Newton correction is at round-off level.
         if dx.abs() <= 1e-14 * beam.length.max(1.0) {
             let secant = (1.0 + slope * slope).sqrt();
