@@ -308,6 +308,24 @@ impl Beam {
         }
     }
 
+    /// w and its first three derivatives along the deformed axis at `x` in
+    /// `element`, from the element's cubic in power form (about 25 flops,
+    /// no shape rows built): what the foot-point search evaluates at each
+    /// of its iterates.
+    pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
+        let len = self.element_length[element];
+        let s = (x - self.node_x[element]) / len;
+        let dof = |k: usize| self.dof_map[2 * element + k].map_or(0.0, |i| u[i]);
+        let (a, b, c, d) = (dof(0), dof(1) * len, dof(2), dof(3) * len);
+        let c2 = -3.0 * a - 2.0 * b + 3.0 * c - d;
+        let c3 = 2.0 * a + b - 2.0 * c + d;
+        let w = a + s * (b + s * (c2 + s * c3));
+        let dw = (b + s * (2.0 * c2 + 3.0 * s * c3)) / len;
+        let ddw = (2.0 * c2 + 6.0 * s * c3) / (len * len);
+        let dddw = 6.0 * c3 / (len * len * len);
+        [w, dw, ddw, dddw]
+    }
+
     /// Transverse deflection w at `x` (m).
     pub fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
         let shape = self.shape(self.element_at(x), x);
