@@ -67,45 +67,53 @@ impl SymBand {
         SymBand { rows }
     }
 
+    /// Row i of A x from the band, for any i (the edge rows and tiny sizes).
+    fn row_times(&self, i: usize, x: &[f64]) -> f64 {
+        let n = self.size();
+        let lo = i.saturating_sub(3);
+        let hi = (i + 3).min(n - 1);
+        (lo..=hi).map(|j| self.get(i, j) * x[j]).sum()
+    }
+
     /// `out = A x`.
     pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
         let n = self.size();
         assert!(x.len() == n && out.len() == n);
-        let rows = &self.rows[..n];
-        for i in 0..n {
-            let r = &rows[i];
-            // Lower part and diagonal from row i.
-            let mut sum = r[3] * x[i];
-            if i >= 3 {
-                sum += r[0] * x[i - 3] + r[1] * x[i - 2] + r[2] * x[i - 1];
-            } else {
-                for k in 1..=i {
-                    sum += r[3 - k] * x[i - k];
-                }
+        if n < 7 {
+            for (i, o) in out.iter_mut().enumerate() {
+                *o = self.row_times(i, x);
             }
-            // Upper part: A(i, i+k) = row (i+k), place 3−k.
-            if i + 3 < n {
-                sum += rows[i + 1][2] * x[i + 1] + rows[i + 2][1] * x[i + 2] + rows[i + 3][0] * x[i + 3];
-            } else {
-                for k in 1..n - i {
-                    sum += rows[i + k][3 - k] * x[i + k];
-                }
-            }
-            out[i] = sum;
+            return;
+        }
+        for i in (0..3).chain(n - 3..n) {
+            out[i] = self.row_times(i, x);
+        }
+        // Interior rows: a 7-point stencil, rows i..i+3 give A(i, i−3..i+3).
+        for ((o, xw), rw) in out[3..n - 3]
+            .iter_mut()
+            .zip(x.windows(7))
+            .zip(self.rows[3..].windows(4))
+        {
+            let (xw, rw): (&[f64; 7], &[[f64; 4]; 4]) =
+                (xw.try_into().expect("7"), rw.try_into().expect("4"));
+            let lower = rw[0][0] * xw[0] + rw[0][1] * xw[1] + rw[0][2] * xw[2];
+            let upper = rw[1][2] * xw[4] + rw[2][1] * xw[5] + rw[3][0] * xw[6];
+            *o = lower + rw[0][3] * xw[3] + upper;
         }
     }
 
     /// xᵀ A x.
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
-        assert_eq!(x.len(), self.size());
+        let n = self.size();
+        assert_eq!(x.len(), n);
+        // Diagonal once, each off-diagonal pair twice; the three previous
+        // entries of x ride along in registers.
+        let (mut x3, mut x2, mut x1) = (0.0, 0.0, 0.0);
         let mut sum = 0.0;
-        for (i, r) in self.rows.iter().enumerate() {
-            // Diagonal once, each off-diagonal pair twice.
-            let mut off = 0.0;
-            for k in 1..=i.min(3) {
-                off += r[3 - k] * x[i - k];
-            }
-            sum += x[i] * (r[3] * x[i] + 2.0 * off);
+        for (&xi, r) in x.iter().zip(&self.rows) {
+            let off = r[0] * x3 + r[1] * x2 + r[2] * x1;
+            sum += xi * (r[3] * xi + 2.0 * off);
+            (x3, x2, x1) = (x2, x1, xi);
         }
         sum
     }
@@ -145,8 +153,16 @@ impl SymBand {
             pivot[i] = d;
             inverse_pivot[i] = 1.0 / d;
         }
+        // Column i of L below the diagonal, stored with row i for the
+        // backward sweep: L(i+1, i), L(i+2, i), L(i+3, i).
+        let below = (0..n)
+            .map(|i| {
+                [1, 2, 3].map(|k| if i + k < n { lower[i + k][3 - k] } else { 0.0 })
+            })
+            .collect();
         Some(BandLdlt {
             lower,
+            below,
             inverse_pivot,
         })
     }
@@ -158,6 +174,7 @@ impl SymBand {
 #[derive(Debug, Clone, PartialEq)]
 pub struct BandLdlt {
     lower: Vec<[f64; 3]>,
+    below: Vec<[f64; 3]>,
     inverse_pivot: Vec<f64>,
 }
 
@@ -168,34 +185,29 @@ impl BandLdlt {
 
     /// `x ← A⁻¹ x`.
     pub fn solve_in_place(&self, x: &mut [f64]) {
-        let n = self.size();
-        assert_eq!(x.len(), n);
-        let lower = &self.lower[..n];
-        let inverse_pivot = &self.inverse_pivot[..n];
-        // L z = b; the terms of z_{i−3}, z_{i−2} are summed before z_{i−1}
-        // is needed, so each row waits on one multiply-add only.
-        for i in 1..n.min(3) {
-            for k in 1..=i {
-                x[i] -= lower[i][3 - k] * x[i - k];
-            }
+        assert_eq!(x.len(), self.size());
+        // L z = b, then y = D⁻¹ z, Lᵀ x = y. The three latest values ride
+        // along in registers (entries before the first row are zero, so the
+        // first rows need no special case); the terms of the older two are
+        // summed first, so each row waits on one multiply-add.
+        let (mut z3, mut z2, mut z1) = (0.0, 0.0, 0.0);
+        for (xi, l) in x.iter_mut().zip(&self.lower) {
+            let partial = *xi - l[0] * z3 - l[1] * z2;
+            let z = partial - l[2] * z1;
+            *xi = z;
+            (z3, z2, z1) = (z2, z1, z);
         }
-        for i in 3..n {
-            let l = &lower[i];
-            let partial = x[i] - l[0] * x[i - 3] - l[1] * x[i - 2];
-            x[i] = partial - l[2] * x[i - 1];
-        }
-        for (xi, d) in x.iter_mut().zip(inverse_pivot) {
-            *xi *= d;
-        }
-        // Lᵀ y = z: the last three rows first (fewer later entries).
-        for i in (n.saturating_sub(3)..n).rev() {
-            for k in 1..n - i {
-                x[i] -= lower[i + k][3 - k] * x[i + k];
-            }
-        }
-        for i in (0..n.saturating_sub(3)).rev() {
-            let partial = x[i] - lower[i + 3][0] * x[i + 3] - lower[i + 2][1] * x[i + 2];
-            x[i] = partial - lower[i + 1][2] * x[i + 1];
+        let (mut y3, mut y2, mut y1) = (0.0, 0.0, 0.0);
+        for ((xi, b), d) in x
+            .iter_mut()
+            .zip(&self.below)
+            .zip(&self.inverse_pivot)
+            .rev()
+        {
+            let partial = *xi * d - b[2] * y3 - b[1] * y2;
+            let y = partial - b[0] * y1;
+            *xi = y;
+            (y3, y2, y1) = (y2, y1, y);
         }
     }
 

@@ -269,11 +269,32 @@ impl Beam {
         self.element_length[element]
     }
 
-    /// Shape functions of element `element` at abscissa `x`.
-    pub fn shape(&self, element: usize, x: f64) -> Shape {
-        let x0 = self.node_x[element];
+    /// Where `x` lies past an end of the beam, the end element's abscissa
+    /// of that end (0 or 1) and the distance past it (m); otherwise `x`'s
+    /// own abscissa and 0.
+    fn abscissa(&self, element: usize, x: f64) -> (f64, f64) {
         let len = self.element_length[element];
-        let s = (x - x0) / len;
+        let s = (x - self.node_x[element]) / len;
+        if element + 1 == self.elements() && s > 1.0 {
+            (1.0, x - self.node_x[element + 1])
+        } else if element == 0 && s < 0.0 {
+            (0.0, x - self.node_x[0])
+        } else {
+            (s, 0.0)
+        }
+    }
+
+    /// Shape functions of element `element` at abscissa `x`.
+    ///
+    /// Past an end of the beam (where the exit is located) the axis goes on
+    /// as the quadratic Taylor polynomial of the end element at the end:
+    /// value, slope and curvature continuous, no cubic term. Extrapolating
+    /// the cubic itself grows as (distance / element length)³, which on
+    /// fine meshes (a step's travel spans tens of elements) made the exit
+    /// step diverge.
+    pub fn shape(&self, element: usize, x: f64) -> Shape {
+        let len = self.element_length[element];
+        let (s, past) = self.abscissa(element, x);
         let (s2, s3) = (s * s, s * s * s);
         let n = [
             1.0 - 3.0 * s2 + 2.0 * s3,
@@ -293,6 +314,13 @@ impl Beam {
             (6.0 - 12.0 * s) / (len * len),
             (6.0 * s - 2.0) / len,
         ];
+        let (mut n, mut dn) = (n, dn);
+        if past != 0.0 {
+            for k in 0..4 {
+                n[k] += past * (dn[k] + 0.5 * past * ddn[k]);
+                dn[k] += past * ddn[k];
+            }
+        }
         let dofs = [
             self.dof_map[2 * element],
             self.dof_map[2 * element + 1],
@@ -314,7 +342,7 @@ impl Beam {
     /// of its iterates.
     pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
         let len = self.element_length[element];
-        let s = (x - self.node_x[element]) / len;
+        let (s, past) = self.abscissa(element, x);
         let dof = |k: usize| self.dof_map[2 * element + k].map_or(0.0, |i| u[i]);
         let (a, b, c, d) = (dof(0), dof(1) * len, dof(2), dof(3) * len);
         let c2 = -3.0 * a - 2.0 * b + 3.0 * c - d;
@@ -323,6 +351,10 @@ impl Beam {
         let dw = (b + s * (2.0 * c2 + 3.0 * s * c3)) / len;
         let ddw = (2.0 * c2 + 6.0 * s * c3) / (len * len);
         let dddw = 6.0 * c3 / (len * len * len);
+        if past != 0.0 {
+            // The quadratic continuation past the end (see `shape`).
+            return [w + past * (dw + 0.5 * past * ddw), dw + past * ddw, ddw, 0.0];
+        }
         [w, dw, ddw, dddw]
     }
 
