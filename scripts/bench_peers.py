@@ -35,6 +35,7 @@ import json
 import os
 import platform
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -95,16 +96,20 @@ class Config:
         self.code, self.label, self.cmd = code, label, cmd
         self.result_file, self.elements, self.step = result_file, elements, step
         self.process = []
+        self.cpu = []
         self.solve = []
         self.exit_speed = None
 
     def run(self):
         if self.result_file.exists():
             self.result_file.unlink()
+        usage = resource.getrusage(resource.RUSAGE_CHILDREN)
         start = time.perf_counter()
         subprocess.run(self.cmd, check=True, stdout=subprocess.DEVNULL,
                        stderr=subprocess.DEVNULL, timeout=RUN_TIMEOUT_S)
         wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        self.cpu.append(after.ru_utime + after.ru_stime - usage.ru_utime - usage.ru_stime)
         result = json.loads(self.result_file.read_text())
         if self.code == "guideway":
             speed, solve = result["exit_nominal_speed"], result["wall_time_s"]
@@ -168,7 +173,7 @@ def main():
     # References (each code against its own converged exit speed).
     print("references ...", flush=True)
     references = {}
-    for elements, h in [(2, PAPER_STEP / 64), (32, PAPER_STEP / 128)]:
+    for elements, h in [(2, PAPER_STEP / 64), (32, PAPER_STEP / 256)]:
         coarse = make_guideway(tmp, f"ref{elements}a", elements, h, "rk4", tolerance=1e-11)
         fine = make_guideway(tmp, f"ref{elements}b", elements, h / 2, "rk4", tolerance=1e-11)
         coarse.run()
@@ -249,7 +254,7 @@ def main():
       "guideway runs `target/release/guideway run <scene> -q --summary`. Every configuration ran once "
       f"per round, the two codes alternating, {args.rounds} rounds. *Process*: wall clock around "
       "the whole process (start-up, build, solve, output). *Solve*: the time each code reports for "
-      "its time stepping alone.")
+      "its time stepping alone. *Process CPU time*: user + system time of the process (less sensitive to the other processes on the machine than wall time).")
     w("")
     w("## References")
     w("")
@@ -276,17 +281,20 @@ def main():
     w("")
     w("## Ratios (Exudyn time / guideway time, per round)")
     w("")
-    w("| pairing | guideway | Exudyn | errors (m/s) | process ratio: median [min, max] | solve ratio: median [min, max] |")
-    w("|---|---|---|---|---|---|")
+    w("| pairing | guideway | Exudyn | errors (m/s) | process ratio: median [min, max] | solve ratio: median [min, max] | process CPU-time ratio |")
+    w("|---|---|---|---|---|---|---|")
     summary = []
     for name, g, e in pairings:
         process = [te / tg for tg, te in zip(g.process, e.process)]
         solve = [te / tg for tg, te in zip(g.solve, e.solve)]
+        cpu = [te / max(tg, 1e-6) for tg, te in zip(g.cpu, e.cpu)]
         pm, plo, phi = spread(process)
         sm, slo, shi = spread(solve)
+        cm, clo, chi = spread(cpu)
         summary.append((name, pm, plo, phi, sm, slo, shi))
         w(f"| {name} | {g.label} | {e.label} | {error(g):.1e} / {error(e):.1e} | "
-          f"{pm:.0f}× [{plo:.0f}, {phi:.0f}] | {sm:.0f}× [{slo:.0f}, {shi:.0f}] |")
+          f"{pm:.0f}× [{plo:.0f}, {phi:.0f}] | {sm:.0f}× [{slo:.0f}, {shi:.0f}] | "
+          f"{cm:.0f}× [{clo:.0f}, {chi:.0f}] |")
     w("")
     if not accurate:
         w(f"No 32-element guideway run reached Exudyn's error of {target_error:.1e} m/s.")

@@ -19,17 +19,25 @@ use nalgebra::DVector;
 /// Half-bandwidth: the farthest a nonzero lies from the diagonal.
 pub const HALF_BANDWIDTH: usize = 3;
 
+/// Up to this size (a beam of up to 4 elements) products and solves use a
+/// dense copy of the matrix, or of the factor's inverse: n² multiply-adds in
+/// one loop beat the band sweeps' edge cases when n is this small.
+pub const DENSE_LIMIT: usize = 8;
+
 /// A symmetric matrix whose row i holds A(i, i−3), A(i, i−2), A(i, i−1),
 /// A(i, i) (entries before the first column are zero).
 #[derive(Debug, Clone, PartialEq)]
 pub struct SymBand {
     rows: Vec<[f64; 4]>,
+    /// Row-major dense copy when n ≤ `DENSE_LIMIT`, else empty.
+    dense: Vec<f64>,
 }
 
 impl SymBand {
     pub fn zeros(n: usize) -> SymBand {
         SymBand {
             rows: vec![[0.0; 4]; n],
+            dense: if n <= DENSE_LIMIT { vec![0.0; n * n] } else { Vec::new() },
         }
     }
 
@@ -43,6 +51,11 @@ impl SymBand {
         let offset = row - col;
         assert!(offset <= HALF_BANDWIDTH, "entry ({i}, {j}) outside the band");
         self.rows[row][3 - offset] += value;
+        if !self.dense.is_empty() {
+            let n = self.size();
+            self.dense[row * n + col] = self.rows[row][3 - offset];
+            self.dense[col * n + row] = self.rows[row][3 - offset];
+        }
     }
 
     /// A(i, j) (zero outside the band).
@@ -64,7 +77,13 @@ impl SymBand {
             .zip(&other.rows)
             .map(|(x, y)| [0, 1, 2, 3].map(|k| a * x[k] + b * y[k]))
             .collect();
-        SymBand { rows }
+        let dense = self
+            .dense
+            .iter()
+            .zip(&other.dense)
+            .map(|(x, y)| a * x + b * y)
+            .collect();
+        SymBand { rows, dense }
     }
 
     /// Row i of A x from the band, for any i (the edge rows and tiny sizes).
@@ -79,10 +98,8 @@ impl SymBand {
     pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
         let n = self.size();
         assert!(x.len() == n && out.len() == n);
-        if n < 7 {
-            for (i, o) in out.iter_mut().enumerate() {
-                *o = self.row_times(i, x);
-            }
+        if !self.dense.is_empty() {
+            dense_times(&self.dense, x, out);
             return;
         }
         for i in (0..3).chain(n - 3..n) {
@@ -160,11 +177,34 @@ impl SymBand {
                 [1, 2, 3].map(|k| if i + k < n { lower[i + k][3 - k] } else { 0.0 })
             })
             .collect();
-        Some(BandLdlt {
+        let mut factor = BandLdlt {
             lower,
             below,
             inverse_pivot,
-        })
+            dense_inverse: Vec::new(),
+        };
+        if n <= DENSE_LIMIT {
+            // Columns of A⁻¹ by the band solve; A⁻¹ is symmetric.
+            let mut inverse = vec![0.0; n * n];
+            let mut column = vec![0.0; n];
+            for j in 0..n {
+                column.fill(0.0);
+                column[j] = 1.0;
+                factor.band_solve(&mut column);
+                for i in 0..n {
+                    inverse[i * n + j] = column[i];
+                }
+            }
+            factor.dense_inverse = inverse;
+        }
+        Some(factor)
+    }
+}
+
+/// `out = A x` for a row-major dense n×n `a`.
+fn dense_times(a: &[f64], x: &[f64], out: &mut [f64]) {
+    for (o, row) in out.iter_mut().zip(a.chunks_exact(x.len())) {
+        *o = row.iter().zip(x).map(|(r, v)| r * v).sum();
     }
 }
 
@@ -176,6 +216,8 @@ pub struct BandLdlt {
     lower: Vec<[f64; 3]>,
     below: Vec<[f64; 3]>,
     inverse_pivot: Vec<f64>,
+    /// Row-major A⁻¹ when n ≤ `DENSE_LIMIT`, else empty.
+    dense_inverse: Vec<f64>,
 }
 
 impl BandLdlt {
@@ -186,6 +228,16 @@ impl BandLdlt {
     /// `x ← A⁻¹ x`.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         assert_eq!(x.len(), self.size());
+        if !self.dense_inverse.is_empty() {
+            let mut b = [0.0; DENSE_LIMIT];
+            b[..x.len()].copy_from_slice(x);
+            dense_times(&self.dense_inverse, &b[..x.len()], x);
+            return;
+        }
+        self.band_solve(x);
+    }
+
+    fn band_solve(&self, x: &mut [f64]) {
         // L z = b, then y = D⁻¹ z, Lᵀ x = y. The three latest values ride
         // along in registers (entries before the first row are zero, so the
         // first rows need no special case); the terms of the older two are
@@ -277,7 +329,7 @@ mod tests {
 
     #[test]
     fn product_solve_and_quadratic_form_match_dense_algebra() {
-        for n in [1usize, 2, 3, 4, 5, 7, 40] {
+        for n in [1usize, 2, 3, 4, 5, 7, 8, 9, 10, 12, 40] {
             let a = sample(n);
             let full = dense(&a);
             let x = DVector::from_fn(n, |i, _| (i as f64 * 1.3).cos() + 0.1);
