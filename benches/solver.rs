@@ -57,6 +57,15 @@ fn timed_steps(sim: &mut Simulation, start: &guideway::SimState, step: f64, n: u
     (elapsed, integrations + sim.counters().1.saturating_sub(before))
 }
 
+/// `GUIDEWAY_BENCH_MAX_ELEMENTS` caps the meshes measured (for quick runs,
+/// or to compare with a version that cannot run the largest).
+fn max_elements() -> usize {
+    std::env::var("GUIDEWAY_BENCH_MAX_ELEMENTS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(usize::MAX)
+}
+
 fn cost_per_step(c: &mut Criterion) {
     for (name, integrator, sizes) in [
         (
@@ -72,7 +81,7 @@ fn cost_per_step(c: &mut Criterion) {
     ] {
         let mut group = c.benchmark_group(name);
         group.sample_size(10);
-        for &elements in sizes {
+        for &elements in sizes.iter().filter(|&&e| e <= max_elements()) {
             let (mut sim, step) = simulation(elements, integrator);
             let start = sim.state();
             group.bench_with_input(BenchmarkId::from_parameter(elements), &elements, |b, _| {

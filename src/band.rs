@@ -203,6 +203,18 @@ impl SymBand {
 
 /// `out = A x` for a row-major dense n×n `a`.
 fn dense_times(a: &[f64], x: &[f64], out: &mut [f64]) {
+    // The 2-element beam (4 free DOFs) is the paper's mesh: unrolled.
+    if let (Ok(a), Ok(x), Ok(out)) = (
+        <&[f64; 16]>::try_from(a),
+        <&[f64; 4]>::try_from(x),
+        <&mut [f64; 4]>::try_from(&mut *out),
+    ) {
+        for (i, o) in out.iter_mut().enumerate() {
+            let r = &a[4 * i..4 * i + 4];
+            *o = (r[0] * x[0] + r[1] * x[1]) + (r[2] * x[2] + r[3] * x[3]);
+        }
+        return;
+    }
     for (o, row) in out.iter_mut().zip(a.chunks_exact(x.len())) {
         *o = row.iter().zip(x).map(|(r, v)| r * v).sum();
     }
