@@ -41,7 +41,12 @@ fn simulation(elements: usize, integrator: IntegratorKind) -> (Simulation, f64) 
 
 /// Time `iterations` steps from the current state (back to the start at
 /// the exit); the elapsed time and the integrations they took.
-fn timed_steps(sim: &mut Simulation, start: &guideway::SimState, step: f64, n: u64) -> (Duration, u64) {
+fn timed_steps(
+    sim: &mut Simulation,
+    start: &guideway::SimState,
+    step: f64,
+    n: u64,
+) -> (Duration, u64) {
     let before = sim.counters().1;
     let mut integrations = 0;
     let clock = Instant::now();
@@ -54,7 +59,10 @@ fn timed_steps(sim: &mut Simulation, start: &guideway::SimState, step: f64, n: u
         black_box(sim.advance_to(target).expect("converges"));
     }
     let elapsed = clock.elapsed();
-    (elapsed, integrations + sim.counters().1.saturating_sub(before))
+    (
+        elapsed,
+        integrations + sim.counters().1.saturating_sub(before),
+    )
 }
 
 /// `GUIDEWAY_BENCH_MAX_ELEMENTS` caps the meshes measured (for quick runs,

@@ -37,7 +37,11 @@ impl SymBand {
     pub fn zeros(n: usize) -> SymBand {
         SymBand {
             rows: vec![[0.0; 4]; n],
-            dense: if n <= DENSE_LIMIT { vec![0.0; n * n] } else { Vec::new() },
+            dense: if n <= DENSE_LIMIT {
+                vec![0.0; n * n]
+            } else {
+                Vec::new()
+            },
         }
     }
 
@@ -49,7 +53,10 @@ impl SymBand {
     pub fn add_symmetric(&mut self, i: usize, j: usize, value: f64) {
         let (row, col) = if i >= j { (i, j) } else { (j, i) };
         let offset = row - col;
-        assert!(offset <= HALF_BANDWIDTH, "entry ({i}, {j}) outside the band");
+        assert!(
+            offset <= HALF_BANDWIDTH,
+            "entry ({i}, {j}) outside the band"
+        );
         self.rows[row][3 - offset] += value;
         if !self.dense.is_empty() {
             let n = self.size();
@@ -173,9 +180,7 @@ impl SymBand {
         // Column i of L below the diagonal, stored with row i for the
         // backward sweep: L(i+1, i), L(i+2, i), L(i+3, i).
         let below = (0..n)
-            .map(|i| {
-                [1, 2, 3].map(|k| if i + k < n { lower[i + k][3 - k] } else { 0.0 })
-            })
+            .map(|i| [1, 2, 3].map(|k| if i + k < n { lower[i + k][3 - k] } else { 0.0 }))
             .collect();
         let mut factor = BandLdlt {
             lower,
@@ -262,12 +267,7 @@ impl BandLdlt {
             (z3, z2, z1) = (z2, z1, z);
         }
         let (mut y3, mut y2, mut y1) = (0.0, 0.0, 0.0);
-        for ((xi, b), d) in x
-            .iter_mut()
-            .zip(&self.below)
-            .zip(&self.inverse_pivot)
-            .rev()
-        {
+        for ((xi, b), d) in x.iter_mut().zip(&self.below).zip(&self.inverse_pivot).rev() {
             let partial = *xi * d - b[2] * y3 - b[1] * y2;
             let y = partial - b[0] * y1;
             *xi = y;
@@ -352,7 +352,10 @@ mod tests {
                 assert!((y[i] - expected[i]).abs() < 1e-12 * expected.amax().max(1.0));
             }
             let q = a.quadratic_form(x.as_slice());
-            assert!((q - x.dot(&expected)).abs() < 1e-12 * q.abs().max(1.0), "n = {n}");
+            assert!(
+                (q - x.dot(&expected)).abs() < 1e-12 * q.abs().max(1.0),
+                "n = {n}"
+            );
 
             let factor = a.ldlt().expect("SPD");
             let mut solved = expected.clone();

@@ -353,7 +353,12 @@ impl Beam {
         let dddw = 6.0 * c3 / (len * len * len);
         if past != 0.0 {
             // The quadratic continuation past the end (see `shape`).
-            return [w + past * (dw + 0.5 * past * ddw), dw + past * ddw, ddw, 0.0];
+            return [
+                w + past * (dw + 0.5 * past * ddw),
+                dw + past * ddw,
+                ddw,
+                0.0,
+            ];
         }
         [w, dw, ddw, dddw]
     }
@@ -453,7 +458,10 @@ impl Beam {
 
     /// Whether σ M − K is positive definite, i.e. σ exceeds every eigenvalue.
     fn exceeds_spectrum(&self, sigma: f64) -> bool {
-        self.mass.combine(sigma, &self.stiffness, -1.0).ldlt().is_some()
+        self.mass
+            .combine(sigma, &self.stiffness, -1.0)
+            .ldlt()
+            .is_some()
     }
 
     /// A lower bound of λ_max: the Rayleigh quotient xᵀKx / xᵀMx of a few
@@ -515,8 +523,8 @@ impl Beam {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::DMatrix;
     use crate::scene::SupportsSpec;
+    use nalgebra::DMatrix;
 
     fn paper_beam(elements: usize) -> BeamSpec {
         BeamSpec {
@@ -570,8 +578,16 @@ mod tests {
             let beam = Beam::new(&spec).unwrap();
             let exact = dense_highest_frequency(&beam);
             let fast = beam.highest_frequency();
-            assert!(fast >= exact, "{} elements: {fast} < {exact}", spec.elements);
-            assert!(fast <= exact * (1.0 + 2e-4), "{} elements: {fast} vs {exact}", spec.elements);
+            assert!(
+                fast >= exact,
+                "{} elements: {fast} < {exact}",
+                spec.elements
+            );
+            assert!(
+                fast <= exact * (1.0 + 2e-4),
+                "{} elements: {fast} vs {exact}",
+                spec.elements
+            );
         }
     }
 

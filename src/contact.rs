@@ -254,6 +254,49 @@ mod tests {
     }
 
     #[test]
+    fn foot_point_reaches_across_thousands_of_elements() {
+        // 65,536 elements of 0.37 mm and a smooth deflection; the search
+        // starts 2 m (5,461 elements) from the answer, on either side, and
+        // past the end of the beam.
+        let beam = Beam::new(&BeamSpec {
+            length: 24.0,
+            mass_per_length: 1250.0,
+            bending_stiffness: 1e9,
+            surface_offset: 0.6,
+            elements: 65_536,
+            supports: SupportsSpec::default(),
+        })
+        .unwrap();
+        let mut u = DVector::zeros(beam.free_dofs());
+        for (node, &x) in beam.node_x.iter().enumerate() {
+            let shape = beam.shape(beam.element_at(x), x);
+            // w = −0.17 sin(πx/L): write w and w' into the node's free DOFs.
+            let k = std::f64::consts::PI / 24.0;
+            let (w, slope) = (-0.17 * (k * x).sin(), -0.17 * k * (k * x).cos());
+            let local = if node + 1 == beam.node_x.len() { 2 } else { 0 };
+            if let Some(i) = shape.dofs[local] {
+                u[i] = w;
+            }
+            if let Some(i) = shape.dofs[local + 1] {
+                u[i] = slope;
+            }
+        }
+        for (centre_x, guess) in [(12.0, 10.0), (3.0, 5.0), (23.5, 24.5)] {
+            let centre = Vector2::new(centre_x, 0.9 - 0.17 * (centre_x * 0.1309).sin());
+            let frame = foot_point(&beam, &u, &centre, guess).unwrap();
+            let d = Vector2::new(frame.x, frame.deflection);
+            let along = frame.tangent().dot(&(centre - d));
+            assert!(along.abs() < 1e-10, "tangential offset {along}");
+            assert_eq!(frame.shape.element, beam.element_at(frame.x));
+            assert!(
+                (frame.x - centre_x).abs() < 0.1,
+                "{} for {centre_x}",
+                frame.x
+            );
+        }
+    }
+
+    #[test]
     fn contact_power_is_force_times_velocity_error() {
         // The loads are the transposes of the constraint rows, so the power
         // the contact force puts into body and beam together is p · e.

@@ -19,7 +19,6 @@ use common::{paper_scene, run_to_exit};
 use guideway::scene::{BodyKind, IntegratorKind, Scene};
 use guideway::{Advance, Simulation};
 
-
 fn fine_scene(elements: usize) -> Scene {
     let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
     scene.beam.elements = elements;
@@ -54,7 +53,11 @@ fn exit_on_16384_elements_is_located() {
         run_to_exit(&scene)
     };
     let (fine, coarse) = (exit(16_384), exit(1_024));
-    assert!((fine.exit_time - coarse.exit_time).abs() < 1e-6, "{}", fine.exit_time);
+    assert!(
+        (fine.exit_time - coarse.exit_time).abs() < 1e-6,
+        "{}",
+        fine.exit_time
+    );
     assert!(
         (fine.exit_nominal_speed - coarse.exit_nominal_speed).abs() < 1e-3,
         "{} vs {}",

@@ -8,8 +8,8 @@
 //! so the forces they receive are equal and opposite over every step and,
 //! for α = 0, the contact does no work beyond that of the velocity error.
 
-use nalgebra::{DVector, Vector2, Vector3};
 use crate::band::BandLdlt;
+use nalgebra::{DVector, Vector2, Vector3};
 
 use super::{contact_loads, DynamicState, IntegrationError, StepStart};
 use crate::contact::{foot_point, ContactForce};
