@@ -432,10 +432,8 @@ impl Beam {
         const RELATIVE_WIDTH: f64 = 1e-4;
         let bound = self.max_element_frequency().powi(2);
         let mut upper = bound * (1.0 + 1e-12);
-        let mut lower = self.rayleigh_lower_bound().min(upper);
-        if !(lower > 0.0) {
-            lower = 0.0;
-        }
+        // f64::max drops a NaN: a failed quotient leaves the bracket at 0.
+        let mut lower = self.rayleigh_lower_bound().min(upper).max(0.0);
         // Try just above the lower end first: usually the bracket closes at once.
         let first = lower * (1.0 + 0.5 * RELATIVE_WIDTH);
         if first < upper {

@@ -281,7 +281,7 @@ mod tests {
                 u[i] = slope;
             }
         }
-        for (centre_x, guess) in [(12.0, 10.0), (3.0, 5.0), (23.5, 24.5)] {
+        for (centre_x, guess) in [(12.0f64, 10.0), (3.0, 5.0), (23.5, 24.5)] {
             let centre = Vector2::new(centre_x, 0.9 - 0.17 * (centre_x * 0.1309).sin());
             let frame = foot_point(&beam, &u, &centre, guess).unwrap();
             let d = Vector2::new(frame.x, frame.deflection);
