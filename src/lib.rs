@@ -6,6 +6,7 @@
 //! typed variables; the `fmi2` layer exports that table through the FMI 2.0
 //! co-simulation C ABI and knows nothing of beams.
 
+pub mod band;
 pub mod beam;
 pub mod body;
 pub mod contact;

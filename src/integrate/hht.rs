@@ -8,8 +8,8 @@
 //! so the forces they receive are equal and opposite over every step and,
 //! for α = 0, the contact does no work beyond that of the velocity error.
 
+use crate::band::BandLdlt;
 use nalgebra::{DVector, Vector2, Vector3};
-use nalgebra_sparse::factorization::CscCholesky;
 
 use super::{contact_loads, DynamicState, IntegrationError, StepStart};
 use crate::contact::{foot_point, ContactForce};
@@ -22,8 +22,8 @@ pub struct Hht {
     /// Factor of M + (1 + α) β Δt² K for the nominal step, and for the last
     /// other step length met (the shortened last step before an exit or a
     /// communication point).
-    nominal: (f64, CscCholesky<f64>),
-    other: Option<(f64, CscCholesky<f64>)>,
+    nominal: (f64, BandLdlt),
+    other: Option<(f64, BandLdlt)>,
     /// The previous iterate's end configuration, within the current step.
     predicted_u: DVector<f64>,
     predicted_centre: Vector2<f64>,

@@ -1,0 +1,339 @@
+#!/usr/bin/env python3
+"""guideway side by side with a general multibody code (Exudyn), in one
+measurement run, on the paper's 10 m/s wheel case.
+
+    .venv/bin/python scripts/bench_peers.py            # about 5 to 10 minutes on 2 cores
+    .venv/bin/python scripts/bench_peers.py --rounds 3 # shorter
+
+What it does:
+
+1. Installs Exudyn (PyPI `exudyn`, the version the peer model was written
+   for) and numpy into its own venv, `target/peers-venv`, unless present.
+   The peer model is run from `../shared/peers/exudyn/runExudynWheelBeam.py`
+   (beside this repository); it is not part of guideway.
+2. Builds `target/release/guideway`.
+3. References: each code's exit speed is compared with its own converged
+   value, since the two models differ (Exudyn: ANCF beam with finite EA,
+   penalty contact, centre speed at x_c = L; guideway: the paper's model,
+   nominal speed V at the contact's exit). guideway's: RK4 at two fine
+   steps, Richardson-extrapolated (tolerance 1e-11 m/s). Exudyn's: the mean
+   of two fine runs (32 elements at 1e-4 s, 64 elements at 2.5e-4 s); half
+   their difference is printed as its uncertainty.
+4. Timing: every configuration of both codes runs once per round, round
+   after round (A B A B, never all of one code then the other), each as its
+   own process. Per round the ratio Exudyn / guideway is taken for each
+   pairing, whole process (wall clock around the process, start-up
+   included) and solve only (guideway's `wall_time_s`, Exudyn's
+   `wallSolve_s`); the report gives their median and range.
+5. Writes `report/peers.md` and `report/peers.png` (exit-speed error against
+   whole-process wall time, both codes on one chart).
+"""
+
+import argparse
+import datetime
+import json
+import os
+import platform
+import re
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PEER_DIR = ROOT.parent / "shared" / "peers" / "exudyn"
+PEER_SCRIPT = PEER_DIR / "runExudynWheelBeam.py"
+VENV = ROOT / "target" / "peers-venv"
+EXUDYN_VERSION = "1.13.6"
+GUIDEWAY = ROOT / "target" / "release" / "guideway"
+PAPER_STEP = 0.0025
+# Every run is bounded: a process that takes longer is killed and reported.
+RUN_TIMEOUT_S = 120
+
+
+def sh(cmd, **kw):
+    return subprocess.run(cmd, check=True, **kw)
+
+
+def ensure_exudyn():
+    python = VENV / "bin" / "python"
+    probe = [str(python), "-c", "import exudyn, numpy; print(exudyn.__version__)"]
+    if python.exists():
+        found = subprocess.run(probe, capture_output=True, text=True)
+        if found.returncode == 0 and found.stdout.strip() == EXUDYN_VERSION:
+            return python
+    print(f"installing exudyn=={EXUDYN_VERSION} and numpy into {VENV}", flush=True)
+    sh([sys.executable, "-m", "venv", str(VENV)])
+    sh([str(python), "-m", "pip", "install", "-q", f"exudyn=={EXUDYN_VERSION}", "numpy"])
+    return python
+
+
+def guideway_scene(elements, step, integrator, damping=0.0, tolerance=1e-7):
+    text = subprocess.run(
+        [str(GUIDEWAY), "scenes", "--show", "lee1994-wheel-10"],
+        check=True, capture_output=True, text=True).stdout
+    replace = {
+        "elements": str(elements),
+        "step": repr(step),
+        "integrator": f'"{integrator}"',
+        "numerical_damping": repr(damping),
+        "velocity_tolerance": repr(tolerance),
+        "max_iterations": "200",
+    }
+    for key, value in replace.items():
+        text, count = re.subn(rf"^{key} = [^#\n]*", f"{key} = {value}", text, flags=re.M)
+        assert count == 1, key
+    return text
+
+
+class Config:
+    """One way of running one code: a command, its exit speed and its times."""
+
+    def __init__(self, code, label, cmd, result_file, elements, step):
+        self.code, self.label, self.cmd = code, label, cmd
+        self.result_file, self.elements, self.step = result_file, elements, step
+        self.process = []
+        self.cpu = []
+        self.solve = []
+        self.exit_speed = None
+
+    def run(self):
+        if self.result_file.exists():
+            self.result_file.unlink()
+        usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+        start = time.perf_counter()
+        subprocess.run(self.cmd, check=True, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL, timeout=RUN_TIMEOUT_S)
+        wall = time.perf_counter() - start
+        after = resource.getrusage(resource.RUSAGE_CHILDREN)
+        self.cpu.append(after.ru_utime + after.ru_stime - usage.ru_utime - usage.ru_stime)
+        result = json.loads(self.result_file.read_text())
+        if self.code == "guideway":
+            speed, solve = result["exit_nominal_speed"], result["wall_time_s"]
+        else:
+            speed, solve = result["exitSpeed"], result["wallSolve_s"]
+        if speed is None:
+            raise RuntimeError(f"{self.label}: no exit speed")
+        self.exit_speed = speed
+        return wall, solve
+
+
+def make_guideway(tmp, label, elements, step, integrator, damping=0.0, tolerance=1e-7):
+    scene = tmp / f"{label}.toml"
+    scene.write_text(guideway_scene(elements, step, integrator, damping, tolerance))
+    summary = tmp / f"{label}.json"
+    cmd = [str(GUIDEWAY), "run", str(scene), "-q", "--summary", str(summary)]
+    return Config("guideway", label, cmd, summary, elements, step)
+
+
+def make_exudyn(python, tmp, label, elements, step):
+    out = tmp / f"{label}.json"
+    cmd = [str(python), str(PEER_SCRIPT), "--V0", "10", "--nElements", str(elements),
+           "--stepSize", repr(step), "--contactStiffness", "1e12", "--quiet",
+           "--json", str(out)]
+    return Config("exudyn", label, cmd, out, elements, step)
+
+
+def spread(values):
+    return statistics.median(values), min(values), max(values)
+
+
+def machine():
+    cpu = "unknown CPU"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return f"{os.cpu_count()} cores, {cpu}, {platform.system()} {platform.release()}"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--rounds", type=int, default=5, help="measurement rounds (default 5)")
+    parser.add_argument("--out", default=str(ROOT / "report"), help="report directory")
+    args = parser.parse_args()
+    if not PEER_SCRIPT.exists():
+        sys.exit(f"the peer model is not at {PEER_SCRIPT}")
+    if args.rounds < 1 or args.rounds > 50:
+        sys.exit("--rounds must be 1 to 50 (each round runs Exudyn for about 10 s)")
+    python = ensure_exudyn()
+    sh(["cargo", "build", "--release", "--quiet", "--bin", "guideway"], cwd=ROOT)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(prefix="bench_peers_"))
+    date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    load_before = os.getloadavg()
+
+    # References (each code against its own converged exit speed).
+    print("references ...", flush=True)
+    references = {}
+    for elements, h in [(2, PAPER_STEP / 64), (32, PAPER_STEP / 256)]:
+        coarse = make_guideway(tmp, f"ref{elements}a", elements, h, "rk4", tolerance=1e-11)
+        fine = make_guideway(tmp, f"ref{elements}b", elements, h / 2, "rk4", tolerance=1e-11)
+        coarse.run()
+        fine.run()
+        value = fine.exit_speed + (fine.exit_speed - coarse.exit_speed) / 3.0
+        references[("guideway", elements)] = (value, abs(fine.exit_speed - coarse.exit_speed))
+    exudyn_refs = [make_exudyn(python, tmp, "eref32", 32, 1e-4),
+                   make_exudyn(python, tmp, "eref64", 64, 2.5e-4)]
+    for config in exudyn_refs:
+        config.run()
+    a, b = (c.exit_speed for c in exudyn_refs)
+    exudyn_reference = (0.5 * (a + b), 0.5 * abs(a - b))
+
+    guideway = [
+        make_guideway(tmp, "g2-rk4-2.5ms", 2, PAPER_STEP, "rk4"),
+        make_guideway(tmp, "g32-hht-2.5ms", 32, PAPER_STEP, "hht"),
+        make_guideway(tmp, "g32-hht-1.25ms", 32, PAPER_STEP / 2, "hht"),
+        make_guideway(tmp, "g32-hht-0.625ms", 32, PAPER_STEP / 4, "hht"),
+        make_guideway(tmp, "g32-hht-0.3125ms", 32, PAPER_STEP / 8, "hht"),
+    ]
+    exudyn = [
+        make_exudyn(python, tmp, "e32-1ms", 32, 1e-3),
+        make_exudyn(python, tmp, "e32-0.5ms", 32, 5e-4),
+        make_exudyn(python, tmp, "e32-0.25ms", 32, 2.5e-4),
+    ]
+    configs = guideway + exudyn
+
+    print(f"{args.rounds} rounds of {len(configs)} runs, alternating ...", flush=True)
+    for r in range(args.rounds):
+        # Alternate codes within the round: g e g e g e g g.
+        order = []
+        for i in range(max(len(guideway), len(exudyn))):
+            if i < len(guideway):
+                order.append(guideway[i])
+            if i < len(exudyn):
+                order.append(exudyn[i])
+        if r % 2:
+            order.reverse()
+        for config in order:
+            wall, solve = config.run()
+            config.process.append(wall)
+            config.solve.append(solve)
+        print(f"  round {r + 1}: done", flush=True)
+    load_after = os.getloadavg()
+
+    def error(config):
+        if config.code == "guideway":
+            return abs(config.exit_speed - references[("guideway", config.elements)][0])
+        return abs(config.exit_speed - exudyn_reference[0])
+
+    # Pairings: Exudyn's cheapest run against guideway at the paper's setting,
+    # and against the cheapest 32-element guideway run at least as accurate.
+    cheapest_exudyn = min(exudyn, key=lambda c: statistics.median(c.process))
+    target_error = error(cheapest_exudyn)
+    accurate = [c for c in guideway if c.elements == 32 and error(c) <= target_error]
+    pairings = [("paper's setting (2 elements, RK4, 2.5 ms)", guideway[0], cheapest_exudyn)]
+    if accurate:
+        best = min(accurate, key=lambda c: statistics.median(c.process))
+        pairings.append(("32 elements, equal or better exit-speed accuracy", best, cheapest_exudyn))
+    for c in exudyn:
+        matching = [g for g in guideway if g.elements == 32 and error(g) <= error(c)]
+        if matching and c is not cheapest_exudyn:
+            best = min(matching, key=lambda g: statistics.median(g.process))
+            pairings.append((f"32 elements, against Exudyn at {c.step:g} s", best, c))
+
+    lines = []
+    w = lines.append
+    w("# guideway and Exudyn side by side")
+    w("")
+    w(f"Measured {date} with `.venv/bin/python scripts/bench_peers.py --rounds {args.rounds}` "
+      f"on {machine()}; load average (1, 5, 15 min) {load_before[0]:.2f}, {load_before[1]:.2f}, "
+      f"{load_before[2]:.2f} before and {load_after[0]:.2f}, {load_after[1]:.2f}, "
+      f"{load_after[2]:.2f} after (other developers' builds share the machine: read the "
+      "ratios, which pair runs taken seconds apart, rather than the absolute times).")
+    w("")
+    w(f"Exudyn {EXUDYN_VERSION} runs the peer model `../shared/peers/exudyn/runExudynWheelBeam.py` "
+      "(ANCF cable, penalty contact with k_c = 1e12 N/m, generalized-α with ρ∞ = 0.8, one thread); "
+      "guideway runs `target/release/guideway run <scene> -q --summary`. Every configuration ran once "
+      f"per round, the two codes alternating, {args.rounds} rounds. *Process*: wall clock around "
+      "the whole process (start-up, build, solve, output). *Solve*: the time each code reports for "
+      "its time stepping alone. *Process CPU time*: user + system time of the process (less sensitive to the other processes on the machine than wall time).")
+    w("")
+    w("## References")
+    w("")
+    w("Each code's exit speed is compared with its own converged value: the models differ "
+      "(finite EA, penalty contact and the centre's speed at x_c = L in Exudyn; the paper's "
+      "model and the nominal speed V at the contact's exit in guideway).")
+    w("")
+    for elements in (2, 32):
+        value, diff = references[("guideway", elements)]
+        w(f"- guideway, {elements} elements: {value:.7f} m/s (RK4 at two fine steps, "
+          f"Richardson; the two runs differ by {diff:.1e} m/s)")
+    w(f"- Exudyn: {exudyn_reference[0]:.5f} m/s (mean of 32 elements at 1e-4 s and 64 elements "
+      f"at 2.5e-4 s, {a:.5f} and {b:.5f}; ± {exudyn_reference[1]:.1e} m/s)")
+    w("")
+    w("## Runs")
+    w("")
+    w("| code | configuration | exit speed (m/s) | error (m/s) | process (s): median [min, max] | solve (s): median [min, max] |")
+    w("|---|---|---:|---:|---|---|")
+    for c in configs:
+        pm, plo, phi = spread(c.process)
+        sm, slo, shi = spread(c.solve)
+        w(f"| {c.code} | {c.label} | {c.exit_speed:.6f} | {error(c):.1e} | "
+          f"{pm:.4g} [{plo:.4g}, {phi:.4g}] | {sm:.4g} [{slo:.4g}, {shi:.4g}] |")
+    w("")
+    w("## Ratios (Exudyn time / guideway time, per round)")
+    w("")
+    w("| pairing | guideway | Exudyn | errors (m/s) | process ratio: median [min, max] | solve ratio: median [min, max] | process CPU-time ratio |")
+    w("|---|---|---|---|---|---|---|")
+    summary = []
+    for name, g, e in pairings:
+        process = [te / tg for tg, te in zip(g.process, e.process)]
+        solve = [te / tg for tg, te in zip(g.solve, e.solve)]
+        cpu = [te / max(tg, 1e-6) for tg, te in zip(g.cpu, e.cpu)]
+        pm, plo, phi = spread(process)
+        sm, slo, shi = spread(solve)
+        cm, clo, chi = spread(cpu)
+        summary.append((name, pm, plo, phi, sm, slo, shi))
+        w(f"| {name} | {g.label} | {e.label} | {error(g):.1e} / {error(e):.1e} | "
+          f"{pm:.0f}× [{plo:.0f}, {phi:.0f}] | {sm:.0f}× [{slo:.0f}, {shi:.0f}] | "
+          f"{cm:.0f}× [{clo:.0f}, {chi:.0f}] |")
+    w("")
+    if not accurate:
+        w(f"No 32-element guideway run reached Exudyn's error of {target_error:.1e} m/s.")
+        w("")
+    w("![error against wall time](peers.png)")
+    w("")
+    (out / "peers.md").write_text("\n".join(lines) + "\n")
+
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        for code, marker in (("guideway", "o"), ("exudyn", "s")):
+            for elements in sorted({c.elements for c in configs if c.code == code}):
+                group = [c for c in configs if c.code == code and c.elements == elements]
+                xs = [statistics.median(c.process) for c in group]
+                ys = [max(error(c), 1e-9) for c in group]
+                ax.plot(xs, ys, marker=marker, linestyle="-",
+                        label=f"{'Exudyn' if code == 'exudyn' else 'guideway'}, {elements} elements")
+                for c, x, y in zip(group, xs, ys):
+                    ax.annotate(c.label.split("-", 1)[1], (x, y), fontsize=7,
+                                textcoords="offset points", xytext=(4, 4))
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("whole-process wall time (s), median of the rounds")
+        ax.set_ylabel("|exit speed − own reference| (m/s)")
+        ax.set_title(f"10 m/s wheel, paired runs ({date})")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+        fig.tight_layout()
+        fig.savefig(out / "peers.png", dpi=120)
+    except ImportError:
+        print("matplotlib missing: no plot", file=sys.stderr)
+
+    print((out / "peers.md").read_text())
+    for name, pm, plo, phi, sm, slo, shi in summary:
+        print(f"{name}: process {pm:.0f}x [{plo:.0f}, {phi:.0f}], solve {sm:.0f}x [{slo:.0f}, {shi:.0f}]")
+
+
+if __name__ == "__main__":
+    main()

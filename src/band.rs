@@ -1,0 +1,384 @@
+//! Symmetric band matrices of half-bandwidth 3 and their LDLᵀ factors.
+//!
+//! A Hermite beam element couples four consecutive DOFs (w, ψ of its two
+//! nodes), so with the free DOFs numbered node by node every beam matrix
+//! (mass, stiffness, M + c K) has nonzeros only within three places of the
+//! diagonal, whatever the supports remove. Stored as rows of four numbers
+//! (three below the diagonal and the diagonal), a product costs 7
+//! multiply-adds per row and a factor solve 7 with no index arrays.
+//!
+//! Written here, not taken from a crate: nalgebra-sparse's and faer's
+//! sparse Cholesky factorizations go through index arrays and a symbolic
+//! phase (≈ 7 instructions per flop on the 4×4 matrix of a 2-element beam),
+//! and the banded LAPACK routines (dpbtrf) need a system LAPACK that the FMU
+//! must not depend on; a fixed bandwidth of 3 makes the factorization a
+//! short loop.
+
+use nalgebra::DVector;
+
+/// Half-bandwidth: the farthest a nonzero lies from the diagonal.
+pub const HALF_BANDWIDTH: usize = 3;
+
+/// Up to this size (a beam of up to 4 elements) products and solves use a
+/// dense copy of the matrix, or of the factor's inverse: n² multiply-adds in
+/// one loop beat the band sweeps' edge cases when n is this small.
+pub const DENSE_LIMIT: usize = 8;
+
+/// A symmetric matrix whose row i holds A(i, i−3), A(i, i−2), A(i, i−1),
+/// A(i, i) (entries before the first column are zero).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SymBand {
+    rows: Vec<[f64; 4]>,
+    /// Row-major dense copy when n ≤ `DENSE_LIMIT`, else empty.
+    dense: Vec<f64>,
+}
+
+impl SymBand {
+    pub fn zeros(n: usize) -> SymBand {
+        SymBand {
+            rows: vec![[0.0; 4]; n],
+            dense: if n <= DENSE_LIMIT {
+                vec![0.0; n * n]
+            } else {
+                Vec::new()
+            },
+        }
+    }
+
+    pub fn size(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// Add `value` at (i, j) and, when i ≠ j, at (j, i). Panics if |i − j| > 3.
+    pub fn add_symmetric(&mut self, i: usize, j: usize, value: f64) {
+        let (row, col) = if i >= j { (i, j) } else { (j, i) };
+        let offset = row - col;
+        assert!(
+            offset <= HALF_BANDWIDTH,
+            "entry ({i}, {j}) outside the band"
+        );
+        self.rows[row][3 - offset] += value;
+        if !self.dense.is_empty() {
+            let n = self.size();
+            self.dense[row * n + col] = self.rows[row][3 - offset];
+            self.dense[col * n + row] = self.rows[row][3 - offset];
+        }
+    }
+
+    /// A(i, j) (zero outside the band).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        let (row, col) = if i >= j { (i, j) } else { (j, i) };
+        if row - col > HALF_BANDWIDTH {
+            0.0
+        } else {
+            self.rows[row][3 - (row - col)]
+        }
+    }
+
+    /// `a A + b B` (same size).
+    pub fn combine(&self, a: f64, other: &SymBand, b: f64) -> SymBand {
+        assert_eq!(self.size(), other.size());
+        let rows = self
+            .rows
+            .iter()
+            .zip(&other.rows)
+            .map(|(x, y)| [0, 1, 2, 3].map(|k| a * x[k] + b * y[k]))
+            .collect();
+        let dense = self
+            .dense
+            .iter()
+            .zip(&other.dense)
+            .map(|(x, y)| a * x + b * y)
+            .collect();
+        SymBand { rows, dense }
+    }
+
+    /// Row i of A x from the band, for any i (the edge rows and tiny sizes).
+    fn row_times(&self, i: usize, x: &[f64]) -> f64 {
+        let n = self.size();
+        let lo = i.saturating_sub(3);
+        let hi = (i + 3).min(n - 1);
+        (lo..=hi).map(|j| self.get(i, j) * x[j]).sum()
+    }
+
+    /// `out = A x`.
+    pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
+        let n = self.size();
+        assert!(x.len() == n && out.len() == n);
+        if !self.dense.is_empty() {
+            dense_times(&self.dense, x, out);
+            return;
+        }
+        for i in (0..3).chain(n - 3..n) {
+            out[i] = self.row_times(i, x);
+        }
+        // Interior rows: a 7-point stencil, rows i..i+3 give A(i, i−3..i+3).
+        for ((o, xw), rw) in out[3..n - 3]
+            .iter_mut()
+            .zip(x.windows(7))
+            .zip(self.rows[3..].windows(4))
+        {
+            let (xw, rw): (&[f64; 7], &[[f64; 4]; 4]) =
+                (xw.try_into().expect("7"), rw.try_into().expect("4"));
+            let lower = rw[0][0] * xw[0] + rw[0][1] * xw[1] + rw[0][2] * xw[2];
+            let upper = rw[1][2] * xw[4] + rw[2][1] * xw[5] + rw[3][0] * xw[6];
+            *o = lower + rw[0][3] * xw[3] + upper;
+        }
+    }
+
+    /// xᵀ A x.
+    pub fn quadratic_form(&self, x: &[f64]) -> f64 {
+        let n = self.size();
+        assert_eq!(x.len(), n);
+        // Diagonal once, each off-diagonal pair twice; the three previous
+        // entries of x ride along in registers.
+        let (mut x3, mut x2, mut x1) = (0.0, 0.0, 0.0);
+        let mut sum = 0.0;
+        for (&xi, r) in x.iter().zip(&self.rows) {
+            let off = r[0] * x3 + r[1] * x2 + r[2] * x1;
+            sum += xi * (r[3] * xi + 2.0 * off);
+            (x3, x2, x1) = (x2, x1, xi);
+        }
+        sum
+    }
+
+    /// LDLᵀ factor without pivoting; `None` unless every pivot is positive
+    /// and finite (the matrix is then positive definite, by Sylvester's law
+    /// of inertia).
+    pub fn ldlt(&self) -> Option<BandLdlt> {
+        let n = self.size();
+        let mut lower = vec![[0.0f64; 3]; n];
+        let mut pivot = vec![0.0f64; n];
+        let mut inverse_pivot = vec![0.0f64; n];
+        for i in 0..n {
+            let a = &self.rows[i];
+            let first = i.saturating_sub(3);
+            // L(i, j) for j = first..i, left to right: place 3 − (i − j).
+            let mut l = [0.0f64; 3];
+            for j in first..i {
+                let mut s = a[3 - (i - j)];
+                // Σ over m < j within both rows' bands: L(i,m) D(m) L(j,m).
+                for m in first..j {
+                    if j - m <= 3 {
+                        s -= l[3 - (i - m)] * pivot[m] * lower[j][3 - (j - m)];
+                    }
+                }
+                l[3 - (i - j)] = s * inverse_pivot[j];
+            }
+            let mut d = a[3];
+            for m in first..i {
+                let lim = l[3 - (i - m)];
+                d -= lim * lim * pivot[m];
+            }
+            if !(d > 0.0 && d.is_finite()) {
+                return None;
+            }
+            lower[i] = l;
+            pivot[i] = d;
+            inverse_pivot[i] = 1.0 / d;
+        }
+        // Column i of L below the diagonal, stored with row i for the
+        // backward sweep: L(i+1, i), L(i+2, i), L(i+3, i).
+        let below = (0..n)
+            .map(|i| [1, 2, 3].map(|k| if i + k < n { lower[i + k][3 - k] } else { 0.0 }))
+            .collect();
+        let mut factor = BandLdlt {
+            lower,
+            below,
+            inverse_pivot,
+            dense_inverse: Vec::new(),
+        };
+        if n <= DENSE_LIMIT {
+            // Columns of A⁻¹ by the band solve; A⁻¹ is symmetric.
+            let mut inverse = vec![0.0; n * n];
+            let mut column = vec![0.0; n];
+            for j in 0..n {
+                column.fill(0.0);
+                column[j] = 1.0;
+                factor.band_solve(&mut column);
+                for i in 0..n {
+                    inverse[i * n + j] = column[i];
+                }
+            }
+            factor.dense_inverse = inverse;
+        }
+        Some(factor)
+    }
+}
+
+/// `out = A x` for a row-major dense n×n `a`.
+fn dense_times(a: &[f64], x: &[f64], out: &mut [f64]) {
+    // The 2-element beam (4 free DOFs) is the paper's mesh: unrolled.
+    if let (Ok(a), Ok(x), Ok(out)) = (
+        <&[f64; 16]>::try_from(a),
+        <&[f64; 4]>::try_from(x),
+        <&mut [f64; 4]>::try_from(&mut *out),
+    ) {
+        for (i, o) in out.iter_mut().enumerate() {
+            let r = &a[4 * i..4 * i + 4];
+            *o = (r[0] * x[0] + r[1] * x[1]) + (r[2] * x[2] + r[3] * x[3]);
+        }
+        return;
+    }
+    for (o, row) in out.iter_mut().zip(a.chunks_exact(x.len())) {
+        *o = row.iter().zip(x).map(|(r, v)| r * v).sum();
+    }
+}
+
+/// A = L D Lᵀ of a positive definite `SymBand`: L unit lower triangular with
+/// half-bandwidth 3 (row i holds L(i, i−3), L(i, i−2), L(i, i−1)), and the
+/// reciprocals of D's pivots so that a solve never divides.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BandLdlt {
+    lower: Vec<[f64; 3]>,
+    below: Vec<[f64; 3]>,
+    inverse_pivot: Vec<f64>,
+    /// Row-major A⁻¹ when n ≤ `DENSE_LIMIT`, else empty.
+    dense_inverse: Vec<f64>,
+}
+
+impl BandLdlt {
+    pub fn size(&self) -> usize {
+        self.lower.len()
+    }
+
+    /// `x ← A⁻¹ x`.
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        assert_eq!(x.len(), self.size());
+        if !self.dense_inverse.is_empty() {
+            let mut b = [0.0; DENSE_LIMIT];
+            b[..x.len()].copy_from_slice(x);
+            dense_times(&self.dense_inverse, &b[..x.len()], x);
+            return;
+        }
+        self.band_solve(x);
+    }
+
+    fn band_solve(&self, x: &mut [f64]) {
+        // L z = b, then y = D⁻¹ z, Lᵀ x = y. The three latest values ride
+        // along in registers (entries before the first row are zero, so the
+        // first rows need no special case); the terms of the older two are
+        // summed first, so each row waits on one multiply-add.
+        let (mut z3, mut z2, mut z1) = (0.0, 0.0, 0.0);
+        for (xi, l) in x.iter_mut().zip(&self.lower) {
+            let partial = *xi - l[0] * z3 - l[1] * z2;
+            let z = partial - l[2] * z1;
+            *xi = z;
+            (z3, z2, z1) = (z2, z1, z);
+        }
+        let (mut y3, mut y2, mut y1) = (0.0, 0.0, 0.0);
+        for ((xi, b), d) in x.iter_mut().zip(&self.below).zip(&self.inverse_pivot).rev() {
+            let partial = *xi * d - b[2] * y3 - b[1] * y2;
+            let y = partial - b[0] * y1;
+            *xi = y;
+            (y3, y2, y1) = (y2, y1, y);
+        }
+    }
+
+    /// `x ← A⁻¹ x` for a free-DOF vector.
+    pub fn solve_mut(&self, x: &mut DVector<f64>) {
+        self.solve_in_place(x.as_mut_slice());
+    }
+
+    /// Solve for several right-hand sides at once: `columns[i][c]` is row i
+    /// of column c. The rows are swept once for all columns (one pass over
+    /// the factor, the columns' multiply-adds independent of each other).
+    pub fn solve_columns<const C: usize>(&self, columns: &mut [[f64; C]]) {
+        let n = self.size();
+        assert_eq!(columns.len(), n);
+        let lower = &self.lower[..n];
+        for i in 1..n {
+            let l = &lower[i];
+            let mut row = columns[i];
+            for k in 1..=i.min(3) {
+                let coefficient = l[3 - k];
+                let earlier = columns[i - k];
+                for c in 0..C {
+                    row[c] -= coefficient * earlier[c];
+                }
+            }
+            columns[i] = row;
+        }
+        for (row, d) in columns.iter_mut().zip(&self.inverse_pivot) {
+            for value in row.iter_mut() {
+                *value *= d;
+            }
+        }
+        for i in (0..n).rev() {
+            let mut row = columns[i];
+            for k in 1..(n - i).min(4) {
+                let coefficient = lower[i + k][3 - k];
+                let later = columns[i + k];
+                for c in 0..C {
+                    row[c] -= coefficient * later[c];
+                }
+            }
+            columns[i] = row;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+
+    /// A random-ish SPD band matrix: diagonally dominant.
+    fn sample(n: usize) -> SymBand {
+        let mut a = SymBand::zeros(n);
+        for i in 0..n {
+            for k in 1..=3.min(i) {
+                a.add_symmetric(i, i - k, ((i * 7 + k * 3) as f64 * 0.37).sin());
+            }
+            a.add_symmetric(i, i, 8.0 + (i as f64).cos());
+        }
+        a
+    }
+
+    fn dense(a: &SymBand) -> DMatrix<f64> {
+        DMatrix::from_fn(a.size(), a.size(), |i, j| a.get(i, j))
+    }
+
+    #[test]
+    fn product_solve_and_quadratic_form_match_dense_algebra() {
+        for n in [1usize, 2, 3, 4, 5, 7, 8, 9, 10, 12, 40] {
+            let a = sample(n);
+            let full = dense(&a);
+            let x = DVector::from_fn(n, |i, _| (i as f64 * 1.3).cos() + 0.1);
+            let mut y = vec![0.0; n];
+            a.mul_to(x.as_slice(), &mut y);
+            let expected = &full * &x;
+            for i in 0..n {
+                assert!((y[i] - expected[i]).abs() < 1e-12 * expected.amax().max(1.0));
+            }
+            let q = a.quadratic_form(x.as_slice());
+            assert!(
+                (q - x.dot(&expected)).abs() < 1e-12 * q.abs().max(1.0),
+                "n = {n}"
+            );
+
+            let factor = a.ldlt().expect("SPD");
+            let mut solved = expected.clone();
+            factor.solve_mut(&mut solved);
+            assert!((&solved - &x).amax() < 1e-12, "n = {n}");
+
+            let mut columns: Vec<[f64; 3]> = (0..n)
+                .map(|i| [expected[i], 2.0 * expected[i], -expected[i]])
+                .collect();
+            factor.solve_columns(&mut columns);
+            for i in 0..n {
+                assert!((columns[i][0] - x[i]).abs() < 1e-12);
+                assert!((columns[i][1] - 2.0 * x[i]).abs() < 1e-12);
+                assert!((columns[i][2] + x[i]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn an_indefinite_matrix_has_no_factor() {
+        let mut a = sample(6);
+        a.add_symmetric(4, 4, -20.0);
+        assert!(a.ldlt().is_none());
+        assert!(dense(&a).cholesky().is_none());
+    }
+}
