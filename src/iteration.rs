@@ -1,16 +1,23 @@
-//! The contact-force iteration of Lee (1994), section 3.3.
+//! The contact-force iteration of Lee (1994), section 3.3, over all
+//! contacts at once.
 //!
-//! Per step: hold a trial contact force p over the step, integrate, measure
-//! the velocity error e at the end, correct p ← p − A e with A = C⁻¹ (C the
-//! step's 2×2 Delassus operator), until |e| is within tolerance; then the
-//! position stage corrects the normal force until the gap error |g| is within
-//! its tolerance. A glider (r = 0, J = 0) has no tangential row: its
-//! tangential force stays exactly zero.
+//! Per step: hold trial contact forces p over the step, integrate, measure
+//! the stacked velocity errors e of every contact at the end (tangential for
+//! wheels, normal for all), correct p ← p − C⁻¹ e with C the step's block
+//! Delassus operator, until every contact's |e| is within tolerance; then
+//! the position stage corrects the normal forces with the gaps' block
+//! operator until every |g| is within its tolerance. C couples contacts
+//! through the beam (two wheels on one span load each other) and through a
+//! body they share; it is built once per step, when a correction first needs
+//! it. A glider (r = 0, J = 0) has no tangential row: its tangential force
+//! stays exactly zero.
 
-use nalgebra::{DVector, Matrix2, Matrix4, Vector2, Vector4};
+use std::collections::HashMap;
 
-use crate::contact::{foot_point, ContactForce, ContactFrame};
-use crate::integrate::{DynamicState, IntegrationError, Integrator, StepStart};
+use nalgebra::{DMatrix, DVector, Matrix4, Vector4};
+
+use crate::contact::{ContactForce, ContactFrame};
+use crate::integrate::{contact_frames, DynamicState, IntegrationError, Integrator, StepStart};
 use crate::system::System;
 
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
@@ -22,14 +29,17 @@ pub struct IterationSettings {
 }
 
 /// Converged step.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StepSolution {
-    pub force: ContactForce,
+    /// One force per contact, in the order of `System::contacts`.
+    pub forces: Vec<ContactForce>,
     /// Integrations performed (velocity and position stages together).
     pub iterations: u32,
-    /// |e| at the end of the step (m/s).
+    /// Integrations of the position stage alone.
+    pub position_iterations: u32,
+    /// The largest contact's |e| at the end of the step (m/s).
     pub velocity_error: f64,
-    /// g at the end of the step (m).
+    /// The gap g of largest magnitude at the end of the step (m).
     pub gap_error: f64,
 }
 
@@ -52,6 +62,7 @@ pub enum StepError {
         stage: &'static str,
     },
     LostContact {
+        contact: usize,
         x: f64,
     },
 }
@@ -85,9 +96,11 @@ impl std::fmt::Display for StepError {
                 "a non-finite value appeared in the {stage} stage; the step is beyond the \
                  integrator's stability limit or the scene is degenerate"
             ),
-            StepError::LostContact { x } => write!(
+            StepError::LostContact { contact, x } => write!(
                 f,
-                "no foot point of the body on the beam could be found (last abscissa {x:.6} m)"
+                "no foot point of contact {} on the beam could be found (last abscissa \
+                 {x:.6} m)",
+                contact + 1
             ),
         }
     }
@@ -96,237 +109,418 @@ impl std::fmt::Display for StepError {
 impl From<IntegrationError> for StepError {
     fn from(e: IntegrationError) -> StepError {
         match e {
-            IntegrationError::LostContact { x } => StepError::LostContact { x },
+            IntegrationError::LostContact { contact, x } => StepError::LostContact { contact, x },
         }
     }
 }
 
-/// Sensitivities of the end-of-step errors to the held force.
+/// The block Delassus operators of one step, factorised.
 struct Delassus {
-    /// ∂e/∂p (s/kg): the Delassus operator scaled by the step.
-    velocity: Matrix2<f64>,
-    /// ∂g/∂p_n (m/N).
-    gap: f64,
+    /// ∂e/∂p over the stacked rows (s/kg).
+    velocity: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    /// ∂g/∂p_n over the contacts (m/N).
+    gap: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
 }
 
-/// Displacements and velocities at an element's four DOFs after one step
-/// under a unit load held on each of them (column = loaded DOF).
+/// Displacements and velocities at one element's four DOFs after one step
+/// under a unit load held on each DOF of another (or the same) element
+/// (column = loaded DOF).
 #[derive(Debug, Clone, Copy)]
 struct ElementResponse {
     displacement: Matrix4<f64>,
     velocity: Matrix4<f64>,
 }
 
+/// Cached element pairs beyond which the cache is emptied (about 16 MB).
+const MAX_CACHED_PAIRS: usize = 1 << 16;
+
+/// The kinds of rows a contact has: 0 tangential, 1 normal.
+fn row_kinds(rolls: bool) -> &'static [usize] {
+    if rolls {
+        &[0, 1]
+    } else {
+        &[1]
+    }
+}
+
 /// The iteration's workspace: integrator scratch and unit-load responses.
 pub struct ContactIteration {
     integrator: Integrator,
     load: DVector<f64>,
-    response_u: [DVector<f64>; 2],
-    response_v: [DVector<f64>; 2],
-    /// Per-element responses for steps of the nominal length, filled as the
-    /// contact reaches each element: the Delassus operator then costs a few
-    /// flops per step instead of two beam integrations. They depend only on
-    /// the element and the nominal step, never on the history, so a restored
-    /// state continues bit-identically.
-    element_responses: Vec<Option<ElementResponse>>,
+    response_u: Vec<DVector<f64>>,
+    response_v: Vec<DVector<f64>>,
+    /// Responses for steps of the nominal length, keyed by (measured
+    /// element, loaded element), filled as the contacts reach the elements:
+    /// the Delassus operator then costs a few flops per entry instead of
+    /// beam integrations. They depend only on the elements and the nominal
+    /// step, never on the history, so a restored state continues
+    /// bit-identically.
+    element_responses: HashMap<(usize, usize), ElementResponse>,
     nominal_step: f64,
+    offsets: Vec<usize>,
+    rows: usize,
+    start_frames: Vec<ContactFrame>,
+    end_frames: Vec<ContactFrame>,
+    forces: Vec<ContactForce>,
+    error: DVector<f64>,
 }
 
 impl ContactIteration {
     /// `nominal_step`: the fixed step whose unit-load responses are cached.
-    pub fn new(
-        integrator: Integrator,
-        free_dofs: usize,
-        elements: usize,
-        nominal_step: f64,
-    ) -> ContactIteration {
-        let z = || DVector::zeros(free_dofs);
+    pub fn new(integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
+        let free_dofs = system.beam.free_dofs();
+        let (offsets, rows) = system.row_offsets();
         ContactIteration {
             integrator,
-            load: z(),
-            response_u: [z(), z()],
-            response_v: [z(), z()],
-            element_responses: vec![None; elements],
+            load: DVector::zeros(free_dofs),
+            response_u: Vec::new(),
+            response_v: Vec::new(),
+            element_responses: HashMap::new(),
             nominal_step,
+            offsets,
+            rows,
+            start_frames: Vec::new(),
+            end_frames: Vec::new(),
+            forces: Vec::new(),
+            error: DVector::zeros(rows),
         }
     }
 
-    fn element_response(&mut self, system: &System, element: usize) -> ElementResponse {
-        if let Some(response) = self.element_responses[element] {
-            return response;
+    /// Make sure `response_u`/`response_v` hold at least `count` vectors.
+    fn reserve_responses(&mut self, count: usize) {
+        let n = self.load.len();
+        while self.response_u.len() < count {
+            self.response_u.push(DVector::zeros(n));
+            self.response_v.push(DVector::zeros(n));
         }
-        let dt = self.nominal_step;
-        let dofs = system.beam.shape(element, system.beam.node_x[element]).dofs;
-        let mut response = ElementResponse {
-            displacement: Matrix4::zeros(),
-            velocity: Matrix4::zeros(),
-        };
-        for (l, loaded) in dofs.iter().enumerate() {
-            let Some(loaded) = *loaded else { continue };
-            self.load.fill(0.0);
-            self.load[loaded] = 1.0;
-            let (u, v) = (&mut self.response_u[0], &mut self.response_v[0]);
-            self.integrator.beam_response(system, &self.load, dt, u, v);
-            for (k, measured) in dofs.iter().enumerate() {
-                if let Some(measured) = *measured {
-                    response.displacement[(k, l)] = self.response_u[0][measured];
-                    response.velocity[(k, l)] = self.response_v[0][measured];
-                }
-            }
-        }
-        self.element_responses[element] = Some(response);
-        response
     }
 
-    /// Beam parts of ∂e/∂p and ∂g/∂p_n: the measured rows times the beam's
-    /// response to the applied rows.
-    fn beam_compliance(
-        &mut self,
-        system: &System,
-        apply: &ContactFrame,
-        measure: &ContactFrame,
-        dt: f64,
-    ) -> (Matrix2<f64>, f64) {
+    /// Fill the cached responses of every (measured, loaded) pair of the
+    /// given elements that is missing: four beam integrations per loaded
+    /// element, measured at all elements at once.
+    fn fill_element_responses(&mut self, system: &System, measured: &[usize], loaded: &[usize]) {
+        if self.element_responses.len() > MAX_CACHED_PAIRS {
+            self.element_responses.clear();
+        }
         let beam = &system.beam;
-        let (t_row, n_row) = apply.beam_rows(beam.surface_offset);
-        let (mt_row, mn_row) = measure.beam_rows(beam.surface_offset);
-        let active = if system.body.rolls { 0..2 } else { 1..2 };
-        let mut velocity = Matrix2::zeros();
-        // Grid steps differ from the nominal step by round-off only.
-        let nominal = (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step;
-        if nominal && apply.shape.element == measure.shape.element {
-            let r = self.element_response(system, apply.shape.element);
-            let rows = [Vector4::from(t_row), Vector4::from(n_row)];
-            let measure_rows = [Vector4::from(mt_row), Vector4::from(mn_row)];
-            for i in active.clone() {
-                for j in active.clone() {
-                    velocity[(i, j)] = measure_rows[i].dot(&(r.velocity * rows[j]));
+        self.reserve_responses(4);
+        for &le in loaded {
+            if measured
+                .iter()
+                .all(|&me| self.element_responses.contains_key(&(me, le)))
+            {
+                continue;
+            }
+            let dofs = beam.shape(le, beam.node_x[le]).dofs;
+            for (l, dof) in dofs.iter().enumerate() {
+                self.response_u[l].fill(0.0);
+                self.response_v[l].fill(0.0);
+                let Some(dof) = *dof else { continue };
+                self.load.fill(0.0);
+                self.load[dof] = 1.0;
+                let (u, v) = (&mut self.response_u[l], &mut self.response_v[l]);
+                self.integrator
+                    .beam_response(system, &self.load, self.nominal_step, u, v);
+            }
+            for &me in measured {
+                let mdofs = beam.shape(me, beam.node_x[me]).dofs;
+                let mut response = ElementResponse {
+                    displacement: Matrix4::zeros(),
+                    velocity: Matrix4::zeros(),
+                };
+                for (l, dof) in dofs.iter().enumerate() {
+                    if dof.is_none() {
+                        continue;
+                    }
+                    for (k, m) in mdofs.iter().enumerate() {
+                        if let Some(m) = *m {
+                            response.displacement[(k, l)] = self.response_u[l][m];
+                            response.velocity[(k, l)] = self.response_v[l][m];
+                        }
+                    }
                 }
-            }
-            let gap = measure_rows[1].dot(&(r.displacement * rows[1]));
-            return (velocity, gap);
-        }
-        // The step crosses a node: integrate the responses directly.
-        let rows = [t_row, n_row];
-        let measure_rows = [mt_row, mn_row];
-        for j in active.clone() {
-            self.load.fill(0.0);
-            apply.shape.scatter(&rows[j], 1.0, &mut self.load);
-            let (u, v) = (&mut self.response_u[j], &mut self.response_v[j]);
-            self.integrator.beam_response(system, &self.load, dt, u, v);
-        }
-        for i in active.clone() {
-            for j in active.clone() {
-                velocity[(i, j)] = measure.shape.dot(&measure_rows[i], &self.response_v[j]);
+                self.element_responses.insert((me, le), response);
             }
         }
-        let gap = measure.shape.dot(&measure_rows[1], &self.response_u[1]);
-        (velocity, gap)
     }
 
-    /// Sensitivities of the errors measured in `measure` (the end-of-step
-    /// frame) to a force applied in `apply` (where the step starts).
-    fn delassus(
+    /// Beam parts of ∂e/∂p (into `velocity`) and ∂g/∂p_n (into `gap`) for
+    /// steps of the nominal length, from the cached element responses.
+    fn beam_compliance_cached(
         &mut self,
         system: &System,
-        apply: &ContactFrame,
-        measure: &ContactFrame,
-        dt: f64,
-    ) -> Delassus {
-        let body = &system.body;
-        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
-        let (beam_velocity, beam_gap) = self.beam_compliance(system, apply, measure, dt);
-        let (bt, bn) = apply.body_rows(body.radius);
-        let body_rows = [bt, bn];
-        let (mbt, mbn) = measure.body_rows(body.radius);
-        let measure_body_rows = [mbt, mbn];
-        let inverse_inertia = body.inverse_inertia();
-        let active = if body.rolls { 0..2 } else { 1..2 };
-        let mut velocity = beam_velocity;
-        for i in active.clone() {
-            for j in active.clone() {
-                let (a, b) = (&measure_body_rows[i], &body_rows[j]);
-                velocity[(i, j)] += velocity_weight
-                    * ((a.x * b.x + a.y * b.y) / body.mass + a.z * b.z * inverse_inertia);
+        velocity: &mut DMatrix<f64>,
+        gap: &mut DMatrix<f64>,
+    ) {
+        let h = system.beam.surface_offset;
+        let on_beam = |frames: &[ContactFrame]| -> Vec<usize> {
+            let mut elements: Vec<usize> = frames
+                .iter()
+                .filter(|f| f.on_beam)
+                .map(|f| f.shape.element)
+                .collect();
+            elements.sort_unstable();
+            elements.dedup();
+            elements
+        };
+        let (measured, loaded) = (on_beam(&self.end_frames), on_beam(&self.start_frames));
+        self.fill_element_responses(system, &measured, &loaded);
+        for (i, measure) in self.end_frames.iter().enumerate() {
+            if !measure.on_beam {
+                continue;
+            }
+            let (mt, mn) = measure.beam_rows(h);
+            let measure_rows = [Vector4::from(mt), Vector4::from(mn)];
+            let kinds_i = row_kinds(system.contacts[i].rolls());
+            for (j, apply) in self.start_frames.iter().enumerate() {
+                if !apply.on_beam {
+                    continue;
+                }
+                let r = &self.element_responses[&(measure.shape.element, apply.shape.element)];
+                let (t, n) = apply.beam_rows(h);
+                let rows = [Vector4::from(t), Vector4::from(n)];
+                let kinds_j = row_kinds(system.contacts[j].rolls());
+                for (a, &ki) in kinds_i.iter().enumerate() {
+                    for (b, &kj) in kinds_j.iter().enumerate() {
+                        velocity[(self.offsets[i] + a, self.offsets[j] + b)] =
+                            measure_rows[ki].dot(&(r.velocity * rows[kj]));
+                    }
+                }
+                gap[(i, j)] = measure_rows[1].dot(&(r.displacement * rows[1]));
             }
         }
-        if !body.rolls {
-            velocity[(0, 0)] = 1.0;
+    }
+
+    /// Beam parts of ∂e/∂p and ∂g/∂p_n for other step lengths (the
+    /// shortened steps before an event or a communication point): the beam's
+    /// responses to each applied row, integrated directly.
+    fn beam_compliance_integrated(
+        &mut self,
+        system: &System,
+        dt: f64,
+        velocity: &mut DMatrix<f64>,
+        gap: &mut DMatrix<f64>,
+    ) {
+        let h = system.beam.surface_offset;
+        self.reserve_responses(self.rows);
+        for (j, apply) in self.start_frames.iter().enumerate() {
+            if !apply.on_beam {
+                continue;
+            }
+            let (t, n) = apply.beam_rows(h);
+            let rows = [t, n];
+            let kinds_j = row_kinds(system.contacts[j].rolls());
+            for (b, &kj) in kinds_j.iter().enumerate() {
+                let column = self.offsets[j] + b;
+                self.load.fill(0.0);
+                apply.shape.scatter(&rows[kj], 1.0, &mut self.load);
+                let (u, v) = (&mut self.response_u[column], &mut self.response_v[column]);
+                self.integrator.beam_response(system, &self.load, dt, u, v);
+            }
+            let normal_column = self.offsets[j] + kinds_j.len() - 1;
+            for (i, measure) in self.end_frames.iter().enumerate() {
+                if !measure.on_beam {
+                    continue;
+                }
+                let (mt, mn) = measure.beam_rows(h);
+                let measure_rows = [mt, mn];
+                let kinds_i = row_kinds(system.contacts[i].rolls());
+                for (a, &ki) in kinds_i.iter().enumerate() {
+                    for b in 0..kinds_j.len() {
+                        let column = self.offsets[j] + b;
+                        velocity[(self.offsets[i] + a, column)] = measure
+                            .shape
+                            .dot(&measure_rows[ki], &self.response_v[column]);
+                    }
+                }
+                gap[(i, j)] = measure
+                    .shape
+                    .dot(&measure_rows[1], &self.response_u[normal_column]);
+            }
         }
-        let gap = position_weight / body.mass * measure.normal().dot(&apply.normal()) + beam_gap;
-        Delassus { velocity, gap }
+    }
+
+    /// Body parts: contacts on the same body move it together.
+    fn add_body_compliance(
+        &self,
+        system: &System,
+        dt: f64,
+        velocity: &mut DMatrix<f64>,
+        gap: &mut DMatrix<f64>,
+    ) {
+        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
+        for (i, ci) in system.contacts.iter().enumerate() {
+            let measure = &self.end_frames[i];
+            let (mbt, mbn) = measure.body_rows(ci.radius());
+            let measure_rows = [mbt, mbn];
+            for (j, cj) in system.contacts.iter().enumerate() {
+                if ci.body != cj.body {
+                    continue;
+                }
+                let body = &system.bodies[ci.body];
+                let inverse_inertia = body.inverse_inertia();
+                let apply = &self.start_frames[j];
+                let (bt, bn) = apply.body_rows(cj.radius());
+                let rows = [bt, bn];
+                for (a, &ki) in row_kinds(ci.rolls()).iter().enumerate() {
+                    for (b, &kj) in row_kinds(cj.rolls()).iter().enumerate() {
+                        let (m, r) = (&measure_rows[ki], &rows[kj]);
+                        velocity[(self.offsets[i] + a, self.offsets[j] + b)] += velocity_weight
+                            * ((m.x * r.x + m.y * r.y) / body.mass + m.z * r.z * inverse_inertia);
+                    }
+                }
+                gap[(i, j)] += position_weight / body.mass * measure.normal().dot(&apply.normal());
+            }
+        }
+    }
+
+    /// The block Delassus operators of the step: measured in the end frames,
+    /// applied in the start frames.
+    fn delassus(&mut self, system: &System, dt: f64) -> Result<Delassus, StepError> {
+        let contacts = system.contacts.len();
+        let mut velocity = DMatrix::zeros(self.rows, self.rows);
+        let mut gap = DMatrix::zeros(contacts, contacts);
+        // Grid steps differ from the nominal step by round-off only.
+        if (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step {
+            self.beam_compliance_cached(system, &mut velocity, &mut gap);
+        } else {
+            self.beam_compliance_integrated(system, dt, &mut velocity, &mut gap);
+        }
+        self.add_body_compliance(system, dt, &mut velocity, &mut gap);
+        if !velocity.iter().chain(gap.iter()).all(|x| x.is_finite()) {
+            return Err(StepError::NonFinite { stage: "velocity" });
+        }
+        Ok(Delassus {
+            velocity: velocity.lu(),
+            gap: gap.lu(),
+        })
     }
 
     fn integrate_and_measure(
         &mut self,
         system: &System,
         from: &StepStart,
-        force: ContactForce,
         end: &mut DynamicState,
-    ) -> Result<ContactFrame, StepError> {
-        self.integrator.step(system, from, force, end)?;
-        let frame = foot_point(
-            &system.beam,
-            &end.beam_displacement,
-            &end.body.position,
-            end.contact_x,
-        )
-        .map_err(|e| StepError::LostContact { x: e.last_x })?;
-        end.contact_x = frame.x;
-        Ok(frame)
+    ) -> Result<(), StepError> {
+        self.integrator.step(system, from, &self.forces, end)?;
+        let (u, bodies) = (&end.beam_displacement, &end.bodies);
+        contact_frames(system, u, bodies, &end.contact_x, &mut self.end_frames)?;
+        for (x, frame) in end.contact_x.iter_mut().zip(&self.end_frames) {
+            *x = frame.x;
+        }
+        Ok(())
     }
 
-    /// Advance `start` by `dt` into `end`, finding the contact force.
+    /// Stack every contact's velocity error into `self.error`; return the
+    /// largest contact's |e|.
+    fn velocity_errors(&mut self, system: &System, end: &DynamicState) -> f64 {
+        let mut largest: f64 = 0.0;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            let frame = &self.end_frames[c];
+            let state = &end.bodies[contact.body];
+            let e = frame.velocity_error(&system.beam, contact.radius(), state, &end.beam_velocity);
+            let offset = self.offsets[c];
+            let norm = if contact.rolls() {
+                self.error[offset] = e.x;
+                self.error[offset + 1] = e.y;
+                e.norm()
+            } else {
+                self.error[offset] = e.y;
+                e.y.abs()
+            };
+            // NaN must win the maximum so that it is reported.
+            largest = if norm.is_nan() {
+                norm
+            } else {
+                largest.max(norm)
+            };
+        }
+        largest
+    }
+
+    /// Every contact's gap into `gaps`; return the one of largest magnitude.
+    fn gaps(&self, system: &System, end: &DynamicState, gaps: &mut DVector<f64>) -> f64 {
+        let mut worst: f64 = 0.0;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            let centre = &end.bodies[contact.body].position;
+            let g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
+            gaps[c] = g;
+            if g.is_nan() || g.abs() > worst.abs() {
+                worst = g;
+            }
+        }
+        worst
+    }
+
+    /// Advance `start` by `dt` into `end`, finding the contact forces from
+    /// the initial guesses `guess`. `applied`: the constant generalized force
+    /// on each body (applied forces and weight).
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
         system: &System,
         start: &DynamicState,
-        guess: ContactForce,
-        external: Vector2<f64>,
+        guess: &[ContactForce],
+        applied: &[nalgebra::Vector3<f64>],
         dt: f64,
         settings: &IterationSettings,
         end: &mut DynamicState,
     ) -> Result<StepSolution, StepError> {
-        let body = &system.body;
-        let beam = &system.beam;
-        let start_frame = foot_point(
-            beam,
-            &start.beam_displacement,
-            &start.body.position,
-            start.contact_x,
-        )
-        .map_err(|e| StepError::LostContact { x: e.last_x })?;
+        let mut start_frames = std::mem::take(&mut self.start_frames);
+        let (u, bodies) = (&start.beam_displacement, &start.bodies);
+        contact_frames(system, u, bodies, &start.contact_x, &mut start_frames)?;
+        self.start_frames = start_frames;
         self.integrator.begin_step();
+        self.forces.clear();
+        self.forces.extend_from_slice(guess);
+        for (force, contact) in self.forces.iter_mut().zip(&system.contacts) {
+            if !contact.rolls() {
+                force.tangential = 0.0;
+            }
+        }
+        let frames = self.start_frames.clone();
         let from = StepStart {
             state: start,
-            frame: &start_frame,
-            external,
+            frames: &frames,
+            applied,
             dt,
         };
         // Built once per step, on the first correction that needs it.
         let mut delassus: Option<Delassus> = None;
+        let mut iterations = self.velocity_stage(system, &from, settings, end, &mut delassus)?;
+        let (position_iterations, gap_error) =
+            self.position_stage(system, &from, settings, end, &mut delassus)?;
+        iterations += position_iterations;
+        let velocity_error = self.velocity_errors(system, end);
+        Ok(StepSolution {
+            forces: self.forces.clone(),
+            iterations,
+            position_iterations,
+            velocity_error,
+            gap_error,
+        })
+    }
 
-        let mut force = guess;
-        if !body.rolls {
-            force.tangential = 0.0;
-        }
+    /// Velocity stage (eq. 16); returns the integrations it took.
+    fn velocity_stage(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+        delassus: &mut Option<Delassus>,
+    ) -> Result<u32, StepError> {
         let mut iterations = 0;
         let mut first_residual = None;
-        // Velocity stage (eq. 16).
-        let mut frame = loop {
-            let frame = self.integrate_and_measure(system, &from, force, end)?;
+        loop {
+            self.integrate_and_measure(system, from, end)?;
             iterations += 1;
-            let mut e = frame.velocity_error(beam, body, &end.body, &end.beam_velocity);
-            if !body.rolls {
-                e.x = 0.0;
-            }
-            let residual = e.norm();
+            let residual = self.velocity_errors(system, end);
             if !residual.is_finite() {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
             if residual <= settings.velocity_tolerance {
-                break frame;
+                return Ok(iterations);
             }
             let first = *first_residual.get_or_insert(residual);
             if iterations >= 3 && residual > 10.0 * first {
@@ -346,49 +540,65 @@ impl ContactIteration {
                 });
             }
             if delassus.is_none() {
-                delassus = Some(self.delassus(system, &start_frame, &frame, dt));
+                *delassus = Some(self.delassus(system, from.dt)?);
             }
             let d = delassus.as_ref().expect("built above");
-            let acceleration_matrix = d
+            let correction = d
                 .velocity
-                .try_inverse()
+                .solve(&self.error)
                 .ok_or(StepError::NonFinite { stage: "velocity" })?;
-            force = ContactForce::from_vector(force.as_vector() - acceleration_matrix * e);
-        };
-        // Position stage (eq. 17).
-        let mut gap = frame.gap(beam, body, &end.body.position);
-        let mut position_iterations = 0;
-        while gap.abs() > settings.gap_tolerance {
+            for (c, contact) in system.contacts.iter().enumerate() {
+                let offset = self.offsets[c];
+                if contact.rolls() {
+                    self.forces[c].tangential -= correction[offset];
+                    self.forces[c].normal -= correction[offset + 1];
+                } else {
+                    self.forces[c].normal -= correction[offset];
+                }
+            }
+        }
+    }
+
+    /// Position stage (eq. 17); returns its integrations and the final gap
+    /// of largest magnitude.
+    fn position_stage(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+        delassus: &mut Option<Delassus>,
+    ) -> Result<(u32, f64), StepError> {
+        let mut gaps = DVector::zeros(system.contacts.len());
+        let mut gap = self.gaps(system, end, &mut gaps);
+        let mut iterations = 0;
+        while gap.abs() > settings.gap_tolerance || gap.is_nan() {
             if !gap.is_finite() {
                 return Err(StepError::NonFinite { stage: "position" });
             }
-            if position_iterations >= settings.max_iterations {
+            if iterations >= settings.max_iterations {
                 return Err(StepError::NotConverged {
                     stage: "position",
-                    iterations: position_iterations,
+                    iterations,
                     residual: gap.abs(),
                     tolerance: settings.gap_tolerance,
                 });
             }
             if delassus.is_none() {
-                delassus = Some(self.delassus(system, &start_frame, &frame, dt));
+                *delassus = Some(self.delassus(system, from.dt)?);
             }
             let d = delassus.as_ref().expect("built above");
-            force.normal -= gap / d.gap;
-            frame = self.integrate_and_measure(system, &from, force, end)?;
-            gap = frame.gap(beam, body, &end.body.position);
+            let correction = d
+                .gap
+                .solve(&gaps)
+                .ok_or(StepError::NonFinite { stage: "position" })?;
+            for (force, dp) in self.forces.iter_mut().zip(correction.iter()) {
+                force.normal -= dp;
+            }
+            self.integrate_and_measure(system, from, end)?;
+            gap = self.gaps(system, end, &mut gaps);
             iterations += 1;
-            position_iterations += 1;
         }
-        let mut e = frame.velocity_error(beam, body, &end.body, &end.beam_velocity);
-        if !body.rolls {
-            e.x = 0.0;
-        }
-        Ok(StepSolution {
-            force,
-            iterations,
-            velocity_error: e.norm(),
-            gap_error: gap,
-        })
+        Ok((iterations, gap))
     }
 }

@@ -1,9 +1,123 @@
-//! The assembled mechanical system: the beam and the body on it.
+//! The assembled mechanical system: the structure (a beam between rigid
+//! approach and run-off ground), the rigid bodies, the force elements
+//! between them and the contacts of the contact bodies with the track.
+
+use nalgebra::{DVector, Vector2};
 
 use crate::beam::Beam;
-use crate::body::RigidBody;
+use crate::body::{BodyState, RigidBody};
+use crate::contact::{foot_point, Contact, ContactFrame, FootPointError};
+use crate::force_element::ForceElement;
+
+/// The track: rigid ground of length `approach` before the beam (x < 0) and
+/// `run_off` after it (x > L), level with the beam's supports.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Track {
+    pub approach: f64,
+    pub run_off: f64,
+}
 
 pub struct System {
     pub beam: Beam,
-    pub body: RigidBody,
+    pub track: Track,
+    pub bodies: Vec<RigidBody>,
+    pub force_elements: Vec<ForceElement>,
+    pub contacts: Vec<Contact>,
+    /// Acceleration of gravity (m/s², acting in −y).
+    pub gravity: f64,
+}
+
+/// Where along the track a contact point is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum TrackPart {
+    Approach,
+    Beam,
+    RunOff,
+    /// Off either end of the track.
+    Beyond,
+}
+
+impl System {
+    /// First row of each contact in the stacked rows, and the total.
+    pub fn row_offsets(&self) -> (Vec<usize>, usize) {
+        let mut offsets = Vec::with_capacity(self.contacts.len());
+        let mut total = 0;
+        for contact in &self.contacts {
+            offsets.push(total);
+            total += contact.rows();
+        }
+        (offsets, total)
+    }
+
+    /// Which part of the track the abscissa `x` lies on.
+    pub fn track_part(&self, x: f64) -> TrackPart {
+        let length = self.beam.length;
+        if x < -self.track.approach || x > length + self.track.run_off {
+            TrackPart::Beyond
+        } else if x < 0.0 {
+            TrackPart::Approach
+        } else if x > length {
+            TrackPart::RunOff
+        } else {
+            TrackPart::Beam
+        }
+    }
+
+    /// The first boundary a contact on `from` crosses moving right (or
+    /// left), and the part beyond it.
+    pub fn next_part(&self, from: TrackPart, moving_right: bool) -> (f64, TrackPart) {
+        let (length, track) = (self.beam.length, &self.track);
+        let or_beyond = |exists: bool, part| if exists { part } else { TrackPart::Beyond };
+        match (from, moving_right) {
+            (TrackPart::Approach, true) => (0.0, TrackPart::Beam),
+            (TrackPart::Beam, true) => (length, or_beyond(track.run_off > 0.0, TrackPart::RunOff)),
+            (TrackPart::RunOff, true) => (length + track.run_off, TrackPart::Beyond),
+            (TrackPart::RunOff, false) => (length, TrackPart::Beam),
+            (TrackPart::Beam, false) => (0.0, or_beyond(track.approach > 0.0, TrackPart::Approach)),
+            (TrackPart::Approach, false) => (-track.approach, TrackPart::Beyond),
+            (TrackPart::Beyond, _) => (f64::NAN, TrackPart::Beyond),
+        }
+    }
+
+    /// Whether there is rigid ground beyond the beam's end on the side of `x`.
+    fn ground_at(&self, x: f64) -> bool {
+        (x < 0.0 && self.track.approach > 0.0) || (x > self.beam.length && self.track.run_off > 0.0)
+    }
+
+    /// The contact frame below `centre`: the foot point on the deformed beam,
+    /// or rigid ground where the track has it. Without ground beyond an end,
+    /// the end element's cubic is extended (so that the instant a contact
+    /// leaves the track can be located).
+    pub fn contact_frame(
+        &self,
+        u: &DVector<f64>,
+        centre: &Vector2<f64>,
+        guess: f64,
+    ) -> Result<ContactFrame, FootPointError> {
+        if self.ground_at(centre.x) && self.ground_at(guess) {
+            return Ok(ContactFrame::on_ground(centre));
+        }
+        let frame = foot_point(&self.beam, u, centre, guess)?;
+        if self.ground_at(frame.x) {
+            return Ok(ContactFrame::on_ground(centre));
+        }
+        Ok(frame)
+    }
+
+    /// Potential energy of gravity, Σ m g y (J).
+    pub fn gravity_potential(&self, bodies: &[BodyState]) -> f64 {
+        self.bodies
+            .iter()
+            .zip(bodies)
+            .map(|(body, state)| body.mass * self.gravity * state.position.y)
+            .sum()
+    }
+
+    /// Potential energy of the force elements (J).
+    pub fn spring_energy(&self, bodies: &[BodyState]) -> f64 {
+        self.force_elements
+            .iter()
+            .map(|e| e.potential_energy(bodies))
+            .sum()
+    }
 }
