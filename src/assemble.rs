@@ -7,7 +7,8 @@ use nalgebra::{Vector2, Vector3};
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactForce, ContactKind};
-use crate::scene::{BodyKind, BodySpec, Scene};
+use crate::force_element::{Direction, ForceElement};
+use crate::scene::{BodyKind, BodySpec, Scene, SuspensionSpec};
 use crate::system::{System, Track};
 
 /// The system a scene asks for, where everything starts, the static
@@ -21,7 +22,16 @@ pub struct Assembly {
     pub driven_body: usize,
 }
 
-/// A single `[body]`: a one-body vehicle with one contact.
+/// Height of a sprung mass's centre above its unsprung mass at rest (m):
+/// only differences of heights enter the model.
+pub const SPRUNG_HEIGHT: f64 = 1.0;
+
+/// Longitudinal stiffness of a sprung mass's guide, per unit of its vertical
+/// stiffness: it keeps the unsprung glider under the sprung mass (a glider
+/// alone drifts with the horizontal part of its normal force).
+pub const GUIDE_STIFFNESS_RATIO: f64 = 100.0;
+
+/// A one-body vehicle: a wheel or a glider with one contact.
 fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) {
     let (inertia, kind) = match spec.kind {
         BodyKind::Wheel => (
@@ -30,7 +40,7 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
                 radius: spec.radius.unwrap_or(0.0),
             },
         ),
-        BodyKind::Glider => (0.0, ContactKind::Glider),
+        BodyKind::Glider | BodyKind::SprungMass => (0.0, ContactKind::Glider),
     };
     let body = RigidBody {
         name: spec.name.clone(),
@@ -57,25 +67,118 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
     (body, contact, state)
 }
 
+/// The moving oscillator: body 0 the sprung mass (J = 0), body 1 the
+/// unsprung glider, a vertical spring–damper preloaded with the sprung
+/// weight and a stiff longitudinal guide between them.
+fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
+    let suspension = spec.suspension.unwrap_or(SuspensionSpec {
+        stiffness: 0.0,
+        damping: 0.0,
+        unsprung_mass: 0.0,
+    });
+    let (unsprung, mut contact, contact_state) = single_body(spec, beam);
+    let unsprung = RigidBody {
+        name: format!("{}_unsprung", spec.name),
+        mass: suspension.unsprung_mass,
+        ..unsprung
+    };
+    contact.body = 1;
+    let sprung = RigidBody {
+        name: spec.name.clone(),
+        mass: spec.mass,
+        inertia: 0.0,
+    };
+    let sprung_state = BodyState {
+        position: contact_state.position + Vector2::new(0.0, SPRUNG_HEIGHT),
+        ..contact_state
+    };
+    let element = |name: &str, direction, stiffness, damping, preload, rest| ForceElement {
+        name: format!("{}.{name}", spec.name),
+        body_a: 0,
+        point_a: Vector2::zeros(),
+        body_b: 1,
+        point_b: Vector2::zeros(),
+        direction,
+        stiffness,
+        damping,
+        preload,
+        rest,
+    };
+    let force_elements = vec![
+        element(
+            "suspension",
+            Direction::Vertical,
+            suspension.stiffness,
+            suspension.damping,
+            spec.mass * gravity,
+            SPRUNG_HEIGHT,
+        ),
+        element(
+            "guide",
+            Direction::Longitudinal,
+            GUIDE_STIFFNESS_RATIO * suspension.stiffness,
+            0.0,
+            0.0,
+            0.0,
+        ),
+    ];
+    Vehicle {
+        bodies: vec![sprung, unsprung],
+        contacts: vec![contact],
+        force_elements,
+        states: vec![sprung_state, contact_state],
+    }
+}
+
+/// Bodies, contacts and force elements of one vehicle, and where its
+/// bodies start; body indices are the vehicle's own.
+struct Vehicle {
+    bodies: Vec<RigidBody>,
+    contacts: Vec<Contact>,
+    force_elements: Vec<ForceElement>,
+    states: Vec<BodyState>,
+}
+
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let beam = Beam::new(&scene.beam)?;
-    let (body, contact, state) = single_body(&scene.body, &beam);
-    // The normal force balances the applied force.
+    let spec = &scene.body;
+    let gravity = scene.gravity;
+    let mut system = System {
+        beam,
+        track: Track {
+            approach: scene.track.approach,
+            run_off: scene.track.run_off,
+        },
+        bodies: Vec::new(),
+        force_elements: Vec::new(),
+        contacts: Vec::new(),
+        gravity,
+    };
+    let vehicle = match spec.kind {
+        BodyKind::Wheel | BodyKind::Glider => {
+            let (body, contact, state) = single_body(spec, &system.beam);
+            Vehicle {
+                bodies: vec![body],
+                contacts: vec![contact],
+                force_elements: Vec::new(),
+                states: vec![state],
+            }
+        }
+        BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
+    };
+    system.bodies = vehicle.bodies;
+    system.contacts = vehicle.contacts;
+    system.force_elements = vehicle.force_elements;
+    let bodies = vehicle.states;
+    // The normal forces carry the weights and balance the applied force.
+    let total_weight: f64 = system.bodies.iter().map(|b| b.mass * gravity).sum();
     let forces = vec![ContactForce {
         tangential: 0.0,
-        normal: -scene.body.force_y,
+        normal: total_weight - spec.force_y,
     }];
-    let system = System {
-        beam,
-        track: Track::default(),
-        bodies: vec![body],
-        force_elements: Vec::new(),
-        contacts: vec![contact],
-        gravity: 0.0,
-    };
     Ok(Assembly {
         system,
-        bodies: vec![state],
+        bodies,
         forces,
         driven_body: 0,
     })

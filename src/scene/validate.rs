@@ -17,6 +17,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     let mut checks = Checks::default();
     check_name(&mut checks, scene);
     let length_ok = check_beam(&mut checks, scene);
+    check_track(&mut checks, scene);
     check_body(&mut checks, scene, length_ok);
     check_sensors(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
@@ -147,34 +148,87 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             checks.required_positive("body.inertia", body.inertia, "a wheel needs");
             checks.required_positive("body.radius", body.radius, "a wheel needs");
         }
-        BodyKind::Glider => {
+        BodyKind::Glider | BodyKind::SprungMass => {
             for (path, value) in [("body.inertia", body.inertia), ("body.radius", body.radius)] {
                 if let Some(v) = value {
                     checks.fail(
                         path,
                         fmt_f64(v),
-                        "must be left out for a glider (it is a point body: J = 0, r = 0)",
+                        "must be left out for a glider or a sprung mass (J = 0, r = 0)",
                     );
                 }
             }
         }
     }
+    check_suspension(checks, body);
     if checks.finite("body.initial_position", body.initial_position) && length_ok {
         let x = body.initial_position;
-        if !(0.0..scene.beam.length).contains(&x) {
-            checks.fail(
-                "body.initial_position",
-                fmt_f64(x),
+        let (approach, end) = (scene.track.approach, scene.beam.length);
+        if !(x >= -approach && x < end) {
+            let rule = if approach > 0.0 {
+                format!(
+                    "must lie on the approach or the beam, -track.approach = {} <= x < \
+                     beam.length = {}",
+                    fmt_f64(-approach),
+                    fmt_f64(end)
+                )
+            } else {
                 format!(
                     "must lie on the beam, 0 <= x < beam.length = {}",
-                    fmt_f64(scene.beam.length)
-                ),
-            );
+                    fmt_f64(end)
+                )
+            };
+            checks.fail("body.initial_position", fmt_f64(x), rule);
         }
     }
     checks.finite("body.initial_speed", body.initial_speed);
     checks.finite("body.force_x", body.force_x);
     checks.finite("body.force_y", body.force_y);
+}
+
+/// A sprung mass needs its suspension; other kinds must leave it out.
+fn check_suspension(checks: &mut Checks, body: &super::BodySpec) {
+    match (body.kind, &body.suspension) {
+        (BodyKind::SprungMass, Some(s)) => {
+            checks.positive("body.suspension.stiffness", s.stiffness);
+            checks.non_negative("body.suspension.damping", s.damping);
+            checks.positive("body.suspension.unsprung_mass", s.unsprung_mass);
+        }
+        (BodyKind::SprungMass, None) => checks.fail(
+            "body.suspension",
+            "missing",
+            "a sprung_mass needs [body.suspension] with stiffness and unsprung_mass",
+        ),
+        (_, Some(_)) => checks.fail(
+            "body.suspension",
+            "present",
+            "must be left out unless body.kind = \"sprung_mass\"",
+        ),
+        (_, None) => {}
+    }
+}
+
+/// Gravity and the rigid ground: finite, non-negative lengths; ground
+/// meets the beam only at an end whose deflection is held.
+fn check_track(checks: &mut Checks, scene: &Scene) {
+    checks.non_negative("gravity", scene.gravity);
+    let track = &scene.track;
+    checks.non_negative("track.approach", track.approach);
+    checks.non_negative("track.run_off", track.run_off);
+    let supports = &scene.beam.supports;
+    for (path, length, end) in [
+        ("track.approach", track.approach, supports.left),
+        ("track.run_off", track.run_off, supports.right),
+    ] {
+        if length > 0.0 && end == EndSupport::Free {
+            checks.fail(
+                path,
+                fmt_f64(length),
+                "must be 0 next to a free beam end (rigid ground meets the beam only where \
+                 its deflection is held: pinned or clamped)",
+            );
+        }
+    }
 }
 
 fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
