@@ -177,6 +177,20 @@ impl ContactFrame {
         state.velocity.x + (radius + beam.surface_offset) * angle_rate
     }
 
+    /// The frame at a corner of the track: the point (`x`, 0) (a beam end,
+    /// held by its support) seen from `centre`; no beam DOFs.
+    pub fn at_corner(x: f64, centre: &Vector2<f64>) -> ContactFrame {
+        let offset = centre - Vector2::new(x, 0.0);
+        let n = offset / offset.norm();
+        ContactFrame {
+            x,
+            slope: -n.x / n.y,
+            cos: n.y,
+            sin: -n.x,
+            ..ContactFrame::on_ground(centre)
+        }
+    }
+
     /// The frame on rigid ground (level with the undeformed beam's neutral
     /// axis, surface at h) below `centre`: no beam DOFs.
     pub fn on_ground(centre: &Vector2<f64>) -> ContactFrame {

@@ -404,7 +404,8 @@ impl ContactIteration {
     ) -> Result<(), StepError> {
         self.integrator.step(system, from, &self.forces, end)?;
         let (u, bodies) = (&end.beam_displacement, &end.bodies);
-        contact_frames(system, u, bodies, &end.contact_x, &mut self.end_frames)?;
+        let located = (end.contact_x.as_slice(), from.parts);
+        contact_frames(system, u, bodies, located, &mut self.end_frames)?;
         for (x, frame) in end.contact_x.iter_mut().zip(&self.end_frames) {
             *x = frame.x;
         }
@@ -460,6 +461,7 @@ impl ContactIteration {
         &mut self,
         system: &System,
         start: &DynamicState,
+        parts: &[crate::system::TrackPart],
         guess: &[ContactForce],
         applied: &[nalgebra::Vector3<f64>],
         dt: f64,
@@ -468,7 +470,8 @@ impl ContactIteration {
     ) -> Result<StepSolution, StepError> {
         let mut start_frames = std::mem::take(&mut self.start_frames);
         let (u, bodies) = (&start.beam_displacement, &start.bodies);
-        contact_frames(system, u, bodies, &start.contact_x, &mut start_frames)?;
+        let located = (start.contact_x.as_slice(), parts);
+        contact_frames(system, u, bodies, located, &mut start_frames)?;
         self.start_frames = start_frames;
         self.integrator.begin_step();
         self.forces.clear();
@@ -482,6 +485,7 @@ impl ContactIteration {
         let from = StepStart {
             state: start,
             frames: &frames,
+            parts,
             applied,
             dt,
         };

@@ -302,7 +302,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             system,
             &d.beam_displacement,
             &d.bodies,
-            &d.contact_x,
+            (&d.contact_x, &state.parts),
             &mut frames,
         )
         .map(|_| frames)

@@ -336,7 +336,7 @@ impl Simulation {
             &self.system,
             &d.beam_displacement,
             &d.bodies,
-            &d.contact_x,
+            (&d.contact_x, &self.state.parts),
             &mut frames,
         );
         if ok.is_err() {
@@ -372,12 +372,19 @@ impl Simulation {
                 return Ok(Advance::Reached);
             }
             let next_grid = (self.state.grid_step + 1) as f64 * self.step;
-            if next_grid <= target + tolerance {
-                if self.step_to(next_grid)? {
-                    self.state.grid_step += 1;
-                }
+            let to = if next_grid <= target + tolerance {
+                next_grid
             } else {
-                self.step_to(target)?;
+                target
+            };
+            let reached = self.step_to(to)?;
+            // An event within round-off of `to` counts as reaching it: the
+            // step left over would be empty.
+            if !reached && to - self.state.time <= tolerance {
+                self.state.time = to;
+            }
+            if to == next_grid && self.state.time == to {
+                self.state.grid_step += 1;
             }
         }
     }
@@ -443,10 +450,10 @@ impl Simulation {
         let mut first: Option<(f64, usize, f64, TrackPart)> = None;
         for c in 0..start.len() {
             let from = self.state.parts[c];
-            if self.system.track_part(end[c]) == from {
+            let Some(right) = self.system.leaves(from, start[c], end[c]) else {
                 continue;
-            }
-            let (edge, part) = self.system.next_part(from, end[c] > start[c]);
+            };
+            let (edge, part) = self.system.next_part(from, right);
             // Linear estimate of when in the step the edge is crossed.
             let fraction = ((edge - start[c]) / (end[c] - start[c])).clamp(0.0, 1.0);
             if first.is_none_or(|(f, ..)| fraction < f) {
@@ -491,18 +498,20 @@ impl Simulation {
     /// `located` reaches `part`, and end the run if it is over.
     fn record_events(&mut self, located: usize, part: TrackPart) {
         let s = &mut self.state;
+        // `accept` swapped the step's start state into `scratch`.
+        let starts = &self.scratch.contact_x;
         for (c, &x) in s.dynamic.contact_x.iter().enumerate() {
+            let from = s.parts[c];
             // The located contact sits on its edge to round-off: take the
             // side it was moving to.
             let to = if c == located {
                 part
             } else {
-                self.system.track_part(x)
+                match self.system.leaves(from, starts[c], x) {
+                    Some(right) => self.system.next_part(from, right).1,
+                    None => continue,
+                }
             };
-            let from = s.parts[c];
-            if from == to {
-                continue;
-            }
             s.parts[c] = to;
             let kind = match (from, to) {
                 (_, TrackPart::Beyond) => EventKind::LeftTrack,
@@ -545,6 +554,7 @@ impl Simulation {
             .solve(
                 &self.system,
                 &s.dynamic,
+                &s.parts,
                 guess,
                 &applied,
                 dt,
@@ -628,8 +638,10 @@ fn initial_state(
         .iter()
         .map(|c| bodies[c.body].position.x)
         .collect();
+    let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
     let mut frames = Vec::new();
-    contact_frames(system, &undeformed, bodies, &guesses, &mut frames).map_err(|e| match e {
+    let located = (guesses.as_slice(), parts.as_slice());
+    contact_frames(system, &undeformed, bodies, located, &mut frames).map_err(|e| match e {
         crate::integrate::IntegrationError::LostContact { x, .. } => {
             format!("no contact point at the start (x = {x})")
         }

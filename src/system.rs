@@ -84,24 +84,50 @@ impl System {
         (x < 0.0 && self.track.approach > 0.0) || (x > self.beam.length && self.track.run_off > 0.0)
     }
 
-    /// The contact frame below `centre`: the foot point on the deformed beam,
-    /// or rigid ground where the track has it. Without ground beyond an end,
-    /// the end element's cubic is extended (so that the instant a contact
-    /// leaves the track can be located).
+    /// The contact frame of a contact on `part` of the track with its body
+    /// centred at `centre`. On the beam: the foot point on the deformed
+    /// neutral axis (beyond the ends the end elements' cubics are extended,
+    /// so that the instant a contact leaves the beam can be located). On
+    /// rigid ground: the ground below the centre, or the beam's end (a
+    /// corner, held in place by its support) while the centre has not yet
+    /// passed it, so that the force turns continuously from the beam's
+    /// normal to the vertical.
     pub fn contact_frame(
         &self,
         u: &DVector<f64>,
         centre: &Vector2<f64>,
         guess: f64,
+        part: TrackPart,
     ) -> Result<ContactFrame, FootPointError> {
-        if self.ground_at(centre.x) && self.ground_at(guess) {
-            return Ok(ContactFrame::on_ground(centre));
+        let length = self.beam.length;
+        Ok(match part {
+            TrackPart::Beam => foot_point(&self.beam, u, centre, guess)?,
+            TrackPart::RunOff if centre.x < length => ContactFrame::at_corner(length, centre),
+            TrackPart::Approach if centre.x > 0.0 => ContactFrame::at_corner(0.0, centre),
+            TrackPart::Approach | TrackPart::RunOff => ContactFrame::on_ground(centre),
+            TrackPart::Beyond if self.ground_at(centre.x) => ContactFrame::on_ground(centre),
+            TrackPart::Beyond => foot_point(&self.beam, u, centre, guess)?,
+        })
+    }
+
+    /// Whether a contact on `part` that moved from `start` to `end` (foot
+    /// abscissae) has left it, and if so whether to the right.
+    pub fn leaves(&self, part: TrackPart, start: f64, end: f64) -> Option<bool> {
+        let (length, track) = (self.beam.length, &self.track);
+        let right = end > start;
+        let (low, high) = match part {
+            TrackPart::Approach => (-track.approach, 0.0),
+            TrackPart::Beam => (0.0, length),
+            TrackPart::RunOff => (length, length + track.run_off),
+            TrackPart::Beyond => return None,
+        };
+        if right && end >= high {
+            Some(true)
+        } else if !right && end < low {
+            Some(false)
+        } else {
+            None
         }
-        let frame = foot_point(&self.beam, u, centre, guess)?;
-        if self.ground_at(frame.x) {
-            return Ok(ContactFrame::on_ground(centre));
-        }
-        Ok(frame)
     }
 
     /// Potential energy of gravity, Σ m g y (J).

@@ -112,7 +112,7 @@ impl Hht {
             system,
             &self.predicted_u,
             &self.predicted_bodies,
-            &guesses,
+            (&guesses, from.parts),
             &mut self.frames,
         )?;
         let dissipation = loads(

@@ -13,7 +13,7 @@ use serde::{Deserialize, Serialize};
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::add_element_forces;
-use crate::system::System;
+use crate::system::{System, TrackPart};
 
 pub use choice::{choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
 pub use hht::Hht;
@@ -49,6 +49,8 @@ pub struct DynamicState {
 pub struct StepStart<'a> {
     pub state: &'a DynamicState,
     pub frames: &'a [ContactFrame],
+    /// Where each contact is along the track (fixed over the step).
+    pub parts: &'a [TrackPart],
     pub applied: &'a [Vector3<f64>],
     pub dt: f64,
 }
@@ -60,25 +62,25 @@ pub enum IntegrationError {
     LostContact { contact: usize, x: f64 },
 }
 
-/// Contact frames of every contact for the given configuration, searched
-/// from the foot points in `guesses`.
+/// Contact frames of every contact for the given configuration, on the
+/// parts of the track in `parts` (where each contact was at the start of
+/// the step), searched from the foot points in `guesses`.
 pub fn contact_frames(
     system: &System,
     u: &DVector<f64>,
     bodies: &[BodyState],
-    guesses: &[f64],
+    (guesses, parts): (&[f64], &[TrackPart]),
     frames: &mut Vec<ContactFrame>,
 ) -> Result<(), IntegrationError> {
     frames.clear();
-    for (c, (contact, guess)) in system.contacts.iter().zip(guesses).enumerate() {
+    for (c, contact) in system.contacts.iter().enumerate() {
         let centre = &bodies[contact.body].position;
-        let frame =
-            system
-                .contact_frame(u, centre, *guess)
-                .map_err(|e| IntegrationError::LostContact {
-                    contact: c,
-                    x: e.last_x,
-                })?;
+        let frame = system
+            .contact_frame(u, centre, guesses[c], parts[c])
+            .map_err(|e| IntegrationError::LostContact {
+                contact: c,
+                x: e.last_x,
+            })?;
         frames.push(frame);
     }
     Ok(())

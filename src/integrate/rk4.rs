@@ -77,7 +77,8 @@ impl Rk4 {
                 self.frames.extend_from_slice(from.frames);
             } else {
                 let (u, bodies) = (&self.stage_u, &self.stage_bodies);
-                contact_frames(system, u, bodies, &end.contact_x, &mut self.frames)?;
+                let located = (end.contact_x.as_slice(), from.parts);
+                contact_frames(system, u, bodies, located, &mut self.frames)?;
             }
             for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
                 *x = frame.x;
