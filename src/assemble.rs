@@ -186,18 +186,17 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
 
 /// The constant generalized force on each body: its weight, plus the
 /// applied force (fx, fy) on the driven body.
-pub fn constant_forces(system: &System, driven: usize, applied: [f64; 2]) -> Vec<Vector3<f64>> {
-    system
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(b, body)| {
-            let weight = Vector3::new(0.0, -body.mass * system.gravity, 0.0);
-            if b == driven {
-                weight + Vector3::new(applied[0], applied[1], 0.0)
-            } else {
-                weight
-            }
-        })
-        .collect()
+pub fn constant_forces(
+    system: &System,
+    driven: usize,
+    applied: [f64; 2],
+) -> impl Iterator<Item = Vector3<f64>> + '_ {
+    system.bodies.iter().enumerate().map(move |(b, body)| {
+        let weight = Vector3::new(0.0, -body.mass * system.gravity, 0.0);
+        if b == driven {
+            weight + Vector3::new(applied[0], applied[1], 0.0)
+        } else {
+            weight
+        }
+    })
 }

@@ -13,6 +13,7 @@
 //! stays exactly zero.
 
 use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
 
 use nalgebra::{DMatrix, DVector, Matrix4, Vector4};
 
@@ -114,13 +115,36 @@ impl From<IntegrationError> for StepError {
     }
 }
 
-/// The block Delassus operators of one step, factorised.
+/// The block Delassus operators of one step, inverted in place: they are
+/// small (one or two rows per contact) and each is applied several times.
 struct Delassus {
-    /// ∂e/∂p over the stacked rows (s/kg).
-    velocity: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
-    /// ∂g/∂p_n over the contacts (m/N).
-    gap: nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    /// (∂e/∂p)⁻¹ over the stacked rows (kg/s).
+    velocity: DMatrix<f64>,
+    /// (∂g/∂p_n)⁻¹ over the contacts (N/m).
+    gap: DMatrix<f64>,
+    /// Whether they hold this step's operators.
+    built: bool,
 }
+
+/// Hashes an element pair key as itself: keys are small distinct integers.
+#[derive(Default)]
+struct PairHasher(u64);
+
+impl std::hash::Hasher for PairHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = self.0.rotate_left(8) ^ u64::from(*b);
+        }
+    }
+    fn write_usize(&mut self, n: usize) {
+        self.0 = self.0.rotate_left(32) ^ n as u64;
+    }
+}
+
+type PairMap = HashMap<(usize, usize), ElementResponse, BuildHasherDefault<PairHasher>>;
 
 /// Displacements and velocities at one element's four DOFs after one step
 /// under a unit load held on each DOF of another (or the same) element
@@ -155,7 +179,7 @@ pub struct ContactIteration {
     /// beam integrations. They depend only on the elements and the nominal
     /// step, never on the history, so a restored state continues
     /// bit-identically.
-    element_responses: HashMap<(usize, usize), ElementResponse>,
+    element_responses: PairMap,
     nominal_step: f64,
     offsets: Vec<usize>,
     rows: usize,
@@ -163,6 +187,12 @@ pub struct ContactIteration {
     end_frames: Vec<ContactFrame>,
     forces: Vec<ContactForce>,
     error: DVector<f64>,
+    gap_errors: DVector<f64>,
+    correction: DVector<f64>,
+    gap_correction: DVector<f64>,
+    delassus: Delassus,
+    measured_elements: Vec<usize>,
+    loaded_elements: Vec<usize>,
 }
 
 impl ContactIteration {
@@ -175,7 +205,7 @@ impl ContactIteration {
             load: DVector::zeros(free_dofs),
             response_u: Vec::new(),
             response_v: Vec::new(),
-            element_responses: HashMap::new(),
+            element_responses: PairMap::default(),
             nominal_step,
             offsets,
             rows,
@@ -183,6 +213,16 @@ impl ContactIteration {
             end_frames: Vec::new(),
             forces: Vec::new(),
             error: DVector::zeros(rows),
+            gap_errors: DVector::zeros(system.contacts.len()),
+            correction: DVector::zeros(rows),
+            gap_correction: DVector::zeros(system.contacts.len()),
+            delassus: Delassus {
+                velocity: DMatrix::zeros(rows, rows),
+                gap: DMatrix::zeros(system.contacts.len(), system.contacts.len()),
+                built: false,
+            },
+            measured_elements: Vec::new(),
+            loaded_elements: Vec::new(),
         }
     }
 
@@ -249,22 +289,24 @@ impl ContactIteration {
     fn beam_compliance_cached(
         &mut self,
         system: &System,
+        start_frames: &[ContactFrame],
         velocity: &mut DMatrix<f64>,
         gap: &mut DMatrix<f64>,
     ) {
         let h = system.beam.surface_offset;
-        let on_beam = |frames: &[ContactFrame]| -> Vec<usize> {
-            let mut elements: Vec<usize> = frames
-                .iter()
-                .filter(|f| f.on_beam)
-                .map(|f| f.shape.element)
-                .collect();
+        let on_beam = |frames: &[ContactFrame], elements: &mut Vec<usize>| {
+            elements.clear();
+            elements.extend(frames.iter().filter(|f| f.on_beam).map(|f| f.shape.element));
             elements.sort_unstable();
             elements.dedup();
-            elements
         };
-        let (measured, loaded) = (on_beam(&self.end_frames), on_beam(&self.start_frames));
+        let mut measured = std::mem::take(&mut self.measured_elements);
+        let mut loaded = std::mem::take(&mut self.loaded_elements);
+        on_beam(&self.end_frames, &mut measured);
+        on_beam(start_frames, &mut loaded);
         self.fill_element_responses(system, &measured, &loaded);
+        self.measured_elements = measured;
+        self.loaded_elements = loaded;
         for (i, measure) in self.end_frames.iter().enumerate() {
             if !measure.on_beam {
                 continue;
@@ -272,7 +314,7 @@ impl ContactIteration {
             let (mt, mn) = measure.beam_rows(h);
             let measure_rows = [Vector4::from(mt), Vector4::from(mn)];
             let kinds_i = row_kinds(system.contacts[i].rolls());
-            for (j, apply) in self.start_frames.iter().enumerate() {
+            for (j, apply) in start_frames.iter().enumerate() {
                 if !apply.on_beam {
                     continue;
                 }
@@ -297,13 +339,14 @@ impl ContactIteration {
     fn beam_compliance_integrated(
         &mut self,
         system: &System,
+        start_frames: &[ContactFrame],
         dt: f64,
         velocity: &mut DMatrix<f64>,
         gap: &mut DMatrix<f64>,
     ) {
         let h = system.beam.surface_offset;
         self.reserve_responses(self.rows);
-        for (j, apply) in self.start_frames.iter().enumerate() {
+        for (j, apply) in start_frames.iter().enumerate() {
             if !apply.on_beam {
                 continue;
             }
@@ -344,6 +387,7 @@ impl ContactIteration {
     fn add_body_compliance(
         &self,
         system: &System,
+        start_frames: &[ContactFrame],
         dt: f64,
         velocity: &mut DMatrix<f64>,
         gap: &mut DMatrix<f64>,
@@ -359,7 +403,7 @@ impl ContactIteration {
                 }
                 let body = &system.bodies[ci.body];
                 let inverse_inertia = body.inverse_inertia();
-                let apply = &self.start_frames[j];
+                let apply = &start_frames[j];
                 let (bt, bn) = apply.body_rows(cj.radius());
                 let rows = [bt, bn];
                 for (a, &ki) in row_kinds(ci.rolls()).iter().enumerate() {
@@ -374,26 +418,37 @@ impl ContactIteration {
         }
     }
 
-    /// The block Delassus operators of the step: measured in the end frames,
-    /// applied in the start frames.
-    fn delassus(&mut self, system: &System, dt: f64) -> Result<Delassus, StepError> {
-        let contacts = system.contacts.len();
-        let mut velocity = DMatrix::zeros(self.rows, self.rows);
-        let mut gap = DMatrix::zeros(contacts, contacts);
+    /// Build and invert the block Delassus operators of the step (measured
+    /// in the end frames, applied in the start frames) into `self.delassus`.
+    fn build_delassus(
+        &mut self,
+        system: &System,
+        start_frames: &[ContactFrame],
+        dt: f64,
+    ) -> Result<(), StepError> {
+        let mut velocity = std::mem::replace(&mut self.delassus.velocity, DMatrix::zeros(0, 0));
+        let mut gap = std::mem::replace(&mut self.delassus.gap, DMatrix::zeros(0, 0));
+        velocity.fill(0.0);
+        gap.fill(0.0);
         // Grid steps differ from the nominal step by round-off only.
         if (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step {
-            self.beam_compliance_cached(system, &mut velocity, &mut gap);
+            self.beam_compliance_cached(system, start_frames, &mut velocity, &mut gap);
         } else {
-            self.beam_compliance_integrated(system, dt, &mut velocity, &mut gap);
+            self.beam_compliance_integrated(system, start_frames, dt, &mut velocity, &mut gap);
         }
-        self.add_body_compliance(system, dt, &mut velocity, &mut gap);
-        if !velocity.iter().chain(gap.iter()).all(|x| x.is_finite()) {
-            return Err(StepError::NonFinite { stage: "velocity" });
+        self.add_body_compliance(system, start_frames, dt, &mut velocity, &mut gap);
+        let finite = velocity.iter().chain(gap.iter()).all(|x| x.is_finite());
+        let inverted = finite && velocity.try_inverse_mut() && gap.try_inverse_mut();
+        self.delassus = Delassus {
+            velocity,
+            gap,
+            built: inverted,
+        };
+        if inverted {
+            Ok(())
+        } else {
+            Err(StepError::NonFinite { stage: "velocity" })
         }
-        Ok(Delassus {
-            velocity: velocity.lu(),
-            gap: gap.lu(),
-        })
     }
 
     fn integrate_and_measure(
@@ -439,13 +494,14 @@ impl ContactIteration {
         largest
     }
 
-    /// Every contact's gap into `gaps`; return the one of largest magnitude.
-    fn gaps(&self, system: &System, end: &DynamicState, gaps: &mut DVector<f64>) -> f64 {
+    /// Every contact's gap into `gap_errors`; return the one of largest
+    /// magnitude.
+    fn gaps(&mut self, system: &System, end: &DynamicState) -> f64 {
         let mut worst: f64 = 0.0;
         for (c, contact) in system.contacts.iter().enumerate() {
             let centre = &end.bodies[contact.body].position;
             let g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
-            gaps[c] = g;
+            self.gap_errors[c] = g;
             if g.is_nan() || g.abs() > worst.abs() {
                 worst = g;
             }
@@ -468,11 +524,12 @@ impl ContactIteration {
         settings: &IterationSettings,
         end: &mut DynamicState,
     ) -> Result<StepSolution, StepError> {
+        // Taken out of the workspace for the step: `from` lends them to the
+        // integrator while the workspace is borrowed mutably.
         let mut start_frames = std::mem::take(&mut self.start_frames);
         let (u, bodies) = (&start.beam_displacement, &start.bodies);
         let located = (start.contact_x.as_slice(), parts);
         contact_frames(system, u, bodies, located, &mut start_frames)?;
-        self.start_frames = start_frames;
         self.integrator.begin_step();
         self.forces.clear();
         self.forces.extend_from_slice(guess);
@@ -481,19 +538,30 @@ impl ContactIteration {
                 force.tangential = 0.0;
             }
         }
-        let frames = self.start_frames.clone();
         let from = StepStart {
             state: start,
-            frames: &frames,
+            frames: &start_frames,
             parts,
             applied,
             dt,
         };
+        let solution = self.iterate(system, &from, settings, end);
+        self.start_frames = start_frames;
+        solution
+    }
+
+    /// Both stages of the step from `from`.
+    fn iterate(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+    ) -> Result<StepSolution, StepError> {
         // Built once per step, on the first correction that needs it.
-        let mut delassus: Option<Delassus> = None;
-        let mut iterations = self.velocity_stage(system, &from, settings, end, &mut delassus)?;
-        let (position_iterations, gap_error) =
-            self.position_stage(system, &from, settings, end, &mut delassus)?;
+        self.delassus.built = false;
+        let mut iterations = self.velocity_stage(system, from, settings, end)?;
+        let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
         let velocity_error = self.velocity_errors(system, end);
         Ok(StepSolution {
@@ -512,7 +580,6 @@ impl ContactIteration {
         from: &StepStart,
         settings: &IterationSettings,
         end: &mut DynamicState,
-        delassus: &mut Option<Delassus>,
     ) -> Result<u32, StepError> {
         let mut iterations = 0;
         let mut first_residual = None;
@@ -543,14 +610,11 @@ impl ContactIteration {
                     tolerance: settings.velocity_tolerance,
                 });
             }
-            if delassus.is_none() {
-                *delassus = Some(self.delassus(system, from.dt)?);
+            if !self.delassus.built {
+                self.build_delassus(system, from.frames, from.dt)?;
             }
-            let d = delassus.as_ref().expect("built above");
-            let correction = d
-                .velocity
-                .solve(&self.error)
-                .ok_or(StepError::NonFinite { stage: "velocity" })?;
+            let correction = &mut self.correction;
+            correction.gemv(1.0, &self.delassus.velocity, &self.error, 0.0);
             for (c, contact) in system.contacts.iter().enumerate() {
                 let offset = self.offsets[c];
                 if contact.rolls() {
@@ -571,10 +635,8 @@ impl ContactIteration {
         from: &StepStart,
         settings: &IterationSettings,
         end: &mut DynamicState,
-        delassus: &mut Option<Delassus>,
     ) -> Result<(u32, f64), StepError> {
-        let mut gaps = DVector::zeros(system.contacts.len());
-        let mut gap = self.gaps(system, end, &mut gaps);
+        let mut gap = self.gaps(system, end);
         let mut iterations = 0;
         while gap.abs() > settings.gap_tolerance || gap.is_nan() {
             if !gap.is_finite() {
@@ -588,19 +650,16 @@ impl ContactIteration {
                     tolerance: settings.gap_tolerance,
                 });
             }
-            if delassus.is_none() {
-                *delassus = Some(self.delassus(system, from.dt)?);
+            if !self.delassus.built {
+                self.build_delassus(system, from.frames, from.dt)?;
             }
-            let d = delassus.as_ref().expect("built above");
-            let correction = d
-                .gap
-                .solve(&gaps)
-                .ok_or(StepError::NonFinite { stage: "position" })?;
+            let correction = &mut self.gap_correction;
+            correction.gemv(1.0, &self.delassus.gap, &self.gap_errors, 0.0);
             for (force, dp) in self.forces.iter_mut().zip(correction.iter()) {
                 force.normal -= dp;
             }
             self.integrate_and_measure(system, from, end)?;
-            gap = self.gaps(system, end, &mut gaps);
+            gap = self.gaps(system, end);
             iterations += 1;
         }
         Ok((iterations, gap))

@@ -158,6 +158,9 @@ pub struct Simulation {
     scratch: DynamicState,
     outputs: Vec<OutputInfo>,
     quantities: Vec<Quantity>,
+    /// Per-step buffers: the force guesses and the constant body forces.
+    guess: Vec<ContactForce>,
+    applied: Vec<Vector3<f64>>,
 }
 
 impl Simulation {
@@ -168,9 +171,9 @@ impl Simulation {
         let step = scene.solver.step;
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
         let body_force = [scene.body.force_x, scene.body.force_y];
-        let dynamic = initial_state(&system, &assembly.bodies, &assembly.forces, {
-            &constant_forces(&system, assembly.driven_body, body_force)
-        })?;
+        let applied: Vec<Vector3<f64>> =
+            constant_forces(&system, assembly.driven_body, body_force).collect();
+        let dynamic = initial_state(&system, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
         let (outputs, quantities) = catalogue(&system, &sensor_names).into_iter().unzip();
         let parts = dynamic
@@ -215,6 +218,8 @@ impl Simulation {
             system,
             outputs,
             quantities,
+            guess: Vec::new(),
+            applied: Vec::new(),
         };
         simulation.state.initial_energy = simulation.energy_balance();
         Ok(simulation)
@@ -321,6 +326,10 @@ impl Simulation {
 
     /// The constant generalized force on each body now.
     fn constant_forces(&self) -> Vec<Vector3<f64>> {
+        self.constant_forces_iter().collect()
+    }
+
+    fn constant_forces_iter(&self) -> impl Iterator<Item = Vector3<f64>> + '_ {
         constant_forces(&self.system, self.driven_body, self.state.body_force)
     }
 
@@ -394,12 +403,16 @@ impl Simulation {
     fn step_to(&mut self, to: f64) -> Result<bool, SolverError> {
         let dt = to - self.state.time;
         let s = &self.state;
-        let guess: Vec<ContactForce> = s
-            .force_history
-            .iter()
-            .map(|h| extrapolate(h, &s.step_history, dt))
-            .collect();
-        let solution = self.solve(&guess, dt)?;
+        let mut guess = std::mem::take(&mut self.guess);
+        guess.clear();
+        guess.extend(
+            s.force_history
+                .iter()
+                .map(|h| extrapolate(h, &s.step_history, dt)),
+        );
+        let solution = self.solve(&guess, dt);
+        self.guess = guess;
+        let solution = solution?;
         self.refuse_lift_off(&solution)?;
         let (solution, dt, event) = match self.first_event() {
             None => (solution, dt, None),
@@ -547,7 +560,20 @@ impl Simulation {
     }
 
     fn solve(&mut self, guess: &[ContactForce], dt: f64) -> Result<StepSolution, SolverError> {
-        let applied = self.constant_forces();
+        let mut applied = std::mem::take(&mut self.applied);
+        applied.clear();
+        applied.extend(self.constant_forces_iter());
+        let solution = self.solve_with(guess, &applied, dt);
+        self.applied = applied;
+        solution
+    }
+
+    fn solve_with(
+        &mut self,
+        guess: &[ContactForce],
+        applied: &[Vector3<f64>],
+        dt: f64,
+    ) -> Result<StepSolution, SolverError> {
         let s = &self.state;
         let solution = self
             .iteration
@@ -556,7 +582,7 @@ impl Simulation {
                 &s.dynamic,
                 &s.parts,
                 guess,
-                &applied,
+                applied,
                 dt,
                 &self.settings,
                 &mut self.scratch,

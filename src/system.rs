@@ -92,6 +92,7 @@ impl System {
     /// corner, held in place by its support) while the centre has not yet
     /// passed it, so that the force turns continuously from the beam's
     /// normal to the vertical.
+    #[inline]
     pub fn contact_frame(
         &self,
         u: &DVector<f64>,

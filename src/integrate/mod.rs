@@ -65,6 +65,7 @@ pub enum IntegrationError {
 /// Contact frames of every contact for the given configuration, on the
 /// parts of the track in `parts` (where each contact was at the start of
 /// the step), searched from the foot points in `guesses`.
+#[inline]
 pub fn contact_frames(
     system: &System,
     u: &DVector<f64>,
@@ -90,6 +91,7 @@ pub fn contact_frames(
 /// `beam_load` (overwritten) and each body's generalized force (F_x, F_y,
 /// torque) into `body_loads`: `applied`, the contact forces and the force
 /// elements. Returns the power the dampers dissipate.
+#[inline]
 pub fn loads(
     system: &System,
     frames: &[ContactFrame],

@@ -72,21 +72,23 @@ impl Rk4 {
         let mut dissipation_sum = 0.0;
 
         for stage in 0..4 {
-            if stage == 0 {
-                self.frames.clear();
-                self.frames.extend_from_slice(from.frames);
-            } else {
+            if stage > 0 {
                 let (u, bodies) = (&self.stage_u, &self.stage_bodies);
                 let located = (end.contact_x.as_slice(), from.parts);
                 contact_frames(system, u, bodies, located, &mut self.frames)?;
             }
-            for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
+            let frames = if stage == 0 {
+                from.frames
+            } else {
+                &self.frames
+            };
+            for (x, frame) in end.contact_x.iter_mut().zip(frames) {
                 *x = frame.x;
             }
             dissipation_sum += WEIGHT[stage]
                 * loads(
                     system,
-                    &self.frames,
+                    frames,
                     forces,
                     from.applied,
                     &self.stage_bodies,
