@@ -17,9 +17,22 @@ pub struct Assembly {
     pub system: System,
     pub bodies: Vec<BodyState>,
     pub forces: Vec<ContactForce>,
-    /// Index of the body that receives the scene's applied force (the FMU's
-    /// force inputs).
-    pub driven_body: usize,
+    /// The first body of each vehicle and the constant force (fx, fy) on it
+    /// (the first is the driven body: the FMU's force inputs act on it).
+    pub vehicle_forces: Vec<(usize, [f64; 2])>,
+}
+
+/// The first body of each of the `count` vehicles: the body of each
+/// vehicle's first contact for wheels and gliders, the sprung body before it
+/// for a sprung mass.
+fn first_bodies(system: &System, count: usize) -> Vec<usize> {
+    let mut firsts = Vec::with_capacity(count);
+    let mut next = 0;
+    for contact in &system.contacts {
+        firsts.push(next);
+        next = contact.body + 1;
+    }
+    firsts
 }
 
 /// Height of a sprung mass's centre above its unsprung mass at rest (m):
@@ -143,6 +156,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let beam = Beam::new(&scene.beam)?;
     let spec = &scene.body;
     let gravity = scene.gravity;
+    let (mut forces, mut applied) = (Vec::new(), Vec::new());
     let mut system = System {
         beam,
         track: Track {
@@ -154,49 +168,67 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         contacts: Vec::new(),
         gravity,
     };
-    let vehicle = match spec.kind {
-        BodyKind::Wheel | BodyKind::Glider => {
-            let (body, contact, state) = single_body(spec, &system.beam);
-            Vehicle {
-                bodies: vec![body],
-                contacts: vec![contact],
-                force_elements: Vec::new(),
-                states: vec![state],
+    let mut bodies = Vec::new();
+    for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {
+        let mut vehicle = match spec.kind {
+            BodyKind::Wheel | BodyKind::Glider => {
+                let (body, contact, state) = single_body(spec, &system.beam);
+                Vehicle {
+                    bodies: vec![body],
+                    contacts: vec![contact],
+                    force_elements: Vec::new(),
+                    states: vec![state],
+                }
+            }
+            BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
+        };
+        // The first vehicle's contact keeps the name `contact` of the
+        // single-body scenes; the others' are named after their vehicle.
+        let offset = system.bodies.len();
+        for contact in &mut vehicle.contacts {
+            contact.body += offset;
+            if v > 0 {
+                contact.name = format!("{}_contact", spec.name);
             }
         }
-        BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
-    };
-    system.bodies = vehicle.bodies;
-    system.contacts = vehicle.contacts;
-    system.force_elements = vehicle.force_elements;
-    let bodies = vehicle.states;
-    // The normal forces carry the weights and balance the applied force.
-    let total_weight: f64 = system.bodies.iter().map(|b| b.mass * gravity).sum();
-    let forces = vec![ContactForce {
-        tangential: 0.0,
-        normal: total_weight - spec.force_y,
-    }];
+        for element in &mut vehicle.force_elements {
+            element.body_a += offset;
+            element.body_b += offset;
+        }
+        // The normal force carries the vehicle's weight and balances its
+        // applied force.
+        let weight: f64 = vehicle.bodies.iter().map(|b| b.mass * gravity).sum();
+        forces.push(ContactForce {
+            tangential: 0.0,
+            normal: weight - spec.force_y,
+        });
+        applied.push([spec.force_x, spec.force_y]);
+        system.bodies.extend(vehicle.bodies);
+        system.contacts.extend(vehicle.contacts);
+        system.force_elements.extend(vehicle.force_elements);
+        bodies.extend(vehicle.states);
+    }
+    let driven: Vec<usize> = first_bodies(&system, applied.len());
     Ok(Assembly {
         system,
         bodies,
         forces,
-        driven_body: 0,
+        vehicle_forces: driven.into_iter().zip(applied).collect(),
     })
 }
 
 /// The constant generalized force on each body: its weight, plus the
-/// applied force (fx, fy) on the driven body.
-pub fn constant_forces(
-    system: &System,
-    driven: usize,
-    applied: [f64; 2],
-) -> impl Iterator<Item = Vector3<f64>> + '_ {
+/// applied force (fx, fy) on the driven body and the vehicles' constant
+/// forces on their first bodies (`forces`: body index, force).
+pub fn constant_forces<'a>(
+    system: &'a System,
+    forces: &'a [(usize, [f64; 2])],
+) -> impl Iterator<Item = Vector3<f64>> + 'a {
     system.bodies.iter().enumerate().map(move |(b, body)| {
         let weight = Vector3::new(0.0, -body.mass * system.gravity, 0.0);
-        if b == driven {
-            weight + Vector3::new(applied[0], applied[1], 0.0)
-        } else {
-            weight
+        match forces.iter().find(|(first, _)| *first == b) {
+            Some((_, f)) => weight + Vector3::new(f[0], f[1], 0.0),
+            None => weight,
         }
     })
 }

@@ -151,7 +151,9 @@ pub struct Simulation {
     /// Without an end time the run ends when the last contact leaves the
     /// beam (the paper's exit); with one it goes on to it.
     stop_at_beam_exit: bool,
-    driven_body: usize,
+    /// The first body of each vehicle and the constant force on it; the
+    /// first is the driven body, whose force is `SimState::body_force`.
+    vehicle_forces: Vec<(usize, [f64; 2])>,
     settings: IterationSettings,
     iteration: ContactIteration,
     state: SimState,
@@ -171,8 +173,9 @@ impl Simulation {
         let step = scene.solver.step;
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
         let body_force = [scene.body.force_x, scene.body.force_y];
-        let applied: Vec<Vector3<f64>> =
-            constant_forces(&system, assembly.driven_body, body_force).collect();
+        let mut vehicle_forces = assembly.vehicle_forces;
+        vehicle_forces[0].1 = body_force;
+        let applied: Vec<Vector3<f64>> = constant_forces(&system, &vehicle_forces).collect();
         let dynamic = initial_state(&system, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
         let (outputs, quantities) = catalogue(&system, &sensor_names).into_iter().unzip();
@@ -185,7 +188,7 @@ impl Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
             step,
             stop_at_beam_exit: scene.solver.end_time.is_none(),
-            driven_body: assembly.driven_body,
+            vehicle_forces,
             settings: IterationSettings {
                 velocity_tolerance: scene.solver.velocity_tolerance,
                 gap_tolerance: scene.solver.gap_tolerance,
@@ -281,6 +284,7 @@ impl Simulation {
     /// Set the applied force on the driven body's centre (N), held until changed.
     pub fn set_body_force(&mut self, fx: f64, fy: f64) {
         self.state.body_force = [fx, fy];
+        self.vehicle_forces[0].1 = [fx, fy];
     }
 
     /// The fixed internal step (s).
@@ -321,6 +325,7 @@ impl Simulation {
     pub fn restore(&mut self, state: &SimState) -> Result<(), String> {
         check_shape(&self.system, state)?;
         self.state = state.clone();
+        self.vehicle_forces[0].1 = state.body_force;
         Ok(())
     }
 
@@ -330,7 +335,7 @@ impl Simulation {
     }
 
     fn constant_forces_iter(&self) -> impl Iterator<Item = Vector3<f64>> + '_ {
-        constant_forces(&self.system, self.driven_body, self.state.body_force)
+        constant_forces(&self.system, &self.vehicle_forces)
     }
 
     /// Each body's (ẍ, ÿ, θ̈) in the current state under the last forces.
@@ -479,6 +484,10 @@ impl Simulation {
     /// Take the step solved into `scratch`.
     fn accept(&mut self, solution: StepSolution, dt: f64) {
         let s = &mut self.state;
+        for &(b, force) in &self.vehicle_forces {
+            let moved = self.scratch.bodies[b].position - s.dynamic.bodies[b].position;
+            s.external_work += Vector2::new(force[0], force[1]).dot(&moved);
+        }
         for (b, (old, new)) in s
             .dynamic
             .bodies
@@ -487,9 +496,6 @@ impl Simulation {
             .enumerate()
         {
             let moved = new.position - old.position;
-            if b == self.driven_body {
-                s.external_work += Vector2::new(s.body_force[0], s.body_force[1]).dot(&moved);
-            }
             let weight = -self.system.bodies[b].mass * self.system.gravity;
             s.gravity_work += weight * moved.y;
         }

@@ -33,6 +33,10 @@ pub struct Scene {
     #[serde(default, skip_serializing_if = "TrackSpec::is_default")]
     pub track: TrackSpec,
     pub body: BodySpec,
+    /// More vehicles on the track, each like `[body]`; their applied forces
+    /// are constant (the FMU's force inputs act on `[body]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vehicles: Vec<BodySpec>,
     #[serde(default)]
     pub sensors: Vec<SensorSpec>,
     #[serde(default)]
@@ -321,6 +325,7 @@ impl Scene {
                 suspension: None,
             },
             track: TrackSpec::default(),
+            vehicles: Vec::new(),
             sensors: vec![SensorSpec {
                 name: "midspan".into(),
                 position: 12.0,

@@ -13,12 +13,15 @@ const RESERVED_BODY_NAMES: [&str; 4] = ["contact", "energy", "sensor", "solver"]
 /// More elements than this is a typo, not a model (and memory to match).
 pub const MAX_ELEMENTS: usize = 100_000;
 
+/// More vehicles than this is a typo, not a train.
+pub const MAX_VEHICLES: usize = 1_000;
+
 pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     let mut checks = Checks::default();
     check_name(&mut checks, scene);
     let length_ok = check_beam(&mut checks, scene);
     check_track(&mut checks, scene);
-    check_body(&mut checks, scene, length_ok);
+    check_bodies(&mut checks, scene, length_ok);
     check_sensors(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
     if checks.problems.is_empty() {
@@ -124,17 +127,48 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
     length_ok
 }
 
-fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
-    let body = &scene.body;
+fn check_bodies(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    check_body(checks, scene, "body", &scene.body, length_ok);
+    if scene.vehicles.len() > MAX_VEHICLES {
+        checks.fail(
+            "vehicles",
+            format!("{} vehicles", scene.vehicles.len()),
+            format!("at most {MAX_VEHICLES} besides [body]"),
+        );
+        return;
+    }
+    let mut names = HashSet::from([scene.body.name.as_str()]);
+    for (i, vehicle) in scene.vehicles.iter().enumerate() {
+        let prefix = format!("vehicles[{i}]");
+        check_body(checks, scene, &prefix, vehicle, length_ok);
+        if !names.insert(vehicle.name.as_str()) {
+            checks.fail(
+                format!("{prefix}.name"),
+                format!("{:?}", vehicle.name),
+                "must differ from the names of [body] and the other vehicles",
+            );
+        }
+    }
+}
+
+/// The rules of one vehicle, `[body]` or `[[vehicles]]`, at `prefix`.
+fn check_body(
+    checks: &mut Checks,
+    scene: &Scene,
+    prefix: &str,
+    body: &super::BodySpec,
+    length_ok: bool,
+) {
+    let path = |field: &str| format!("{prefix}.{field}");
     if !is_identifier(&body.name) {
         checks.fail(
-            "body.name",
+            path("name"),
             format!("{:?}", body.name),
             "must be an identifier: a letter or '_' followed by letters, digits or '_'",
         );
     } else if RESERVED_BODY_NAMES.contains(&body.name.as_str()) {
         checks.fail(
-            "body.name",
+            path("name"),
             format!("{:?}", body.name),
             format!(
                 "is reserved for the simulation's own outputs ({})",
@@ -142,14 +176,17 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             ),
         );
     }
-    checks.positive("body.mass", body.mass);
+    checks.positive(&path("mass"), body.mass);
     match body.kind {
         BodyKind::Wheel => {
-            checks.required_positive("body.inertia", body.inertia, "a wheel needs");
-            checks.required_positive("body.radius", body.radius, "a wheel needs");
+            checks.required_positive(&path("inertia"), body.inertia, "a wheel needs");
+            checks.required_positive(&path("radius"), body.radius, "a wheel needs");
         }
         BodyKind::Glider | BodyKind::SprungMass => {
-            for (path, value) in [("body.inertia", body.inertia), ("body.radius", body.radius)] {
+            for (path, value) in [
+                (&path("inertia"), body.inertia),
+                (&path("radius"), body.radius),
+            ] {
                 if let Some(v) = value {
                     checks.fail(
                         path,
@@ -160,8 +197,8 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             }
         }
     }
-    check_suspension(checks, body);
-    if checks.finite("body.initial_position", body.initial_position) && length_ok {
+    check_suspension(checks, prefix, body);
+    if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
         let x = body.initial_position;
         let (approach, end) = (scene.track.approach, scene.beam.length);
         if !(x >= -approach && x < end) {
@@ -178,31 +215,32 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
                     fmt_f64(end)
                 )
             };
-            checks.fail("body.initial_position", fmt_f64(x), rule);
+            checks.fail(path("initial_position"), fmt_f64(x), rule);
         }
     }
-    checks.finite("body.initial_speed", body.initial_speed);
-    checks.finite("body.force_x", body.force_x);
-    checks.finite("body.force_y", body.force_y);
+    checks.finite(&path("initial_speed"), body.initial_speed);
+    checks.finite(&path("force_x"), body.force_x);
+    checks.finite(&path("force_y"), body.force_y);
 }
 
 /// A sprung mass needs its suspension; other kinds must leave it out.
-fn check_suspension(checks: &mut Checks, body: &super::BodySpec) {
+fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let path = |field: &str| format!("{prefix}.{field}");
     match (body.kind, &body.suspension) {
         (BodyKind::SprungMass, Some(s)) => {
-            checks.positive("body.suspension.stiffness", s.stiffness);
-            checks.non_negative("body.suspension.damping", s.damping);
-            checks.positive("body.suspension.unsprung_mass", s.unsprung_mass);
+            checks.positive(&path("suspension.stiffness"), s.stiffness);
+            checks.non_negative(&path("suspension.damping"), s.damping);
+            checks.positive(&path("suspension.unsprung_mass"), s.unsprung_mass);
         }
         (BodyKind::SprungMass, None) => checks.fail(
-            "body.suspension",
+            path("suspension"),
             "missing",
-            "a sprung_mass needs [body.suspension] with stiffness and unsprung_mass",
+            format!("a sprung_mass needs [{prefix}.suspension] with stiffness and unsprung_mass"),
         ),
         (_, Some(_)) => checks.fail(
-            "body.suspension",
+            path("suspension"),
             "present",
-            "must be left out unless body.kind = \"sprung_mass\"",
+            format!("must be left out unless {prefix}.kind = \"sprung_mass\""),
         ),
         (_, None) => {}
     }
