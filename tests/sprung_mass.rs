@@ -223,3 +223,52 @@ fn undamped_sprung_mass_matches_modal_superposition() {
 fn damped_sprung_mass_matches_modal_superposition() {
     check_against_modal(2.0e4);
 }
+
+/// Largest |balance − initial| over the crossing, the largest |work| gravity
+/// did on the way, and the energy the damper dissipated.
+fn energy_drift(scene: &Scene) -> (f64, f64, f64) {
+    let mut sim = Simulation::new(scene).expect("builds");
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let at = |n: &str| names.iter().position(|x| x == n).expect(n);
+    let (balance, gravity, dissipated) = (
+        at("energy.balance"),
+        at("energy.gravity_work"),
+        at("energy.dissipated"),
+    );
+    let mut values = vec![0.0; names.len()];
+    let e0 = sim.initial_energy();
+    let (mut drift, mut work): (f64, f64) = (0.0, 0.0);
+    for k in 1.. {
+        let advance = sim.advance_to(k as f64 * scene.solver.step).unwrap();
+        sim.output_values(&mut values);
+        drift = drift.max((values[balance] - e0).abs());
+        work = work.max(values[gravity].abs());
+        if advance != Advance::Reached {
+            break;
+        }
+    }
+    (drift, work, values[dissipated])
+}
+
+#[test]
+fn energy_balance_holds_with_gravity_springs_and_dampers() {
+    // Over the crossing gravity does work as the beam deflects (and takes
+    // it back as it recovers); the balance (kinetic + strain + spring + dissipated − work) stays put.
+    let (drift, gravity_work, dissipated) = energy_drift(&scene(0.0));
+    eprintln!("undamped: drift {drift:.3e} J, gravity work {gravity_work:.4e} J");
+    assert!(gravity_work > 1.0, "{gravity_work}");
+    assert_eq!(dissipated, 0.0);
+    assert!(
+        drift < 1e-5 * gravity_work,
+        "drift {drift} J of {gravity_work} J"
+    );
+    let (drift, gravity_work, dissipated) = energy_drift(&scene(2.0e4));
+    eprintln!("damped: drift {drift:.3e} J, gravity work {gravity_work:.4e} J, dissipated {dissipated:.4e} J");
+    // Left out of the balance, the dissipated energy would show as a drift
+    // a hundred times the one measured.
+    assert!(dissipated > 100.0 * drift, "{dissipated} vs drift {drift}");
+    assert!(
+        drift < 1e-5 * gravity_work,
+        "drift {drift} J of {gravity_work} J"
+    );
+}
