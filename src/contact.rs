@@ -181,7 +181,13 @@ impl ContactFrame {
     /// held by its support) seen from `centre`; no beam DOFs.
     pub fn at_corner(x: f64, centre: &Vector2<f64>) -> ContactFrame {
         let offset = centre - Vector2::new(x, 0.0);
-        let n = offset / offset.norm();
+        let distance = offset.norm();
+        // A point body on the neutral axis (r + h = 0) has no corner to
+        // turn about.
+        if !(distance > 1e-9 * x.abs().max(1.0)) || offset.y <= 0.0 {
+            return ContactFrame::on_ground(centre);
+        }
+        let n = offset / distance;
         ContactFrame {
             x,
             slope: -n.x / n.y,

@@ -88,10 +88,11 @@ impl System {
     /// centred at `centre`. On the beam: the foot point on the deformed
     /// neutral axis (beyond the ends the end elements' cubics are extended,
     /// so that the instant a contact leaves the beam can be located). On
-    /// rigid ground: the ground below the centre, or the beam's end (a
-    /// corner, held in place by its support) while the centre has not yet
-    /// passed it, so that the force turns continuously from the beam's
-    /// normal to the vertical.
+    /// rigid ground: the ground below the centre, or, on the run-off, the
+    /// beam's end (a corner, held in place by its support) while the centre
+    /// has not yet passed it, so that the force turns continuously from the
+    /// beam's normal to the vertical; likewise at the beam's start when a
+    /// contact comes from the approach onto a beam that slopes down.
     #[inline]
     pub fn contact_frame(
         &self,
@@ -102,9 +103,20 @@ impl System {
     ) -> Result<ContactFrame, FootPointError> {
         let length = self.beam.length;
         Ok(match part {
-            TrackPart::Beam => foot_point(&self.beam, u, centre, guess)?,
+            TrackPart::Beam => {
+                let frame = foot_point(&self.beam, u, centre, guess)?;
+                // Onto a beam that slopes down from its start the wheel
+                // turns about the start (a corner) until its centre is over
+                // the beam's normal there.
+                if frame.x < 0.0 && self.track.approach > 0.0 {
+                    ContactFrame::at_corner(0.0, centre)
+                } else {
+                    frame
+                }
+            }
             TrackPart::RunOff if centre.x < length => ContactFrame::at_corner(length, centre),
-            TrackPart::Approach if centre.x > 0.0 => ContactFrame::at_corner(0.0, centre),
+            // Contacts enter from the approach at centre.x = 0 (the event):
+            // a left-moving exit onto the approach is taken on flat ground.
             TrackPart::Approach | TrackPart::RunOff => ContactFrame::on_ground(centre),
             TrackPart::Beyond if self.ground_at(centre.x) => ContactFrame::on_ground(centre),
             TrackPart::Beyond => foot_point(&self.beam, u, centre, guess)?,
