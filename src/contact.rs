@@ -184,7 +184,7 @@ impl ContactFrame {
         let distance = offset.norm();
         // A point body on the neutral axis (r + h = 0) has no corner to
         // turn about.
-        if !(distance > 1e-9 * x.abs().max(1.0)) || offset.y <= 0.0 {
+        if distance.is_nan() || distance <= 1e-9 * x.abs().max(1.0) || offset.y <= 0.0 {
             return ContactFrame::on_ground(centre);
         }
         let n = offset / distance;
