@@ -665,3 +665,79 @@ impl ContactIteration {
         Ok((iterations, gap))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assemble::assemble;
+    use crate::integrate::{Integrator, Rk4};
+    use crate::scene::{BodyKind, Scene};
+    use crate::system::TrackPart;
+    use nalgebra::DVector;
+
+    /// Two paper wheels on a four-element beam, in different elements.
+    fn two_wheels() -> (System, Vec<ContactFrame>) {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        scene.beam.elements = 4;
+        scene.body.initial_position = 3.0;
+        let mut second = scene.body.clone();
+        second.name = "second".into();
+        second.initial_position = 15.5;
+        scene.vehicles = vec![second];
+        let assembly = assemble(&scene).unwrap();
+        let system = assembly.system;
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).sin());
+        let mut frames = Vec::new();
+        let guesses = [3.0, 15.5];
+        let parts = [TrackPart::Beam; 2];
+        contact_frames(
+            &system,
+            &u,
+            &assembly.bodies,
+            (&guesses, &parts),
+            &mut frames,
+        )
+        .unwrap();
+        (system, frames)
+    }
+
+    #[test]
+    fn cached_element_pair_responses_give_the_integrated_coupling() {
+        // The cached path (nominal step) and the direct integration (any
+        // step) must build the same beam blocks, off-diagonal ones included.
+        let (system, frames) = two_wheels();
+        assert_ne!(frames[0].shape.element, frames[1].shape.element);
+        let dt = 0.0025;
+        let n = system.beam.free_dofs();
+        let rk4 = Integrator::Rk4(Box::new(Rk4::new(n, system.bodies.len())));
+        let mut iteration = ContactIteration::new(rk4, &system, dt);
+        iteration.end_frames = frames.clone();
+        let (rows, contacts) = (iteration.rows, system.contacts.len());
+        let mut cached = (
+            DMatrix::zeros(rows, rows),
+            DMatrix::zeros(contacts, contacts),
+        );
+        iteration.beam_compliance_cached(&system, &frames, &mut cached.0, &mut cached.1);
+        let mut direct = (
+            DMatrix::zeros(rows, rows),
+            DMatrix::zeros(contacts, contacts),
+        );
+        iteration.beam_compliance_integrated(&system, &frames, dt, &mut direct.0, &mut direct.1);
+        let scale = direct.0.amax();
+        assert!(scale > 0.0);
+        assert!(
+            (&cached.0 - &direct.0).amax() <= 1e-12 * scale,
+            "{cached:?} vs {direct:?}"
+        );
+        assert!((&cached.1 - &direct.1).amax() <= 1e-12 * direct.1.amax());
+        // The wheels load each other through the beam.
+        assert!(
+            direct.0[(1, 3)].abs() > 1e-6 * direct.0[(1, 1)].abs(),
+            "{direct:?}"
+        );
+        assert!(direct.1[(0, 1)].abs() > 1e-6 * direct.1[(0, 0)].abs());
+        // Reciprocity: the beam's response is symmetric in load and measure
+        // (same frames at both ends here).
+        assert!((direct.1[(0, 1)] - direct.1[(1, 0)]).abs() <= 1e-9 * direct.1[(0, 1)].abs());
+    }
+}
