@@ -1,43 +1,24 @@
-//! Rigid moving bodies: a rolling wheel, or a glider (r = 0, J = 0).
+//! Rigid planar bodies: position (x, y), pitch θ, mass and pitch inertia.
+//! A wheel is a body with J > 0; a glider or a car body without pitch
+//! inertia (J = 0) does not turn.
 
 use nalgebra::{Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::scene::{BodyKind, BodySpec};
-
-/// Inertia and geometry of a moving body.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// Inertia of a rigid planar body.
+#[derive(Debug, Clone, PartialEq)]
 pub struct RigidBody {
+    /// Prefix of the body's outputs (`wheel`, `vehicle1.car`, ...).
+    pub name: String,
     pub mass: f64,
-    /// Centroidal moment of inertia J; zero for a glider.
+    /// Centroidal moment of inertia J; zero for a body that does not turn.
     pub inertia: f64,
-    /// Rim radius r; zero for a glider.
-    pub radius: f64,
-    /// Whether the body rotates and carries a tangential contact force.
-    pub rolls: bool,
 }
 
 impl RigidBody {
-    pub fn from_spec(spec: &BodySpec) -> RigidBody {
-        match spec.kind {
-            BodyKind::Wheel => RigidBody {
-                mass: spec.mass,
-                inertia: spec.inertia.unwrap_or(0.0),
-                radius: spec.radius.unwrap_or(0.0),
-                rolls: true,
-            },
-            BodyKind::Glider => RigidBody {
-                mass: spec.mass,
-                inertia: 0.0,
-                radius: 0.0,
-                rolls: false,
-            },
-        }
-    }
-
-    /// Whether the body turns under a torque (a wheel with J > 0).
-    fn turns(&self) -> bool {
-        self.rolls && self.inertia > 0.0
+    /// Whether the body turns under a torque (J > 0).
+    pub fn turns(&self) -> bool {
+        self.inertia > 0.0
     }
 
     /// 1 / J, or 0 for a body that does not turn.
@@ -76,4 +57,28 @@ pub struct BodyState {
     /// Rotation θ, counter-clockwise positive (rad).
     pub angle: f64,
     pub angular_velocity: f64,
+}
+
+impl BodyState {
+    /// (ẋ, ẏ, θ̇).
+    pub fn generalized_velocity(&self) -> Vector3<f64> {
+        Vector3::new(self.velocity.x, self.velocity.y, self.angular_velocity)
+    }
+
+    /// World offset from the centre of a point fixed in the body at `local`.
+    pub fn offset_of(&self, local: &Vector2<f64>) -> Vector2<f64> {
+        let (sin, cos) = self.angle.sin_cos();
+        Vector2::new(cos * local.x - sin * local.y, sin * local.x + cos * local.y)
+    }
+
+    /// State advanced by `h` with rates (velocity, angular velocity) and
+    /// accelerations `acceleration` = (ẍ, ÿ, θ̈): an explicit stage update.
+    pub fn advanced(&self, h: f64, rates: &BodyState, acceleration: &Vector3<f64>) -> BodyState {
+        BodyState {
+            position: self.position + h * rates.velocity,
+            velocity: self.velocity + h * acceleration.xy(),
+            angle: self.angle + h * rates.angular_velocity,
+            angular_velocity: self.angular_velocity + h * acceleration.z,
+        }
+    }
 }

@@ -1,4 +1,5 @@
-//! Contact between the body and the beam's top surface.
+//! Contacts between contact bodies (wheels, gliders) and the track: the
+//! beam's top surface, or rigid ground before and after the beam.
 //!
 //! The foot point d of the perpendicular from the body's centre on the
 //! deformed neutral axis, the contact frame (t, n) there, the gap error g and
@@ -15,7 +16,48 @@
 use nalgebra::{DVector, Vector2, Vector3};
 
 use crate::beam::{Beam, Shape};
-use crate::body::{BodyState, RigidBody};
+use crate::body::BodyState;
+
+/// What touches the track.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactKind {
+    /// Rigid disc rolling without slip: a tangential and a normal row.
+    Wheel { radius: f64 },
+    /// Point body gliding at the surface (r = 0): a normal row only; its
+    /// tangential force is exactly zero.
+    Glider,
+}
+
+/// One contact: a contact body and how it touches the track.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Contact {
+    /// Prefix of the contact's outputs (`contact`, `vehicle1.wheelset2`, ...).
+    pub name: String,
+    /// Index of the contact body in `System::bodies`.
+    pub body: usize,
+    pub kind: ContactKind,
+}
+
+impl Contact {
+    pub fn radius(&self) -> f64 {
+        match self.kind {
+            ContactKind::Wheel { radius } => radius,
+            ContactKind::Glider => 0.0,
+        }
+    }
+    /// Whether the contact has a tangential (no-slip) row.
+    pub fn rolls(&self) -> bool {
+        matches!(self.kind, ContactKind::Wheel { .. })
+    }
+    /// Its rows in the iteration: tangential (wheels) then normal.
+    pub fn rows(&self) -> usize {
+        if self.rolls() {
+            2
+        } else {
+            1
+        }
+    }
+}
 
 /// Contact force on the body in the contact frame (N): tangential and normal
 /// components. The beam receives the opposite force.
@@ -49,6 +91,8 @@ pub struct ContactFrame {
     pub curvature: f64,
     pub cos: f64,
     pub sin: f64,
+    /// False on rigid ground: the shape is then empty (no beam DOFs).
+    pub on_beam: bool,
 }
 
 /// Why the foot point could not be found.
@@ -92,11 +136,11 @@ impl ContactFrame {
     pub fn velocity_error(
         &self,
         beam: &Beam,
-        body: &RigidBody,
+        radius: f64,
         state: &BodyState,
         beam_velocity: &DVector<f64>,
     ) -> Vector2<f64> {
-        let (bt, bn) = self.body_rows(body.radius);
+        let (bt, bn) = self.body_rows(radius);
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
         let (t_row, n_row) = self.beam_rows(beam.surface_offset);
         Vector2::new(
@@ -106,9 +150,9 @@ impl ContactFrame {
     }
 
     /// Gap error g = n·(centre − d) − (r + h) (m); negative is penetration.
-    pub fn gap(&self, beam: &Beam, body: &RigidBody, centre: &Vector2<f64>) -> f64 {
+    pub fn gap(&self, beam: &Beam, radius: f64, centre: &Vector2<f64>) -> f64 {
         let d = Vector2::new(self.x, self.deflection);
-        self.normal().dot(&(centre - d)) - (body.radius + beam.surface_offset)
+        self.normal().dot(&(centre - d)) - (radius + beam.surface_offset)
     }
 
     /// Nominal travel speed V = ẋ_centre + (r + h) φ̇ (METHOD.md, eq. 24), with
@@ -116,7 +160,7 @@ impl ContactFrame {
     pub fn nominal_speed(
         &self,
         beam: &Beam,
-        body: &RigidBody,
+        radius: f64,
         state: &BodyState,
         beam_velocity: &DVector<f64>,
     ) -> f64 {
@@ -130,7 +174,48 @@ impl ContactFrame {
                 / (1.0 + self.slope * self.slope - height * self.curvature);
         let angle_rate =
             (slope_rate + self.curvature * foot_speed) / (1.0 + self.slope * self.slope);
-        state.velocity.x + (body.radius + beam.surface_offset) * angle_rate
+        state.velocity.x + (radius + beam.surface_offset) * angle_rate
+    }
+
+    /// The frame at a corner of the track: the point (`x`, 0) (a beam end,
+    /// held by its support) seen from `centre`; no beam DOFs.
+    pub fn at_corner(x: f64, centre: &Vector2<f64>) -> ContactFrame {
+        let offset = centre - Vector2::new(x, 0.0);
+        let distance = offset.norm();
+        // A point body on the neutral axis (r + h = 0) has no corner to
+        // turn about.
+        if distance.is_nan() || distance <= 1e-9 * x.abs().max(1.0) || offset.y <= 0.0 {
+            return ContactFrame::on_ground(centre);
+        }
+        let n = offset / distance;
+        ContactFrame {
+            x,
+            slope: -n.x / n.y,
+            cos: n.y,
+            sin: -n.x,
+            ..ContactFrame::on_ground(centre)
+        }
+    }
+
+    /// The frame on rigid ground (level with the undeformed beam's neutral
+    /// axis, surface at h) below `centre`: no beam DOFs.
+    pub fn on_ground(centre: &Vector2<f64>) -> ContactFrame {
+        ContactFrame {
+            x: centre.x,
+            shape: Shape {
+                element: 0,
+                dofs: [None; 4],
+                n: [0.0; 4],
+                dn: [0.0; 4],
+                ddn: [0.0; 4],
+            },
+            deflection: 0.0,
+            slope: 0.0,
+            curvature: 0.0,
+            cos: 1.0,
+            sin: 0.0,
+            on_beam: false,
+        }
     }
 }
 
@@ -191,6 +276,7 @@ pub fn foot_point(
                 curvature,
                 cos: 1.0 / secant,
                 sin: slope / secant,
+                on_beam: true,
             });
         }
         x += dx;
@@ -203,14 +289,7 @@ mod tests {
     use super::*;
     use crate::scene::{BeamSpec, SupportsSpec};
 
-    fn paper_wheel() -> RigidBody {
-        RigidBody {
-            mass: 3000.0,
-            inertia: 135.0,
-            radius: 0.3,
-            rolls: true,
-        }
-    }
+    const RADIUS: f64 = 0.3;
 
     /// A wheel rolling down a slope, and a vibrating beam under it.
     fn moving_wheel(beam: &Beam) -> (BodyState, DVector<f64>) {
@@ -301,7 +380,6 @@ mod tests {
         // The loads are the transposes of the constraint rows, so the power
         // the contact force puts into body and beam together is p · e.
         let (beam, u) = deformed_beam();
-        let body = paper_wheel();
         let (state, v) = moving_wheel(&beam);
         let frame = foot_point(&beam, &u, &state.position, 9.0).unwrap();
         let p = ContactForce {
@@ -310,13 +388,13 @@ mod tests {
         };
         let force = frame.tangent() * p.tangential + frame.normal() * p.normal;
         let body_power =
-            force.dot(&state.velocity) + p.tangential * body.radius * state.angular_velocity;
+            force.dot(&state.velocity) + p.tangential * RADIUS * state.angular_velocity;
         let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
         let mut load = DVector::zeros(beam.free_dofs());
         frame.shape.scatter(&t_row, -p.tangential, &mut load);
         frame.shape.scatter(&n_row, -p.normal, &mut load);
         let beam_power = load.dot(&v);
-        let e = frame.velocity_error(&beam, &body, &state, &v);
+        let e = frame.velocity_error(&beam, RADIUS, &state, &v);
         let expected = p.as_vector().dot(&e);
         assert!(
             (body_power + beam_power - expected).abs() < 1e-9 * body_power.abs(),
@@ -329,19 +407,18 @@ mod tests {
     fn normal_velocity_error_is_the_rate_of_the_gap() {
         // The normal row is the exact derivative of g: check by finite differences.
         let (beam, u) = deformed_beam();
-        let body = paper_wheel();
         let (state, v) = moving_wheel(&beam);
         let gap_at = |h: f64| {
             let u_h = &u + &v * h;
             let c = state.position + state.velocity * h;
             foot_point(&beam, &u_h, &c, 9.0)
                 .unwrap()
-                .gap(&beam, &body, &c)
+                .gap(&beam, RADIUS, &c)
         };
         let h = 1e-6;
         let rate = (gap_at(h) - gap_at(-h)) / (2.0 * h);
         let frame = foot_point(&beam, &u, &state.position, 9.0).unwrap();
-        let e = frame.velocity_error(&beam, &body, &state, &v);
+        let e = frame.velocity_error(&beam, RADIUS, &state, &v);
         assert!((rate - e.y).abs() < 1e-7, "{rate} vs {}", e.y);
     }
 }

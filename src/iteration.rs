@@ -1,16 +1,24 @@
-//! The contact-force iteration of Lee (1994), section 3.3.
+//! The contact-force iteration of Lee (1994), section 3.3, over all
+//! contacts at once.
 //!
-//! Per step: hold a trial contact force p over the step, integrate, measure
-//! the velocity error e at the end, correct p ← p − A e with A = C⁻¹ (C the
-//! step's 2×2 Delassus operator), until |e| is within tolerance; then the
-//! position stage corrects the normal force until the gap error |g| is within
-//! its tolerance. A glider (r = 0, J = 0) has no tangential row: its
-//! tangential force stays exactly zero.
+//! Per step: hold trial contact forces p over the step, integrate, measure
+//! the stacked velocity errors e of every contact at the end (tangential for
+//! wheels, normal for all), correct p ← p − C⁻¹ e with C the step's block
+//! Delassus operator, until every contact's |e| is within tolerance; then
+//! the position stage corrects the normal forces with the gaps' block
+//! operator until every |g| is within its tolerance. C couples contacts
+//! through the beam (two wheels on one span load each other) and through a
+//! body they share; it is built once per step, when a correction first needs
+//! it. A glider (r = 0, J = 0) has no tangential row: its tangential force
+//! stays exactly zero.
 
-use nalgebra::{DVector, Matrix2, Matrix4, Vector2, Vector4};
+use std::collections::HashMap;
+use std::hash::BuildHasherDefault;
 
-use crate::contact::{foot_point, ContactForce, ContactFrame};
-use crate::integrate::{DynamicState, IntegrationError, Integrator, StepStart};
+use nalgebra::{DMatrix, DVector, Matrix4, Vector4};
+
+use crate::contact::{ContactForce, ContactFrame};
+use crate::integrate::{contact_frames, DynamicState, IntegrationError, Integrator, StepStart};
 use crate::system::System;
 
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
@@ -22,14 +30,17 @@ pub struct IterationSettings {
 }
 
 /// Converged step.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct StepSolution {
-    pub force: ContactForce,
+    /// One force per contact, in the order of `System::contacts`.
+    pub forces: Vec<ContactForce>,
     /// Integrations performed (velocity and position stages together).
     pub iterations: u32,
-    /// |e| at the end of the step (m/s).
+    /// Integrations of the position stage alone.
+    pub position_iterations: u32,
+    /// The largest contact's |e| at the end of the step (m/s).
     pub velocity_error: f64,
-    /// g at the end of the step (m).
+    /// The gap g of largest magnitude at the end of the step (m).
     pub gap_error: f64,
 }
 
@@ -52,6 +63,7 @@ pub enum StepError {
         stage: &'static str,
     },
     LostContact {
+        contact: usize,
         x: f64,
     },
 }
@@ -85,9 +97,11 @@ impl std::fmt::Display for StepError {
                 "a non-finite value appeared in the {stage} stage; the step is beyond the \
                  integrator's stability limit or the scene is degenerate"
             ),
-            StepError::LostContact { x } => write!(
+            StepError::LostContact { contact, x } => write!(
                 f,
-                "no foot point of the body on the beam could be found (last abscissa {x:.6} m)"
+                "no foot point of contact {} on the beam could be found (last abscissa \
+                 {x:.6} m)",
+                contact + 1
             ),
         }
     }
@@ -96,237 +110,488 @@ impl std::fmt::Display for StepError {
 impl From<IntegrationError> for StepError {
     fn from(e: IntegrationError) -> StepError {
         match e {
-            IntegrationError::LostContact { x } => StepError::LostContact { x },
+            IntegrationError::LostContact { contact, x } => StepError::LostContact { contact, x },
         }
     }
 }
 
-/// Sensitivities of the end-of-step errors to the held force.
+/// The block Delassus operators of one step, inverted in place: they are
+/// small (one or two rows per contact) and each is applied several times.
 struct Delassus {
-    /// ∂e/∂p (s/kg): the Delassus operator scaled by the step.
-    velocity: Matrix2<f64>,
-    /// ∂g/∂p_n (m/N).
-    gap: f64,
+    /// (∂e/∂p)⁻¹ over the stacked rows (kg/s).
+    velocity: DMatrix<f64>,
+    /// (∂g/∂p_n)⁻¹ over the contacts (N/m).
+    gap: DMatrix<f64>,
+    /// Whether they hold this step's operators.
+    built: bool,
 }
 
-/// Displacements and velocities at an element's four DOFs after one step
-/// under a unit load held on each of them (column = loaded DOF).
+/// Hashes an element pair key as itself: keys are small distinct integers.
+#[derive(Default)]
+struct PairHasher(u64);
+
+impl std::hash::Hasher for PairHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.0 = self.0.rotate_left(8) ^ u64::from(*b);
+        }
+    }
+    fn write_usize(&mut self, n: usize) {
+        self.0 = self.0.rotate_left(32) ^ n as u64;
+    }
+}
+
+type PairMap = HashMap<(usize, usize), ElementResponse, BuildHasherDefault<PairHasher>>;
+
+/// Displacements and velocities at one element's four DOFs after one step
+/// under a unit load held on each DOF of another (or the same) element
+/// (column = loaded DOF).
 #[derive(Debug, Clone, Copy)]
 struct ElementResponse {
     displacement: Matrix4<f64>,
     velocity: Matrix4<f64>,
 }
 
+/// Cached element pairs beyond which the cache is emptied (about 16 MB).
+const MAX_CACHED_PAIRS: usize = 1 << 16;
+
+/// The kinds of rows a contact has: 0 tangential, 1 normal.
+fn row_kinds(rolls: bool) -> &'static [usize] {
+    if rolls {
+        &[0, 1]
+    } else {
+        &[1]
+    }
+}
+
 /// The iteration's workspace: integrator scratch and unit-load responses.
 pub struct ContactIteration {
     integrator: Integrator,
     load: DVector<f64>,
-    response_u: [DVector<f64>; 2],
-    response_v: [DVector<f64>; 2],
-    /// Per-element responses for steps of the nominal length, filled as the
-    /// contact reaches each element: the Delassus operator then costs a few
-    /// flops per step instead of two beam integrations. They depend only on
-    /// the element and the nominal step, never on the history, so a restored
-    /// state continues bit-identically.
-    element_responses: Vec<Option<ElementResponse>>,
+    response_u: Vec<DVector<f64>>,
+    response_v: Vec<DVector<f64>>,
+    /// Responses for steps of the nominal length, keyed by (measured
+    /// element, loaded element), filled as the contacts reach the elements:
+    /// the Delassus operator then costs a few flops per entry instead of
+    /// beam integrations. They depend only on the elements and the nominal
+    /// step, never on the history, so a restored state continues
+    /// bit-identically.
+    element_responses: PairMap,
     nominal_step: f64,
+    offsets: Vec<usize>,
+    rows: usize,
+    start_frames: Vec<ContactFrame>,
+    end_frames: Vec<ContactFrame>,
+    forces: Vec<ContactForce>,
+    error: DVector<f64>,
+    gap_errors: DVector<f64>,
+    correction: DVector<f64>,
+    gap_correction: DVector<f64>,
+    delassus: Delassus,
+    measured_elements: Vec<usize>,
+    loaded_elements: Vec<usize>,
 }
 
 impl ContactIteration {
     /// `nominal_step`: the fixed step whose unit-load responses are cached.
-    pub fn new(
-        integrator: Integrator,
-        free_dofs: usize,
-        elements: usize,
-        nominal_step: f64,
-    ) -> ContactIteration {
-        let z = || DVector::zeros(free_dofs);
+    pub fn new(integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
+        let free_dofs = system.beam.free_dofs();
+        let (offsets, rows) = system.row_offsets();
         ContactIteration {
             integrator,
-            load: z(),
-            response_u: [z(), z()],
-            response_v: [z(), z()],
-            element_responses: vec![None; elements],
+            load: DVector::zeros(free_dofs),
+            response_u: Vec::new(),
+            response_v: Vec::new(),
+            element_responses: PairMap::default(),
             nominal_step,
+            offsets,
+            rows,
+            start_frames: Vec::new(),
+            end_frames: Vec::new(),
+            forces: Vec::new(),
+            error: DVector::zeros(rows),
+            gap_errors: DVector::zeros(system.contacts.len()),
+            correction: DVector::zeros(rows),
+            gap_correction: DVector::zeros(system.contacts.len()),
+            delassus: Delassus {
+                velocity: DMatrix::zeros(rows, rows),
+                gap: DMatrix::zeros(system.contacts.len(), system.contacts.len()),
+                built: false,
+            },
+            measured_elements: Vec::new(),
+            loaded_elements: Vec::new(),
         }
     }
 
-    fn element_response(&mut self, system: &System, element: usize) -> ElementResponse {
-        if let Some(response) = self.element_responses[element] {
-            return response;
+    /// Make sure `response_u`/`response_v` hold at least `count` vectors.
+    fn reserve_responses(&mut self, count: usize) {
+        let n = self.load.len();
+        while self.response_u.len() < count {
+            self.response_u.push(DVector::zeros(n));
+            self.response_v.push(DVector::zeros(n));
         }
-        let dt = self.nominal_step;
-        let dofs = system.beam.shape(element, system.beam.node_x[element]).dofs;
-        let mut response = ElementResponse {
-            displacement: Matrix4::zeros(),
-            velocity: Matrix4::zeros(),
-        };
-        for (l, loaded) in dofs.iter().enumerate() {
-            let Some(loaded) = *loaded else { continue };
-            self.load.fill(0.0);
-            self.load[loaded] = 1.0;
-            let (u, v) = (&mut self.response_u[0], &mut self.response_v[0]);
-            self.integrator.beam_response(system, &self.load, dt, u, v);
-            for (k, measured) in dofs.iter().enumerate() {
-                if let Some(measured) = *measured {
-                    response.displacement[(k, l)] = self.response_u[0][measured];
-                    response.velocity[(k, l)] = self.response_v[0][measured];
-                }
-            }
-        }
-        self.element_responses[element] = Some(response);
-        response
     }
 
-    /// Beam parts of ∂e/∂p and ∂g/∂p_n: the measured rows times the beam's
-    /// response to the applied rows.
-    fn beam_compliance(
-        &mut self,
-        system: &System,
-        apply: &ContactFrame,
-        measure: &ContactFrame,
-        dt: f64,
-    ) -> (Matrix2<f64>, f64) {
+    /// Fill the cached responses of every (measured, loaded) pair of the
+    /// given elements that is missing: four beam integrations per loaded
+    /// element, measured at all elements at once.
+    fn fill_element_responses(&mut self, system: &System, measured: &[usize], loaded: &[usize]) {
+        if self.element_responses.len() > MAX_CACHED_PAIRS {
+            self.element_responses.clear();
+        }
         let beam = &system.beam;
-        let (t_row, n_row) = apply.beam_rows(beam.surface_offset);
-        let (mt_row, mn_row) = measure.beam_rows(beam.surface_offset);
-        let active = if system.body.rolls { 0..2 } else { 1..2 };
-        let mut velocity = Matrix2::zeros();
-        // Grid steps differ from the nominal step by round-off only.
-        let nominal = (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step;
-        if nominal && apply.shape.element == measure.shape.element {
-            let r = self.element_response(system, apply.shape.element);
-            let rows = [Vector4::from(t_row), Vector4::from(n_row)];
-            let measure_rows = [Vector4::from(mt_row), Vector4::from(mn_row)];
-            for i in active.clone() {
-                for j in active.clone() {
-                    velocity[(i, j)] = measure_rows[i].dot(&(r.velocity * rows[j]));
+        self.reserve_responses(4);
+        for &le in loaded {
+            if measured
+                .iter()
+                .all(|&me| self.element_responses.contains_key(&(me, le)))
+            {
+                continue;
+            }
+            let dofs = beam.shape(le, beam.node_x[le]).dofs;
+            for (l, dof) in dofs.iter().enumerate() {
+                self.response_u[l].fill(0.0);
+                self.response_v[l].fill(0.0);
+                let Some(dof) = *dof else { continue };
+                self.load.fill(0.0);
+                self.load[dof] = 1.0;
+                let (u, v) = (&mut self.response_u[l], &mut self.response_v[l]);
+                self.integrator
+                    .beam_response(system, &self.load, self.nominal_step, u, v);
+            }
+            for &me in measured {
+                let mdofs = beam.shape(me, beam.node_x[me]).dofs;
+                let mut response = ElementResponse {
+                    displacement: Matrix4::zeros(),
+                    velocity: Matrix4::zeros(),
+                };
+                for (l, dof) in dofs.iter().enumerate() {
+                    if dof.is_none() {
+                        continue;
+                    }
+                    for (k, m) in mdofs.iter().enumerate() {
+                        if let Some(m) = *m {
+                            response.displacement[(k, l)] = self.response_u[l][m];
+                            response.velocity[(k, l)] = self.response_v[l][m];
+                        }
+                    }
                 }
-            }
-            let gap = measure_rows[1].dot(&(r.displacement * rows[1]));
-            return (velocity, gap);
-        }
-        // The step crosses a node: integrate the responses directly.
-        let rows = [t_row, n_row];
-        let measure_rows = [mt_row, mn_row];
-        for j in active.clone() {
-            self.load.fill(0.0);
-            apply.shape.scatter(&rows[j], 1.0, &mut self.load);
-            let (u, v) = (&mut self.response_u[j], &mut self.response_v[j]);
-            self.integrator.beam_response(system, &self.load, dt, u, v);
-        }
-        for i in active.clone() {
-            for j in active.clone() {
-                velocity[(i, j)] = measure.shape.dot(&measure_rows[i], &self.response_v[j]);
+                self.element_responses.insert((me, le), response);
             }
         }
-        let gap = measure.shape.dot(&measure_rows[1], &self.response_u[1]);
-        (velocity, gap)
     }
 
-    /// Sensitivities of the errors measured in `measure` (the end-of-step
-    /// frame) to a force applied in `apply` (where the step starts).
-    fn delassus(
+    /// Beam parts of ∂e/∂p (into `velocity`) and ∂g/∂p_n (into `gap`) for
+    /// steps of the nominal length, from the cached element responses.
+    fn beam_compliance_cached(
         &mut self,
         system: &System,
-        apply: &ContactFrame,
-        measure: &ContactFrame,
-        dt: f64,
-    ) -> Delassus {
-        let body = &system.body;
-        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
-        let (beam_velocity, beam_gap) = self.beam_compliance(system, apply, measure, dt);
-        let (bt, bn) = apply.body_rows(body.radius);
-        let body_rows = [bt, bn];
-        let (mbt, mbn) = measure.body_rows(body.radius);
-        let measure_body_rows = [mbt, mbn];
-        let inverse_inertia = body.inverse_inertia();
-        let active = if body.rolls { 0..2 } else { 1..2 };
-        let mut velocity = beam_velocity;
-        for i in active.clone() {
-            for j in active.clone() {
-                let (a, b) = (&measure_body_rows[i], &body_rows[j]);
-                velocity[(i, j)] += velocity_weight
-                    * ((a.x * b.x + a.y * b.y) / body.mass + a.z * b.z * inverse_inertia);
+        start_frames: &[ContactFrame],
+        velocity: &mut DMatrix<f64>,
+        gap: &mut DMatrix<f64>,
+    ) {
+        let h = system.beam.surface_offset;
+        let on_beam = |frames: &[ContactFrame], elements: &mut Vec<usize>| {
+            elements.clear();
+            elements.extend(frames.iter().filter(|f| f.on_beam).map(|f| f.shape.element));
+            elements.sort_unstable();
+            elements.dedup();
+        };
+        let mut measured = std::mem::take(&mut self.measured_elements);
+        let mut loaded = std::mem::take(&mut self.loaded_elements);
+        on_beam(&self.end_frames, &mut measured);
+        on_beam(start_frames, &mut loaded);
+        self.fill_element_responses(system, &measured, &loaded);
+        self.measured_elements = measured;
+        self.loaded_elements = loaded;
+        for (i, measure) in self.end_frames.iter().enumerate() {
+            if !measure.on_beam {
+                continue;
+            }
+            let (mt, mn) = measure.beam_rows(h);
+            let measure_rows = [Vector4::from(mt), Vector4::from(mn)];
+            let kinds_i = row_kinds(system.contacts[i].rolls());
+            for (j, apply) in start_frames.iter().enumerate() {
+                if !apply.on_beam {
+                    continue;
+                }
+                let r = &self.element_responses[&(measure.shape.element, apply.shape.element)];
+                let (t, n) = apply.beam_rows(h);
+                let rows = [Vector4::from(t), Vector4::from(n)];
+                let kinds_j = row_kinds(system.contacts[j].rolls());
+                for (a, &ki) in kinds_i.iter().enumerate() {
+                    for (b, &kj) in kinds_j.iter().enumerate() {
+                        velocity[(self.offsets[i] + a, self.offsets[j] + b)] =
+                            measure_rows[ki].dot(&(r.velocity * rows[kj]));
+                    }
+                }
+                gap[(i, j)] = measure_rows[1].dot(&(r.displacement * rows[1]));
             }
         }
-        if !body.rolls {
-            velocity[(0, 0)] = 1.0;
+    }
+
+    /// Beam parts of ∂e/∂p and ∂g/∂p_n for other step lengths (the
+    /// shortened steps before an event or a communication point): the beam's
+    /// responses to each applied row, integrated directly.
+    fn beam_compliance_integrated(
+        &mut self,
+        system: &System,
+        start_frames: &[ContactFrame],
+        dt: f64,
+        velocity: &mut DMatrix<f64>,
+        gap: &mut DMatrix<f64>,
+    ) {
+        let h = system.beam.surface_offset;
+        self.reserve_responses(self.rows);
+        for (j, apply) in start_frames.iter().enumerate() {
+            if !apply.on_beam {
+                continue;
+            }
+            let (t, n) = apply.beam_rows(h);
+            let rows = [t, n];
+            let kinds_j = row_kinds(system.contacts[j].rolls());
+            for (b, &kj) in kinds_j.iter().enumerate() {
+                let column = self.offsets[j] + b;
+                self.load.fill(0.0);
+                apply.shape.scatter(&rows[kj], 1.0, &mut self.load);
+                let (u, v) = (&mut self.response_u[column], &mut self.response_v[column]);
+                self.integrator.beam_response(system, &self.load, dt, u, v);
+            }
+            let normal_column = self.offsets[j] + kinds_j.len() - 1;
+            for (i, measure) in self.end_frames.iter().enumerate() {
+                if !measure.on_beam {
+                    continue;
+                }
+                let (mt, mn) = measure.beam_rows(h);
+                let measure_rows = [mt, mn];
+                let kinds_i = row_kinds(system.contacts[i].rolls());
+                for (a, &ki) in kinds_i.iter().enumerate() {
+                    for b in 0..kinds_j.len() {
+                        let column = self.offsets[j] + b;
+                        velocity[(self.offsets[i] + a, column)] = measure
+                            .shape
+                            .dot(&measure_rows[ki], &self.response_v[column]);
+                    }
+                }
+                gap[(i, j)] = measure
+                    .shape
+                    .dot(&measure_rows[1], &self.response_u[normal_column]);
+            }
         }
-        let gap = position_weight / body.mass * measure.normal().dot(&apply.normal()) + beam_gap;
-        Delassus { velocity, gap }
+    }
+
+    /// Body parts: contacts on the same body move it together.
+    fn add_body_compliance(
+        &self,
+        system: &System,
+        start_frames: &[ContactFrame],
+        dt: f64,
+        velocity: &mut DMatrix<f64>,
+        gap: &mut DMatrix<f64>,
+    ) {
+        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
+        for (i, ci) in system.contacts.iter().enumerate() {
+            let measure = &self.end_frames[i];
+            let (mbt, mbn) = measure.body_rows(ci.radius());
+            let measure_rows = [mbt, mbn];
+            for (j, cj) in system.contacts.iter().enumerate() {
+                if ci.body != cj.body {
+                    continue;
+                }
+                let body = &system.bodies[ci.body];
+                let inverse_inertia = body.inverse_inertia();
+                let apply = &start_frames[j];
+                let (bt, bn) = apply.body_rows(cj.radius());
+                let rows = [bt, bn];
+                for (a, &ki) in row_kinds(ci.rolls()).iter().enumerate() {
+                    for (b, &kj) in row_kinds(cj.rolls()).iter().enumerate() {
+                        let (m, r) = (&measure_rows[ki], &rows[kj]);
+                        velocity[(self.offsets[i] + a, self.offsets[j] + b)] += velocity_weight
+                            * ((m.x * r.x + m.y * r.y) / body.mass + m.z * r.z * inverse_inertia);
+                    }
+                }
+                gap[(i, j)] += position_weight / body.mass * measure.normal().dot(&apply.normal());
+            }
+        }
+    }
+
+    /// Build and invert the block Delassus operators of the step (measured
+    /// in the end frames, applied in the start frames) into `self.delassus`.
+    fn build_delassus(
+        &mut self,
+        system: &System,
+        start_frames: &[ContactFrame],
+        dt: f64,
+    ) -> Result<(), StepError> {
+        let mut velocity = std::mem::replace(&mut self.delassus.velocity, DMatrix::zeros(0, 0));
+        let mut gap = std::mem::replace(&mut self.delassus.gap, DMatrix::zeros(0, 0));
+        velocity.fill(0.0);
+        gap.fill(0.0);
+        // Grid steps differ from the nominal step by round-off only.
+        if (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step {
+            self.beam_compliance_cached(system, start_frames, &mut velocity, &mut gap);
+        } else {
+            self.beam_compliance_integrated(system, start_frames, dt, &mut velocity, &mut gap);
+        }
+        self.add_body_compliance(system, start_frames, dt, &mut velocity, &mut gap);
+        let finite = velocity.iter().chain(gap.iter()).all(|x| x.is_finite());
+        let inverted = finite && velocity.try_inverse_mut() && gap.try_inverse_mut();
+        self.delassus = Delassus {
+            velocity,
+            gap,
+            built: inverted,
+        };
+        if inverted {
+            Ok(())
+        } else {
+            Err(StepError::NonFinite { stage: "velocity" })
+        }
     }
 
     fn integrate_and_measure(
         &mut self,
         system: &System,
         from: &StepStart,
-        force: ContactForce,
         end: &mut DynamicState,
-    ) -> Result<ContactFrame, StepError> {
-        self.integrator.step(system, from, force, end)?;
-        let frame = foot_point(
-            &system.beam,
-            &end.beam_displacement,
-            &end.body.position,
-            end.contact_x,
-        )
-        .map_err(|e| StepError::LostContact { x: e.last_x })?;
-        end.contact_x = frame.x;
-        Ok(frame)
+    ) -> Result<(), StepError> {
+        self.integrator.step(system, from, &self.forces, end)?;
+        let (u, bodies) = (&end.beam_displacement, &end.bodies);
+        let located = (end.contact_x.as_slice(), from.parts);
+        contact_frames(system, u, bodies, located, &mut self.end_frames)?;
+        for (x, frame) in end.contact_x.iter_mut().zip(&self.end_frames) {
+            *x = frame.x;
+        }
+        Ok(())
     }
 
-    /// Advance `start` by `dt` into `end`, finding the contact force.
+    /// Stack every contact's velocity error into `self.error`; return the
+    /// largest contact's |e|.
+    fn velocity_errors(&mut self, system: &System, end: &DynamicState) -> f64 {
+        let mut largest: f64 = 0.0;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            let frame = &self.end_frames[c];
+            let state = &end.bodies[contact.body];
+            let e = frame.velocity_error(&system.beam, contact.radius(), state, &end.beam_velocity);
+            let offset = self.offsets[c];
+            let norm = if contact.rolls() {
+                self.error[offset] = e.x;
+                self.error[offset + 1] = e.y;
+                e.norm()
+            } else {
+                self.error[offset] = e.y;
+                e.y.abs()
+            };
+            // NaN must win the maximum so that it is reported.
+            largest = if norm.is_nan() {
+                norm
+            } else {
+                largest.max(norm)
+            };
+        }
+        largest
+    }
+
+    /// Every contact's gap into `gap_errors`; return the one of largest
+    /// magnitude.
+    fn gaps(&mut self, system: &System, end: &DynamicState) -> f64 {
+        let mut worst: f64 = 0.0;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            let centre = &end.bodies[contact.body].position;
+            let g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
+            self.gap_errors[c] = g;
+            if g.is_nan() || g.abs() > worst.abs() {
+                worst = g;
+            }
+        }
+        worst
+    }
+
+    /// Advance `start` by `dt` into `end`, finding the contact forces from
+    /// the initial guesses `guess`. `applied`: the constant generalized force
+    /// on each body (applied forces and weight).
     #[allow(clippy::too_many_arguments)]
     pub fn solve(
         &mut self,
         system: &System,
         start: &DynamicState,
-        guess: ContactForce,
-        external: Vector2<f64>,
+        parts: &[crate::system::TrackPart],
+        guess: &[ContactForce],
+        applied: &[nalgebra::Vector3<f64>],
         dt: f64,
         settings: &IterationSettings,
         end: &mut DynamicState,
     ) -> Result<StepSolution, StepError> {
-        let body = &system.body;
-        let beam = &system.beam;
-        let start_frame = foot_point(
-            beam,
-            &start.beam_displacement,
-            &start.body.position,
-            start.contact_x,
-        )
-        .map_err(|e| StepError::LostContact { x: e.last_x })?;
+        // Taken out of the workspace for the step: `from` lends them to the
+        // integrator while the workspace is borrowed mutably.
+        let mut start_frames = std::mem::take(&mut self.start_frames);
+        let (u, bodies) = (&start.beam_displacement, &start.bodies);
+        let located = (start.contact_x.as_slice(), parts);
+        contact_frames(system, u, bodies, located, &mut start_frames)?;
         self.integrator.begin_step();
+        self.forces.clear();
+        self.forces.extend_from_slice(guess);
+        for (force, contact) in self.forces.iter_mut().zip(&system.contacts) {
+            if !contact.rolls() {
+                force.tangential = 0.0;
+            }
+        }
         let from = StepStart {
             state: start,
-            frame: &start_frame,
-            external,
+            frames: &start_frames,
+            parts,
+            applied,
             dt,
         };
-        // Built once per step, on the first correction that needs it.
-        let mut delassus: Option<Delassus> = None;
+        let solution = self.iterate(system, &from, settings, end);
+        self.start_frames = start_frames;
+        solution
+    }
 
-        let mut force = guess;
-        if !body.rolls {
-            force.tangential = 0.0;
-        }
+    /// Both stages of the step from `from`.
+    fn iterate(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+    ) -> Result<StepSolution, StepError> {
+        // Built once per step, on the first correction that needs it.
+        self.delassus.built = false;
+        let mut iterations = self.velocity_stage(system, from, settings, end)?;
+        let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
+        iterations += position_iterations;
+        let velocity_error = self.velocity_errors(system, end);
+        Ok(StepSolution {
+            forces: self.forces.clone(),
+            iterations,
+            position_iterations,
+            velocity_error,
+            gap_error,
+        })
+    }
+
+    /// Velocity stage (eq. 16); returns the integrations it took.
+    fn velocity_stage(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+    ) -> Result<u32, StepError> {
         let mut iterations = 0;
         let mut first_residual = None;
-        // Velocity stage (eq. 16).
-        let mut frame = loop {
-            let frame = self.integrate_and_measure(system, &from, force, end)?;
+        loop {
+            self.integrate_and_measure(system, from, end)?;
             iterations += 1;
-            let mut e = frame.velocity_error(beam, body, &end.body, &end.beam_velocity);
-            if !body.rolls {
-                e.x = 0.0;
-            }
-            let residual = e.norm();
+            let residual = self.velocity_errors(system, end);
             if !residual.is_finite() {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
             if residual <= settings.velocity_tolerance {
-                break frame;
+                return Ok(iterations);
             }
             let first = *first_residual.get_or_insert(residual);
             if iterations >= 3 && residual > 10.0 * first {
@@ -345,50 +610,134 @@ impl ContactIteration {
                     tolerance: settings.velocity_tolerance,
                 });
             }
-            if delassus.is_none() {
-                delassus = Some(self.delassus(system, &start_frame, &frame, dt));
+            if !self.delassus.built {
+                self.build_delassus(system, from.frames, from.dt)?;
             }
-            let d = delassus.as_ref().expect("built above");
-            let acceleration_matrix = d
-                .velocity
-                .try_inverse()
-                .ok_or(StepError::NonFinite { stage: "velocity" })?;
-            force = ContactForce::from_vector(force.as_vector() - acceleration_matrix * e);
-        };
-        // Position stage (eq. 17).
-        let mut gap = frame.gap(beam, body, &end.body.position);
-        let mut position_iterations = 0;
-        while gap.abs() > settings.gap_tolerance {
+            let correction = &mut self.correction;
+            correction.gemv(1.0, &self.delassus.velocity, &self.error, 0.0);
+            for (c, contact) in system.contacts.iter().enumerate() {
+                let offset = self.offsets[c];
+                if contact.rolls() {
+                    self.forces[c].tangential -= correction[offset];
+                    self.forces[c].normal -= correction[offset + 1];
+                } else {
+                    self.forces[c].normal -= correction[offset];
+                }
+            }
+        }
+    }
+
+    /// Position stage (eq. 17); returns its integrations and the final gap
+    /// of largest magnitude.
+    fn position_stage(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+    ) -> Result<(u32, f64), StepError> {
+        let mut gap = self.gaps(system, end);
+        let mut iterations = 0;
+        while gap.abs() > settings.gap_tolerance || gap.is_nan() {
             if !gap.is_finite() {
                 return Err(StepError::NonFinite { stage: "position" });
             }
-            if position_iterations >= settings.max_iterations {
+            if iterations >= settings.max_iterations {
                 return Err(StepError::NotConverged {
                     stage: "position",
-                    iterations: position_iterations,
+                    iterations,
                     residual: gap.abs(),
                     tolerance: settings.gap_tolerance,
                 });
             }
-            if delassus.is_none() {
-                delassus = Some(self.delassus(system, &start_frame, &frame, dt));
+            if !self.delassus.built {
+                self.build_delassus(system, from.frames, from.dt)?;
             }
-            let d = delassus.as_ref().expect("built above");
-            force.normal -= gap / d.gap;
-            frame = self.integrate_and_measure(system, &from, force, end)?;
-            gap = frame.gap(beam, body, &end.body.position);
+            let correction = &mut self.gap_correction;
+            correction.gemv(1.0, &self.delassus.gap, &self.gap_errors, 0.0);
+            for (force, dp) in self.forces.iter_mut().zip(correction.iter()) {
+                force.normal -= dp;
+            }
+            self.integrate_and_measure(system, from, end)?;
+            gap = self.gaps(system, end);
             iterations += 1;
-            position_iterations += 1;
         }
-        let mut e = frame.velocity_error(beam, body, &end.body, &end.beam_velocity);
-        if !body.rolls {
-            e.x = 0.0;
-        }
-        Ok(StepSolution {
-            force,
-            iterations,
-            velocity_error: e.norm(),
-            gap_error: gap,
-        })
+        Ok((iterations, gap))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assemble::assemble;
+    use crate::integrate::{Integrator, Rk4};
+    use crate::scene::{BodyKind, Scene};
+    use crate::system::TrackPart;
+    use nalgebra::DVector;
+
+    /// Two paper wheels on a four-element beam, in different elements.
+    fn two_wheels() -> (System, Vec<ContactFrame>) {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        scene.beam.elements = 4;
+        scene.body.initial_position = 3.0;
+        let mut second = scene.body.clone();
+        second.name = "second".into();
+        second.initial_position = 15.5;
+        scene.vehicles = vec![second];
+        let assembly = assemble(&scene).unwrap();
+        let system = assembly.system;
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).sin());
+        let mut frames = Vec::new();
+        let guesses = [3.0, 15.5];
+        let parts = [TrackPart::Beam; 2];
+        contact_frames(
+            &system,
+            &u,
+            &assembly.bodies,
+            (&guesses, &parts),
+            &mut frames,
+        )
+        .unwrap();
+        (system, frames)
+    }
+
+    #[test]
+    fn cached_element_pair_responses_give_the_integrated_coupling() {
+        // The cached path (nominal step) and the direct integration (any
+        // step) must build the same beam blocks, off-diagonal ones included.
+        let (system, frames) = two_wheels();
+        assert_ne!(frames[0].shape.element, frames[1].shape.element);
+        let dt = 0.0025;
+        let n = system.beam.free_dofs();
+        let rk4 = Integrator::Rk4(Box::new(Rk4::new(n, system.bodies.len())));
+        let mut iteration = ContactIteration::new(rk4, &system, dt);
+        iteration.end_frames = frames.clone();
+        let (rows, contacts) = (iteration.rows, system.contacts.len());
+        let mut cached = (
+            DMatrix::zeros(rows, rows),
+            DMatrix::zeros(contacts, contacts),
+        );
+        iteration.beam_compliance_cached(&system, &frames, &mut cached.0, &mut cached.1);
+        let mut direct = (
+            DMatrix::zeros(rows, rows),
+            DMatrix::zeros(contacts, contacts),
+        );
+        iteration.beam_compliance_integrated(&system, &frames, dt, &mut direct.0, &mut direct.1);
+        let scale = direct.0.amax();
+        assert!(scale > 0.0);
+        assert!(
+            (&cached.0 - &direct.0).amax() <= 1e-12 * scale,
+            "{cached:?} vs {direct:?}"
+        );
+        assert!((&cached.1 - &direct.1).amax() <= 1e-12 * direct.1.amax());
+        // The wheels load each other through the beam.
+        assert!(
+            direct.0[(1, 3)].abs() > 1e-6 * direct.0[(1, 1)].abs(),
+            "{direct:?}"
+        );
+        assert!(direct.1[(0, 1)].abs() > 1e-6 * direct.1[(0, 0)].abs());
+        // Reciprocity: the beam's response is symmetric in load and measure
+        // (same frames at both ends here).
+        assert!((direct.1[(0, 1)] - direct.1[(1, 0)]).abs() <= 1e-9 * direct.1[(0, 1)].abs());
     }
 }

@@ -6,16 +6,19 @@
 //! typed variables; the `fmi2` layer exports that table through the FMI 2.0
 //! co-simulation C ABI and knows nothing of beams.
 
+pub mod assemble;
 pub mod band;
 pub mod beam;
 pub mod body;
 pub mod contact;
 pub mod fmi2;
 pub mod fmu;
+pub mod force_element;
 pub mod integrate;
 pub mod iteration;
 pub mod model;
 pub mod output_file;
+pub mod outputs;
 pub mod report;
 pub mod scene;
 pub mod simulation;

@@ -1,41 +1,29 @@
-//! Simulation: state of beam and body, fixed-step advance, exit, outputs and
-//! energy bookkeeping.
+//! Simulation: the state of beam and bodies, the fixed-step advance, the
+//! events (contacts entering and leaving the beam, leaving the track) and
+//! the output values.
 
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::beam::Beam;
-use crate::body::{BodyState, RigidBody};
-use crate::contact::{foot_point, ContactForce, ContactFrame};
-use crate::integrate::DynamicState;
-use crate::integrate::{contact_loads, Hht, Integrator, Rk4};
-use crate::iteration::{ContactIteration, IterationSettings};
-use crate::scene::{BodyKind, IntegratorKind, Scene, SolverSpec};
-use crate::system::System;
+use crate::assemble::{assemble, constant_forces};
+use crate::contact::ContactForce;
+use crate::integrate::{choose_integrator, contact_frames, loads, DynamicState};
+use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
+use crate::outputs::{catalogue, Quantity};
+use crate::scene::Scene;
+use crate::system::{System, TrackPart};
 
-/// How an output is typed when exported.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum OutputKind {
-    Real,
-    Integer,
-}
-
-/// One named output of the simulation, in the order of `output_values`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct OutputInfo {
-    pub name: String,
-    pub unit: &'static str,
-    pub description: String,
-    pub kind: OutputKind,
-}
+pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
+pub use crate::outputs::{OutputInfo, OutputKind};
 
 /// Result of `advance_to`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Advance {
     /// The requested time was reached.
     Reached,
-    /// The contact point reached the end of the beam at `time`; the state is
-    /// the exit state.
+    /// The run is over at `time` (the last contact left the beam in a run
+    /// without an end time, or a contact left the track); the state is the
+    /// state at that instant.
     Exited { time: f64 },
 }
 
@@ -83,6 +71,28 @@ impl Steppable for Simulation {
     }
 }
 
+/// What happened to a contact.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EventKind {
+    /// The contact point rolled onto the beam.
+    Entry,
+    /// The contact point left the beam (onto rigid ground, or off the track).
+    Exit,
+    /// The contact point left the track: the run ends.
+    LeftTrack,
+}
+
+/// An event located inside a step (the step is shortened to its instant).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ContactEvent {
+    pub contact: usize,
+    pub time: f64,
+    pub kind: EventKind,
+}
+
+/// Events kept per run; later ones are counted, not kept.
+pub const MAX_EVENTS: usize = 10_000;
+
 /// Everything needed to continue a run bit-identically.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SimState {
@@ -90,20 +100,102 @@ pub struct SimState {
     /// Index of the last grid point k·Δt reached (the grid of `solver.step`).
     pub grid_step: u64,
     pub dynamic: DynamicState,
-    /// Converged contact force of the last steps, newest first, and the
-    /// lengths of the steps between them: the history the next step's
-    /// initial guess is extrapolated from.
-    pub force_history: [ContactForce; 3],
+    /// Per contact: the converged force of the last steps, newest first.
+    /// With `step_history` (the lengths of the steps between them) the
+    /// history the next step's initial guess is extrapolated from.
+    pub force_history: Vec<[ContactForce; 3]>,
     pub step_history: [f64; 2],
+    /// The applied force on the driven body (the FMU's inputs).
     pub body_force: [f64; 2],
     pub external_work: f64,
+    pub gravity_work: f64,
     pub initial_energy: f64,
     pub last_iterations: u32,
+    pub last_position_iterations: u32,
     pub last_velocity_error: f64,
     pub last_gap_error: f64,
     pub steps: u64,
     pub total_iterations: u64,
+    /// Where each contact is along the track.
+    pub parts: Vec<TrackPart>,
+    pub events: Vec<ContactEvent>,
+    pub events_dropped: u64,
+    /// When the run ended (see `Advance::Exited`).
     pub exit_time: Option<f64>,
+}
+
+impl SimState {
+    /// Every number finite, the beam's vectors alike in length, and the
+    /// time on the state's own grid of `step`: what a state from outside (a
+    /// serialized FMU state) must satisfy before anything is sized by it.
+    pub fn check_values(&self, step: f64) -> Result<(), String> {
+        let d = &self.dynamic;
+        let n = d.beam_displacement.len();
+        let lengths = [
+            d.beam_velocity.len(),
+            d.beam_acceleration.len(),
+            d.beam_load.len(),
+        ];
+        if lengths.iter().any(|&m| m != n) {
+            return Err(format!(
+                "the state's beam vectors differ in length ({n}, {lengths:?})"
+            ));
+        }
+        let scalars = [
+            self.time,
+            self.external_work,
+            self.gravity_work,
+            self.initial_energy,
+            self.last_velocity_error,
+            self.last_gap_error,
+            self.exit_time.unwrap_or(0.0),
+            d.dissipated,
+        ];
+        let bodies = d.bodies.iter().flat_map(|b| {
+            [
+                b.position.x,
+                b.position.y,
+                b.velocity.x,
+                b.velocity.y,
+                b.angle,
+                b.angular_velocity,
+            ]
+        });
+        let forces = self
+            .force_history
+            .iter()
+            .flatten()
+            .flat_map(|f| [f.tangential, f.normal]);
+        let generalized = d.body_accelerations.iter().chain(&d.body_loads).flatten();
+        let beam = [
+            &d.beam_displacement,
+            &d.beam_velocity,
+            &d.beam_acceleration,
+            &d.beam_load,
+        ];
+        let mut all = scalars
+            .into_iter()
+            .chain(self.step_history)
+            .chain(self.body_force)
+            .chain(d.contact_x.iter().copied())
+            .chain(self.events.iter().map(|e| e.time))
+            .chain(bodies)
+            .chain(forces)
+            .chain(generalized.copied())
+            .chain(beam.into_iter().flatten().copied());
+        if let Some(x) = all.find(|x| !x.is_finite()) {
+            return Err(format!("the state holds a non-finite number ({x})"));
+        }
+        let grid = self.grid_step as f64 * step;
+        let slack = 1e-6 * step;
+        if !(self.time >= 0.0 && grid - slack <= self.time && self.time <= grid + step + slack) {
+            return Err(format!(
+                "the state's time {} s is not in its step {} of solver.step = {step} s",
+                self.time, self.grid_step
+            ));
+        }
+        Ok(())
+    }
 }
 
 /// Initial guess of the next step's contact force (procedure step 1):
@@ -124,346 +216,87 @@ fn extrapolate(history: &[ContactForce; 3], steps: &[f64; 2], dt: f64) -> Contac
     ContactForce::from_vector(guess)
 }
 
-/// The largest step explicit RK4 is stable at for this beam (s): its
-/// stability region reaches 2√2 on the imaginary axis.
-pub fn rk4_step_limit(system: &System) -> f64 {
-    2.0 * std::f64::consts::SQRT_2 / system.beam.highest_frequency()
-}
-
-/// The least numerical damping `auto` runs HHT-α with.
-pub const AUTO_MIN_DAMPING: f64 = 0.1;
-
-fn choose_integrator(system: &System, solver: &SolverSpec) -> Result<(Integrator, String), String> {
-    let step = solver.step;
-    let damping = solver.numerical_damping;
-    let hht = |damping: f64, why: String| -> Result<(Integrator, String), String> {
-        let integrator = Hht::new(system, damping, step)?;
-        Ok((
-            Integrator::Hht(Box::new(integrator)),
-            format!("hht (implicit HHT-α, α = {}){why}", 0.0 - damping),
-        ))
-    };
-    match solver.integrator {
-        IntegratorKind::Hht => hht(damping, String::new()),
-        IntegratorKind::Rk4 | IntegratorKind::Auto => {
-            let limit = rk4_step_limit(system);
-            let free = system.beam.free_dofs();
-            if step <= limit {
-                let why = if solver.integrator == IntegratorKind::Auto {
-                    format!("; auto: the step is within RK4's stability limit {limit:.3e} s")
-                } else {
-                    String::new()
-                };
-                return Ok((
-                    Integrator::Rk4(Rk4::new(free)),
-                    format!("rk4 (explicit){why}"),
-                ));
-            }
-            if solver.integrator == IntegratorKind::Auto {
-                // Undamped HHT lets the contact force oscillate from step to
-                // step at high speed (a spurious early lift-off at 150 m/s on
-                // 8 elements, report/stress.md): auto damps at least a little.
-                return hht(
-                    damping.max(AUTO_MIN_DAMPING),
-                    format!("; auto: RK4 would need a step of at most {limit:.3e} s for this mesh"),
-                );
-            }
-            Err(format!(
-                "solver.step = {step} s is beyond the stability limit of explicit RK4 \
-                 for this mesh: elements of {:.4} m give the beam a highest frequency of \
-                 {:.1} rad/s, so the step must not exceed {limit:.3e} s; shorten solver.step, \
-                 use fewer elements, or set solver.integrator = \"hht\" or \"auto\"",
-                system.beam.min_element_length(),
-                2.0 * std::f64::consts::SQRT_2 / limit
-            ))
-        }
-    }
-}
-
-/// Which quantity an output reports.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Quantity {
-    X,
-    Y,
-    Vx,
-    Vy,
-    AngularVelocity,
-    NominalSpeed,
-    ContactPosition,
-    TangentialForce,
-    NormalForce,
-    Sensor(usize),
-    BodyKinetic,
-    BeamKinetic,
-    BeamStrain,
-    ExternalWork,
-    Balance,
-    VelocityError,
-    GapError,
-    Iterations,
-}
-
 pub struct Simulation {
     system: System,
     /// Which integrator runs, and why (for `auto`).
     integrator_choice: String,
     sensors: Vec<f64>,
     step: f64,
+    /// Without an end time the run ends when the last contact leaves the
+    /// beam (the paper's exit); with one it goes on to it.
+    stop_at_beam_exit: bool,
+    /// The first body of each vehicle and the constant force on it; the
+    /// first is the driven body, whose force is `SimState::body_force`.
+    vehicle_forces: Vec<(usize, [f64; 2])>,
     settings: IterationSettings,
     iteration: ContactIteration,
     state: SimState,
     scratch: DynamicState,
     outputs: Vec<OutputInfo>,
     quantities: Vec<Quantity>,
-}
-
-fn output_table(scene: &Scene) -> Vec<(OutputInfo, Quantity)> {
-    let b = &scene.body.name;
-    let rolls = scene.body.kind == BodyKind::Wheel;
-    let real = |name: String, unit: &'static str, description: &str| OutputInfo {
-        name,
-        unit,
-        description: description.to_string(),
-        kind: OutputKind::Real,
-    };
-    let mut table = vec![
-        (
-            real(
-                format!("{b}.x"),
-                "m",
-                "horizontal position of the body's centre",
-            ),
-            Quantity::X,
-        ),
-        (
-            real(
-                format!("{b}.y"),
-                "m",
-                "vertical position of the body's centre",
-            ),
-            Quantity::Y,
-        ),
-        (
-            real(
-                format!("{b}.vx"),
-                "m/s",
-                "horizontal velocity of the body's centre",
-            ),
-            Quantity::Vx,
-        ),
-        (
-            real(
-                format!("{b}.vy"),
-                "m/s",
-                "vertical velocity of the body's centre",
-            ),
-            Quantity::Vy,
-        ),
-    ];
-    if rolls {
-        table.push((
-            real(
-                format!("{b}.angular_velocity"),
-                "rad/s",
-                "angular velocity, counter-clockwise positive",
-            ),
-            Quantity::AngularVelocity,
-        ));
-    }
-    table.push((
-        real(
-            format!("{b}.nominal_speed"),
-            "m/s",
-            "nominal travel speed V = vx + (r + h) dphi/dt (eq. 24)",
-        ),
-        Quantity::NominalSpeed,
-    ));
-    table.push((
-        real(
-            "contact.position".into(),
-            "m",
-            "abscissa of the contact point along the beam",
-        ),
-        Quantity::ContactPosition,
-    ));
-    if rolls {
-        table.push((
-            real(
-                "contact.tangential_force".into(),
-                "N",
-                "tangential contact force on the body",
-            ),
-            Quantity::TangentialForce,
-        ));
-    }
-    table.push((
-        real(
-            "contact.normal_force".into(),
-            "N",
-            "normal contact force on the body (positive pushes it off the beam)",
-        ),
-        Quantity::NormalForce,
-    ));
-    for (i, sensor) in scene.sensors.iter().enumerate() {
-        table.push((
-            real(
-                format!("sensor.{}.deflection", sensor.name),
-                "m",
-                "beam deflection at the sensor (up positive)",
-            ),
-            Quantity::Sensor(i),
-        ));
-    }
-    table.extend([
-        (
-            real(
-                "energy.body_kinetic".into(),
-                "J",
-                "kinetic energy of the body",
-            ),
-            Quantity::BodyKinetic,
-        ),
-        (
-            real(
-                "energy.beam_kinetic".into(),
-                "J",
-                "kinetic energy of the beam",
-            ),
-            Quantity::BeamKinetic,
-        ),
-        (
-            real(
-                "energy.beam_strain".into(),
-                "J",
-                "strain energy of the beam",
-            ),
-            Quantity::BeamStrain,
-        ),
-        (
-            real(
-                "energy.external_work".into(),
-                "J",
-                "work done by the force on the body's centre",
-            ),
-            Quantity::ExternalWork,
-        ),
-        (
-            real(
-                "energy.balance".into(),
-                "J",
-                "kinetic + strain energy - external work: constant for the exact solution",
-            ),
-            Quantity::Balance,
-        ),
-        (
-            real(
-                "solver.velocity_error".into(),
-                "m/s",
-                "|e| at the end of the last step",
-            ),
-            Quantity::VelocityError,
-        ),
-        (
-            real(
-                "solver.gap_error".into(),
-                "m",
-                "gap error g at the end of the last step",
-            ),
-            Quantity::GapError,
-        ),
-    ]);
-    table.push((
-        OutputInfo {
-            name: "solver.iterations".into(),
-            unit: "",
-            description: "contact-force iterations in the last step".into(),
-            kind: OutputKind::Integer,
-        },
-        Quantity::Iterations,
-    ));
-    table
+    /// Per-step buffers: the force guesses and the constant body forces.
+    guess: Vec<ContactForce>,
+    applied: Vec<Vector3<f64>>,
 }
 
 impl Simulation {
     /// Build the model a scene asks for. The scene must be valid.
     pub fn new(scene: &Scene) -> Result<Simulation, String> {
-        let beam = Beam::new(&scene.beam)?;
-        let body = RigidBody::from_spec(&scene.body);
+        let assembly = assemble(scene)?;
+        let system = assembly.system;
         let step = scene.solver.step;
-        let system = System { beam, body };
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
-        let (beam, body) = (&system.beam, &system.body);
-        let x0 = scene.body.initial_position;
-        let v0 = scene.body.initial_speed;
-        let body_state = BodyState {
-            position: Vector2::new(x0, body.radius + beam.surface_offset),
-            velocity: Vector2::new(v0, 0.0),
-            angle: 0.0,
-            angular_velocity: if body.rolls && body.radius > 0.0 {
-                -v0 / body.radius
-            } else {
-                0.0
-            },
-        };
-        let n = beam.free_dofs();
         let body_force = [scene.body.force_x, scene.body.force_y];
-        // Initial guess: the normal force balances the applied force.
-        let force = ContactForce {
-            tangential: 0.0,
-            normal: -body_force[1],
-        };
-        // Loads and accelerations consistent with that force (the implicit
-        // scheme starts from them).
-        let undeformed = DVector::zeros(n);
-        let frame = foot_point(beam, &undeformed, &body_state.position, x0)
-            .map_err(|e| format!("no contact point at the start (x = {})", e.last_x))?;
-        let external = Vector2::new(body_force[0], body_force[1]);
-        let mut beam_load = DVector::zeros(n);
-        let body_load = contact_loads(&system, &frame, force, external, &mut beam_load);
-        let mut beam_acceleration = DVector::zeros(n);
-        beam.accelerations(&undeformed, &beam_load, &mut beam_acceleration);
-        let body_acceleration = body.acceleration(&body_load);
-        let dynamic = DynamicState {
-            beam_displacement: undeformed,
-            beam_velocity: DVector::zeros(n),
-            beam_acceleration,
-            body_acceleration,
-            beam_load,
-            body_load,
-            body: body_state,
-            contact_x: x0,
-        };
-        let (outputs, quantities) = output_table(scene).into_iter().unzip();
+        let mut vehicle_forces = assembly.vehicle_forces;
+        vehicle_forces[0].1 = body_force;
+        let applied: Vec<Vector3<f64>> = constant_forces(&system, &vehicle_forces).collect();
+        let dynamic = initial_state(&system, &assembly.bodies, &assembly.forces, &applied)?;
+        let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
+        let (outputs, quantities) = catalogue(&system, &sensor_names).into_iter().unzip();
+        let parts = dynamic
+            .contact_x
+            .iter()
+            .map(|&x| system.track_part(x))
+            .collect();
         let mut simulation = Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
             step,
+            stop_at_beam_exit: scene.solver.end_time.is_none(),
+            vehicle_forces,
             settings: IterationSettings {
                 velocity_tolerance: scene.solver.velocity_tolerance,
                 gap_tolerance: scene.solver.gap_tolerance,
                 max_iterations: scene.solver.max_iterations,
             },
-            iteration: ContactIteration::new(integrator, n, beam.elements(), step),
+            iteration: ContactIteration::new(integrator, &system, step),
             integrator_choice,
             scratch: dynamic.clone(),
             state: SimState {
                 time: 0.0,
                 grid_step: 0,
                 dynamic,
-                force_history: [force; 3],
+                force_history: assembly.forces.iter().map(|&f| [f; 3]).collect(),
                 step_history: [step; 2],
                 body_force,
                 external_work: 0.0,
+                gravity_work: 0.0,
                 initial_energy: 0.0,
                 last_iterations: 0,
+                last_position_iterations: 0,
                 last_velocity_error: 0.0,
                 last_gap_error: 0.0,
                 steps: 0,
                 total_iterations: 0,
+                parts,
+                events: Vec::new(),
+                events_dropped: 0,
                 exit_time: None,
             },
             system,
             outputs,
             quantities,
+            guess: Vec::new(),
+            applied: Vec::new(),
         };
         simulation.state.initial_energy = simulation.energy_balance();
         Ok(simulation)
@@ -483,56 +316,38 @@ impl Simulation {
         &self.outputs
     }
 
-    fn contact_frame(&self) -> Option<ContactFrame> {
-        let d = &self.state.dynamic;
-        foot_point(
-            &self.system.beam,
-            &d.beam_displacement,
-            &d.body.position,
-            d.contact_x,
-        )
-        .ok()
+    /// The assembled system (bodies, force elements, contacts, beam).
+    pub fn system(&self) -> &System {
+        &self.system
     }
 
     /// Current output values, in the order of `outputs()`.
     pub fn output_values(&self, values: &mut [f64]) {
-        let d = &self.state.dynamic;
-        let beam = &self.system.beam;
-        let body = &self.system.body;
-        let frame = self.contact_frame();
-        for (value, quantity) in values.iter_mut().zip(&self.quantities) {
-            *value = match *quantity {
-                Quantity::X => d.body.position.x,
-                Quantity::Y => d.body.position.y,
-                Quantity::Vx => d.body.velocity.x,
-                Quantity::Vy => d.body.velocity.y,
-                Quantity::AngularVelocity => d.body.angular_velocity,
-                Quantity::NominalSpeed => frame.map_or(f64::NAN, |f| {
-                    f.nominal_speed(beam, body, &d.body, &d.beam_velocity)
-                }),
-                Quantity::ContactPosition => d.contact_x,
-                Quantity::TangentialForce => self.state.force_history[0].tangential,
-                Quantity::NormalForce => self.state.force_history[0].normal,
-                Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, self.sensors[i]),
-                Quantity::BodyKinetic => body.kinetic_energy(&d.body),
-                Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
-                Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
-                Quantity::ExternalWork => self.state.external_work,
-                Quantity::Balance => self.energy_balance(),
-                Quantity::VelocityError => self.state.last_velocity_error,
-                Quantity::GapError => self.state.last_gap_error,
-                Quantity::Iterations => self.state.last_iterations as f64,
-            };
-        }
+        crate::outputs::values(self, &self.quantities, values);
     }
 
-    /// Kinetic + strain energy − work of external forces (J).
+    /// Kinetic + strain + spring energy + dissipated energy − work of
+    /// gravity and of the applied force (J).
     pub fn energy_balance(&self) -> f64 {
         let d = &self.state.dynamic;
-        self.system.body.kinetic_energy(&d.body)
-            + self.system.beam.kinetic_energy(&d.beam_velocity)
-            + self.system.beam.strain_energy(&d.beam_displacement)
+        let s = &self.system;
+        self.body_kinetic_energy()
+            + s.beam.kinetic_energy(&d.beam_velocity)
+            + s.beam.strain_energy(&d.beam_displacement)
+            + s.spring_energy(&d.bodies)
+            + d.dissipated
+            - self.state.gravity_work
             - self.state.external_work
+    }
+
+    pub fn body_kinetic_energy(&self) -> f64 {
+        let d = &self.state.dynamic;
+        self.system
+            .bodies
+            .iter()
+            .zip(&d.bodies)
+            .map(|(body, state)| body.kinetic_energy(state))
+            .sum()
     }
 
     /// Total energy at t = 0 (J), the reference of relative energy drift.
@@ -540,9 +355,10 @@ impl Simulation {
         self.state.initial_energy
     }
 
-    /// Set the external force on the body's centre (N), held until changed.
+    /// Set the applied force on the driven body's centre (N), held until changed.
     pub fn set_body_force(&mut self, fx: f64, fy: f64) {
         self.state.body_force = [fx, fy];
+        self.vehicle_forces[0].1 = [fx, fy];
     }
 
     /// The fixed internal step (s).
@@ -555,30 +371,85 @@ impl Simulation {
         (self.state.steps, self.state.total_iterations)
     }
 
-    /// Exit time, once the body has left the beam.
+    /// When the run ended (see `Advance::Exited`).
     pub fn exit_time(&self) -> Option<f64> {
         self.state.exit_time
+    }
+
+    /// The contacts' entries onto and exits from the beam so far.
+    pub fn events(&self) -> &[ContactEvent] {
+        &self.state.events
     }
 
     pub fn state(&self) -> SimState {
         self.state.clone()
     }
 
+    /// The current state (for the output catalogue).
+    pub(crate) fn current(&self) -> &SimState {
+        &self.state
+    }
+
+    pub(crate) fn sensor_positions(&self) -> &[f64] {
+        &self.sensors
+    }
+
+    /// Restore a state from `state()`; refused unless it has this model's
+    /// shape (beam DOFs, bodies, contacts).
     pub fn restore(&mut self, state: &SimState) -> Result<(), String> {
-        let n = self.system.beam.free_dofs();
-        let d = &state.dynamic;
-        if d.beam_displacement.len() != n || d.beam_velocity.len() != n {
-            return Err(format!(
-                "the state has {} beam DOFs but this model has {n}",
-                d.beam_displacement.len()
-            ));
-        }
+        check_shape(&self.system, state)?;
         self.state = state.clone();
+        self.vehicle_forces[0].1 = state.body_force;
         Ok(())
     }
 
+    /// The constant generalized force on each body now.
+    fn constant_forces(&self) -> Vec<Vector3<f64>> {
+        self.constant_forces_iter().collect()
+    }
+
+    fn constant_forces_iter(&self) -> impl Iterator<Item = Vector3<f64>> + '_ {
+        constant_forces(&self.system, &self.vehicle_forces)
+    }
+
+    /// Each body's (ẍ, ÿ, θ̈) in the current state under the last forces.
+    pub(crate) fn body_accelerations(&self) -> Vec<Vector3<f64>> {
+        let d = &self.state.dynamic;
+        let mut frames = Vec::new();
+        let mut beam_load = DVector::zeros(d.beam_displacement.len());
+        let mut body_loads = vec![Vector3::zeros(); self.system.bodies.len()];
+        let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
+        let applied = self.constant_forces();
+        let ok = contact_frames(
+            &self.system,
+            &d.beam_displacement,
+            &d.bodies,
+            (&d.contact_x, &self.state.parts),
+            &mut frames,
+        );
+        if ok.is_err() {
+            return vec![Vector3::repeat(f64::NAN); self.system.bodies.len()];
+        }
+        let (s, bodies) = (&self.system, &d.bodies);
+        loads(
+            s,
+            &frames,
+            &forces,
+            &applied,
+            bodies,
+            &mut beam_load,
+            &mut body_loads,
+        );
+        s.bodies
+            .iter()
+            .zip(&body_loads)
+            .map(|(body, load)| body.acceleration(load))
+            .collect()
+    }
+
     /// Advance to `target` with internal steps on the grid k·`solver.step`,
-    /// the last one shortened to land on `target`; stops early at the exit.
+    /// the last one shortened to land on `target`; steps are also shortened
+    /// to land on events. Stops early when the run is over.
     pub fn advance_to(&mut self, target: f64) -> Result<Advance, SolverError> {
         let tolerance = 1e-9 * self.step;
         loop {
@@ -589,83 +460,209 @@ impl Simulation {
                 return Ok(Advance::Reached);
             }
             let next_grid = (self.state.grid_step + 1) as f64 * self.step;
-            if next_grid <= target + tolerance {
-                self.step_to(next_grid)?;
-                if self.state.exit_time.is_none() {
-                    self.state.grid_step += 1;
-                }
+            let to = if next_grid <= target + tolerance {
+                next_grid
             } else {
-                self.step_to(target)?;
+                target
+            };
+            let reached = self.step_to(to)?;
+            // An event within round-off of `to` counts as reaching it: the
+            // step left over would be empty.
+            if !reached && to - self.state.time <= tolerance {
+                self.state.time = to;
+            }
+            if to == next_grid && self.state.time == to {
+                self.state.grid_step += 1;
             }
         }
     }
 
-    /// One step from the current time to `to`, or to the exit if the contact
-    /// point reaches an end of the beam first.
-    fn step_to(&mut self, to: f64) -> Result<(), SolverError> {
+    /// One step from the current time to `to`, or to the first event inside
+    /// it. Returns whether it reached `to`.
+    fn step_to(&mut self, to: f64) -> Result<bool, SolverError> {
         let dt = to - self.state.time;
         let s = &self.state;
-        let guess = extrapolate(&s.force_history, &s.step_history, dt);
-        let external = Vector2::new(s.body_force[0], s.body_force[1]);
-        let solution = self.solve(guess, dt)?;
-        if solution.force.normal < 0.0 {
-            // The contact is bilateral: a tensile normal force means the body
-            // would leave the surface, which this model does not follow.
-            return Err(SolverError {
-                time: self.state.time,
-                message: format!(
-                    "lift-off: the normal contact force would become tensile ({:.6e} N) in the \
-                     step from t = {} s at x = {:.6} m; the contact is bilateral, so the run \
-                     stops at the last step with compression",
-                    solution.force.normal, self.state.time, self.scratch.contact_x
-                ),
-            });
-        }
-        let length = self.system.beam.length;
-        let end_x = self.scratch.contact_x;
-        let start_x = self.state.dynamic.contact_x;
-        let boundary = if end_x >= length && start_x < length {
-            Some(length)
-        } else if end_x < 0.0 && start_x >= 0.0 && end_x < start_x {
-            Some(0.0)
+        let mut guess = std::mem::take(&mut self.guess);
+        guess.clear();
+        guess.extend(
+            s.force_history
+                .iter()
+                .map(|h| extrapolate(h, &s.step_history, dt)),
+        );
+        let solution = self.solve(&guess, dt);
+        self.guess = guess;
+        let solution = solution?;
+        self.refuse_lift_off(&solution)?;
+        let (solution, dt, event) = match self.first_event() {
+            None => (solution, dt, None),
+            Some((contact, edge, part)) => {
+                let (solution, dt) = self.locate_event(contact, edge, &solution.forces, dt)?;
+                (solution, dt, Some((contact, part)))
+            }
+        };
+        self.accept(solution, dt);
+        if let Some((contact, part)) = event {
+            self.record_events(contact, part);
+            Ok(false)
         } else {
-            None
-        };
-        let (solution, dt) = match boundary {
-            None => (solution, dt),
-            Some(edge) => self.find_exit(edge, solution.force, dt)?,
-        };
-        let s = &mut self.state;
-        s.external_work += external.dot(&(self.scratch.body.position - s.dynamic.body.position));
-        std::mem::swap(&mut s.dynamic, &mut self.scratch);
-        s.force_history = [solution.force, s.force_history[0], s.force_history[1]];
-        s.step_history = [dt, s.step_history[0]];
-        s.time = if boundary.is_some() { s.time + dt } else { to };
-        s.last_iterations = solution.iterations;
-        s.last_velocity_error = solution.velocity_error;
-        s.last_gap_error = solution.gap_error;
-        s.steps += 1;
-        s.total_iterations += solution.iterations as u64;
-        if boundary.is_some() {
-            s.exit_time = Some(s.time);
+            self.state.time = to;
+            Ok(true)
+        }
+    }
+
+    fn refuse_lift_off(&self, solution: &StepSolution) -> Result<(), SolverError> {
+        for (c, force) in solution.forces.iter().enumerate() {
+            if force.normal < 0.0 {
+                // The contact is bilateral: a tensile normal force means the
+                // body would leave the surface, which this model does not follow.
+                let which = if solution.forces.len() > 1 {
+                    format!(" of {}", self.system.contacts[c].name)
+                } else {
+                    String::new()
+                };
+                return Err(SolverError {
+                    time: self.state.time,
+                    message: format!(
+                        "lift-off: the normal contact force{which} would become tensile \
+                         ({:.6e} N) in the step from t = {} s at x = {:.6} m; the contact is \
+                         bilateral, so the run stops at the last step with compression",
+                        force.normal, self.state.time, self.scratch.contact_x[c]
+                    ),
+                });
+            }
         }
         Ok(())
     }
 
-    fn solve(
+    /// The contact whose crossing of a track boundary comes first in the
+    /// step just solved (into `scratch`), the boundary's abscissa and the
+    /// part beyond it.
+    fn first_event(&self) -> Option<(usize, f64, TrackPart)> {
+        let (start, end) = (&self.state.dynamic.contact_x, &self.scratch.contact_x);
+        let mut first: Option<(f64, usize, f64, TrackPart)> = None;
+        for c in 0..start.len() {
+            let from = self.state.parts[c];
+            let Some(right) = self.system.leaves(from, start[c], end[c]) else {
+                continue;
+            };
+            let (edge, part) = self.system.next_part(from, right);
+            // Linear estimate of when in the step the edge is crossed.
+            let fraction = ((edge - start[c]) / (end[c] - start[c])).clamp(0.0, 1.0);
+            if first.is_none_or(|(f, ..)| fraction < f) {
+                first = Some((fraction, c, edge, part));
+            }
+        }
+        first.map(|(_, c, edge, part)| (c, edge, part))
+    }
+
+    /// Take the step solved into `scratch`.
+    fn accept(&mut self, solution: StepSolution, dt: f64) {
+        let s = &mut self.state;
+        for &(b, force) in &self.vehicle_forces {
+            let moved = self.scratch.bodies[b].position - s.dynamic.bodies[b].position;
+            s.external_work += Vector2::new(force[0], force[1]).dot(&moved);
+        }
+        for (b, (old, new)) in s
+            .dynamic
+            .bodies
+            .iter()
+            .zip(&self.scratch.bodies)
+            .enumerate()
+        {
+            let moved = new.position - old.position;
+            let weight = -self.system.bodies[b].mass * self.system.gravity;
+            s.gravity_work += weight * moved.y;
+        }
+        std::mem::swap(&mut s.dynamic, &mut self.scratch);
+        for (history, force) in s.force_history.iter_mut().zip(&solution.forces) {
+            *history = [*force, history[0], history[1]];
+        }
+        s.step_history = [dt, s.step_history[0]];
+        s.time += dt;
+        s.last_iterations = solution.iterations;
+        s.last_position_iterations = solution.position_iterations;
+        s.last_velocity_error = solution.velocity_error;
+        s.last_gap_error = solution.gap_error;
+        s.steps += 1;
+        s.total_iterations += solution.iterations as u64;
+    }
+
+    /// Record the events of the step just taken, which ends where contact
+    /// `located` reaches `part`, and end the run if it is over.
+    fn record_events(&mut self, located: usize, part: TrackPart) {
+        let s = &mut self.state;
+        // `accept` swapped the step's start state into `scratch`.
+        let starts = &self.scratch.contact_x;
+        for (c, &x) in s.dynamic.contact_x.iter().enumerate() {
+            let from = s.parts[c];
+            // The located contact sits on its edge to round-off: take the
+            // side it was moving to.
+            let to = if c == located {
+                part
+            } else {
+                match self.system.leaves(from, starts[c], x) {
+                    Some(right) => self.system.next_part(from, right).1,
+                    None => continue,
+                }
+            };
+            s.parts[c] = to;
+            let kind = match (from, to) {
+                (_, TrackPart::Beyond) => EventKind::LeftTrack,
+                (_, TrackPart::Beam) => EventKind::Entry,
+                _ => EventKind::Exit,
+            };
+            let mut push = |kind| {
+                if s.events.len() < MAX_EVENTS {
+                    s.events.push(ContactEvent {
+                        contact: c,
+                        time: s.time,
+                        kind,
+                    });
+                } else {
+                    s.events_dropped += 1;
+                }
+            };
+            if from == TrackPart::Beam && kind == EventKind::LeftTrack {
+                push(EventKind::Exit);
+            }
+            push(kind);
+        }
+        let left_track = s.parts.contains(&TrackPart::Beyond);
+        let all_left_beam = !s.parts.contains(&TrackPart::Beam)
+            && (0..s.parts.len()).all(|c| {
+                s.events
+                    .iter()
+                    .any(|e| e.contact == c && e.kind == EventKind::Exit)
+            });
+        if left_track || (self.stop_at_beam_exit && all_left_beam) {
+            s.exit_time = Some(s.time);
+        }
+    }
+
+    fn solve(&mut self, guess: &[ContactForce], dt: f64) -> Result<StepSolution, SolverError> {
+        let mut applied = std::mem::take(&mut self.applied);
+        applied.clear();
+        applied.extend(self.constant_forces_iter());
+        let solution = self.solve_with(guess, &applied, dt);
+        self.applied = applied;
+        solution
+    }
+
+    fn solve_with(
         &mut self,
-        guess: ContactForce,
+        guess: &[ContactForce],
+        applied: &[Vector3<f64>],
         dt: f64,
-    ) -> Result<crate::iteration::StepSolution, SolverError> {
+    ) -> Result<StepSolution, SolverError> {
         let s = &self.state;
-        let external = Vector2::new(s.body_force[0], s.body_force[1]);
         let solution = self
             .iteration
             .solve(
                 &self.system,
                 &s.dynamic,
+                &s.parts,
                 guess,
-                external,
+                applied,
                 dt,
                 &self.settings,
                 &mut self.scratch,
@@ -683,24 +680,26 @@ impl Simulation {
         Ok(solution)
     }
 
-    /// Shorten the step so that the contact point lands on `edge` (regula
-    /// falsi on the step length, Illinois variant). Leaves the exit state in
-    /// `scratch`.
-    fn find_exit(
+    /// Shorten the step so that contact `contact` lands on `edge` (regula
+    /// falsi on the step length, Illinois variant). Leaves the state at
+    /// that instant in `scratch`.
+    fn locate_event(
         &mut self,
+        contact: usize,
         edge: f64,
-        force: ContactForce,
+        forces: &[ContactForce],
         dt: f64,
-    ) -> Result<(crate::iteration::StepSolution, f64), SolverError> {
-        let start_x = self.state.dynamic.contact_x;
+    ) -> Result<(StepSolution, f64), SolverError> {
+        let start_x = self.state.dynamic.contact_x[contact];
         let (mut lo, mut f_lo) = (0.0, start_x - edge);
-        let (mut hi, mut f_hi) = (dt, self.scratch.contact_x - edge);
+        let (mut hi, mut f_hi) = (dt, self.scratch.contact_x[contact] - edge);
         let mut side = 0;
+        let scale = self.system.beam.length;
         for _ in 0..60 {
             let tau = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-            let solution = self.solve(force, tau)?;
-            let f = self.scratch.contact_x - edge;
-            if f.abs() <= 1e-12 * self.system.beam.length || (hi - lo) <= 1e-15 * dt {
+            let solution = self.solve(forces, tau)?;
+            let f = self.scratch.contact_x[contact] - edge;
+            if f.abs() <= 1e-12 * scale || (hi - lo) <= 1e-15 * dt {
                 return Ok((solution, tau));
             }
             if (f > 0.0) == (f_hi > 0.0) {
@@ -721,7 +720,103 @@ impl Simulation {
         }
         Err(SolverError {
             time: self.state.time,
-            message: format!("the exit instant at x = {edge} m could not be located"),
+            message: format!(
+                "the instant {} reaches x = {edge} m could not be located",
+                self.system.contacts[contact].name
+            ),
         })
     }
+}
+
+/// The dynamic state at t = 0: at rest on the undeformed beam, with loads
+/// and accelerations consistent with the initial contact forces (the
+/// implicit scheme starts from them).
+fn initial_state(
+    system: &System,
+    bodies: &[crate::body::BodyState],
+    forces: &[ContactForce],
+    applied: &[Vector3<f64>],
+) -> Result<DynamicState, String> {
+    let n = system.beam.free_dofs();
+    let undeformed = DVector::zeros(n);
+    let guesses: Vec<f64> = system
+        .contacts
+        .iter()
+        .map(|c| bodies[c.body].position.x)
+        .collect();
+    let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
+    let mut frames = Vec::new();
+    let located = (guesses.as_slice(), parts.as_slice());
+    contact_frames(system, &undeformed, bodies, located, &mut frames).map_err(|e| match e {
+        crate::integrate::IntegrationError::LostContact { x, .. } => {
+            format!("no contact point at the start (x = {x})")
+        }
+    })?;
+    let mut beam_load = DVector::zeros(n);
+    let mut body_loads = vec![Vector3::zeros(); bodies.len()];
+    loads(
+        system,
+        &frames,
+        forces,
+        applied,
+        bodies,
+        &mut beam_load,
+        &mut body_loads,
+    );
+    let mut beam_acceleration = DVector::zeros(n);
+    system
+        .beam
+        .accelerations(&undeformed, &beam_load, &mut beam_acceleration);
+    let body_accelerations = system
+        .bodies
+        .iter()
+        .zip(&body_loads)
+        .map(|(body, load)| body.acceleration(load))
+        .collect();
+    Ok(DynamicState {
+        beam_displacement: undeformed,
+        beam_velocity: DVector::zeros(n),
+        beam_acceleration,
+        body_accelerations,
+        beam_load,
+        body_loads,
+        bodies: bodies.to_vec(),
+        contact_x: frames.iter().map(|f| f.x).collect(),
+        dissipated: 0.0,
+    })
+}
+
+/// Refuse a state whose vectors do not fit `system` (a state is untrusted
+/// input: it may come from another model or be corrupted).
+fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
+    let d = &state.dynamic;
+    let n = system.beam.free_dofs();
+    let (bodies, contacts) = (system.bodies.len(), system.contacts.len());
+    let checks = [
+        ("beam DOFs (displacement)", d.beam_displacement.len(), n),
+        ("beam DOFs (velocity)", d.beam_velocity.len(), n),
+        ("beam DOFs (acceleration)", d.beam_acceleration.len(), n),
+        ("beam DOFs (load)", d.beam_load.len(), n),
+        ("bodies", d.bodies.len(), bodies),
+        ("body accelerations", d.body_accelerations.len(), bodies),
+        ("body loads", d.body_loads.len(), bodies),
+        ("contact positions", d.contact_x.len(), contacts),
+        (
+            "contact force histories",
+            state.force_history.len(),
+            contacts,
+        ),
+        ("contact track parts", state.parts.len(), contacts),
+    ];
+    for (what, found, expected) in checks {
+        if found != expected {
+            return Err(format!(
+                "the state has {found} {what} but this model has {expected}"
+            ));
+        }
+    }
+    if state.events.len() > MAX_EVENTS || state.events.iter().any(|e| e.contact >= contacts) {
+        return Err("the state's event list does not fit this model".into());
+    }
+    Ok(())
 }

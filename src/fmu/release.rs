@@ -167,6 +167,7 @@ fn body_text(scene: &Scene) -> &'static str {
     match scene.body.kind {
         BodyKind::Wheel => "wheel (rolls, no slip)",
         BodyKind::Glider => "maglev glider (J = 0, r = 0)",
+        BodyKind::SprungMass => "sprung mass on a spring-damper over a glider",
     }
 }
 

@@ -7,12 +7,16 @@
 //! beam and body alike; both are integrated with the same Newmark weights,
 //! so the forces they receive are equal and opposite over every step and,
 //! for α = 0, the contact does no work beyond that of the velocity error.
+//! Force elements are evaluated at the same predicted end configuration,
+//! which the iteration refines with every integration of the step.
 
 use crate::band::BandLdlt;
-use nalgebra::{DVector, Vector2, Vector3};
+use nalgebra::{DVector, Vector3};
 
-use super::{contact_loads, DynamicState, IntegrationError, StepStart};
-use crate::contact::{foot_point, ContactForce};
+use super::{contact_frames, loads, DynamicState, IntegrationError, StepStart};
+use crate::body::BodyState;
+use crate::contact::{ContactForce, ContactFrame};
+use crate::force_element::dissipation_power;
 use crate::system::System;
 
 pub struct Hht {
@@ -26,8 +30,9 @@ pub struct Hht {
     other: Option<(f64, BandLdlt)>,
     /// The previous iterate's end configuration, within the current step.
     predicted_u: DVector<f64>,
-    predicted_centre: Vector2<f64>,
+    predicted_bodies: Vec<BodyState>,
     has_prediction: bool,
+    frames: Vec<ContactFrame>,
     load: DVector<f64>,
     rhs: DVector<f64>,
     work: DVector<f64>,
@@ -48,8 +53,9 @@ impl Hht {
             nominal: (nominal_step, factor),
             other: None,
             predicted_u: z(),
-            predicted_centre: Vector2::zeros(),
+            predicted_bodies: Vec::new(),
             has_prediction: false,
+            frames: Vec::new(),
             load: z(),
             rhs: z(),
             work: z(),
@@ -85,32 +91,71 @@ impl Hht {
         &mut self,
         system: &System,
         from: &StepStart,
-        force: ContactForce,
+        forces: &[ContactForce],
         end: &mut DynamicState,
     ) -> Result<(), IntegrationError> {
         let (start, dt) = (from.state, from.dt);
+        if !self.has_prediction {
+            self.predicted_u.copy_from(&start.beam_displacement);
+            self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
+            self.predicted_bodies.clear();
+            self.predicted_bodies
+                .extend(start.bodies.iter().map(|b| BodyState {
+                    position: b.position + dt * b.velocity,
+                    angle: b.angle + dt * b.angular_velocity,
+                    ..*b
+                }));
+        }
+        // Load frames and force elements: the predicted end configuration.
+        let guesses: Vec<f64> = from.frames.iter().map(|f| f.x).collect();
+        contact_frames(
+            system,
+            &self.predicted_u,
+            &self.predicted_bodies,
+            (&guesses, from.parts),
+            &mut self.frames,
+        )?;
+        let dissipation = loads(
+            system,
+            &self.frames,
+            forces,
+            from.applied,
+            &self.predicted_bodies,
+            &mut self.load,
+            &mut end.body_loads,
+        );
+        self.beam_step(system, start, dt, end);
+        for (b, body) in system.bodies.iter().enumerate() {
+            self.body_step(body, b, start, dt, end);
+        }
+        end.beam_load.copy_from(&self.load);
+        for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
+            *x = frame.x;
+        }
+        // Trapezoidal rule for the dampers' dissipation over the step.
+        let start_dissipation = dissipation_power(&system.force_elements, &start.bodies);
+        end.dissipated = start.dissipated + 0.5 * dt * (start_dissipation + dissipation);
+        self.predicted_u.copy_from(&end.beam_displacement);
+        self.predicted_bodies.clear();
+        self.predicted_bodies.extend_from_slice(&end.bodies);
+        self.has_prediction = true;
+        Ok(())
+    }
+
+    /// Beam: predictors, then M a1 + (1 + α) K u1 − α K u0 = (1 + α) f1 − α f0.
+    fn beam_step(
+        &mut self,
+        system: &System,
+        start: &DynamicState,
+        dt: f64,
+        end: &mut DynamicState,
+    ) {
         let beam = &system.beam;
-        let body = &system.body;
         let (u0, v0, a0) = (
             &start.beam_displacement,
             &start.beam_velocity,
             &start.beam_acceleration,
         );
-        if !self.has_prediction {
-            self.predicted_u.copy_from(u0);
-            self.predicted_u.axpy(dt, v0, 1.0);
-            self.predicted_centre = start.body.position + dt * start.body.velocity;
-        }
-        // Load frame: the predicted end configuration.
-        let frame = foot_point(
-            beam,
-            &self.predicted_u,
-            &self.predicted_centre,
-            from.frame.x,
-        )
-        .map_err(|e| IntegrationError::LostContact { x: e.last_x })?;
-        let generalized = contact_loads(system, &frame, force, from.external, &mut self.load);
-        // Beam: predictors, then M a1 + (1 + α) K u1 − α K u0 = (1 + α) f1 − α f0.
         let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
         let u1 = &mut end.beam_displacement;
         u1.copy_from(u0);
@@ -134,28 +179,33 @@ impl Hht {
         end.beam_velocity.axpy(gamma * dt, &a1, 1.0);
         end.beam_acceleration.copy_from(&a1);
         self.rhs = a1;
+    }
 
-        // Body: the same forcing and Newmark weights as the beam.
-        let a1 = body.acceleration(&((1.0 + alpha) * generalized - alpha * start.body_load));
-        let a0 = start.body_acceleration;
-        let b = &start.body;
-        let position_increment = dt * Vector3::new(b.velocity.x, b.velocity.y, b.angular_velocity)
+    /// Body `b`: the same forcing and Newmark weights as the beam. Its
+    /// end-of-step load is already in `end.body_loads[b]`.
+    fn body_step(
+        &self,
+        body: &crate::body::RigidBody,
+        b: usize,
+        start: &DynamicState,
+        dt: f64,
+        end: &mut DynamicState,
+    ) {
+        let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
+        let generalized = end.body_loads[b];
+        let a1 = body.acceleration(&((1.0 + alpha) * generalized - alpha * start.body_loads[b]));
+        let a0 = start.body_accelerations[b];
+        let s = &start.bodies[b];
+        let position_increment = dt * Vector3::new(s.velocity.x, s.velocity.y, s.angular_velocity)
             + dt * dt * ((0.5 - beta) * a0 + beta * a1);
         let velocity_increment = dt * ((1.0 - gamma) * a0 + gamma * a1);
-        end.body = crate::body::BodyState {
-            position: b.position + position_increment.xy(),
-            velocity: b.velocity + velocity_increment.xy(),
-            angle: b.angle + position_increment.z,
-            angular_velocity: b.angular_velocity + velocity_increment.z,
+        end.bodies[b] = BodyState {
+            position: s.position + position_increment.xy(),
+            velocity: s.velocity + velocity_increment.xy(),
+            angle: s.angle + position_increment.z,
+            angular_velocity: s.angular_velocity + velocity_increment.z,
         };
-        end.body_acceleration = a1;
-        end.beam_load.copy_from(&self.load);
-        end.body_load = generalized;
-        end.contact_x = frame.x;
-        self.predicted_u.copy_from(&end.beam_displacement);
-        self.predicted_centre = end.body.position;
-        self.has_prediction = true;
-        Ok(())
+        end.body_accelerations[b] = a1;
     }
 
     /// The end-of-step force enters with weight 1 + α (at t_{n+1+α}).

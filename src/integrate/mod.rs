@@ -1,84 +1,126 @@
-//! Time integration of beam and body over one step with the contact force
+//! Time integration of beam and bodies over one step with the contact forces
 //! held: the paper's explicit RK4, or HHT-α (implicit, unconditionally
 //! stable for the beam) for stiff meshes. Both serve the same contact-force
 //! iteration through `Integrator`.
 
+mod choice;
 mod hht;
 mod rk4;
 
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
-use crate::system::System;
+use crate::force_element::add_element_forces;
+use crate::system::{System, TrackPart};
 
+pub use choice::{choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
 pub use hht::Hht;
 pub use rk4::Rk4;
 
-/// Positions and velocities of everything that moves, plus the foot point
-/// (kept as the warm start of the next foot-point search).
+/// Positions and velocities of everything that moves, plus each contact's
+/// foot point (kept as the warm start of the next foot-point search).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DynamicState {
     pub beam_displacement: DVector<f64>,
     pub beam_velocity: DVector<f64>,
-    /// Beam accelerations at the end of the last step, and the body's
+    /// Beam accelerations at the end of the last step, and each body's
     /// (ẍ, ÿ, θ̈): the implicit scheme carries them (RK4 does not use them).
     pub beam_acceleration: DVector<f64>,
-    pub body_acceleration: nalgebra::Vector3<f64>,
+    pub body_accelerations: Vec<Vector3<f64>>,
     /// The loads at the end of the last step: the contact load vector on the
-    /// beam's free DOFs, and the body's generalized force (F_x, F_y, torque)
-    /// including the external force. HHT-α weighs them against the next
-    /// step's (its forces act at t_{n+1+α}).
+    /// beam's free DOFs, and each body's generalized force (F_x, F_y,
+    /// torque), applied forces and force elements included. HHT-α weighs
+    /// them against the next step's (its forces act at t_{n+1+α}).
     pub beam_load: DVector<f64>,
-    pub body_load: nalgebra::Vector3<f64>,
-    pub body: crate::body::BodyState,
-    pub contact_x: f64,
+    pub body_loads: Vec<Vector3<f64>>,
+    pub bodies: Vec<BodyState>,
+    pub contact_x: Vec<f64>,
+    /// Energy dissipated by the force elements' dampers since t = 0 (J),
+    /// integrated with the step.
+    pub dissipated: f64,
 }
 
-/// What one step starts from: the state, its contact frame (the same for
-/// every iteration of the step), the external force on the body's centre
-/// (held over the step) and the step length.
+/// What one step starts from: the state, its contact frames (the same for
+/// every iteration of the step), the constant forces on each body (applied
+/// forces and weight, held over the step) and the step length.
 #[derive(Debug, Clone, Copy)]
 pub struct StepStart<'a> {
     pub state: &'a DynamicState,
-    pub frame: &'a ContactFrame,
-    pub external: Vector2<f64>,
+    pub frames: &'a [ContactFrame],
+    /// Where each contact is along the track (fixed over the step).
+    pub parts: &'a [TrackPart],
+    pub applied: &'a [Vector3<f64>],
     pub dt: f64,
 }
 
 /// Failure of one integration.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IntegrationError {
-    /// No foot point: the body is far from the beam or the beam is wildly deformed.
-    LostContact { x: f64 },
+    /// No foot point: a body is far from the beam or the beam is wildly deformed.
+    LostContact { contact: usize, x: f64 },
 }
 
-/// The contact's loads for `force` at `frame`: the beam's load vector into
-/// `beam_load` (overwritten) and the body's generalized force (F_x, F_y,
-/// torque), `external` included.
-pub fn contact_loads(
+/// Contact frames of every contact for the given configuration, on the
+/// parts of the track in `parts` (where each contact was at the start of
+/// the step), searched from the foot points in `guesses`.
+#[inline]
+pub fn contact_frames(
     system: &System,
-    frame: &ContactFrame,
-    force: ContactForce,
-    external: Vector2<f64>,
+    u: &DVector<f64>,
+    bodies: &[BodyState],
+    (guesses, parts): (&[f64], &[TrackPart]),
+    frames: &mut Vec<ContactFrame>,
+) -> Result<(), IntegrationError> {
+    frames.clear();
+    for (c, contact) in system.contacts.iter().enumerate() {
+        let centre = &bodies[contact.body].position;
+        let frame = system
+            .contact_frame(u, centre, guesses[c], parts[c])
+            .map_err(|e| IntegrationError::LostContact {
+                contact: c,
+                x: e.last_x,
+            })?;
+        frames.push(frame);
+    }
+    Ok(())
+}
+
+/// All loads for contact `forces` at `frames`: the beam's load vector into
+/// `beam_load` (overwritten) and each body's generalized force (F_x, F_y,
+/// torque) into `body_loads`: `applied`, the contact forces and the force
+/// elements. Returns the power the dampers dissipate.
+#[inline]
+pub fn loads(
+    system: &System,
+    frames: &[ContactFrame],
+    forces: &[ContactForce],
+    applied: &[Vector3<f64>],
+    bodies: &[BodyState],
     beam_load: &mut DVector<f64>,
-) -> nalgebra::Vector3<f64> {
-    let (t_row, n_row) = frame.beam_rows(system.beam.surface_offset);
+    body_loads: &mut [Vector3<f64>],
+) -> f64 {
     beam_load.fill(0.0);
-    frame.shape.scatter(&t_row, -force.tangential, beam_load);
-    frame.shape.scatter(&n_row, -force.normal, beam_load);
-    let on_body = frame.tangent() * force.tangential + frame.normal() * force.normal + external;
-    let torque = if system.body.rolls {
-        force.tangential * system.body.radius
-    } else {
-        0.0
-    };
-    nalgebra::Vector3::new(on_body.x, on_body.y, torque)
+    body_loads.copy_from_slice(applied);
+    for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
+        if frame.on_beam {
+            let (t_row, n_row) = frame.beam_rows(system.beam.surface_offset);
+            frame.shape.scatter(&t_row, -force.tangential, beam_load);
+            frame.shape.scatter(&n_row, -force.normal, beam_load);
+        }
+        let on_body = frame.tangent() * force.tangential + frame.normal() * force.normal;
+        let load = &mut body_loads[contact.body];
+        load.x += on_body.x;
+        load.y += on_body.y;
+        load.z += force.tangential * contact.radius();
+    }
+    add_element_forces(&system.force_elements, bodies, body_loads)
 }
 
 /// The time integrator of a simulation.
 pub enum Integrator {
-    Rk4(Rk4),
+    Rk4(Box<Rk4>),
     Hht(Box<Hht>),
 }
 
@@ -90,21 +132,21 @@ impl Integrator {
         }
     }
 
-    /// Advance from `from` over its step with `force` held, into `end`.
+    /// Advance from `from` over its step with `forces` held, into `end`.
     pub fn step(
         &mut self,
         system: &System,
         from: &StepStart,
-        force: ContactForce,
+        forces: &[ContactForce],
         end: &mut DynamicState,
     ) -> Result<(), IntegrationError> {
         match self {
-            Integrator::Rk4(rk4) => rk4.step(system, from, force, end),
-            Integrator::Hht(hht) => hht.step(system, from, force, end),
+            Integrator::Rk4(rk4) => rk4.step(system, from, forces, end),
+            Integrator::Hht(hht) => hht.step(system, from, forces, end),
         }
     }
 
-    /// How the body's end-of-step velocity and position respond to the
+    /// How a body's end-of-step velocity and position respond to the
     /// force at the end of the step, per unit of acceleration it causes:
     /// (Δt, Δt²/2) for RK4's held force, (γ Δt, β Δt²) for HHT-α.
     pub fn body_weights(&self, dt: f64) -> (f64, f64) {

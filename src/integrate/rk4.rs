@@ -1,18 +1,22 @@
-//! The paper's scheme: classical RK4 for beam and body together, with the
-//! contact force held over the step.
+//! The paper's scheme: classical RK4 for beam and bodies together, with the
+//! contact forces held over the step.
 //!
-//! The force is held in the contact frame; the frame itself follows the
-//! foot point through the RK4 stages, so within a step the equations of
-//! motion are smooth and RK4 keeps its order. Stable for
-//! Δt ≤ 2√2 / ω_max of the beam.
+//! Each force is held in its contact frame; the frames follow the foot
+//! points through the RK4 stages, so within a step the equations of motion
+//! are smooth and RK4 keeps its order. Force elements are evaluated at every
+//! stage. Stable for Δt ≤ 2√2 / ω_max of the beam (and of the suspensions).
 
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, Vector3};
 
-use super::{contact_loads, DynamicState, IntegrationError, StepStart};
-use crate::contact::{foot_point, ContactForce};
+use super::{contact_frames, loads, DynamicState, IntegrationError, StepStart};
+use crate::body::BodyState;
+use crate::contact::{ContactForce, ContactFrame};
 use crate::system::System;
 
-/// Scratch vectors of the RK4 step, allocated once per simulation.
+const STAGE_TIME: [f64; 3] = [0.5, 0.5, 1.0];
+const WEIGHT: [f64; 4] = [1.0, 2.0, 2.0, 1.0];
+
+/// Scratch of the RK4 step, allocated once per simulation.
 pub struct Rk4 {
     stage_u: DVector<f64>,
     stage_v: DVector<f64>,
@@ -20,10 +24,16 @@ pub struct Rk4 {
     sum_v: DVector<f64>,
     load: DVector<f64>,
     accel: DVector<f64>,
+    stage_bodies: Vec<BodyState>,
+    body_loads: Vec<Vector3<f64>>,
+    /// Weighted sums of the bodies' rates (ẋ, ẏ, θ̇) and accelerations.
+    sum_rates: Vec<Vector3<f64>>,
+    sum_accelerations: Vec<Vector3<f64>>,
+    frames: Vec<ContactFrame>,
 }
 
 impl Rk4 {
-    pub fn new(free_dofs: usize) -> Rk4 {
+    pub fn new(free_dofs: usize, bodies: usize) -> Rk4 {
         let z = || DVector::zeros(free_dofs);
         Rk4 {
             stage_u: z(),
@@ -32,51 +42,71 @@ impl Rk4 {
             sum_v: z(),
             load: z(),
             accel: z(),
+            stage_bodies: Vec::with_capacity(bodies),
+            body_loads: vec![Vector3::zeros(); bodies],
+            sum_rates: vec![Vector3::zeros(); bodies],
+            sum_accelerations: vec![Vector3::zeros(); bodies],
+            frames: Vec::new(),
         }
     }
 
-    /// Advance from `from` over its step with `force` held, into `end`.
+    /// Advance from `from` over its step with `forces` held, into `end`.
     pub fn step(
         &mut self,
         system: &System,
         from: &StepStart,
-        force: ContactForce,
+        forces: &[ContactForce],
         end: &mut DynamicState,
     ) -> Result<(), IntegrationError> {
-        let (start, external, dt) = (from.state, from.external, from.dt);
-        const STAGE_TIME: [f64; 3] = [0.5, 0.5, 1.0];
-        const WEIGHT: [f64; 4] = [1.0, 2.0, 2.0, 1.0];
+        let (start, dt) = (from.state, from.dt);
         let beam = &system.beam;
-        let body = &system.body;
         self.stage_u.copy_from(&start.beam_displacement);
         self.stage_v.copy_from(&start.beam_velocity);
         self.sum_u.fill(0.0);
         self.sum_v.fill(0.0);
-        let mut stage_body = start.body;
-        let mut contact_x = start.contact_x;
-        let (mut sum_pos, mut sum_vel) = (Vector2::zeros(), Vector2::zeros());
-        let (mut sum_angle, mut sum_rate) = (0.0, 0.0);
+        self.stage_bodies.clear();
+        self.stage_bodies.extend_from_slice(&start.bodies);
+        self.sum_rates.fill(Vector3::zeros());
+        self.sum_accelerations.fill(Vector3::zeros());
+        end.contact_x.copy_from_slice(&start.contact_x);
+        let mut dissipation_sum = 0.0;
 
         for stage in 0..4 {
-            let frame = if stage == 0 {
-                *from.frame
+            if stage > 0 {
+                let (u, bodies) = (&self.stage_u, &self.stage_bodies);
+                let located = (end.contact_x.as_slice(), from.parts);
+                contact_frames(system, u, bodies, located, &mut self.frames)?;
+            }
+            let frames = if stage == 0 {
+                from.frames
             } else {
-                foot_point(beam, &self.stage_u, &stage_body.position, contact_x)
-                    .map_err(|e| IntegrationError::LostContact { x: e.last_x })?
+                &self.frames
             };
-            contact_x = frame.x;
-            let generalized = contact_loads(system, &frame, force, external, &mut self.load);
+            for (x, frame) in end.contact_x.iter_mut().zip(frames) {
+                *x = frame.x;
+            }
+            dissipation_sum += WEIGHT[stage]
+                * loads(
+                    system,
+                    frames,
+                    forces,
+                    from.applied,
+                    &self.stage_bodies,
+                    &mut self.load,
+                    &mut self.body_loads,
+                );
             beam.accelerations(&self.stage_u, &self.load, &mut self.accel);
-            let acceleration = body.acceleration(&generalized);
-            let (body_accel, angular_accel) = (acceleration.xy(), acceleration.z);
 
             let weight = WEIGHT[stage];
             self.sum_u.axpy(weight, &self.stage_v, 1.0);
             self.sum_v.axpy(weight, &self.accel, 1.0);
-            sum_pos += weight * stage_body.velocity;
-            sum_vel += weight * body_accel;
-            sum_angle += weight * stage_body.angular_velocity;
-            sum_rate += weight * angular_accel;
+            for (b, body) in system.bodies.iter().enumerate() {
+                let acceleration = body.acceleration(&self.body_loads[b]);
+                // Kept as the stage's acceleration for the update below.
+                self.body_loads[b] = acceleration;
+                self.sum_rates[b] += weight * self.stage_bodies[b].generalized_velocity();
+                self.sum_accelerations[b] += weight * acceleration;
+            }
 
             if stage < 3 {
                 let h = STAGE_TIME[stage] * dt;
@@ -85,13 +115,9 @@ impl Rk4 {
                 self.stage_u.axpy(h, &self.stage_v, 1.0);
                 self.stage_v.copy_from(&start.beam_velocity);
                 self.stage_v.axpy(h, &self.accel, 1.0);
-                let next = crate::body::BodyState {
-                    position: start.body.position + h * stage_body.velocity,
-                    velocity: start.body.velocity + h * body_accel,
-                    angle: start.body.angle + h * stage_body.angular_velocity,
-                    angular_velocity: start.body.angular_velocity + h * angular_accel,
-                };
-                stage_body = next;
+                for (b, stage_body) in self.stage_bodies.iter_mut().enumerate() {
+                    *stage_body = start.bodies[b].advanced(h, stage_body, &self.body_loads[b]);
+                }
             }
         }
         let w = dt / 6.0;
@@ -99,13 +125,20 @@ impl Rk4 {
         end.beam_displacement.axpy(w, &self.sum_u, 1.0);
         end.beam_velocity.copy_from(&start.beam_velocity);
         end.beam_velocity.axpy(w, &self.sum_v, 1.0);
-        end.body = crate::body::BodyState {
-            position: start.body.position + w * sum_pos,
-            velocity: start.body.velocity + w * sum_vel,
-            angle: start.body.angle + w * sum_angle,
-            angular_velocity: start.body.angular_velocity + w * sum_rate,
-        };
-        end.contact_x = contact_x;
+        for (b, body) in end.bodies.iter_mut().enumerate() {
+            let (b0, rates, accelerations) = (
+                &start.bodies[b],
+                &self.sum_rates[b],
+                &self.sum_accelerations[b],
+            );
+            *body = BodyState {
+                position: b0.position + w * rates.xy(),
+                velocity: b0.velocity + w * accelerations.xy(),
+                angle: b0.angle + w * rates.z,
+                angular_velocity: b0.angular_velocity + w * accelerations.z,
+            };
+        }
+        end.dissipated = start.dissipated + w * dissipation_sum;
         Ok(())
     }
 
@@ -120,8 +153,6 @@ impl Rk4 {
         displacement: &mut DVector<f64>,
         velocity: &mut DVector<f64>,
     ) {
-        const STAGE_TIME: [f64; 3] = [0.5, 0.5, 1.0];
-        const WEIGHT: [f64; 4] = [1.0, 2.0, 2.0, 1.0];
         let beam = &system.beam;
         self.stage_u.fill(0.0);
         self.stage_v.fill(0.0);

@@ -66,7 +66,7 @@ impl Dynamics for FakeDynamics {
                 ));
                 Some(scene.body.radius.unwrap_or(1.0))
             }
-            BodyKind::Glider => None,
+            BodyKind::Glider | BodyKind::SprungMass => None,
         };
         for s in &scene.sensors {
             outputs.push(real(

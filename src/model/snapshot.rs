@@ -19,7 +19,8 @@ use serde::{de::DeserializeOwned, Serialize};
 use sha2::{Digest, Sha256};
 
 pub const MAGIC: &[u8; 8] = b"GWSTATE\0";
-pub const FORMAT_VERSION: u32 = 1;
+// Version 2: the physics state holds lists of bodies and contacts.
+pub const FORMAT_VERSION: u32 = 2;
 
 pub fn encode<T: Serialize>(guid: &str, payload: &T) -> Result<Vec<u8>, String> {
     let body = rmp_serde::to_vec_named(payload).map_err(|e| format!("cannot encode state: {e}"))?;

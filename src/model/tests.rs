@@ -500,7 +500,7 @@ fn a_step_into_a_state_that_could_not_be_restored_fails() {
     m.initialize().unwrap();
     m.do_step(0.0, 0.1).unwrap();
     let snap = forged(&m, |s| {
-        let body = &mut s.sim.as_mut().unwrap().dynamic.body;
+        let body = &mut s.sim.as_mut().unwrap().dynamic.bodies[0];
         body.angle = f64::MAX;
         body.angular_velocity = f64::MAX;
     });

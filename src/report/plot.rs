@@ -1,6 +1,8 @@
 //! The run as a PNG in the manner of the paper's Fig. 10: nominal speed,
 //! sensor deflections over the static midspan deflection, and the energy
-//! balance's relative drift, against normalised time t·V0/L.
+//! balance's relative drift, against normalised time t·V0/L; with vehicles
+//! also every contact's normal force and the sprung bodies' vertical
+//! accelerations.
 
 use super::output_names;
 use super::trace::Trace;
@@ -61,7 +63,7 @@ pub fn load_font() -> Text {
     })
 }
 
-/// Write the three-panel plot, with text if a font can be found.
+/// Write the plot, with text if a font can be found.
 pub fn write_plot(scene: &Scene, trace: &Trace, path: &Path) -> Result<(), String> {
     draw(scene, trace, path, load_font())
 }
@@ -162,7 +164,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             })
         });
 
-    vec![
+    let mut panels = vec![
         Panel {
             title: "Nominal speed".to_string(),
             y_label: "V (m/s)".to_string(),
@@ -177,14 +179,48 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             legend: SeriesLabelPosition::LowerLeft,
             curves: deflections,
         },
-        Panel {
-            title: "Energy balance, relative drift".to_string(),
-            y_label: "(E - E0) / E0".to_string(),
-            y_decimals: None,
-            legend: SeriesLabelPosition::UpperRight,
-            curves: drift.into_iter().collect(),
-        },
-    ]
+    ];
+    if has_vehicles(scene) {
+        let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
+            trace
+                .names
+                .iter()
+                .filter(|n| n.ends_with(suffix) && !n.contains("_unsprung."))
+                .filter_map(|n| trace.column(n).map(|v| curve(n.clone(), v, scale)))
+                .collect()
+        };
+        panels.push(Panel {
+            title: "Contact forces".to_string(),
+            y_label: "normal force (kN)".to_string(),
+            y_decimals: Some(1),
+            legend: SeriesLabelPosition::LowerLeft,
+            curves: columns(".normal_force", 1e3),
+        });
+        let accelerations = columns(".ay", 1.0);
+        if !accelerations.is_empty() {
+            panels.push(Panel {
+                title: "Vertical acceleration of the sprung bodies".to_string(),
+                y_label: "ay (m/s^2)".to_string(),
+                y_decimals: None,
+                legend: SeriesLabelPosition::UpperRight,
+                curves: accelerations,
+            });
+        }
+    }
+    panels.push(Panel {
+        title: "Energy balance, relative drift".to_string(),
+        y_label: "(E - E0) / E0".to_string(),
+        y_decimals: None,
+        legend: SeriesLabelPosition::UpperRight,
+        curves: drift.into_iter().collect(),
+    });
+    panels
+}
+
+/// Whether the scene has more than the paper's one body: then the plot
+/// shows every contact's force and the sprung bodies' accelerations.
+fn has_vehicles(scene: &Scene) -> bool {
+    !scene.vehicles.is_empty() || scene.body.kind == crate::scene::BodyKind::SprungMass
 }
 
 fn draw_panel(

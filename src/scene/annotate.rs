@@ -5,9 +5,21 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 28] = [
+const FIELD_NOTES: [(&str, &str); 34] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
+    (
+        "gravity",
+        "m/s^2, downward on every body; 0 in the paper's scenes",
+    ),
+    ("track.approach", "m, rigid ground before the beam (x < 0)"),
+    ("track.run_off", "m, rigid ground after the beam (x > L)"),
+    ("body.suspension.stiffness", "N/m, vertical spring, > 0"),
+    ("body.suspension.damping", "N s/m, vertical damper, >= 0"),
+    (
+        "body.suspension.unsprung_mass",
+        "kg, the glider under the spring, > 0",
+    ),
     ("beam.length", "m, L"),
     ("beam.mass_per_length", "kg/m"),
     ("beam.bending_stiffness", "N m^2, EI > 0"),
@@ -23,13 +35,13 @@ const FIELD_NOTES: [(&str, &str); 28] = [
         "m, pinned supports strictly inside, increasing",
     ),
     ("body.name", "identifier; outputs are <name>.x, ..."),
-    ("body.kind", "wheel | glider"),
+    ("body.kind", "wheel | glider | sprung_mass"),
     ("body.mass", "kg, > 0"),
     ("body.inertia", "kg m^2, centroidal J; wheel only"),
     ("body.radius", "m, r; wheel only"),
     (
         "body.initial_position",
-        "m, contact abscissa at t = 0, 0 <= x < L",
+        "m, contact abscissa at t = 0, -approach <= x < L",
     ),
     ("body.initial_speed", "m/s, positive to the right"),
     ("body.force_x", "N, constant force on the body's centre"),
@@ -58,8 +70,13 @@ const FIELD_NOTES: [(&str, &str); 28] = [
 ];
 
 /// Comment above each table.
-const TABLE_NOTES: [(&str, &str); 4] = [
+const TABLE_NOTES: [(&str, &str); 6] = [
     ("beam", "Euler-Bernoulli beam on the x axis from 0 to L"),
+    ("track", "Rigid ground before and after the beam"),
+    (
+        "body.suspension",
+        "sprung_mass: vertical spring-damper over an unsprung glider",
+    ),
     (
         "body",
         "The moving body: a rolling wheel or a maglev glider",

@@ -27,8 +27,19 @@ pub struct Scene {
     /// One line saying what the scene is.
     #[serde(default)]
     pub description: String,
+    /// Acceleration of gravity (m/s², acting downward on every body); the
+    /// paper's scenes set 0 and load the body with `force_y` instead.
+    #[serde(default = "default_gravity")]
+    pub gravity: f64,
     pub beam: BeamSpec,
+    /// Rigid ground before and after the beam.
+    #[serde(default, skip_serializing_if = "TrackSpec::is_default")]
+    pub track: TrackSpec,
     pub body: BodySpec,
+    /// More vehicles on the track, each like `[body]`; their applied forces
+    /// are constant (the FMU's force inputs act on `[body]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vehicles: Vec<BodySpec>,
     #[serde(default)]
     pub sensors: Vec<SensorSpec>,
     #[serde(default)]
@@ -50,6 +61,26 @@ pub struct BeamSpec {
     pub elements: usize,
     #[serde(default)]
     pub supports: SupportsSpec,
+}
+
+/// The rigid approach (x < 0) and run-off (x > L) of the track (m).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TrackSpec {
+    #[serde(default)]
+    pub approach: f64,
+    #[serde(default)]
+    pub run_off: f64,
+}
+
+impl TrackSpec {
+    pub fn is_default(&self) -> bool {
+        *self == TrackSpec::default()
+    }
+}
+
+fn default_gravity() -> f64 {
+    9.81
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -116,6 +147,24 @@ pub struct BodySpec {
     /// scenes use -600 kN.
     #[serde(default)]
     pub force_y: f64,
+    /// The suspension of a `sprung_mass`; left out for other kinds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub suspension: Option<SuspensionSpec>,
+}
+
+/// A sprung mass's suspension: a vertical spring–damper over an unsprung
+/// contact mass (a glider), preloaded with the sprung weight so that the
+/// vehicle starts in static equilibrium.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SuspensionSpec {
+    /// Vertical stiffness k (N/m).
+    pub stiffness: f64,
+    /// Vertical damping c (N s/m).
+    #[serde(default)]
+    pub damping: f64,
+    /// Mass of the contact body under the spring (kg).
+    pub unsprung_mass: f64,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -125,6 +174,10 @@ pub enum BodyKind {
     Wheel,
     /// Point body gliding at the surface (r = 0, J = 0): the maglev model.
     Glider,
+    /// Moving oscillator: the body (J = 0) on a vertical spring–damper over
+    /// an unsprung glider (`suspension`).
+    #[serde(rename = "sprung_mass")]
+    SprungMass,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -249,11 +302,12 @@ impl Scene {
     pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
         let (name, inertia, radius) = match kind {
             BodyKind::Wheel => ("wheel", Some(135.0), Some(0.3)),
-            BodyKind::Glider => ("glider", None, None),
+            BodyKind::Glider | BodyKind::SprungMass => ("glider", None, None),
         };
         Scene {
             name: format!("lee1994-{name}-{initial_speed}"),
             description: String::new(),
+            gravity: 0.0,
             beam: BeamSpec {
                 length: 24.0,
                 mass_per_length: 1250.0,
@@ -272,7 +326,10 @@ impl Scene {
                 initial_speed,
                 force_x: 0.0,
                 force_y: -600e3,
+                suspension: None,
             },
+            track: TrackSpec::default(),
+            vehicles: Vec::new(),
             sensors: vec![SensorSpec {
                 name: "midspan".into(),
                 position: 12.0,

@@ -489,7 +489,7 @@ fn missing_field_and_unknown_variant_are_named() {
     let (path, message) = parse_error(&edited_default("kind = \"wheel\"", "kind = \"tank\""));
     assert_eq!(path, "body.kind");
     assert!(
-        message.contains("expected `wheel` or `glider`"),
+        message.contains("`wheel`, `glider`, `sprung_mass`"),
         "{message}"
     );
 
@@ -673,4 +673,62 @@ fn a_long_list_of_problems_is_cut_in_the_message() {
     assert!(message.starts_with("scene is not valid (200 problems):"));
     assert!(message.ends_with("... and 150 more"), "{message}");
     assert_eq!(message.lines().count(), 52);
+}
+
+#[test]
+fn sprung_mass_needs_its_suspension_and_others_refuse_one() {
+    let mut scene = default_scene();
+    scene.body.kind = BodyKind::SprungMass;
+    scene.body.inertia = None;
+    scene.body.radius = None;
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(problems.contains("body.suspension"), "{problems}");
+    scene.body.suspension = Some(crate::scene::SuspensionSpec {
+        stiffness: 1e6,
+        damping: -1.0,
+        unsprung_mass: 50.0,
+    });
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(problems.contains("body.suspension.damping"), "{problems}");
+    assert_single_problem(
+        |s| {
+            s.body.suspension = Some(crate::scene::SuspensionSpec {
+                stiffness: 1e6,
+                damping: 0.0,
+                unsprung_mass: 50.0,
+            })
+        },
+        "body.suspension",
+        "present",
+        "sprung_mass",
+    );
+}
+
+#[test]
+fn gravity_and_track_lengths_are_checked() {
+    assert_single_problem(|s| s.gravity = -9.81, "gravity", "-9.81", ">= 0");
+    assert_single_problem(
+        |s| s.track.run_off = f64::NAN,
+        "track.run_off",
+        "NaN",
+        "finite",
+    );
+    assert_single_problem(
+        |s| {
+            s.beam.supports.right = EndSupport::Free;
+            s.beam.supports.left = EndSupport::Clamped;
+            s.track.run_off = 5.0;
+        },
+        "track.run_off",
+        "5.0",
+        "free beam end",
+    );
+    // With an approach, a body may start on it.
+    let mut scene = default_scene();
+    scene.track.approach = 10.0;
+    scene.body.initial_position = -10.0;
+    scene.validate().unwrap();
+    scene.body.initial_position = -10.5;
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(problems.contains("-track.approach = -10.0"), "{problems}");
 }

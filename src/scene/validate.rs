@@ -43,11 +43,15 @@ pub const MAX_ITERATIONS: u32 = 1000;
 pub const MAX_MAGNITUDE: f64 = 1e15;
 pub const MIN_MAGNITUDE: f64 = 1e-15;
 
+/// More vehicles than this is a typo, not a train.
+pub const MAX_VEHICLES: usize = 1_000;
+
 pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     let mut checks = Checks::default();
     check_name(&mut checks, scene);
     let length_ok = check_beam(&mut checks, scene);
-    check_body(&mut checks, scene, length_ok);
+    check_track(&mut checks, scene);
+    check_bodies(&mut checks, scene, length_ok);
     check_sensors(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
     if checks.problems.is_empty() {
@@ -189,18 +193,49 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
     length_ok
 }
 
-fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
-    let body = &scene.body;
-    checks.name_length("body.name", &body.name);
+fn check_bodies(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    check_body(checks, scene, "body", &scene.body, length_ok);
+    if scene.vehicles.len() > MAX_VEHICLES {
+        checks.fail(
+            "vehicles",
+            format!("{} vehicles", scene.vehicles.len()),
+            format!("at most {MAX_VEHICLES} besides [body]"),
+        );
+        return;
+    }
+    let mut names = HashSet::from([scene.body.name.as_str()]);
+    for (i, vehicle) in scene.vehicles.iter().enumerate() {
+        let prefix = format!("vehicles[{i}]");
+        check_body(checks, scene, &prefix, vehicle, length_ok);
+        if !names.insert(vehicle.name.as_str()) {
+            checks.fail(
+                format!("{prefix}.name"),
+                quoted(&vehicle.name),
+                "must differ from the names of [body] and the other vehicles",
+            );
+        }
+    }
+}
+
+/// The rules of one vehicle, `[body]` or `[[vehicles]]`, at `prefix`.
+fn check_body(
+    checks: &mut Checks,
+    scene: &Scene,
+    prefix: &str,
+    body: &super::BodySpec,
+    length_ok: bool,
+) {
+    let path = |field: &str| format!("{prefix}.{field}");
+    checks.name_length(&path("name"), &body.name);
     if !is_identifier(&body.name) {
         checks.fail(
-            "body.name",
+            path("name"),
             quoted(&body.name),
             "must be an identifier: a letter or '_' followed by letters, digits or '_'",
         );
     } else if RESERVED_BODY_NAMES.contains(&body.name.as_str()) {
         checks.fail(
-            "body.name",
+            path("name"),
             quoted(&body.name),
             format!(
                 "is reserved for the simulation's own outputs ({})",
@@ -208,40 +243,97 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             ),
         );
     }
-    checks.positive("body.mass", body.mass);
+    checks.positive(&path("mass"), body.mass);
     match body.kind {
         BodyKind::Wheel => {
-            checks.required_positive("body.inertia", body.inertia, "a wheel needs");
-            checks.required_positive("body.radius", body.radius, "a wheel needs");
+            checks.required_positive(&path("inertia"), body.inertia, "a wheel needs");
+            checks.required_positive(&path("radius"), body.radius, "a wheel needs");
         }
-        BodyKind::Glider => {
-            for (path, value) in [("body.inertia", body.inertia), ("body.radius", body.radius)] {
+        BodyKind::Glider | BodyKind::SprungMass => {
+            for (path, value) in [
+                (&path("inertia"), body.inertia),
+                (&path("radius"), body.radius),
+            ] {
                 if let Some(v) = value {
                     checks.fail(
                         path,
                         fmt_f64(v),
-                        "must be left out for a glider (it is a point body: J = 0, r = 0)",
+                        "must be left out for a glider or a sprung mass (J = 0, r = 0)",
                     );
                 }
             }
         }
     }
-    if checks.finite("body.initial_position", body.initial_position) && length_ok {
+    check_suspension(checks, prefix, body);
+    if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
         let x = body.initial_position;
-        if !(0.0..scene.beam.length).contains(&x) {
-            checks.fail(
-                "body.initial_position",
-                fmt_f64(x),
+        let (approach, end) = (scene.track.approach, scene.beam.length);
+        if !(x >= -approach && x < end) {
+            let rule = if approach > 0.0 {
+                format!(
+                    "must lie on the approach or the beam, -track.approach = {} <= x < \
+                     beam.length = {}",
+                    fmt_f64(-approach),
+                    fmt_f64(end)
+                )
+            } else {
                 format!(
                     "must lie on the beam, 0 <= x < beam.length = {}",
-                    fmt_f64(scene.beam.length)
-                ),
+                    fmt_f64(end)
+                )
+            };
+            checks.fail(path("initial_position"), fmt_f64(x), rule);
+        }
+    }
+    checks.finite(&path("initial_speed"), body.initial_speed);
+    checks.finite(&path("force_x"), body.force_x);
+    checks.finite(&path("force_y"), body.force_y);
+}
+
+/// A sprung mass needs its suspension; other kinds must leave it out.
+fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let path = |field: &str| format!("{prefix}.{field}");
+    match (body.kind, &body.suspension) {
+        (BodyKind::SprungMass, Some(s)) => {
+            checks.positive(&path("suspension.stiffness"), s.stiffness);
+            checks.non_negative(&path("suspension.damping"), s.damping);
+            checks.positive(&path("suspension.unsprung_mass"), s.unsprung_mass);
+        }
+        (BodyKind::SprungMass, None) => checks.fail(
+            path("suspension"),
+            "missing",
+            format!("a sprung_mass needs [{prefix}.suspension] with stiffness and unsprung_mass"),
+        ),
+        (_, Some(_)) => checks.fail(
+            path("suspension"),
+            "present",
+            format!("must be left out unless {prefix}.kind = \"sprung_mass\""),
+        ),
+        (_, None) => {}
+    }
+}
+
+/// Gravity and the rigid ground: finite, non-negative lengths; ground
+/// meets the beam only at an end whose deflection is held.
+fn check_track(checks: &mut Checks, scene: &Scene) {
+    checks.non_negative("gravity", scene.gravity);
+    let track = &scene.track;
+    checks.non_negative("track.approach", track.approach);
+    checks.non_negative("track.run_off", track.run_off);
+    let supports = &scene.beam.supports;
+    for (path, length, end) in [
+        ("track.approach", track.approach, supports.left),
+        ("track.run_off", track.run_off, supports.right),
+    ] {
+        if length > 0.0 && end == EndSupport::Free {
+            checks.fail(
+                path,
+                fmt_f64(length),
+                "must be 0 next to a free beam end (rigid ground meets the beam only where \
+                 its deflection is held: pinned or clamped)",
             );
         }
     }
-    checks.finite("body.initial_speed", body.initial_speed);
-    checks.finite("body.force_x", body.force_x);
-    checks.finite("body.force_y", body.force_y);
 }
 
 fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {

@@ -74,7 +74,7 @@ pub fn run_to_exit(scene: &Scene) -> RunFigures {
         if let Some(m) = midspan {
             figures.peak_midspan_deflection = figures.peak_midspan_deflection.min(values[m]);
         }
-        let force = sim.state().force_history[0].tangential.abs();
+        let force = sim.state().force_history[0][0].tangential.abs();
         figures.max_abs_tangential_force = figures.max_abs_tangential_force.max(force);
         if let Advance::Exited { time } = advance {
             figures.exit_time = time;
