@@ -269,8 +269,10 @@ print(json.dumps({"status": status, "said": said}))
 
 @pytest.mark.parametrize("start, cause", [
     ({"wheel.force_y": 6e5}, "lift-off"),
-    ({"wheel.initial_speed": 1e6}, "no foot point"),
-    ({"wheel.initial_speed": -1e6}, "no foot point"),
+    # (the foot point is found at any speed since the band/foot-point rework;
+    # the contact iteration then diverges, at every step size)
+    ({"wheel.initial_speed": 1e6}, "diverged"),
+    ({"wheel.initial_speed": -1e6}, "diverged"),
     # refused when initialization is left, by the scene's magnitude rule
     ({"solver.velocity_tolerance": 5e-324}, "magnitude limit"),
     ({"wheel.force_y": 1e308}, "non-finite"),
