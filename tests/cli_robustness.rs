@@ -2,6 +2,8 @@
 //! user (or an attacker) would: bounded work and memory, Ctrl-C, non-finite
 //! values, XML-illegal text, name and size limits, output files, exit codes.
 
+mod common;
+use common::model_description;
 use guideway::scene::builtin;
 use std::io::Read;
 use std::path::{Path, PathBuf};
@@ -301,17 +303,6 @@ fn values_that_overflow_an_output_are_refused_as_the_fmu_refuses_them() {
 }
 
 // ---- 6, 7, 8: text that reaches the XML, names, sizes ----------------------------------
-
-/// The modelDescription.xml inside an FMU.
-fn model_description(fmu: &Path) -> String {
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
-    let mut xml = String::new();
-    zip.by_name("modelDescription.xml")
-        .unwrap()
-        .read_to_string(&mut xml)
-        .unwrap();
-    xml
-}
 
 #[test]
 fn a_description_with_characters_xml_cannot_carry_is_refused_by_run_and_export() {

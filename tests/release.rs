@@ -1,9 +1,10 @@
 //! `guideway release`: versioned, reproducible, with notes and checksums.
 
+mod common;
+use common::model_description;
 use guideway::fmu::{self, release};
 use guideway::scene::{builtin, builtins};
 use sha2::{Digest, Sha256};
-use std::io::Read;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -43,17 +44,6 @@ fn files(dir: &Path) -> Vec<(PathBuf, Vec<u8>)> {
     walk(dir, dir, &mut out);
     out.sort_by(|a, b| a.0.cmp(&b.0));
     out
-}
-
-fn model_description(fmu: &Path) -> String {
-    let mut zip = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
-    let mut xml = String::new();
-    zip.by_name("modelDescription.xml")
-        .unwrap()
-        .read_to_string(&mut xml)
-        .unwrap();
-    guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
-    xml
 }
 
 /// An attribute of the `fmiModelDescription` element.

@@ -87,3 +87,16 @@ pub fn run_to_exit(scene: &Scene) -> RunFigures {
     }
     panic!("the body never left the beam");
 }
+
+/// The modelDescription.xml inside an FMU, checked to be well-formed XML.
+pub fn model_description(fmu: &std::path::Path) -> String {
+    use std::io::Read;
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(fmu).unwrap()).unwrap();
+    let mut xml = String::new();
+    zip.by_name("modelDescription.xml")
+        .unwrap()
+        .read_to_string(&mut xml)
+        .unwrap();
+    guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
+    xml
+}
