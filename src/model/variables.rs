@@ -1,5 +1,6 @@
 //! The variable table: every exported variable of a scene, with its value
-//! reference, causality, variability, type, unit and start value.
+//! reference, causality, variability, type, unit, start value, bounds,
+//! display unit, nominal magnitude and dependencies.
 //!
 //! One table feeds modelDescription.xml, the getters and setters and the
 //! FMU's documentation page, so they cannot disagree.
@@ -100,6 +101,13 @@ pub enum Value {
     Boolean(bool),
 }
 
+/// A unit engineers read a quantity in: shown = factor × value in `unit`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DisplayUnit {
+    pub name: &'static str,
+    pub factor: f64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Variable {
     pub name: String,
@@ -113,6 +121,19 @@ pub struct Variable {
     /// Start value (parameters and inputs); outputs are calculated.
     pub start: Option<Value>,
     pub role: Role,
+    /// How to show it, when not in `unit`.
+    pub display_unit: Option<DisplayUnit>,
+    /// Inclusive bounds of the values accepted (parameters).
+    pub min: Option<Value>,
+    pub max: Option<Value>,
+    /// Typical magnitude (a power of ten), where it is far from 1.
+    pub nominal: Option<f64>,
+    /// Outputs: the variables (value references) the output depends on
+    /// directly at a communication point; `None`: undeclared (all inputs).
+    pub dependencies: Option<Vec<u32>>,
+    /// Outputs: the parameters and inputs its value when initialization
+    /// mode is left depends on; `None`: undeclared (all of them).
+    pub initial_dependencies: Option<Vec<u32>>,
 }
 
 /// All variables of one scene, ordered by value reference (= index).
@@ -229,6 +250,14 @@ impl VariableTable {
                 description: o.description.clone(),
                 start: None,
                 role: Role::Output(i),
+                display_unit: display_unit(&o.name, o.unit),
+                min: None,
+                max: None,
+                nominal: None,
+                // A co-simulation output is the state at the communication
+                // point: an input set there acts over the next step only.
+                dependencies: Some(Vec::new()),
+                initial_dependencies: None,
             });
         }
 
@@ -240,8 +269,31 @@ impl VariableTable {
             if let Role::Input(i) = v.role {
                 v.start = Some(Value::Real(input_start(scene, i)));
             }
+            if let Some(Value::Real(x)) = v.start {
+                v.nominal = nominal(x);
+            }
         }
         table
+    }
+
+    /// Declare the nominal magnitudes of the outputs from their values at
+    /// the start (`values[k]` of output `k`).
+    pub fn set_output_nominals(&mut self, values: &[f64]) {
+        for v in &mut self.variables {
+            if let (Role::Output(k), VarType::Real) = (v.role, v.ty) {
+                v.nominal = values.get(k).copied().and_then(nominal);
+            }
+        }
+    }
+
+    /// Declare what each output depends on when initialization mode is
+    /// left: `deps[k]` for output `k`, as value references.
+    pub fn set_initial_dependencies(&mut self, deps: &[Vec<u32>]) {
+        for v in &mut self.variables {
+            if let Role::Output(k) = v.role {
+                v.initial_dependencies = deps.get(k).cloned();
+            }
+        }
     }
 
     pub fn variables(&self) -> &[Variable] {
@@ -262,12 +314,23 @@ impl VariableTable {
             .filter(|v| v.causality == Causality::Output)
     }
 
-    /// Distinct units used by the variables, in order of first use.
-    pub fn units(&self) -> Vec<&str> {
-        let mut units: Vec<&str> = Vec::new();
-        for u in self.variables.iter().filter_map(|v| v.unit.as_deref()) {
-            if !units.contains(&u) {
-                units.push(u);
+    /// Distinct units used by the variables, in order of first use, each
+    /// with the display units its variables use.
+    pub fn units(&self) -> Vec<(&str, Vec<DisplayUnit>)> {
+        let mut units: Vec<(&str, Vec<DisplayUnit>)> = Vec::new();
+        for v in &self.variables {
+            let Some(u) = v.unit.as_deref() else { continue };
+            let k = match units.iter().position(|(name, _)| *name == u) {
+                Some(k) => k,
+                None => {
+                    units.push((u, Vec::new()));
+                    units.len() - 1
+                }
+            };
+            if let Some(d) = v.display_unit {
+                if !units[k].1.iter().any(|e| e.name == d.name) {
+                    units[k].1.push(d);
+                }
             }
         }
         units
@@ -278,6 +341,90 @@ fn unit(u: &str) -> Option<String> {
     match u.trim() {
         "" | "1" | "-" => None,
         u => Some(u.to_string()),
+    }
+}
+
+/// The unit engineers read a quantity in, where it is not the SI unit:
+/// loads in kN, travel speeds in km/h, deflections in mm.
+fn display_unit(name: &str, unit: &str) -> Option<DisplayUnit> {
+    let travel_speed = name.ends_with("speed") || name.ends_with(".vx");
+    let (name, factor) = match unit {
+        "N" => ("kN", 1e-3),
+        "m/s" if travel_speed && !name.starts_with("solver.") => ("km/h", 3.6),
+        "m" if name.ends_with(".deflection") => ("mm", 1e3),
+        _ => return None,
+    };
+    Some(DisplayUnit { name, factor })
+}
+
+/// The power of ten of `x`, if it is at least three orders of magnitude
+/// from 1 (where a solver or a plot would need to know the scale).
+fn nominal(x: f64) -> Option<f64> {
+    let m = x.abs();
+    if !m.is_finite() || m == 0.0 || (1e-3..1e3).contains(&m) {
+        return None;
+    }
+    let p = 10f64.powi(m.log10().floor() as i32);
+    (p.is_finite() && p > 0.0).then_some(p)
+}
+
+/// The rule a parameter's value must satisfy; also its declared bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Rule {
+    /// Real, > 0.
+    Positive,
+    /// Real, >= 0.
+    NonNegative,
+    /// Real, any finite value.
+    Finite,
+    /// Integer in the inclusive range.
+    Count(i32, i32),
+}
+
+fn rule(p: Param) -> Rule {
+    use Param::*;
+    match p {
+        BeamElements => Rule::Count(1, MAX_ELEMENTS),
+        BeamSurfaceOffset | BodyInitialPosition | SensorPosition(_) => Rule::NonNegative,
+        BodyInitialSpeed => Rule::Finite,
+        BeamLength
+        | BeamMassPerLength
+        | BeamBendingStiffness
+        | BodyMass
+        | BodyInertia
+        | BodyRadius
+        | SolverStep
+        | SolverVelocityTolerance
+        | SolverGapTolerance => Rule::Positive,
+    }
+}
+
+impl Rule {
+    /// Inclusive (min, max) in FMI terms. "> 0" becomes min = the smallest
+    /// positive double: every value from it on passes the rule.
+    fn bounds(self) -> (Option<Value>, Option<Value>) {
+        match self {
+            Rule::Positive => (Some(Value::Real(f64::from_bits(1))), None),
+            Rule::NonNegative => (Some(Value::Real(0.0)), None),
+            Rule::Finite => (None, None),
+            Rule::Count(lo, hi) => (Some(Value::Integer(lo)), Some(Value::Integer(hi))),
+        }
+    }
+
+    /// `value` if it passes, else the rule in words.
+    fn check(self, value: Value) -> Result<Value, String> {
+        match (self, value) {
+            (Rule::Count(lo, hi), Value::Integer(n)) if (lo..=hi).contains(&n) => Ok(value),
+            (Rule::Count(lo, hi), Value::Integer(_)) => {
+                Err(format!("must be an integer in {lo}..={hi}"))
+            }
+            (Rule::Count(..), _) => Err("must be an Integer".into()),
+            (_, Value::Real(x)) if !x.is_finite() => Err("must be finite".into()),
+            (Rule::Positive, Value::Real(x)) if x <= 0.0 => Err("must be > 0".into()),
+            (Rule::NonNegative, Value::Real(x)) if x < 0.0 => Err("must be >= 0".into()),
+            (_, Value::Real(_)) => Ok(value),
+            _ => Err("must be a Real".into()),
+        }
     }
 }
 
@@ -297,6 +444,7 @@ impl Builder {
         } else {
             VarType::Real
         };
+        let (min, max) = rule(p).bounds();
         self.push(Variable {
             name: name.to_string(),
             value_reference: 0,
@@ -307,6 +455,12 @@ impl Builder {
             description: description.to_string(),
             start: None,
             role: Role::Parameter(p),
+            display_unit: display_unit(name, u),
+            min,
+            max,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
         });
     }
     fn input(&mut self, name: &str, i: Input, description: &str) {
@@ -320,6 +474,12 @@ impl Builder {
             description: description.to_string(),
             start: None,
             role: Role::Input(i),
+            display_unit: display_unit(name, "N"),
+            min: None,
+            max: None,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
         });
     }
 }
@@ -350,52 +510,30 @@ pub fn param_value(scene: &Scene, p: Param) -> Value {
 /// `scene`. On error the scene is unchanged and the message states the rule.
 pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String> {
     use Param::*;
-    if let BeamElements = p {
-        let Value::Integer(n) = value else {
-            return Err("must be an Integer".into());
-        };
-        if !(1..=MAX_ELEMENTS).contains(&n) {
-            return Err(format!("must be an integer in 1..={MAX_ELEMENTS}"));
+    let x = match rule(p).check(value)? {
+        Value::Integer(n) => {
+            // Only `beam.elements` is an Integer, and its rule keeps n >= 1.
+            scene.beam.elements = n as usize;
+            return Ok(());
         }
-        scene.beam.elements = n as usize;
-        return Ok(());
-    }
-    let Value::Real(x) = value else {
-        return Err("must be a Real".into());
-    };
-    if !x.is_finite() {
-        return Err("must be finite".into());
-    }
-    let positive = |x: f64| {
-        if x > 0.0 {
-            Ok(x)
-        } else {
-            Err("must be > 0".to_string())
-        }
+        Value::Real(x) => x,
+        Value::Boolean(_) => return Err("must be a Real".into()),
     };
     match p {
-        BeamLength => scene.beam.length = positive(x)?,
-        BeamMassPerLength => scene.beam.mass_per_length = positive(x)?,
-        BeamBendingStiffness => scene.beam.bending_stiffness = positive(x)?,
-        BeamSurfaceOffset if x < 0.0 => return Err("must be >= 0".into()),
+        BeamLength => scene.beam.length = x,
+        BeamMassPerLength => scene.beam.mass_per_length = x,
+        BeamBendingStiffness => scene.beam.bending_stiffness = x,
         BeamSurfaceOffset => scene.beam.surface_offset = x,
-        BodyMass => scene.body.mass = positive(x)?,
-        BodyInertia => scene.body.inertia = Some(positive(x)?),
-        BodyRadius => scene.body.radius = Some(positive(x)?),
-        BodyInitialPosition if x < 0.0 => return Err("must be >= 0 (on the beam)".into()),
+        BodyMass => scene.body.mass = x,
+        BodyInertia => scene.body.inertia = Some(x),
+        BodyRadius => scene.body.radius = Some(x),
         BodyInitialPosition => scene.body.initial_position = x,
         BodyInitialSpeed => scene.body.initial_speed = x,
-        SensorPosition(i) if x < 0.0 => {
-            return Err(format!(
-                "must be >= 0 (sensor {} on the beam)",
-                scene.sensors[i].name
-            ))
-        }
         SensorPosition(i) => scene.sensors[i].position = x,
-        SolverStep => scene.solver.step = positive(x)?,
-        SolverVelocityTolerance => scene.solver.velocity_tolerance = positive(x)?,
-        SolverGapTolerance => scene.solver.gap_tolerance = positive(x)?,
-        BeamElements => unreachable!("handled above"),
+        SolverStep => scene.solver.step = x,
+        SolverVelocityTolerance => scene.solver.velocity_tolerance = x,
+        SolverGapTolerance => scene.solver.gap_tolerance = x,
+        BeamElements => return Err("must be an Integer".into()),
     }
     Ok(())
 }

@@ -1,0 +1,93 @@
+//! What each output's value at the end of initialization depends on, found
+//! by running the model: every parameter and input is moved off its start
+//! value, alone, and the outputs that change depend on it.
+//!
+//! Measured rather than declared by hand, so that it follows the model as
+//! its variables change. A move that the model refuses (a rule, a stability
+//! limit) is tried the other way; a variable that cannot be moved at all is
+//! declared a dependency of every output, which is always true to say.
+
+use super::{Dynamics, Model, Role, Value, VarType, VariableTable};
+use crate::scene::Scene;
+
+/// For output `k` of the model of `scene`, the value references of the
+/// parameters and inputs its start value depends on (`result[k]`).
+pub fn initial_dependencies<D: Dynamics>(scene: &Scene) -> Result<Vec<Vec<u32>>, String> {
+    let mut base = Model::<D>::new(scene.clone()).map_err(|e| e.0)?;
+    let reference = outputs_at_start(&mut base)?;
+    let table = base.table().clone();
+    let mut deps = vec![Vec::new(); reference.len()];
+    for v in table.variables() {
+        if !matches!(v.role, Role::Parameter(_) | Role::Input(_)) {
+            continue;
+        }
+        let Some(start) = v.start else { continue };
+        let changed = moved_outputs(&base, v.value_reference, start, &reference);
+        for (k, d) in deps.iter_mut().enumerate() {
+            if changed.as_ref().map_or(true, |c| c[k]) {
+                d.push(v.value_reference);
+            }
+        }
+    }
+    Ok(deps)
+}
+
+/// Output values of a model before initialization is left.
+fn outputs_at_start<D: Dynamics>(model: &mut Model<D>) -> Result<Vec<Value>, String> {
+    let vrs = output_refs(model.table());
+    let mut values = Vec::with_capacity(vrs.len());
+    for (vr, ty) in vrs {
+        values.push(model.get(ty, &[vr]).map_err(|e| e.0)?[0]);
+    }
+    Ok(values)
+}
+
+fn output_refs(table: &VariableTable) -> Vec<(u32, VarType)> {
+    let mut refs: Vec<(usize, u32, VarType)> = table
+        .variables()
+        .iter()
+        .filter_map(|v| match v.role {
+            Role::Output(k) => Some((k, v.value_reference, v.ty)),
+            _ => None,
+        })
+        .collect();
+    refs.sort_by_key(|r| r.0);
+    refs.into_iter().map(|(_, vr, ty)| (vr, ty)).collect()
+}
+
+/// Which outputs change when variable `vr` moves off `start`; `None` if the
+/// model accepts no move of it.
+fn moved_outputs<D: Dynamics>(
+    base: &Model<D>,
+    vr: u32,
+    start: Value,
+    reference: &[Value],
+) -> Option<Vec<bool>> {
+    for value in moves(start) {
+        let mut model = Model::<D>::new(base.scene().clone()).ok()?;
+        if model.set(&[vr], &[value]).is_err() {
+            continue;
+        }
+        if let Ok(values) = outputs_at_start(&mut model) {
+            return Some(values.iter().zip(reference).map(|(a, b)| a != b).collect());
+        }
+    }
+    None
+}
+
+/// Values off `start`, up then down: by 10 % and a little more, so that a
+/// zero start moves too.
+fn moves(start: Value) -> Vec<Value> {
+    match start {
+        Value::Real(x) => vec![
+            Value::Real(x * 1.1 + 1e-3),
+            Value::Real(x * 0.9 - 1e-3),
+            Value::Real(x * 0.9),
+        ],
+        Value::Integer(n) => vec![
+            Value::Integer(n.saturating_add(1)),
+            Value::Integer(n.saturating_sub(1)),
+        ],
+        Value::Boolean(b) => vec![Value::Boolean(!b)],
+    }
+}
