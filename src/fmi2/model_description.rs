@@ -511,6 +511,25 @@ mod tests {
     }
 
     #[test]
+    fn dependencies_do_not_change_the_guid_and_reference_variables() {
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        let sim = FakeDynamics::build(&scene).unwrap();
+        let mut table = VariableTable::new(&scene, sim.outputs());
+        let (plain, guid) = generate(&scene, &table);
+        let n = table.outputs().count();
+        table.set_initial_dependencies(&vec![vec![0, 2]; n]);
+        let (with, guid2) = generate(&scene, &table);
+        assert_eq!(guid, guid2);
+        assert!(!plain.contains("dependencies=\"1 3\""));
+        assert_eq!(with.matches("dependencies=\"1 3\"").count(), n);
+        // Outputs section: no direct dependency
+        let outputs = &with[with.find("<Outputs>").unwrap()..with.find("</Outputs>").unwrap()];
+        assert_eq!(outputs.matches("dependencies=\"\"").count(), n);
+        assert!(with.contains("<DisplayUnit name=\"kN\" factor=\"0.001\"/>"));
+        assert!(with.contains("min=\"5e-324\""));
+    }
+
+    #[test]
     fn elements_in_schema_order() {
         let (x, _) = xml(&Scene::lee1994(BodyKind::Glider, 10.0, 0.0025));
         let pos = |s: &str| x.find(s).unwrap_or_else(|| panic!("{s} missing in\n{x}"));

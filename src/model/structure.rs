@@ -91,3 +91,76 @@ fn moves(start: Value) -> Vec<Value> {
         Value::Boolean(b) => vec![Value::Boolean(!b)],
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::BodyKind;
+    use crate::Simulation;
+
+    fn scene() -> Scene {
+        Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025)
+    }
+
+    fn named(table: &VariableTable, deps: &[Vec<u32>], output: &str) -> Vec<String> {
+        let Role::Output(k) = table.by_name(output).unwrap().role else {
+            panic!("{output} is not an output")
+        };
+        let name = |vr: &u32| table.get(*vr).unwrap().name.clone();
+        deps[k].iter().map(name).collect()
+    }
+
+    #[test]
+    fn start_outputs_depend_on_what_sets_them() {
+        let deps = initial_dependencies::<Simulation>(&scene()).unwrap();
+        let m = Model::<Simulation>::new(scene()).unwrap();
+        let t = m.table();
+        assert_eq!(named(t, &deps, "contact.normal_force"), ["wheel.force_y"]);
+        assert_eq!(named(t, &deps, "wheel.x"), ["wheel.initial_position"]);
+        assert_eq!(
+            named(t, &deps, "wheel.y"),
+            ["beam.surface_offset", "wheel.radius"]
+        );
+        assert_eq!(named(t, &deps, "wheel.vx"), ["wheel.initial_speed"]);
+        assert!(named(t, &deps, "sensor.midspan.deflection").is_empty());
+    }
+
+    /// What was not declared does not matter, checked with moves of another
+    /// size than the analysis uses (halving, doubling).
+    #[test]
+    fn undeclared_dependencies_do_not_change_start_outputs() {
+        let deps = initial_dependencies::<Simulation>(&scene()).unwrap();
+        let mut base = Model::<Simulation>::new(scene()).unwrap();
+        let reference = outputs_at_start(&mut base).unwrap();
+        let known: Vec<_> = base
+            .table()
+            .variables()
+            .iter()
+            .filter(|v| matches!(v.role, Role::Parameter(_) | Role::Input(_)))
+            .cloned()
+            .collect();
+        let mut checked = 0;
+        for v in known {
+            let value = match v.start.unwrap() {
+                Value::Real(x) if x == 0.0 => Value::Real(0.5),
+                Value::Real(x) => Value::Real(x * 0.5),
+                Value::Integer(n) => Value::Integer(n * 2),
+                b => b,
+            };
+            let mut m = Model::<Simulation>::new(scene()).unwrap();
+            if m.set(&[v.value_reference], &[value]).is_err() {
+                continue;
+            }
+            let Ok(values) = outputs_at_start(&mut m) else {
+                continue;
+            };
+            for (k, (a, b)) in values.iter().zip(&reference).enumerate() {
+                if !deps[k].contains(&v.value_reference) {
+                    assert_eq!(a, b, "output {k} moved with {}", v.name);
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100, "only {checked} pairs checked");
+    }
+}

@@ -605,6 +605,70 @@ mod tests {
         );
     }
 
+    /// The declared bounds are the rule: the bound itself is accepted, the
+    /// next value beyond it refused.
+    #[test]
+    fn declared_bounds_are_the_rules_of_set_param() {
+        let t = table(BodyKind::Wheel);
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        for v in t.variables() {
+            let Role::Parameter(p) = v.role else { continue };
+            let ok = |x: Value| set_param(&mut scene.clone(), p, x).is_ok();
+            match (v.min, v.max) {
+                (Some(Value::Real(lo)), None) => {
+                    assert!(ok(Value::Real(lo)), "{}", v.name);
+                    assert!(!ok(Value::Real(lo.next_down())), "{}", v.name);
+                }
+                (Some(Value::Integer(lo)), Some(Value::Integer(hi))) => {
+                    assert!(ok(Value::Integer(lo)) && ok(Value::Integer(hi)));
+                    assert!(!ok(Value::Integer(lo - 1)) && !ok(Value::Integer(hi + 1)));
+                }
+                (None, None) => assert!(ok(Value::Real(-1e300)) && ok(Value::Real(1e300))),
+                bounds => panic!("{}: unexpected bounds {bounds:?}", v.name),
+            }
+        }
+        assert_eq!(
+            t.by_name("wheel.mass").unwrap().min,
+            Some(Value::Real(f64::from_bits(1)))
+        );
+        assert_eq!(
+            t.by_name("beam.surface_offset").unwrap().min,
+            Some(Value::Real(0.0))
+        );
+    }
+
+    #[test]
+    fn display_units_and_nominals() {
+        let t = table(BodyKind::Wheel);
+        let shown = |n: &str| {
+            t.by_name(n)
+                .unwrap()
+                .display_unit
+                .map(|d| (d.name, d.factor))
+        };
+        assert_eq!(shown("wheel.force_y"), Some(("kN", 1e-3)));
+        assert_eq!(shown("wheel.initial_speed"), Some(("km/h", 3.6)));
+        assert_eq!(shown("sensor.midspan.deflection"), Some(("mm", 1e3)));
+        assert_eq!(shown("solver.velocity_tolerance"), None);
+        assert_eq!(shown("beam.length"), None);
+        let nominal = |n: &str| t.by_name(n).unwrap().nominal;
+        assert_eq!(nominal("beam.bending_stiffness"), Some(1e9));
+        assert_eq!(nominal("wheel.force_y"), Some(1e5));
+        assert_eq!(nominal("solver.velocity_tolerance"), Some(1e-7));
+        assert_eq!(nominal("beam.length"), None);
+        let units = t.units();
+        let n = units.iter().find(|(u, _)| *u == "N").unwrap();
+        assert_eq!(n.1.len(), 1);
+    }
+
+    #[test]
+    fn outputs_declare_no_direct_dependency() {
+        let t = table(BodyKind::Wheel);
+        for v in t.outputs() {
+            assert_eq!(v.dependencies.as_deref(), Some(&[][..]), "{}", v.name);
+        }
+    }
+
     #[test]
     fn bad_values_are_refused_and_leave_the_scene_alone() {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
