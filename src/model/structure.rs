@@ -24,7 +24,7 @@ pub fn initial_dependencies<D: Dynamics>(scene: &Scene) -> Result<Vec<Vec<u32>>,
         let Some(start) = v.start else { continue };
         let changed = moved_outputs(&base, v.value_reference, start, &reference);
         for (k, d) in deps.iter_mut().enumerate() {
-            if changed.as_ref().map_or(true, |c| c[k]) {
+            if changed.as_ref().is_none_or(|c| c[k]) {
                 d.push(v.value_reference);
             }
         }
@@ -142,7 +142,7 @@ mod tests {
         let mut checked = 0;
         for v in known {
             let value = match v.start.unwrap() {
-                Value::Real(x) if x == 0.0 => Value::Real(0.5),
+                Value::Real(0.0) => Value::Real(0.5),
                 Value::Real(x) => Value::Real(x * 0.5),
                 Value::Integer(n) => Value::Integer(n * 2),
                 b => b,
