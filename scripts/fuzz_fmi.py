@@ -9,7 +9,9 @@ fmi2 function, in random order and mode, with hostile arguments: NULL
 pointers and callbacks, zero and huge array lengths, unknown value
 references, NaN, +-inf, subnormal and huge numbers, zero/negative step
 sizes, wrong communication points, foreign, truncated and corrupted
-serialized states, double frees of FMU states, terminate twice.  It never
+serialized states, forged states (valid framing and checksum, hostile
+payload: scripts/fuzz_state.py), double frees of FMU states, terminate
+twice.  It never
 calls a function on a freed instance: without a global registry of
 instances an FMU cannot detect that (a limit of the FMI C API).
 
@@ -22,6 +24,9 @@ Checks, per sequence:
   - Real values read with status OK are finite;
   - after a step ends in fmi2Discard or fmi2Error, fmi2GetFMUstate works
     and the state, restored in a fresh instance, gives the same outputs;
+  - a forged state that is accepted (deserialized and set) holds only
+    parameter values that fmi2SetReal/fmi2SetInteger accept on a fresh
+    instance: no state reaches what the API refuses;
   - at the end, the instance either had a fatal error (then only
     fmi2FreeInstance is called) or, after fmi2Reset, runs a valid sequence
     bit-identically to a fresh instance.
@@ -38,6 +43,7 @@ import os
 import pathlib
 import queue
 import random
+import struct
 import subprocess
 import sys
 import tempfile
@@ -45,6 +51,9 @@ import threading
 import time
 import zipfile
 import xml.etree.ElementTree as ET
+
+sys.path.insert(0, str(pathlib.Path(__file__).resolve().parent))
+import fuzz_state  # noqa: E402
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 DEFAULT_FMU_DIR = pathlib.Path(os.environ.get("GUIDEWAY_FMU_DIR", ROOT / "out" / "fmu"))
@@ -311,6 +320,7 @@ class Sequence:
         actions = [
             (1, self.lifecycle), (6, self.get_values), (5, self.set_values),
             (8, self.do_step), (4, self.fmu_states), (3, self.serialization),
+            (3, self.forged_state),
             (2, self.status), (1, self.debug_logging), (1, self.unsupported),
             (1, self.null_component), (1, self.platform),
         ]
@@ -457,7 +467,8 @@ class Sequence:
                                                            C.byref(restored)) == OK
                   and self.model.f["fmi2SetFMUstate"](other, restored) == OK)
             if not ok:
-                self.fail("the state saved after a failed step does not restore")
+                self.fail("the state saved after a failed step does not restore: "
+                          f"{MESSAGES[-1][2] if MESSAGES else ''}")
             n = len(self.model.outputs)
             vrs, out = (C.c_uint * n)(*self.model.outputs), (C.c_double * n)()
             if self.model.f["fmi2GetReal"](other, vrs, n, out) != OK:
@@ -559,6 +570,55 @@ class Sequence:
         out = None if kind == 6 else C.byref(state)
         if self.call("fmi2DeSerializeFMUstate", self.c, buf, len(blob), out) == OK and out:
             self.states.append(state.value)
+
+    def forged_state(self):
+        """A good state of this model with one hostile change in its payload,
+        framed with a correct checksum: deserialized, set, and if accepted
+        checked to be reachable through the API."""
+        own = self.references[self.model.guid]["blobs"] + [
+            b for b in self.blobs if b.startswith(fuzz_state.MAGIC)
+            and self.model.guid in b[:200]]
+        try:
+            blob, path = fuzz_state.forge(self.rng, self.rng.choice(own))
+        except (ValueError, struct.error, IndexError):
+            return  # a truncated blob of our own: nothing to forge
+        state = C.c_void_p()
+        buf = C.create_string_buffer(blob, len(blob))
+        self.keep.append(buf)
+        accepted = (self.call("fmi2DeSerializeFMUstate", self.c, buf, len(blob),
+                              C.byref(state)) == OK)
+        if accepted:
+            self.states.append(state.value)
+            accepted = self.call("fmi2SetFMUstate", self.c, state) == OK
+        key = f"forged state {'accepted' if accepted else 'refused'}"
+        self.tally[key] = self.tally.get(key, 0) + 1
+        if accepted:
+            self.time = self.current_time()
+            self.check_parameters_reachable(path)
+
+    def check_parameters_reachable(self, path):
+        """Each parameter of the instance, set on a fresh instance, is
+        accepted (unless the instance is in a mode where they cannot be read)."""
+        values = []
+        for kind, ctype in (("Real", C.c_double), ("Integer", C.c_int)):
+            for vr, causality, name in self.model.vars.get(kind, []):
+                if causality != "parameter":
+                    continue
+                out = (ctype * 1)()
+                if self.model.f[f"fmi2Get{kind}"](self.c, (C.c_uint * 1)(vr), 1, out) != OK:
+                    return
+                values.append((kind, ctype, vr, name, out[0]))
+        other, _ = self.instantiate(name=b"witness")
+        try:
+            for kind, ctype, vr, name, x in values:
+                before = len(MESSAGES)
+                if self.model.f[f"fmi2Set{kind}"](other, (C.c_uint * 1)(vr), 1,
+                                                  (ctype * 1)(x)) != OK:
+                    said = MESSAGES[before:][-1:]
+                    self.fail(f"a forged state (changed at {'/'.join(map(str, path))}) was "
+                              f"accepted with {name} = {x}, which fmi2Set{kind} refuses: {said}")
+        finally:
+            self.model.f["fmi2FreeInstance"](other)
 
     def status(self):
         rng = self.rng

@@ -7,9 +7,11 @@ cd "$(dirname "$0")/.."
 
 bash scripts/setup.sh
 cargo build --release --lib --bins
+# cargo builds into $CARGO_TARGET_DIR when it is set.
+bin="${CARGO_TARGET_DIR:-target}/release/guideway"
 
 scene=lee1994-wheel-10
 id=${scene//-/_}
 mkdir -p out
-target/release/guideway export "$scene" -o "out/$id.fmu"
+"$bin" export "$scene" -o "out/$id.fmu"
 .venv/bin/python scripts/simulate_fmu.py "out/$id.fmu" --plot "out/$id.png"

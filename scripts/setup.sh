@@ -14,10 +14,11 @@ apt_install() {
         exit 1
     fi
     if [ -z "${APT_UPDATED:-}" ]; then
-        apt-get update -qq
+        apt-get -o DPkg::Lock::Timeout=300 update -qq
         APT_UPDATED=1
     fi
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "$@" >/dev/null
+    # Wait for another apt/dpkg run (a second checkout's set-up) instead of failing.
+    DEBIAN_FRONTEND=noninteractive apt-get -o DPkg::Lock::Timeout=300 install -y -qq "$@" >/dev/null
 }
 
 # shellcheck source=scripts/lib/libclang.sh

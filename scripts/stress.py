@@ -13,6 +13,7 @@ says which, with the figures.
 
 import argparse
 import json
+import os
 import math
 import pathlib
 import subprocess
@@ -131,7 +132,7 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--out", default=str(ROOT / "report" / "stress.md"))
-    parser.add_argument("--guideway", default=str(ROOT / "target" / "release" / "guideway"))
+    parser.add_argument("--guideway", default=str(ROOT / os.environ.get("CARGO_TARGET_DIR", "target") / "release" / "guideway"))
     args = parser.parse_args(argv)
     base_text = subprocess.run([args.guideway, "scenes", "--show", "lee1994-wheel-10"],
                                capture_output=True, text=True, check=True).stdout

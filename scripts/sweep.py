@@ -12,8 +12,8 @@ Each run sets `wheel.initial_speed`, `beam.bending_stiffness` and
 `solver.step` until the wheel leaves the beam, and records the peak
 |midspan deflection| over the static deflection P L^3 / (48 EI) of the
 span. Runs that stop early (lift-off above the critical speed: fmi2Discard,
-state rolled back) are kept in the table with their status, message and
-the time reached.
+or fmi2Error once no smaller step gets further; state rolled back) are kept
+in the table with their status, message and the time reached.
 
 Without --scheduler a LocalCluster of --workers processes (one thread each)
 is started. With --scheduler the runs go to that cluster; the FMU file is
@@ -140,7 +140,7 @@ def start_value(md, name):
 def run_case(plugin, params):
     """Run one case on `plugin`'s FMU; returns a row of the table."""
     from fmpy.fmi1 import FMICallException
-    from fmpy.fmi2 import fmi2Discard, fmi2LastSuccessfulTime, fmi2Terminated
+    from fmpy.fmi2 import fmi2Discard, fmi2Error, fmi2LastSuccessfulTime, fmi2Terminated
 
     md = plugin.md
     vr = {v.name: (v.valueReference, v.type) for v in md.modelVariables}
@@ -175,15 +175,16 @@ def run_case(plugin, params):
                 try:
                     slave.doStep(currentCommunicationPoint=t, communicationStepSize=step)
                 except FMICallException as e:
-                    if e.status != fmi2Discard:
+                    lift_off = "lift-off" in " ".join(messages)
+                    # a lift-off no smaller step gets past is an fmi2Error
+                    if e.status != fmi2Discard and not (e.status == fmi2Error and lift_off):
                         raise
-                    if slave.getBooleanStatus(fmi2Terminated):  # left the beam
+                    if e.status == fmi2Discard and slave.getBooleanStatus(fmi2Terminated):
                         t = slave.getRealStatus(fmi2LastSuccessfulTime)
                         peak = max(peak, abs(slave.getReal([sensor])[0]))
-                        row["status"] = "exited"
+                        row["status"] = "exited"  # left the beam
                     else:  # rolled back: the state is still at t
-                        text = " ".join(messages)
-                        row["status"] = "lift-off" if "lift-off" in text else "discarded"
+                        row["status"] = "lift-off" if lift_off else "discarded"
                     break
                 t += step
                 peak = max(peak, abs(slave.getReal([sensor])[0]))

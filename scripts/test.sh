@@ -21,17 +21,19 @@ cargo build --release --all-targets
 cargo test --release --all-targets
 GUIDEWAY_CDYLIB=$(bash scripts/build_portable.sh)
 export GUIDEWAY_CDYLIB
+# cargo builds into $CARGO_TARGET_DIR when it is set.
+bin="${CARGO_TARGET_DIR:-target}/release/guideway"
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
 rm -rf "$GUIDEWAY_FMU_DIR"
 mkdir -p "$GUIDEWAY_FMU_DIR"
 for scene in lee1994-wheel-10 lee1994-glider-30; do
     id=${scene//-/_}
-    target/release/guideway export "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
+    "$bin" export "$scene" -o "$GUIDEWAY_FMU_DIR/$id.fmu" \
         --cross-check "$GUIDEWAY_FMU_DIR/cross-check"
 done
 
 # The release of this version (every built-in scene), for the release tests.
 export GUIDEWAY_RELEASE_DIR="$PWD/out/dist"
-target/release/guideway release --out "$GUIDEWAY_RELEASE_DIR" --replace
+"$bin" release --out "$GUIDEWAY_RELEASE_DIR" --replace
 
 .venv/bin/python -m pytest -q scripts/tests

@@ -13,6 +13,7 @@ the built-in step and tolerance) is marked with a star, runs that stopped
 
 import argparse
 import csv
+import os
 import pathlib
 import subprocess
 import sys
@@ -77,7 +78,7 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--csv", help="plot this CSV instead of measuring")
     parser.add_argument("--out-dir", default=str(ROOT / "report"))
-    parser.add_argument("--guideway", default=str(ROOT / "target" / "release" / "guideway"))
+    parser.add_argument("--guideway", default=str(ROOT / os.environ.get("CARGO_TARGET_DIR", "target") / "release" / "guideway"))
     args = parser.parse_args(argv)
 
     out_dir = pathlib.Path(args.out_dir)

@@ -14,6 +14,7 @@ pub mod fmu;
 pub mod integrate;
 pub mod iteration;
 pub mod model;
+pub mod output_file;
 pub mod report;
 pub mod scene;
 pub mod simulation;

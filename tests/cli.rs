@@ -159,8 +159,10 @@ fn a_solver_failure_exits_with_1_and_keeps_the_steps_before_it() {
     assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
     let message = stderr(&output);
     assert!(message.contains("the solver failed at t = "), "{message}");
-    assert!(message.contains("partial.csv"), "{message}");
-    let text = std::fs::read_to_string(csv).unwrap();
+    // Kept apart from the path asked for, which only a finished run fills.
+    assert!(message.contains("partial.csv.incomplete"), "{message}");
+    assert!(!csv.exists());
+    let text = std::fs::read_to_string(dir.path().join("partial.csv.incomplete")).unwrap();
     assert!(text.starts_with("time,"), "{text}");
     assert!(
         text.lines().count() >= 2,
@@ -267,6 +269,11 @@ fn export_writes_an_fmu_and_the_cross_check_files() {
     );
     let bytes = std::fs::read(&fmu).unwrap();
     assert!(bytes.starts_with(b"PK\x03\x04"), "an FMU is a zip archive");
+    let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+    let mut xml = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name("modelDescription.xml").unwrap(), &mut xml)
+        .unwrap();
+    guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
     for file in ["lee1994_glider_30_ref.csv", "lee1994_glider_30_ref.opt"] {
         assert!(cross_check.join(file).is_file(), "{file} missing");
     }

@@ -12,6 +12,11 @@ fn export(scene: &Scene, dir: &std::path::Path) -> std::path::PathBuf {
     let out = dir.join("scene.fmu");
     let cdylib = guideway::fmu::default_cdylib().expect("the cdylib is built with the tests");
     guideway::fmu::export(scene, &out, &cdylib).unwrap();
+    let mut zip = zip::ZipArchive::new(std::fs::File::open(&out).unwrap()).unwrap();
+    let mut xml = String::new();
+    std::io::Read::read_to_string(&mut zip.by_name("modelDescription.xml").unwrap(), &mut xml)
+        .unwrap();
+    guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
     out
 }
 

@@ -52,6 +52,7 @@ fn model_description(fmu: &Path) -> String {
         .unwrap()
         .read_to_string(&mut xml)
         .unwrap();
+    guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
     xml
 }
 
@@ -183,7 +184,8 @@ fn an_existing_release_is_kept_unless_replace() {
     std::fs::create_dir_all(marker.parent().unwrap()).unwrap();
     std::fs::write(&marker, "x").unwrap();
     let output = release_into(out.path(), &[]);
-    assert_eq!(output.status.code(), Some(1));
+    // one exit-code convention (issue 13): an output refused is exit code 2
+    assert_eq!(output.status.code(), Some(2));
     let err = String::from_utf8_lossy(&output.stderr);
     assert!(err.contains("exists") && err.contains("--replace"), "{err}");
     assert!(marker.exists());

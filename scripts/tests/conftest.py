@@ -13,6 +13,7 @@ import shutil
 import subprocess
 import tomllib
 import zipfile
+from xml.etree import ElementTree
 from ctypes import byref
 
 import numpy as np
@@ -30,7 +31,9 @@ from fmpy.logging import addLoggerProxy
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU_DIR = pathlib.Path(os.environ.get("GUIDEWAY_FMU_DIR", ROOT / "out" / "fmu"))
 PROFILE = os.environ.get("GUIDEWAY_PROFILE", "release")
-GUIDEWAY = ROOT / "target" / PROFILE / "guideway"
+# cargo builds into $CARGO_TARGET_DIR when it is set (relative to the root).
+TARGET_DIR = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
+GUIDEWAY = TARGET_DIR / PROFILE / "guideway"
 
 # The built-in scenes whose FMUs the tests use: (scene name, body).
 WHEEL = "lee1994-wheel-10"
@@ -46,7 +49,14 @@ def fmu_path(scene_name):
     path = FMU_DIR / f"{identifier(scene_name)}.fmu"
     if not path.is_file():
         pytest.fail(f"{path} missing: run scripts/test.sh (it exports the FMUs first)")
+    assert_well_formed(path)
     return path
+
+
+def assert_well_formed(fmu):
+    """Every exported FMU's modelDescription.xml must be XML (issue 13)."""
+    with zipfile.ZipFile(fmu) as z:
+        ElementTree.fromstring(z.read("modelDescription.xml"))
 
 
 def read_csv(path):

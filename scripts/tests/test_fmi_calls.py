@@ -3,14 +3,17 @@ refused calls (wrong order, NULL, unknown value reference, bad parameter)
 that give fmi2Error with a message and leave the process running."""
 
 import ctypes
+import json
 import pathlib
 import shutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 
-from conftest import GLIDER, WHEEL, make_callbacks
+from conftest import GLIDER, WHEEL, fmu_path, make_callbacks
 
 ERROR = 3
 
@@ -199,13 +202,15 @@ def test_solver_failure_rolls_the_step_back_and_the_master_can_retry(slave):
     s = slave(WHEEL).init()
     s.fmu.doStep(0.0, 0.1)
     before = s.outputs()
-    # pulling the wheel up makes the bilateral contact force tensile: the
-    # solver refuses the step
+    # pulling the wheel up makes the bilateral contact force tensile at once:
+    # the solver refuses the step, and no smaller step would do better, so
+    # it is an error (a Discard would invite endless retries)
     s.fmu.setReal([s.vr["wheel.force_y"]], [5e6])
     with pytest.raises(FMICallException) as e:
         s.fmu.doStep(0.1, 0.1)
-    assert e.value.status == 2  # fmi2Discard
+    assert e.value.status == 3  # fmi2Error
     assert "rolled back to t = 0.1" in s.messages.text()
+    assert "no step size cures this" in s.messages.text()
     assert np.array_equal(before, s.outputs())
     assert np.all(np.isfinite(s.outputs()))
     assert not s.fmu.getBooleanStatus(fmi2Terminated)
@@ -245,3 +250,41 @@ def test_a_master_retries_a_discarded_step_with_smaller_steps_and_gets_further(s
     assert reached >= 0.057, reached
     assert np.all(np.isfinite(s.outputs()))
     assert s.real("contact.normal_force")[0] > 0.0
+
+
+SIMULATE = """
+import json, sys
+from fmpy import simulate_fmu
+said = []
+def logger(env, instance, status, category, message):
+    said.append((status, message.decode()))
+try:
+    simulate_fmu(sys.argv[1], start_values=json.loads(sys.argv[2]), logger=logger)
+    status = 0
+except Exception as e:
+    status = getattr(e, "status", -1)
+print(json.dumps({"status": status, "said": said}))
+"""
+
+
+@pytest.mark.parametrize("start, cause", [
+    ({"wheel.force_y": 6e5}, "lift-off"),
+    ({"wheel.initial_speed": 1e6}, "no foot point"),
+    ({"wheel.initial_speed": -1e6}, "no foot point"),
+    ({"solver.velocity_tolerance": 5e-324}, "did not converge"),
+    ({"wheel.force_y": 1e308}, "non-finite"),
+])
+def test_a_step_no_retry_can_cure_ends_fmpy_with_an_error_naming_the_cause(start, cause):
+    """Issue 13, defect 2 (and issue 12's acceptance): these made fmpy retry
+    the same discarded step forever. Now the FMU says fmi2Error, either at
+    once or when the discarded step is retried unchanged: fmpy stops after
+    at most two steps with the cause in the log. (In a process of its own:
+    simulate_fmu's logger would replace the one fmpy's proxy keeps for the
+    other tests.)"""
+    out = subprocess.run([sys.executable, "-c", SIMULATE, str(fmu_path(WHEEL)), json.dumps(start)],
+                         capture_output=True, text=True, timeout=120, check=True)
+    r = json.loads(out.stdout.splitlines()[-1])
+    said = r["said"]
+    assert r["status"] == ERROR, r
+    assert 1 <= len(said) <= 2, said
+    assert said[-1][0] == ERROR and cause in said[-1][1], said

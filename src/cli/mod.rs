@@ -1,9 +1,11 @@
 //! The `guideway` command line (binary only; the library does the work).
 //!
 //! Exit codes: 0 success, 1 the run or an output file failed, 2 bad command
-//! line or bad scene (every problem listed on stderr).
+//! line or bad scene (every problem listed on stderr), 130 interrupted by
+//! Ctrl-C.
 
 mod export;
+mod interrupt;
 mod progress;
 mod release;
 mod run;
@@ -11,6 +13,7 @@ mod scenes;
 mod work_precision;
 
 use clap::{Parser, Subcommand};
+use guideway::report::DEFAULT_MAX_STEPS;
 use guideway::scene::{SceneError, DEFAULT_SCENE};
 use guideway::Scene;
 use std::path::PathBuf;
@@ -76,6 +79,10 @@ struct RunArgs {
     /// Draw nominal speed, sensor deflection and energy drift to this PNG.
     #[arg(long, value_name = "PNG")]
     plot: Option<PathBuf>,
+    /// Refuse, before running, a run that needs more internal steps than
+    /// this (the time a step takes grows with beam.elements).
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
     /// No progress bar, no summary on the terminal; errors only.
     #[arg(long, short)]
     quiet: bool,
@@ -127,19 +134,32 @@ struct ReleaseArgs {
     replace: bool,
 }
 
-/// How a command failed, deciding the exit code.
+/// How a command failed, deciding the exit code (README, "Exit codes").
 enum Failure {
     /// The scene (or what it asks for) is wrong: exit code 2.
     Scene(String),
+    /// The command line is wrong (e.g. an output that would overwrite an
+    /// input): exit code 2.
+    Usage(String),
     /// The run or writing its outputs failed: exit code 1.
     Run(String),
+    /// Ctrl-C: exit code 130.
+    Interrupted(String),
+}
+
+impl Failure {
+    fn into_message(self) -> String {
+        match self {
+            Failure::Scene(m) | Failure::Usage(m) | Failure::Run(m) | Failure::Interrupted(m) => m,
+        }
+    }
 }
 
 /// Load a scene file or built-in; a scene file's problems are prefixed with
 /// its name.
 fn load_scene(file_or_builtin: &str) -> Result<Scene, Failure> {
     Scene::load(file_or_builtin).map_err(|error| match error {
-        SceneError::Parse { .. } | SceneError::Invalid { .. } => {
+        SceneError::Parse { .. } | SceneError::Invalid { .. } | SceneError::TooLarge { .. } => {
             Failure::Scene(format!("{file_or_builtin}: {error}"))
         }
         SceneError::Read { .. } | SceneError::NotFound { .. } => Failure::Scene(error.to_string()),
@@ -157,13 +177,17 @@ pub fn main() -> ExitCode {
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
-        Err(Failure::Scene(message)) => {
+        Err(Failure::Scene(message) | Failure::Usage(message)) => {
             eprintln!("error: {message}");
             ExitCode::from(2)
         }
         Err(Failure::Run(message)) => {
             eprintln!("error: {message}");
             ExitCode::FAILURE
+        }
+        Err(Failure::Interrupted(message)) => {
+            eprintln!("error: {message}");
+            ExitCode::from(interrupt::EXIT_INTERRUPTED)
         }
     }
 }

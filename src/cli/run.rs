@@ -1,91 +1,236 @@
-//! `guideway run SCENE [--out CSV] [--summary JSON] [--plot PNG] [--quiet]`.
+//! `guideway run SCENE [--out CSV] [--summary JSON] [--plot PNG] [--max-steps N] [--quiet]`.
+//!
+//! The rows go to the CSV as they are computed (memory does not grow with
+//! the run); the summary and the plot are built alongside, the plot from
+//! a thinned copy of the rows. Every output is staged beside its path and
+//! renamed onto it only when the run succeeded.
 
 use super::progress::Progress;
-use super::{load_scene, Failure, RunArgs};
-use guideway::report::{csv, plot, run_scene, Run, RunError};
+use super::{interrupt, load_scene, Failure, RunArgs};
+use guideway::output_file::{check_distinct, Staged};
+use guideway::report::csv::CsvWriter;
+use guideway::report::{
+    check_run_length, drive_into, plot, Decimated, RowSink, RunSummary, StreamError, Streamed,
+    SummaryBuilder, Trace,
+};
+use guideway::simulation::Simulation;
+use guideway::Scene;
 use std::fs::File;
-use std::path::Path;
+use std::ops::ControlFlow;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::Ordering;
+
+/// Values (rows × outputs) kept for the plot: between this and twice this,
+/// so that 10 000 sensors do not take gigabytes. With the paper's 21
+/// outputs that is about 50 000 rows, more than a plot has pixels.
+const PLOT_VALUES: usize = 1_000_000;
+
+/// The staged output files of a run, created before it starts.
+struct Outputs {
+    csv: Option<Staged>,
+    summary: Option<Staged>,
+    plot: Option<Staged>,
+}
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let scene = load_scene(&args.scene)?;
-    for path in [&args.out, &args.summary, &args.plot].into_iter().flatten() {
-        check_writable(path)?;
-    }
-    let mut progress = Progress::new(args.quiet);
-    let outcome = run_scene(&scene, |step| progress.update(step));
-    progress.finish();
-
-    let run = match outcome {
-        Ok(run) => run,
-        Err(RunError::Setup(message)) => {
-            return Err(Failure::Scene(format!(
-                "scene `{}` cannot be simulated: {message}",
-                scene.name
-            )))
-        }
-        Err(RunError::Solver { error, partial }) => {
-            let mut message = format!("the solver failed {error}");
-            if let Some(path) = &args.out {
-                match write_csv(&partial, path) {
-                    Ok(()) => message.push_str(&format!(
-                        "\n(the {} steps before the failure are in {})",
-                        partial.trace.len().saturating_sub(1),
-                        path.display()
-                    )),
-                    Err(Failure::Run(e) | Failure::Scene(e)) => message.push_str(&format!("\n{e}")),
-                }
-            }
-            return Err(Failure::Run(message));
-        }
+    check_paths(&args)?;
+    let interrupted = interrupt::install();
+    let stage = |path: &Option<PathBuf>| {
+        let staged = path.as_deref().map(Staged::new).transpose();
+        staged.map_err(Failure::Run)
+    };
+    let outputs = Outputs {
+        csv: stage(&args.out)?,
+        summary: stage(&args.summary)?,
+        plot: stage(&args.plot)?,
     };
 
-    let summary = run.summary(&scene);
-    if let Some(path) = &args.out {
-        write_csv(&run, path)?;
+    let cannot_simulate =
+        |m: String| Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name));
+    let mut simulation = Simulation::new(&scene).map_err(cannot_simulate)?;
+    check_run_length(&scene, args.max_steps, " (--max-steps N raises it)")
+        .map_err(cannot_simulate)?;
+
+    let mut sink = Sink::new(&scene, &simulation, &outputs)?;
+    let mut progress = Progress::new(args.quiet);
+    let result = drive_into(&scene, &mut simulation, &mut sink, |step| {
+        progress.update(step);
+        if interrupted.load(Ordering::SeqCst) {
+            ControlFlow::Break(())
+        } else {
+            ControlFlow::Continue(())
+        }
+    });
+    progress.finish();
+    match result {
+        Ok(streamed) => {
+            let integrator = simulation.integrator_choice().to_string();
+            let summary = finish(sink, outputs, &streamed, integrator, &scene, args.quiet)?;
+            if !args.quiet {
+                println!("{summary}");
+            }
+            Ok(())
+        }
+        Err(error) => Err(failed(error, sink, outputs.csv, &scene)),
     }
-    if let Some(path) = &args.summary {
-        std::fs::write(path, summary.to_json() + "\n")
-            .map_err(|e| Failure::Run(format!("cannot write {}: {e}", path.display())))?;
+}
+
+/// Write what a finished run produced and move each file onto its path.
+fn finish(
+    mut sink: Sink,
+    outputs: Outputs,
+    streamed: &Streamed,
+    integrator: String,
+    scene: &Scene,
+    quiet: bool,
+) -> Result<RunSummary, Failure> {
+    if let Some(csv) = outputs.csv {
+        sink.finish_csv()?;
+        csv.commit().map_err(Failure::Run)?;
     }
-    if let Some(path) = &args.plot {
-        if plot::load_font() == plot::Text::Omitted && !args.quiet {
+    let mut summary = sink
+        .summary
+        .finish(streamed.exit_time, streamed.solve_time.as_secs_f64());
+    summary.integrator = Some(integrator);
+    if let Some(staged) = outputs.summary {
+        std::fs::write(staged.temp_path(), summary.to_json() + "\n")
+            .map_err(|e| Failure::Run(format!("cannot write {}: {e}", staged.path().display())))?;
+        staged.commit().map_err(Failure::Run)?;
+    }
+    if let (Some(staged), Some(trace)) = (outputs.plot, sink.plot.map(Decimated::finish)) {
+        if plot::load_font() == plot::Text::Omitted && !quiet {
             eprintln!(
                 "note: no font found ({} or ${}); the plot has no text",
                 plot::FONT_PATHS[0],
                 plot::FONT_ENV
             );
         }
-        plot::write_plot(&scene, &run.trace, path).map_err(Failure::Run)?;
+        plot::write_plot(scene, &trace, staged.temp_path()).map_err(Failure::Run)?;
+        staged.commit().map_err(Failure::Run)?;
     }
-    if !args.quiet {
-        println!("{summary}");
-    }
-    Ok(())
+    Ok(summary)
 }
 
-/// Fail before the run, not after it, when an output cannot be written.
-fn check_writable(path: &Path) -> Result<(), Failure> {
-    let parent = match path.parent() {
-        Some(parent) if !parent.as_os_str().is_empty() => parent,
-        _ => Path::new("."),
-    };
-    let cannot = |why: String| {
-        Err(Failure::Run(format!(
-            "cannot write {}: {why}",
-            path.display()
-        )))
-    };
-    if path.is_dir() {
-        cannot("it is a directory".to_string())
-    } else if !parent.is_dir() {
-        cannot(format!("{} is not a directory", parent.display()))
+/// Refuse outputs that would overwrite the scene file or each other.
+fn check_paths(args: &RunArgs) -> Result<(), Failure> {
+    let scene_file = Path::new(&args.scene);
+    let inputs: Vec<(&str, &Path)> = if scene_file.is_file() {
+        vec![("scene file", scene_file)]
     } else {
+        Vec::new()
+    };
+    let outputs: Vec<(&str, &Path)> = [
+        ("--out", &args.out),
+        ("--summary", &args.summary),
+        ("--plot", &args.plot),
+    ]
+    .into_iter()
+    .filter_map(|(what, path)| Some((what, path.as_deref()?)))
+    .collect();
+    check_distinct(&inputs, &outputs).map_err(Failure::Usage)
+}
+
+/// The message and exit code of a run that did not finish; the CSV rows
+/// written so far are kept as `<out>.incomplete`.
+fn failed(error: StreamError, mut sink: Sink, csv: Option<Staged>, scene: &Scene) -> Failure {
+    type Exit = fn(String) -> Failure;
+    let (mut message, steps, exit): (String, u64, Exit) = match error {
+        StreamError::Refused(m) => {
+            return Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name))
+        }
+        StreamError::Output { message, .. } => return Failure::Run(message),
+        StreamError::Solver { error, steps } => {
+            (format!("the solver failed {error}"), steps, Failure::Run)
+        }
+        StreamError::Interrupted { time, steps } => (
+            format!("interrupted (Ctrl-C) at t = {time} s"),
+            steps,
+            Failure::Interrupted,
+        ),
+    };
+    if let Some(csv) = csv {
+        let out = csv.path().to_path_buf();
+        let kept = sink
+            .finish_csv()
+            .map_err(Failure::into_message)
+            .and_then(|()| csv.commit_as(&incomplete_path(&out)));
+        match kept {
+            Ok(path) => message.push_str(&format!(
+                "\n(the initial state and the {steps} steps before it are in {}, marked \
+                 incomplete by its name; {} was left as it was)",
+                path.display(),
+                out.display()
+            )),
+            Err(e) => message.push_str(&format!("\n{e}")),
+        }
+    }
+    exit(message)
+}
+
+/// `<out>.incomplete`: where the rows of a run that did not finish go.
+fn incomplete_path(out: &Path) -> PathBuf {
+    let mut name = out.as_os_str().to_owned();
+    name.push(".incomplete");
+    PathBuf::from(name)
+}
+
+/// Every row goes to the CSV (if asked), the summary and the plot's
+/// thinned copy (if asked).
+struct Sink {
+    csv: Option<(CsvWriter<File>, PathBuf)>,
+    summary: SummaryBuilder,
+    plot: Option<Decimated>,
+}
+
+impl Sink {
+    fn new(scene: &Scene, simulation: &Simulation, outputs: &Outputs) -> Result<Sink, Failure> {
+        let trace = Trace::for_outputs(simulation.outputs());
+        let csv = match &outputs.csv {
+            None => None,
+            Some(staged) => {
+                let cannot = |e: String| {
+                    Failure::Run(format!("cannot write {}: {e}", staged.path().display()))
+                };
+                let file = staged.file().map_err(Failure::Run)?;
+                let writer = CsvWriter::new(file, &trace.names, &trace.kinds)
+                    .map_err(|e| cannot(e.to_string()))?;
+                Some((writer, staged.path().to_path_buf()))
+            }
+        };
+        Ok(Sink {
+            csv,
+            summary: SummaryBuilder::new(scene, &trace.names),
+            plot: outputs.plot.as_ref().map(|_| {
+                let rows = PLOT_VALUES / (trace.names.len() + 1);
+                Decimated::new(trace, rows)
+            }),
+        })
+    }
+
+    /// Flush the CSV to its staged file.
+    fn finish_csv(&mut self) -> Result<(), Failure> {
+        match self.csv.take() {
+            None => Ok(()),
+            Some((writer, path)) => writer
+                .finish()
+                .and_then(|file| file.sync_all())
+                .map_err(|e| Failure::Run(format!("cannot write {}: {e}", path.display()))),
+        }
+    }
+}
+
+impl RowSink for Sink {
+    fn row(&mut self, time: f64, values: &[f64]) -> Result<(), String> {
+        if let Some((writer, path)) = &mut self.csv {
+            writer
+                .row(time, values)
+                .map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        }
+        self.summary.push(time, values);
+        if let Some(plot) = &mut self.plot {
+            plot.push(time, values);
+        }
         Ok(())
     }
-}
-
-fn write_csv(run: &Run, path: &Path) -> Result<(), Failure> {
-    let cannot = |e: std::io::Error| Failure::Run(format!("cannot write {}: {e}", path.display()));
-    let file = File::create(path).map_err(cannot)?;
-    csv::write_csv(&run.trace, file).map_err(cannot)
 }

@@ -238,12 +238,13 @@ pub unsafe extern "C" fn fmi2SetupExperiment(
     _tolerance_defined: fmi2Boolean,
     _tolerance: fmi2Real,
     start_time: fmi2Real,
-    _stop_time_defined: fmi2Boolean,
-    _stop_time: fmi2Real,
+    stop_time_defined: fmi2Boolean,
+    stop_time: fmi2Real,
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2SetupExperiment", |inst| {
-            inst.setup_experiment(start_time).map(|()| OK)
+            let stop = (stop_time_defined != 0).then_some(stop_time);
+            inst.setup_experiment(start_time, stop).map(|()| OK)
         })
     }
 }

@@ -12,6 +12,7 @@ use crate::scene::Scene;
 use fmi_sys::fmi2::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// The states of the FMI 2.0 co-simulation state machine that a synchronous
 /// slave can be in (`stepInProgress` never outlives a call here).
@@ -51,8 +52,21 @@ pub struct Instance<D: Dynamics> {
     mode: Mode,
     model: Model<D>,
     guid: String,
-    /// FMU states handed out, keyed by the address the importer holds.
-    states: HashMap<usize, Box<Snapshot<D::State>>>,
+    /// FMU states handed out, keyed by the handle the importer holds.
+    states: HashMap<usize, Snapshot<D::State>>,
+}
+
+/// The next FMU state handle. Handles are tokens, never addresses, and never
+/// reused within the process: a stale handle (freed, then the memory reused
+/// for another state) or another instance's handle is not in an instance's
+/// registry and is refused. The counter is the only thing instances share,
+/// and it carries no state of theirs.
+static NEXT_STATE_HANDLE: AtomicUsize = AtomicUsize::new(1);
+
+/// A fresh handle: a multiple of 8 above 0x4757_0000_0000 ("GW"), so
+/// that it is never NULL and never mistaken for a small integer.
+fn new_state_handle() -> usize {
+    0x4757_0000_0000 + 8 * NEXT_STATE_HANDLE.fetch_add(1, Ordering::Relaxed)
 }
 
 /// Path of a `file:` resource location (`file:///a/b`, `file:/a/b`,
@@ -143,9 +157,15 @@ impl<D: Dynamics> Instance<D> {
         }
     }
 
-    pub fn setup_experiment(&mut self, start_time: f64) -> Result<(), String> {
+    pub fn setup_experiment(
+        &mut self,
+        start_time: f64,
+        stop_time: Option<f64>,
+    ) -> Result<(), String> {
         self.require("fmi2SetupExperiment", &[Instantiated])?;
-        self.model.set_start_time(start_time).map_err(|e| e.0)
+        self.model
+            .set_experiment(start_time, stop_time)
+            .map_err(|e| e.0)
     }
 
     pub fn enter_initialization_mode(&mut self) -> Result<(), String> {
@@ -207,7 +227,8 @@ impl<D: Dynamics> Instance<D> {
     }
 
     /// fmi2DoStep: `Ok(fmi2OK)`, or `Ok(fmi2Discard)` with a logged reason
-    /// (exit: terminated; solver failure: rolled back, retry possible).
+    /// (exit: terminated; a failure a smaller step cures: rolled back, retry
+    /// possible), or `Err` for a failure no retry of it cures (rolled back).
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<fmi2Status, String> {
         self.require("fmi2DoStep", &[StepComplete, StepFailed])?;
         if self.terminated() {
@@ -233,12 +254,21 @@ impl<D: Dynamics> Instance<D> {
                 );
                 Ok(fmi2Status_fmi2Discard)
             }
-            StepOutcome::Failed { message } => {
+            StepOutcome::Failed {
+                message,
+                curable: true,
+            } => {
                 self.mode = StepFailed;
                 self.logger
                     .log(fmi2Status_fmi2Discard, &format!("fmi2DoStep: {message}"));
                 Ok(fmi2Status_fmi2Discard)
             }
+            // A master retrying this would loop forever: an error, not a
+            // Discard. The state is rolled back; other inputs may cure it.
+            StepOutcome::Failed {
+                message,
+                curable: false,
+            } => Err(format!("fmi2DoStep: {message}")),
         }
     }
 
@@ -276,21 +306,20 @@ impl<D: Dynamics> Instance<D> {
                     "fmi2GetFMUstate: FMUstate {existing:#x} was not created by this instance"
                 ));
             };
-            **slot = snap;
+            *slot = snap;
             return Ok(existing);
         }
         Ok(self.keep(snap))
     }
 
     fn keep(&mut self, snap: Snapshot<D::State>) -> usize {
-        let boxed = Box::new(snap);
-        let key = &*boxed as *const Snapshot<D::State> as usize;
-        self.states.insert(key, boxed);
+        let key = new_state_handle();
+        self.states.insert(key, snap);
         key
     }
 
     fn state(&self, function: &str, key: usize) -> Result<&Snapshot<D::State>, String> {
-        self.states.get(&key).map(|b| &**b).ok_or_else(|| {
+        self.states.get(&key).ok_or_else(|| {
             format!("{function}: FMUstate {key:#x} is not a live state of this instance")
         })
     }
@@ -329,6 +358,7 @@ impl<D: Dynamics> Instance<D> {
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<usize, String> {
         self.require("fmi2DeSerializeFMUstate", STATEFUL)?;
         let snap = Model::<D>::deserialize(bytes, &self.guid)
+            .and_then(|snap| self.model.check_snapshot(&snap).map(|()| snap))
             .map_err(|e| format!("fmi2DeSerializeFMUstate: {e}"))?;
         Ok(self.keep(snap))
     }

@@ -80,7 +80,7 @@ fn calls_in_the_wrong_state_are_refused_and_change_nothing() {
     assert!(i.terminate().is_err());
     assert_eq!(i.mode(), Mode::Instantiated);
     i.enter_initialization_mode().unwrap();
-    assert!(i.setup_experiment(0.0).is_err());
+    assert!(i.setup_experiment(0.0, None).is_err());
     i.get("fmi2GetReal", VarType::Real, &[x]).unwrap();
     i.exit_initialization_mode().unwrap();
     assert_eq!(i.mode(), Mode::StepComplete);
@@ -161,4 +161,31 @@ fn deserialized_state_continues_in_another_instance() {
     let mut bad = bytes.clone();
     bad[40] ^= 0xff;
     assert!(b.deserialize_state(&bad).is_err());
+}
+
+#[test]
+fn a_stale_state_handle_is_refused_even_when_its_memory_was_reused() {
+    // Issue 13, defect 9: free a, get b (the allocator reuses a's memory),
+    // free a's old handle again: that must not free b.
+    let mut i = instance();
+    let a = i.get_state(0).unwrap();
+    i.free_state(a).unwrap();
+    let b = i.get_state(0).unwrap();
+    let e = i.free_state(a).unwrap_err();
+    assert!(e.contains("not a live state"), "{e}");
+    i.set_state(b).unwrap();
+    i.free_state(b).unwrap();
+}
+
+#[test]
+fn another_instances_state_handle_is_refused() {
+    let mut a = instance();
+    let mut b = instance();
+    let sa = a.get_state(0).unwrap();
+    let sb = b.get_state(0).unwrap();
+    assert_ne!(sa, sb);
+    assert!(b.set_state(sa).is_err());
+    assert!(b.free_state(sa).is_err());
+    a.free_state(sa).unwrap();
+    b.free_state(sb).unwrap();
 }

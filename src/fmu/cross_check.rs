@@ -5,6 +5,8 @@
 
 use crate::fmi2::model_description::default_stop_time;
 use crate::model::{Dynamics, Model, StepOutcome, Value};
+use crate::output_file::Staged;
+use crate::report::DEFAULT_MAX_STEPS;
 use crate::scene::Scene;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -23,6 +25,21 @@ pub fn ref_opt(scene: &Scene) -> String {
     )
 }
 
+/// Refuse a reference that would need more than `DEFAULT_MAX_STEPS` steps
+/// to reach the default stop time.
+pub fn check_length(scene: &Scene) -> Result<(), String> {
+    let stop = default_stop_time(scene);
+    let h = scene.solver.step;
+    let steps = (stop / h).ceil();
+    if steps.is_nan() || steps > DEFAULT_MAX_STEPS as f64 {
+        return Err(format!(
+            "the cross-check reference would need {steps:e} steps of solver.step = {h:e} s to \
+             reach the default stop time {stop:e} s, more than the limit of {DEFAULT_MAX_STEPS}"
+        ));
+    }
+    Ok(())
+}
+
 /// Simulate `scene` with communication steps of `solver.step` until the
 /// default stop time or the exit, and return the CSV text.
 pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
@@ -35,6 +52,7 @@ pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
         csv += &v.name;
     }
     csv += "\n";
+    check_length(scene)?;
     let stop = default_stop_time(scene);
     let h = scene.solver.step;
     let mut row = |model: &mut Model<D>| -> Result<(), String> {
@@ -65,22 +83,33 @@ pub fn ref_csv<D: Dynamics>(scene: &Scene) -> Result<String, String> {
                 row(&mut model)?;
                 break;
             }
-            StepOutcome::Failed { message } => return Err(message),
+            StepOutcome::Failed { message, .. } => return Err(message),
         }
         k += 1;
     }
     Ok(csv)
 }
 
-/// Write `<id>_ref.opt` and `<id>_ref.csv` into `dir`; returns their paths.
+/// The paths of `<id>_ref.opt` and `<id>_ref.csv` in `dir`.
+pub fn files(id: &str, dir: &Path) -> [PathBuf; 2] {
+    [
+        dir.join(format!("{id}_ref.opt")),
+        dir.join(format!("{id}_ref.csv")),
+    ]
+}
+
+/// Write `<id>_ref.opt` and `<id>_ref.csv` into `dir`, each whole or not
+/// at all; returns their paths.
 pub fn write<D: Dynamics>(scene: &Scene, id: &str, dir: &Path) -> Result<Vec<PathBuf>, String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
-    let files = [
-        (dir.join(format!("{id}_ref.opt")), ref_opt(scene)),
-        (dir.join(format!("{id}_ref.csv")), ref_csv::<D>(scene)?),
-    ];
-    for (path, text) in &files {
-        std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+    let [opt, csv] = files(id, dir);
+    let staged = [Staged::new(&opt)?, Staged::new(&csv)?];
+    let texts = [ref_opt(scene), ref_csv::<D>(scene)?];
+    let mut written = Vec::new();
+    for (staged, text) in staged.into_iter().zip(texts) {
+        std::fs::write(staged.temp_path(), text)
+            .map_err(|e| format!("cannot write {}: {e}", staged.path().display()))?;
+        written.push(staged.commit()?);
     }
-    Ok(files.into_iter().map(|(p, _)| p).collect())
+    Ok(written)
 }

@@ -19,7 +19,9 @@ pub mod ssp;
 
 use crate::fmi2::instance::SCENE_FILE;
 use crate::fmi2::{describe, Physics};
+use crate::output_file::Staged;
 use crate::scene::Scene;
+use std::fmt;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use zip::write::SimpleFileOptions;
@@ -35,6 +37,31 @@ const TEMPLATE: &[(&str, &[u8])] = &[
         include_bytes!("../../fmu_template/documentation/licenses/LICENSE.txt"),
     ),
 ];
+
+/// Why `export` wrote nothing.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum ExportError {
+    /// The scene is not valid or cannot be simulated: nothing to package.
+    Scene(String),
+    /// A file could not be read or written.
+    Io(String),
+}
+
+impl fmt::Display for ExportError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ExportError::Scene(m) | ExportError::Io(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for ExportError {}
+
+impl From<ExportError> for String {
+    fn from(e: ExportError) -> String {
+        e.to_string()
+    }
+}
 
 /// What `export` wrote.
 #[derive(Debug, Clone)]
@@ -67,16 +94,21 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
 }
 
 /// Export `scene` as an FMU at `out`, with the binary `cdylib`
-/// (`libguideway.so`). Fails with a message if the scene is invalid or a
-/// file cannot be read or written.
-pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, String> {
+/// (`libguideway.so`). The archive is written beside `out` and renamed onto
+/// it when complete, so a failure leaves `out` as it was.
+pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, ExportError> {
     // The FMU reads its scene back from TOML; describe the scene as it will
     // read it, so the GUID it computes at instantiation is the same.
     let scene_text = scene.to_toml_string();
-    let scene = Scene::from_toml_str(&scene_text).map_err(|e| e.to_string())?;
-    let d = describe::<Physics>(&scene)?;
-    let binary = std::fs::read(cdylib)
-        .map_err(|e| format!("cannot read the FMU binary {}: {e}", cdylib.display()))?;
+    let scene = Scene::from_toml_str(&scene_text).map_err(|e| ExportError::Scene(e.to_string()))?;
+    let d = describe::<Physics>(&scene).map_err(ExportError::Scene)?;
+    check_well_formed(&d.xml).map_err(ExportError::Scene)?;
+    let binary = std::fs::read(cdylib).map_err(|e| {
+        ExportError::Io(format!(
+            "cannot read the FMU binary {}: {e}",
+            cdylib.display()
+        ))
+    })?;
     let html = documentation::index_html(&scene, &d);
 
     let mut files: Vec<(String, &[u8], u32)> = vec![
@@ -101,12 +133,23 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Stri
 
     if let Some(dir) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+            .map_err(|e| ExportError::Io(format!("cannot create {}: {e}", dir.display())))?;
     }
+    let staged = Staged::new(out).map_err(ExportError::Io)?;
+    write_zip(&staged, files).map_err(ExportError::Io)?;
+    staged.commit().map_err(ExportError::Io)?;
+    Ok(Exported {
+        path: out.to_path_buf(),
+        model_identifier: d.model_identifier,
+        guid: d.guid,
+    })
+}
+
+fn write_zip(staged: &Staged, files: Vec<(String, &[u8], u32)>) -> Result<(), String> {
+    let out = staged.path();
     let io = |e: std::io::Error| format!("cannot write {}: {e}", out.display());
     let zerr = |e: zip::result::ZipError| format!("cannot write {}: {e}", out.display());
-    let file = std::fs::File::create(out).map_err(io)?;
-    let mut zip = zip::ZipWriter::new(file);
+    let mut zip = zip::ZipWriter::new(staged.file()?);
     for (name, bytes, mode) in files {
         let options = SimpleFileOptions::default()
             .compression_method(zip::CompressionMethod::Deflated)
@@ -115,12 +158,59 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Stri
         zip.start_file(name, options).map_err(zerr)?;
         zip.write_all(bytes).map_err(io)?;
     }
-    zip.finish().map_err(zerr)?;
-    Ok(Exported {
-        path: out.to_path_buf(),
-        model_identifier: d.model_identifier,
-        guid: d.guid,
-    })
+    zip.finish().map_err(zerr)?.sync_all().map_err(io)
+}
+
+/// Refuse to package a modelDescription.xml that an XML parser would
+/// reject (the scene's rules should make this impossible; this is the last
+/// guard before an importer sees it).
+pub fn check_well_formed(xml: &str) -> Result<(), String> {
+    let broken =
+        |e: String| format!("the generated modelDescription.xml is not well-formed XML: {e}");
+    if let Some((at, c)) = xml
+        .char_indices()
+        .find(|&(_, c)| !crate::scene::is_xml_char(c))
+    {
+        return Err(broken(format!(
+            "character U+{:04X} at byte {at} is not allowed in XML 1.0",
+            c as u32
+        )));
+    }
+    let mut reader = quick_xml::Reader::from_str(xml);
+    let mut depth = 0usize;
+    let mut roots = 0usize;
+    loop {
+        match reader.read_event() {
+            Ok(quick_xml::events::Event::Eof) => break,
+            Ok(quick_xml::events::Event::Start(e)) => {
+                roots += usize::from(depth == 0);
+                depth += 1;
+                check_attributes(&e).map_err(broken)?;
+            }
+            Ok(quick_xml::events::Event::Empty(e)) => {
+                roots += usize::from(depth == 0);
+                check_attributes(&e).map_err(broken)?;
+            }
+            Ok(quick_xml::events::Event::End(_)) => depth = depth.saturating_sub(1),
+            Ok(_) => {}
+            Err(e) => return Err(broken(format!("{e} at byte {}", reader.buffer_position()))),
+        }
+    }
+    if depth != 0 || roots != 1 {
+        return Err(broken(format!("{roots} root elements, {depth} left open")));
+    }
+    Ok(())
+}
+
+/// Every attribute parses and its value unescapes.
+fn check_attributes(e: &quick_xml::events::BytesStart) -> Result<(), String> {
+    for attribute in e.attributes() {
+        let attribute = attribute.map_err(|e| e.to_string())?;
+        attribute
+            .normalized_value(quick_xml::XmlVersion::Implicit1_0)
+            .map_err(|e| e.to_string())?;
+    }
+    Ok(())
 }
 
 /// Write the cross-check reference files `<modelIdentifier>_ref.csv` and
@@ -128,4 +218,10 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Stri
 pub fn write_cross_check(scene: &Scene, dir: &Path) -> Result<Vec<PathBuf>, String> {
     let id = crate::fmi2::model_description::model_identifier(&scene.name);
     cross_check::write::<Physics>(scene, &id, dir)
+}
+
+/// The paths `write_cross_check` writes for a scene named `scene_name`.
+pub fn cross_check_files(scene_name: &str, dir: &Path) -> Vec<PathBuf> {
+    let id = crate::fmi2::model_description::model_identifier(scene_name);
+    cross_check::files(&id, dir).to_vec()
 }

@@ -1,8 +1,10 @@
 //! A stand-in for the physics, for testing the model and FMI layers alone.
 //!
 //! A point mass sliding along the beam under `force_x`, with fixed internal
-//! steps like the real solver, an exit at the end of the beam, and a solver
-//! failure when `|force_y|` exceeds `FAIL_FORCE` (to exercise roll-back).
+//! steps like the real solver, an exit at the end of the beam, and solver
+//! failures to exercise roll-back: every step fails when `|force_y|` exceeds
+//! `FAIL_FORCE` (no step size cures it), steps longer than `FINE_STEP` fail
+//! when it exceeds `FINE_FORCE` (smaller steps cure it).
 //! Built only for unit tests and with the `fake-physics` feature (which
 //! builds a test FMU); the shipped FMU always uses `Simulation`.
 
@@ -13,6 +15,9 @@ use serde::{Deserialize, Serialize};
 
 /// `|force_y|` above this makes the fake solver fail.
 pub const FAIL_FORCE: f64 = 1e9;
+/// `|force_y|` above this makes internal steps longer than `FINE_STEP` fail.
+pub const FINE_FORCE: f64 = 1e8;
+pub const FINE_STEP: f64 = 1e-3;
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FakeState {
@@ -140,6 +145,14 @@ impl Steppable for FakeDynamics {
                 });
             }
             let dt = self.step.min(t - self.state.time);
+            if self.force.1.abs() > FINE_FORCE && dt > FINE_STEP {
+                return Err(SolverError {
+                    time: self.state.time,
+                    message: format!(
+                        "fake solver: |force_y| > {FINE_FORCE} N needs steps <= {FINE_STEP} s"
+                    ),
+                });
+            }
             let s = &mut self.state;
             s.vx += self.force.0 / self.mass * dt;
             let x_new = s.x + s.vx * dt;

@@ -6,21 +6,24 @@
 //! FMI layer above it knows nothing of beams, the physics below it nothing of
 //! FMI.
 
+mod advance;
 mod dynamics;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
+mod restore;
 pub mod snapshot;
+mod step;
 mod structure;
 pub mod variables;
 
 pub use dynamics::Dynamics;
 pub use structure::initial_dependencies;
 pub use variables::{
-    Causality, DisplayUnit, Role, Value, VarType, Variability, Variable, VariableTable,
+    Causality, DisplayUnit, Role, Setting, Value, VarType, Variability, Variable, VariableTable,
 };
 
+use crate::report::non_finite_output;
 use crate::scene::Scene;
-use crate::simulation::Advance;
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
 
@@ -31,6 +34,17 @@ use variables::{param_value, set_param, Input};
 /// about 1.3 s on the built-in scenes, and allow communication steps of
 /// 2500 s at their solver step.
 pub const MAX_INTERNAL_STEPS_PER_CALL: f64 = 1e6;
+
+/// Most internal steps a whole run may need (from the start to the stop
+/// time, or to the estimated exit at the initial speed): leaving
+/// initialization is refused beyond, before anything runs. At the built-in
+/// scenes' cost of about 2 µs a step this is a few minutes; on fine meshes,
+/// hours.
+pub const MAX_RUN_STEPS: f64 = 1e8;
+
+/// Default of `solver.wall_time_budget`: the wall-clock time one fmi2DoStep
+/// may take before it is rolled back and discarded.
+pub const DEFAULT_WALL_TIME_BUDGET: f64 = 10.0;
 
 /// A refused operation, with a message naming what was wrong.
 #[derive(Debug, Clone, PartialEq)]
@@ -63,8 +77,10 @@ pub enum StepOutcome {
     /// The body left the beam at `time` (communication time); the state is
     /// the exit state.
     Exited { time: f64 },
-    /// The solver failed; the state was rolled back to the start of the step.
-    Failed { message: String },
+    /// The step failed; the state was rolled back to the start of the step.
+    /// `curable`: a smaller communication step gets further (the message
+    /// names one); otherwise every retry of it would fail the same way.
+    Failed { message: String, curable: bool },
 }
 
 /// A saved state of the model (what `fmi2GetFMUstate` hands out).
@@ -88,6 +104,21 @@ pub struct Model<D: Dynamics> {
     /// Built on demand while configuring (to answer output getters), kept
     /// from initialization on.
     sim: Option<D>,
+    /// End of the experiment (fmi2SetupExperiment), if the importer gave one.
+    stop_time: Option<f64>,
+    /// Wall-clock seconds one `do_step` may take (`solver.wall_time_budget`).
+    wall_time_budget: f64,
+    /// The last step discarded as curable, and why: retried unchanged it
+    /// would fail again, so it is refused instead of run.
+    discarded: Option<(DiscardedStep, String)>,
+}
+
+/// What a step is determined by, besides the state: its time, size, inputs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct DiscardedStep {
+    t: f64,
+    h: f64,
+    inputs: [f64; 2],
 }
 
 /// The FMU variable that a scene field path stands for: `body.mass` is
@@ -130,6 +161,13 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
     })
 }
 
+/// The first output of `sim` that is not finite, named with its value.
+fn first_non_finite<D: Dynamics>(sim: &D) -> Option<String> {
+    let mut values = vec![0.0; sim.outputs().len()];
+    sim.output_values(&mut values);
+    non_finite_output(sim.outputs(), &values)
+}
+
 impl<D: Dynamics> Model<D> {
     /// The model of `scene`, with the scene's values as start values.
     pub fn new(scene: Scene) -> Result<Model<D>, ModelError> {
@@ -148,6 +186,9 @@ impl<D: Dynamics> Model<D> {
             start_time: 0.0,
             phase: Phase::Configuring,
             sim: Some(sim),
+            stop_time: None,
+            wall_time_budget: DEFAULT_WALL_TIME_BUDGET,
+            discarded: None,
         })
     }
 
@@ -171,13 +212,26 @@ impl<D: Dynamics> Model<D> {
         self.start_time = 0.0;
         self.phase = Phase::Configuring;
         self.sim = None;
+        self.stop_time = None;
+        self.wall_time_budget = DEFAULT_WALL_TIME_BUDGET;
+        self.discarded = None;
     }
 
-    pub fn set_start_time(&mut self, t: f64) -> Result<(), ModelError> {
-        if !t.is_finite() {
-            return err(format!("startTime = {t}: must be finite"));
+    /// fmi2SetupExperiment's times: all or nothing. A stop time bounds the
+    /// run's length (checked when initialization is left).
+    pub fn set_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ModelError> {
+        if !start.is_finite() {
+            return err(format!("startTime = {start}: must be finite"));
         }
-        self.start_time = t;
+        if let Some(t) = stop {
+            if !(t.is_finite() && t >= start) {
+                return err(format!(
+                    "stopTime = {t}: must be finite and >= startTime = {start}"
+                ));
+            }
+        }
+        self.start_time = start;
+        self.stop_time = stop;
         Ok(())
     }
 
@@ -239,11 +293,9 @@ impl<D: Dynamics> Model<D> {
         }
         // Parameters can be finite and valid one by one and still overflow
         // an output (a huge speed squared): refuse rather than hand out inf.
-        if let Some(k) = values.iter().position(|x| !x.is_finite()) {
+        if let Some(bad) = non_finite_output(sim.outputs(), &values) {
             return err(format!(
-                "output {} is {} with these parameters; choose smaller values",
-                sim.outputs()[k].name,
-                values[k]
+                "{bad} with these parameters; choose smaller values"
             ));
         }
         Ok(values)
@@ -257,6 +309,7 @@ impl<D: Dynamics> Model<D> {
             let role = self.variable(vr, ty)?.role;
             let value = match role {
                 Role::Parameter(p) => param_value(&self.scene, p),
+                Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
                 Role::Input(i) => Value::Real(self.inputs[i as usize]),
                 Role::Output(k) => {
                     if outputs.is_none() {
@@ -280,6 +333,7 @@ impl<D: Dynamics> Model<D> {
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
         let mut scene = self.scene.clone();
         let mut inputs = self.inputs;
+        let mut budget = self.wall_time_budget;
         let mut params_changed = false;
         for (&vr, &value) in vrs.iter().zip(values) {
             let ty = match value {
@@ -296,7 +350,7 @@ impl<D: Dynamics> Model<D> {
             let refuse = |rule: &str| err(format!("cannot set {} = {shown}: {rule}", v.name));
             match v.role {
                 Role::Output(_) => return refuse("it is an output"),
-                Role::Parameter(_) if self.phase == Phase::Running => {
+                Role::Parameter(_) | Role::Setting(_) if self.phase == Phase::Running => {
                     return refuse(
                         "it is a fixed parameter, settable only before initialization mode is left",
                     )
@@ -307,6 +361,10 @@ impl<D: Dynamics> Model<D> {
                     }
                     params_changed = true;
                 }
+                Role::Setting(Setting::WallTimeBudget) => match value {
+                    Value::Real(x) if x.is_finite() && x > 0.0 => budget = x,
+                    _ => return refuse("must be a finite number of seconds > 0"),
+                },
                 Role::Input(i) => match value {
                     Value::Real(x) if x.is_finite() => inputs[i as usize] = x,
                     _ => return refuse("must be finite"),
@@ -316,6 +374,7 @@ impl<D: Dynamics> Model<D> {
         let inputs_changed = inputs != self.inputs;
         self.scene = scene;
         self.inputs = inputs;
+        self.wall_time_budget = budget;
         // Before initialization is left the state at t = 0 follows the
         // parameters and the inputs: rebuild it on demand.
         if params_changed || (inputs_changed && self.phase == Phase::Configuring) {
@@ -329,69 +388,10 @@ impl<D: Dynamics> Model<D> {
     /// Leave initialization: check the whole scene and build the simulation.
     pub fn initialize(&mut self) -> Result<(), ModelError> {
         validate(&self.scene).map_err(|e| ModelError(format!("invalid parameters: {e}")))?;
+        self.check_run_length()?;
         self.output_values()?;
         self.phase = Phase::Running;
         Ok(())
-    }
-
-    /// One communication step from `t` (which must match the model's time up
-    /// to accumulated rounding) to `t + h`.
-    pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
-        if self.phase != Phase::Running {
-            return err("the model is not initialized");
-        }
-        if !(h.is_finite() && h > 0.0) {
-            return err(format!(
-                "communicationStepSize = {h}: must be finite and > 0"
-            ));
-        }
-        let internal_steps = (h / self.scene.solver.step).ceil();
-        if internal_steps > MAX_INTERNAL_STEPS_PER_CALL {
-            return err(format!(
-                "communicationStepSize = {h} s needs {internal_steps:e} internal steps of \
-                 solver.step = {:e} s, more than the {MAX_INTERNAL_STEPS_PER_CALL:e} one call \
-                 may take; use shorter communication steps",
-                self.scene.solver.step
-            ));
-        }
-        let now = self.time();
-        if !t.is_finite() || (t - now).abs() > 1e-9 * now.abs().max(1.0) {
-            return err(format!(
-                "currentCommunicationPoint = {t} s does not match the model's time {now} s"
-            ));
-        }
-        let t0 = self.start_time;
-        let target = t + h - t0;
-        let sim = self.sim.as_mut().expect("running model has a simulation");
-        if let Some(time) = sim.exit_time() {
-            return Ok(StepOutcome::Exited { time: t0 + time });
-        }
-        let saved = sim.state();
-        let outcome = match sim.advance_to(target) {
-            Ok(Advance::Reached) => StepOutcome::Completed,
-            Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
-            Err(e) => StepOutcome::Failed {
-                message: format!("solver failed {e}; step rolled back to t = {now} s"),
-            },
-        };
-        let mut values = vec![0.0; sim.outputs().len()];
-        sim.output_values(&mut values);
-        let outcome = match values.iter().position(|x| !x.is_finite()) {
-            Some(k) if !matches!(outcome, StepOutcome::Failed { .. }) => StepOutcome::Failed {
-                message: format!(
-                    "output {} became {} at t = {} s; step rolled back to t = {now} s",
-                    sim.outputs()[k].name,
-                    values[k],
-                    t0 + sim.time()
-                ),
-            },
-            _ => outcome,
-        };
-        if let StepOutcome::Failed { .. } = outcome {
-            sim.restore(&saved)
-                .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
-        }
-        Ok(outcome)
     }
 
     pub fn snapshot(&self) -> Snapshot<D::State> {
@@ -405,34 +405,6 @@ impl<D: Dynamics> Model<D> {
                 Phase::Configuring => None,
             },
         }
-    }
-
-    pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
-        if snap.scene.body.name != self.start_scene.body.name
-            || snap.scene.sensors.len() != self.start_scene.sensors.len()
-        {
-            return err("the state belongs to another model");
-        }
-        let sim = match &snap.sim {
-            Some(state) => {
-                let mut sim = match self.sim.take() {
-                    Some(sim) if self.scene == snap.scene => sim,
-                    _ => D::build(&snap.scene)
-                        .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
-                };
-                sim.restore(state)
-                    .map_err(|e| ModelError(format!("cannot restore the state: {e}")))?;
-                sim.set_body_force(snap.inputs[0], snap.inputs[1]);
-                Some(sim)
-            }
-            None => None,
-        };
-        self.scene = snap.scene.clone();
-        self.inputs = snap.inputs;
-        self.start_time = snap.start_time;
-        self.phase = snap.phase;
-        self.sim = sim;
-        Ok(())
     }
 
     /// The versioned byte form of a snapshot, tied to the model `guid`.

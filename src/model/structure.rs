@@ -18,7 +18,10 @@ pub fn initial_dependencies<D: Dynamics>(scene: &Scene) -> Result<Vec<Vec<u32>>,
     let table = base.table().clone();
     let mut deps = vec![Vec::new(); reference.len()];
     for v in table.variables() {
-        if !matches!(v.role, Role::Parameter(_) | Role::Input(_)) {
+        if !matches!(
+            v.role,
+            Role::Parameter(_) | Role::Setting(_) | Role::Input(_)
+        ) {
             continue;
         }
         let Some(start) = v.start else { continue };
@@ -136,7 +139,12 @@ mod tests {
             .table()
             .variables()
             .iter()
-            .filter(|v| matches!(v.role, Role::Parameter(_) | Role::Input(_)))
+            .filter(|v| {
+                matches!(
+                    v.role,
+                    Role::Parameter(_) | Role::Setting(_) | Role::Input(_)
+                )
+            })
             .cloned()
             .collect();
         let mut checked = 0;

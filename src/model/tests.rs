@@ -1,4 +1,4 @@
-use super::fake::{FakeDynamics, FAIL_FORCE};
+use super::fake::{FakeDynamics, FAIL_FORCE, FINE_FORCE, FINE_STEP};
 use super::*;
 use crate::scene::BodyKind;
 
@@ -55,7 +55,9 @@ fn cross_field_rule_is_checked_when_initialization_is_left() {
 }
 
 /// Found by scripts/fuzz_fmi.py: each parameter finite and valid, but an
-/// output overflowed to inf and was read with status OK.
+/// output overflowed to inf and was read with status OK. The scene's
+/// magnitude limit now refuses such a radius itself, as `guideway run`
+/// does, naming the variable and the limit.
 #[test]
 fn parameters_that_overflow_an_output_are_refused_when_outputs_are_read() {
     let mut m = model(BodyKind::Wheel);
@@ -64,11 +66,11 @@ fn parameters_that_overflow_an_output_are_refused_when_outputs_are_read() {
     let w = vr(&m, "wheel.angular_velocity");
     let e = m.get(VarType::Real, &[w]).unwrap_err().0;
     assert!(
-        e.contains("wheel.angular_velocity") && e.contains("inf"),
+        e.contains("wheel.radius = 5e-324") && e.contains("magnitude limit"),
         "{e}"
     );
     let e = m.initialize().unwrap_err().0;
-    assert!(e.contains("wheel.angular_velocity"), "{e}");
+    assert!(e.contains("wheel.radius"), "{e}");
     // a sensible radius makes the model usable again
     m.set(&[radius], &[Value::Real(0.3)]).unwrap();
     m.initialize().unwrap();
@@ -76,11 +78,18 @@ fn parameters_that_overflow_an_output_are_refused_when_outputs_are_read() {
 
 /// Found while fuzzing: a subnormal solver.step (valid: > 0) made one
 /// fmi2DoStep take 1e321 internal steps, a hang in the importer's process.
+/// (A subnormal step is now refused by the magnitude limit; 1e-12 s passes
+/// it and still needs 1e10 internal steps for 0.01 s.)
 #[test]
 fn a_step_needing_too_many_internal_steps_is_refused_and_changes_nothing() {
     let mut m = model(BodyKind::Wheel);
     let step = vr(&m, "solver.step");
-    m.set(&[step], &[Value::Real(5e-324)]).unwrap();
+    let v0 = vr(&m, "wheel.initial_speed");
+    // at rest, with no stop time, the run's length is unknown: only the
+    // per-call limit can refuse it (1e-12 s: the least step the scene's
+    // magnitude limit allows is far above the subnormals that found this)
+    m.set(&[step, v0], &[Value::Real(1e-12), Value::Real(0.0)])
+        .unwrap();
     m.initialize().unwrap();
     let e = m.do_step(0.0, 0.01).unwrap_err().0;
     assert!(
@@ -229,7 +238,7 @@ fn a_start_time_offsets_communication_times_only() {
     a.initialize().unwrap();
     a.do_step(0.0, 0.1).unwrap();
     let mut b = model(BodyKind::Glider);
-    b.set_start_time(10.0).unwrap();
+    b.set_experiment(10.0, None).unwrap();
     b.initialize().unwrap();
     assert_eq!(b.time(), 10.0);
     assert!(b.do_step(0.0, 0.1).is_err());
@@ -262,4 +271,266 @@ fn start_outputs_follow_inputs_set_before_initialization() {
     // outputs at this communication point (dependencies="" in Outputs).
     m.set(&[fy], &[Value::Real(-100e3)]).unwrap();
     assert_eq!(read(&mut m), 250e3);
+}
+
+// ---- issue 13: bounded runs, failures a retry cannot cure ------------------------
+
+#[test]
+fn a_run_needing_an_absurd_number_of_steps_is_refused_before_it_starts() {
+    let mut m = model(BodyKind::Wheel);
+    let step = vr(&m, "solver.step");
+    m.set(&[step], &[Value::Real(1e-12)]).unwrap();
+    let e = m.initialize().unwrap_err().0;
+    assert!(
+        e.contains("2.4e12 internal steps") && e.contains("1e8"),
+        "{e}"
+    );
+    assert_eq!(m.phase(), Phase::Configuring);
+    // a stop time bounds the run instead of the exit
+    let mut m = model(BodyKind::Wheel);
+    m.set(&[step], &[Value::Real(1e-6)]).unwrap();
+    m.set_experiment(0.0, Some(1.0)).unwrap();
+    m.initialize().unwrap();
+    let mut m = model(BodyKind::Wheel);
+    m.set(&[step], &[Value::Real(1e-6)]).unwrap();
+    let v0 = vr(&m, "wheel.initial_speed");
+    m.set(&[v0], &[Value::Real(1e-3)]).unwrap();
+    m.set_experiment(0.0, Some(1000.0)).unwrap();
+    assert!(m.initialize().unwrap_err().0.contains("to the stop time"));
+    // the exit comes first: a far stop time does not matter
+    let mut m = model(BodyKind::Wheel);
+    m.set(&[step], &[Value::Real(1e-6)]).unwrap();
+    m.set_experiment(0.0, Some(1e300)).unwrap();
+    m.initialize().unwrap();
+}
+
+#[test]
+fn a_step_below_the_resolution_of_the_time_is_refused() {
+    let mut m = model(BodyKind::Glider);
+    m.set_experiment(1e15, None).unwrap();
+    m.initialize().unwrap();
+    let e = m.do_step(1e15, 0.01).unwrap_err().0;
+    assert!(e.contains("below the resolution"), "{e}");
+    assert_eq!(m.time(), 1e15);
+    // a step the time can carry is taken
+    assert_eq!(m.do_step(1e15, 0.5).unwrap(), StepOutcome::Completed);
+}
+
+fn failed(o: StepOutcome) -> (String, bool) {
+    match o {
+        StepOutcome::Failed { message, curable } => (message, curable),
+        o => panic!("not a failure: {o:?}"),
+    }
+}
+
+#[test]
+fn a_failure_no_step_size_cures_is_marked_so() {
+    let mut m = model(BodyKind::Glider);
+    m.initialize().unwrap();
+    let fy = vr(&m, "glider.force_y");
+    m.set(&[fy], &[Value::Real(2.0 * FAIL_FORCE)]).unwrap();
+    let (message, curable) = failed(m.do_step(0.0, 0.1).unwrap());
+    assert!(!curable, "{message}");
+    assert!(message.contains("no step size cures this"), "{message}");
+    assert_eq!(m.time(), 0.0);
+}
+
+#[test]
+fn a_failure_a_smaller_step_cures_is_discarded_once_then_refused_if_retried_unchanged() {
+    let mut m = model(BodyKind::Glider);
+    m.initialize().unwrap();
+    let fy = vr(&m, "glider.force_y");
+    m.set(&[fy], &[Value::Real(2.0 * FINE_FORCE)]).unwrap();
+    let (message, curable) = failed(m.do_step(0.0, 0.1).unwrap());
+    assert!(curable && message.contains("succeeds"), "{message}");
+    // the same step again: refused, naming the first reason
+    let (again, curable) = failed(m.do_step(0.0, 0.1).unwrap());
+    assert!(!curable && again.contains("nothing has changed"), "{again}");
+    assert!(again.contains("fake solver"), "{again}");
+    // a smaller step is taken; so is the old size once something changed
+    assert_eq!(m.do_step(0.0, FINE_STEP).unwrap(), StepOutcome::Completed);
+    let (_, curable) = failed(m.do_step(FINE_STEP, 0.1).unwrap());
+    assert!(curable);
+    m.set(&[fy], &[Value::Real(0.0)]).unwrap();
+    assert_eq!(m.do_step(FINE_STEP, 0.1).unwrap(), StepOutcome::Completed);
+}
+
+#[test]
+fn a_step_over_its_wall_time_budget_is_rolled_back() {
+    let mut m = model(BodyKind::Glider);
+    let budget = vr(&m, "solver.wall_time_budget");
+    assert_eq!(
+        m.get(VarType::Real, &[budget]).unwrap(),
+        vec![Value::Real(DEFAULT_WALL_TIME_BUDGET)]
+    );
+    assert!(m.set(&[budget], &[Value::Real(0.0)]).is_err());
+    assert!(m.set(&[budget], &[Value::Real(f64::INFINITY)]).is_err());
+    m.set(&[budget], &[Value::Real(1e-300)]).unwrap();
+    m.initialize().unwrap();
+    let before = real(&mut m, "glider.x");
+    let (message, curable) = failed(m.do_step(0.0, 1.0).unwrap());
+    assert!(
+        curable && message.contains("solver.wall_time_budget"),
+        "{message}"
+    );
+    assert_eq!(real(&mut m, "glider.x"), before);
+    assert_eq!(m.time(), 0.0);
+    assert!(m.set(&[budget], &[Value::Real(10.0)]).is_err(), "fixed");
+}
+
+#[test]
+fn chunked_advance_gives_the_same_result_as_one_advance() {
+    // The budget is checked between chunks ending on the solver's grid, where
+    // an uninterrupted advance passes anyway: the physics' results are
+    // bit-identical (an off-grid first step included).
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut m = Model::<Simulation>::new(scene.clone()).unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.0101).unwrap();
+    m.do_step(0.0101, 1.5).unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    sim.advance_to(0.0101).unwrap();
+    sim.advance_to(0.0101 + 1.5).unwrap();
+    let mut want = vec![0.0; sim.outputs().len()];
+    sim.output_values(&mut want);
+    let real_outputs: Vec<(u32, usize)> = m
+        .table()
+        .outputs()
+        .filter(|v| v.ty == VarType::Real)
+        .map(|v| match v.role {
+            Role::Output(k) => (v.value_reference, k),
+            r => panic!("{r:?}"),
+        })
+        .collect();
+    assert!(real_outputs.len() > 5);
+    for (vr, k) in real_outputs {
+        let Value::Real(x) = m.get(VarType::Real, &[vr]).unwrap()[0] else {
+            panic!()
+        };
+        assert_eq!(x.to_bits(), want[k].to_bits(), "{}", sim.outputs()[k].name);
+    }
+}
+
+// ---- issue 13, defect 4: a restored state is untrusted input ----------------------
+
+/// A running wheel model's state with `forge` applied, through the byte
+/// form (the checksum recomputed over the forged payload, as an attacker
+/// would).
+fn forged<D: Dynamics>(
+    m: &Model<D>,
+    forge: impl FnOnce(&mut Snapshot<D::State>),
+) -> Snapshot<D::State> {
+    let mut snap = m.snapshot();
+    forge(&mut snap);
+    let bytes = Model::<D>::serialize(&snap, "guid").unwrap();
+    Model::<D>::deserialize(&bytes, "guid").unwrap()
+}
+
+#[test]
+fn a_restored_state_must_be_a_state_of_this_model() {
+    let mut m = model(BodyKind::Wheel);
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.1).unwrap();
+    let x = real(&mut m, "wheel.x");
+    type Forge = fn(&mut Snapshot<super::fake::FakeState>);
+    let cases: [(Forge, &str); 9] = [
+        (|s| s.scene.beam.elements = 10_000_000, "beam.elements"),
+        (|s| s.scene.beam.elements = usize::MAX, "beam.elements"),
+        (|s| s.scene.body.mass = -3000.0, "wheel.mass"),
+        (
+            |s| s.scene.sensors[0].position = 1e9,
+            "sensor.midspan.position",
+        ),
+        (|s| s.scene.sensors.clear(), "sensors"),
+        (
+            |s| s.scene.body.kind = BodyKind::Glider,
+            "more than parameters",
+        ),
+        (
+            |s| s.scene.solver.max_iterations = u32::MAX as _,
+            "more than parameters",
+        ),
+        (|s| s.inputs[1] = f64::NAN, "not finite"),
+        (|s| s.sim = None, "missing"),
+    ];
+    for (forge, named) in cases {
+        let snap = forged(&m, forge);
+        let e = m.check_snapshot(&snap).unwrap_err().0;
+        assert!(e.contains(named), "{named}: {e}");
+        assert!(m.restore(&snap).is_err());
+        assert_eq!(real(&mut m, "wheel.x"), x, "{named}: model unchanged");
+        assert_eq!(m.phase(), Phase::Running);
+    }
+    // a parameter changed within its rule is a state of this model
+    let snap = forged(&m, |s| s.scene.body.mass = 6000.0);
+    m.restore(&snap).unwrap();
+}
+
+#[test]
+fn a_forged_physics_state_is_refused_and_the_model_left_as_it_was() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.1).unwrap();
+    let vr = m.table().by_name("wheel.x").unwrap().value_reference;
+    let x = m.get(VarType::Real, &[vr]).unwrap();
+    let good = m.snapshot();
+    type Forge = fn(&mut Snapshot<crate::simulation::SimState>);
+    let cases: [(Forge, &str); 5] = [
+        (
+            |s| s.sim.as_mut().unwrap().dynamic.beam_load = nalgebra::DVector::zeros(1),
+            "length",
+        ),
+        (
+            |s| {
+                let d = &mut s.sim.as_mut().unwrap().dynamic;
+                d.beam_displacement = nalgebra::DVector::zeros(3);
+                d.beam_velocity = nalgebra::DVector::zeros(3);
+                d.beam_acceleration = nalgebra::DVector::zeros(3);
+                d.beam_load = nalgebra::DVector::zeros(3);
+            },
+            "DOFs",
+        ),
+        (
+            |s| s.sim.as_mut().unwrap().dynamic.beam_velocity[0] = f64::INFINITY,
+            "non-finite",
+        ),
+        (|s| s.sim.as_mut().unwrap().time = f64::NAN, "non-finite"),
+        (
+            |s| s.sim.as_mut().unwrap().grid_step = 1000,
+            "not in its step",
+        ),
+    ];
+    for (forge, named) in cases {
+        let snap = forged(&m, forge);
+        let e = m.restore(&snap).unwrap_err().0;
+        assert!(e.contains(named), "{named}: {e}");
+        assert_eq!(m.get(VarType::Real, &[vr]).unwrap(), x, "{named}");
+        assert_eq!(m.do_step(0.1, 0.1).unwrap(), StepOutcome::Completed);
+        m.restore(&good).unwrap();
+    }
+}
+
+/// Found by the state fuzzer: a forged state, finite everywhere, stepped
+/// into one with an infinite number outside the outputs (a glider's angle);
+/// saved after a later failed step, it could not be restored.
+#[test]
+fn a_step_into_a_state_that_could_not_be_restored_fails() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Glider, 30.0, 0.005);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.1).unwrap();
+    let snap = forged(&m, |s| {
+        let body = &mut s.sim.as_mut().unwrap().dynamic.body;
+        body.angle = f64::MAX;
+        body.angular_velocity = f64::MAX;
+    });
+    m.restore(&snap).unwrap();
+    let (message, curable) = failed(m.do_step(0.1, 0.1).unwrap());
+    assert!(!curable && message.contains("unusable"), "{message}");
+    let now = m.snapshot();
+    m.restore(&now).unwrap();
 }

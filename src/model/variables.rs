@@ -85,10 +85,18 @@ pub enum Input {
     ForceY,
 }
 
+/// A parameter of the FMU itself, not of the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Setting {
+    /// Wall-clock seconds one fmi2DoStep may take.
+    WallTimeBudget,
+}
+
 /// What a variable is bound to in the model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Role {
     Parameter(Param),
+    Setting(Setting),
     Input(Input),
     /// Index into the simulation's outputs.
     Output(usize),
@@ -260,6 +268,29 @@ impl VariableTable {
                 initial_dependencies: None,
             });
         }
+
+        // Last, so that the value references of the scene's variables do not
+        // depend on it.
+        b.push(Variable {
+            name: "solver.wall_time_budget".into(),
+            value_reference: 0,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            ty: VarType::Real,
+            unit: unit("s"),
+            description: "wall-clock time one fmi2DoStep may take; beyond it the step is rolled \
+                          back and discarded"
+                .into(),
+            start: Some(Value::Real(crate::model::DEFAULT_WALL_TIME_BUDGET)),
+            role: Role::Setting(Setting::WallTimeBudget),
+            display_unit: None,
+            // "> 0", as Model::set checks it
+            min: Some(Value::Real(f64::from_bits(1))),
+            max: None,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
+        });
 
         let mut table = VariableTable { variables: b.vars };
         for v in &mut table.variables {

@@ -5,14 +5,19 @@
 pub mod csv;
 pub mod plot;
 mod run;
+mod stream;
 mod summary;
 mod trace;
 
 pub use run::{
     drive, run_scene, stop_time, Run, RunError, StepProgress, Steppable, DEFAULT_END_TIME_FACTOR,
 };
-pub use summary::RunSummary;
-pub use trace::Trace;
+pub use stream::{
+    check_run_length, drive_into, non_finite_output, RowSink, StreamError, Streamed,
+    DEFAULT_MAX_STEPS,
+};
+pub use summary::{RunSummary, SummaryBuilder};
+pub use trace::{Decimated, Trace};
 
 /// Names of the simulation outputs the report reads.
 pub mod output_names {

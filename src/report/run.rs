@@ -1,12 +1,13 @@
 //! Drive a simulation from start to exit, recording every internal step.
 
-use super::output_names;
+use super::stream::{check_run_length, drive_into, StreamError};
 use super::summary::RunSummary;
 use super::trace::Trace;
 use crate::scene::Scene;
-use crate::simulation::{Advance, Simulation, SolverError};
+use crate::simulation::{Simulation, SolverError};
 use std::fmt;
-use std::time::{Duration, Instant};
+use std::ops::ControlFlow;
+use std::time::Duration;
 
 /// When a run without `solver.end_time` gives up waiting for the exit: this
 /// many times the rigid-beam travel time (L − x0) / V0.
@@ -90,9 +91,11 @@ pub use crate::simulation::Steppable;
 
 /// Run a valid scene until the body leaves the beam (or the stop time),
 /// recording the outputs after every internal step of `solver.step`, and
-/// calling `on_step` after each.
+/// calling `on_step` after each. The whole trace is kept in memory: for
+/// runs of bounded length (tests, studies); `guideway run` streams instead
+/// (`stream::drive_into`).
 pub fn run_scene(scene: &Scene, on_step: impl FnMut(StepProgress)) -> Result<Run, RunError> {
-    stop_time(scene).map_err(RunError::Setup)?;
+    check_run_length(scene, u64::MAX, "").map_err(RunError::Setup)?;
     let mut simulation = Simulation::new(scene).map_err(RunError::Setup)?;
     let integrator = Some(simulation.integrator_choice().to_string());
     match drive(scene, &mut simulation, on_step) {
@@ -114,65 +117,33 @@ pub fn drive(
     simulation: &mut impl Steppable,
     mut on_step: impl FnMut(StepProgress),
 ) -> Result<Run, RunError> {
-    let stop = stop_time(scene).map_err(RunError::Setup)?;
     let mut trace = Trace::for_outputs(simulation.outputs());
-    let mut values = vec![0.0; trace.names.len()];
-    simulation.output_values(&mut values);
-    trace.push(simulation.time(), &values);
-
-    let position = output_names::travel_position(&trace.names, &scene.body.name);
-    let start_position = scene.body.initial_position;
-    let travel = scene.beam.length - start_position;
-    let start_time = simulation.time();
-    let fraction_done = |time: f64, values: &[f64]| {
-        let by_time = (time - start_time) / (stop - start_time);
-        let by_position = position.map_or(0.0, |i| (values[i] - start_position) / travel);
-        by_time.max(by_position).clamp(0.0, 1.0)
-    };
-
-    let mut solve_time = Duration::ZERO;
-    let mut exit_time = None;
-    let mut step_index: u64 = 0;
-    loop {
-        step_index += 1;
-        // Multiples of the step, so that step times carry no accumulated
-        // rounding.
-        let target = (start_time + step_index as f64 * scene.solver.step).min(stop);
-        let started = Instant::now();
-        let advanced = simulation.advance_to(target);
-        solve_time += started.elapsed();
-        let advance = match advanced {
-            Ok(advance) => advance,
-            Err(error) => {
-                let partial = Box::new(Run {
-                    trace,
-                    exit_time: None,
-                    solve_time,
-                    integrator: None,
-                });
-                return Err(RunError::Solver { error, partial });
-            }
-        };
-        simulation.output_values(&mut values);
-        let time = simulation.time();
-        trace.push(time, &values);
-        on_step(StepProgress {
-            time,
-            fraction: fraction_done(time, &values),
-        });
-        match advance {
-            Advance::Exited { time } => {
-                exit_time = Some(time);
-                break;
-            }
-            Advance::Reached if target >= stop => break,
-            Advance::Reached => {}
+    let result = drive_into(scene, simulation, &mut trace, |progress| {
+        on_step(progress);
+        ControlFlow::Continue(())
+    });
+    match result {
+        Ok(streamed) => Ok(Run {
+            trace,
+            exit_time: streamed.exit_time,
+            solve_time: streamed.solve_time,
+            integrator: None,
+        }),
+        Err(StreamError::Solver { error, .. }) => Err(RunError::Solver {
+            error,
+            partial: Box::new(Run {
+                trace,
+                exit_time: None,
+                solve_time: Duration::ZERO,
+                integrator: None,
+            }),
+        }),
+        // A trace takes every row and `on_step` never stops the run.
+        Err(StreamError::Refused(message) | StreamError::Output { message, .. }) => {
+            Err(RunError::Setup(message))
+        }
+        Err(StreamError::Interrupted { time, .. }) => {
+            Err(RunError::Setup(format!("interrupted at t = {time} s")))
         }
     }
-    Ok(Run {
-        trace,
-        exit_time,
-        solve_time,
-        integrator: None,
-    })
 }

@@ -43,36 +43,124 @@ impl RunSummary {
         exit_time: Option<f64>,
         wall_time_s: f64,
     ) -> RunSummary {
-        let speed = trace.column(&output_names::nominal_speed(&scene.body.name));
-        let peak_sensor_deflection = scene
-            .sensors
-            .iter()
-            .filter_map(|sensor| {
-                let column = trace.column(&output_names::sensor_deflection(&sensor.name))?;
-                Some((sensor.name.clone(), finite_extreme(column, f64::min)?))
-            })
-            .collect();
-        RunSummary {
-            scene: scene.name.clone(),
-            exit_time,
-            exit_nominal_speed: exit_time.and(speed.and_then(|v| v.last().copied())),
-            peak_nominal_speed: speed.and_then(|v| finite_extreme(v, f64::max)),
-            peak_sensor_deflection,
-            max_energy_drift: trace
-                .column(output_names::ENERGY_BALANCE)
-                .and_then(max_relative_drift),
-            steps: trace.len().saturating_sub(1),
-            iterations: trace
-                .column(output_names::ITERATIONS)
-                .map(|per_step| per_step.iter().skip(1).map(|&n| n.max(0.0) as u64).sum()),
-            wall_time_s,
-            integrator: None,
+        let mut builder = SummaryBuilder::new(scene, &trace.names);
+        let mut values = vec![0.0; trace.columns.len()];
+        for (row, &time) in trace.time.iter().enumerate() {
+            for (value, column) in values.iter_mut().zip(&trace.columns) {
+                *value = column[row];
+            }
+            builder.push(time, &values);
         }
+        builder.finish(exit_time, wall_time_s)
     }
 
     /// Pretty-printed JSON.
     pub fn to_json(&self) -> String {
         serde_json::to_string_pretty(self).expect("a summary always serialises to JSON")
+    }
+}
+
+/// Builds a `RunSummary` row by row, so that a run streamed to a file needs
+/// no trace in memory.
+pub struct SummaryBuilder {
+    scene: String,
+    speed: Option<usize>,
+    sensors: Vec<(String, usize)>,
+    energy: Option<usize>,
+    iterations_column: Option<usize>,
+    rows: usize,
+    last_speed: Option<f64>,
+    peak_speed: Option<f64>,
+    peak_deflection: Vec<Option<f64>>,
+    initial_energy: Option<f64>,
+    max_drift: f64,
+    iterations: u64,
+}
+
+impl SummaryBuilder {
+    /// For rows of the outputs `names` of `scene`'s simulation.
+    pub fn new(scene: &Scene, names: &[String]) -> SummaryBuilder {
+        let find = |name: &str| names.iter().position(|n| n == name);
+        let sensors: Vec<(String, usize)> = scene
+            .sensors
+            .iter()
+            .filter_map(|s| {
+                let column = find(&output_names::sensor_deflection(&s.name))?;
+                Some((s.name.clone(), column))
+            })
+            .collect();
+        SummaryBuilder {
+            scene: scene.name.clone(),
+            speed: find(&output_names::nominal_speed(&scene.body.name)),
+            peak_deflection: vec![None; sensors.len()],
+            sensors,
+            energy: find(output_names::ENERGY_BALANCE),
+            iterations_column: find(output_names::ITERATIONS),
+            rows: 0,
+            last_speed: None,
+            peak_speed: None,
+            initial_energy: None,
+            max_drift: 0.0,
+            iterations: 0,
+        }
+    }
+
+    /// The next row (the first is the initial state).
+    pub fn push(&mut self, _time: f64, values: &[f64]) {
+        if let Some(v) = self.speed.map(|k| values[k]) {
+            self.last_speed = Some(v);
+            self.peak_speed = finite_extreme(self.peak_speed, v, f64::max);
+        }
+        for ((_, column), peak) in self.sensors.iter().zip(&mut self.peak_deflection) {
+            *peak = finite_extreme(*peak, values[*column], f64::min);
+        }
+        if let Some(e) = self.energy.map(|k| values[k]) {
+            self.push_energy(e);
+        }
+        if let Some(n) = self.iterations_column.map(|k| values[k]) {
+            if self.rows > 0 {
+                self.iterations += n.max(0.0) as u64;
+            }
+        }
+        self.rows += 1;
+    }
+
+    /// max |E − E0| / |E0|; no drift without a usable E0. A non-finite
+    /// energy later in the run is an infinite drift.
+    fn push_energy(&mut self, e: f64) {
+        match self.initial_energy {
+            None if self.rows == 0 => self.initial_energy = Some(e),
+            None => {}
+            Some(initial) => {
+                let drift = if e.is_finite() {
+                    ((e - initial) / initial).abs()
+                } else {
+                    f64::INFINITY
+                };
+                self.max_drift = self.max_drift.max(drift);
+            }
+        }
+    }
+
+    pub fn finish(self, exit_time: Option<f64>, wall_time_s: f64) -> RunSummary {
+        let usable = |e: &f64| e.is_finite() && *e != 0.0;
+        RunSummary {
+            scene: self.scene,
+            exit_time,
+            exit_nominal_speed: exit_time.and(self.last_speed),
+            peak_nominal_speed: self.peak_speed,
+            peak_sensor_deflection: self
+                .sensors
+                .into_iter()
+                .zip(self.peak_deflection)
+                .filter_map(|((name, _), peak)| Some((name, peak?)))
+                .collect(),
+            max_energy_drift: self.initial_energy.filter(usable).map(|_| self.max_drift),
+            steps: self.rows.saturating_sub(1),
+            iterations: self.iterations_column.map(|_| self.iterations),
+            wall_time_s,
+            integrator: None,
+        }
     }
 }
 
@@ -115,32 +203,11 @@ impl fmt::Display for RunSummary {
     }
 }
 
-/// The extreme of the finite values by `pick` (`f64::max`, `f64::min`).
-fn finite_extreme(values: &[f64], pick: fn(f64, f64) -> f64) -> Option<f64> {
-    values
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .reduce(pick)
-}
-
-/// max |E − E0| / |E0|; `None` without a usable E0. A non-finite energy
-/// later in the run is an infinite drift.
-fn max_relative_drift(energy: &[f64]) -> Option<f64> {
-    let initial = *energy.first()?;
-    if !initial.is_finite() || initial == 0.0 {
-        return None;
+/// The extreme so far by `pick` (`f64::max`, `f64::min`), ignoring
+/// non-finite values.
+fn finite_extreme(so_far: Option<f64>, value: f64, pick: fn(f64, f64) -> f64) -> Option<f64> {
+    if !value.is_finite() {
+        return so_far;
     }
-    Some(
-        energy
-            .iter()
-            .map(|&e| {
-                if e.is_finite() {
-                    ((e - initial) / initial).abs()
-                } else {
-                    f64::INFINITY
-                }
-            })
-            .fold(0.0, f64::max),
-    )
+    Some(so_far.map_or(value, |x| pick(x, value)))
 }

@@ -324,3 +324,151 @@ fn drive_returns_the_steps_before_a_solver_failure() {
     assert_eq!(partial.trace.time, [0.0, 0.0025, 0.005]);
     assert_eq!(partial.exit_time, None);
 }
+
+/// A slider whose speed output turns NaN after `after` (an overflowing
+/// state, as a huge speed or a subnormal radius gave on main).
+struct Blowup {
+    slider: Slider,
+    after: f64,
+}
+
+impl Steppable for Blowup {
+    fn time(&self) -> f64 {
+        self.slider.time
+    }
+    fn outputs(&self) -> &[crate::simulation::OutputInfo] {
+        &self.slider.outputs
+    }
+    fn output_values(&self, values: &mut [f64]) {
+        self.slider.output_values(values);
+        if self.slider.time > self.after {
+            values[1] = f64::NAN;
+        }
+    }
+    fn advance_to(&mut self, t: f64) -> Result<crate::simulation::Advance, crate::SolverError> {
+        self.slider.advance_to(t)
+    }
+}
+
+#[test]
+fn a_non_finite_output_stops_the_run_and_is_never_recorded() {
+    let scene = scene();
+    let mut blowup = Blowup {
+        slider: Slider::new(10.0, None),
+        after: 0.006,
+    };
+    let error = drive(&scene, &mut blowup, |_| {}).unwrap_err();
+    let RunError::Solver { error, partial } = error else {
+        panic!("expected a solver failure, got {error:?}");
+    };
+    assert!(
+        error.message.contains("output wheel.nominal_speed is NaN"),
+        "{}",
+        error.message
+    );
+    assert_eq!(error.time, 0.0075);
+    assert_eq!(partial.trace.time, [0.0, 0.0025, 0.005]);
+    assert!(partial
+        .trace
+        .columns
+        .iter()
+        .flatten()
+        .all(|x| x.is_finite()));
+
+    // non-finite from the start: refused before the first step
+    let mut blowup = Blowup {
+        slider: Slider::new(10.0, None),
+        after: -1.0,
+    };
+    let error = drive(&scene, &mut blowup, |_| {}).unwrap_err();
+    assert!(
+        matches!(&error, RunError::Setup(m) if m.contains("wheel.nominal_speed is NaN at the start")),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn a_streamed_run_stops_when_asked_after_a_whole_row() {
+    let scene = scene();
+    let mut trace = Trace::for_outputs(Slider::new(10.0, None).outputs());
+    let mut calls = 0;
+    let error = drive_into(&scene, &mut Slider::new(10.0, None), &mut trace, |_| {
+        calls += 1;
+        if calls == 3 {
+            std::ops::ControlFlow::Break(())
+        } else {
+            std::ops::ControlFlow::Continue(())
+        }
+    })
+    .unwrap_err();
+    assert_eq!(
+        error,
+        StreamError::Interrupted {
+            time: 0.0075,
+            steps: 3
+        }
+    );
+    assert_eq!(trace.time, [0.0, 0.0025, 0.005, 0.0075]);
+}
+
+#[test]
+fn a_summary_built_row_by_row_matches_the_one_from_the_trace() {
+    let trace = synthetic_trace();
+    let mut builder = SummaryBuilder::new(&scene(), &trace.names);
+    for (row, &time) in trace.time.iter().enumerate() {
+        let values: Vec<f64> = trace.columns.iter().map(|c| c[row]).collect();
+        builder.push(time, &values);
+    }
+    let streamed = builder.finish(Some(0.008), 1.0);
+    let summary = RunSummary::from_trace(&scene(), &trace, Some(0.008), 1.0);
+    assert_eq!(streamed, summary);
+    assert_eq!(summary.steps, 4);
+    assert_eq!(summary.iterations, Some(12));
+    assert_eq!(summary.peak_nominal_speed, Some(11.2));
+    assert_eq!(summary.exit_nominal_speed, Some(9.96));
+    assert_eq!(summary.peak_sensor_deflection["midspan"], -0.19);
+    let drift = summary.max_energy_drift.unwrap();
+    assert!((drift - 0.6 / 150_000.0).abs() < 1e-15, "{drift}");
+}
+
+#[test]
+fn a_decimated_trace_stays_bounded_and_keeps_first_and_last_rows() {
+    let mut decimated = Decimated::new(Trace::with_names(["x"]), 100);
+    for i in 0..100_001 {
+        decimated.push(i as f64, &[2.0 * i as f64]);
+    }
+    let trace = decimated.finish();
+    assert!(trace.len() >= 100 && trace.len() <= 201, "{}", trace.len());
+    assert_eq!(trace.time[0], 0.0);
+    assert_eq!(*trace.time.last().unwrap(), 100_000.0);
+    assert!(trace.time.windows(2).all(|w| w[1] > w[0]));
+    let stride = trace.time[1] - trace.time[0];
+    assert!(trace.time[..trace.len() - 1]
+        .windows(2)
+        .all(|w| w[1] - w[0] == stride));
+    assert!(trace
+        .time
+        .iter()
+        .zip(&trace.columns[0])
+        .all(|(t, x)| *x == 2.0 * t));
+}
+
+#[test]
+fn the_run_length_is_refused_beyond_the_limit_and_below_the_time_resolution() {
+    let mut scene = scene();
+    // stop time if the body never left: 10 × 24 / 10 = 24 s, 9600 steps
+    assert_eq!(check_run_length(&scene, 9600, ""), Ok(9600));
+    let e = check_run_length(&scene, 9599, " (raise it)").unwrap_err();
+    assert!(
+        e.contains("9.6e3 steps") && e.ends_with("limit of 9599 steps (raise it)"),
+        "{e}"
+    );
+    scene.body.initial_speed = 1e14;
+    let e = check_run_length(&scene, u64::MAX, "").unwrap_err();
+    assert!(e.contains("no step would be taken"), "{e}");
+    scene.body.initial_speed = 5e-324;
+    assert!(
+        check_run_length(&scene, u64::MAX, "").is_err(),
+        "an infinite run"
+    );
+}

@@ -67,3 +67,65 @@ impl Trace {
         Some(&self.columns[index])
     }
 }
+
+/// A trace of bounded length for a run of any length: every row while the
+/// run is short, then every 2nd, 4th, ... row (the stride doubles whenever
+/// the kept rows reach twice `rows`), and always the last row. Enough for a
+/// plot, whose width is a few thousand pixels.
+#[derive(Debug, Clone)]
+pub struct Decimated {
+    trace: Trace,
+    rows: usize,
+    stride: u64,
+    seen: u64,
+    last: Option<(f64, Vec<f64>)>,
+}
+
+impl Decimated {
+    /// Keeps between `rows` and `2 × rows` rows (at least 2).
+    pub fn new(trace: Trace, rows: usize) -> Decimated {
+        Decimated {
+            trace,
+            rows: rows.max(2),
+            stride: 1,
+            seen: 0,
+            last: None,
+        }
+    }
+
+    pub fn push(&mut self, time: f64, values: &[f64]) {
+        if self.seen.is_multiple_of(self.stride) {
+            self.trace.push(time, values);
+            self.last = None;
+            if self.trace.len() >= 2 * self.rows {
+                self.halve();
+            }
+        } else {
+            self.last = Some((time, values.to_vec()));
+        }
+        self.seen += 1;
+    }
+
+    /// Drop every other kept row (row 0 stays).
+    fn halve(&mut self) {
+        let keep = |i: usize| i.is_multiple_of(2);
+        let thin = |v: &mut Vec<f64>| {
+            let mut i = 0;
+            v.retain(|_| {
+                i += 1;
+                keep(i - 1)
+            });
+        };
+        thin(&mut self.trace.time);
+        self.trace.columns.iter_mut().for_each(thin);
+        self.stride *= 2;
+    }
+
+    /// The kept rows, ending with the last row pushed.
+    pub fn finish(mut self) -> Trace {
+        if let Some((time, values)) = self.last.take() {
+            self.trace.push(time, &values);
+        }
+        self.trace
+    }
+}

@@ -55,7 +55,12 @@ pub enum SceneError {
     },
     /// Parsed, but values break the rules; every problem is listed.
     Invalid { problems: Vec<Problem> },
+    /// Longer than `MAX_SCENE_BYTES`: not read at all.
+    TooLarge { bytes: u64 },
 }
+
+/// Problems listed in an error message; the rest are counted.
+const LISTED_PROBLEMS: usize = 50;
 
 impl SceneError {
     /// The field-level problems (one for a parse error, all for an invalid
@@ -65,6 +70,9 @@ impl SceneError {
             SceneError::Invalid { problems } => problems.clone(),
             SceneError::Parse { path, message, .. } => {
                 vec![Problem::new(path.clone(), "", message.clone())]
+            }
+            SceneError::TooLarge { bytes } => {
+                vec![Problem::new("", format!("{bytes} bytes"), too_large_rule())]
             }
             SceneError::Read { .. } | SceneError::NotFound { .. } => Vec::new(),
         }
@@ -106,16 +114,29 @@ impl fmt::Display for SceneError {
                 let count = problems.len();
                 let noun = if count == 1 { "problem" } else { "problems" };
                 write!(f, "scene is not valid ({count} {noun}):")?;
-                for problem in problems {
+                for problem in problems.iter().take(LISTED_PROBLEMS) {
                     write!(f, "\n  {problem}")?;
                 }
+                if count > LISTED_PROBLEMS {
+                    write!(f, "\n  ... and {} more", count - LISTED_PROBLEMS)?;
+                }
                 Ok(())
+            }
+            SceneError::TooLarge { bytes } => {
+                write!(f, "scene is {bytes} bytes: {}", too_large_rule())
             }
         }
     }
 }
 
 impl std::error::Error for SceneError {}
+
+fn too_large_rule() -> String {
+    format!(
+        "a scene file must be at most {} bytes (10 MB)",
+        super::validate::MAX_SCENE_BYTES
+    )
+}
 
 /// Turn a serde error from the TOML deserializer into a `SceneError::Parse`
 /// naming the field.

@@ -10,7 +10,10 @@ mod validate;
 
 pub use builtin::{builtin, builtins, DEFAULT_SCENE};
 pub use error::{Problem, SceneError};
-pub use validate::{is_identifier, MAX_ELEMENTS};
+pub use validate::{
+    is_identifier, is_xml_char, MAX_DESCRIPTION_CHARS, MAX_ELEMENTS, MAX_INTERMEDIATE_SUPPORTS,
+    MAX_ITERATIONS, MAX_MAGNITUDE, MAX_NAME_CHARS, MAX_SCENE_BYTES, MAX_SENSORS, MIN_MAGNITUDE,
+};
 
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -204,6 +207,11 @@ pub enum IntegratorKind {
 impl Scene {
     /// Parse a scene from TOML text and validate it.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
+        if text.len() as u64 > MAX_SCENE_BYTES {
+            return Err(SceneError::TooLarge {
+                bytes: text.len() as u64,
+            });
+        }
         let scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
             .map_err(|e| error::from_toml_error(e, text))?;
         scene.validate()?;
@@ -225,11 +233,7 @@ impl Scene {
             || file_or_builtin.contains(std::path::MAIN_SEPARATOR)
             || file_or_builtin.contains('/');
         if path.is_file() || looks_like_file {
-            let text = std::fs::read_to_string(path).map_err(|e| SceneError::Read {
-                path: file_or_builtin.to_string(),
-                message: e.to_string(),
-            })?;
-            return Scene::from_toml_str(&text);
+            return Scene::from_toml_str(&read_limited(path, file_or_builtin)?);
         }
         builtin(file_or_builtin).ok_or_else(|| SceneError::NotFound {
             name: file_or_builtin.to_string(),
@@ -279,6 +283,29 @@ impl Scene {
             },
         }
     }
+}
+
+/// The text of a scene file, refused unread beyond `MAX_SCENE_BYTES` (a
+/// device or a growing file is read only up to one byte past the limit).
+fn read_limited(path: &Path, shown: &str) -> Result<String, SceneError> {
+    use std::io::Read;
+    let read_error = |e: std::io::Error| SceneError::Read {
+        path: shown.to_string(),
+        message: e.to_string(),
+    };
+    let file = std::fs::File::open(path).map_err(read_error)?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(read_error)?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        let size = std::fs::metadata(path).map_or(bytes.len() as u64, |m| m.len());
+        return Err(SceneError::TooLarge { bytes: size });
+    }
+    String::from_utf8(bytes).map_err(|e| SceneError::Read {
+        path: shown.to_string(),
+        message: format!("not UTF-8 text: {e}"),
+    })
 }
 
 #[cfg(test)]

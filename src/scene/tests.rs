@@ -354,7 +354,7 @@ fn solver_settings_must_be_positive() {
         |s| s.solver.max_iterations = 0,
         "solver.max_iterations",
         "0",
-        ">= 1",
+        "between 1 and 1000",
     );
     assert_single_problem(
         |s| s.solver.end_time = Some(-2.0),
@@ -575,4 +575,102 @@ fn annotated_toml_reads_back_to_the_same_scene() {
         let reread = Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert_eq!(reread, scene, "{text}");
     }
+}
+
+/// Issue 13: huge and subnormal values are refused in every real field,
+/// naming the field and the magnitude limit.
+#[test]
+fn every_real_field_has_a_magnitude_limit() {
+    type Edit = fn(&mut Scene, f64);
+    let fields: [(&str, Edit); 15] = [
+        ("beam.length", |s, x| s.beam.length = x),
+        ("beam.mass_per_length", |s, x| s.beam.mass_per_length = x),
+        ("beam.bending_stiffness", |s, x| {
+            s.beam.bending_stiffness = x
+        }),
+        ("beam.surface_offset", |s, x| s.beam.surface_offset = x),
+        ("body.mass", |s, x| s.body.mass = x),
+        ("body.inertia", |s, x| s.body.inertia = Some(x)),
+        ("body.radius", |s, x| s.body.radius = Some(x)),
+        ("body.initial_speed", |s, x| s.body.initial_speed = x),
+        ("body.force_x", |s, x| s.body.force_x = x),
+        ("body.force_y", |s, x| s.body.force_y = x),
+        ("solver.step", |s, x| s.solver.step = x),
+        ("solver.velocity_tolerance", |s, x| {
+            s.solver.velocity_tolerance = x
+        }),
+        ("solver.gap_tolerance", |s, x| s.solver.gap_tolerance = x),
+        ("solver.end_time", |s, x| s.solver.end_time = Some(x)),
+        ("body.initial_position", |s, x| s.body.initial_position = x),
+    ];
+    for (path, edit) in fields {
+        let problems = problems_after(|s| edit(s, 1e16));
+        assert!(
+            problems
+                .iter()
+                .any(|p| p.path == path && p.rule.contains("magnitude limit")),
+            "{path}: {problems:#?}"
+        );
+    }
+    let positive = ["beam.length", "body.mass", "body.radius", "solver.step"];
+    for (path, edit) in fields.iter().filter(|(p, _)| positive.contains(p)) {
+        let problems = problems_after(|s| edit(s, 5e-324));
+        assert_eq!(problems.len(), 1, "{path}: {problems:#?}");
+        assert!(problems[0].rule.contains(">= 1e-15"), "{}", problems[0]);
+    }
+    // at the limits, accepted
+    let mut scene = default_scene();
+    scene.body.force_y = -MAX_MAGNITUDE;
+    scene.solver.gap_tolerance = MIN_MAGNITUDE;
+    scene.validate().unwrap();
+}
+
+#[test]
+fn names_and_text_have_length_limits_and_xml_legal_characters() {
+    let long = "a".repeat(MAX_NAME_CHARS + 1);
+    assert_single_problem(
+        |s| s.body.name = long.clone(),
+        "body.name",
+        "\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa\"... (65 characters)",
+        "more than the limit of 64",
+    );
+    let mut scene = default_scene();
+    scene.name = "a".repeat(MAX_NAME_CHARS);
+    scene.validate().unwrap();
+    assert_single_problem(
+        |s| s.description = "bell \u{7}".into(),
+        "description",
+        "\"bell \\u{7}\"",
+        "character 5 is U+0007, which XML 1.0 cannot carry",
+    );
+    assert!(!is_xml_char('\u{FFFF}') && is_xml_char('\t') && is_xml_char('😀'));
+    let problems = problems_after(|s| {
+        s.sensors = (0..=MAX_SENSORS)
+            .map(|i| SensorSpec {
+                name: format!("s{i}"),
+                position: -1.0,
+            })
+            .collect()
+    });
+    assert_eq!(problems.len(), 1, "one problem, not 10 001");
+    assert_eq!(
+        problems[0].to_string(),
+        "sensors = 10001 sensors: must hold at most 10000"
+    );
+}
+
+#[test]
+fn a_long_list_of_problems_is_cut_in_the_message() {
+    let problems = problems_after(|s| {
+        s.sensors = (0..200)
+            .map(|_| SensorSpec {
+                name: "a b".into(),
+                position: 1.0,
+            })
+            .collect()
+    });
+    let message = SceneError::Invalid { problems }.to_string();
+    assert!(message.starts_with("scene is not valid (200 problems):"));
+    assert!(message.ends_with("... and 150 more"), "{message}");
+    assert_eq!(message.lines().count(), 52);
 }

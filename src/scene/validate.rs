@@ -13,6 +13,36 @@ const RESERVED_BODY_NAMES: [&str; 4] = ["contact", "energy", "sensor", "solver"]
 /// More elements than this is a typo, not a model (and memory to match).
 pub const MAX_ELEMENTS: usize = 100_000;
 
+/// Longest scene, body or sensor name (characters). The scene name becomes
+/// the FMU's model identifier and so a file name inside the FMU, which a
+/// file system limits to 255 bytes.
+pub const MAX_NAME_CHARS: usize = 64;
+
+/// Longest description (characters): one line of text, copied into the
+/// FMU's modelDescription.xml and documentation.
+pub const MAX_DESCRIPTION_CHARS: usize = 1000;
+
+/// Largest scene text (bytes): a scene is a few kB; the limit keeps a
+/// hostile file from taking memory and time before any rule is checked.
+pub const MAX_SCENE_BYTES: u64 = 10_000_000;
+
+/// Most sensors: each adds an output column to every row of a run.
+pub const MAX_SENSORS: usize = 10_000;
+
+/// Most intermediate supports.
+pub const MAX_INTERMEDIATE_SUPPORTS: usize = 10_000;
+
+/// Largest `solver.max_iterations`: each iteration integrates the whole
+/// beam over a step, so the cap bounds the work of one step.
+pub const MAX_ITERATIONS: u32 = 1000;
+
+/// Every real of a scene lies within ±`MAX_MAGNITUDE`, and one that must be
+/// positive is at least `MIN_MAGNITUDE`: products of a few such values (an
+/// energy, an angular speed V/r) then stay far from overflow, where
+/// subnormal radii or speeds of 1e300 gave infinite energies.
+pub const MAX_MAGNITUDE: f64 = 1e15;
+pub const MIN_MAGNITUDE: f64 = 1e-15;
+
 pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     let mut checks = Checks::default();
     check_name(&mut checks, scene);
@@ -38,17 +68,45 @@ fn check_name(checks: &mut Checks, scene: &Scene) {
     if !valid {
         checks.fail(
             "name",
-            format!("{:?}", scene.name),
+            quoted(&scene.name),
             "must be non-empty and use only ASCII letters, digits, '-', '_' and '.'",
         );
     }
-    if scene.description.contains(['\n', '\r']) {
+    checks.name_length("name", &scene.name);
+    let description = &scene.description;
+    if description.contains(['\n', '\r']) {
+        checks.fail("description", quoted(description), "must be one line");
+    }
+    if let Some((at, c)) = description
+        .chars()
+        .enumerate()
+        .find(|&(_, c)| !is_xml_char(c))
+    {
         checks.fail(
             "description",
-            format!("{:?}", scene.description),
-            "must be one line",
+            quoted(description),
+            format!(
+                "character {at} is U+{:04X}, which XML 1.0 cannot carry (the description goes \
+                 into the FMU's modelDescription.xml)",
+                c as u32
+            ),
         );
     }
+    let chars = description.chars().count();
+    if chars > MAX_DESCRIPTION_CHARS {
+        checks.fail(
+            "description",
+            quoted(description),
+            format!("has {chars} characters, more than the limit of {MAX_DESCRIPTION_CHARS}"),
+        );
+    }
+}
+
+/// A character XML 1.0 can carry: tab, line feed, carriage return, and
+/// everything from U+0020 on except U+FFFE and U+FFFF (Rust's `char`
+/// already excludes the surrogates).
+pub fn is_xml_char(c: char) -> bool {
+    matches!(c, '\t' | '\n' | '\r') || (c >= ' ' && c != '\u{FFFE}' && c != '\u{FFFF}')
 }
 
 /// Returns whether the beam length is usable for range checks elsewhere.
@@ -70,10 +128,18 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
 
     let supports = &beam.supports;
     let mut previous: Option<f64> = None;
-    for (i, &x) in supports.intermediate.iter().enumerate() {
+    let count = supports.intermediate.len();
+    if count > MAX_INTERMEDIATE_SUPPORTS {
+        checks.fail(
+            "beam.supports.intermediate",
+            format!("{count} supports"),
+            format!("must hold at most {MAX_INTERMEDIATE_SUPPORTS}"),
+        );
+    }
+    let listed = supports.intermediate.iter().take(MAX_INTERMEDIATE_SUPPORTS);
+    for (i, &x) in listed.enumerate() {
         let path = format!("beam.supports.intermediate[{i}]");
-        if !x.is_finite() {
-            checks.fail(path, fmt_f64(x), "must be a finite number");
+        if !checks.finite(&path, x) {
             continue;
         }
         if length_ok && !(x > 0.0 && x < beam.length) {
@@ -125,16 +191,17 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
 
 fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
     let body = &scene.body;
+    checks.name_length("body.name", &body.name);
     if !is_identifier(&body.name) {
         checks.fail(
             "body.name",
-            format!("{:?}", body.name),
+            quoted(&body.name),
             "must be an identifier: a letter or '_' followed by letters, digits or '_'",
         );
     } else if RESERVED_BODY_NAMES.contains(&body.name.as_str()) {
         checks.fail(
             "body.name",
-            format!("{:?}", body.name),
+            quoted(&body.name),
             format!(
                 "is reserved for the simulation's own outputs ({})",
                 RESERVED_BODY_NAMES.join(", ")
@@ -178,19 +245,30 @@ fn check_body(checks: &mut Checks, scene: &Scene, length_ok: bool) {
 }
 
 fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let count = scene.sensors.len();
+    if count > MAX_SENSORS {
+        // One problem, not a million: the sensors themselves are not read.
+        checks.fail(
+            "sensors",
+            format!("{count} sensors"),
+            format!("must hold at most {MAX_SENSORS}"),
+        );
+        return;
+    }
     let mut seen = HashSet::new();
     for (i, sensor) in scene.sensors.iter().enumerate() {
         let name_path = format!("sensors[{i}].name");
+        checks.name_length(&name_path, &sensor.name);
         if !is_identifier(&sensor.name) {
             checks.fail(
                 name_path,
-                format!("{:?}", sensor.name),
+                quoted(&sensor.name),
                 "must be an identifier: a letter or '_' followed by letters, digits or '_'",
             );
         } else if !seen.insert(sensor.name.as_str()) {
             checks.fail(
                 name_path,
-                format!("{:?}", sensor.name),
+                quoted(&sensor.name),
                 "must be unique among the sensors",
             );
         }
@@ -216,11 +294,11 @@ fn check_solver(checks: &mut Checks, scene: &Scene) {
     checks.positive("solver.step", solver.step);
     checks.positive("solver.velocity_tolerance", solver.velocity_tolerance);
     checks.positive("solver.gap_tolerance", solver.gap_tolerance);
-    if solver.max_iterations < 1 {
+    if !(1..=MAX_ITERATIONS).contains(&solver.max_iterations) {
         checks.fail(
             "solver.max_iterations",
             solver.max_iterations.to_string(),
-            "must be >= 1",
+            format!("must be between 1 and {MAX_ITERATIONS}"),
         );
     }
     let damping = solver.numerical_damping;
@@ -252,6 +330,19 @@ fn fmt_f64(x: f64) -> String {
     format!("{x:?}")
 }
 
+/// A string as a quoted value in a problem; a long one is cut, so that a
+/// 10 MB name does not make a 10 MB error message.
+fn quoted(s: &str) -> String {
+    const SHOWN: usize = 40;
+    let chars = s.chars().count();
+    if chars <= SHOWN + 10 {
+        format!("{s:?}")
+    } else {
+        let head: String = s.chars().take(SHOWN).collect();
+        format!("{head:?}... ({chars} characters)")
+    }
+}
+
 #[derive(Default)]
 struct Checks {
     problems: Vec<Problem>,
@@ -262,17 +353,26 @@ impl Checks {
         self.problems.push(Problem::new(path, value, rule));
     }
 
-    /// Finite; reports and returns false otherwise.
+    /// Finite and within ±`MAX_MAGNITUDE`; reports and returns false
+    /// otherwise.
     fn finite(&mut self, path: &str, x: f64) -> bool {
-        if x.is_finite() {
-            true
-        } else {
+        if !x.is_finite() {
             self.fail(path, fmt_f64(x), "must be a finite number");
             false
+        } else if x.abs() > MAX_MAGNITUDE {
+            self.fail(
+                path,
+                fmt_f64(x),
+                format!("must lie within ±{MAX_MAGNITUDE:e} (the magnitude limit)"),
+            );
+            false
+        } else {
+            true
         }
     }
 
-    /// Finite and > 0; reports and returns false otherwise.
+    /// Finite, > 0 and within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`]; reports
+    /// and returns false otherwise.
     fn positive(&mut self, path: &str, x: f64) -> bool {
         if !self.finite(path, x) {
             return false;
@@ -281,7 +381,27 @@ impl Checks {
             self.fail(path, fmt_f64(x), "must be > 0");
             return false;
         }
+        if x < MIN_MAGNITUDE {
+            self.fail(
+                path,
+                fmt_f64(x),
+                format!("must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"),
+            );
+            return false;
+        }
         true
+    }
+
+    /// At most `MAX_NAME_CHARS` characters.
+    fn name_length(&mut self, path: &str, name: &str) {
+        let chars = name.chars().count();
+        if chars > MAX_NAME_CHARS {
+            self.fail(
+                path,
+                quoted(name),
+                format!("has {chars} characters, more than the limit of {MAX_NAME_CHARS}"),
+            );
+        }
     }
 
     /// Finite and >= 0.

@@ -1,0 +1,195 @@
+"""Structured forging of guideway's serialized FMU states, for the FMI
+fuzzer (scripts/fuzz_fmi.py): valid framing and SHA-256, hostile payload.
+
+A serialized state is `GWSTATE\\0`, a format version, the model GUID, the
+SHA-256 of the payload, its length and the payload: MessagePack with field
+names (src/model/snapshot.rs). `forge` decodes the payload, changes one
+place in it (a number made extreme, a vector resized, a field removed,
+renamed or retyped, a length header that lies, deep nesting) and frames it
+again with a correct checksum, so that the change reaches the model's
+checks instead of being stopped by the checksum.
+
+Standard library only: a MessagePack subset (what rmp-serde writes) is
+implemented here.
+"""
+
+import hashlib
+import math
+import struct
+
+MAGIC = b"GWSTATE\0"
+
+
+# ---- framing -------------------------------------------------------------------
+
+def unframe(blob):
+    """(header up to the checksum, payload) of a serialized state."""
+    n = struct.unpack_from("<I", blob, 12)[0]
+    head = blob[:16 + n]
+    return head, blob[16 + n + 32 + 8:]
+
+
+def frame(head, payload):
+    return head + hashlib.sha256(payload).digest() + struct.pack("<Q", len(payload)) + payload
+
+
+# ---- MessagePack (the subset rmp-serde writes) ------------------------------------
+
+class Raw(bytes):
+    """Bytes put into the payload as they are (a lying header, say)."""
+
+
+def unpack(b, i=0):
+    """(value, next index) of the MessagePack value at b[i]."""
+    t = b[i]
+    if t <= 0x7f:
+        return t, i + 1
+    if t >= 0xe0:
+        return t - 0x100, i + 1
+    if 0x80 <= t <= 0x8f:
+        return _map(b, i + 1, t & 0x0f)
+    if 0x90 <= t <= 0x9f:
+        return _array(b, i + 1, t & 0x0f)
+    if 0xa0 <= t <= 0xbf:
+        n = t & 0x1f
+        return b[i + 1:i + 1 + n].decode(), i + 1 + n
+    simple = {0xc0: None, 0xc2: False, 0xc3: True}
+    if t in simple:
+        return simple[t], i + 1
+    fixed = {0xca: ">f", 0xcb: ">d", 0xcc: ">B", 0xcd: ">H", 0xce: ">I", 0xcf: ">Q",
+             0xd0: ">b", 0xd1: ">h", 0xd2: ">i", 0xd3: ">q"}
+    if t in fixed:
+        fmt = fixed[t]
+        return struct.unpack_from(fmt, b, i + 1)[0], i + 1 + struct.calcsize(fmt)
+    sized = {0xd9: (">B", "str"), 0xda: (">H", "str"), 0xdb: (">I", "str"),
+             0xc4: (">B", "bin"), 0xc5: (">H", "bin"), 0xc6: (">I", "bin"),
+             0xdc: (">H", "array"), 0xdd: (">I", "array"),
+             0xde: (">H", "map"), 0xdf: (">I", "map")}
+    if t in sized:
+        fmt, kind = sized[t]
+        n = struct.unpack_from(fmt, b, i + 1)[0]
+        j = i + 1 + struct.calcsize(fmt)
+        if kind == "array":
+            return _array(b, j, n)
+        if kind == "map":
+            return _map(b, j, n)
+        data = b[j:j + n]
+        return (data.decode() if kind == "str" else bytes(data)), j + n
+    raise ValueError(f"MessagePack type 0x{t:02x} not handled")
+
+
+def _array(b, i, n):
+    out = []
+    for _ in range(n):
+        v, i = unpack(b, i)
+        out.append(v)
+    return out, i
+
+
+def _map(b, i, n):
+    out = {}
+    for _ in range(n):
+        k, i = unpack(b, i)
+        v, i = unpack(b, i)
+        out[k] = v
+    return out, i
+
+
+def pack(v):
+    if isinstance(v, Raw):
+        return bytes(v)
+    if v is None:
+        return b"\xc0"
+    if v is True or v is False:
+        return b"\xc3" if v else b"\xc2"
+    if isinstance(v, int):
+        if 0 <= v <= 0x7f:
+            return bytes([v])
+        if -32 <= v < 0:
+            return struct.pack(">b", v)
+        if 0 <= v < 1 << 64:
+            return b"\xcf" + struct.pack(">Q", v)
+        if -(1 << 63) <= v < 0:
+            return b"\xd3" + struct.pack(">q", v)
+        return b"\xcb" + struct.pack(">d", float(v))  # too big for an integer
+    if isinstance(v, float):
+        return b"\xcb" + struct.pack(">d", v)
+    if isinstance(v, str):
+        s = v.encode()
+        return b"\xdb" + struct.pack(">I", len(s)) + s
+    if isinstance(v, bytes):
+        return b"\xc6" + struct.pack(">I", len(v)) + v
+    if isinstance(v, list):
+        return b"\xdd" + struct.pack(">I", len(v)) + b"".join(map(pack, v))
+    if isinstance(v, dict):
+        return b"\xdf" + struct.pack(">I", len(v)) + b"".join(pack(k) + pack(x)
+                                                                for k, x in v.items())
+    raise TypeError(type(v))
+
+
+# ---- forging -------------------------------------------------------------------------
+
+HOSTILE_NUMBERS = [0, -1, 1, 2**31 - 1, 2**32 - 1, 2**53 + 1, 2**63 - 1, 2**64 - 1, -2**63,
+                   10**7, 10**6, 100001, 0.0, -0.0, -3000.0, 1e9, 1e308, -1e308, 5e-324,
+                   math.nan, math.inf, -math.inf]
+
+
+def places(v, path=()):
+    """Every (path, value) in a decoded payload, containers included."""
+    yield path, v
+    if isinstance(v, dict):
+        for k, x in v.items():
+            yield from places(x, path + (k,))
+    elif isinstance(v, list):
+        for k, x in enumerate(v):
+            yield from places(x, path + (k,))
+
+
+def replace(v, path, new):
+    if not path:
+        return new
+    head, rest = path[0], path[1:]
+    if isinstance(v, dict):
+        out = dict(v)
+    else:
+        out = list(v)
+    out[head] = replace(v[head], rest, new)
+    return out
+
+
+def hostile(rng, old):
+    """A value to put where `old` was."""
+    r = rng.random()
+    if isinstance(old, (int, float)) and not isinstance(old, bool) and r < 0.6:
+        return rng.choice(HOSTILE_NUMBERS)
+    if isinstance(old, list) and r < 0.6:
+        n = len(old)
+        return rng.choice([[], old[:max(n - 1, 0)], old + old[-1:] * rng.randint(1, 4),
+                           [rng.choice(HOSTILE_NUMBERS)] * n,
+                           Raw(b"\xdd\xff\xff\xff\xff")])  # claims 2^32-1 elements
+    if isinstance(old, dict) and r < 0.6 and old:
+        k = rng.choice(list(old))
+        out = dict(old)
+        choice = rng.randrange(3)
+        if choice == 0:
+            del out[k]
+        elif choice == 1:
+            out[k + "_x"] = out.pop(k)
+        else:
+            out["unknown"] = Raw(b"\x91" * 100000 + b"\xc0")  # nested 100 000 deep
+        return out
+    if isinstance(old, str) and r < 0.6:
+        return rng.choice(["", "x" * 70000, "glider", "wheel", "\u0000", "é"])
+    return rng.choice([None, True, "text", [], {}, 1.5, -1, b"\x00" * 8])
+
+
+def forge(rng, blob):
+    """`blob` (a valid serialized state) with one hostile change in its
+    payload, framed again with a correct length and checksum; the path of
+    the change. ValueError if `blob` is not a well-formed state."""
+    head, payload = unframe(blob)
+    value, end = unpack(payload)
+    if end != len(payload):
+        raise ValueError("not a well-formed state (bytes after the payload)")
+    path, old = rng.choice(list(places(value)))
+    return frame(head, pack(replace(value, path, hostile(rng, old)))), path

@@ -1,0 +1,120 @@
+//! One communication step of the dynamics under a wall-time budget, and the
+//! classification of a failure: can a smaller communication step get
+//! further, or will every retry fail the same way?
+//!
+//! fmi2DoStep is synchronous and fmi2CancelStep is not available to a
+//! synchronous co-simulation slave, so the budget is the importer's only
+//! guard against a step that runs for hours. The dynamics are advanced in
+//! chunks that end on their own grid of internal steps (`k · step`), which
+//! is where an uninterrupted advance passes anyway: chunking changes no
+//! result, only lets the clock be read.
+
+use super::Dynamics;
+use crate::simulation::{Advance, SolverError};
+use std::time::{Duration, Instant};
+
+/// Why an advance stopped short of its target. The dynamics are left where
+/// they stopped; the caller rolls them back.
+#[derive(Debug)]
+pub enum Stop {
+    Solver(SolverError),
+    /// The budget ran out at `reached` (dynamics time).
+    OverBudget {
+        reached: f64,
+    },
+}
+
+/// Advance `sim` to `target`, reading the wall clock between chunks of whole
+/// internal steps of length `step`; past `budget` with the target not yet
+/// reached, stop.
+pub fn advance_within<D: Dynamics>(
+    sim: &mut D,
+    target: f64,
+    step: f64,
+    budget: Duration,
+) -> Result<Advance, Stop> {
+    let started = Instant::now();
+    // Chunk length in internal steps: doubled while a chunk takes under a
+    // sixteenth of the budget, so that checks are rare on fast models and a
+    // slow model overshoots the budget by little.
+    let mut chunk = 1.0_f64;
+    loop {
+        let end = chunk_end(sim.time(), step, chunk);
+        if end >= target - 1e-6 * step {
+            return sim.advance_to(target).map_err(Stop::Solver);
+        }
+        let chunk_started = Instant::now();
+        if let Advance::Exited { time } = sim.advance_to(end).map_err(Stop::Solver)? {
+            return Ok(Advance::Exited { time });
+        }
+        if started.elapsed() > budget {
+            return Err(Stop::OverBudget {
+                reached: sim.time(),
+            });
+        }
+        if chunk_started.elapsed() < budget / 16 {
+            chunk = (2.0 * chunk).min(65536.0);
+        } else {
+            chunk = (chunk / 2.0).max(1.0);
+        }
+    }
+}
+
+/// The grid point `chunk` internal steps after the one at or below `now`
+/// (strictly after `now`), computed as the dynamics compute theirs.
+fn chunk_end(now: f64, step: f64, chunk: f64) -> f64 {
+    let k = (now / step).floor() + chunk;
+    let end = k * step;
+    if end > now {
+        end
+    } else {
+        (k + 1.0) * step
+    }
+}
+
+/// Whether the step that failed can be cured by a smaller communication
+/// step: `Ok(message)` naming a step that succeeds, or `Err(message)` saying
+/// that even a tiny one fails. `start` is the dynamics time the communication
+/// step began at; `sim` is where the failure left it (at the start of the
+/// failing internal step) and is left anywhere: the caller rolls it back.
+pub fn curable<D: Dynamics>(
+    sim: &mut D,
+    start: f64,
+    saved: &D::State,
+    probe: f64,
+) -> Result<String, String> {
+    let failed_at = sim.time();
+    if failed_at > start {
+        return Ok(format!(
+            "a communication step of {:e} s succeeds",
+            failed_at - start
+        ));
+    }
+    if let Err(e) = sim.restore(saved) {
+        return Err(format!("(cannot probe a smaller step: {e})"));
+    }
+    // A probe that does not move the time (below the time's resolution or
+    // the dynamics' tolerance) proves nothing.
+    match sim.advance_to(start + probe) {
+        Ok(_) if sim.time() > start => Ok(format!("a communication step of {probe:e} s succeeds")),
+        _ => Err(format!(
+            "even a communication step of {probe:e} s fails: no step size cures this; \
+             change the inputs or the parameters"
+        )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chunk_ends_are_grid_points_after_now() {
+        assert_eq!(chunk_end(0.0, 0.0025, 1.0), 0.0025);
+        assert_eq!(chunk_end(0.0101, 0.0025, 1.0), 5.0 * 0.0025);
+        assert_eq!(chunk_end(5.0 * 0.0025, 0.0025, 2.0), 7.0 * 0.0025);
+        // just below a grid point (a shortened step landed there)
+        let just_below = 4.0 * 0.0025 * (1.0 - 1e-15);
+        assert!(chunk_end(just_below, 0.0025, 1.0) > just_below);
+    }
+}

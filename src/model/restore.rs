@@ -1,0 +1,118 @@
+//! Restoring a saved state, which may come from a forged serialized FMU
+//! state: checked to be a state of this model before anything is built from
+//! it, and all or nothing.
+
+use super::{
+    err, first_non_finite, param_value, set_param, validate, Dynamics, Model, ModelError, Phase,
+    Role, Snapshot,
+};
+
+impl<D: Dynamics> Model<D> {
+    /// Check a snapshot before anything of it is used: it may come from a
+    /// forged serialized state. It must be a state of this model: its scene
+    /// this model's with at most the parameters changed, each within its
+    /// rule (checked before any vector is sized by them), the whole scene
+    /// valid once running; finite inputs and times.
+    pub fn check_snapshot(&self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
+        let theirs = &snap.scene;
+        let refuse = |why: String| err(format!("the state does not fit this model: {why}"));
+        if theirs.sensors.len() != self.start_scene.sensors.len() {
+            return refuse(format!(
+                "it has {} sensors, this model {}",
+                theirs.sensors.len(),
+                self.start_scene.sensors.len()
+            ));
+        }
+        let mut mine = self.start_scene.clone();
+        for v in self.table.variables() {
+            if let Role::Parameter(p) = v.role {
+                let value = param_value(theirs, p);
+                if let Err(rule) = set_param(&mut mine, p, value) {
+                    return refuse(format!("{} = {value:?}: {rule}", v.name));
+                }
+            }
+        }
+        if mine != *theirs {
+            return refuse("its scene differs from this model's in more than parameters".into());
+        }
+        if snap.phase == Phase::Running {
+            validate(theirs)
+                .map_err(|e| ModelError(format!("the state's scene is invalid: {e}")))?;
+        }
+        if !(snap.inputs.iter().all(|x| x.is_finite()) && snap.start_time.is_finite()) {
+            return refuse("an input or the start time is not finite".into());
+        }
+        if (snap.phase == Phase::Running) != snap.sim.is_some() {
+            return refuse(format!(
+                "phase {:?} with the dynamics' state {}",
+                snap.phase,
+                if snap.sim.is_some() {
+                    "present"
+                } else {
+                    "missing"
+                }
+            ));
+        }
+        Ok(())
+    }
+
+    /// Restore `snap` (checked first); on any refusal the model is unchanged.
+    pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
+        self.check_snapshot(snap)?;
+        let sim = match &snap.sim {
+            Some(state) => Some(self.restored_sim(snap, state)?),
+            None => None,
+        };
+        self.scene = snap.scene.clone();
+        self.inputs = snap.inputs;
+        self.start_time = snap.start_time;
+        self.phase = snap.phase;
+        self.sim = sim;
+        self.discarded = None;
+        Ok(())
+    }
+
+    /// The dynamics at `state`: this model's own (when the scene is the
+    /// same) or new ones built for the state's (valid) scene. The state must
+    /// fit them and give finite outputs; if not, this model's own dynamics
+    /// are put back as they were.
+    fn restored_sim(
+        &mut self,
+        snap: &Snapshot<D::State>,
+        state: &D::State,
+    ) -> Result<D, ModelError> {
+        let own = match self.sim.take() {
+            Some(sim) if self.scene == snap.scene => Some(sim),
+            other => {
+                self.sim = other;
+                None
+            }
+        };
+        let old = own.as_ref().map(|s| s.state());
+        let mut sim = match own {
+            Some(sim) => sim,
+            None => D::build(&snap.scene)
+                .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
+        };
+        let fitted = sim.restore(state).and_then(|()| {
+            sim.set_body_force(snap.inputs[0], snap.inputs[1]);
+            match first_non_finite(&sim) {
+                Some(bad) => Err(bad),
+                None if !sim.time().is_finite() => Err(format!("its time is {}", sim.time())),
+                None => Ok(()),
+            }
+        });
+        match (fitted, old) {
+            (Ok(()), _) => Ok(sim),
+            (Err(e), old) => {
+                if let Some(old) = old {
+                    sim.restore(&old)
+                        .map_err(|e| ModelError(format!("cannot put the model back: {e}")))?;
+                    sim.set_body_force(self.inputs[0], self.inputs[1]);
+                    self.sim = Some(sim);
+                }
+                err(format!("cannot restore the state: {e}"))
+            }
+        }
+    }
+}

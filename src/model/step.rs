@@ -1,0 +1,194 @@
+//! Initialization's run-length check and the communication step: checks
+//! before anything runs, the advance under the wall-time budget, roll-back
+//! and the classification of failures (see `advance`).
+
+use super::{
+    advance, err, first_non_finite, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
+    MAX_INTERNAL_STEPS_PER_CALL, MAX_RUN_STEPS,
+};
+use crate::simulation::Advance;
+use std::time::Duration;
+
+impl<D: Dynamics> Model<D> {
+    /// Refuse a run that would need more than `MAX_RUN_STEPS` internal steps:
+    /// to whichever comes first of the experiment's stop time, the scene's
+    /// end time and the exit at the initial speed (an estimate: forces may
+    /// change the speed). A body at rest with no stop time is left to the
+    /// per-call limits.
+    pub(super) fn check_run_length(&self) -> Result<(), ModelError> {
+        let (scene, step) = (&self.scene, self.scene.solver.step);
+        let v0 = scene.body.initial_speed;
+        let to_exit = if v0 > 0.0 {
+            (scene.beam.length - scene.body.initial_position) / v0
+        } else {
+            scene.body.initial_position / -v0
+        };
+        let ends = [
+            self.stop_time
+                .map(|t| (t - self.start_time, "to the stop time")),
+            scene.solver.end_time.map(|t| (t, "to solver.end_time")),
+            (v0 != 0.0).then_some((to_exit, "to the exit at the initial speed")),
+        ];
+        let Some((horizon, what)) = ends
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+        else {
+            return Ok(());
+        };
+        let steps = (horizon / step).ceil();
+        if steps > MAX_RUN_STEPS {
+            return err(format!(
+                "the run would need {steps:e} internal steps of solver.step = {step:e} s \
+                 ({what}, {horizon:e} s), more than the {MAX_RUN_STEPS:e} allowed; \
+                 use a larger solver.step (integrator \"hht\" is stable at any step) \
+                 or a shorter run"
+            ));
+        }
+        Ok(())
+    }
+
+    /// Refuse a communication step the model cannot take as asked (before
+    /// anything runs): bad size, too many internal steps, wrong time, a size
+    /// below the resolution of the time.
+    fn check_step(&self, t: f64, h: f64) -> Result<(), ModelError> {
+        if self.phase != Phase::Running {
+            return err("the model is not initialized");
+        }
+        if !(h.is_finite() && h > 0.0) {
+            return err(format!(
+                "communicationStepSize = {h}: must be finite and > 0"
+            ));
+        }
+        let internal_steps = (h / self.scene.solver.step).ceil();
+        if internal_steps > MAX_INTERNAL_STEPS_PER_CALL {
+            return err(format!(
+                "communicationStepSize = {h} s needs {internal_steps:e} internal steps of \
+                 solver.step = {:e} s, more than the {MAX_INTERNAL_STEPS_PER_CALL:e} one call \
+                 may take; use shorter communication steps",
+                self.scene.solver.step
+            ));
+        }
+        let now = self.time();
+        if !t.is_finite() || (t - now).abs() > 1e-9 * now.abs().max(1.0) {
+            return err(format!(
+                "currentCommunicationPoint = {t} s does not match the model's time {now} s"
+            ));
+        }
+        // t + h must be a different number, close to the step asked for:
+        // otherwise the master's clock and the model's part ways.
+        let taken = (t + h) - t;
+        if (taken - h).abs() > 1e-6 * h {
+            return err(format!(
+                "communicationStepSize = {h:e} s is below the resolution of \
+                 currentCommunicationPoint = {t:e} s (t + h - t = {taken:e} s); \
+                 use larger steps or a start time nearer 0"
+            ));
+        }
+        Ok(())
+    }
+
+    /// One communication step from `t` (which must match the model's time up
+    /// to accumulated rounding) to `t + h`.
+    pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
+        self.check_step(t, h)?;
+        let this = DiscardedStep {
+            t,
+            h,
+            inputs: self.inputs,
+        };
+        if let Some((step, reason)) = &self.discarded {
+            if *step == this {
+                return Ok(StepOutcome::Failed {
+                    message: format!(
+                        "this step (t = {t} s, h = {h} s) was discarded by the previous call and \
+                         nothing has changed since, so it would fail the same way ({reason}); \
+                         retry with a smaller step or other inputs"
+                    ),
+                    curable: false,
+                });
+            }
+        }
+        let outcome = self.advance(t + h)?;
+        self.discarded = match &outcome {
+            StepOutcome::Failed {
+                message,
+                curable: true,
+            } => Some((this, message.clone())),
+            _ => None,
+        };
+        Ok(outcome)
+    }
+
+    /// Advance the dynamics to communication time `to` within the wall-time
+    /// budget; a failure is rolled back and classified.
+    fn advance(&mut self, to: f64) -> Result<StepOutcome, ModelError> {
+        let (now, t0, step) = (self.time(), self.start_time, self.scene.solver.step);
+        let budget = Duration::try_from_secs_f64(self.wall_time_budget).unwrap_or(Duration::MAX);
+        let probe = (to - now).min(step) / 1024.0;
+        let sim = self.sim.as_mut().expect("running model has a simulation");
+        if let Some(time) = sim.exit_time() {
+            return Ok(StepOutcome::Exited { time: t0 + time });
+        }
+        let (saved, start) = (sim.state(), sim.time());
+        let rolled_back = format!("step rolled back to t = {now} s");
+        let outcome = match advance::advance_within(sim, to - t0, step, budget) {
+            Ok(Advance::Reached) => StepOutcome::Completed,
+            Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
+            Err(advance::Stop::Solver(e)) => {
+                let (curable, cure) = match advance::curable(sim, start, &saved, probe) {
+                    Ok(m) => (true, m),
+                    Err(m) => (false, m),
+                };
+                StepOutcome::Failed {
+                    message: format!("solver failed {e}; {rolled_back}; {cure}"),
+                    curable,
+                }
+            }
+            Err(advance::Stop::OverBudget { reached }) => StepOutcome::Failed {
+                message: format!(
+                    "the step took longer than solver.wall_time_budget = {} s (it had reached \
+                     t = {:e} s of {to:e} s); {rolled_back}; use shorter communication steps or \
+                     a larger budget",
+                    self.wall_time_budget,
+                    t0 + reached,
+                ),
+                curable: true,
+            },
+        };
+        let outcome = check_reached(sim, outcome, t0, &rolled_back);
+        if let StepOutcome::Failed { .. } = outcome {
+            sim.restore(&saved)
+                .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
+        }
+        Ok(outcome)
+    }
+}
+
+/// A step that ended with a non-finite output, or in a state that
+/// could not be restored, failed (no step size cures an overflow).
+fn check_reached<D: Dynamics>(
+    sim: &D,
+    outcome: StepOutcome,
+    t0: f64,
+    rolled_back: &str,
+) -> StepOutcome {
+    if let StepOutcome::Failed { .. } = outcome {
+        return outcome;
+    }
+    let at = t0 + sim.time();
+    let problem = match first_non_finite(sim) {
+        Some(bad) => Some(format!("{bad} at t = {at} s")),
+        None => sim
+            .check_state(&sim.state())
+            .err()
+            .map(|e| format!("the state at t = {at} s is unusable: {e}")),
+    };
+    match problem {
+        Some(p) => StepOutcome::Failed {
+            message: format!("{p}; {rolled_back}"),
+            curable: false,
+        },
+        None => outcome,
+    }
+}

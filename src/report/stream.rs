@@ -1,0 +1,190 @@
+//! Drive a simulation from start to exit, handing every row of outputs to a
+//! sink as it is computed (a CSV file, a trace in memory, a summary), so
+//! that memory does not grow with the length of the run.
+
+use super::output_names;
+use super::run::{stop_time, StepProgress};
+use super::trace::Trace;
+use crate::scene::Scene;
+use crate::simulation::{Advance, OutputInfo, SolverError, Steppable};
+use std::ops::ControlFlow;
+use std::time::{Duration, Instant};
+
+/// Steps a run may take unless told otherwise (`guideway run --max-steps`):
+/// a few seconds on the paper's two-element beam, about a minute on 128
+/// elements (the cost of a step grows linearly with the elements).
+pub const DEFAULT_MAX_STEPS: u64 = 1_000_000;
+
+/// Where the rows of a run go.
+pub trait RowSink {
+    /// One row: the time and every output, in the simulation's order. An
+    /// error stops the run.
+    fn row(&mut self, time: f64, values: &[f64]) -> Result<(), String>;
+}
+
+impl RowSink for Trace {
+    fn row(&mut self, time: f64, values: &[f64]) -> Result<(), String> {
+        self.push(time, values);
+        Ok(())
+    }
+}
+
+/// How a streamed run ended well.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Streamed {
+    /// When the contact point reached the end of the beam, if it did.
+    pub exit_time: Option<f64>,
+    /// Wall-clock time spent inside `advance_to`.
+    pub solve_time: Duration,
+    /// Rows after the initial one.
+    pub steps: u64,
+}
+
+/// How a streamed run ended badly. `steps` counts the rows written after
+/// the initial one.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StreamError {
+    /// Refused before the first step: nothing was simulated.
+    Refused(String),
+    /// A step failed, or gave a non-finite output (not written).
+    Solver { error: SolverError, steps: u64 },
+    /// `on_step` asked to stop (Ctrl-C).
+    Interrupted { time: f64, steps: u64 },
+    /// The sink failed.
+    Output { message: String, steps: u64 },
+}
+
+/// The number of steps a run of `scene` takes at most, refused when it
+/// exceeds `max_steps` (the message then ends with `how_to_raise`) or when
+/// the stop time is below the time resolution of the simulation (1e-9 of a
+/// step: no step would be taken).
+pub fn check_run_length(scene: &Scene, max_steps: u64, how_to_raise: &str) -> Result<u64, String> {
+    let stop = stop_time(scene)?;
+    let step = scene.solver.step;
+    let why_stop = match scene.solver.end_time {
+        Some(_) => "solver.end_time".to_string(),
+        None => format!(
+            "{} × (beam.length − body.initial_position) / body.initial_speed",
+            super::DEFAULT_END_TIME_FACTOR
+        ),
+    };
+    if stop.is_nan() || stop <= 1e-9 * step {
+        return Err(format!(
+            "the run would stop at t = {stop:e} s ({why_stop}), below the time resolution of \
+             1e-9 × solver.step = {:e} s: no step would be taken",
+            1e-9 * step
+        ));
+    }
+    let steps = (stop / step).ceil();
+    if steps.is_nan() || steps > max_steps as f64 {
+        return Err(format!(
+            "the run needs up to {steps:e} steps of solver.step = {step:e} s to reach t = \
+             {stop:e} s ({why_stop}), more than the limit of {max_steps} steps{how_to_raise}"
+        ));
+    }
+    Ok(steps as u64)
+}
+
+/// The first output that is not a finite number, named with its value.
+/// The CLI and the FMU refuse the same values with it.
+pub fn non_finite_output(outputs: &[OutputInfo], values: &[f64]) -> Option<String> {
+    let k = values.iter().position(|x| !x.is_finite())?;
+    let name = outputs.get(k).map_or("?", |o| o.name.as_str());
+    Some(format!("output {name} is {}", values[k]))
+}
+
+/// Drive `simulation` of `scene` until the body leaves the beam or the stop
+/// time, writing the initial state and every internal step to `sink` and
+/// calling `on_step` after each step; `ControlFlow::Break` stops the run.
+/// The caller checks the run's length first (`check_run_length`).
+pub fn drive_into(
+    scene: &Scene,
+    simulation: &mut impl Steppable,
+    sink: &mut impl RowSink,
+    mut on_step: impl FnMut(StepProgress) -> ControlFlow<()>,
+) -> Result<Streamed, StreamError> {
+    let stop = stop_time(scene).map_err(StreamError::Refused)?;
+    let mut values = vec![0.0; simulation.outputs().len()];
+    simulation.output_values(&mut values);
+    if let Some(bad) = non_finite_output(simulation.outputs(), &values) {
+        return Err(StreamError::Refused(format!(
+            "{bad} at the start with these values; choose smaller ones"
+        )));
+    }
+    let mut steps = 0;
+    let output_failed = |message, steps| StreamError::Output { message, steps };
+    sink.row(simulation.time(), &values)
+        .map_err(|m| output_failed(m, steps))?;
+
+    let names: Vec<String> = simulation
+        .outputs()
+        .iter()
+        .map(|o| o.name.clone())
+        .collect();
+    let fraction = progress_fraction(scene, &names, simulation.time(), stop);
+    let start_time = simulation.time();
+    let mut solve_time = Duration::ZERO;
+    loop {
+        // Multiples of the step, so that step times carry no accumulated
+        // rounding.
+        let target = (start_time + (steps + 1) as f64 * scene.solver.step).min(stop);
+        let started = Instant::now();
+        let advanced = simulation.advance_to(target);
+        solve_time += started.elapsed();
+        let advance = advanced.map_err(|error| StreamError::Solver { error, steps })?;
+        simulation.output_values(&mut values);
+        let time = simulation.time();
+        if let Some(bad) = non_finite_output(simulation.outputs(), &values) {
+            let message = format!("{bad} after the step to t = {time} s; nothing of it written");
+            return Err(StreamError::Solver {
+                error: SolverError { time, message },
+                steps,
+            });
+        }
+        sink.row(time, &values)
+            .map_err(|m| output_failed(m, steps))?;
+        steps += 1;
+        let progress = StepProgress {
+            time,
+            fraction: fraction(time, &values),
+        };
+        if on_step(progress).is_break() {
+            return Err(StreamError::Interrupted { time, steps });
+        }
+        match advance {
+            Advance::Exited { time } => {
+                return Ok(Streamed {
+                    exit_time: Some(time),
+                    solve_time,
+                    steps,
+                })
+            }
+            Advance::Reached if target >= stop => {
+                return Ok(Streamed {
+                    exit_time: None,
+                    solve_time,
+                    steps,
+                })
+            }
+            Advance::Reached => {}
+        }
+    }
+}
+
+/// 0 at the start, 1 at the exit or the stop time: the larger of the
+/// fractions of time and of travel done.
+fn progress_fraction(
+    scene: &Scene,
+    names: &[String],
+    start_time: f64,
+    stop: f64,
+) -> impl Fn(f64, &[f64]) -> f64 {
+    let position = output_names::travel_position(names, &scene.body.name);
+    let start_position = scene.body.initial_position;
+    let travel = scene.beam.length - start_position;
+    move |time: f64, values: &[f64]| {
+        let by_time = (time - start_time) / (stop - start_time);
+        let by_position = position.map_or(0.0, |i| (values[i] - start_position) / travel);
+        by_time.max(by_position).clamp(0.0, 1.0)
+    }
+}
