@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Set-up for building and testing guideway; idempotent, quick on re-run.
 #  - libclang (Debian libclang-dev): fmi-sys runs bindgen at build time.
+#  - libtbb12 (Debian): the Ecos co-simulation engine (PyPI ecospy) links
+#    libtbb.so.12 and does not ship it.
 #  - .venv in the repository root with scripts/requirements.txt (fmpy,
-#    libcosimpy, fmu-manipulation-toolbox, pytest, numpy).
+#    libcosimpy, ecospy, fmu-manipulation-toolbox, pytest, numpy).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,6 +26,11 @@ apt_install() {
 if ! has_bindgen_libclang /; then
     echo "setup: installing libclang-dev (for fmi-sys/bindgen)"
     apt_install libclang-dev
+fi
+
+if ! ldconfig -p | grep 'libtbb\.so\.12 ' >/dev/null; then
+    echo "setup: installing libtbb12 (for ecospy)"
+    apt_install libtbb12
 fi
 
 if ! python3 -c "import venv, ensurepip" 2>/dev/null; then

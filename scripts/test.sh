@@ -2,10 +2,12 @@
 # Runs every test of guideway. Usage: bash scripts/test.sh
 #  1. set-up (libclang, .venv), idempotent
 #  2. cargo test (unit, integration, FMU import with the `fmi` crate)
-#  3. export the FMUs of the built-in scenes (+ cross-check files)
-#  4. `guideway release` into out/dist (all built-in scenes)
-#  5. pytest scripts/tests: fmpy, fmutool, libcosimpy against those FMUs;
-#     the release; the scripted examples; the Dask sweep
+#  3. the shipped FMU binary, built against glibc 2.17
+#     (scripts/build_portable.sh)
+#  4. export the FMUs of the built-in scenes (+ cross-check files) with it
+#  5. `guideway release` into out/dist (all built-in scenes)
+#  6. pytest scripts/tests: fmpy, fmutool, libcosimpy, Ecos against those
+#     FMUs; the binary; the release; the scripted examples; the Dask sweep
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -13,9 +15,12 @@ bash scripts/setup.sh
 
 # One build for everything (tests, the CLI and the cdylib it packages,
 # target/release/libguideway.so), so that the features of the dependencies
-# are unified once and nothing is compiled twice.
+# are unified once and nothing is compiled twice; the shipped binary is
+# built once more, against glibc 2.17, in its own target directory.
 cargo build --release --all-targets
 cargo test --release --all-targets
+GUIDEWAY_CDYLIB=$(bash scripts/build_portable.sh)
+export GUIDEWAY_CDYLIB
 # cargo builds into $CARGO_TARGET_DIR when it is set.
 bin="${CARGO_TARGET_DIR:-target}/release/guideway"
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"

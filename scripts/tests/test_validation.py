@@ -68,3 +68,50 @@ def test_cross_check_files_follow_the_rules(scene, tmp_path):
     for suffix in ["_ref.csv", "_ref.opt"]:
         shutil.copy(FMU_DIR / "cross-check" / f"{ident}{suffix}", model_dir)
     assert validate_test_fmu(str(model_dir)) == []
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_no_output_depends_directly_on_an_input(scene):
+    """Outputs are the state at a communication point: declared
+    dependencies="" (present and empty), so masters see no algebraic loop.
+    Initial unknowns depend only on parameters and inputs."""
+    md = read_model_description(str(fmu_path(scene)))
+    outputs = [v for v in md.modelVariables if v.causality == "output"]
+    assert {u.variable.name for u in md.outputs} == {v.name for v in outputs}
+    for u in md.outputs:
+        assert u.dependencies == [], u.variable.name
+    assert {u.variable.name for u in md.initialUnknowns} == {v.name for v in outputs}
+    for u in md.initialUnknowns:
+        assert u.dependencies is not None, u.variable.name
+        for d in u.dependencies:
+            assert d.causality in ("parameter", "input"), (u.variable.name, d.name)
+
+
+def test_start_contact_force_depends_on_the_load_input():
+    md = read_model_description(str(fmu_path(WHEEL)))
+    deps = {u.variable.name: [d.name for d in u.dependencies] for u in md.initialUnknowns}
+    assert deps["contact.normal_force"] == ["wheel.force_y"]
+    assert deps["wheel.x"] == ["wheel.initial_position"]
+    assert deps["sensor.midspan.deflection"] == []
+
+
+def test_units_bounds_and_nominals_are_declared():
+    md = read_model_description(str(fmu_path(WHEEL)))
+    v = {x.name: x for x in md.modelVariables}
+    shown = {u.name: {d.name: d.factor for d in u.displayUnits} for u in md.unitDefinitions}
+    assert shown["N"] == {"kN": 0.001}
+    assert shown["m/s"] == {"km/h": 3.6}
+    assert shown["m"] == {"mm": 1000.0}
+    assert v["wheel.force_y"].displayUnit == "kN"
+    assert v["wheel.initial_speed"].displayUnit == "km/h"
+    assert v["sensor.midspan.deflection"].displayUnit == "mm"
+    assert float(v["wheel.mass"].min) == 5e-324  # "> 0": the smallest positive double
+    assert float(v["beam.surface_offset"].min) == 0.0
+    assert (int(v["beam.elements"].min), int(v["beam.elements"].max)) == (1, 100000)
+    assert float(v["beam.bending_stiffness"].nominal) == 1e9
+    assert float(v["contact.normal_force"].nominal) == 1e5
+
+
+def test_outputs_at_start_follow_the_inputs_set_in_initialization(slave):
+    s = slave(WHEEL).init(**{"wheel.force_y": -250e3})
+    assert s.real("contact.normal_force") == [250e3]

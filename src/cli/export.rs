@@ -1,4 +1,5 @@
-//! `guideway export SCENE -o NAME.fmu [--cross-check DIR]`.
+//! `guideway export SCENE -o NAME.fmu [--cross-check DIR]
+//! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
 use super::{load_scene, ExportArgs, Failure};
 use guideway::fmu::{self, ExportError};
@@ -34,6 +35,11 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
         for path in fmu::write_cross_check(&scene, dir).map_err(Failure::Run)? {
             println!("{}", path.display());
         }
+    }
+    if let (Some(ssp), Some(vehicle)) = (&args.ssp, &args.vehicle) {
+        fmu::ssp::write(&scene.name, &args.out, vehicle, &args.connect, ssp)
+            .map_err(Failure::Run)?;
+        println!("{}", ssp.display());
     }
     Ok(())
 }

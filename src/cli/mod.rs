@@ -107,6 +107,17 @@ struct ExportArgs {
     /// `<model>_ref.opt`) into this directory.
     #[arg(long, value_name = "DIR")]
     cross_check: Option<PathBuf>,
+    /// Also write an SSP 1.0 system of this FMU (component `guideway`) and
+    /// the `--vehicle` FMU (component `vehicle`), wired by `--connect`.
+    #[arg(long, value_name = "SSP", requires = "vehicle")]
+    ssp: Option<PathBuf>,
+    /// The vehicle FMU of the `--ssp` system.
+    #[arg(long, value_name = "FMU", requires = "ssp")]
+    vehicle: Option<PathBuf>,
+    /// A connection of the `--ssp` system, from an output to an input:
+    /// `vehicle.force=guideway.wheel.force_y` (repeatable).
+    #[arg(long = "connect", value_name = "FROM=TO", requires = "ssp")]
+    connect: Vec<guideway::fmu::ssp::Connection>,
 }
 
 #[derive(Debug, clap::Args)]

@@ -32,12 +32,14 @@ pub struct Description {
 
 pub fn describe<D: Dynamics>(scene: &Scene) -> Result<Description, String> {
     let model = Model::<D>::new(scene.clone()).map_err(|e| e.0)?;
-    let (xml, guid) = model_description::generate(model.scene(), model.table());
+    let mut table = model.table().clone();
+    table.set_initial_dependencies(&crate::model::initial_dependencies::<D>(model.scene())?);
+    let (xml, guid) = model_description::generate(model.scene(), &table);
     Ok(Description {
         xml,
         guid,
         model_identifier: model_description::model_identifier(&scene.name),
-        table: model.table().clone(),
+        table,
     })
 }
 

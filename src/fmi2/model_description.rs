@@ -4,7 +4,10 @@
 //! The GUID is derived from the document itself: the SHA-256 of the XML
 //! written with an empty guid attribute, formatted like a UUID. Two FMUs that
 //! differ in anything their description says never share a GUID, and an
-//! identical rebuild keeps it.
+//! identical rebuild keeps it. The initial unknowns' dependencies are left
+//! out of the digest: they are measured from the rest of the description
+//! (see `model::initial_dependencies`), and an instance, which does not need
+//! them, checks its GUID without measuring them.
 
 use crate::model::{Causality, Value, VarType, VariableTable};
 use crate::scene::Scene;
@@ -158,6 +161,16 @@ struct Unit {
     name: String,
     #[serde(rename = "BaseUnit", skip_serializing_if = "Option::is_none")]
     base: Option<BaseUnit>,
+    #[serde(rename = "DisplayUnit", skip_serializing_if = "Vec::is_empty")]
+    display: Vec<DisplayUnitElement>,
+}
+
+#[derive(Serialize)]
+struct DisplayUnitElement {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@factor")]
+    factor: f64,
 }
 
 #[derive(Serialize)]
@@ -225,10 +238,22 @@ enum TypeElement {
     Real {
         #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
         unit: Option<String>,
+        #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
+        display_unit: Option<&'static str>,
+        #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+        min: Option<Real>,
+        #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+        max: Option<Real>,
+        #[serde(rename = "@nominal", skip_serializing_if = "Option::is_none")]
+        nominal: Option<Real>,
         #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-        start: Option<f64>,
+        start: Option<Real>,
     },
     Integer {
+        #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+        min: Option<i32>,
+        #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+        max: Option<i32>,
         #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
         start: Option<i32>,
     },
@@ -256,22 +281,55 @@ struct Unknowns {
 struct Unknown {
     #[serde(rename = "@index")]
     index: usize,
+    /// Space-separated indices; empty: depends on none; absent: on all.
+    #[serde(rename = "@dependencies", skip_serializing_if = "Option::is_none")]
+    dependencies: Option<String>,
+}
+
+/// A Real attribute, written in the shorter of the plain and the exponent
+/// form (both read back exactly): `5e-324`, not 324 decimals.
+struct Real(f64);
+
+impl Serialize for Real {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let (plain, exp) = (format!("{}", self.0), format!("{:e}", self.0));
+        s.serialize_str(if exp.len() < plain.len() {
+            &exp
+        } else {
+            &plain
+        })
+    }
+}
+
+fn real(v: Option<Value>) -> Option<Real> {
+    match v {
+        Some(Value::Real(x)) => Some(Real(x)),
+        _ => None,
+    }
+}
+
+fn integer(v: Option<Value>) -> Option<i32> {
+    match v {
+        Some(Value::Integer(n)) => Some(n),
+        _ => None,
+    }
 }
 
 fn scalar_variable(v: &crate::model::Variable) -> ScalarVariable {
     let ty = match v.ty {
         VarType::Real => TypeElement::Real {
             unit: v.unit.clone(),
-            start: match v.start {
-                Some(Value::Real(x)) => Some(x),
-                _ => None,
-            },
+            // A display unit is declared only with a unit to belong to.
+            display_unit: v.display_unit.filter(|_| v.unit.is_some()).map(|d| d.name),
+            min: real(v.min),
+            max: real(v.max),
+            nominal: v.nominal.map(Real),
+            start: real(v.start),
         },
         VarType::Integer => TypeElement::Integer {
-            start: match v.start {
-                Some(Value::Integer(n)) => Some(n),
-                _ => None,
-            },
+            min: integer(v.min),
+            max: integer(v.max),
+            start: integer(v.start),
         },
         VarType::Boolean => TypeElement::Boolean {
             start: match v.start {
@@ -291,16 +349,73 @@ fn scalar_variable(v: &crate::model::Variable) -> ScalarVariable {
     }
 }
 
-/// The modelDescription.xml of `scene` and its variable table, with its GUID.
-pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
-    let outputs: Vec<Unknown> = table
+/// The `dependencies` attribute: value references as 1-based indices into
+/// ModelVariables.
+fn indices(table: &VariableTable, vrs: Option<&[u32]>) -> Option<String> {
+    let vrs = vrs?;
+    let index = |vr: &u32| {
+        table
+            .variables()
+            .iter()
+            .position(|v| v.value_reference == *vr)
+            .map(|i| (i + 1).to_string())
+    };
+    // An unknown reference would make the attribute a lie: declare nothing.
+    let list: Option<Vec<String>> = vrs.iter().map(index).collect();
+    list.map(|l| l.join(" "))
+}
+
+/// Outputs and initial unknowns, with their dependencies.
+fn structure(table: &VariableTable, with_initial_dependencies: bool) -> ModelStructure {
+    let outputs: Vec<(usize, &crate::model::Variable)> = table
         .variables()
         .iter()
         .enumerate()
         .filter(|(_, v)| v.causality == Causality::Output)
-        .map(|(i, _)| Unknown { index: i + 1 })
         .collect();
-    let initial_unknowns = outputs.iter().map(|u| Unknown { index: u.index }).collect();
+    let unknowns = |deps: &dyn Fn(&crate::model::Variable) -> Option<String>| Unknowns {
+        unknowns: outputs
+            .iter()
+            .map(|&(i, v)| Unknown {
+                index: i + 1,
+                dependencies: deps(v),
+            })
+            .collect(),
+    };
+    ModelStructure {
+        outputs: unknowns(&|v| indices(table, v.dependencies.as_deref())),
+        initial_unknowns: unknowns(&|v| {
+            if with_initial_dependencies {
+                indices(table, v.initial_dependencies.as_deref())
+            } else {
+                None
+            }
+        }),
+    }
+}
+
+fn units(table: &VariableTable) -> Units {
+    Units {
+        units: table
+            .units()
+            .into_iter()
+            .map(|(u, display)| Unit {
+                name: u.to_string(),
+                base: base_unit(u),
+                display: display
+                    .into_iter()
+                    .map(|d| DisplayUnitElement {
+                        name: d.name,
+                        factor: d.factor,
+                    })
+                    .collect(),
+            })
+            .collect(),
+    }
+}
+
+/// The modelDescription.xml of `scene` and its variable table, with its GUID.
+pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
     let mut doc = Document {
         fmi_version: "2.0",
         model_name: &scene.name,
@@ -323,16 +438,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
             serialize_state: true,
             directional_derivative: false,
         },
-        units: Units {
-            units: table
-                .units()
-                .into_iter()
-                .map(|u| Unit {
-                    name: u.to_string(),
-                    base: base_unit(u),
-                })
-                .collect(),
-        },
+        units: units(table),
         log_categories: LogCategories {
             categories: LOG_CATEGORIES
                 .iter()
@@ -347,12 +453,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
         variables: ModelVariables {
             variables: table.variables().iter().map(scalar_variable).collect(),
         },
-        structure: ModelStructure {
-            outputs: Unknowns { unknowns: outputs },
-            initial_unknowns: Unknowns {
-                unknowns: initial_unknowns,
-            },
-        },
+        structure: structure(table, false),
     };
     let unsigned = to_xml(&doc);
     let digest = Sha256::digest(unsigned.as_bytes());
@@ -366,6 +467,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
         &h[20..32]
     );
     doc.guid = guid.clone();
+    doc.structure = structure(table, true);
     (to_xml(&doc), guid)
 }
 
@@ -406,6 +508,25 @@ mod tests {
         let mut b = a.clone();
         b.beam.length = 25.0;
         assert_ne!(xml(&b).1, ga);
+    }
+
+    #[test]
+    fn dependencies_do_not_change_the_guid_and_reference_variables() {
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        let sim = FakeDynamics::build(&scene).unwrap();
+        let mut table = VariableTable::new(&scene, sim.outputs());
+        let (plain, guid) = generate(&scene, &table);
+        let n = table.outputs().count();
+        table.set_initial_dependencies(&vec![vec![0, 2]; n]);
+        let (with, guid2) = generate(&scene, &table);
+        assert_eq!(guid, guid2);
+        assert!(!plain.contains("dependencies=\"1 3\""));
+        assert_eq!(with.matches("dependencies=\"1 3\"").count(), n);
+        // Outputs section: no direct dependency
+        let outputs = &with[with.find("<Outputs>").unwrap()..with.find("</Outputs>").unwrap()];
+        assert_eq!(outputs.matches("dependencies=\"\"").count(), n);
+        assert!(with.contains("<DisplayUnit name=\"kN\" factor=\"0.001\"/>"));
+        assert!(with.contains("min=\"5e-324\""));
     }
 
     #[test]

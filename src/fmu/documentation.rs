@@ -4,7 +4,7 @@
 
 use crate::fmi2::model_description::default_stop_time;
 use crate::fmi2::Description;
-use crate::model::Value;
+use crate::model::{Value, Variable, VariableTable};
 use crate::scene::Scene;
 
 fn escape(s: &str) -> String {
@@ -23,21 +23,57 @@ fn show(v: Option<Value>) -> String {
     }
 }
 
-pub fn index_html(scene: &Scene, d: &Description) -> String {
-    let mut rows = String::new();
-    for v in d.table.variables() {
-        rows += &format!(
-            "<tr class=\"{c}\"><td><code>{name}</code></td><td class=\"num\">{vr}</td><td>{c}</td><td>{var}</td><td>{ty}</td><td>{unit}</td><td class=\"num\">{start}</td><td>{desc}</td></tr>\n",
-            name = escape(&v.name),
-            vr = v.value_reference,
-            c = v.causality.as_str(),
-            var = v.variability.as_str(),
-            ty = v.ty.as_str(),
-            unit = escape(v.unit.as_deref().unwrap_or("")),
-            start = show(v.start),
-            desc = escape(&v.description),
-        );
+/// Accepted values: "> 0" for the smallest positive double as minimum.
+fn bounds(v: &Variable) -> String {
+    match (v.min, v.max) {
+        (Some(Value::Real(lo)), None) if lo == f64::from_bits(1) => "&gt; 0".into(),
+        (Some(lo), None) => format!("&ge; {}", show(Some(lo))),
+        (None, Some(hi)) => format!("&le; {}", show(Some(hi))),
+        (Some(lo), Some(hi)) => format!("{} to {}", show(Some(lo)), show(Some(hi))),
+        (None, None) => String::new(),
     }
+}
+
+/// What an output's value when initialization mode is left depends on.
+fn start_dependencies(v: &Variable, table: &VariableTable) -> String {
+    let Some(deps) = &v.initial_dependencies else {
+        return String::new();
+    };
+    if deps.is_empty() {
+        return "nothing".into();
+    }
+    let names: Vec<String> = deps
+        .iter()
+        .filter_map(|vr| table.get(*vr))
+        .map(|d| format!("<code>{}</code>", escape(&d.name)))
+        .collect();
+    names.join(", ")
+}
+
+fn row(v: &Variable, table: &VariableTable) -> String {
+    format!(
+        "<tr class=\"{c}\"><td><code>{name}</code></td><td class=\"num\">{vr}</td><td>{c}</td><td>{var}</td><td>{ty}</td><td>{unit}</td><td>{display}</td><td class=\"num\">{start}</td><td>{bounds}</td><td>{deps}</td><td>{desc}</td></tr>\n",
+        name = escape(&v.name),
+        vr = v.value_reference,
+        c = v.causality.as_str(),
+        var = v.variability.as_str(),
+        ty = v.ty.as_str(),
+        unit = escape(v.unit.as_deref().unwrap_or("")),
+        display = escape(v.display_unit.map_or("", |d| d.name)),
+        start = show(v.start),
+        bounds = bounds(v),
+        deps = start_dependencies(v, table),
+        desc = escape(&v.description),
+    )
+}
+
+pub fn index_html(scene: &Scene, d: &Description) -> String {
+    let rows: String = d
+        .table
+        .variables()
+        .iter()
+        .map(|v| row(v, &d.table))
+        .collect();
     format!(
         r#"<!DOCTYPE html>
 <html lang="en">
@@ -61,8 +97,13 @@ reaches the end of the beam, <code>fmi2DoStep</code> returns
 <p>Start 0 s, stop {stop} s, step {step} s (the internal solver step is
 <code>solver.step</code>; any communication step size is accepted).</p>
 <h2>Variables</h2>
+<p>Outputs are the state at a communication point: an input set there acts
+over the next step and changes no output before it (<code>dependencies=""</code>).
+Before initialization mode is left, the outputs follow the parameters and
+inputs set so far; the last but one column says which (measured by moving
+each one alone).</p>
 <table>
-<tr><th>name</th><th>value reference</th><th>causality</th><th>variability</th><th>type</th><th>unit</th><th>start</th><th>description</th></tr>
+<tr><th>name</th><th>value reference</th><th>causality</th><th>variability</th><th>type</th><th>unit</th><th>display unit</th><th>start</th><th>accepted</th><th>value at start depends on</th><th>description</th></tr>
 {rows}</table>
 </body>
 </html>

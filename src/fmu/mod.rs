@@ -15,6 +15,7 @@
 pub mod cross_check;
 mod documentation;
 pub mod release;
+pub mod ssp;
 
 use crate::fmi2::instance::SCENE_FILE;
 use crate::fmi2::{describe, Physics};

@@ -13,11 +13,13 @@ pub mod fake;
 mod restore;
 pub mod snapshot;
 mod step;
+mod structure;
 pub mod variables;
 
 pub use dynamics::Dynamics;
+pub use structure::initial_dependencies;
 pub use variables::{
-    Causality, Role, Setting, Value, VarType, Variability, Variable, VariableTable,
+    Causality, DisplayUnit, Role, Setting, Value, VarType, Variability, Variable, VariableTable,
 };
 
 use crate::report::non_finite_output;
@@ -172,7 +174,10 @@ impl<D: Dynamics> Model<D> {
         validate(&scene).map_err(ModelError)?;
         let sim =
             D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
-        let table = VariableTable::new(&scene, sim.outputs());
+        let mut table = VariableTable::new(&scene, sim.outputs());
+        let mut start_values = vec![0.0; sim.outputs().len()];
+        sim.output_values(&mut start_values);
+        table.set_output_nominals(&start_values);
         Ok(Model {
             table,
             start_scene: scene.clone(),
@@ -262,8 +267,13 @@ impl<D: Dynamics> Model<D> {
     fn ensure_sim(&mut self) -> Result<&mut D, ModelError> {
         if self.sim.is_none() {
             validate(&self.scene).map_err(ModelError)?;
-            let mut sim = D::build(&self.scene)
-                .map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
+            // Built with the inputs as the scene's forces, so that the
+            // state at t = 0 (the contact force) balances them.
+            let mut scene = self.scene.clone();
+            scene.body.force_x = self.inputs[Input::ForceX as usize];
+            scene.body.force_y = self.inputs[Input::ForceY as usize];
+            let mut sim =
+                D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
             sim.set_body_force(self.inputs[0], self.inputs[1]);
             self.sim = Some(sim);
         }
@@ -361,10 +371,13 @@ impl<D: Dynamics> Model<D> {
                 },
             }
         }
+        let inputs_changed = inputs != self.inputs;
         self.scene = scene;
         self.inputs = inputs;
         self.wall_time_budget = budget;
-        if params_changed {
+        // Before initialization is left the state at t = 0 follows the
+        // parameters and the inputs: rebuild it on demand.
+        if params_changed || (inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
             sim.set_body_force(inputs[0], inputs[1]);

@@ -249,6 +249,30 @@ fn a_start_time_offsets_communication_times_only() {
     assert!((b.time() - 10.1).abs() < 1e-12);
 }
 
+/// The real physics: the contact force at t = 0 is what the inputs set in
+/// initialization mode make it, not the exported scene's.
+#[test]
+fn start_outputs_follow_inputs_set_before_initialization() {
+    use crate::Simulation;
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    let vr = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().value_reference;
+    let (fy, normal) = (vr(&m, "wheel.force_y"), vr(&m, "contact.normal_force"));
+    let read = |m: &mut Model<Simulation>| match m.get(VarType::Real, &[normal]).unwrap()[0] {
+        Value::Real(x) => x,
+        v => panic!("{v:?}"),
+    };
+    assert_eq!(read(&mut m), 600e3);
+    m.set(&[fy], &[Value::Real(-250e3)]).unwrap();
+    assert_eq!(read(&mut m), 250e3);
+    m.initialize().unwrap();
+    assert_eq!(read(&mut m), 250e3);
+    // After initialization an input acts over the next step, not on the
+    // outputs at this communication point (dependencies="" in Outputs).
+    m.set(&[fy], &[Value::Real(-100e3)]).unwrap();
+    assert_eq!(read(&mut m), 250e3);
+}
+
 // ---- issue 13: bounded runs, failures a retry cannot cure ------------------------
 
 #[test]

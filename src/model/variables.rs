@@ -1,5 +1,6 @@
 //! The variable table: every exported variable of a scene, with its value
-//! reference, causality, variability, type, unit and start value.
+//! reference, causality, variability, type, unit, start value, bounds,
+//! display unit, nominal magnitude and dependencies.
 //!
 //! One table feeds modelDescription.xml, the getters and setters and the
 //! FMU's documentation page, so they cannot disagree.
@@ -108,6 +109,13 @@ pub enum Value {
     Boolean(bool),
 }
 
+/// A unit engineers read a quantity in: shown = factor × value in `unit`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DisplayUnit {
+    pub name: &'static str,
+    pub factor: f64,
+}
+
 #[derive(Debug, Clone, PartialEq)]
 pub struct Variable {
     pub name: String,
@@ -121,6 +129,19 @@ pub struct Variable {
     /// Start value (parameters and inputs); outputs are calculated.
     pub start: Option<Value>,
     pub role: Role,
+    /// How to show it, when not in `unit`.
+    pub display_unit: Option<DisplayUnit>,
+    /// Inclusive bounds of the values accepted (parameters).
+    pub min: Option<Value>,
+    pub max: Option<Value>,
+    /// Typical magnitude (a power of ten), where it is far from 1.
+    pub nominal: Option<f64>,
+    /// Outputs: the variables (value references) the output depends on
+    /// directly at a communication point; `None`: undeclared (all inputs).
+    pub dependencies: Option<Vec<u32>>,
+    /// Outputs: the parameters and inputs its value when initialization
+    /// mode is left depends on; `None`: undeclared (all of them).
+    pub initial_dependencies: Option<Vec<u32>>,
 }
 
 /// All variables of one scene, ordered by value reference (= index).
@@ -237,6 +258,14 @@ impl VariableTable {
                 description: o.description.clone(),
                 start: None,
                 role: Role::Output(i),
+                display_unit: display_unit(&o.name, o.unit),
+                min: None,
+                max: None,
+                nominal: None,
+                // A co-simulation output is the state at the communication
+                // point: an input set there acts over the next step only.
+                dependencies: Some(Vec::new()),
+                initial_dependencies: None,
             });
         }
 
@@ -254,6 +283,13 @@ impl VariableTable {
                 .into(),
             start: Some(Value::Real(crate::model::DEFAULT_WALL_TIME_BUDGET)),
             role: Role::Setting(Setting::WallTimeBudget),
+            display_unit: None,
+            // "> 0", as Model::set checks it
+            min: Some(Value::Real(f64::from_bits(1))),
+            max: None,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
         });
 
         let mut table = VariableTable { variables: b.vars };
@@ -264,8 +300,31 @@ impl VariableTable {
             if let Role::Input(i) = v.role {
                 v.start = Some(Value::Real(input_start(scene, i)));
             }
+            if let Some(Value::Real(x)) = v.start {
+                v.nominal = nominal(x);
+            }
         }
         table
+    }
+
+    /// Declare the nominal magnitudes of the outputs from their values at
+    /// the start (`values[k]` of output `k`).
+    pub fn set_output_nominals(&mut self, values: &[f64]) {
+        for v in &mut self.variables {
+            if let (Role::Output(k), VarType::Real) = (v.role, v.ty) {
+                v.nominal = values.get(k).copied().and_then(nominal);
+            }
+        }
+    }
+
+    /// Declare what each output depends on when initialization mode is
+    /// left: `deps[k]` for output `k`, as value references.
+    pub fn set_initial_dependencies(&mut self, deps: &[Vec<u32>]) {
+        for v in &mut self.variables {
+            if let Role::Output(k) = v.role {
+                v.initial_dependencies = deps.get(k).cloned();
+            }
+        }
     }
 
     pub fn variables(&self) -> &[Variable] {
@@ -286,12 +345,23 @@ impl VariableTable {
             .filter(|v| v.causality == Causality::Output)
     }
 
-    /// Distinct units used by the variables, in order of first use.
-    pub fn units(&self) -> Vec<&str> {
-        let mut units: Vec<&str> = Vec::new();
-        for u in self.variables.iter().filter_map(|v| v.unit.as_deref()) {
-            if !units.contains(&u) {
-                units.push(u);
+    /// Distinct units used by the variables, in order of first use, each
+    /// with the display units its variables use.
+    pub fn units(&self) -> Vec<(&str, Vec<DisplayUnit>)> {
+        let mut units: Vec<(&str, Vec<DisplayUnit>)> = Vec::new();
+        for v in &self.variables {
+            let Some(u) = v.unit.as_deref() else { continue };
+            let k = match units.iter().position(|(name, _)| *name == u) {
+                Some(k) => k,
+                None => {
+                    units.push((u, Vec::new()));
+                    units.len() - 1
+                }
+            };
+            if let Some(d) = v.display_unit {
+                if !units[k].1.iter().any(|e| e.name == d.name) {
+                    units[k].1.push(d);
+                }
             }
         }
         units
@@ -302,6 +372,90 @@ fn unit(u: &str) -> Option<String> {
     match u.trim() {
         "" | "1" | "-" => None,
         u => Some(u.to_string()),
+    }
+}
+
+/// The unit engineers read a quantity in, where it is not the SI unit:
+/// loads in kN, travel speeds in km/h, deflections in mm.
+fn display_unit(name: &str, unit: &str) -> Option<DisplayUnit> {
+    let travel_speed = name.ends_with("speed") || name.ends_with(".vx");
+    let (name, factor) = match unit {
+        "N" => ("kN", 1e-3),
+        "m/s" if travel_speed && !name.starts_with("solver.") => ("km/h", 3.6),
+        "m" if name.ends_with(".deflection") => ("mm", 1e3),
+        _ => return None,
+    };
+    Some(DisplayUnit { name, factor })
+}
+
+/// The power of ten of `x`, if it is at least three orders of magnitude
+/// from 1 (where a solver or a plot would need to know the scale).
+fn nominal(x: f64) -> Option<f64> {
+    let m = x.abs();
+    if !m.is_finite() || m == 0.0 || (1e-3..1e3).contains(&m) {
+        return None;
+    }
+    let p = 10f64.powi(m.log10().floor() as i32);
+    (p.is_finite() && p > 0.0).then_some(p)
+}
+
+/// The rule a parameter's value must satisfy; also its declared bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Rule {
+    /// Real, > 0.
+    Positive,
+    /// Real, >= 0.
+    NonNegative,
+    /// Real, any finite value.
+    Finite,
+    /// Integer in the inclusive range.
+    Count(i32, i32),
+}
+
+fn rule(p: Param) -> Rule {
+    use Param::*;
+    match p {
+        BeamElements => Rule::Count(1, MAX_ELEMENTS),
+        BeamSurfaceOffset | BodyInitialPosition | SensorPosition(_) => Rule::NonNegative,
+        BodyInitialSpeed => Rule::Finite,
+        BeamLength
+        | BeamMassPerLength
+        | BeamBendingStiffness
+        | BodyMass
+        | BodyInertia
+        | BodyRadius
+        | SolverStep
+        | SolverVelocityTolerance
+        | SolverGapTolerance => Rule::Positive,
+    }
+}
+
+impl Rule {
+    /// Inclusive (min, max) in FMI terms. "> 0" becomes min = the smallest
+    /// positive double: every value from it on passes the rule.
+    fn bounds(self) -> (Option<Value>, Option<Value>) {
+        match self {
+            Rule::Positive => (Some(Value::Real(f64::from_bits(1))), None),
+            Rule::NonNegative => (Some(Value::Real(0.0)), None),
+            Rule::Finite => (None, None),
+            Rule::Count(lo, hi) => (Some(Value::Integer(lo)), Some(Value::Integer(hi))),
+        }
+    }
+
+    /// `value` if it passes, else the rule in words.
+    fn check(self, value: Value) -> Result<Value, String> {
+        match (self, value) {
+            (Rule::Count(lo, hi), Value::Integer(n)) if (lo..=hi).contains(&n) => Ok(value),
+            (Rule::Count(lo, hi), Value::Integer(_)) => {
+                Err(format!("must be an integer in {lo}..={hi}"))
+            }
+            (Rule::Count(..), _) => Err("must be an Integer".into()),
+            (_, Value::Real(x)) if !x.is_finite() => Err("must be finite".into()),
+            (Rule::Positive, Value::Real(x)) if x <= 0.0 => Err("must be > 0".into()),
+            (Rule::NonNegative, Value::Real(x)) if x < 0.0 => Err("must be >= 0".into()),
+            (_, Value::Real(_)) => Ok(value),
+            _ => Err("must be a Real".into()),
+        }
     }
 }
 
@@ -321,6 +475,7 @@ impl Builder {
         } else {
             VarType::Real
         };
+        let (min, max) = rule(p).bounds();
         self.push(Variable {
             name: name.to_string(),
             value_reference: 0,
@@ -331,6 +486,12 @@ impl Builder {
             description: description.to_string(),
             start: None,
             role: Role::Parameter(p),
+            display_unit: display_unit(name, u),
+            min,
+            max,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
         });
     }
     fn input(&mut self, name: &str, i: Input, description: &str) {
@@ -344,6 +505,12 @@ impl Builder {
             description: description.to_string(),
             start: None,
             role: Role::Input(i),
+            display_unit: display_unit(name, "N"),
+            min: None,
+            max: None,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
         });
     }
 }
@@ -374,52 +541,30 @@ pub fn param_value(scene: &Scene, p: Param) -> Value {
 /// `scene`. On error the scene is unchanged and the message states the rule.
 pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String> {
     use Param::*;
-    if let BeamElements = p {
-        let Value::Integer(n) = value else {
-            return Err("must be an Integer".into());
-        };
-        if !(1..=MAX_ELEMENTS).contains(&n) {
-            return Err(format!("must be an integer in 1..={MAX_ELEMENTS}"));
+    let x = match rule(p).check(value)? {
+        Value::Integer(n) => {
+            // Only `beam.elements` is an Integer, and its rule keeps n >= 1.
+            scene.beam.elements = n as usize;
+            return Ok(());
         }
-        scene.beam.elements = n as usize;
-        return Ok(());
-    }
-    let Value::Real(x) = value else {
-        return Err("must be a Real".into());
-    };
-    if !x.is_finite() {
-        return Err("must be finite".into());
-    }
-    let positive = |x: f64| {
-        if x > 0.0 {
-            Ok(x)
-        } else {
-            Err("must be > 0".to_string())
-        }
+        Value::Real(x) => x,
+        Value::Boolean(_) => return Err("must be a Real".into()),
     };
     match p {
-        BeamLength => scene.beam.length = positive(x)?,
-        BeamMassPerLength => scene.beam.mass_per_length = positive(x)?,
-        BeamBendingStiffness => scene.beam.bending_stiffness = positive(x)?,
-        BeamSurfaceOffset if x < 0.0 => return Err("must be >= 0".into()),
+        BeamLength => scene.beam.length = x,
+        BeamMassPerLength => scene.beam.mass_per_length = x,
+        BeamBendingStiffness => scene.beam.bending_stiffness = x,
         BeamSurfaceOffset => scene.beam.surface_offset = x,
-        BodyMass => scene.body.mass = positive(x)?,
-        BodyInertia => scene.body.inertia = Some(positive(x)?),
-        BodyRadius => scene.body.radius = Some(positive(x)?),
-        BodyInitialPosition if x < 0.0 => return Err("must be >= 0 (on the beam)".into()),
+        BodyMass => scene.body.mass = x,
+        BodyInertia => scene.body.inertia = Some(x),
+        BodyRadius => scene.body.radius = Some(x),
         BodyInitialPosition => scene.body.initial_position = x,
         BodyInitialSpeed => scene.body.initial_speed = x,
-        SensorPosition(i) if x < 0.0 => {
-            return Err(format!(
-                "must be >= 0 (sensor {} on the beam)",
-                scene.sensors[i].name
-            ))
-        }
         SensorPosition(i) => scene.sensors[i].position = x,
-        SolverStep => scene.solver.step = positive(x)?,
-        SolverVelocityTolerance => scene.solver.velocity_tolerance = positive(x)?,
-        SolverGapTolerance => scene.solver.gap_tolerance = positive(x)?,
-        BeamElements => unreachable!("handled above"),
+        SolverStep => scene.solver.step = x,
+        SolverVelocityTolerance => scene.solver.velocity_tolerance = x,
+        SolverGapTolerance => scene.solver.gap_tolerance = x,
+        BeamElements => return Err("must be an Integer".into()),
     }
     Ok(())
 }
@@ -489,6 +634,70 @@ mod tests {
             t.by_name("sensor.midspan.position").unwrap().start,
             Some(Value::Real(12.0))
         );
+    }
+
+    /// The declared bounds are the rule: the bound itself is accepted, the
+    /// next value beyond it refused.
+    #[test]
+    fn declared_bounds_are_the_rules_of_set_param() {
+        let t = table(BodyKind::Wheel);
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        for v in t.variables() {
+            let Role::Parameter(p) = v.role else { continue };
+            let ok = |x: Value| set_param(&mut scene.clone(), p, x).is_ok();
+            match (v.min, v.max) {
+                (Some(Value::Real(lo)), None) => {
+                    assert!(ok(Value::Real(lo)), "{}", v.name);
+                    assert!(!ok(Value::Real(lo.next_down())), "{}", v.name);
+                }
+                (Some(Value::Integer(lo)), Some(Value::Integer(hi))) => {
+                    assert!(ok(Value::Integer(lo)) && ok(Value::Integer(hi)));
+                    assert!(!ok(Value::Integer(lo - 1)) && !ok(Value::Integer(hi + 1)));
+                }
+                (None, None) => assert!(ok(Value::Real(-1e300)) && ok(Value::Real(1e300))),
+                bounds => panic!("{}: unexpected bounds {bounds:?}", v.name),
+            }
+        }
+        assert_eq!(
+            t.by_name("wheel.mass").unwrap().min,
+            Some(Value::Real(f64::from_bits(1)))
+        );
+        assert_eq!(
+            t.by_name("beam.surface_offset").unwrap().min,
+            Some(Value::Real(0.0))
+        );
+    }
+
+    #[test]
+    fn display_units_and_nominals() {
+        let t = table(BodyKind::Wheel);
+        let shown = |n: &str| {
+            t.by_name(n)
+                .unwrap()
+                .display_unit
+                .map(|d| (d.name, d.factor))
+        };
+        assert_eq!(shown("wheel.force_y"), Some(("kN", 1e-3)));
+        assert_eq!(shown("wheel.initial_speed"), Some(("km/h", 3.6)));
+        assert_eq!(shown("sensor.midspan.deflection"), Some(("mm", 1e3)));
+        assert_eq!(shown("solver.velocity_tolerance"), None);
+        assert_eq!(shown("beam.length"), None);
+        let nominal = |n: &str| t.by_name(n).unwrap().nominal;
+        assert_eq!(nominal("beam.bending_stiffness"), Some(1e9));
+        assert_eq!(nominal("wheel.force_y"), Some(1e5));
+        assert_eq!(nominal("solver.velocity_tolerance"), Some(1e-7));
+        assert_eq!(nominal("beam.length"), None);
+        let units = t.units();
+        let n = units.iter().find(|(u, _)| *u == "N").unwrap();
+        assert_eq!(n.1.len(), 1);
+    }
+
+    #[test]
+    fn outputs_declare_no_direct_dependency() {
+        let t = table(BodyKind::Wheel);
+        for v in t.outputs() {
+            assert_eq!(v.dependencies.as_deref(), Some(&[][..]), "{}", v.name);
+        }
     }
 
     #[test]

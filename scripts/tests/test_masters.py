@@ -1,0 +1,92 @@
+"""The default FMU run alone in three independent masters: fmpy, libcosim
+(libcosimpy) and Ecos (ecospy). Each steps it with the same communication
+step; their results must agree to 1e-9 at every communication point.
+
+Until the run-off track lands, the run stops before the body reaches the end
+of the beam (exit at 2.27 s), where the FMU ends the simulation.
+"""
+
+import numpy as np
+import pytest
+from fmpy import read_model_description, simulate_fmu
+
+from conftest import WHEEL, fmu_path
+
+H = 0.01
+STEPS = 220  # 2.2 s, before the exit
+
+
+def real_outputs(md):
+    return [v for v in md.modelVariables if v.causality == "output" and v.type == "Real"]
+
+
+def run_fmpy(fmu, names):
+    result = simulate_fmu(fmu, output_interval=H, stop_time=STEPS * H, output=names)
+    assert len(result) == STEPS + 1
+    np.testing.assert_allclose(result["time"][-1], STEPS * H, rtol=1e-12)
+    return np.array([[row[n] for n in names] for row in result[1:]])
+
+
+def run_libcosim(fmu, vrs):
+    from libcosimpy.CosimExecution import CosimExecution
+    from libcosimpy.CosimObserver import CosimObserver
+    from libcosimpy.CosimSlave import CosimLocalSlave
+
+    execution = CosimExecution.from_step_size(round(H * 1e9))
+    observer = CosimObserver.create_last_value()
+    execution.add_observer(observer)
+    index = execution.add_local_slave(CosimLocalSlave(fmu_path=fmu, instance_name="guideway"))
+    rows = []
+    for k in range(STEPS):
+        assert execution.step(), f"libcosim step {k} failed"
+        rows.append(observer.last_real_values(index, vrs))
+    return np.array(rows)
+
+
+def run_ecos(fmu, names):
+    from ecospy import EcosSimulation
+    from ecospy.EcosSimulationStructure import EcosSimulationStructure
+
+    structure = EcosSimulationStructure()
+    structure.add_model("guideway", fmu)
+    rows = []
+    with EcosSimulation(structure=structure, step_size=H) as sim:
+        assert sim.init(), "Ecos could not initialize the FMU"
+        for _ in range(STEPS):
+            sim.step()
+            rows.append([sim.get_real(f"guideway::{n}") for n in names])
+        np.testing.assert_allclose(sim.get_time(), STEPS * H, rtol=1e-12)
+        sim.terminate()
+    return np.array(rows)
+
+
+@pytest.fixture(scope="module")
+def results():
+    fmu = str(fmu_path(WHEEL))
+    outputs = real_outputs(read_model_description(fmu))
+    names = [v.name for v in outputs]
+    return names, {
+        "fmpy": run_fmpy(fmu, names),
+        "libcosim": run_libcosim(fmu, [v.valueReference for v in outputs]),
+        "ecos": run_ecos(fmu, names),
+    }
+
+
+@pytest.mark.parametrize("master", ["fmpy", "libcosim", "ecos"])
+def test_each_master_runs_the_default_fmu_to_just_before_the_exit(results, master):
+    names, runs = results
+    r = runs[master]
+    assert r.shape == (STEPS, len(names)) and np.all(np.isfinite(r))
+    x = r[:, names.index("wheel.x")]
+    assert np.all(np.diff(x) > 0), "the wheel moves forward every step"
+    assert 21.0 < x[-1] < 24.0, x[-1]
+
+
+@pytest.mark.parametrize("master", ["libcosim", "ecos"])
+def test_masters_agree_with_fmpy_to_1e_9(results, master):
+    names, runs = results
+    reference, other = runs["fmpy"], runs[master]
+    for j, name in enumerate(names):
+        scale = max(np.max(np.abs(reference[:, j])), 1e-300)
+        np.testing.assert_allclose(other[:, j], reference[:, j], rtol=1e-9, atol=1e-9 * scale,
+                                   err_msg=f"{master}: {name}")

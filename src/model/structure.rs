@@ -1,0 +1,174 @@
+//! What each output's value at the end of initialization depends on, found
+//! by running the model: every parameter and input is moved off its start
+//! value, alone, and the outputs that change depend on it.
+//!
+//! Measured rather than declared by hand, so that it follows the model as
+//! its variables change. A move that the model refuses (a rule, a stability
+//! limit) is tried the other way; a variable that cannot be moved at all is
+//! declared a dependency of every output, which is always true to say.
+
+use super::{Dynamics, Model, Role, Value, VarType, VariableTable};
+use crate::scene::Scene;
+
+/// For output `k` of the model of `scene`, the value references of the
+/// parameters and inputs its start value depends on (`result[k]`).
+pub fn initial_dependencies<D: Dynamics>(scene: &Scene) -> Result<Vec<Vec<u32>>, String> {
+    let mut base = Model::<D>::new(scene.clone()).map_err(|e| e.0)?;
+    let reference = outputs_at_start(&mut base)?;
+    let table = base.table().clone();
+    let mut deps = vec![Vec::new(); reference.len()];
+    for v in table.variables() {
+        if !matches!(
+            v.role,
+            Role::Parameter(_) | Role::Setting(_) | Role::Input(_)
+        ) {
+            continue;
+        }
+        let Some(start) = v.start else { continue };
+        let changed = moved_outputs(&base, v.value_reference, start, &reference);
+        for (k, d) in deps.iter_mut().enumerate() {
+            if changed.as_ref().is_none_or(|c| c[k]) {
+                d.push(v.value_reference);
+            }
+        }
+    }
+    Ok(deps)
+}
+
+/// Output values of a model before initialization is left.
+fn outputs_at_start<D: Dynamics>(model: &mut Model<D>) -> Result<Vec<Value>, String> {
+    let vrs = output_refs(model.table());
+    let mut values = Vec::with_capacity(vrs.len());
+    for (vr, ty) in vrs {
+        values.push(model.get(ty, &[vr]).map_err(|e| e.0)?[0]);
+    }
+    Ok(values)
+}
+
+fn output_refs(table: &VariableTable) -> Vec<(u32, VarType)> {
+    let mut refs: Vec<(usize, u32, VarType)> = table
+        .variables()
+        .iter()
+        .filter_map(|v| match v.role {
+            Role::Output(k) => Some((k, v.value_reference, v.ty)),
+            _ => None,
+        })
+        .collect();
+    refs.sort_by_key(|r| r.0);
+    refs.into_iter().map(|(_, vr, ty)| (vr, ty)).collect()
+}
+
+/// Which outputs change when variable `vr` moves off `start`; `None` if the
+/// model accepts no move of it.
+fn moved_outputs<D: Dynamics>(
+    base: &Model<D>,
+    vr: u32,
+    start: Value,
+    reference: &[Value],
+) -> Option<Vec<bool>> {
+    for value in moves(start) {
+        let mut model = Model::<D>::new(base.scene().clone()).ok()?;
+        if model.set(&[vr], &[value]).is_err() {
+            continue;
+        }
+        if let Ok(values) = outputs_at_start(&mut model) {
+            return Some(values.iter().zip(reference).map(|(a, b)| a != b).collect());
+        }
+    }
+    None
+}
+
+/// Values off `start`, up then down: by 10 % and a little more, so that a
+/// zero start moves too.
+fn moves(start: Value) -> Vec<Value> {
+    match start {
+        Value::Real(x) => vec![
+            Value::Real(x * 1.1 + 1e-3),
+            Value::Real(x * 0.9 - 1e-3),
+            Value::Real(x * 0.9),
+        ],
+        Value::Integer(n) => vec![
+            Value::Integer(n.saturating_add(1)),
+            Value::Integer(n.saturating_sub(1)),
+        ],
+        Value::Boolean(b) => vec![Value::Boolean(!b)],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::BodyKind;
+    use crate::Simulation;
+
+    fn scene() -> Scene {
+        Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025)
+    }
+
+    fn named(table: &VariableTable, deps: &[Vec<u32>], output: &str) -> Vec<String> {
+        let Role::Output(k) = table.by_name(output).unwrap().role else {
+            panic!("{output} is not an output")
+        };
+        let name = |vr: &u32| table.get(*vr).unwrap().name.clone();
+        deps[k].iter().map(name).collect()
+    }
+
+    #[test]
+    fn start_outputs_depend_on_what_sets_them() {
+        let deps = initial_dependencies::<Simulation>(&scene()).unwrap();
+        let m = Model::<Simulation>::new(scene()).unwrap();
+        let t = m.table();
+        assert_eq!(named(t, &deps, "contact.normal_force"), ["wheel.force_y"]);
+        assert_eq!(named(t, &deps, "wheel.x"), ["wheel.initial_position"]);
+        assert_eq!(
+            named(t, &deps, "wheel.y"),
+            ["beam.surface_offset", "wheel.radius"]
+        );
+        assert_eq!(named(t, &deps, "wheel.vx"), ["wheel.initial_speed"]);
+        assert!(named(t, &deps, "sensor.midspan.deflection").is_empty());
+    }
+
+    /// What was not declared does not matter, checked with moves of another
+    /// size than the analysis uses (halving, doubling).
+    #[test]
+    fn undeclared_dependencies_do_not_change_start_outputs() {
+        let deps = initial_dependencies::<Simulation>(&scene()).unwrap();
+        let mut base = Model::<Simulation>::new(scene()).unwrap();
+        let reference = outputs_at_start(&mut base).unwrap();
+        let known: Vec<_> = base
+            .table()
+            .variables()
+            .iter()
+            .filter(|v| {
+                matches!(
+                    v.role,
+                    Role::Parameter(_) | Role::Setting(_) | Role::Input(_)
+                )
+            })
+            .cloned()
+            .collect();
+        let mut checked = 0;
+        for v in known {
+            let value = match v.start.unwrap() {
+                Value::Real(0.0) => Value::Real(0.5),
+                Value::Real(x) => Value::Real(x * 0.5),
+                Value::Integer(n) => Value::Integer(n * 2),
+                b => b,
+            };
+            let mut m = Model::<Simulation>::new(scene()).unwrap();
+            if m.set(&[v.value_reference], &[value]).is_err() {
+                continue;
+            }
+            let Ok(values) = outputs_at_start(&mut m) else {
+                continue;
+            };
+            for (k, (a, b)) in values.iter().zip(&reference).enumerate() {
+                if !deps[k].contains(&v.value_reference) {
+                    assert_eq!(a, b, "output {k} moved with {}", v.name);
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100, "only {checked} pairs checked");
+    }
+}
