@@ -14,7 +14,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 GLIBC=2.17
-TARGET_DIR="$PWD/target/portable"
+# Beside the native build, in $CARGO_TARGET_DIR when it is set.
+native_dir=${CARGO_TARGET_DIR:-target}
+case "$native_dir" in /*) ;; *) native_dir="$PWD/$native_dir" ;; esac
+TARGET_DIR="$native_dir/portable"
 bash scripts/setup.sh >&2
 ROOT=$PWD
 # Its own target directory: the native build keeps its build scripts.
