@@ -275,7 +275,8 @@ print(json.dumps({"status": status, "said": said}))
     ({"wheel.initial_speed": -1e6}, "diverged"),
     # refused when initialization is left, by the scene's magnitude rule
     ({"solver.velocity_tolerance": 5e-324}, "magnitude limit"),
-    ({"wheel.force_y": 1e308}, "non-finite"),
+    # an input beyond the scene's magnitude rule is refused when set
+    ({"wheel.force_y": 1e308}, "magnitude limit"),
 ])
 def test_a_step_no_retry_can_cure_ends_fmpy_with_an_error_naming_the_cause(start, cause):
     """Issue 13, defect 2 (and issue 12's acceptance): these made fmpy retry

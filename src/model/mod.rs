@@ -23,7 +23,7 @@ pub use variables::{
 };
 
 use crate::report::non_finite_output;
-use crate::scene::Scene;
+use crate::scene::{Scene, MAX_MAGNITUDE};
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, Input};
 
@@ -365,9 +365,14 @@ impl<D: Dynamics> Model<D> {
                     Value::Real(x) if x.is_finite() && x > 0.0 => budget = x,
                     _ => return refuse("must be a finite number of seconds > 0"),
                 },
+                // The scene's rule for the same forces (body.force_x/_y).
                 Role::Input(i) => match value {
-                    Value::Real(x) if x.is_finite() => inputs[i as usize] = x,
-                    _ => return refuse("must be finite"),
+                    Value::Real(x) if x.abs() <= MAX_MAGNITUDE => inputs[i as usize] = x,
+                    _ => {
+                        return refuse(&format!(
+                            "must be finite and within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
+                        ))
+                    }
                 },
             }
         }

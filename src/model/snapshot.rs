@@ -114,7 +114,7 @@ mod tests {
             .unwrap_err()
             .contains("magic"));
         let mut v2 = bytes.clone();
-        v2[8] = 2;
+        v2[8..12].copy_from_slice(&(FORMAT_VERSION + 1).to_le_bytes());
         assert!(decode::<f64>("g1", &v2).unwrap_err().contains("version"));
         let mut bad = bytes.clone();
         *bad.last_mut().unwrap() ^= 1;
