@@ -5,8 +5,9 @@
 # Debian packages that scripts/setup.sh installs removed first.
 #
 # Usage: bash scripts/fresh_check.sh [--purge] [--fresh-cargo-home] [--keep]
-#   --purge             apt-get purge libclang-dev and what it brought (root only),
-#                       leaving what a fresh machine of our kind has (libclang-cpp14)
+#   --purge             apt-get purge libclang-dev, libtbb12 and what they brought
+#                       (root only), leaving what a fresh machine of our kind has
+#                       (libclang-cpp14)
 #   --fresh-cargo-home  an empty CARGO_HOME: every crate is downloaded again
 #   --keep              keep the temporary directory (its path is printed)
 # Uncommitted changes are not checked: the clone is of HEAD.
@@ -24,7 +25,8 @@ for arg in "$@"; do
 done
 
 # Packages scripts/setup.sh may install, beyond a fresh machine's set.
-setup_packages=(libclang-dev libclang-14-dev libclang1-14 libclang-common-14-dev libclang-rt-14-dev)
+setup_packages=(libclang-dev libclang-14-dev libclang1-14 libclang-common-14-dev libclang-rt-14-dev
+    libtbb12 libtbbbind-2-5 libtbbmalloc2)
 if [ "$purge" = 1 ]; then
     if [ "$(id -u)" != 0 ]; then
         echo "fresh_check: --purge needs root" >&2
