@@ -189,13 +189,32 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         s.initial_position += dx;
         let (_, _, mut state) = single_body(&s, beam);
         state.position.y += dy;
-        (RigidBody { name, mass, inertia }, state)
+        (
+            RigidBody {
+                name,
+                mass,
+                inertia,
+            },
+            state,
+        )
     };
     let [bogie_height, car_height] = BOGIE_HEIGHTS;
-    let mut parts = vec![at(0.0, car_height, spec.mass, b.car_inertia, spec.name.clone())];
+    let mut parts = vec![at(
+        0.0,
+        car_height,
+        spec.mass,
+        b.car_inertia,
+        spec.name.clone(),
+    )];
     for (i, side) in [1.0, -1.0].into_iter().enumerate() {
         let name = format!("{}_bogie{}", spec.name, i + 1);
-        parts.push(at(side * lc, bogie_height, b.bogie_mass, b.bogie_inertia, name));
+        parts.push(at(
+            side * lc,
+            bogie_height,
+            b.bogie_mass,
+            b.bogie_inertia,
+            name,
+        ));
     }
     let mut contacts = Vec::new();
     for (i, (bogie, axle)) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
@@ -203,7 +222,13 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         .enumerate()
     {
         let name = format!("{}_wheelset{}", spec.name, i + 1);
-        parts.push(at(bogie * lc + axle * lt, 0.0, b.wheelset_mass, 0.0, name.clone()));
+        parts.push(at(
+            bogie * lc + axle * lt,
+            0.0,
+            b.wheelset_mass,
+            0.0,
+            name.clone(),
+        ));
         contacts.push(Contact {
             name,
             body: 3 + i,
@@ -220,12 +245,30 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         let side = if w % 2 == 0 { lt } else { -lt };
         let name = format!("{}.primary{}", spec.name, w + 1);
         let (k, c) = (b.primary_stiffness, b.primary_damping);
-        suspension(&name, (bogie, side), 3 + w, k, c, primary_load, &states, &mut force_elements);
+        suspension(
+            &name,
+            (bogie, side),
+            3 + w,
+            k,
+            c,
+            primary_load,
+            &states,
+            &mut force_elements,
+        );
     }
     for (i, side) in [lc, -lc].into_iter().enumerate() {
         let name = format!("{}.secondary{}", spec.name, i + 1);
         let (k, c) = (b.secondary_stiffness, b.secondary_damping);
-        suspension(&name, (0, side), 1 + i, k, c, secondary_load, &states, &mut force_elements);
+        suspension(
+            &name,
+            (0, side),
+            1 + i,
+            k,
+            c,
+            secondary_load,
+            &states,
+            &mut force_elements,
+        );
     }
     Vehicle {
         bodies,

@@ -351,7 +351,9 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
         (BodyKind::BogieVehicle, None) => checks.fail(
             &format!("{prefix}.bogie"),
             "missing",
-            format!("a bogie_vehicle needs [{prefix}.bogie] with its masses, distances and suspensions"),
+            format!(
+                "a bogie_vehicle needs [{prefix}.bogie] with its masses, distances and suspensions"
+            ),
         ),
         (_, Some(_)) => checks.fail(
             &format!("{prefix}.bogie"),
