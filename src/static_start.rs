@@ -65,6 +65,7 @@ pub fn static_start(
     }
     locate(system, &u, bodies, &mut frames)?;
     settle_on_surface(system, bodies, &frames);
+    follow_surface(system, bodies, &frames);
     reset_rests(system, bodies);
     loads(
         system,
@@ -101,6 +102,15 @@ fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[Contac
         let body = &mut bodies[contact.body];
         let gap = frame.gap(&system.beam, contact.radius(), &body.position);
         body.position.y -= gap / frame.normal().y;
+    }
+}
+
+/// A moving contact body starts along the deflected surface (its normal
+/// velocity error zero), not across it: a jump would need an impulse.
+fn follow_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
+    for (contact, frame) in system.contacts.iter().zip(frames) {
+        let body = &mut bodies[contact.body];
+        body.velocity.y = body.velocity.x * frame.sin / frame.cos;
     }
 }
 
