@@ -266,6 +266,7 @@ fn check_body(
     }
     check_suspension(checks, prefix, body);
     check_bogie(checks, prefix, body);
+    check_wheelsets_on_track(checks, prefix, body, scene);
     if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
         let x = body.initial_position;
         let (approach, end) = (scene.track.approach, scene.beam.length);
@@ -311,6 +312,39 @@ fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             format!("must be left out unless {prefix}.kind = \"sprung_mass\""),
         ),
         (_, None) => {}
+    }
+}
+
+/// A bogie vehicle's front and rear wheelsets, at initial_position ±
+/// (bogie_half_distance + axle_half_distance), must start on the track.
+fn check_wheelsets_on_track(
+    checks: &mut Checks,
+    prefix: &str,
+    body: &super::BodySpec,
+    scene: &Scene,
+) {
+    let Some(b) = body.bogie.filter(|_| body.kind == BodyKind::BogieVehicle) else {
+        return;
+    };
+    let reach = b.bogie_half_distance + b.axle_half_distance;
+    let (front, rear) = (body.initial_position + reach, body.initial_position - reach);
+    let (start, end) = (
+        -scene.track.approach,
+        scene.beam.length + scene.track.run_off,
+    );
+    if [front, rear, start, end].iter().all(|v| v.is_finite()) && (rear < start || front > end) {
+        checks.fail(
+            format!("{prefix}.initial_position"),
+            fmt_f64(body.initial_position),
+            format!(
+                "puts the wheelsets at {} .. {} m, off the track {} .. {} m (the car \
+                 body's centre, ± bogie_half_distance + axle_half_distance)",
+                fmt_f64(rear),
+                fmt_f64(front),
+                fmt_f64(start),
+                fmt_f64(end)
+            ),
+        );
     }
 }
 
