@@ -372,7 +372,7 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
                 && b.bogie_half_distance <= b.axle_half_distance
             {
                 checks.fail(
-                    &path("bogie_half_distance"),
+                    path("bogie_half_distance"),
                     fmt_f64(b.bogie_half_distance),
                     format!(
                         "must exceed bogie.axle_half_distance = {} (the bogies' axles \
@@ -383,14 +383,14 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             }
         }
         (BodyKind::BogieVehicle, None) => checks.fail(
-            &format!("{prefix}.bogie"),
+            format!("{prefix}.bogie"),
             "missing",
             format!(
                 "a bogie_vehicle needs [{prefix}.bogie] with its masses, distances and suspensions"
             ),
         ),
         (_, Some(_)) => checks.fail(
-            &format!("{prefix}.bogie"),
+            format!("{prefix}.bogie"),
             "present",
             format!("must be left out unless {prefix}.kind = \"bogie_vehicle\""),
         ),
