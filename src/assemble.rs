@@ -8,7 +8,7 @@ use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactForce, ContactKind};
 use crate::force_element::{Direction, ForceElement};
-use crate::scene::{BodyKind, BodySpec, Scene, SuspensionSpec};
+use crate::scene::{BodyKind, BodySpec, BogieSpec, Scene, SuspensionSpec};
 use crate::system::{System, Track};
 
 /// The system a scene asks for, where everything starts, the static
@@ -20,19 +20,6 @@ pub struct Assembly {
     /// The first body of each vehicle and the constant force (fx, fy) on it
     /// (the first is the driven body: the FMU's force inputs act on it).
     pub vehicle_forces: Vec<(usize, [f64; 2])>,
-}
-
-/// The first body of each of the `count` vehicles: the body of each
-/// vehicle's first contact for wheels and gliders, the sprung body before it
-/// for a sprung mass.
-fn first_bodies(system: &System, count: usize) -> Vec<usize> {
-    let mut firsts = Vec::with_capacity(count);
-    let mut next = 0;
-    for contact in &system.contacts {
-        firsts.push(next);
-        next = contact.body + 1;
-    }
-    firsts
 }
 
 /// Height of a sprung mass's centre above its unsprung mass at rest (m):
@@ -53,7 +40,9 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
                 radius: spec.radius.unwrap_or(0.0),
             },
         ),
-        BodyKind::Glider | BodyKind::SprungMass => (0.0, ContactKind::Glider),
+        BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
+            (0.0, ContactKind::Glider)
+        }
     };
     let body = RigidBody {
         name: spec.name.clone(),
@@ -143,6 +132,152 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
     }
 }
 
+/// Heights of a bogie's centre above its wheelsets and of the car body's
+/// centre above its bogies at rest (m): only differences of heights enter.
+pub const BOGIE_HEIGHTS: [f64; 2] = [0.5, 1.5];
+
+/// A vertical spring–damper and a stiff longitudinal guide between point
+/// `point_a` of body a (above) and the centre of body b, preloaded with
+/// `load`; the rest separations are those of the initial states.
+#[allow(clippy::too_many_arguments)]
+fn suspension(
+    name: &str,
+    (a, point_a): (usize, f64),
+    b: usize,
+    stiffness: f64,
+    damping: f64,
+    load: f64,
+    states: &[BodyState],
+    out: &mut Vec<ForceElement>,
+) {
+    for (suffix, direction, k, c, preload) in [
+        ("", Direction::Vertical, stiffness, damping, load),
+        (
+            "_guide",
+            Direction::Longitudinal,
+            GUIDE_STIFFNESS_RATIO * stiffness,
+            0.0,
+            0.0,
+        ),
+    ] {
+        let mut element = ForceElement {
+            name: format!("{name}{suffix}"),
+            body_a: a,
+            point_a: Vector2::new(point_a, 0.0),
+            body_b: b,
+            point_b: Vector2::zeros(),
+            direction,
+            stiffness: k,
+            damping: c,
+            preload,
+            rest: 0.0,
+        };
+        element.rest = element.separation(&states[a], &states[b]);
+        out.push(element);
+    }
+}
+
+/// The 10-DOF half vehicle: body 0 the car body, bodies 1–2 the front and
+/// rear bogies, bodies 3–6 the wheelsets (gliders, front to rear), the
+/// secondary suspensions (car–bogie) and primary ones (bogie–wheelset)
+/// preloaded with the weight each carries.
+fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
+    let b: BogieSpec = spec.bogie.expect("a validated bogie_vehicle has its bogie");
+    let (lc, lt) = (b.bogie_half_distance, b.axle_half_distance);
+    let at = |dx: f64, dy: f64, mass: f64, inertia: f64, name: String| {
+        let mut s = spec.clone();
+        s.initial_position += dx;
+        let (_, _, mut state) = single_body(&s, beam);
+        state.position.y += dy;
+        (
+            RigidBody {
+                name,
+                mass,
+                inertia,
+            },
+            state,
+        )
+    };
+    let [bogie_height, car_height] = BOGIE_HEIGHTS;
+    let mut parts = vec![at(
+        0.0,
+        car_height,
+        spec.mass,
+        b.car_inertia,
+        spec.name.clone(),
+    )];
+    for (i, side) in [1.0, -1.0].into_iter().enumerate() {
+        let name = format!("{}_bogie{}", spec.name, i + 1);
+        parts.push(at(
+            side * lc,
+            bogie_height,
+            b.bogie_mass,
+            b.bogie_inertia,
+            name,
+        ));
+    }
+    let mut contacts = Vec::new();
+    for (i, (bogie, axle)) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)]
+        .into_iter()
+        .enumerate()
+    {
+        let name = format!("{}_wheelset{}", spec.name, i + 1);
+        parts.push(at(
+            bogie * lc + axle * lt,
+            0.0,
+            b.wheelset_mass,
+            0.0,
+            name.clone(),
+        ));
+        contacts.push(Contact {
+            name,
+            body: 3 + i,
+            kind: ContactKind::Glider,
+        });
+    }
+    let (bodies, states): (Vec<RigidBody>, Vec<BodyState>) = parts.into_iter().unzip();
+    let secondary_load = 0.5 * spec.mass * gravity;
+    let primary_load = 0.5 * (secondary_load + b.bogie_mass * gravity);
+    let mut force_elements = Vec::new();
+    // Leaves first: the static start balances horizontal forces from the
+    // wheelsets up to the car body in this order.
+    for (w, bogie) in [1, 1, 2, 2].into_iter().enumerate() {
+        let side = if w % 2 == 0 { lt } else { -lt };
+        let name = format!("{}.primary{}", spec.name, w + 1);
+        let (k, c) = (b.primary_stiffness, b.primary_damping);
+        suspension(
+            &name,
+            (bogie, side),
+            3 + w,
+            k,
+            c,
+            primary_load,
+            &states,
+            &mut force_elements,
+        );
+    }
+    for (i, side) in [lc, -lc].into_iter().enumerate() {
+        let name = format!("{}.secondary{}", spec.name, i + 1);
+        let (k, c) = (b.secondary_stiffness, b.secondary_damping);
+        suspension(
+            &name,
+            (0, side),
+            1 + i,
+            k,
+            c,
+            secondary_load,
+            &states,
+            &mut force_elements,
+        );
+    }
+    Vehicle {
+        bodies,
+        contacts,
+        force_elements,
+        states,
+    }
+}
+
 /// Bodies, contacts and force elements of one vehicle, and where its
 /// bodies start; body indices are the vehicle's own.
 struct Vehicle {
@@ -181,13 +316,14 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
                 }
             }
             BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
+            BodyKind::BogieVehicle => bogie_vehicle(spec, &system.beam, gravity),
         };
         // The first vehicle's contact keeps the name `contact` of the
         // single-body scenes; the others' are named after their vehicle.
         let offset = system.bodies.len();
         for contact in &mut vehicle.contacts {
             contact.body += offset;
-            if v > 0 {
+            if v > 0 && spec.kind != BodyKind::BogieVehicle {
                 contact.name = format!("{}_contact", spec.name);
             }
         }
@@ -195,25 +331,25 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             element.body_a += offset;
             element.body_b += offset;
         }
-        // The normal force carries the vehicle's weight and balances its
-        // applied force.
+        // The normal forces share the vehicle's weight and balance its
+        // applied force (a symmetric vehicle loads its contacts equally).
         let weight: f64 = vehicle.bodies.iter().map(|b| b.mass * gravity).sum();
-        forces.push(ContactForce {
+        let share = (weight - spec.force_y) / vehicle.contacts.len() as f64;
+        forces.extend(vehicle.contacts.iter().map(|_| ContactForce {
             tangential: 0.0,
-            normal: weight - spec.force_y,
-        });
-        applied.push([spec.force_x, spec.force_y]);
+            normal: share,
+        }));
+        applied.push((offset, [spec.force_x, spec.force_y]));
         system.bodies.extend(vehicle.bodies);
         system.contacts.extend(vehicle.contacts);
         system.force_elements.extend(vehicle.force_elements);
         bodies.extend(vehicle.states);
     }
-    let driven: Vec<usize> = first_bodies(&system, applied.len());
     Ok(Assembly {
         system,
         bodies,
         forces,
-        vehicle_forces: driven.into_iter().zip(applied).collect(),
+        vehicle_forces: applied,
     })
 }
 

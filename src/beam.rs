@@ -393,6 +393,18 @@ impl Beam {
             })
     }
 
+    /// The static deflection u with K u = `load`, through the band LDLᵀ
+    /// factor of K (refused when the supports leave a rigid-body motion).
+    pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
+        let factor = self.stiffness.ldlt().ok_or(
+            "beam.supports: the stiffness matrix is singular (the supports leave the beam \
+             free to move), so solver.start = \"static\" has no static deflection",
+        )?;
+        let mut u = load.clone();
+        factor.solve_mut(&mut u);
+        Ok(u)
+    }
+
     /// `rhs ← M⁻¹ rhs`.
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
         self.mass_factor.solve_mut(rhs);

@@ -22,6 +22,7 @@ pub mod outputs;
 pub mod report;
 pub mod scene;
 pub mod simulation;
+pub mod static_start;
 pub mod study;
 pub mod system;
 

@@ -10,7 +10,8 @@ use crate::contact::ContactForce;
 use crate::integrate::{choose_integrator, contact_frames, loads, DynamicState};
 use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
 use crate::outputs::{catalogue, Quantity};
-use crate::scene::Scene;
+use crate::scene::{Scene, StartKind};
+use crate::static_start::static_start;
 use crate::system::{System, TrackPart};
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
@@ -242,15 +243,25 @@ pub struct Simulation {
 impl Simulation {
     /// Build the model a scene asks for. The scene must be valid.
     pub fn new(scene: &Scene) -> Result<Simulation, String> {
-        let assembly = assemble(scene)?;
-        let system = assembly.system;
+        let mut assembly = assemble(scene)?;
         let step = scene.solver.step;
-        let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
         let body_force = [scene.body.force_x, scene.body.force_y];
         let mut vehicle_forces = assembly.vehicle_forces;
         vehicle_forces[0].1 = body_force;
-        let applied: Vec<Vector3<f64>> = constant_forces(&system, &vehicle_forces).collect();
-        let dynamic = initial_state(&system, &assembly.bodies, &assembly.forces, &applied)?;
+        let applied: Vec<Vector3<f64>> =
+            constant_forces(&assembly.system, &vehicle_forces).collect();
+        let u = match scene.solver.start {
+            StartKind::Rest => DVector::zeros(assembly.system.beam.free_dofs()),
+            StartKind::Static => static_start(
+                &mut assembly.system,
+                &mut assembly.bodies,
+                &mut assembly.forces,
+                &applied,
+            )?,
+        };
+        let system = assembly.system;
+        let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
+        let dynamic = initial_state(&system, u, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
         let (outputs, quantities) = catalogue(&system, &sensor_names).into_iter().unzip();
         let parts = dynamic
@@ -413,7 +424,7 @@ impl Simulation {
     }
 
     /// Each body's (ẍ, ÿ, θ̈) in the current state under the last forces.
-    pub(crate) fn body_accelerations(&self) -> Vec<Vector3<f64>> {
+    pub fn body_accelerations(&self) -> Vec<Vector3<f64>> {
         let d = &self.state.dynamic;
         let mut frames = Vec::new();
         let mut beam_load = DVector::zeros(d.beam_displacement.len());
@@ -728,17 +739,17 @@ impl Simulation {
     }
 }
 
-/// The dynamic state at t = 0: at rest on the undeformed beam, with loads
-/// and accelerations consistent with the initial contact forces (the
-/// implicit scheme starts from them).
+/// The dynamic state at t = 0: at rest on the beam deflected by `u` (zero
+/// or the static deflection), with loads and accelerations consistent with
+/// the initial contact forces (the implicit scheme starts from them).
 fn initial_state(
     system: &System,
+    u: DVector<f64>,
     bodies: &[crate::body::BodyState],
     forces: &[ContactForce],
     applied: &[Vector3<f64>],
 ) -> Result<DynamicState, String> {
     let n = system.beam.free_dofs();
-    let undeformed = DVector::zeros(n);
     let guesses: Vec<f64> = system
         .contacts
         .iter()
@@ -747,7 +758,7 @@ fn initial_state(
     let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
     let mut frames = Vec::new();
     let located = (guesses.as_slice(), parts.as_slice());
-    contact_frames(system, &undeformed, bodies, located, &mut frames).map_err(|e| match e {
+    contact_frames(system, &u, bodies, located, &mut frames).map_err(|e| match e {
         crate::integrate::IntegrationError::LostContact { x, .. } => {
             format!("no contact point at the start (x = {x})")
         }
@@ -766,7 +777,7 @@ fn initial_state(
     let mut beam_acceleration = DVector::zeros(n);
     system
         .beam
-        .accelerations(&undeformed, &beam_load, &mut beam_acceleration);
+        .accelerations(&u, &beam_load, &mut beam_acceleration);
     let body_accelerations = system
         .bodies
         .iter()
@@ -774,7 +785,7 @@ fn initial_state(
         .map(|(body, load)| body.acceleration(load))
         .collect();
     Ok(DynamicState {
-        beam_displacement: undeformed,
+        beam_displacement: u,
         beam_velocity: DVector::zeros(n),
         beam_acceleration,
         body_accelerations,

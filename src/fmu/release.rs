@@ -168,6 +168,7 @@ fn body_text(scene: &Scene) -> &'static str {
         BodyKind::Wheel => "wheel (rolls, no slip)",
         BodyKind::Glider => "maglev glider (J = 0, r = 0)",
         BodyKind::SprungMass => "sprung mass on a spring-damper over a glider",
+        BodyKind::BogieVehicle => "car body on two bogies over four wheelsets (10 DOF)",
     }
 }
 

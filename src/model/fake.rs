@@ -66,7 +66,7 @@ impl Dynamics for FakeDynamics {
                 ));
                 Some(scene.body.radius.unwrap_or(1.0))
             }
-            BodyKind::Glider | BodyKind::SprungMass => None,
+            BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => None,
         };
         for s in &scene.sensors {
             outputs.push(real(

@@ -220,7 +220,11 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
 /// Whether the scene has more than the paper's one body: then the plot
 /// shows every contact's force and the sprung bodies' accelerations.
 fn has_vehicles(scene: &Scene) -> bool {
-    !scene.vehicles.is_empty() || scene.body.kind == crate::scene::BodyKind::SprungMass
+    !scene.vehicles.is_empty()
+        || !matches!(
+            scene.body.kind,
+            crate::scene::BodyKind::Wheel | crate::scene::BodyKind::Glider
+        )
 }
 
 fn draw_panel(

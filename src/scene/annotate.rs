@@ -35,7 +35,7 @@ const FIELD_NOTES: [(&str, &str); 34] = [
         "m, pinned supports strictly inside, increasing",
     ),
     ("body.name", "identifier; outputs are <name>.x, ..."),
-    ("body.kind", "wheel | glider | sprung_mass"),
+    ("body.kind", "wheel | glider | sprung_mass | bogie_vehicle"),
     ("body.mass", "kg, > 0"),
     ("body.inertia", "kg m^2, centroidal J; wheel only"),
     ("body.radius", "m, r; wheel only"),

@@ -150,6 +150,39 @@ pub struct BodySpec {
     /// The suspension of a `sprung_mass`; left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub suspension: Option<SuspensionSpec>,
+    /// The bogies, wheelsets and suspensions of a `bogie_vehicle` (whose
+    /// `mass` is the car body's); left out for other kinds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bogie: Option<BogieSpec>,
+}
+
+/// The 10-DOF half vehicle: a car body (bounce, pitch) on secondary
+/// spring–dampers over two bogies (bounce, pitch), each on primary
+/// spring–dampers over two wheelsets (gliders, bounce). Both suspensions are
+/// preloaded with the weight they carry.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BogieSpec {
+    /// Pitch inertia of the car body (kg m^2).
+    pub car_inertia: f64,
+    /// Mass of one bogie (kg).
+    pub bogie_mass: f64,
+    /// Pitch inertia of one bogie (kg m^2).
+    pub bogie_inertia: f64,
+    /// Mass of one wheelset (kg).
+    pub wheelset_mass: f64,
+    /// Half the distance between the bogie centres (m).
+    pub bogie_half_distance: f64,
+    /// Half the distance between the two axles of a bogie (m).
+    pub axle_half_distance: f64,
+    /// Primary suspension, per axle: stiffness (N/m) and damping (N s/m).
+    pub primary_stiffness: f64,
+    #[serde(default)]
+    pub primary_damping: f64,
+    /// Secondary suspension, per bogie: stiffness (N/m) and damping (N s/m).
+    pub secondary_stiffness: f64,
+    #[serde(default)]
+    pub secondary_damping: f64,
 }
 
 /// A sprung mass's suspension: a vertical spring–damper over an unsprung
@@ -178,6 +211,10 @@ pub enum BodyKind {
     /// an unsprung glider (`suspension`).
     #[serde(rename = "sprung_mass")]
     SprungMass,
+    /// Car body over two bogies over four wheelsets (`bogie`); the body's
+    /// `initial_position` is the car body's centre.
+    #[serde(rename = "bogie_vehicle")]
+    BogieVehicle,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -214,6 +251,25 @@ pub struct SolverSpec {
     /// Stop time (s) if the body has not left the beam before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end_time: Option<f64>,
+    /// The state at t = 0: `rest` on the undeformed beam, or `static`: the
+    /// beam deflected under the vehicles' weight and every suspension at
+    /// its preload (the vehicles start in equilibrium).
+    #[serde(default, skip_serializing_if = "StartKind::is_rest")]
+    pub start: StartKind,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StartKind {
+    #[default]
+    Rest,
+    Static,
+}
+
+impl StartKind {
+    pub fn is_rest(&self) -> bool {
+        *self == StartKind::Rest
+    }
 }
 
 fn default_step() -> f64 {
@@ -239,6 +295,7 @@ impl Default for SolverSpec {
             integrator: IntegratorKind::default(),
             numerical_damping: 0.0,
             end_time: None,
+            start: StartKind::Rest,
         }
     }
 }
@@ -302,7 +359,9 @@ impl Scene {
     pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
         let (name, inertia, radius) = match kind {
             BodyKind::Wheel => ("wheel", Some(135.0), Some(0.3)),
-            BodyKind::Glider | BodyKind::SprungMass => ("glider", None, None),
+            BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
+                ("glider", None, None)
+            }
         };
         Scene {
             name: format!("lee1994-{name}-{initial_speed}"),
@@ -327,6 +386,7 @@ impl Scene {
                 force_x: 0.0,
                 force_y: -600e3,
                 suspension: None,
+                bogie: None,
             },
             track: TrackSpec::default(),
             vehicles: Vec::new(),

@@ -704,6 +704,69 @@ fn sprung_mass_needs_its_suspension_and_others_refuse_one() {
     );
 }
 
+fn bogie() -> crate::scene::BogieSpec {
+    crate::scene::BogieSpec {
+        car_inertia: 1.95e6,
+        bogie_mass: 2400.0,
+        bogie_inertia: 3200.0,
+        wheelset_mass: 1400.0,
+        bogie_half_distance: 8.75,
+        axle_half_distance: 1.25,
+        primary_stiffness: 1.18e6,
+        primary_damping: 0.0,
+        secondary_stiffness: 5.3e5,
+        secondary_damping: 0.0,
+    }
+}
+
+#[test]
+fn bogie_vehicle_needs_its_bogie_and_others_refuse_one() {
+    let mut scene = default_scene();
+    scene.body.kind = BodyKind::BogieVehicle;
+    scene.body.inertia = None;
+    scene.body.radius = None;
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(problems.contains("body.bogie"), "{problems}");
+    assert!(problems.contains("missing"), "{problems}");
+    scene.body.initial_position = scene.beam.length / 2.0;
+    scene.body.bogie = Some(bogie());
+    // Wheelsets at 12 ± 10 m on the 24 m beam.
+    scene.validate().expect("a valid bogie vehicle");
+    let mut bad = bogie();
+    bad.primary_damping = -1.0;
+    bad.bogie_half_distance = 1.0;
+    scene.body.bogie = Some(bad);
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(
+        problems.contains("body.bogie.primary_damping"),
+        "{problems}"
+    );
+    assert!(
+        problems.contains("body.bogie.bogie_half_distance"),
+        "{problems}"
+    );
+    assert!(problems.contains("axle_half_distance = 1.25"), "{problems}");
+    assert_single_problem(
+        |s| s.body.bogie = Some(bogie()),
+        "body.bogie",
+        "present",
+        "bogie_vehicle",
+    );
+}
+
+#[test]
+fn bogie_vehicle_wheelsets_must_start_on_the_track() {
+    let mut scene = default_scene();
+    scene.body.kind = BodyKind::BogieVehicle;
+    scene.body.inertia = None;
+    scene.body.radius = None;
+    scene.body.bogie = Some(bogie());
+    scene.body.initial_position = 0.0;
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(problems.contains("body.initial_position"), "{problems}");
+    assert!(problems.contains("off the track"), "{problems}");
+}
+
 #[test]
 fn gravity_and_track_lengths_are_checked() {
     assert_single_problem(|s| s.gravity = -9.81, "gravity", "-9.81", ">= 0");

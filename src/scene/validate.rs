@@ -249,7 +249,7 @@ fn check_body(
             checks.required_positive(&path("inertia"), body.inertia, "a wheel needs");
             checks.required_positive(&path("radius"), body.radius, "a wheel needs");
         }
-        BodyKind::Glider | BodyKind::SprungMass => {
+        BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
             for (path, value) in [
                 (&path("inertia"), body.inertia),
                 (&path("radius"), body.radius),
@@ -265,6 +265,8 @@ fn check_body(
         }
     }
     check_suspension(checks, prefix, body);
+    check_bogie(checks, prefix, body);
+    check_wheelsets_on_track(checks, prefix, body, scene);
     if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
         let x = body.initial_position;
         let (approach, end) = (scene.track.approach, scene.beam.length);
@@ -308,6 +310,89 @@ fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             path("suspension"),
             "present",
             format!("must be left out unless {prefix}.kind = \"sprung_mass\""),
+        ),
+        (_, None) => {}
+    }
+}
+
+/// A bogie vehicle's front and rear wheelsets, at initial_position ±
+/// (bogie_half_distance + axle_half_distance), must start on the track.
+fn check_wheelsets_on_track(
+    checks: &mut Checks,
+    prefix: &str,
+    body: &super::BodySpec,
+    scene: &Scene,
+) {
+    let Some(b) = body.bogie.filter(|_| body.kind == BodyKind::BogieVehicle) else {
+        return;
+    };
+    let reach = b.bogie_half_distance + b.axle_half_distance;
+    let (front, rear) = (body.initial_position + reach, body.initial_position - reach);
+    let (start, end) = (
+        -scene.track.approach,
+        scene.beam.length + scene.track.run_off,
+    );
+    if [front, rear, start, end].iter().all(|v| v.is_finite()) && (rear < start || front > end) {
+        checks.fail(
+            format!("{prefix}.initial_position"),
+            fmt_f64(body.initial_position),
+            format!(
+                "puts the wheelsets at {} .. {} m, off the track {} .. {} m (the car \
+                 body's centre, ± bogie_half_distance + axle_half_distance)",
+                fmt_f64(rear),
+                fmt_f64(front),
+                fmt_f64(start),
+                fmt_f64(end)
+            ),
+        );
+    }
+}
+
+/// A bogie vehicle needs its bogies; other kinds must leave them out.
+fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let path = |field: &str| format!("{prefix}.bogie.{field}");
+    match (body.kind, &body.bogie) {
+        (BodyKind::BogieVehicle, Some(b)) => {
+            for (field, value) in [
+                ("car_inertia", b.car_inertia),
+                ("bogie_mass", b.bogie_mass),
+                ("bogie_inertia", b.bogie_inertia),
+                ("wheelset_mass", b.wheelset_mass),
+                ("axle_half_distance", b.axle_half_distance),
+                ("primary_stiffness", b.primary_stiffness),
+                ("secondary_stiffness", b.secondary_stiffness),
+            ] {
+                checks.positive(&path(field), value);
+            }
+            checks.non_negative(&path("primary_damping"), b.primary_damping);
+            checks.non_negative(&path("secondary_damping"), b.secondary_damping);
+            // The two bogies' axles must not overlap: lc > lt.
+            if b.bogie_half_distance.is_finite()
+                && b.axle_half_distance.is_finite()
+                && b.bogie_half_distance <= b.axle_half_distance
+            {
+                checks.fail(
+                    path("bogie_half_distance"),
+                    fmt_f64(b.bogie_half_distance),
+                    format!(
+                        "must exceed bogie.axle_half_distance = {} (the bogies' axles \
+                         would overlap)",
+                        fmt_f64(b.axle_half_distance)
+                    ),
+                );
+            }
+        }
+        (BodyKind::BogieVehicle, None) => checks.fail(
+            format!("{prefix}.bogie"),
+            "missing",
+            format!(
+                "a bogie_vehicle needs [{prefix}.bogie] with its masses, distances and suspensions"
+            ),
+        ),
+        (_, Some(_)) => checks.fail(
+            format!("{prefix}.bogie"),
+            "present",
+            format!("must be left out unless {prefix}.kind = \"bogie_vehicle\""),
         ),
         (_, None) => {}
     }

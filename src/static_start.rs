@@ -1,0 +1,154 @@
+//! The static start (`solver.start = "static"`): the beam deflected under
+//! the vehicles' weight (K u = f), the contact bodies on its deflected
+//! surface, and every force element at its preload, so that the vehicles
+//! start in equilibrium.
+//!
+//! The contact forces, the deflection and the contact bodies' heights depend
+//! on each other only through the small slope of the beam, so a fixed-point
+//! iteration converges to round-off in a few passes. The suspensions keep
+//! their preloads: each element's rest separation is reset to the one of the
+//! start, which is how far the suspension is compressed at equilibrium.
+//! A glider on a sloped surface feels the horizontal part of its normal
+//! force; it is carried by preloading the longitudinal elements, in their
+//! order (leaves first: wheelset guides, then bogie guides).
+
+use nalgebra::{DVector, Vector3};
+
+use crate::body::BodyState;
+use crate::contact::{ContactForce, ContactFrame};
+use crate::force_element::Direction;
+use crate::integrate::{contact_frames, loads};
+use crate::system::{System, TrackPart};
+
+/// Passes of the fixed-point iteration; each shrinks the error by about the
+/// square of the beam's slope, so a few reach round-off.
+const PASSES: usize = 8;
+
+/// Deflect the beam, move the contact bodies onto it and set the contact
+/// forces and the elements' rests and longitudinal preloads. Returns u.
+pub fn static_start(
+    system: &mut System,
+    bodies: &mut [BodyState],
+    forces: &mut [ContactForce],
+    applied: &[Vector3<f64>],
+) -> Result<DVector<f64>, String> {
+    let n = system.beam.free_dofs();
+    let mut u = DVector::zeros(n);
+    let mut frames = Vec::new();
+    let mut beam_load = DVector::zeros(n);
+    let mut body_loads = vec![Vector3::zeros(); bodies.len()];
+    for _ in 0..PASSES {
+        locate(system, &u, bodies, &mut frames)?;
+        settle_on_surface(system, bodies, &frames);
+        reset_rests(system, bodies);
+        let free = vec![ContactForce::default(); forces.len()];
+        loads(
+            system,
+            &frames,
+            &free,
+            applied,
+            bodies,
+            &mut beam_load,
+            &mut body_loads,
+        );
+        carry_loads(system, &frames, &body_loads, forces);
+        loads(
+            system,
+            &frames,
+            forces,
+            applied,
+            bodies,
+            &mut beam_load,
+            &mut body_loads,
+        );
+        u = system.beam.static_deflection(&beam_load)?;
+    }
+    locate(system, &u, bodies, &mut frames)?;
+    settle_on_surface(system, bodies, &frames);
+    follow_surface(system, bodies, &frames);
+    reset_rests(system, bodies);
+    loads(
+        system,
+        &frames,
+        forces,
+        applied,
+        bodies,
+        &mut beam_load,
+        &mut body_loads,
+    );
+    balance_horizontally(system, &mut body_loads);
+    Ok(u)
+}
+
+fn locate(
+    system: &System,
+    u: &DVector<f64>,
+    bodies: &[BodyState],
+    frames: &mut Vec<ContactFrame>,
+) -> Result<(), String> {
+    let guesses: Vec<f64> = system
+        .contacts
+        .iter()
+        .map(|c| bodies[c.body].position.x)
+        .collect();
+    let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
+    contact_frames(system, u, bodies, (&guesses, &parts), frames)
+        .map_err(|_| "solver.start = \"static\": a contact point lies off the track".to_string())
+}
+
+/// Move each contact body vertically so that its gap is zero.
+fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
+    for (contact, frame) in system.contacts.iter().zip(frames) {
+        let body = &mut bodies[contact.body];
+        let gap = frame.gap(&system.beam, contact.radius(), &body.position);
+        body.position.y -= gap / frame.normal().y;
+    }
+}
+
+/// A moving contact body starts along the deflected surface (its normal
+/// velocity error zero), not across it: a jump would need an impulse.
+fn follow_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
+    for (contact, frame) in system.contacts.iter().zip(frames) {
+        let body = &mut bodies[contact.body];
+        body.velocity.y = body.velocity.x * frame.sin / frame.cos;
+    }
+}
+
+/// Every element at its preload in the current configuration.
+fn reset_rests(system: &mut System, bodies: &[BodyState]) {
+    for element in &mut system.force_elements {
+        element.rest = element.separation(&bodies[element.body_a], &bodies[element.body_b]);
+    }
+}
+
+/// The normal forces that carry each contact body's vertical load
+/// `body_loads` (computed without contact forces); the horizontal rest is
+/// left to `balance_horizontally` (a wheel gets no tangential force, which
+/// would turn it).
+fn carry_loads(
+    system: &System,
+    frames: &[ContactFrame],
+    body_loads: &[Vector3<f64>],
+    forces: &mut [ContactForce],
+) {
+    for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
+        *force = ContactForce {
+            tangential: 0.0,
+            normal: -body_loads[contact.body].y / frame.normal().y,
+        };
+    }
+}
+
+/// Preload the longitudinal elements, in order, so that the horizontal
+/// force left on each element's body b passes on to its body a.
+fn balance_horizontally(system: &mut System, body_loads: &mut [Vector3<f64>]) {
+    for element in &mut system.force_elements {
+        if element.direction != Direction::Longitudinal {
+            continue;
+        }
+        let residual = body_loads[element.body_b].x;
+        element.preload += residual;
+        body_loads[element.body_a].x += residual;
+        body_loads[element.body_b].x = 0.0;
+    }
+}
