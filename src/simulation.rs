@@ -150,6 +150,7 @@ impl SimState {
             self.last_gap_error,
             self.exit_time.unwrap_or(0.0),
             d.dissipated,
+            d.beam_dissipated,
         ];
         let bodies = d.bodies.iter().flat_map(|b| {
             [
@@ -326,7 +327,8 @@ impl Simulation {
         crate::outputs::values(self, &self.quantities, values);
     }
 
-    /// Kinetic + strain + spring energy + dissipated energy − work of
+    /// Kinetic + strain + spring energy + energy dissipated (dampers and
+    /// structural damping) − work of
     /// gravity and of the applied force (J).
     pub fn energy_balance(&self) -> f64 {
         let d = &self.state.dynamic;
@@ -336,6 +338,7 @@ impl Simulation {
             + s.beam.strain_energy(&d.beam_displacement)
             + s.spring_energy(&d.bodies)
             + d.dissipated
+            + d.beam_dissipated
             - self.state.gravity_work
             - self.state.external_work
     }
@@ -764,9 +767,11 @@ fn initial_state(
         &mut body_loads,
     );
     let mut beam_acceleration = DVector::zeros(n);
-    system
-        .beam
-        .accelerations(&undeformed, &beam_load, &mut beam_acceleration);
+    system.beam.accelerations(
+        (&undeformed, &undeformed),
+        &beam_load,
+        &mut beam_acceleration,
+    );
     let body_accelerations = system
         .bodies
         .iter()
@@ -783,6 +788,7 @@ fn initial_state(
         bodies: bodies.to_vec(),
         contact_x: frames.iter().map(|f| f.x).collect(),
         dissipated: 0.0,
+        beam_dissipated: 0.0,
     })
 }
 
