@@ -73,7 +73,12 @@ pub struct BeamSpec {
 /// `{ ratios = [0.02, 0.03], frequencies = [4.0, 30.0] }` (ζ at two
 /// frequencies in Hz).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(untagged, deny_unknown_fields)]
+#[serde(
+    untagged,
+    deny_unknown_fields,
+    expecting = "one of { alpha, beta } (Rayleigh coefficients), { ratio, modes = [i, j] } \
+                 or { ratios = [z1, z2], frequencies = [f1, f2] } (Hz), with no other fields"
+)]
 pub enum DampingSpec {
     Coefficients {
         alpha: f64,
