@@ -62,6 +62,7 @@ fn assert_log_decrement(integrator: IntegratorKind, step: f64) {
     let cycles = (peaks.len() - 1) as f64;
     let decrement = (peaks[0] / peaks[peaks.len() - 1]).ln() / cycles;
     let expected = 2.0 * std::f64::consts::PI * RATIO;
+    println!("{integrator:?}, step {step}: log decrement {decrement} vs 2πζ₁ = {expected}");
     assert!(
         (decrement / expected - 1.0).abs() <= 0.01,
         "{integrator:?}: log decrement {decrement} vs 2πζ₁ = {expected}, peaks {peaks:?}"
