@@ -109,6 +109,10 @@ fn energy_balance_holds_for_a_wheel_crossing_the_damped_beam() {
     let damped = run_to_exit(&scene);
     let dissipated = damped.value("energy.beam_damping");
     let initial_energy = damped.initial("energy.balance");
+    println!(
+        "dissipated {dissipated} J of {initial_energy} J; drift {} (undamped {})",
+        damped.max_energy_drift, undamped.max_energy_drift
+    );
     // Damping takes a visible share of the energy ...
     assert!(
         dissipated > 1e-3 * initial_energy,
