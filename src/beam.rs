@@ -566,14 +566,14 @@ impl Beam {
         out: &mut DVector<f64>,
     ) {
         let c = self.damping;
-        // M⁻¹ (f − K (u + β v)) − α v: one mass solve, no product with M.
-        if c.stiffness == 0.0 {
-            self.stiffness_times(u, out);
-        } else {
-            let shifted = u + v * c.stiffness;
-            self.stiffness_times(&shifted, out);
-        }
+        // M⁻¹ (f − K (u + β v)) − α v: one mass solve, no product with M;
+        // K (u + β v) = K u + β K v, accumulated in `out` without scratch.
+        self.stiffness_times(u, out);
         out.zip_apply(load, |a, f| *a = f - *a);
+        if c.stiffness != 0.0 {
+            self.stiffness
+                .mul_add_to(-c.stiffness, v.as_slice(), out.as_mut_slice());
+        }
         self.solve_mass(out);
         if c.mass != 0.0 {
             out.axpy(-c.mass, v, 1.0);
