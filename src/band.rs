@@ -126,6 +126,15 @@ impl SymBand {
         }
     }
 
+    /// `out += scale · A x`, row by row (no scratch vector).
+    pub fn mul_add_to(&self, scale: f64, x: &[f64], out: &mut [f64]) {
+        let n = self.size();
+        assert!(x.len() == n && out.len() == n);
+        for (i, o) in out.iter_mut().enumerate() {
+            *o += scale * self.row_times(i, x);
+        }
+    }
+
     /// xᵀ A x.
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
         let n = self.size();
@@ -350,6 +359,16 @@ mod tests {
             let expected = &full * &x;
             for i in 0..n {
                 assert!((y[i] - expected[i]).abs() < 1e-12 * expected.amax().max(1.0));
+            }
+            // out += s A x on a non-zero start.
+            let mut added: Vec<f64> = (0..n).map(|i| i as f64).collect();
+            a.mul_add_to(-0.5, x.as_slice(), &mut added);
+            for i in 0..n {
+                let want = i as f64 - 0.5 * expected[i];
+                assert!(
+                    (added[i] - want).abs() < 1e-12 * want.abs().max(1.0),
+                    "n = {n}"
+                );
             }
             let q = a.quadratic_form(x.as_slice());
             assert!(

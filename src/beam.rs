@@ -7,8 +7,50 @@
 //! in the number of elements.
 
 use crate::band::{BandLdlt, SymBand};
-use crate::scene::{BeamSpec, EndSupport};
-use nalgebra::{DVector, Matrix4, SymmetricEigen};
+use crate::scene::{BeamSpec, DampingSpec, EndSupport};
+use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
+
+/// Most free DOFs for which the natural modes are computed (a dense
+/// generalized eigenproblem, O(n³)).
+pub const MAX_MODE_DOFS: usize = 600;
+
+/// Rayleigh damping C = `mass` M + `stiffness` K (1/s and s).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Rayleigh {
+    pub mass: f64,
+    pub stiffness: f64,
+}
+
+impl Rayleigh {
+    /// The coefficients giving damping ratios ζ₁, ζ₂ at circular frequencies
+    /// ω₁ ≠ ω₂: ζ(ω) = α / 2ω + β ω / 2 through both points.
+    pub fn from_ratios(omega: [f64; 2], zeta: [f64; 2]) -> Rayleigh {
+        let [w1, w2] = omega;
+        let [z1, z2] = zeta;
+        let denominator = w2 * w2 - w1 * w1;
+        Rayleigh {
+            mass: 2.0 * w1 * w2 * (z1 * w2 - z2 * w1) / denominator,
+            stiffness: 2.0 * (z2 * w2 - z1 * w1) / denominator,
+        }
+    }
+
+    /// Damping ratio of a mode of circular frequency ω.
+    pub fn ratio(&self, omega: f64) -> f64 {
+        self.mass / (2.0 * omega) + self.stiffness * omega / 2.0
+    }
+
+    pub fn is_zero(&self) -> bool {
+        self.mass == 0.0 && self.stiffness == 0.0
+    }
+}
+
+/// Natural modes of the beam, lowest first.
+pub struct Modes {
+    /// Circular frequencies ω (rad/s).
+    pub omega: Vec<f64>,
+    /// Mass-normalized shapes on the free DOFs (φᵀ M φ = 1), one per column.
+    pub shapes: DMatrix<f64>,
+}
 
 /// Hermite shape functions of one element evaluated at one abscissa.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -61,6 +103,7 @@ pub struct Beam {
     mass: SymBand,
     stiffness: SymBand,
     mass_factor: BandLdlt,
+    damping: Rayleigh,
 }
 
 fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
@@ -223,7 +266,85 @@ impl Beam {
             mass,
             stiffness,
             mass_factor,
+            damping: Rayleigh::default(),
         })
+        .and_then(|mut beam| {
+            beam.damping = beam.rayleigh(spec.damping.as_ref())?;
+            Ok(beam)
+        })
+    }
+
+    /// The Rayleigh coefficients of a (validated) damping spec.
+    fn rayleigh(&self, spec: Option<&DampingSpec>) -> Result<Rayleigh, String> {
+        use std::f64::consts::TAU;
+        Ok(match spec {
+            None => Rayleigh::default(),
+            Some(&DampingSpec::Coefficients { alpha, beta }) => Rayleigh {
+                mass: alpha,
+                stiffness: beta,
+            },
+            Some(&DampingSpec::Frequencies {
+                ratios,
+                frequencies,
+            }) => Rayleigh::from_ratios(frequencies.map(|f| TAU * f), ratios),
+            Some(&DampingSpec::Modes { ratio, modes }) => {
+                let highest = modes[0].max(modes[1]);
+                if highest > self.free_dofs {
+                    return Err(format!(
+                        "beam.damping.modes = {modes:?} names mode {highest}, but the beam has \
+                         only {} free DOFs (modes)",
+                        self.free_dofs
+                    ));
+                }
+                let omega = self.modes(highest)?.omega;
+                Rayleigh::from_ratios([omega[modes[0] - 1], omega[modes[1] - 1]], [ratio; 2])
+            }
+        })
+    }
+
+    /// Rayleigh damping coefficients of the beam (zero when undamped).
+    pub fn damping(&self) -> Rayleigh {
+        self.damping
+    }
+
+    /// The lowest `count` natural modes: K φ = ω² M φ solved densely via the
+    /// Cholesky factor of M. Refused beyond `MAX_MODE_DOFS` free DOFs.
+    pub fn modes(&self, count: usize) -> Result<Modes, String> {
+        let n = self.free_dofs;
+        if n > MAX_MODE_DOFS {
+            return Err(format!(
+                "the beam has {n} free DOFs; natural modes are computed for at most \
+                 {MAX_MODE_DOFS} (reduce beam.elements)"
+            ));
+        }
+        let dense = |a: &SymBand| DMatrix::from_fn(n, n, |i, j| a.get(i, j));
+        let chol = dense(&self.mass)
+            .cholesky()
+            .ok_or("beam mass matrix is not positive definite")?;
+        let l_inv = chol
+            .l()
+            .try_inverse()
+            .ok_or("beam mass matrix is singular")?;
+        let a = &l_inv * dense(&self.stiffness) * l_inv.transpose();
+        let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+        order.truncate(count.min(n));
+        let omega = order
+            .iter()
+            .map(|&i| eig.eigenvalues[i].max(0.0).sqrt())
+            .collect();
+        // φ = L⁻ᵀ y: M-orthonormal because the y are orthonormal.
+        let columns: Vec<DVector<f64>> = order
+            .iter()
+            .map(|&i| l_inv.transpose() * eig.eigenvectors.column(i))
+            .collect();
+        let shapes = if columns.is_empty() {
+            DMatrix::zeros(n, 0)
+        } else {
+            DMatrix::from_columns(&columns)
+        };
+        Ok(Modes { omega, shapes })
     }
 
     pub fn free_dofs(&self) -> usize {
@@ -379,16 +500,23 @@ impl Beam {
         self.mass.mul_to(v.as_slice(), out.as_mut_slice());
     }
 
-    /// LDLᵀ factor of M + `stiffness_weight` K, the effective matrix of
-    /// implicit schemes.
-    pub fn factor_mass_plus_stiffness(&self, stiffness_weight: f64) -> Result<BandLdlt, String> {
+    /// LDLᵀ factor of M + `damping_weight` C + `stiffness_weight` K, the
+    /// effective matrix of implicit schemes.
+    pub fn factor_effective(
+        &self,
+        damping_weight: f64,
+        stiffness_weight: f64,
+    ) -> Result<BandLdlt, String> {
+        let c = self.damping;
+        let mass_weight = 1.0 + damping_weight * c.mass;
+        let stiffness_weight = stiffness_weight + damping_weight * c.stiffness;
         self.mass
-            .combine(1.0, &self.stiffness, stiffness_weight)
+            .combine(mass_weight, &self.stiffness, stiffness_weight)
             .ldlt()
             .ok_or_else(|| {
                 format!(
-                    "the implicit scheme's effective matrix M + {stiffness_weight:e} K \
-                     is not positive definite"
+                    "the implicit scheme's effective matrix {mass_weight:e} M + \
+                     {stiffness_weight:e} K is not positive definite"
                 )
             })
     }
@@ -405,16 +533,63 @@ impl Beam {
         Ok(u)
     }
 
+    /// `out = K u + C v`: the beam's elastic and damping forces, using
+    /// `scratch` for u + β v.
+    pub fn internal_forces(
+        &self,
+        u: &DVector<f64>,
+        v: &DVector<f64>,
+        scratch: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        let c = self.damping;
+        if c.is_zero() {
+            self.stiffness_times(u, out);
+            return;
+        }
+        // K u + C v = K (u + β v) + α M v.
+        scratch.copy_from(u);
+        scratch.axpy(c.stiffness, v, 1.0);
+        self.stiffness_times(scratch, out);
+        self.mass_times(v, scratch);
+        out.axpy(c.mass, scratch, 1.0);
+    }
+
+    /// Power dissipated by the structural damping, vᵀ C v (W).
+    pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
+        let c = self.damping;
+        if c.is_zero() {
+            return 0.0;
+        }
+        let x = v.as_slice();
+        c.mass * self.mass.quadratic_form(x) + c.stiffness * self.stiffness.quadratic_form(x)
+    }
+
     /// `rhs ← M⁻¹ rhs`.
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
         self.mass_factor.solve_mut(rhs);
     }
 
-    /// Nodal accelerations `M⁻¹ (load − K u)`, using `out` as scratch.
-    pub fn accelerations(&self, u: &DVector<f64>, load: &DVector<f64>, out: &mut DVector<f64>) {
+    /// Nodal accelerations `M⁻¹ (load − K u − C v)`.
+    pub fn accelerations(
+        &self,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        load: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        let c = self.damping;
+        // M⁻¹ (f − K (u + β v)) − α v: one mass solve, no product with M;
+        // K (u + β v) = K u + β K v, accumulated in `out` without scratch.
         self.stiffness_times(u, out);
         out.zip_apply(load, |a, f| *a = f - *a);
+        if c.stiffness != 0.0 {
+            self.stiffness
+                .mul_add_to(-c.stiffness, v.as_slice(), out.as_mut_slice());
+        }
         self.solve_mass(out);
+        if c.mass != 0.0 {
+            out.axpy(-c.mass, v, 1.0);
+        }
     }
 
     /// ½ vᵀ M v.
@@ -544,6 +719,7 @@ mod tests {
             surface_offset: 0.6,
             elements,
             supports: SupportsSpec::default(),
+            damping: None,
         }
     }
 

@@ -311,6 +311,7 @@ mod tests {
             surface_offset: 0.6,
             elements: 3,
             supports: SupportsSpec::default(),
+            damping: None,
         })
         .unwrap();
         let n = beam.free_dofs();
@@ -344,6 +345,7 @@ mod tests {
             surface_offset: 0.6,
             elements: 65_536,
             supports: SupportsSpec::default(),
+            damping: None,
         })
         .unwrap();
         let mut u = DVector::zeros(beam.free_dofs());

@@ -42,6 +42,7 @@ pub enum Quantity {
     BeamStrain,
     SpringEnergy,
     Dissipated,
+    BeamDamping,
     GravityWork,
     ExternalWork,
     Balance,
@@ -208,6 +209,14 @@ impl Catalogue {
                 Quantity::Dissipated,
             );
         }
+        if !system.beam.damping().is_zero() {
+            self.real(
+                e("beam_damping"),
+                "J",
+                "energy dissipated by the beam's Rayleigh structural damping",
+                Quantity::BeamDamping,
+            );
+        }
         if system.gravity != 0.0 {
             self.real(
                 e("gravity_work"),
@@ -225,7 +234,8 @@ impl Catalogue {
         self.real(
             e("balance"),
             "J",
-            "kinetic + strain + spring energy + dissipated - work of gravity and applied force: \
+            "kinetic + strain + spring energy + dissipated (dampers, beam damping) - work of \
+             gravity and applied force: \
              constant for the exact solution",
             Quantity::Balance,
         );
@@ -339,6 +349,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
             Quantity::SpringEnergy => system.spring_energy(&d.bodies),
             Quantity::Dissipated => d.dissipated,
+            Quantity::BeamDamping => d.beam_dissipated,
             Quantity::GravityWork => state.gravity_work,
             Quantity::ExternalWork => state.external_work,
             Quantity::Balance => sim.energy_balance(),

@@ -151,6 +151,7 @@ impl SimState {
             self.last_gap_error,
             self.exit_time.unwrap_or(0.0),
             d.dissipated,
+            d.beam_dissipated,
         ];
         let bodies = d.bodies.iter().flat_map(|b| {
             [
@@ -337,7 +338,8 @@ impl Simulation {
         crate::outputs::values(self, &self.quantities, values);
     }
 
-    /// Kinetic + strain + spring energy + dissipated energy − work of
+    /// Kinetic + strain + spring energy + energy dissipated (dampers and
+    /// structural damping) − work of
     /// gravity and of the applied force (J).
     pub fn energy_balance(&self) -> f64 {
         let d = &self.state.dynamic;
@@ -347,6 +349,7 @@ impl Simulation {
             + s.beam.strain_energy(&d.beam_displacement)
             + s.spring_energy(&d.bodies)
             + d.dissipated
+            + d.beam_dissipated
             - self.state.gravity_work
             - self.state.external_work
     }
@@ -775,9 +778,11 @@ fn initial_state(
         &mut body_loads,
     );
     let mut beam_acceleration = DVector::zeros(n);
+    // The start is at rest: the beam's velocity is zero.
+    let at_rest = DVector::zeros(n);
     system
         .beam
-        .accelerations(&u, &beam_load, &mut beam_acceleration);
+        .accelerations((&u, &at_rest), &beam_load, &mut beam_acceleration);
     let body_accelerations = system
         .bodies
         .iter()
@@ -794,6 +799,7 @@ fn initial_state(
         bodies: bodies.to_vec(),
         contact_x: frames.iter().map(|f| f.x).collect(),
         dissipated: 0.0,
+        beam_dissipated: 0.0,
     })
 }
 

@@ -289,3 +289,38 @@ fn export_of_a_bad_scene_exits_with_2_and_writes_nothing() {
     assert!(stderr(&output).contains("body.mass = -3000.0: must be > 0"));
     assert!(!fmu.exists());
 }
+
+#[test]
+fn modes_prints_the_frequencies_and_writes_the_shapes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = edited_scene_file(dir.path(), "elements = 2", "elements = 20");
+    let csv = dir.path().join("modes.csv");
+    let output = guideway(&[
+        "modes",
+        &scene,
+        "--count",
+        "3",
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    // Simply supported: f_n = n² π / (2 L²) √(EI / ρA).
+    let f1 = std::f64::consts::PI / (2.0 * 24.0 * 24.0) * (1e9f64 / 1250.0).sqrt();
+    let printed: Vec<f64> = stdout(&output)
+        .lines()
+        .filter_map(|l| l.split_whitespace().nth(1)?.parse().ok())
+        .collect();
+    assert_eq!(printed.len(), 3, "{}", stdout(&output));
+    for (n, f) in printed.iter().enumerate() {
+        let exact = f1 * ((n + 1) * (n + 1)) as f64;
+        assert!(
+            (f / exact - 1.0).abs() < 1e-4,
+            "mode {}: {f} vs {exact}",
+            n + 1
+        );
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("x,mode_1,mode_2,mode_3\n"));
+    // A header and the 21 nodes.
+    assert_eq!(text.lines().count(), 22);
+}

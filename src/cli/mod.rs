@@ -6,6 +6,7 @@
 
 mod export;
 mod interrupt;
+mod modes;
 mod progress;
 mod release;
 mod run;
@@ -36,6 +37,9 @@ enum Command {
     Run(RunArgs),
     /// List the built-in scenes, or print one as a TOML scene file.
     Scenes(ScenesArgs),
+    /// Print the beam's lowest natural frequencies; write the mode shapes
+    /// as CSV with `--out`.
+    Modes(ModesArgs),
     /// Export a scene as an FMI 2.0 co-simulation FMU.
     Export(ExportArgs),
     /// Error against run time of every integrator on the paper's cases
@@ -86,6 +90,18 @@ struct RunArgs {
     /// No progress bar, no summary on the terminal; errors only.
     #[arg(long, short)]
     quiet: bool,
+}
+
+#[derive(Debug, clap::Args)]
+struct ModesArgs {
+    /// Scene file or built-in scene name.
+    scene: String,
+    /// How many of the lowest modes.
+    #[arg(long, default_value_t = 6)]
+    count: usize,
+    /// Write the mode shapes (deflection at every node, largest 1) here.
+    #[arg(long, short, value_name = "CSV")]
+    out: Option<PathBuf>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -171,6 +187,7 @@ pub fn main() -> ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(args),
         Command::Scenes(args) => scenes::scenes(args),
+        Command::Modes(args) => modes::modes(args),
         Command::Export(args) => export::export(args),
         Command::WorkPrecision(args) => work_precision::work_precision(args),
         Command::Release(args) => release::release(args),

@@ -3,11 +3,73 @@
 use super::{Hht, Integrator, Rk4};
 use crate::scene::{IntegratorKind, SolverSpec};
 use crate::system::System;
+use nalgebra::Complex;
+
+type Complex64 = Complex<f64>;
 
 /// The largest step explicit RK4 is stable at for this beam (s): its
-/// stability region reaches 2√2 on the imaginary axis.
+/// stability region reaches 2√2 on the imaginary axis (undamped). With
+/// Rayleigh damping the eigenvalues λ = ω(−ζ ± i√(1 − ζ²)) leave that axis,
+/// and stiffness-proportional damping (ζ = βω/2 large at the highest modes)
+/// moves them out along the negative real axis, where the region ends at
+/// −2.785: the limit is then taken over a spread of frequencies up to ω_max.
 pub fn rk4_step_limit(system: &System) -> f64 {
-    2.0 * std::f64::consts::SQRT_2 / system.beam.highest_frequency()
+    let omega_max = system.beam.highest_frequency();
+    let damping = system.beam.damping();
+    if damping.is_zero() {
+        return 2.0 * std::f64::consts::SQRT_2 / omega_max;
+    }
+    // 200 frequencies from ω_max / 10⁴ to ω_max, geometrically spaced.
+    (0..=200)
+        .map(|k| omega_max * 10f64.powf(-4.0 * k as f64 / 200.0))
+        .map(|omega| damped_mode_limit(omega, damping.ratio(omega)))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Largest step for which RK4 is stable on the damped oscillator ω, ζ.
+fn damped_mode_limit(omega: f64, zeta: f64) -> f64 {
+    let eigenvalues: Vec<Complex64> = if zeta < 1.0 {
+        vec![omega * Complex64::new(-zeta, (1.0 - zeta * zeta).sqrt())]
+    } else {
+        let root = (zeta * zeta - 1.0).sqrt();
+        vec![
+            Complex64::new(omega * (-zeta - root), 0.0),
+            Complex64::new(omega * (-zeta + root), 0.0),
+        ]
+    };
+    eigenvalues
+        .iter()
+        .map(|&lambda| ray_limit(lambda / lambda.norm()) / lambda.norm())
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// How far RK4's stability region |1 + z + z²/2 + z³/6 + z⁴/24| ≤ 1 reaches
+/// along the ray z = s·`direction` (|direction| = 1): the first s where it
+/// leaves, by a scan then bisection.
+fn ray_limit(direction: Complex64) -> f64 {
+    let amplification = |s: f64| {
+        let z = direction * s;
+        (1.0 + z * (1.0 + z * (0.5 + z * (1.0 / 6.0 + z / 24.0)))).norm()
+    };
+    // The region lies within |z| < 3 in every direction.
+    let steps = 3000;
+    let Some(first) = (1..=steps).find(|&k| amplification(3.0 * k as f64 / steps as f64) > 1.0)
+    else {
+        return 3.0;
+    };
+    let (mut lower, mut upper) = (
+        3.0 * (first - 1) as f64 / steps as f64,
+        3.0 * first as f64 / steps as f64,
+    );
+    for _ in 0..50 {
+        let middle = 0.5 * (lower + upper);
+        if amplification(middle) > 1.0 {
+            upper = middle;
+        } else {
+            lower = middle;
+        }
+    }
+    lower
 }
 
 /// The least numerical damping `auto` runs HHT-α with.
@@ -55,11 +117,40 @@ pub fn choose_integrator(
             Err(format!(
                 "solver.step = {step} s is beyond the stability limit of explicit RK4 \
                  for this mesh: elements of {:.4} m give the beam a highest frequency of \
-                 {:.1} rad/s, so the step must not exceed {limit:.3e} s; shorten solver.step, \
+                 {:.1} rad/s (Rayleigh damping alpha = {:e}, beta = {:e}), so the step must \
+                 not exceed {limit:.3e} s; shorten solver.step, \
                  use fewer elements, or set solver.integrator = \"hht\" or \"auto\"",
                 system.beam.min_element_length(),
-                2.0 * std::f64::consts::SQRT_2 / limit
+                system.beam.highest_frequency(),
+                system.beam.damping().mass,
+                system.beam.damping().stiffness,
             ))
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rk4_region_reaches_its_known_axis_points() {
+        // Imaginary axis: 2√2; negative real axis: 2.7853 (where R(−s) = 1).
+        let imaginary = ray_limit(Complex64::new(0.0, 1.0));
+        assert!((imaginary - 2.0 * std::f64::consts::SQRT_2).abs() < 1e-9);
+        let real = ray_limit(Complex64::new(-1.0, 0.0));
+        assert!((real - 2.785_293_563).abs() < 1e-6, "{real}");
+    }
+
+    #[test]
+    fn heavy_damping_shortens_the_limit_below_the_undamped_one() {
+        let omega = 1000.0;
+        let undamped = damped_mode_limit(omega, 0.0);
+        assert!((undamped * omega - 2.0 * std::f64::consts::SQRT_2).abs() < 1e-9);
+        // ζ = 5: the fast real eigenvalue ω(−ζ − √(ζ² − 1)) governs.
+        let zeta: f64 = 5.0;
+        let fast = omega * (zeta + (zeta * zeta - 1.0).sqrt());
+        let limit = damped_mode_limit(omega, zeta);
+        assert!((limit * fast - 2.785_293_563).abs() < 1e-6);
     }
 }

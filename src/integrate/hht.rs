@@ -36,6 +36,19 @@ pub struct Hht {
     load: DVector<f64>,
     rhs: DVector<f64>,
     work: DVector<f64>,
+    scratch: DVector<f64>,
+}
+
+/// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
+fn effective_factor(
+    system: &System,
+    (alpha, beta, gamma): (f64, f64, f64),
+    dt: f64,
+) -> Result<BandLdlt, String> {
+    let forcing = 1.0 + alpha;
+    system
+        .beam
+        .factor_effective(forcing * gamma * dt, forcing * beta * dt * dt)
 }
 
 impl Hht {
@@ -43,8 +56,7 @@ impl Hht {
         let alpha = -damping;
         let beta = 0.25 * (1.0 - alpha) * (1.0 - alpha);
         let gamma = 0.5 - alpha;
-        let weight = (1.0 + alpha) * beta * nominal_step * nominal_step;
-        let factor = system.beam.factor_mass_plus_stiffness(weight)?;
+        let factor = effective_factor(system, (alpha, beta, gamma), nominal_step)?;
         let z = || DVector::zeros(system.beam.free_dofs());
         Ok(Hht {
             alpha,
@@ -59,6 +71,7 @@ impl Hht {
             load: z(),
             rhs: z(),
             work: z(),
+            scratch: z(),
         })
     }
 
@@ -73,13 +86,11 @@ impl Hht {
             return;
         }
         if self.other.as_ref().map(|(step, _)| *step) != Some(dt) {
-            let weight = (1.0 + self.alpha) * self.beta * dt * dt;
-            // The nominal factorisation succeeded, so M + c K is SPD for every
-            // c >= 0 and this one does too.
-            let factor = system
-                .beam
-                .factor_mass_plus_stiffness(weight)
-                .expect("M + c K is positive definite");
+            // The nominal factorisation succeeded, so M + c C + d K is SPD
+            // for every c, d >= 0 (C is a non-negative mix of M and K) and
+            // this one is too.
+            let factor = effective_factor(system, (self.alpha, self.beta, self.gamma), dt)
+                .expect("M + c C + d K is positive definite");
             self.other = Some((dt, factor));
         }
         if let Some((_, factor)) = &self.other {
@@ -132,6 +143,12 @@ impl Hht {
         for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
             *x = frame.x;
         }
+        // Structural damping: the power at the mean velocity, which for the
+        // trapezoidal scheme (α = 0) is exactly the energy the step removes.
+        self.work.copy_from(&start.beam_velocity);
+        self.work += &end.beam_velocity;
+        self.work.scale_mut(0.5);
+        end.beam_dissipated = start.beam_dissipated + dt * system.beam.damping_power(&self.work);
         // Trapezoidal rule for the dampers' dissipation over the step.
         let start_dissipation = dissipation_power(&system.force_elements, &start.bodies);
         end.dissipated = start.dissipated + 0.5 * dt * (start_dissipation + dissipation);
@@ -142,7 +159,8 @@ impl Hht {
         Ok(())
     }
 
-    /// Beam: predictors, then M a1 + (1 + α) K u1 − α K u0 = (1 + α) f1 − α f0.
+    /// Beam: predictors, then
+    /// M a1 + (1 + α) (C v1 + K u1) − α (C v0 + K u0) = (1 + α) f1 − α f0.
     fn beam_step(
         &mut self,
         system: &System,
@@ -164,12 +182,12 @@ impl Hht {
         let v1 = &mut end.beam_velocity;
         v1.copy_from(v0);
         v1.axpy(dt * (1.0 - gamma), a0, 1.0);
-        beam.stiffness_times(u1, &mut self.work);
+        beam.internal_forces(u1, v1, &mut self.scratch, &mut self.work);
         self.rhs.copy_from(&self.load);
         self.rhs.scale_mut(1.0 + alpha);
         self.rhs.axpy(-(1.0 + alpha), &self.work, 1.0);
         if alpha != 0.0 {
-            beam.stiffness_times(u0, &mut self.work);
+            beam.internal_forces(u0, v0, &mut self.scratch, &mut self.work);
             self.rhs.axpy(alpha, &self.work, 1.0);
             self.rhs.axpy(-alpha, &start.beam_load, 1.0);
         }

@@ -40,6 +40,10 @@ pub struct DynamicState {
     /// Energy dissipated by the force elements' dampers since t = 0 (J),
     /// integrated with the step.
     pub dissipated: f64,
+    /// Energy dissipated by the beam's structural damping since t = 0 (J),
+    /// integrated with the step.
+    #[serde(default)]
+    pub beam_dissipated: f64,
 }
 
 /// What one step starts from: the state, its contact frames (the same for

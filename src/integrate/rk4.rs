@@ -70,6 +70,7 @@ impl Rk4 {
         self.sum_accelerations.fill(Vector3::zeros());
         end.contact_x.copy_from_slice(&start.contact_x);
         let mut dissipation_sum = 0.0;
+        let mut beam_dissipation_sum = 0.0;
 
         for stage in 0..4 {
             if stage > 0 {
@@ -95,7 +96,8 @@ impl Rk4 {
                     &mut self.load,
                     &mut self.body_loads,
                 );
-            beam.accelerations(&self.stage_u, &self.load, &mut self.accel);
+            beam.accelerations((&self.stage_u, &self.stage_v), &self.load, &mut self.accel);
+            beam_dissipation_sum += WEIGHT[stage] * beam.damping_power(&self.stage_v);
 
             let weight = WEIGHT[stage];
             self.sum_u.axpy(weight, &self.stage_v, 1.0);
@@ -139,6 +141,7 @@ impl Rk4 {
             };
         }
         end.dissipated = start.dissipated + w * dissipation_sum;
+        end.beam_dissipated = start.beam_dissipated + w * beam_dissipation_sum;
         Ok(())
     }
 
@@ -159,7 +162,7 @@ impl Rk4 {
         self.sum_u.fill(0.0);
         self.sum_v.fill(0.0);
         for stage in 0..4 {
-            beam.accelerations(&self.stage_u, load, &mut self.accel);
+            beam.accelerations((&self.stage_u, &self.stage_v), load, &mut self.accel);
             let weight = WEIGHT[stage];
             self.sum_u.axpy(weight, &self.stage_v, 1.0);
             self.sum_v.axpy(weight, &self.accel, 1.0);

@@ -5,7 +5,7 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 34] = [
+const FIELD_NOTES: [(&str, &str); 40] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
     (
@@ -34,6 +34,24 @@ const FIELD_NOTES: [(&str, &str); 34] = [
         "beam.supports.intermediate",
         "m, pinned supports strictly inside, increasing",
     ),
+    (
+        "beam.damping.alpha",
+        "1/s, Rayleigh C = alpha M + beta K, >= 0",
+    ),
+    (
+        "beam.damping.beta",
+        "s, Rayleigh stiffness coefficient, >= 0",
+    ),
+    (
+        "beam.damping.ratio",
+        "damping ratio at both `modes`, 0 <= ratio < 1",
+    ),
+    ("beam.damping.modes", "two different bending modes, from 1"),
+    (
+        "beam.damping.ratios",
+        "damping ratios at `frequencies`, [0, 1)",
+    ),
+    ("beam.damping.frequencies", "Hz, two different, > 0"),
     ("body.name", "identifier; outputs are <name>.x, ..."),
     ("body.kind", "wheel | glider | sprung_mass | bogie_vehicle"),
     ("body.mass", "kg, > 0"),

@@ -61,6 +61,37 @@ pub struct BeamSpec {
     pub elements: usize,
     #[serde(default)]
     pub supports: SupportsSpec,
+    /// Rayleigh structural damping C = α M + β K; none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<DampingSpec>,
+}
+
+/// Rayleigh damping of the beam, C = α M + β K, given either way:
+/// `{ alpha = 0.1, beta = 1e-4 }` (coefficients, 1/s and s), or
+/// `{ ratio = 0.02, modes = [1, 3] }` (the same damping ratio ζ at the two
+/// natural bending modes numbered from 1), or
+/// `{ ratios = [0.02, 0.03], frequencies = [4.0, 30.0] }` (ζ at two
+/// frequencies in Hz).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    deny_unknown_fields,
+    expecting = "one of { alpha, beta } (Rayleigh coefficients), { ratio, modes = [i, j] } \
+                 or { ratios = [z1, z2], frequencies = [f1, f2] } (Hz), with no other fields"
+)]
+pub enum DampingSpec {
+    Coefficients {
+        alpha: f64,
+        beta: f64,
+    },
+    Modes {
+        ratio: f64,
+        modes: [usize; 2],
+    },
+    Frequencies {
+        ratios: [f64; 2],
+        frequencies: [f64; 2],
+    },
 }
 
 /// The rigid approach (x < 0) and run-off (x > L) of the track (m).
@@ -374,6 +405,7 @@ impl Scene {
                 surface_offset: 0.6,
                 elements: 2,
                 supports: SupportsSpec::default(),
+                damping: None,
             },
             body: BodySpec {
                 name: name.to_string(),

@@ -795,3 +795,59 @@ fn gravity_and_track_lengths_are_checked() {
     let problems = scene.validate().unwrap_err().to_string();
     assert!(problems.contains("-track.approach = -10.0"), "{problems}");
 }
+
+#[test]
+fn damping_is_validated_field_by_field() {
+    let damp = |d: DampingSpec| move |s: &mut Scene| s.beam.damping = Some(d);
+    assert_single_problem(
+        damp(DampingSpec::Coefficients {
+            alpha: -0.1,
+            beta: 0.0,
+        }),
+        "beam.damping.alpha",
+        "-0.1",
+        ">= 0",
+    );
+    assert_single_problem(
+        damp(DampingSpec::Modes {
+            ratio: 0.02,
+            modes: [2, 2],
+        }),
+        "beam.damping.modes",
+        "[2, 2]",
+        "two different mode numbers",
+    );
+    assert_single_problem(
+        damp(DampingSpec::Frequencies {
+            ratios: [0.05, 0.001],
+            frequencies: [1.0, 10.0],
+        }),
+        "beam.damping.ratios",
+        "[0.05, 0.001]",
+        "negative Rayleigh coefficients",
+    );
+}
+
+#[test]
+fn damping_round_trips_through_toml_in_each_shape() {
+    for damping in [
+        DampingSpec::Coefficients {
+            alpha: 0.5,
+            beta: 2.5e-4,
+        },
+        DampingSpec::Modes {
+            ratio: 0.02,
+            modes: [1, 3],
+        },
+        DampingSpec::Frequencies {
+            ratios: [0.01, 0.02],
+            frequencies: [2.0, 20.0],
+        },
+    ] {
+        let mut scene = default_scene();
+        scene.beam.damping = Some(damping);
+        scene.validate().unwrap();
+        let reread = Scene::from_toml_str(&scene.to_toml_string()).unwrap();
+        assert_eq!(reread, scene);
+    }
+}

@@ -3,7 +3,7 @@
 //! Every rule is checked and every broken one reported, so that a person can
 //! fix a scene file in one pass.
 
-use super::{BodyKind, EndSupport, Scene, SceneError};
+use super::{BodyKind, DampingSpec, EndSupport, Scene, SceneError};
 use crate::scene::error::Problem;
 use std::collections::HashSet;
 
@@ -113,6 +113,66 @@ pub fn is_xml_char(c: char) -> bool {
     matches!(c, '\t' | '\n' | '\r') || (c >= ' ' && c != '\u{FFFE}' && c != '\u{FFFF}')
 }
 
+/// Rayleigh damping: non-negative coefficients, ratios in [0, 1), two
+/// distinct modes or frequencies (else α and β are undetermined).
+fn check_damping(checks: &mut Checks, damping: &DampingSpec) {
+    match damping {
+        DampingSpec::Coefficients { alpha, beta } => {
+            checks.non_negative("beam.damping.alpha", *alpha);
+            checks.non_negative("beam.damping.beta", *beta);
+        }
+        DampingSpec::Modes { ratio, modes } => {
+            check_ratio(checks, "beam.damping.ratio", *ratio);
+            if modes[0] < 1 || modes[1] < 1 || modes[0] == modes[1] {
+                checks.fail(
+                    "beam.damping.modes",
+                    format!("{modes:?}"),
+                    "must be two different mode numbers, counted from 1",
+                );
+            }
+        }
+        DampingSpec::Frequencies {
+            ratios,
+            frequencies,
+        } => {
+            for (i, ratio) in ratios.iter().enumerate() {
+                check_ratio(checks, &format!("beam.damping.ratios[{i}]"), *ratio);
+            }
+            for (i, f) in frequencies.iter().enumerate() {
+                checks.positive(&format!("beam.damping.frequencies[{i}]"), *f);
+            }
+            if frequencies[0] == frequencies[1] {
+                checks.fail(
+                    "beam.damping.frequencies",
+                    format!("{frequencies:?}"),
+                    "must be two different frequencies (Hz)",
+                );
+                return;
+            }
+            let omega = frequencies.map(|f| std::f64::consts::TAU * f);
+            let c = crate::beam::Rayleigh::from_ratios(omega, *ratios);
+            if c.mass < 0.0 || c.stiffness < 0.0 {
+                checks.fail(
+                    "beam.damping.ratios",
+                    format!("{ratios:?}"),
+                    format!(
+                        "give negative Rayleigh coefficients (alpha = {:e}, beta = {:e}) at \
+                         frequencies {frequencies:?} Hz; the ratio may fall at most in \
+                         proportion to the frequency and rise at most with it",
+                        c.mass, c.stiffness
+                    ),
+                );
+            }
+        }
+    }
+}
+
+fn check_ratio(checks: &mut Checks, path: &str, ratio: f64) {
+    if checks.finite(path, ratio) && !(0.0..1.0).contains(&ratio) {
+        checks.fail(path, fmt_f64(ratio), "must be a damping ratio in [0, 1)");
+    }
+}
+
 /// Returns whether the beam length is usable for range checks elsewhere.
 fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
     let beam = &scene.beam;
@@ -128,6 +188,9 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
             beam.elements.to_string(),
             format!("must be <= {MAX_ELEMENTS}"),
         );
+    }
+    if let Some(damping) = &beam.damping {
+        check_damping(checks, damping);
     }
 
     let supports = &beam.supports;
