@@ -105,8 +105,10 @@ def test_units_bounds_and_nominals_are_declared():
     assert v["wheel.force_y"].displayUnit == "kN"
     assert v["wheel.initial_speed"].displayUnit == "km/h"
     assert v["sensor.midspan.deflection"].displayUnit == "mm"
-    assert float(v["wheel.mass"].min) == 5e-324  # "> 0": the smallest positive double
+    # the scene's rules with its magnitude limit: > 0 and >= 1e-15, |x| <= 1e15
+    assert (float(v["wheel.mass"].min), float(v["wheel.mass"].max)) == (1e-15, 1e15)
     assert float(v["beam.surface_offset"].min) == 0.0
+    assert (float(v["wheel.force_y"].min), float(v["wheel.force_y"].max)) == (-1e15, 1e15)
     assert (int(v["beam.elements"].min), int(v["beam.elements"].max)) == (1, 100000)
     assert float(v["beam.bending_stiffness"].nominal) == 1e9
     assert float(v["contact.normal_force"].nominal) == 1e5

@@ -343,7 +343,7 @@ impl<D: Dynamics> Model<D> {
             };
             let v = self.variable(vr, ty)?;
             let shown = match value {
-                Value::Real(x) => format!("{x}"),
+                Value::Real(x) => format!("{x:?}"),
                 Value::Integer(n) => format!("{n}"),
                 Value::Boolean(b) => format!("{b}"),
             };

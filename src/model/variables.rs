@@ -5,7 +5,7 @@
 //! One table feeds modelDescription.xml, the getters and setters and the
 //! FMU's documentation page, so they cannot disagree.
 
-use crate::scene::{BodyKind, Scene};
+use crate::scene::{BodyKind, Scene, MAX_MAGNITUDE, MIN_MAGNITUDE};
 use crate::simulation::{OutputInfo, OutputKind};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -431,13 +431,15 @@ fn rule(p: Param) -> Rule {
 }
 
 impl Rule {
-    /// Inclusive (min, max) in FMI terms. "> 0" becomes min = the smallest
-    /// positive double: every value from it on passes the rule.
+    /// Inclusive (min, max) in FMI terms, with the scene's magnitude rule
+    /// (|x| <= MAX_MAGNITUDE, and >= MIN_MAGNITUDE where it must be > 0),
+    /// so that every value within the declared bounds passes.
     fn bounds(self) -> (Option<Value>, Option<Value>) {
+        let real = |lo: f64| (Some(Value::Real(lo)), Some(Value::Real(MAX_MAGNITUDE)));
         match self {
-            Rule::Positive => (Some(Value::Real(f64::from_bits(1))), None),
-            Rule::NonNegative => (Some(Value::Real(0.0)), None),
-            Rule::Finite => (None, None),
+            Rule::Positive => real(MIN_MAGNITUDE),
+            Rule::NonNegative => real(0.0),
+            Rule::Finite => real(-MAX_MAGNITUDE),
             Rule::Count(lo, hi) => (Some(Value::Integer(lo)), Some(Value::Integer(hi))),
         }
     }
@@ -453,6 +455,12 @@ impl Rule {
             (_, Value::Real(x)) if !x.is_finite() => Err("must be finite".into()),
             (Rule::Positive, Value::Real(x)) if x <= 0.0 => Err("must be > 0".into()),
             (Rule::NonNegative, Value::Real(x)) if x < 0.0 => Err("must be >= 0".into()),
+            (Rule::Positive, Value::Real(x)) if x < MIN_MAGNITUDE => Err(format!(
+                "must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"
+            )),
+            (_, Value::Real(x)) if x.abs() > MAX_MAGNITUDE => Err(format!(
+                "must be within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
+            )),
             (_, Value::Real(_)) => Ok(value),
             _ => Err("must be a Real".into()),
         }
@@ -506,8 +514,9 @@ impl Builder {
             start: None,
             role: Role::Input(i),
             display_unit: display_unit(name, "N"),
-            min: None,
-            max: None,
+            // Model::set refuses a force beyond the scene's magnitude rule.
+            min: Some(Value::Real(-MAX_MAGNITUDE)),
+            max: Some(Value::Real(MAX_MAGNITUDE)),
             nominal: None,
             dependencies: None,
             initial_dependencies: None,
@@ -646,9 +655,10 @@ mod tests {
             let Role::Parameter(p) = v.role else { continue };
             let ok = |x: Value| set_param(&mut scene.clone(), p, x).is_ok();
             match (v.min, v.max) {
-                (Some(Value::Real(lo)), None) => {
-                    assert!(ok(Value::Real(lo)), "{}", v.name);
+                (Some(Value::Real(lo)), Some(Value::Real(hi))) => {
+                    assert!(ok(Value::Real(lo)) && ok(Value::Real(hi)), "{}", v.name);
                     assert!(!ok(Value::Real(lo.next_down())), "{}", v.name);
+                    assert!(!ok(Value::Real(hi.next_up())), "{}", v.name);
                 }
                 (Some(Value::Integer(lo)), Some(Value::Integer(hi))) => {
                     assert!(ok(Value::Integer(lo)) && ok(Value::Integer(hi)));
@@ -660,7 +670,11 @@ mod tests {
         }
         assert_eq!(
             t.by_name("wheel.mass").unwrap().min,
-            Some(Value::Real(f64::from_bits(1)))
+            Some(Value::Real(MIN_MAGNITUDE))
+        );
+        assert_eq!(
+            t.by_name("wheel.initial_speed").unwrap().max,
+            Some(Value::Real(MAX_MAGNITUDE))
         );
         assert_eq!(
             t.by_name("beam.surface_offset").unwrap().min,
