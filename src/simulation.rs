@@ -7,7 +7,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::assemble::{assemble, constant_forces};
 use crate::contact::ContactForce;
-use crate::integrate::{choose_integrator, contact_frames, loads, DynamicState};
+use crate::integrate::{
+    choose_integrator, contact_frames, contact_frames_at_bodies, loads, DynamicState,
+};
 use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
 use crate::outputs::{catalogue, Quantity};
 use crate::scene::{Scene, StartKind};
@@ -753,15 +755,8 @@ fn initial_state(
     applied: &[Vector3<f64>],
 ) -> Result<DynamicState, String> {
     let n = system.beam.free_dofs();
-    let guesses: Vec<f64> = system
-        .contacts
-        .iter()
-        .map(|c| bodies[c.body].position.x)
-        .collect();
-    let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
     let mut frames = Vec::new();
-    let located = (guesses.as_slice(), parts.as_slice());
-    contact_frames(system, &u, bodies, located, &mut frames).map_err(|e| match e {
+    contact_frames_at_bodies(system, &u, bodies, &mut frames).map_err(|e| match e {
         crate::integrate::IntegrationError::LostContact { x, .. } => {
             format!("no contact point at the start (x = {x})")
         }

@@ -17,8 +17,8 @@ use nalgebra::{DVector, Vector3};
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::Direction;
-use crate::integrate::{contact_frames, loads};
-use crate::system::{System, TrackPart};
+use crate::integrate::{contact_frames_at_bodies, loads};
+use crate::system::System;
 
 /// Passes of the fixed-point iteration; each shrinks the error by about the
 /// square of the beam's slope, so a few reach round-off.
@@ -86,13 +86,7 @@ fn locate(
     bodies: &[BodyState],
     frames: &mut Vec<ContactFrame>,
 ) -> Result<(), String> {
-    let guesses: Vec<f64> = system
-        .contacts
-        .iter()
-        .map(|c| bodies[c.body].position.x)
-        .collect();
-    let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
-    contact_frames(system, u, bodies, (&guesses, &parts), frames)
+    contact_frames_at_bodies(system, u, bodies, frames)
         .map_err(|_| "solver.start = \"static\": a contact point lies off the track".to_string())
 }
 

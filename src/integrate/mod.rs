@@ -66,6 +66,23 @@ pub enum IntegrationError {
     LostContact { contact: usize, x: f64 },
 }
 
+/// Contact frames of every contact at the start of a run: each searched
+/// from its body's abscissa, on the part of the track that abscissa lies on.
+pub fn contact_frames_at_bodies(
+    system: &System,
+    u: &DVector<f64>,
+    bodies: &[BodyState],
+    frames: &mut Vec<ContactFrame>,
+) -> Result<(), IntegrationError> {
+    let guesses: Vec<f64> = system
+        .contacts
+        .iter()
+        .map(|c| bodies[c.body].position.x)
+        .collect();
+    let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
+    contact_frames(system, u, bodies, (&guesses, &parts), frames)
+}
+
 /// Contact frames of every contact for the given configuration, on the
 /// parts of the track in `parts` (where each contact was at the start of
 /// the step), searched from the foot points in `guesses`.
