@@ -184,11 +184,13 @@ fn suspension(
 fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
     let b: BogieSpec = spec.bogie.expect("a validated bogie_vehicle has its bogie");
     let (lc, lt) = (b.bogie_half_distance, b.axle_half_distance);
+    // Wheel wheelsets lift everything above them by their radius.
+    let lift = b.wheel_radius.unwrap_or(0.0);
     let at = |dx: f64, dy: f64, mass: f64, inertia: f64, name: String| {
         let mut s = spec.clone();
         s.initial_position += dx;
         let (_, _, mut state) = single_body(&s, beam);
-        state.position.y += dy;
+        state.position.y += dy + lift;
         (
             RigidBody {
                 name,
@@ -222,17 +224,11 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         .enumerate()
     {
         let name = format!("{}_wheelset{}", spec.name, i + 1);
-        parts.push(at(
-            bogie * lc + axle * lt,
-            0.0,
-            b.wheelset_mass,
-            0.0,
-            name.clone(),
-        ));
+        let (part, contact) = wheelset(spec, &b, bogie * lc + axle * lt, name, beam);
+        parts.push(part);
         contacts.push(Contact {
-            name,
             body: 3 + i,
-            kind: ContactKind::Glider,
+            ..contact
         });
     }
     let (bodies, states): (Vec<RigidBody>, Vec<BodyState>) = parts.into_iter().unzip();
@@ -276,6 +272,31 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         force_elements,
         states,
     }
+}
+
+/// A bogie vehicle's wheelset `dx` from the car body's centre: a glider,
+/// or a rolling wheel when the bogie spec gives `wheel_radius`.
+fn wheelset(
+    spec: &BodySpec,
+    b: &BogieSpec,
+    dx: f64,
+    name: String,
+    beam: &Beam,
+) -> ((RigidBody, BodyState), Contact) {
+    let mut s = spec.clone();
+    s.initial_position += dx;
+    s.mass = b.wheelset_mass;
+    if let (Some(radius), Some(inertia)) = (b.wheel_radius, b.wheelset_inertia) {
+        s.kind = BodyKind::Wheel;
+        s.radius = Some(radius);
+        s.inertia = Some(inertia);
+    } else {
+        s.kind = BodyKind::Glider;
+    }
+    let (mut body, mut contact, state) = single_body(&s, beam);
+    body.name = name.clone();
+    contact.name = name;
+    ((body, state), contact)
 }
 
 /// Bodies, contacts and force elements of one vehicle, and where its

@@ -214,6 +214,13 @@ pub struct BogieSpec {
     pub secondary_stiffness: f64,
     #[serde(default)]
     pub secondary_damping: f64,
+    /// Radius of the wheelsets (m): with it they are rolling wheels (no
+    /// slip, pitch inertia `wheelset_inertia`), without it gliders.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wheel_radius: Option<f64>,
+    /// Polar moment of inertia of one wheelset (kg m^2); with `wheel_radius`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wheelset_inertia: Option<f64>,
 }
 
 /// A sprung mass's suspension: a vertical spring–damper over an unsprung

@@ -716,6 +716,8 @@ fn bogie() -> crate::scene::BogieSpec {
         primary_damping: 0.0,
         secondary_stiffness: 5.3e5,
         secondary_damping: 0.0,
+        wheel_radius: None,
+        wheelset_inertia: None,
     }
 }
 
@@ -849,5 +851,42 @@ fn damping_round_trips_through_toml_in_each_shape() {
         scene.validate().unwrap();
         let reread = Scene::from_toml_str(&scene.to_toml_string()).unwrap();
         assert_eq!(reread, scene);
+    }
+}
+
+/// A valid bogie vehicle at midspan of the default beam.
+fn bogie_scene(edit: impl FnOnce(&mut crate::scene::BogieSpec)) -> Scene {
+    let mut scene = default_scene();
+    scene.body.kind = BodyKind::BogieVehicle;
+    scene.body.inertia = None;
+    scene.body.radius = None;
+    scene.body.initial_position = scene.beam.length / 2.0;
+    let mut b = bogie();
+    edit(&mut b);
+    scene.body.bogie = Some(b);
+    scene
+}
+
+#[test]
+fn wheel_wheelsets_need_radius_and_inertia_together() {
+    bogie_scene(|b| {
+        b.wheel_radius = Some(0.45);
+        b.wheelset_inertia = Some(700.0);
+    })
+    .validate()
+    .expect("wheel wheelsets");
+    for (radius, inertia, path, value) in [
+        (Some(0.45), None, "body.bogie.wheelset_inertia", "missing"),
+        (None, Some(700.0), "body.bogie.wheel_radius", "missing"),
+        (Some(-0.45), Some(700.0), "body.bogie.wheel_radius", "-0.45"),
+        (Some(0.45), Some(0.0), "body.bogie.wheelset_inertia", "0"),
+    ] {
+        let scene = bogie_scene(|b| {
+            b.wheel_radius = radius;
+            b.wheelset_inertia = inertia;
+        });
+        let problems = scene.validate().unwrap_err().to_string();
+        assert!(problems.contains(path), "{problems}");
+        assert!(problems.contains(value), "{problems}");
     }
 }

@@ -429,6 +429,7 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             }
             checks.non_negative(&path("primary_damping"), b.primary_damping);
             checks.non_negative(&path("secondary_damping"), b.secondary_damping);
+            check_wheel_wheelsets(checks, &path, &b);
             // The two bogies' axles must not overlap: lc > lt.
             if b.bogie_half_distance.is_finite()
                 && b.axle_half_distance.is_finite()
@@ -458,6 +459,29 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             format!("must be left out unless {prefix}.kind = \"bogie_vehicle\""),
         ),
         (_, None) => {}
+    }
+}
+
+/// Wheel wheelsets need both their radius and their inertia; gliders
+/// neither.
+fn check_wheel_wheelsets(checks: &mut Checks, path: &dyn Fn(&str) -> String, b: &super::BogieSpec) {
+    match (b.wheel_radius, b.wheelset_inertia) {
+        (Some(r), Some(j)) => {
+            checks.positive(&path("wheel_radius"), r);
+            checks.positive(&path("wheelset_inertia"), j);
+        }
+        (Some(_), None) => checks.fail(
+            path("wheelset_inertia"),
+            "missing",
+            "wheel wheelsets (with wheel_radius) need a value > 0",
+        ),
+        (None, Some(_)) => checks.fail(
+            path("wheel_radius"),
+            "missing",
+            "wheel wheelsets (with wheelset_inertia) need a value > 0; leave both out for \
+             glider wheelsets",
+        ),
+        (None, None) => {}
     }
 }
 
