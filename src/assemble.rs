@@ -8,7 +8,7 @@ use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactForce, ContactKind};
 use crate::force_element::{Direction, ForceElement};
-use crate::scene::{BodyKind, BodySpec, BogieSpec, Scene, SuspensionSpec};
+use crate::scene::{BodyKind, BodySpec, BogieSpec, MaglevSpec, Scene, SuspensionSpec};
 use crate::system::{System, Track};
 
 /// The system a scene asks for, where everything starts, the static
@@ -40,9 +40,10 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
                 radius: spec.radius.unwrap_or(0.0),
             },
         ),
-        BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
-            (0.0, ContactKind::Glider)
-        }
+        BodyKind::Glider
+        | BodyKind::SprungMass
+        | BodyKind::BogieVehicle
+        | BodyKind::MaglevVehicle => (0.0, ContactKind::Glider),
     };
     let body = RigidBody {
         name: spec.name.clone(),
@@ -299,6 +300,69 @@ fn wheelset(
     ((body, state), contact)
 }
 
+/// Height of a maglev car body's centre above its magnets at rest (m).
+pub const MAGLEV_HEIGHT: f64 = 1.0;
+
+/// A maglev car body over N magnets: body 0 the car body (M, J), bodies
+/// 1..=N the magnets (gliders, front to rear), each on a vertical
+/// spring–damper with a longitudinal guide, preloaded with M g / N.
+fn maglev_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
+    let m: MaglevSpec = spec
+        .maglev
+        .expect("a validated maglev_vehicle has its magnets");
+    let glider_at = |dx: f64| {
+        let mut s = spec.clone();
+        s.kind = BodyKind::Glider;
+        s.initial_position += dx;
+        single_body(&s, beam)
+    };
+    let (_, _, mut car_state) = glider_at(0.0);
+    car_state.position.y += MAGLEV_HEIGHT;
+    let mut bodies = vec![RigidBody {
+        name: spec.name.clone(),
+        mass: spec.mass,
+        inertia: m.car_inertia,
+    }];
+    let mut states = vec![car_state];
+    let mut contacts = Vec::with_capacity(m.magnets);
+    for i in 0..m.magnets {
+        let (_, contact, state) = glider_at(m.offset(i));
+        let name = format!("{}_magnet{}", spec.name, i + 1);
+        bodies.push(RigidBody {
+            name: name.clone(),
+            mass: m.magnet_mass,
+            inertia: 0.0,
+        });
+        states.push(state);
+        contacts.push(Contact {
+            name,
+            body: 1 + i,
+            ..contact
+        });
+    }
+    let load = spec.mass * gravity / m.magnets as f64;
+    let mut force_elements = Vec::with_capacity(2 * m.magnets);
+    for i in 0..m.magnets {
+        let name = format!("{}.magnet{}", spec.name, i + 1);
+        suspension(
+            &name,
+            (0, m.offset(i)),
+            1 + i,
+            m.stiffness,
+            m.damping,
+            load,
+            &states,
+            &mut force_elements,
+        );
+    }
+    Vehicle {
+        bodies,
+        contacts,
+        force_elements,
+        states,
+    }
+}
+
 /// Bodies, contacts and force elements of one vehicle, and where its
 /// bodies start; body indices are the vehicle's own.
 struct Vehicle {
@@ -338,13 +402,16 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             }
             BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
             BodyKind::BogieVehicle => bogie_vehicle(spec, &system.beam, gravity),
+            BodyKind::MaglevVehicle => maglev_vehicle(spec, &system.beam, gravity),
         };
         // The first vehicle's contact keeps the name `contact` of the
         // single-body scenes; the others' are named after their vehicle.
         let offset = system.bodies.len();
         for contact in &mut vehicle.contacts {
             contact.body += offset;
-            if v > 0 && spec.kind != BodyKind::BogieVehicle {
+            let named_by_preset =
+                matches!(spec.kind, BodyKind::BogieVehicle | BodyKind::MaglevVehicle);
+            if v > 0 && !named_by_preset {
                 contact.name = format!("{}_contact", spec.name);
             }
         }

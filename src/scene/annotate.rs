@@ -53,7 +53,10 @@ const FIELD_NOTES: [(&str, &str); 40] = [
     ),
     ("beam.damping.frequencies", "Hz, two different, > 0"),
     ("body.name", "identifier; outputs are <name>.x, ..."),
-    ("body.kind", "wheel | glider | sprung_mass | bogie_vehicle"),
+    (
+        "body.kind",
+        "wheel | glider | sprung_mass | bogie_vehicle | maglev_vehicle",
+    ),
     ("body.mass", "kg, > 0"),
     ("body.inertia", "kg m^2, centroidal J; wheel only"),
     ("body.radius", "m, r; wheel only"),

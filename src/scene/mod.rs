@@ -185,6 +185,37 @@ pub struct BodySpec {
     /// `mass` is the car body's); left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bogie: Option<BogieSpec>,
+    /// The magnets and suspensions of a `maglev_vehicle` (whose `mass` is
+    /// the car body's); left out for other kinds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub maglev: Option<MaglevSpec>,
+}
+
+/// A maglev car body (bounce, pitch) over `magnets` gliders evenly spaced
+/// along it, each on a vertical spring–damper preloaded with its share of
+/// the car body's weight.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaglevSpec {
+    /// Pitch inertia of the car body (kg m^2).
+    pub car_inertia: f64,
+    /// Number of magnets, front to rear, centred on the car body.
+    pub magnets: usize,
+    /// Distance between neighbouring magnets (m).
+    pub magnet_spacing: f64,
+    /// Mass of one magnet (kg).
+    pub magnet_mass: f64,
+    /// Suspension of one magnet: stiffness (N/m) and damping (N s/m).
+    pub stiffness: f64,
+    #[serde(default)]
+    pub damping: f64,
+}
+
+impl MaglevSpec {
+    /// Offset of magnet `i` (0 = front) from the car body's centre (m).
+    pub fn offset(&self, i: usize) -> f64 {
+        (0.5 * (self.magnets as f64 - 1.0) - i as f64) * self.magnet_spacing
+    }
 }
 
 /// The 10-DOF half vehicle: a car body (bounce, pitch) on secondary
@@ -253,6 +284,10 @@ pub enum BodyKind {
     /// `initial_position` is the car body's centre.
     #[serde(rename = "bogie_vehicle")]
     BogieVehicle,
+    /// Car body over N magnets (gliders) on spring–dampers along its
+    /// length (`maglev`); `initial_position` is the car body's centre.
+    #[serde(rename = "maglev_vehicle")]
+    MaglevVehicle,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -397,9 +432,10 @@ impl Scene {
     pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
         let (name, inertia, radius) = match kind {
             BodyKind::Wheel => ("wheel", Some(135.0), Some(0.3)),
-            BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
-                ("glider", None, None)
-            }
+            BodyKind::Glider
+            | BodyKind::SprungMass
+            | BodyKind::BogieVehicle
+            | BodyKind::MaglevVehicle => ("glider", None, None),
         };
         Scene {
             name: format!("lee1994-{name}-{initial_speed}"),
@@ -426,6 +462,7 @@ impl Scene {
                 force_y: -600e3,
                 suspension: None,
                 bogie: None,
+                maglev: None,
             },
             track: TrackSpec::default(),
             vehicles: Vec::new(),

@@ -890,3 +890,55 @@ fn wheel_wheelsets_need_radius_and_inertia_together() {
         assert!(problems.contains(value), "{problems}");
     }
 }
+
+fn maglev() -> crate::scene::MaglevSpec {
+    crate::scene::MaglevSpec {
+        car_inertia: 1.5e6,
+        magnets: 4,
+        magnet_spacing: 3.0,
+        magnet_mass: 600.0,
+        stiffness: 8e5,
+        damping: 0.0,
+    }
+}
+
+#[test]
+fn maglev_vehicle_needs_its_magnets_on_the_track() {
+    let mut scene = default_scene();
+    scene.body.kind = BodyKind::MaglevVehicle;
+    scene.body.inertia = None;
+    scene.body.radius = None;
+    scene.body.initial_position = 12.0;
+    let problems = scene.validate().unwrap_err().to_string();
+    assert!(problems.contains("body.maglev"), "{problems}");
+    scene.body.maglev = Some(maglev());
+    scene.validate().expect("a valid maglev vehicle");
+    for (edit, path, value) in [
+        (
+            (|m: &mut crate::scene::MaglevSpec| m.magnets = 0) as fn(&mut _),
+            "body.maglev.magnets",
+            "0",
+        ),
+        (
+            |m| m.magnet_spacing = -3.0,
+            "body.maglev.magnet_spacing",
+            "-3",
+        ),
+        (|m| m.damping = -1.0, "body.maglev.damping", "-1"),
+        // Magnets at 12 ± 15 m leave the 24 m beam.
+        (|m| m.magnets = 11, "body.initial_position", "12"),
+    ] {
+        let mut m = maglev();
+        edit(&mut m);
+        scene.body.maglev = Some(m);
+        let problems = scene.validate().unwrap_err().to_string();
+        assert!(problems.contains(path), "{problems}");
+        assert!(problems.contains(value), "{problems}");
+    }
+    assert_single_problem(
+        |s| s.body.maglev = Some(maglev()),
+        "body.maglev",
+        "present",
+        "maglev_vehicle",
+    );
+}

@@ -28,6 +28,8 @@ pub const MAX_SCENE_BYTES: u64 = 10_000_000;
 
 /// Most sensors: each adds an output column to every row of a run.
 pub const MAX_SENSORS: usize = 10_000;
+/// Magnets of one maglev vehicle.
+pub const MAX_MAGNETS: usize = 1000;
 
 /// Most intermediate supports.
 pub const MAX_INTERMEDIATE_SUPPORTS: usize = 10_000;
@@ -312,7 +314,10 @@ fn check_body(
             checks.required_positive(&path("inertia"), body.inertia, "a wheel needs");
             checks.required_positive(&path("radius"), body.radius, "a wheel needs");
         }
-        BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
+        BodyKind::Glider
+        | BodyKind::SprungMass
+        | BodyKind::BogieVehicle
+        | BodyKind::MaglevVehicle => {
             for (path, value) in [
                 (&path("inertia"), body.inertia),
                 (&path("radius"), body.radius),
@@ -329,6 +334,7 @@ fn check_body(
     }
     check_suspension(checks, prefix, body);
     check_bogie(checks, prefix, body);
+    check_maglev(checks, prefix, body);
     check_wheelsets_on_track(checks, prefix, body, scene);
     if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
         let x = body.initial_position;
@@ -386,10 +392,11 @@ fn check_wheelsets_on_track(
     body: &super::BodySpec,
     scene: &Scene,
 ) {
-    let Some(b) = body.bogie.filter(|_| body.kind == BodyKind::BogieVehicle) else {
-        return;
+    let reach = match (body.kind, body.bogie, body.maglev) {
+        (BodyKind::BogieVehicle, Some(b), _) => b.bogie_half_distance + b.axle_half_distance,
+        (BodyKind::MaglevVehicle, _, Some(m)) if m.magnets <= MAX_MAGNETS => m.offset(0),
+        _ => return,
     };
-    let reach = b.bogie_half_distance + b.axle_half_distance;
     let (front, rear) = (body.initial_position + reach, body.initial_position - reach);
     let (start, end) = (
         -scene.track.approach,
@@ -400,8 +407,9 @@ fn check_wheelsets_on_track(
             format!("{prefix}.initial_position"),
             fmt_f64(body.initial_position),
             format!(
-                "puts the wheelsets at {} .. {} m, off the track {} .. {} m (the car \
-                 body's centre, ± bogie_half_distance + axle_half_distance)",
+                "puts the wheelsets (or magnets) at {} .. {} m, off the track {} .. {} m \
+                 (the car body's centre, ± bogie_half_distance + axle_half_distance, or \
+                 ± (magnets − 1) magnet_spacing / 2)",
                 fmt_f64(rear),
                 fmt_f64(front),
                 fmt_f64(start),
@@ -457,6 +465,45 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             format!("{prefix}.bogie"),
             "present",
             format!("must be left out unless {prefix}.kind = \"bogie_vehicle\""),
+        ),
+        (_, None) => {}
+    }
+}
+
+/// A maglev vehicle needs its magnets; other kinds must leave them out.
+fn check_maglev(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let path = |field: &str| format!("{prefix}.maglev.{field}");
+    match (body.kind, &body.maglev) {
+        (BodyKind::MaglevVehicle, Some(m)) => {
+            for (field, value) in [
+                ("car_inertia", m.car_inertia),
+                ("magnet_spacing", m.magnet_spacing),
+                ("magnet_mass", m.magnet_mass),
+                ("stiffness", m.stiffness),
+            ] {
+                checks.positive(&path(field), value);
+            }
+            checks.non_negative(&path("damping"), m.damping);
+            if !(1..=MAX_MAGNETS).contains(&m.magnets) {
+                checks.fail(
+                    path("magnets"),
+                    m.magnets.to_string(),
+                    format!("must be 1 to {MAX_MAGNETS}"),
+                );
+            }
+        }
+        (BodyKind::MaglevVehicle, None) => checks.fail(
+            format!("{prefix}.maglev"),
+            "missing",
+            format!(
+                "a maglev_vehicle needs [{prefix}.maglev] with car_inertia, magnets, \
+                 magnet_spacing, magnet_mass and stiffness"
+            ),
+        ),
+        (_, Some(_)) => checks.fail(
+            format!("{prefix}.maglev"),
+            "present",
+            format!("must be left out unless {prefix}.kind = \"maglev_vehicle\""),
         ),
         (_, None) => {}
     }
