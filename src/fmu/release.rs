@@ -17,7 +17,7 @@
 //! bytes.
 
 use crate::fmi2::model_description::model_identifier;
-use crate::scene::{builtin, builtins, BodyKind, Scene};
+use crate::scene::{builtin, fmu_builtins, BodyKind, Scene};
 use sha2::{Digest, Sha256};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -88,8 +88,7 @@ pub fn build(out: &Path, cdylib: &Path, changelog: &str, replace: bool) -> Resul
         std::fs::remove_dir_all(&dir)
             .map_err(|e| format!("cannot remove {}: {e}", dir.display()))?;
     }
-    let scenes: Vec<Scene> = builtins()
-        .iter()
+    let scenes: Vec<Scene> = fmu_builtins()
         .map(|(name, _)| builtin(name).expect("a listed built-in exists"))
         .collect();
     let mut fmus = Vec::new();
@@ -258,12 +257,9 @@ mod tests {
 
     #[test]
     fn readme_names_every_builtin_fmu() {
-        let scenes: Vec<Scene> = builtins()
-            .iter()
-            .map(|(n, _)| builtin(n).unwrap())
-            .collect();
+        let scenes: Vec<Scene> = fmu_builtins().map(|(n, _)| builtin(n).unwrap()).collect();
         let text = readme(&scenes);
-        for (name, _) in builtins() {
+        for (name, _) in fmu_builtins() {
             assert!(text.contains(&format!("`{}.fmu`", model_identifier(name))));
         }
     }

@@ -1,11 +1,12 @@
-//! Scenes that ship with guideway: the examples of Lee (1994).
+//! Scenes that ship with guideway: the examples of Lee (1994), and trains
+//! of bogie vehicles on multi-span bridges (TOML files in `trains/`).
 
 use super::{BodyKind, Scene};
 
 /// The scene `guideway run` uses when none is given.
 pub const DEFAULT_SCENE: &str = "lee1994-wheel-10";
 
-const BUILTINS: [(&str, &str); 4] = [
+const BUILTINS: [(&str, &str); 6] = [
     (
         "lee1994-wheel-1",
         "Lee (1994) model 1: wheel rolling at 1 m/s onto a 24 m simply supported beam, dt = 0.005 s",
@@ -22,6 +23,26 @@ const BUILTINS: [(&str, &str); 4] = [
         "lee1994-glider-30",
         "Lee (1994) model 2: maglev glider (J = 0, r = 0) at 30 m/s over a 24 m simply supported beam, dt = 0.005 s",
     ),
+    (
+        "train-3-coaches-2x25-5",
+        "three coaches on rolling wheelsets at 5 m/s from the approach over a 2 x 25 m continuous bridge onto the run-off, then 1 s of free vibration",
+    ),
+    (
+        "train-2-coaches-2x40-100",
+        "two coaches on glider wheelsets at 100 km/h over the middle pier of a 2 x 40 m continuous bridge, from the static start until the front wheelset nears the end",
+    ),
+];
+
+/// The train scenes, as TOML (they are read like any scene file).
+const TRAINS: [(&str, &str); 2] = [
+    (
+        "train-3-coaches-2x25-5",
+        include_str!("trains/train-3-coaches-2x25-5.toml"),
+    ),
+    (
+        "train-2-coaches-2x40-100",
+        include_str!("trains/train-2-coaches-2x40-100.toml"),
+    ),
 ];
 
 /// Names and one-line descriptions of the built-in scenes.
@@ -29,10 +50,21 @@ pub fn builtins() -> &'static [(&'static str, &'static str)] {
     &BUILTINS
 }
 
+/// The built-ins a release ships as FMUs with cross-check results: the
+/// paper's (a train's reference CSV would run to hundreds of MB).
+pub fn fmu_builtins() -> impl Iterator<Item = &'static (&'static str, &'static str)> {
+    BUILTINS
+        .iter()
+        .filter(|(name, _)| TRAINS.iter().all(|(train, _)| train != name))
+}
+
 /// The built-in scene of that name: the paper's model 1 beam (two
 /// elements, sensor `midspan` at L/2) with the body, initial speed (m/s) and
 /// time step (s) of the paper's example.
 pub fn builtin(name: &str) -> Option<Scene> {
+    if let Some((_, text)) = TRAINS.iter().find(|(known, _)| *known == name) {
+        return Some(Scene::from_toml_str(text).expect("a built-in train scene is valid"));
+    }
     let (kind, initial_speed, step) = match name {
         "lee1994-wheel-1" => (BodyKind::Wheel, 1.0, 0.005),
         "lee1994-wheel-10" => (BodyKind::Wheel, 10.0, 0.0025),

@@ -8,7 +8,7 @@ mod builtin;
 mod error;
 mod validate;
 
-pub use builtin::{builtin, builtins, DEFAULT_SCENE};
+pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
 pub use error::{Problem, SceneError};
 pub use validate::{
     is_identifier, is_xml_char, MAX_DESCRIPTION_CHARS, MAX_ELEMENTS, MAX_INTERMEDIATE_SUPPORTS,
