@@ -570,7 +570,11 @@ fn annotated_toml_reads_back_to_the_same_scene() {
     scenes.push(varied);
     for scene in scenes {
         let text = scene.to_annotated_toml();
-        assert!(text.contains("bending_stiffness = 1e9"), "{text}");
+        let paper_beam = scene.beam.bending_stiffness == 1e9;
+        assert!(
+            !paper_beam || text.contains("bending_stiffness = 1e9"),
+            "{text}"
+        );
         assert!(text.contains("# N m^2, EI > 0"), "{text}");
         let reread = Scene::from_toml_str(&text).unwrap_or_else(|e| panic!("{e}\n{text}"));
         assert_eq!(reread, scene, "{text}");
