@@ -11,7 +11,7 @@ use guideway::output_file::{check_distinct, Staged};
 use guideway::report::csv::CsvWriter;
 use guideway::report::{
     check_run_length, drive_into, plot, Decimated, RowSink, RunSummary, StreamError, Streamed,
-    SummaryBuilder, Trace,
+    SummaryBuilder, SummaryEvent, Trace,
 };
 use guideway::simulation::Simulation;
 use guideway::Scene;
@@ -66,7 +66,9 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     match result {
         Ok(streamed) => {
             let integrator = simulation.integrator_choice().to_string();
-            let summary = finish(sink, outputs, &streamed, integrator, &scene, args.quiet)?;
+            let events = SummaryEvent::list(&simulation);
+            let run = (integrator, events);
+            let summary = finish(sink, outputs, &streamed, run, &scene, args.quiet)?;
             if !args.quiet {
                 println!("{summary}");
             }
@@ -81,7 +83,7 @@ fn finish(
     mut sink: Sink,
     outputs: Outputs,
     streamed: &Streamed,
-    integrator: String,
+    (integrator, events): (String, Vec<SummaryEvent>),
     scene: &Scene,
     quiet: bool,
 ) -> Result<RunSummary, Failure> {
@@ -93,6 +95,7 @@ fn finish(
         .summary
         .finish(streamed.exit_time, streamed.solve_time.as_secs_f64());
     summary.integrator = Some(integrator);
+    summary.events = events;
     if let Some(staged) = outputs.summary {
         std::fs::write(staged.temp_path(), summary.to_json() + "\n")
             .map_err(|e| Failure::Run(format!("cannot write {}: {e}", staged.path().display())))?;

@@ -16,7 +16,7 @@ pub use stream::{
     check_run_length, drive_into, non_finite_output, RowSink, StreamError, Streamed,
     DEFAULT_MAX_STEPS,
 };
-pub use summary::{RunSummary, SummaryBuilder};
+pub use summary::{RunSummary, SummaryBuilder, SummaryEvent};
 pub use trace::{Decimated, Trace};
 
 /// Names of the simulation outputs the report reads.

@@ -33,7 +33,44 @@ pub struct RunSummary {
     /// The integrator that ran, and for `auto` why.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub integrator: Option<String>,
+    /// Each contact's entries onto and exits from the beam (and off the
+    /// track), in time order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub events: Vec<SummaryEvent>,
 }
+
+/// One event of a run: which contact, what, when.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SummaryEvent {
+    pub contact: String,
+    /// `entry` (onto the beam), `exit` (off the beam) or `left_track`.
+    pub kind: String,
+    /// Time (s).
+    pub time: f64,
+}
+
+impl SummaryEvent {
+    /// The events of a run, named after their contacts.
+    pub fn list(sim: &crate::simulation::Simulation) -> Vec<SummaryEvent> {
+        use crate::simulation::EventKind;
+        sim.events()
+            .iter()
+            .map(|e| SummaryEvent {
+                contact: sim.system().contacts[e.contact].name.clone(),
+                kind: match e.kind {
+                    EventKind::Entry => "entry",
+                    EventKind::Exit => "exit",
+                    EventKind::LeftTrack => "left_track",
+                }
+                .to_string(),
+                time: e.time,
+            })
+            .collect()
+    }
+}
+
+/// Events the terminal summary lists (the JSON has them all).
+const EVENTS_SHOWN: usize = 24;
 
 impl RunSummary {
     /// Summarise a trace of `scene`'s outputs.
@@ -160,6 +197,7 @@ impl SummaryBuilder {
             iterations: self.iterations_column.map(|_| self.iterations),
             wall_time_s,
             integrator: None,
+            events: Vec::new(),
         }
     }
 }
@@ -199,6 +237,17 @@ impl fmt::Display for RunSummary {
         writeln!(f, "steps              {}", self.steps)?;
         let iterations = self.iterations.map_or("-".to_string(), |n| n.to_string());
         writeln!(f, "iterations         {iterations}")?;
+        for e in self.events.iter().take(EVENTS_SHOWN) {
+            writeln!(
+                f,
+                "event              {:<10} {} at {:.6} s",
+                e.kind, e.contact, e.time
+            )?;
+        }
+        if self.events.len() > EVENTS_SHOWN {
+            let more = self.events.len() - EVENTS_SHOWN;
+            writeln!(f, "event              ... {more} more (all in --summary)")?;
+        }
         write!(f, "wall time (solve)  {:.3} ms", self.wall_time_s * 1e3)
     }
 }

@@ -472,3 +472,38 @@ fn the_run_length_is_refused_beyond_the_limit_and_below_the_time_resolution() {
         "an infinite run"
     );
 }
+
+#[test]
+fn summary_lists_each_contacts_entry_and_exit() {
+    use crate::simulation::Simulation;
+    // The paper's wheel from 5 m before the beam onto 30 m of run-off.
+    let mut scene = scene();
+    scene.track.approach = 5.0;
+    scene.track.run_off = 30.0;
+    scene.body.initial_position = -5.0;
+    scene.solver.end_time = Some(3.0);
+    let mut sim = Simulation::new(&scene).unwrap();
+    sim.advance_to(3.0).unwrap();
+    let mut summary = RunSummary::from_trace(&scene, &synthetic_trace(), None, 0.0);
+    summary.events = super::SummaryEvent::list(&sim);
+    let kinds: Vec<&str> = summary.events.iter().map(|e| e.kind.as_str()).collect();
+    assert_eq!(kinds, ["entry", "exit"]);
+    assert_eq!(summary.events[0].contact, "contact");
+    assert!(
+        (summary.events[0].time - 0.5).abs() < 1e-6,
+        "{:?}",
+        summary.events
+    );
+    let exit = summary.events[1].time;
+    assert!((exit - 0.5 - 2.275).abs() < 1e-2, "{exit}");
+    let text = summary.to_string();
+    assert!(
+        text.contains("event              entry      contact at 0.500000 s"),
+        "{text}"
+    );
+    let json: RunSummary = serde_json::from_str(&summary.to_json()).unwrap();
+    assert_eq!(json.events, summary.events);
+    // A run without events keeps its JSON as it was.
+    summary.events.clear();
+    assert!(!summary.to_json().contains("events"));
+}
