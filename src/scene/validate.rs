@@ -437,7 +437,7 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             }
             checks.non_negative(&path("primary_damping"), b.primary_damping);
             checks.non_negative(&path("secondary_damping"), b.secondary_damping);
-            check_wheel_wheelsets(checks, &path, &b);
+            check_wheel_wheelsets(checks, &path, b);
             // The two bogies' axles must not overlap: lc > lt.
             if b.bogie_half_distance.is_finite()
                 && b.axle_half_distance.is_finite()
