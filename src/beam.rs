@@ -704,6 +704,12 @@ impl Beam {
         self.min_element_length
     }
 
+    /// LDLᵀ factor of K, to solve many static load cases (`None` when the
+    /// supports leave a rigid-body motion).
+    pub fn stiffness_factor(&self) -> Option<BandLdlt> {
+        self.stiffness.ldlt()
+    }
+
     /// Whether a support holds global DOF `k` of node `node` (0: w, 1: ψ).
     pub fn is_held(&self, node: usize, k: usize) -> bool {
         self.dof_map[2 * node + k].is_none()

@@ -81,10 +81,13 @@ pub fn load_vector(beam: &Beam, loads: &[PointLoad]) -> DVector<f64> {
 /// the acceleration they give, M⁻¹ (r − K u − C v).
 #[derive(Debug, Clone)]
 pub struct BeamDynamics {
-    pub displacement: DVector<f64>,
-    pub velocity: DVector<f64>,
-    pub acceleration: DVector<f64>,
-    pub loads: Vec<PointLoad>,
+    displacement: DVector<f64>,
+    velocity: DVector<f64>,
+    acceleration: DVector<f64>,
+    loads: Vec<PointLoad>,
+    /// u + β v and a + α v: the displacement and acceleration that carry
+    /// the damping forces C v = α M v + β K v along with K u and M a.
+    damped: (DVector<f64>, DVector<f64>),
 }
 
 impl BeamDynamics {
@@ -100,24 +103,52 @@ impl BeamDynamics {
         let r = load_vector(beam, &loads);
         let mut acceleration = DVector::zeros(beam.free_dofs());
         beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
+        let damped = damped(beam, &displacement, &velocity, &acceleration);
         BeamDynamics {
             displacement,
             velocity,
             acceleration,
             loads,
+            damped,
         }
     }
 
     /// The static equilibrium K u = r under `loads`, at rest.
     pub fn static_response(beam: &Beam, loads: Vec<PointLoad>) -> Result<BeamDynamics, String> {
         let displacement = beam.static_deflection(&load_vector(beam, &loads))?;
+        Ok(BeamDynamics::at_rest(beam, displacement, loads))
+    }
+
+    /// The static equilibrium under `loads` with K's factor at hand.
+    pub fn static_response_with(
+        beam: &Beam,
+        stiffness: &crate::band::BandLdlt,
+        loads: Vec<PointLoad>,
+    ) -> BeamDynamics {
+        let mut displacement = load_vector(beam, &loads);
+        stiffness.solve_mut(&mut displacement);
+        BeamDynamics::at_rest(beam, displacement, loads)
+    }
+
+    fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {
         let zero = DVector::zeros(beam.free_dofs());
-        Ok(BeamDynamics {
+        BeamDynamics {
+            damped: (displacement.clone(), zero.clone()),
             displacement,
             velocity: zero.clone(),
             acceleration: zero,
             loads,
-        })
+        }
+    }
+
+    /// The free DOFs' displacements.
+    pub fn displacement(&self) -> &DVector<f64> {
+        &self.displacement
+    }
+
+    /// Deflection at `x` (m, up positive).
+    pub fn deflection_at(&self, beam: &Beam, x: f64) -> f64 {
+        beam.deflection(&self.displacement, x)
     }
 
     /// Vertical velocity at `x` (m/s, up positive).
@@ -128,21 +159,6 @@ impl BeamDynamics {
     /// Vertical acceleration at `x` (m/s², up positive).
     pub fn acceleration_at(&self, beam: &Beam, x: f64) -> f64 {
         beam.deflection(&self.acceleration, x)
-    }
-
-    /// The displacement and acceleration that carry the damping forces
-    /// C v = α M v + β K v: u + β v and a + α v.
-    fn effective(&self, beam: &Beam) -> (DVector<f64>, DVector<f64>) {
-        let c = beam.damping();
-        let mut u = self.displacement.clone();
-        let mut a = self.acceleration.clone();
-        if c.stiffness != 0.0 {
-            u.axpy(c.stiffness, &self.velocity, 1.0);
-        }
-        if c.mass != 0.0 {
-            a.axpy(c.mass, &self.velocity, 1.0);
-        }
-        (u, a)
     }
 
     /// Element `element`'s end forces K_e ũ + M_e ã − r_e: what its nodes
@@ -167,9 +183,9 @@ impl BeamDynamics {
     /// Bending moment (N m, sagging positive) and shear (N) at `x`. A load
     /// exactly on the section counts as right of it.
     pub fn section_forces(&self, beam: &Beam, x: f64) -> SectionForces {
-        let (u, a) = self.effective(beam);
+        let (u, a) = (&self.damped.0, &self.damped.1);
         let e = beam.element_at(x);
-        let f = self.end_forces(beam, e, &u, &a);
+        let f = self.end_forces(beam, e, u, a);
         let left = beam.node_x[e];
         // From the left node: V_i = f₀, M_i = −f₁ (the node's couple on the
         // element is −M), then the loads on the piece up to x.
@@ -187,7 +203,7 @@ impl BeamDynamics {
         for (point, weight) in GAUSS_3 {
             let xi = middle + half * point;
             let shape = beam.shape(e, xi);
-            let inertia = mu * shape.dot(&shape.n, &a) * weight * half;
+            let inertia = mu * shape.dot(&shape.n, a) * weight * half;
             shear -= inertia;
             moment -= inertia * (x - xi);
         }
@@ -198,7 +214,7 @@ impl BeamDynamics {
     /// moment (N m, counter-clockwise positive) support `node` exerts on
     /// the beam: the residual of the held DOFs.
     pub fn reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
-        let (u, a) = self.effective(beam);
+        let (u, a) = (&self.damped.0, &self.damped.1);
         let mut reaction = [0.0; 2];
         let elements = beam.elements();
         // The element ending at the node (its DOFs 2, 3) and the one
@@ -207,7 +223,7 @@ impl BeamDynamics {
             if element >= elements {
                 continue;
             }
-            let f = self.end_forces(beam, element, &u, &a);
+            let f = self.end_forces(beam, element, u, a);
             for (k, r) in reaction.iter_mut().enumerate() {
                 if beam.is_held(node, k) {
                     *r += f[first + k];
@@ -216,6 +232,24 @@ impl BeamDynamics {
         }
         reaction
     }
+}
+
+/// u + β v and a + α v for the beam's Rayleigh damping (α M + β K).
+fn damped(
+    beam: &Beam,
+    u: &DVector<f64>,
+    v: &DVector<f64>,
+    a: &DVector<f64>,
+) -> (DVector<f64>, DVector<f64>) {
+    let c = beam.damping();
+    let (mut u, mut a) = (u.clone(), a.clone());
+    if c.stiffness != 0.0 {
+        u.axpy(c.stiffness, v, 1.0);
+    }
+    if c.mass != 0.0 {
+        a.axpy(c.mass, v, 1.0);
+    }
+    (u, a)
 }
 
 /// Three-point Gauss-Legendre rule on [−1, 1]: (point, weight).
@@ -267,6 +301,9 @@ pub fn supports(beam: &Beam) -> Vec<Support> {
         })
         .collect()
 }
+
+mod envelope;
+pub use envelope::{static_envelope, StaticEnvelope};
 
 #[cfg(test)]
 mod tests;
