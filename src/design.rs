@@ -86,8 +86,9 @@ pub struct BeamDynamics {
     acceleration: DVector<f64>,
     loads: Vec<PointLoad>,
     /// u + β v and a + α v: the displacement and acceleration that carry
-    /// the damping forces C v = α M v + β K v along with K u and M a.
-    damped: (DVector<f64>, DVector<f64>),
+    /// the damping forces C v = α M v + β K v along with K u and M a
+    /// (`None` when undamped: u and a themselves).
+    damped: Option<(DVector<f64>, DVector<f64>)>,
 }
 
 impl BeamDynamics {
@@ -133,7 +134,7 @@ impl BeamDynamics {
     fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {
         let zero = DVector::zeros(beam.free_dofs());
         BeamDynamics {
-            damped: (displacement.clone(), zero.clone()),
+            damped: None,
             displacement,
             velocity: zero.clone(),
             acceleration: zero,
@@ -149,6 +150,14 @@ impl BeamDynamics {
     /// Deflection at `x` (m, up positive).
     pub fn deflection_at(&self, beam: &Beam, x: f64) -> f64 {
         beam.deflection(&self.displacement, x)
+    }
+
+    /// u + β v and a + α v (u and a when undamped).
+    fn damped_state(&self) -> (&DVector<f64>, &DVector<f64>) {
+        match &self.damped {
+            Some((u, a)) => (u, a),
+            None => (&self.displacement, &self.acceleration),
+        }
     }
 
     /// Vertical velocity at `x` (m/s, up positive).
@@ -183,7 +192,7 @@ impl BeamDynamics {
     /// Bending moment (N m, sagging positive) and shear (N) at `x`. A load
     /// exactly on the section counts as right of it.
     pub fn section_forces(&self, beam: &Beam, x: f64) -> SectionForces {
-        let (u, a) = (&self.damped.0, &self.damped.1);
+        let (u, a) = self.damped_state();
         let e = beam.element_at(x);
         let f = self.end_forces(beam, e, u, a);
         let left = beam.node_x[e];
@@ -214,7 +223,7 @@ impl BeamDynamics {
     /// moment (N m, counter-clockwise positive) support `node` exerts on
     /// the beam: the residual of the held DOFs.
     pub fn reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
-        let (u, a) = (&self.damped.0, &self.damped.1);
+        let (u, a) = self.damped_state();
         let mut reaction = [0.0; 2];
         let elements = beam.elements();
         // The element ending at the node (its DOFs 2, 3) and the one
@@ -240,8 +249,11 @@ fn damped(
     u: &DVector<f64>,
     v: &DVector<f64>,
     a: &DVector<f64>,
-) -> (DVector<f64>, DVector<f64>) {
+) -> Option<(DVector<f64>, DVector<f64>)> {
     let c = beam.damping();
+    if c.is_zero() {
+        return None;
+    }
     let (mut u, mut a) = (u.clone(), a.clone());
     if c.stiffness != 0.0 {
         u.axpy(c.stiffness, v, 1.0);
@@ -249,7 +261,7 @@ fn damped(
     if c.mass != 0.0 {
         a.axpy(c.mass, v, 1.0);
     }
-    (u, a)
+    Some((u, a))
 }
 
 /// Three-point Gauss-Legendre rule on [−1, 1]: (point, weight).

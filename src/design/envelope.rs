@@ -148,7 +148,7 @@ pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
 /// the first at x = L, plus those that put a load exactly on a sensor or
 /// section (where a moment or shear peaks with a kink, between samples).
 fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64, f64)) -> Vec<f64> {
-    let even = (16 * beam.elements())
+    let even = (4 * beam.elements())
         .clamp(MIN_POSITIONS, MAX_POSITIONS)
         .min(MAX_WORK / beam.free_dofs().max(1))
         .max(2);
