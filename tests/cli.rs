@@ -324,3 +324,59 @@ fn modes_prints_the_frequencies_and_writes_the_shapes() {
     // A header and the 21 nodes.
     assert_eq!(text.lines().count(), 22);
 }
+
+#[test]
+fn run_prints_the_natural_frequencies_or_why_not() {
+    let dir = tempfile::tempdir().unwrap();
+    // 20 elements (HHT for the step): the first five f_n = n² f₁ to 1e-3.
+    let scene = edited_scene_file(dir.path(), "elements = 2", "elements = 20");
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(
+        text.contains("integrator = \"rk4\"")
+            && text.trim_end().ends_with("numerical_damping = 0.0")
+    );
+    std::fs::write(
+        &scene,
+        text.replace("integrator = \"rk4\"", "integrator = \"hht\""),
+    )
+    .unwrap();
+    let output = guideway(&["run", &scene]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let out = stdout(&output);
+    let line = out
+        .lines()
+        .find(|l| l.starts_with("frequencies (Hz)"))
+        .unwrap_or_else(|| panic!("{out}"));
+    let hz: Vec<f64> = line["frequencies (Hz)".len()..]
+        .split(" (")
+        .next()
+        .unwrap()
+        .split(',')
+        .map(|f| f.trim().parse().unwrap())
+        .collect();
+    assert_eq!(hz.len(), 5, "{line}");
+    let f1 = std::f64::consts::PI / (2.0 * 24.0 * 24.0) * (1e9f64 / 1250.0).sqrt();
+    for (n, f) in hz.iter().enumerate() {
+        let exact = f1 * ((n + 1) * (n + 1)) as f64;
+        assert!(
+            (f / exact - 1.0).abs() < 1e-3,
+            "mode {}: {f} vs {exact}",
+            n + 1
+        );
+    }
+
+    // 400 elements: 800 free DOFs, beyond the dense eigensolver's 600.
+    let big = std::fs::read_to_string(&scene)
+        .unwrap()
+        .replace("elements = 20", "elements = 400")
+        .replace("name = \"lee1994-wheel-10\"", "name = \"big\"");
+    std::fs::write(&scene, big.trim_end().to_string() + "\nend_time = 0.01\n").unwrap();
+    let output = guideway(&["run", &scene]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let out = stdout(&output);
+    assert!(
+        out.lines()
+            .any(|l| l.starts_with("frequencies        - (the beam has 800 free DOFs")),
+        "{out}"
+    );
+}

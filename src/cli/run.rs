@@ -52,6 +52,9 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     check_run_length(&scene, args.max_steps, " (--max-steps N raises it)")
         .map_err(cannot_simulate)?;
 
+    if !args.quiet {
+        println!("{}", frequencies_line(&simulation.system().beam));
+    }
     let mut sink = Sink::new(&scene, &simulation, &outputs)?;
     let mut progress = Progress::new(args.quiet);
     let result = drive_into(&scene, &mut simulation, &mut sink, |step| {
@@ -113,6 +116,33 @@ fn finish(
         staged.commit().map_err(Failure::Run)?;
     }
     Ok(summary)
+}
+
+/// Natural frequencies printed before a run.
+const FREQUENCIES_SHOWN: usize = 5;
+
+/// The beam's first natural frequencies in one line, or why not: the dense
+/// eigenproblem is refused above `MAX_MODE_DOFS` free DOFs.
+fn frequencies_line(beam: &guideway::beam::Beam) -> String {
+    match beam.modes(FREQUENCIES_SHOWN) {
+        Ok(modes) => {
+            let hz: Vec<String> = modes
+                .omega
+                .iter()
+                .map(|w| format!("{:.4}", w / std::f64::consts::TAU))
+                .collect();
+            format!(
+                "frequencies (Hz)   {} (guideway modes for more)",
+                hz.join(", ")
+            )
+        }
+        Err(_) => format!(
+            "frequencies        - (the beam has {} free DOFs; the dense eigenproblem is solved \
+             for at most {})",
+            beam.free_dofs(),
+            guideway::beam::MAX_MODE_DOFS
+        ),
+    }
 }
 
 /// Refuse outputs that would overwrite the scene file or each other.

@@ -69,9 +69,9 @@ pub fn write_plot(scene: &Scene, trace: &Trace, path: &Path) -> Result<(), Strin
 }
 
 /// One curve of a panel.
-struct Curve {
-    label: String,
-    points: Vec<(f64, f64)>,
+pub struct Curve {
+    pub label: String,
+    pub points: Vec<(f64, f64)>,
 }
 
 struct Panel {
@@ -79,8 +79,6 @@ struct Panel {
     y_label: String,
     /// Digits after the point on the y axis; scientific notation if `None`.
     y_decimals: Option<usize>,
-    /// Where the legend least hides the curves of the paper's cases.
-    legend: SeriesLabelPosition,
     curves: Vec<Curve>,
 }
 
@@ -120,6 +118,32 @@ pub fn static_deflection(scene: &Scene) -> f64 {
     scene.body.force_y.abs() * beam.length.powi(3) / (48.0 * beam.bending_stiffness)
 }
 
+/// What the sensor deflections are divided by, and the axis label: the
+/// largest static deflection of the actual structure under the scene's
+/// loads crossing it (`design::static_envelope`; P L³ / 48 EI for one load
+/// on one simply supported span) when every sensor shares one, else mm.
+pub fn deflection_scale(scene: &Scene) -> (f64, String) {
+    let envelope = crate::design::static_envelope(scene).ok();
+    let peaks: Vec<f64> = scene
+        .sensors
+        .iter()
+        .filter_map(|s| {
+            let name = output_names::sensor_deflection(&s.name);
+            envelope.as_ref()?.peaks.get(&name).copied()
+        })
+        .collect();
+    let single = peaks.first().copied().filter(|&first| {
+        peaks.len() == scene.sensors.len()
+            && first > 0.0
+            && first.is_finite()
+            && peaks.iter().all(|&p| (p - first).abs() <= 1e-9 * first)
+    });
+    match single {
+        Some(peak) => (peak, format!("deflection / (static peak {peak:.4} m)")),
+        None => (1e-3, "deflection (mm)".to_string()),
+    }
+}
+
 fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
     let curve = |label: String, values: &[f64], scale: f64| Curve {
         label,
@@ -136,15 +160,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         .column(&output_names::nominal_speed(body))
         .map(|v| curve(format!("{body}.nominal_speed"), v, 1.0));
 
-    let static_deflection = static_deflection(scene);
-    let (scale, y_label) = if static_deflection > 0.0 && static_deflection.is_finite() {
-        (
-            static_deflection,
-            format!("deflection / (P L^3 / 48 EI = {static_deflection:.4} m)"),
-        )
-    } else {
-        (1.0, "deflection (m)".to_string())
-    };
+    let (scale, y_label) = deflection_scale(scene);
     let deflections = scene
         .sensors
         .iter()
@@ -169,14 +185,12 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             title: "Nominal speed".to_string(),
             y_label: "V (m/s)".to_string(),
             y_decimals: Some(2),
-            legend: SeriesLabelPosition::UpperLeft,
             curves: speed.into_iter().collect(),
         },
         Panel {
             title: "Sensor deflection".to_string(),
             y_label,
             y_decimals: Some(2),
-            legend: SeriesLabelPosition::LowerLeft,
             curves: deflections,
         },
     ];
@@ -193,7 +207,6 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             title: "Contact forces".to_string(),
             y_label: "normal force (kN)".to_string(),
             y_decimals: Some(1),
-            legend: SeriesLabelPosition::LowerLeft,
             curves: columns(".normal_force", 1e3),
         });
         let accelerations = columns(".ay", 1.0);
@@ -202,7 +215,6 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
                 title: "Vertical acceleration of the sprung bodies".to_string(),
                 y_label: "ay (m/s^2)".to_string(),
                 y_decimals: None,
-                legend: SeriesLabelPosition::UpperRight,
                 curves: accelerations,
             });
         }
@@ -211,7 +223,6 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         title: "Energy balance, relative drift".to_string(),
         y_label: "(E - E0) / E0".to_string(),
         y_decimals: None,
-        legend: SeriesLabelPosition::UpperRight,
         curves: drift.into_iter().collect(),
     });
     panels
@@ -241,6 +252,7 @@ fn draw_panel(
             .flat_map(|c| c.points.iter().map(|&(_, y)| y)),
     );
     let labelled = text == Text::Labelled;
+    let legend = least_crowded_corner(&panel.curves, &x_range, &y_range);
     let mut builder = ChartBuilder::on(area);
     builder.margin(15);
     if labelled {
@@ -251,10 +263,9 @@ fn draw_panel(
     }
     let mut chart = builder.build_cartesian_2d(x_range.clone(), y_range.clone())?;
     if labelled {
-        let format_y = |y: &f64| match panel.y_decimals {
-            Some(decimals) => format!("{y:.decimals$}"),
-            None => format!("{y:.1e}"),
-        };
+        let span = y_range.end - y_range.start;
+        let decimals = panel.y_decimals.map(|d| d.max(tick_decimals(span)));
+        let format_y = |y: &f64| tick_label(*y, span, decimals);
         chart
             .configure_mesh()
             .x_desc(x_label)
@@ -285,13 +296,80 @@ fn draw_panel(
     if labelled && !panel.curves.is_empty() {
         chart
             .configure_series_labels()
-            .position(panel.legend.clone())
+            .position(legend)
             .label_font((FONT, 15))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()?;
     }
     Ok(())
+}
+
+/// Digits after the point that tell apart ticks of an axis spanning
+/// `span`: about ten ticks, one digit more than their spacing needs (a
+/// speed between 9.998 and 10.003 m/s gets 4, not the "10.00" repeated).
+pub fn tick_decimals(span: f64) -> usize {
+    if !(span > 0.0 && span.is_finite()) {
+        return 2;
+    }
+    let spacing = span / 10.0;
+    ((-spacing.log10()).ceil() + 1.0).clamp(0.0, 15.0) as usize
+}
+
+/// A tick's label: fixed `decimals`, or scientific when `None`; a value
+/// within round-off of zero on an axis spanning `span` is "0" (not
+/// "-4.1e-25").
+pub fn tick_label(y: f64, span: f64, decimals: Option<usize>) -> String {
+    if y == 0.0 || y.abs() <= 1e-9 * span {
+        return "0".to_string();
+    }
+    match decimals {
+        Some(decimals) => format!("{y:.decimals$}"),
+        None => format!("{y:.1e}"),
+    }
+}
+
+/// The corner of the chart whose legend box (a third of the width, a
+/// quarter of the height per curve, up to half) covers the fewest
+/// points of the curves.
+pub fn least_crowded_corner(
+    curves: &[Curve],
+    x: &Range<f64>,
+    y: &Range<f64>,
+) -> SeriesLabelPosition {
+    let (width, height) = (x.end - x.start, y.end - y.start);
+    let box_height = (0.12 * curves.len().max(1) as f64).min(0.5);
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let covered = |right: bool, upper: bool| {
+        curves
+            .iter()
+            .flat_map(|c| &c.points)
+            .filter(|&&(px, py)| {
+                let fx = (px - x.start) / width;
+                let fy = (py - y.start) / height;
+                let in_x = if right {
+                    fx >= 2.0 / 3.0
+                } else {
+                    fx <= 1.0 / 3.0
+                };
+                let in_y = if upper {
+                    fy >= 1.0 - box_height
+                } else {
+                    fy <= box_height
+                };
+                in_x && in_y
+            })
+            .count()
+    };
+    corners
+        .into_iter()
+        .min_by_key(|&(_, right, upper)| covered(right, upper))
+        .map_or(SeriesLabelPosition::UpperRight, |c| c.0)
 }
 
 /// The range of the finite values, widened by 5 % (or by 1 when they are

@@ -507,3 +507,79 @@ fn summary_lists_each_contacts_entry_and_exit() {
     summary.events.clear();
     assert!(!summary.to_json().contains("events"));
 }
+
+#[test]
+fn speed_ticks_stay_distinct_at_any_range() {
+    // About ten ticks over the range: their labels must differ.
+    for (low, high) in [(9.998, 10.003), (0.0, 1e4), (0.1, 0.1005), (10.0, 11.2)] {
+        let span = high - low;
+        let decimals = plot::tick_decimals(span).max(2);
+        let labels: Vec<String> = (0..=10)
+            .map(|k| plot::tick_label(low + span * k as f64 / 10.0, span, Some(decimals)))
+            .collect();
+        let mut unique = labels.clone();
+        unique.dedup();
+        assert_eq!(unique.len(), labels.len(), "{low}..{high}: {labels:?}");
+    }
+    // The paper's speed axis keeps its two decimals.
+    assert!(plot::tick_decimals(1.2) <= 2);
+}
+
+#[test]
+fn round_off_around_zero_is_labelled_zero() {
+    assert_eq!(plot::tick_label(-4.1e-25, 1.6e-5, None), "0");
+    assert_eq!(plot::tick_label(2e-6, 1.6e-5, None), "2.0e-6");
+    assert_eq!(plot::tick_label(-1e-17, 2.0, Some(2)), "0");
+    assert_eq!(plot::tick_label(-0.2, 2.0, Some(2)), "-0.20");
+}
+
+#[test]
+fn legends_go_to_the_corner_the_curves_leave_free() {
+    use plotters::prelude::SeriesLabelPosition as At;
+    let curve = |points: Vec<(f64, f64)>| plot::Curve {
+        label: "c".into(),
+        points,
+    };
+    let (x, y) = (0.0..1.0, 0.0..1.0);
+    let ramp = |f: fn(f64) -> f64| {
+        curve(
+            (0..=100)
+                .map(|k| (k as f64 / 100.0, f(k as f64 / 100.0)))
+                .collect(),
+        )
+    };
+    // A curve hugging the top: the legend goes below.
+    let top = plot::least_crowded_corner(&[ramp(|_| 0.95)], &x, &y);
+    assert!(matches!(top, At::LowerRight | At::LowerLeft), "{top:?}");
+    // A rise from lower left to upper right leaves the other two corners.
+    let rise = plot::least_crowded_corner(&[ramp(|t| t)], &x, &y);
+    assert!(matches!(rise, At::UpperLeft | At::LowerRight), "{rise:?}");
+    // A dip in the middle (the deflection) leaves the lower corners free.
+    let dip =
+        plot::least_crowded_corner(&[ramp(|t| 1.0 - (std::f64::consts::PI * t).sin())], &x, &y);
+    assert!(matches!(dip, At::LowerRight | At::LowerLeft), "{dip:?}");
+}
+
+#[test]
+fn deflection_is_scaled_by_the_static_peak_of_the_actual_structure() {
+    // One span, simply supported: P L³ / 48 EI = 0.1728 m.
+    let (scale, label) = plot::deflection_scale(&scene());
+    assert!((scale - 0.1728).abs() < 1e-9, "{scale}");
+    assert!(label.contains("0.1728"), "{label}");
+    // Clamped at both ends: P L³ / 192 EI, a quarter of it.
+    let mut clamped = scene();
+    clamped.beam.supports.left = crate::scene::EndSupport::Clamped;
+    clamped.beam.supports.right = crate::scene::EndSupport::Clamped;
+    let (scale, _) = plot::deflection_scale(&clamped);
+    assert!((scale - 0.1728 / 4.0).abs() < 1e-9, "{scale}");
+    // Two sensors with different static peaks: no single value, mm.
+    let mut two = scene();
+    two.sensors.push(crate::scene::SensorSpec {
+        name: "quarter".into(),
+        position: 6.0,
+    });
+    assert_eq!(
+        plot::deflection_scale(&two),
+        (1e-3, "deflection (mm)".to_string())
+    );
+}
