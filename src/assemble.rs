@@ -48,6 +48,7 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
         name: spec.name.clone(),
         mass: spec.mass,
         inertia,
+        drive: None,
     };
     let contact = Contact {
         name: "contact".into(),
@@ -89,6 +90,7 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         name: spec.name.clone(),
         mass: spec.mass,
         inertia: 0.0,
+        drive: None,
     };
     let sprung_state = BodyState {
         position: contact_state.position + Vector2::new(0.0, SPRUNG_HEIGHT),
@@ -194,6 +196,7 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
                 name,
                 mass,
                 inertia,
+                drive: None,
             },
             state,
         )
@@ -307,7 +310,10 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {
         let mut vehicle = match spec.kind {
             BodyKind::Wheel | BodyKind::Glider => {
-                let (body, contact, state) = single_body(spec, &system.beam);
+                let (mut body, contact, state) = single_body(spec, &system.beam);
+                // Driven from the first step on (`Simulation` sets each
+                // step's ẍ from the speed table).
+                body.drive = spec.prescribed_speed.as_ref().map(|_| 0.0);
                 Vehicle {
                     bodies: vec![body],
                     contacts: vec![contact],

@@ -171,6 +171,11 @@ pub struct BodySpec {
     pub initial_position: f64,
     /// Initial travel speed (m/s), positive to the right.
     pub initial_speed: f64,
+    /// Hold the body's horizontal speed (m/s): a number, or a table of
+    /// (time s, speed m/s) rows, linear between rows and held beyond them;
+    /// a tractive force computed each step holds it (wheels and gliders).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prescribed_speed: Option<SpeedSpec>,
     /// Constant force on the body's centre, x component (N).
     #[serde(default)]
     pub force_x: f64,
@@ -185,6 +190,36 @@ pub struct BodySpec {
     /// `mass` is the car body's); left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bogie: Option<BogieSpec>,
+}
+
+/// A prescribed horizontal speed: constant, or a table of (time, speed).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a speed in m/s, or a table [[t0, v0], [t1, v1], ...] of times (s) and speeds (m/s)"
+)]
+pub enum SpeedSpec {
+    Constant(f64),
+    Table(Vec<[f64; 2]>),
+}
+
+impl SpeedSpec {
+    /// The speed at time `t` (m/s): linear between the table's rows, held
+    /// before the first and after the last.
+    pub fn speed_at(&self, t: f64) -> f64 {
+        match self {
+            SpeedSpec::Constant(v) => *v,
+            SpeedSpec::Table(rows) => {
+                let after = rows.partition_point(|row| row[0] <= t);
+                match (after.checked_sub(1).map(|i| rows[i]), rows.get(after)) {
+                    (Some(a), Some(b)) => a[1] + (b[1] - a[1]) * (t - a[0]) / (b[0] - a[0]),
+                    (Some(a), None) => a[1],
+                    (None, Some(b)) => b[1],
+                    (None, None) => 0.0,
+                }
+            }
+        }
+    }
 }
 
 /// The 10-DOF half vehicle: a car body (bounce, pitch) on secondary
@@ -415,6 +450,7 @@ impl Scene {
                 radius,
                 initial_position: 0.0,
                 initial_speed,
+                prescribed_speed: None,
                 force_x: 0.0,
                 force_y: -600e3,
                 suspension: None,
