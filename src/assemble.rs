@@ -40,9 +40,10 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
                 radius: spec.radius.unwrap_or(0.0),
             },
         ),
-        BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
-            (0.0, ContactKind::Glider)
-        }
+        BodyKind::Glider
+        | BodyKind::SprungMass
+        | BodyKind::BogieVehicle
+        | BodyKind::MovingForce => (0.0, ContactKind::Glider),
     };
     let body = RigidBody {
         name: spec.name.clone(),
@@ -290,6 +291,12 @@ struct Vehicle {
     states: Vec<BodyState>,
 }
 
+/// Why a scene of moving forces has no system of bodies and contacts.
+pub const MOVING_FORCE_REFUSAL: &str =
+    "body.kind = \"moving_force\": a moving force has no body for the contact \
+     iteration to move; run it with `guideway sweep SCENE --speeds V:V:1` \
+     (or the library's moving_load::Crossing)";
+
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let beam = Beam::new(&scene.beam)?;
     let spec = &scene.body;
@@ -323,6 +330,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             }
             BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
             BodyKind::BogieVehicle => bogie_vehicle(spec, &system.beam, gravity),
+            BodyKind::MovingForce => return Err(MOVING_FORCE_REFUSAL.into()),
         };
         // The first vehicle's contact keeps the name `contact` of the
         // single-body scenes; the others' are named after their vehicle.

@@ -66,7 +66,10 @@ impl Dynamics for FakeDynamics {
                 ));
                 Some(scene.body.radius.unwrap_or(1.0))
             }
-            BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => None,
+            BodyKind::Glider
+            | BodyKind::SprungMass
+            | BodyKind::BogieVehicle
+            | BodyKind::MovingForce => None,
         };
         for s in &scene.sensors {
             outputs.push(real(

@@ -186,6 +186,10 @@ pub struct BodySpec {
     /// The suspension of a `sprung_mass`; left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub suspension: Option<SuspensionSpec>,
+    /// A `moving_force` that stands for a whole standard train (`HSLM-A1` …
+    /// `HSLM-A10`): its first axle at `initial_position`, the others behind.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub train: Option<String>,
     /// The bogies, wheelsets and suspensions of a `bogie_vehicle` (whose
     /// `mass` is the car body's); left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -281,6 +285,11 @@ pub enum BodyKind {
     /// `initial_position` is the car body's centre.
     #[serde(rename = "bogie_vehicle")]
     BogieVehicle,
+    /// A point force at constant speed with no body (no inertia, no
+    /// contact): its weight `mass` × `gravity` plus `force_y`, or each axle
+    /// of its `train`. Run by `guideway sweep`, not `guideway run`.
+    #[serde(rename = "moving_force")]
+    MovingForce,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -425,9 +434,10 @@ impl Scene {
     pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
         let (name, inertia, radius) = match kind {
             BodyKind::Wheel => ("wheel", Some(135.0), Some(0.3)),
-            BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
-                ("glider", None, None)
-            }
+            BodyKind::Glider
+            | BodyKind::SprungMass
+            | BodyKind::BogieVehicle
+            | BodyKind::MovingForce => ("glider", None, None),
         };
         Scene {
             name: format!("lee1994-{name}-{initial_speed}"),
@@ -454,6 +464,7 @@ impl Scene {
                 force_x: 0.0,
                 force_y: -600e3,
                 suspension: None,
+                train: None,
                 bogie: None,
             },
             track: TrackSpec::default(),

@@ -269,6 +269,7 @@ fn check_bodies(checks: &mut Checks, scene: &Scene, length_ok: bool) {
         );
         return;
     }
+    check_moving_forces_alone(checks, scene);
     let mut names = HashSet::from([scene.body.name.as_str()]);
     for (i, vehicle) in scene.vehicles.iter().enumerate() {
         let prefix = format!("vehicles[{i}]");
@@ -315,7 +316,10 @@ fn check_body(
             checks.required_positive(&path("inertia"), body.inertia, "a wheel needs");
             checks.required_positive(&path("radius"), body.radius, "a wheel needs");
         }
-        BodyKind::Glider | BodyKind::SprungMass | BodyKind::BogieVehicle => {
+        BodyKind::Glider
+        | BodyKind::SprungMass
+        | BodyKind::BogieVehicle
+        | BodyKind::MovingForce => {
             for (path, value) in [
                 (&path("inertia"), body.inertia),
                 (&path("radius"), body.radius),
@@ -331,6 +335,7 @@ fn check_body(
         }
     }
     check_suspension(checks, prefix, body);
+    check_train(checks, prefix, body);
     check_bogie(checks, prefix, body);
     check_wheelsets_on_track(checks, prefix, body, scene);
     if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
@@ -415,6 +420,49 @@ fn check_prescribed_speed(checks: &mut Checks, prefix: &str, body: &super::BodyS
                 fmt_f64(start)
             ),
         );
+    }
+}
+
+/// A train names an HSLM train and belongs to a moving force, whose own
+/// force it replaces (so `force_y` must be left at 0).
+fn check_train(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let path = format!("{prefix}.train");
+    let Some(name) = &body.train else {
+        return;
+    };
+    if body.kind != BodyKind::MovingForce {
+        checks.fail(
+            &path,
+            quoted(name),
+            format!("must be left out unless {prefix}.kind = \"moving_force\""),
+        );
+    } else if crate::moving_load::hslm(name).is_none() {
+        checks.fail(
+            &path,
+            quoted(name),
+            "must name a built-in train: HSLM-A1 … HSLM-A10",
+        );
+    } else if body.force_y != 0.0 {
+        checks.fail(
+            format!("{prefix}.force_y"),
+            fmt_f64(body.force_y),
+            "must be 0 for a moving force with a train (each axle carries the train's force)",
+        );
+    }
+}
+
+/// Moving forces run without bodies: a scene has only moving forces or none.
+fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
+    let moving = scene.body.kind == BodyKind::MovingForce;
+    for (i, vehicle) in scene.vehicles.iter().enumerate() {
+        if (vehicle.kind == BodyKind::MovingForce) != moving {
+            checks.fail(
+                format!("vehicles[{i}].kind"),
+                format!("{:?}", vehicle.kind),
+                "moving forces run without bodies: every vehicle is a moving_force if \
+                 [body] is one, and none otherwise",
+            );
+        }
     }
 }
 
