@@ -142,3 +142,25 @@ fn without_trains_the_scene_s_own_forces_run_at_each_speed() {
         assert_eq!(own[1..], train[1..], "threads and naming change nothing");
     }
 }
+
+#[test]
+fn a_sweep_beyond_its_step_limit_is_refused_before_running() {
+    let output = guideway(&[
+        "sweep",
+        SCENE,
+        "--speeds",
+        "100:400:5",
+        "--unit",
+        "km/h",
+        "--trains",
+        "hslm",
+        "--max-steps",
+        "1000000",
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    let message = stderr(&output);
+    assert!(
+        message.contains("more than the limit of 1000000 (--max-steps)"),
+        "{message}"
+    );
+}

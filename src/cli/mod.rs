@@ -132,6 +132,9 @@ struct SweepArgs {
     /// Threads (default: the machine's cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(usize))]
     threads: Option<usize>,
+    /// Refuse, before running, a sweep of more steps than this in all.
+    #[arg(long, value_name = "N", default_value_t = guideway::study::sweep::DEFAULT_MAX_SWEEP_STEPS)]
+    max_steps: u64,
 }
 
 #[derive(Debug, clap::Args)]

@@ -19,10 +19,10 @@ pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });
     let started = Instant::now();
-    let rows = sweep(&scene, &loads, (&speeds, unit), threads).map_err(Failure::Scene)?;
+    let rows =
+        sweep(&scene, &loads, (&speeds, unit), threads, args.max_steps).map_err(Failure::Scene)?;
     let elapsed = started.elapsed().as_secs_f64();
-    std::fs::write(&args.out, envelope_csv(&rows, unit))
-        .map_err(|e| Failure::Run(format!("{}: {e}", args.out.display())))?;
+    write_whole(&args.out, &envelope_csv(&rows, unit))?;
     if let Some(plot) = &args.plot {
         write_sweep_plot(&rows, unit, plot).map_err(Failure::Run)?;
     }
@@ -67,4 +67,19 @@ fn parse_trains(text: Option<&str>) -> Result<Loads, String> {
             .collect::<Result<Vec<_>, _>>()
             .map(Loads::Trains),
     }
+}
+
+/// Write `text` to `path` whole or not at all (a temporary file beside it,
+/// renamed onto it).
+fn write_whole(path: &std::path::Path, text: &str) -> Result<(), Failure> {
+    use std::io::Write as _;
+    let fail = |e: &dyn std::fmt::Display| Failure::Run(format!("{}: {e}", path.display()));
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => std::path::Path::new("."),
+    };
+    let mut file = tempfile::NamedTempFile::new_in(dir).map_err(|e| fail(&e))?;
+    file.write_all(text.as_bytes()).map_err(|e| fail(&e))?;
+    file.persist(path).map_err(|e| fail(&e))?;
+    Ok(())
 }

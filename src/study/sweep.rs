@@ -6,13 +6,18 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use crate::beam::Beam;
-use crate::moving_load::{scene_axles, static_peak, vehicle_axles, Axle, Crossing, HslmTrain};
+use crate::moving_load::{
+    exit_time, scene_axles, static_peak, vehicle_axles, Axle, Crossing, HslmTrain,
+};
 use crate::scene::Scene;
 
 /// Speeds per sweep.
 pub const MAX_SPEEDS: usize = 10_000;
 /// Steps of one run.
 pub const MAX_STEPS_PER_RUN: u64 = 10_000_000;
+/// Steps of a whole sweep by default (about a minute of CPU on a 20-element
+/// beam; the full HSLM sweep of README takes 5 million).
+pub const DEFAULT_MAX_SWEEP_STEPS: u64 = 200_000_000;
 
 /// The unit the speeds of a sweep are given in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -129,6 +134,7 @@ pub fn sweep(
     loads: &Loads,
     (speeds, unit): (&[f64], SpeedUnit),
     threads: usize,
+    max_steps: u64,
 ) -> Result<Vec<EnvelopeRow>, String> {
     if !crate::moving_load::is_moving_force_scene(scene) {
         return Err(format!(
@@ -168,11 +174,25 @@ pub fn sweep(
     let jobs: Vec<(usize, f64)> = (0..loads.len())
         .flat_map(|l| speeds.iter().map(move |&v| (l, v)))
         .collect();
+    let end = scene.solver.end_time.unwrap_or(f64::INFINITY);
+    let total: f64 = jobs
+        .iter()
+        .map(|&(l, v)| {
+            let axles = at_speed(&loads[l].1, v * unit.in_metres_per_second());
+            (end.min(exit_time(beam.length, &axles)) / scene.solver.step).ceil()
+        })
+        .sum();
+    if total.is_nan() || total > max_steps as f64 {
+        return Err(format!(
+            "the sweep needs {total:.0} steps of solver.step = {} s in all, more than the \
+             limit of {max_steps} (--max-steps)",
+            scene.solver.step
+        ));
+    }
     let run = |(l, speed): (usize, f64)| -> Result<EnvelopeRow, String> {
         let speed_m_s = speed * unit.in_metres_per_second();
         let axles = at_speed(&loads[l].1, speed_m_s);
         let mut crossing = Crossing::new(&beam, &axles, scene.solver.step)?;
-        let end = scene.solver.end_time.unwrap_or(f64::INFINITY);
         let peaks = crossing.peaks(&sensors, end, MAX_STEPS_PER_RUN)?;
         let deflection = peaks.iter().map(|p| p.deflection).fold(0.0, f64::max);
         Ok(EnvelopeRow {
