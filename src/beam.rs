@@ -703,6 +703,36 @@ impl Beam {
     pub fn min_element_length(&self) -> f64 {
         self.min_element_length
     }
+
+    /// LDLᵀ factor of K, to solve many static load cases (`None` when the
+    /// supports leave a rigid-body motion).
+    pub fn stiffness_factor(&self) -> Option<BandLdlt> {
+        self.stiffness.ldlt()
+    }
+
+    /// Whether a support holds global DOF `k` of node `node` (0: w, 1: ψ).
+    pub fn is_held(&self, node: usize, k: usize) -> bool {
+        self.dof_map[2 * node + k].is_none()
+    }
+
+    /// Element `element`'s end forces K_e q(`u`) + M_e q(`a`) on its DOFs
+    /// (w_i, ψ_i, w_j, ψ_j), held DOFs taken as zero: what its nodes exert
+    /// on it, before the loads on the element itself.
+    pub fn element_end_forces(
+        &self,
+        element: usize,
+        u: &DVector<f64>,
+        a: &DVector<f64>,
+    ) -> [f64; 4] {
+        let len = self.element_length[element];
+        let ke = element_stiffness(len, self.bending_stiffness);
+        let me = element_mass(len, self.mass_per_length);
+        let local = |v: &DVector<f64>| {
+            nalgebra::Vector4::from_fn(|k, _| self.dof_map[2 * element + k].map_or(0.0, |i| v[i]))
+        };
+        let f = ke * local(u) + me * local(a);
+        [f[0], f[1], f[2], f[3]]
+    }
 }
 
 #[cfg(test)]

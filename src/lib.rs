@@ -11,6 +11,7 @@ pub mod band;
 pub mod beam;
 pub mod body;
 pub mod contact;
+pub mod design;
 pub mod fmi2;
 pub mod fmu;
 pub mod force_element;

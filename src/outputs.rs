@@ -37,6 +37,14 @@ pub enum Quantity {
     NormalForce(usize),
     OnBeam(usize),
     Sensor(usize),
+    SensorVelocity(usize),
+    SensorAcceleration(usize),
+    SectionMoment(usize),
+    SectionShear(usize),
+    /// The vertical reaction at the support on this node.
+    Reaction(usize),
+    /// The moment of the clamp on this node.
+    ReactionMoment(usize),
     BodyKinetic,
     BeamKinetic,
     BeamStrain,
@@ -250,6 +258,44 @@ impl Catalogue {
         );
     }
 
+    fn design(&mut self, system: &System, sections: &[String], reactions: bool) {
+        for (i, name) in sections.iter().enumerate() {
+            self.real(
+                format!("section.{name}.moment"),
+                "N.m",
+                "bending moment at the section, sagging positive (from the element equations)",
+                Quantity::SectionMoment(i),
+            );
+            self.real(
+                format!("section.{name}.shear"),
+                "N",
+                "shear force at the section: upward force of the beam left of it on the \
+                 beam right of it (dM/dx)",
+                Quantity::SectionShear(i),
+            );
+        }
+        if !reactions {
+            return;
+        }
+        for support in crate::design::supports(&system.beam) {
+            let name = &support.name;
+            self.real(
+                format!("support.{name}.reaction"),
+                "N",
+                "vertical force of the support on the beam, up positive",
+                Quantity::Reaction(support.node),
+            );
+            if support.clamped {
+                self.real(
+                    format!("support.{name}.moment"),
+                    "N.m",
+                    "moment of the clamp on the beam, counter-clockwise positive",
+                    Quantity::ReactionMoment(support.node),
+                );
+            }
+        }
+    }
+
     fn solver(&mut self) {
         self.real(
             "solver.velocity_error".into(),
@@ -273,8 +319,14 @@ impl Catalogue {
     }
 }
 
-/// The outputs of `system` with the named sensors, in their fixed order.
-pub fn catalogue(system: &System, sensors: &[String]) -> Vec<(OutputInfo, Quantity)> {
+/// The outputs of `system` with the named sensors, in their fixed order;
+/// with `sections` (names) and `reactions` where the scene asks for them.
+pub fn catalogue(
+    system: &System,
+    sensors: &[String],
+    sections: &[String],
+    reactions: bool,
+) -> Vec<(OutputInfo, Quantity)> {
     let mut c = Catalogue {
         entries: Vec::new(),
     };
@@ -291,7 +343,21 @@ pub fn catalogue(system: &System, sensors: &[String]) -> Vec<(OutputInfo, Quanti
             "beam deflection at the sensor (up positive)",
             Quantity::Sensor(i),
         );
+        c.real(
+            format!("sensor.{name}.velocity"),
+            "m/s",
+            "beam vertical velocity at the sensor (up positive)",
+            Quantity::SensorVelocity(i),
+        );
+        c.real(
+            format!("sensor.{name}.acceleration"),
+            "m/s2",
+            "beam vertical acceleration at the sensor (up positive), from the current state \
+             and the contact forces of the last step: M^-1 (r - K u - C v)",
+            Quantity::SensorAcceleration(i),
+        );
     }
+    c.design(system, sections, reactions);
     c.energy(system);
     c.solver();
     if system.contacts.len() > 1 {
@@ -327,6 +393,8 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
         .map(|_| frames)
         .ok()
     });
+    let needs_beam = quantities.iter().any(needs_beam_dynamics);
+    let beam_dynamics = needs_beam.then(|| sim.beam_dynamics()).flatten();
     let needs_accelerations = quantities.iter().any(|q| matches!(q, Quantity::Ay(_)));
     let accelerations = needs_accelerations.then(|| sim.body_accelerations());
     for (value, quantity) in values.iter_mut().zip(quantities) {
@@ -353,6 +421,24 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
                 f64::from(u8::from(state.parts[c] == crate::system::TrackPart::Beam))
             }
             Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, sim.sensor_positions()[i]),
+            Quantity::SensorVelocity(i) => {
+                beam.deflection(&d.beam_velocity, sim.sensor_positions()[i])
+            }
+            Quantity::SensorAcceleration(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
+                b.acceleration_at(beam, sim.sensor_positions()[i])
+            }),
+            Quantity::SectionMoment(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
+                b.section_forces(beam, sim.section_positions()[i]).moment
+            }),
+            Quantity::SectionShear(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
+                b.section_forces(beam, sim.section_positions()[i]).shear
+            }),
+            Quantity::Reaction(node) => beam_dynamics
+                .as_ref()
+                .map_or(f64::NAN, |b| b.reaction(beam, node)[0]),
+            Quantity::ReactionMoment(node) => beam_dynamics
+                .as_ref()
+                .map_or(f64::NAN, |b| b.reaction(beam, node)[1]),
             Quantity::BodyKinetic => sim.body_kinetic_energy(),
             Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
             Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
@@ -369,4 +455,17 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::PositionIterations => state.last_position_iterations as f64,
         };
     }
+}
+
+/// Whether `quantity` is read from the beam's accelerations and loads
+/// (`Simulation::beam_dynamics`, one mass solve per row).
+fn needs_beam_dynamics(quantity: &Quantity) -> bool {
+    matches!(
+        quantity,
+        Quantity::SensorAcceleration(_)
+            | Quantity::SectionMoment(_)
+            | Quantity::SectionShear(_)
+            | Quantity::Reaction(_)
+            | Quantity::ReactionMoment(_)
+    )
 }

@@ -226,6 +226,8 @@ pub struct Simulation {
     /// Which integrator runs, and why (for `auto`).
     integrator_choice: String,
     sensors: Vec<f64>,
+    /// Abscissae of the sections whose moment and shear are outputs.
+    sections: Vec<f64>,
     step: f64,
     /// Without an end time the run ends when the last contact leaves the
     /// beam (the paper's exit); with one it goes on to it.
@@ -274,7 +276,11 @@ impl Simulation {
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
         let dynamic = initial_state(&system, u, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
-        let (outputs, quantities) = catalogue(&system, &sensor_names).into_iter().unzip();
+        let section_names: Vec<String> = scene.sections.iter().map(|s| s.name.clone()).collect();
+        let (outputs, quantities) =
+            catalogue(&system, &sensor_names, &section_names, scene.reactions)
+                .into_iter()
+                .unzip();
         let parts = dynamic
             .contact_x
             .iter()
@@ -282,6 +288,7 @@ impl Simulation {
             .collect();
         let mut simulation = Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
+            sections: scene.sections.iter().map(|s| s.position).collect(),
             step,
             stop_at_beam_exit: scene.solver.end_time.is_none(),
             vehicle_forces,
@@ -420,6 +427,10 @@ impl Simulation {
         &self.sensors
     }
 
+    pub(crate) fn section_positions(&self) -> &[f64] {
+        &self.sections
+    }
+
     /// Restore a state from `state()`; refused unless it has this model's
     /// shape (beam DOFs, bodies, contacts).
     pub fn restore(&mut self, state: &SimState) -> Result<(), String> {
@@ -471,6 +482,32 @@ impl Simulation {
             .zip(&body_loads)
             .map(|(body, load)| body.acceleration(load))
             .collect()
+    }
+
+    /// The beam now under the contact forces of the last step, with the
+    /// acceleration they give (design outputs); `None` when a contact
+    /// point cannot be located.
+    pub fn beam_dynamics(&self) -> Option<crate::design::BeamDynamics> {
+        let d = &self.state.dynamic;
+        let mut frames = Vec::new();
+        let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
+        contact_frames(
+            &self.system,
+            &d.beam_displacement,
+            &d.bodies,
+            located,
+            &mut frames,
+        )
+        .ok()?;
+        let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
+        let beam = &self.system.beam;
+        let loads = crate::design::contact_loads(beam, &frames, &forces);
+        Some(crate::design::BeamDynamics::new(
+            beam,
+            d.beam_displacement.clone(),
+            d.beam_velocity.clone(),
+            loads,
+        ))
     }
 
     /// Advance to `target` with internal steps on the grid k·`solver.step`,

@@ -33,6 +33,17 @@ pub struct RunSummary {
     /// The integrator that ran, and for `auto` why.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub integrator: Option<String>,
+    /// Per design output (every `sensor.*`, `section.*` and `support.*`
+    /// column), the value of largest magnitude over the run, sign kept.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub peak_design: BTreeMap<String, f64>,
+    /// Dynamic amplification factor per output with a static counterpart
+    /// (sensor deflections, section moments and shears, reactions): the
+    /// largest magnitude over the run over the largest magnitude of the
+    /// static response to the same loads crossing quasi-statically
+    /// (`design::static_envelope`).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub dynamic_amplification: BTreeMap<String, f64>,
 }
 
 impl RunSummary {
@@ -75,6 +86,9 @@ pub struct SummaryBuilder {
     initial_energy: Option<f64>,
     max_drift: f64,
     iterations: u64,
+    /// Design outputs: name, column and the value of largest magnitude.
+    design: Vec<(String, usize, Option<f64>)>,
+    envelope: Option<crate::design::StaticEnvelope>,
 }
 
 impl SummaryBuilder {
@@ -102,6 +116,10 @@ impl SummaryBuilder {
             initial_energy: None,
             max_drift: 0.0,
             iterations: 0,
+            design: design_columns(names),
+            // The reference of the amplification factors: bounded work
+            // (see `design::static_envelope`), none for a beam without one.
+            envelope: crate::design::static_envelope(scene).ok(),
         }
     }
 
@@ -113,6 +131,12 @@ impl SummaryBuilder {
         }
         for ((_, column), peak) in self.sensors.iter().zip(&mut self.peak_deflection) {
             *peak = finite_extreme(*peak, values[*column], f64::min);
+        }
+        for (_, column, peak) in &mut self.design {
+            let v = values[*column];
+            if v.is_finite() && peak.is_none_or(|p| v.abs() > p.abs()) {
+                *peak = Some(v);
+            }
         }
         if let Some(e) = self.energy.map(|k| values[k]) {
             self.push_energy(e);
@@ -160,6 +184,19 @@ impl SummaryBuilder {
             iterations: self.iterations_column.map(|_| self.iterations),
             wall_time_s,
             integrator: None,
+            dynamic_amplification: self
+                .design
+                .iter()
+                .filter_map(|(name, _, peak)| {
+                    let envelope = self.envelope.as_ref()?;
+                    Some((name.clone(), envelope.amplification(name, (*peak)?)?))
+                })
+                .collect(),
+            peak_design: self
+                .design
+                .into_iter()
+                .filter_map(|(name, _, peak)| Some((name, peak?)))
+                .collect(),
         }
     }
 }
@@ -192,6 +229,7 @@ impl fmt::Display for RunSummary {
         for (sensor, deflection) in &self.peak_sensor_deflection {
             writeln!(f, "peak deflection    {deflection:.6} m at sensor {sensor}")?;
         }
+        self.fmt_design(f)?;
         let drift = self
             .max_energy_drift
             .map_or("-".to_string(), |d| format!("{:.3e} %", d * 100.0));
@@ -201,6 +239,53 @@ impl fmt::Display for RunSummary {
         writeln!(f, "iterations         {iterations}")?;
         write!(f, "wall time (solve)  {:.3} ms", self.wall_time_s * 1e3)
     }
+}
+
+impl RunSummary {
+    /// The design peaks and amplification factors, one line each, leaving
+    /// out what the peak-deflection lines already say.
+    fn fmt_design(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (name, peak) in &self.peak_design {
+            let Some((place, quantity)) = split_design_name(name) else {
+                continue;
+            };
+            let value = match quantity {
+                "deflection" => continue,
+                "velocity" => format!("{peak:.6} m/s"),
+                "acceleration" => format!("{peak:.6} m/s²"),
+                "moment" => format!("{peak:.6e} N m"),
+                _ => format!("{peak:.6e} N"),
+            };
+            let label = format!("peak {quantity}");
+            writeln!(f, "{label:<18} {value} at {place}")?;
+        }
+        for (name, daf) in &self.dynamic_amplification {
+            let (place, quantity) = split_design_name(name).unwrap_or((name.clone(), ""));
+            writeln!(f, "DAF                {daf:.4} ({quantity} at {place})")?;
+        }
+        Ok(())
+    }
+}
+
+/// `sensor.midspan.acceleration` → ("sensor midspan", "acceleration").
+fn split_design_name(name: &str) -> Option<(String, &str)> {
+    let (kind, rest) = name.split_once('.')?;
+    let (place, quantity) = rest.rsplit_once('.')?;
+    Some((format!("{kind} {place}"), quantity))
+}
+
+/// The columns of `names` that are design outputs.
+fn design_columns(names: &[String]) -> Vec<(String, usize, Option<f64>)> {
+    names
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| {
+            ["sensor.", "section.", "support."]
+                .iter()
+                .any(|p| n.starts_with(p))
+        })
+        .map(|(k, n)| (n.clone(), k, None))
+        .collect()
 }
 
 /// The extreme so far by `pick` (`f64::max`, `f64::min`), ignoring

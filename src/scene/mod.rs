@@ -42,6 +42,12 @@ pub struct Scene {
     pub vehicles: Vec<BodySpec>,
     #[serde(default)]
     pub sensors: Vec<SensorSpec>,
+    /// Sections where the bending moment and the shear are reported.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub sections: Vec<SectionSpec>,
+    /// Report every support's reaction (and a clamp's moment).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub reactions: bool,
     #[serde(default)]
     pub solver: SolverSpec,
 }
@@ -301,6 +307,16 @@ pub struct SensorSpec {
     pub position: f64,
 }
 
+/// A cross-section of the beam: its outputs are `section.<name>.moment`
+/// and `section.<name>.shear`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SectionSpec {
+    pub name: String,
+    /// Abscissa along the beam (m).
+    pub position: f64,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSpec {
@@ -473,6 +489,8 @@ impl Scene {
                 name: "midspan".into(),
                 position: 12.0,
             }],
+            sections: Vec::new(),
+            reactions: false,
             solver: SolverSpec {
                 step,
                 ..SolverSpec::default()

@@ -56,6 +56,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     check_track(&mut checks, scene);
     check_bodies(&mut checks, scene, length_ok);
     check_sensors(&mut checks, scene, length_ok);
+    check_sections(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
     if checks.problems.is_empty() {
         Ok(())
@@ -631,6 +632,52 @@ fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             checks.fail(
                 position_path,
                 fmt_f64(sensor.position),
+                format!(
+                    "must lie on the beam, 0 <= x <= beam.length = {}",
+                    fmt_f64(scene.beam.length)
+                ),
+            );
+        }
+    }
+}
+
+/// Like the sensors: at most `MAX_SENSORS`, identifier names unique among
+/// the sections, on the beam.
+fn check_sections(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let count = scene.sections.len();
+    if count > MAX_SENSORS {
+        checks.fail(
+            "sections",
+            format!("{count} sections"),
+            format!("must hold at most {MAX_SENSORS}"),
+        );
+        return;
+    }
+    let mut seen = HashSet::new();
+    for (i, section) in scene.sections.iter().enumerate() {
+        let name_path = format!("sections[{i}].name");
+        checks.name_length(&name_path, &section.name);
+        if !is_identifier(&section.name) {
+            checks.fail(
+                name_path,
+                quoted(&section.name),
+                "must be an identifier: a letter or '_' followed by letters, digits or '_'",
+            );
+        } else if !seen.insert(section.name.as_str()) {
+            checks.fail(
+                name_path,
+                quoted(&section.name),
+                "must be unique among the sections",
+            );
+        }
+        let position_path = format!("sections[{i}].position");
+        if checks.finite(&position_path, section.position)
+            && length_ok
+            && !(0.0..=scene.beam.length).contains(&section.position)
+        {
+            checks.fail(
+                position_path,
+                fmt_f64(section.position),
                 format!(
                     "must lie on the beam, 0 <= x <= beam.length = {}",
                     fmt_f64(scene.beam.length)

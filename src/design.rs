@@ -1,0 +1,309 @@
+//! Design outputs recovered from the beam's state: velocity and
+//! acceleration at a point, bending moment and shear at a section, support
+//! reactions.
+//!
+//! Conventions (x along the beam, w up): deflection, velocity and
+//! acceleration are positive upward. The bending moment M is positive
+//! sagging (tension at the bottom fibre, M = EI w'' in the elastic
+//! beam). The shear V = dM/dx is the upward force the part of the beam left
+//! of the section exerts on the part right of it. A reaction is the force
+//! a support exerts on the beam, positive upward; a clamp's moment is
+//! positive counter-clockwise.
+//!
+//! Moment and shear are not EI w'' and EI w''' of the element's cubic
+//! (one and two orders less accurate); they are the element's end forces
+//! from its own equations, f = K_e q + M_e q̈ − r_e (with the damping
+//! forces), carried from the element's left node to the section by
+//! equilibrium of the piece between them: the point loads on that piece
+//! and its distributed inertia. For static point loads this is exact at
+//! any mesh (Hermite elements give the exact nodal displacements).
+
+use crate::beam::Beam;
+use crate::contact::{ContactForce, ContactFrame};
+use nalgebra::DVector;
+
+/// A concentrated load on the beam's axis at `x`, on element `element`:
+/// an upward force (N) and a counter-clockwise couple (N m).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLoad {
+    pub x: f64,
+    pub element: usize,
+    pub force: f64,
+    pub couple: f64,
+}
+
+impl PointLoad {
+    /// A vertical force at `x`.
+    pub fn vertical(beam: &Beam, x: f64, force: f64) -> PointLoad {
+        PointLoad {
+            x,
+            element: beam.element_at(x),
+            force,
+            couple: 0.0,
+        }
+    }
+}
+
+/// The loads the contacts put on the beam: a contact force (F_t, F_n) on
+/// the body acts on the beam's surface as −(F_t t + F_n n), which on the
+/// axis is a vertical force and, through the surface offset h, the couple
+/// of the tangential part (the load vector of `integrate::loads`).
+pub fn contact_loads(
+    beam: &Beam,
+    frames: &[ContactFrame],
+    forces: &[ContactForce],
+) -> Vec<PointLoad> {
+    frames
+        .iter()
+        .zip(forces)
+        .filter(|(frame, _)| frame.on_beam)
+        .map(|(frame, force)| PointLoad {
+            x: frame.x,
+            element: frame.shape.element,
+            force: -(force.tangential * frame.sin + force.normal * frame.cos),
+            couple: force.tangential * beam.surface_offset * frame.cos,
+        })
+        .collect()
+}
+
+/// The consistent load vector of `loads` on the free DOFs.
+pub fn load_vector(beam: &Beam, loads: &[PointLoad]) -> DVector<f64> {
+    let mut r = DVector::zeros(beam.free_dofs());
+    for load in loads {
+        let shape = beam.shape(load.element, load.x);
+        shape.scatter(&shape.n, load.force, &mut r);
+        shape.scatter(&shape.dn, load.couple, &mut r);
+    }
+    r
+}
+
+/// The beam at one instant: displacement, velocity, the loads on it and
+/// the acceleration they give, M⁻¹ (r − K u − C v).
+#[derive(Debug, Clone)]
+pub struct BeamDynamics {
+    displacement: DVector<f64>,
+    velocity: DVector<f64>,
+    acceleration: DVector<f64>,
+    loads: Vec<PointLoad>,
+    /// u + β v and a + α v: the displacement and acceleration that carry
+    /// the damping forces C v = α M v + β K v along with K u and M a.
+    damped: (DVector<f64>, DVector<f64>),
+}
+
+impl BeamDynamics {
+    /// The state (u, v) under `loads`, its acceleration from the equation
+    /// of motion (not the integrator's: RK4 keeps none, HHT-α's balances
+    /// the loads at t_{n+1+α}).
+    pub fn new(
+        beam: &Beam,
+        displacement: DVector<f64>,
+        velocity: DVector<f64>,
+        loads: Vec<PointLoad>,
+    ) -> BeamDynamics {
+        let r = load_vector(beam, &loads);
+        let mut acceleration = DVector::zeros(beam.free_dofs());
+        beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
+        let damped = damped(beam, &displacement, &velocity, &acceleration);
+        BeamDynamics {
+            displacement,
+            velocity,
+            acceleration,
+            loads,
+            damped,
+        }
+    }
+
+    /// The static equilibrium K u = r under `loads`, at rest.
+    pub fn static_response(beam: &Beam, loads: Vec<PointLoad>) -> Result<BeamDynamics, String> {
+        let displacement = beam.static_deflection(&load_vector(beam, &loads))?;
+        Ok(BeamDynamics::at_rest(beam, displacement, loads))
+    }
+
+    /// The static equilibrium under `loads` with K's factor at hand.
+    pub fn static_response_with(
+        beam: &Beam,
+        stiffness: &crate::band::BandLdlt,
+        loads: Vec<PointLoad>,
+    ) -> BeamDynamics {
+        let mut displacement = load_vector(beam, &loads);
+        stiffness.solve_mut(&mut displacement);
+        BeamDynamics::at_rest(beam, displacement, loads)
+    }
+
+    fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {
+        let zero = DVector::zeros(beam.free_dofs());
+        BeamDynamics {
+            damped: (displacement.clone(), zero.clone()),
+            displacement,
+            velocity: zero.clone(),
+            acceleration: zero,
+            loads,
+        }
+    }
+
+    /// The free DOFs' displacements.
+    pub fn displacement(&self) -> &DVector<f64> {
+        &self.displacement
+    }
+
+    /// Deflection at `x` (m, up positive).
+    pub fn deflection_at(&self, beam: &Beam, x: f64) -> f64 {
+        beam.deflection(&self.displacement, x)
+    }
+
+    /// Vertical velocity at `x` (m/s, up positive).
+    pub fn velocity_at(&self, beam: &Beam, x: f64) -> f64 {
+        beam.deflection(&self.velocity, x)
+    }
+
+    /// Vertical acceleration at `x` (m/s², up positive).
+    pub fn acceleration_at(&self, beam: &Beam, x: f64) -> f64 {
+        beam.deflection(&self.acceleration, x)
+    }
+
+    /// Element `element`'s end forces K_e ũ + M_e ã − r_e: what its nodes
+    /// exert on it (w_i, ψ_i, w_j, ψ_j).
+    fn end_forces(
+        &self,
+        beam: &Beam,
+        element: usize,
+        u: &DVector<f64>,
+        a: &DVector<f64>,
+    ) -> [f64; 4] {
+        let mut f = beam.element_end_forces(element, u, a);
+        for load in self.loads.iter().filter(|l| l.element == element) {
+            let shape = beam.shape(element, load.x);
+            for ((f, n), dn) in f.iter_mut().zip(shape.n).zip(shape.dn) {
+                *f -= load.force * n + load.couple * dn;
+            }
+        }
+        f
+    }
+
+    /// Bending moment (N m, sagging positive) and shear (N) at `x`. A load
+    /// exactly on the section counts as right of it.
+    pub fn section_forces(&self, beam: &Beam, x: f64) -> SectionForces {
+        let (u, a) = (&self.damped.0, &self.damped.1);
+        let e = beam.element_at(x);
+        let f = self.end_forces(beam, e, u, a);
+        let left = beam.node_x[e];
+        // From the left node: V_i = f₀, M_i = −f₁ (the node's couple on the
+        // element is −M), then the loads on the piece up to x.
+        let mut shear = f[0];
+        let mut moment = -f[1] + f[0] * (x - left);
+        for load in self.loads.iter().filter(|l| l.element == e && l.x < x) {
+            shear += load.force;
+            moment += load.force * (x - load.x) - load.couple;
+        }
+        // The piece's inertia −μ ã(ξ): ã is cubic, so three Gauss points
+        // integrate ∫ ã and ∫ ã (x − ξ) exactly.
+        let half = 0.5 * (x - left);
+        let middle = 0.5 * (x + left);
+        let mu = beam.mass_per_length;
+        for (point, weight) in GAUSS_3 {
+            let xi = middle + half * point;
+            let shape = beam.shape(e, xi);
+            let inertia = mu * shape.dot(&shape.n, a) * weight * half;
+            shear -= inertia;
+            moment -= inertia * (x - xi);
+        }
+        SectionForces { moment, shear }
+    }
+
+    /// The force (N, up positive) and, where the rotation is held too, the
+    /// moment (N m, counter-clockwise positive) support `node` exerts on
+    /// the beam: the residual of the held DOFs.
+    pub fn reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
+        let (u, a) = (&self.damped.0, &self.damped.1);
+        let mut reaction = [0.0; 2];
+        let elements = beam.elements();
+        // The element ending at the node (its DOFs 2, 3) and the one
+        // starting there (0, 1).
+        for (element, first) in [(node.wrapping_sub(1), 2), (node, 0)] {
+            if element >= elements {
+                continue;
+            }
+            let f = self.end_forces(beam, element, u, a);
+            for (k, r) in reaction.iter_mut().enumerate() {
+                if beam.is_held(node, k) {
+                    *r += f[first + k];
+                }
+            }
+        }
+        reaction
+    }
+}
+
+/// u + β v and a + α v for the beam's Rayleigh damping (α M + β K).
+fn damped(
+    beam: &Beam,
+    u: &DVector<f64>,
+    v: &DVector<f64>,
+    a: &DVector<f64>,
+) -> (DVector<f64>, DVector<f64>) {
+    let c = beam.damping();
+    let (mut u, mut a) = (u.clone(), a.clone());
+    if c.stiffness != 0.0 {
+        u.axpy(c.stiffness, v, 1.0);
+    }
+    if c.mass != 0.0 {
+        a.axpy(c.mass, v, 1.0);
+    }
+    (u, a)
+}
+
+/// Three-point Gauss-Legendre rule on [−1, 1]: (point, weight).
+const GAUSS_3: [(f64, f64); 3] = [
+    (-0.774_596_669_241_483_4, 5.0 / 9.0),
+    (0.0, 8.0 / 9.0),
+    (0.774_596_669_241_483_4, 5.0 / 9.0),
+];
+
+/// Internal forces at a section.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SectionForces {
+    /// Bending moment (N m), sagging positive.
+    pub moment: f64,
+    /// Shear force (N): dM/dx.
+    pub shear: f64,
+}
+
+/// A support of the beam: a node whose deflection is held.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Support {
+    /// `left`, `right`, or `intermediate1`, `intermediate2`, … from left to right.
+    pub name: String,
+    pub node: usize,
+    /// The rotation is held too (a clamp): the support has a moment.
+    pub clamped: bool,
+}
+
+/// The beam's supports, from left to right.
+pub fn supports(beam: &Beam) -> Vec<Support> {
+    let last = beam.node_x.len() - 1;
+    let mut intermediate = 0;
+    (0..=last)
+        .filter(|&node| beam.is_held(node, 0))
+        .map(|node| {
+            let name = if node == 0 {
+                "left".to_string()
+            } else if node == last {
+                "right".to_string()
+            } else {
+                intermediate += 1;
+                format!("intermediate{intermediate}")
+            };
+            Support {
+                name,
+                node,
+                clamped: beam.is_held(node, 1),
+            }
+        })
+        .collect()
+}
+
+mod envelope;
+pub use envelope::{static_envelope, StaticEnvelope};
+
+#[cfg(test)]
+mod tests;

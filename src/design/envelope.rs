@@ -1,0 +1,164 @@
+//! The static envelope of a scene's loads crossing the beam quasi-statically,
+//! the reference of the dynamic amplification factor.
+//!
+//! The loads are the contacts' static shares of their vehicles' weight and
+//! vertical applied force (the contact forces a run starts from), at the
+//! spacing the contacts start with. The group is moved along the beam from
+//! before the first load enters to after the last has left, and at each
+//! position the static response of the actual structure (its supports,
+//! spans and clamps) is read at every sensor, section and support.
+
+use std::collections::BTreeMap;
+
+use super::{supports, BeamDynamics, PointLoad};
+use crate::assemble::assemble;
+use crate::beam::Beam;
+use crate::scene::Scene;
+
+/// Fewest load positions of a crossing.
+const MIN_POSITIONS: usize = 2_000;
+/// Most load positions of a crossing.
+const MAX_POSITIONS: usize = 50_000;
+/// Bound on evenly spaced positions × free DOFs, the cost of the static
+/// solves (each O(DOFs) with K factored once): a fraction of a second.
+const MAX_WORK: usize = 50_000_000;
+
+/// The largest static magnitude of each design quantity over the crossing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StaticEnvelope {
+    /// Output name (`sensor.<name>.deflection`, `section.<name>.moment`,
+    /// `section.<name>.shear`, `support.<name>.reaction`,
+    /// `support.<name>.moment`) → max over load positions of |value|.
+    pub peaks: BTreeMap<String, f64>,
+    /// Load positions evaluated.
+    pub positions: usize,
+}
+
+impl StaticEnvelope {
+    /// The dynamic amplification of output `name` whose largest magnitude
+    /// over a run was `dynamic_peak`: dynamic_peak / static peak; `None`
+    /// where the static response is zero or the output is not enveloped.
+    pub fn amplification(&self, name: &str, dynamic_peak: f64) -> Option<f64> {
+        let reference = *self.peaks.get(name)?;
+        (reference > 0.0 && dynamic_peak.is_finite()).then(|| dynamic_peak.abs() / reference)
+    }
+}
+
+/// One quantity read from a static response.
+enum Read {
+    Deflection(f64),
+    Moment(f64),
+    Shear(f64),
+    Reaction(usize),
+    ClampMoment(usize),
+}
+
+impl Read {
+    fn value(&self, beam: &Beam, response: &BeamDynamics) -> f64 {
+        match *self {
+            Read::Deflection(x) => response.deflection_at(beam, x),
+            Read::Moment(x) => response.section_forces(beam, x).moment,
+            Read::Shear(x) => response.section_forces(beam, x).shear,
+            Read::Reaction(node) => response.reaction(beam, node)[0],
+            Read::ClampMoment(node) => response.reaction(beam, node)[1],
+        }
+    }
+}
+
+/// What `scene` reports that has a static counterpart, by output name.
+fn quantities(scene: &Scene, beam: &Beam) -> Vec<(String, Read)> {
+    let mut list = Vec::new();
+    for s in &scene.sensors {
+        let name = format!("sensor.{}.deflection", s.name);
+        list.push((name, Read::Deflection(s.position)));
+    }
+    for s in &scene.sections {
+        list.push((
+            format!("section.{}.moment", s.name),
+            Read::Moment(s.position),
+        ));
+        list.push((format!("section.{}.shear", s.name), Read::Shear(s.position)));
+    }
+    if scene.reactions {
+        for s in supports(beam) {
+            list.push((
+                format!("support.{}.reaction", s.name),
+                Read::Reaction(s.node),
+            ));
+            if s.clamped {
+                list.push((
+                    format!("support.{}.moment", s.name),
+                    Read::ClampMoment(s.node),
+                ));
+            }
+        }
+    }
+    list
+}
+
+/// The static envelope of `scene`'s loads crossing its beam (see the
+/// module). Bounded: at most `MAX_POSITIONS` evenly spaced positions with
+/// positions × DOFs ≤ `MAX_WORK`, and `MAX_POSITIONS` more that put a
+/// load on a sensor or section.
+pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
+    let assembly = assemble(scene)?;
+    let beam = &assembly.system.beam;
+    // (abscissa at the start, downward static load) of each contact.
+    let loads: Vec<(f64, f64)> = assembly
+        .system
+        .contacts
+        .iter()
+        .zip(&assembly.forces)
+        .map(|(c, f)| (assembly.bodies[c.body].position.x, f.normal))
+        .collect();
+    let reads = quantities(scene, beam);
+    let mut peaks = vec![0.0f64; reads.len()];
+    let first = loads.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
+    let last = loads.iter().map(|l| l.0).fold(f64::NEG_INFINITY, f64::max);
+    if reads.is_empty() || !first.is_finite() {
+        return Ok(StaticEnvelope {
+            peaks: BTreeMap::new(),
+            positions: 0,
+        });
+    }
+    let stiffness = beam.stiffness_factor().ok_or(
+        "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
+         to move), so the loads have no static response",
+    )?;
+    let shifts = shifts(scene, beam, &loads, (first, last));
+    for &shift in &shifts {
+        let on_beam: Vec<PointLoad> = loads
+            .iter()
+            .map(|&(x, normal)| (x + shift, normal))
+            .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
+            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
+            .collect();
+        let response = BeamDynamics::static_response_with(beam, &stiffness, on_beam);
+        for (peak, (_, read)) in peaks.iter_mut().zip(&reads) {
+            *peak = peak.max(read.value(beam, &response).abs());
+        }
+    }
+    Ok(StaticEnvelope {
+        peaks: reads.into_iter().map(|(name, _)| name).zip(peaks).collect(),
+        positions: shifts.len(),
+    })
+}
+
+/// Shifts of the load group: evenly spaced from the last load at x = 0 to
+/// the first at x = L, plus those that put a load exactly on a sensor or
+/// section (where a moment or shear peaks with a kink, between samples).
+fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64, f64)) -> Vec<f64> {
+    let even = (16 * beam.elements())
+        .clamp(MIN_POSITIONS, MAX_POSITIONS)
+        .min(MAX_WORK / beam.free_dofs().max(1))
+        .max(2);
+    let (from, to) = (-last, beam.length - first);
+    let mut shifts: Vec<f64> = (0..even)
+        .map(|k| from + (to - from) * k as f64 / (even - 1) as f64)
+        .collect();
+    let points = scene.sensors.iter().map(|s| s.position);
+    let points = points.chain(scene.sections.iter().map(|s| s.position));
+    let exact = points.flat_map(|p| loads.iter().map(move |l| p - l.0));
+    shifts.extend(exact.take(MAX_POSITIONS));
+    shifts
+}
