@@ -43,12 +43,14 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
         BodyKind::Glider
         | BodyKind::SprungMass
         | BodyKind::BogieVehicle
-        | BodyKind::MaglevVehicle => (0.0, ContactKind::Glider),
+        | BodyKind::MaglevVehicle
+        | BodyKind::MovingForce => (0.0, ContactKind::Glider),
     };
     let body = RigidBody {
         name: spec.name.clone(),
         mass: spec.mass,
         inertia,
+        drive: None,
     };
     let contact = Contact {
         name: "contact".into(),
@@ -90,6 +92,7 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         name: spec.name.clone(),
         mass: spec.mass,
         inertia: 0.0,
+        drive: None,
     };
     let sprung_state = BodyState {
         position: contact_state.position + Vector2::new(0.0, SPRUNG_HEIGHT),
@@ -197,6 +200,7 @@ fn bogie_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
                 name,
                 mass,
                 inertia,
+                drive: None,
             },
             state,
         )
@@ -322,6 +326,7 @@ fn maglev_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         name: spec.name.clone(),
         mass: spec.mass,
         inertia: m.car_inertia,
+        drive: None,
     }];
     let mut states = vec![car_state];
     let mut contacts = Vec::with_capacity(m.magnets);
@@ -332,6 +337,7 @@ fn maglev_vehicle(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
             name: name.clone(),
             mass: m.magnet_mass,
             inertia: 0.0,
+            drive: None,
         });
         states.push(state);
         contacts.push(Contact {
@@ -372,6 +378,12 @@ struct Vehicle {
     states: Vec<BodyState>,
 }
 
+/// Why a scene of moving forces has no system of bodies and contacts.
+pub const MOVING_FORCE_REFUSAL: &str =
+    "body.kind = \"moving_force\": a moving force has no body for the contact \
+     iteration to move; run it with `guideway sweep SCENE --speeds V:V:1` \
+     (or the library's moving_load::Crossing)";
+
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let beam = Beam::new(&scene.beam)?;
     let spec = &scene.body;
@@ -392,7 +404,10 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {
         let mut vehicle = match spec.kind {
             BodyKind::Wheel | BodyKind::Glider => {
-                let (body, contact, state) = single_body(spec, &system.beam);
+                let (mut body, contact, state) = single_body(spec, &system.beam);
+                // Driven from the first step on (`Simulation` sets each
+                // step's ẍ from the speed table).
+                body.drive = spec.prescribed_speed.as_ref().map(|_| 0.0);
                 Vehicle {
                     bodies: vec![body],
                     contacts: vec![contact],
@@ -403,6 +418,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             BodyKind::SprungMass => sprung_mass(spec, &system.beam, gravity),
             BodyKind::BogieVehicle => bogie_vehicle(spec, &system.beam, gravity),
             BodyKind::MaglevVehicle => maglev_vehicle(spec, &system.beam, gravity),
+            BodyKind::MovingForce => return Err(MOVING_FORCE_REFUSAL.into()),
         };
         // The first vehicle's contact keeps the name `contact` of the
         // single-body scenes; the others' are named after their vehicle.

@@ -13,6 +13,10 @@ pub struct RigidBody {
     pub mass: f64,
     /// Centroidal moment of inertia J; zero for a body that does not turn.
     pub inertia: f64,
+    /// The horizontal acceleration ẍ imposed over the current step on a body
+    /// driven at a prescribed speed (a tractive force holds it); `None` for a
+    /// body that moves freely.
+    pub drive: Option<f64>,
 }
 
 impl RigidBody {
@@ -30,10 +34,11 @@ impl RigidBody {
         }
     }
 
-    /// (ẍ, ÿ, θ̈) under the generalized force (F_x, F_y, torque).
+    /// (ẍ, ÿ, θ̈) under the generalized force (F_x, F_y, torque); a driven
+    /// body's ẍ is its imposed one.
     pub fn acceleration(&self, generalized: &Vector3<f64>) -> Vector3<f64> {
         Vector3::new(
-            generalized.x / self.mass,
+            self.drive.unwrap_or(generalized.x / self.mass),
             generalized.y / self.mass,
             if self.turns() {
                 generalized.z / self.inertia
@@ -41,6 +46,19 @@ impl RigidBody {
                 0.0
             },
         )
+    }
+
+    /// The horizontal tractive force that gives a driven body its imposed
+    /// ẍ under `generalized` (N); zero for a free body.
+    pub fn tractive_force(&self, generalized: &Vector3<f64>) -> f64 {
+        self.drive.map_or(0.0, |ax| self.mass * ax - generalized.x)
+    }
+
+    /// `a · M⁻¹ b` over (x, y): how the body's velocity along `a` answers a
+    /// force along `b`; a driven body does not answer horizontally.
+    pub fn compliance(&self, a: &Vector2<f64>, b: &Vector2<f64>) -> f64 {
+        let horizontal = if self.drive.is_some() { 0.0 } else { a.x * b.x };
+        (horizontal + a.y * b.y) / self.mass
     }
 
     pub fn kinetic_energy(&self, state: &BodyState) -> f64 {

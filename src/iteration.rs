@@ -466,10 +466,11 @@ impl ContactIteration {
                     for (b, &kj) in row_kinds(cj.rolls()).iter().enumerate() {
                         let (m, r) = (&measure_rows[ki], &rows[kj]);
                         velocity[(self.offsets[i] + a, self.offsets[j] + b)] += velocity_weight
-                            * ((m.x * r.x + m.y * r.y) / body.mass + m.z * r.z * inverse_inertia);
+                            * (body.compliance(&m.xy(), &r.xy()) + m.z * r.z * inverse_inertia);
                     }
                 }
-                gap[(i, j)] += position_weight / body.mass * measure.normal().dot(&apply.normal());
+                gap[(i, j)] +=
+                    position_weight * body.compliance(&measure.normal(), &apply.normal());
             }
         }
     }

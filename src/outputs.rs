@@ -53,6 +53,7 @@ pub enum Quantity {
     BeamDamping,
     GravityWork,
     ExternalWork,
+    TractiveWork,
     Balance,
     VelocityError,
     GapError,
@@ -239,11 +240,19 @@ impl Catalogue {
             "work done by the applied force",
             Quantity::ExternalWork,
         );
+        if system.bodies.iter().any(|b| b.drive.is_some()) {
+            self.real(
+                e("tractive_work"),
+                "J",
+                "work done by the tractive forces that hold the prescribed speeds",
+                Quantity::TractiveWork,
+            );
+        }
         self.real(
             e("balance"),
             "J",
             "kinetic + strain + spring energy + dissipated (dampers, beam damping) - work of \
-             gravity and applied force: \
+             gravity, applied and tractive forces: \
              constant for the exact solution",
             Quantity::Balance,
         );
@@ -438,6 +447,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::BeamDamping => d.beam_dissipated,
             Quantity::GravityWork => state.gravity_work,
             Quantity::ExternalWork => state.external_work,
+            Quantity::TractiveWork => d.tractive_work,
             Quantity::Balance => sim.energy_balance(),
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,

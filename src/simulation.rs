@@ -12,7 +12,7 @@ use crate::integrate::{
 };
 use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
 use crate::outputs::{catalogue, Quantity};
-use crate::scene::{Scene, StartKind};
+use crate::scene::{Scene, SpeedSpec, StartKind};
 use crate::static_start::static_start;
 use crate::system::{System, TrackPart};
 
@@ -154,6 +154,7 @@ impl SimState {
             self.exit_time.unwrap_or(0.0),
             d.dissipated,
             d.beam_dissipated,
+            d.tractive_work,
         ];
         let bodies = d.bodies.iter().flat_map(|b| {
             [
@@ -234,6 +235,8 @@ pub struct Simulation {
     /// The first body of each vehicle and the constant force on it; the
     /// first is the driven body, whose force is `SimState::body_force`.
     vehicle_forces: Vec<(usize, [f64; 2])>,
+    /// The bodies driven at a prescribed speed, and their speeds.
+    drives: Vec<(usize, SpeedSpec)>,
     settings: IterationSettings,
     iteration: ContactIteration,
     state: SimState,
@@ -252,6 +255,11 @@ impl Simulation {
         let step = scene.solver.step;
         let body_force = [scene.body.force_x, scene.body.force_y];
         let mut vehicle_forces = assembly.vehicle_forces;
+        let drives = std::iter::once(&scene.body)
+            .chain(&scene.vehicles)
+            .zip(&vehicle_forces)
+            .filter_map(|(spec, &(b, _))| spec.prescribed_speed.clone().map(|v| (b, v)))
+            .collect();
         vehicle_forces[0].1 = body_force;
         let applied: Vec<Vector3<f64>> =
             constant_forces(&assembly.system, &vehicle_forces).collect();
@@ -284,6 +292,7 @@ impl Simulation {
             step,
             stop_at_beam_exit: scene.solver.end_time.is_none(),
             vehicle_forces,
+            drives,
             settings: IterationSettings {
                 velocity_tolerance: scene.solver.velocity_tolerance,
                 gap_tolerance: scene.solver.gap_tolerance,
@@ -361,6 +370,7 @@ impl Simulation {
             + d.beam_dissipated
             - self.state.gravity_work
             - self.state.external_work
+            - d.tractive_work
     }
 
     pub fn body_kinetic_energy(&self) -> f64 {
@@ -693,12 +703,23 @@ impl Simulation {
     }
 
     fn solve(&mut self, guess: &[ContactForce], dt: f64) -> Result<StepSolution, SolverError> {
+        self.set_drives(dt);
         let mut applied = std::mem::take(&mut self.applied);
         applied.clear();
         applied.extend(self.constant_forces_iter());
         let solution = self.solve_with(guess, &applied, dt);
         self.applied = applied;
         solution
+    }
+
+    /// Each driven body's ẍ over a step of `dt`: the one that brings its
+    /// speed to the prescribed one at the step's end.
+    fn set_drives(&mut self, dt: f64) {
+        let end = self.state.time + dt;
+        for (b, speed) in &self.drives {
+            let now = self.state.dynamic.bodies[*b].velocity.x;
+            self.system.bodies[*b].drive = Some((speed.speed_at(end) - now) / dt);
+        }
     }
 
     fn solve_with(
@@ -832,6 +853,7 @@ fn initial_state(
         contact_x: frames.iter().map(|f| f.x).collect(),
         dissipated: 0.0,
         beam_dissipated: 0.0,
+        tractive_work: 0.0,
     })
 }
 

@@ -11,6 +11,7 @@ mod progress;
 mod release;
 mod run;
 mod scenes;
+mod sweep;
 mod work_precision;
 
 use clap::{Parser, Subcommand};
@@ -42,6 +43,10 @@ enum Command {
     Modes(ModesArgs),
     /// Export a scene as an FMI 2.0 co-simulation FMU.
     Export(ExportArgs),
+    /// Run a moving-force scene (or every HSLM train) at every speed of a
+    /// range, in parallel; write the envelope (peak deck deflection and
+    /// acceleration, DAF) as CSV and a plot.
+    Sweep(SweepArgs),
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
@@ -102,6 +107,34 @@ struct ModesArgs {
     /// Write the mode shapes (deflection at every node, largest 1) here.
     #[arg(long, short, value_name = "CSV")]
     out: Option<PathBuf>,
+}
+
+#[derive(Debug, clap::Args)]
+struct SweepArgs {
+    /// Scene file whose [body] is a moving force (kind = "moving_force").
+    scene: String,
+    /// Speeds START:STOP:STEP (inclusive), e.g. 100:400:5, or one speed.
+    #[arg(long, value_name = "START:STOP:STEP", allow_hyphen_values = true)]
+    speeds: String,
+    /// Unit of --speeds: m/s or km/h.
+    #[arg(long, default_value = "m/s")]
+    unit: String,
+    /// `hslm` (HSLM-A1 … A10 in place of the scene's forces) or a comma
+    /// list of HSLM train names; the scene's own forces when left out.
+    #[arg(long, value_name = "hslm|NAMES")]
+    trains: Option<String>,
+    /// The envelope, one row per train and speed.
+    #[arg(long, short, value_name = "CSV", default_value = "sweep.csv")]
+    out: PathBuf,
+    /// Plot peak deck acceleration and DAF against speed to this PNG.
+    #[arg(long, value_name = "PNG")]
+    plot: Option<PathBuf>,
+    /// Threads (default: the machine's cores).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(usize))]
+    threads: Option<usize>,
+    /// Refuse, before running, a sweep of more steps than this in all.
+    #[arg(long, value_name = "N", default_value_t = guideway::study::sweep::DEFAULT_MAX_SWEEP_STEPS)]
+    max_steps: u64,
 }
 
 #[derive(Debug, clap::Args)]
@@ -189,6 +222,7 @@ pub fn main() -> ExitCode {
         Command::Scenes(args) => scenes::scenes(args),
         Command::Modes(args) => modes::modes(args),
         Command::Export(args) => export::export(args),
+        Command::Sweep(args) => sweep::run_sweep(args),
         Command::WorkPrecision(args) => work_precision::work_precision(args),
         Command::Release(args) => release::release(args),
     };

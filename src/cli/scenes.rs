@@ -1,6 +1,7 @@
 //! `guideway scenes [--show NAME]`.
 
 use super::{load_scene, Failure, ScenesArgs};
+use guideway::moving_load::HSLM_TRAINS;
 use guideway::scene::{builtins, DEFAULT_SCENE};
 
 pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
@@ -18,6 +19,13 @@ pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
             for (name, description) in builtins() {
                 println!("{name:width$}  {description}");
             }
+            let trains: Vec<&str> = HSLM_TRAINS.iter().map(|t| t.name).collect();
+            println!();
+            println!(
+                "Trains for moving forces (kind = \"moving_force\", train = NAME; EN 1991-2 \
+                 Annex E): {}",
+                trains.join(", ")
+            );
             println!();
             println!("`guideway run NAME` runs one ({DEFAULT_SCENE} when none is given);");
             println!("`guideway scenes --show NAME > my.toml` starts a scene file from one.");

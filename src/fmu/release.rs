@@ -169,6 +169,7 @@ fn body_text(scene: &Scene) -> &'static str {
         BodyKind::SprungMass => "sprung mass on a spring-damper over a glider",
         BodyKind::BogieVehicle => "car body on two bogies over four wheelsets (10 DOF)",
         BodyKind::MaglevVehicle => "car body over magnets on spring-dampers",
+        BodyKind::MovingForce => "moving force (no body)",
     }
 }
 

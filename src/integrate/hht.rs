@@ -136,6 +136,7 @@ impl Hht {
             &mut end.body_loads,
         );
         self.beam_step(system, start, dt, end);
+        end.tractive_work = start.tractive_work;
         for (b, body) in system.bodies.iter().enumerate() {
             self.body_step(body, b, start, dt, end);
         }
@@ -211,7 +212,8 @@ impl Hht {
     ) {
         let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
         let generalized = end.body_loads[b];
-        let a1 = body.acceleration(&((1.0 + alpha) * generalized - alpha * start.body_loads[b]));
+        let forcing = (1.0 + alpha) * generalized - alpha * start.body_loads[b];
+        let a1 = body.acceleration(&forcing);
         let a0 = start.body_accelerations[b];
         let s = &start.bodies[b];
         let position_increment = dt * Vector3::new(s.velocity.x, s.velocity.y, s.angular_velocity)
@@ -224,6 +226,13 @@ impl Hht {
             angular_velocity: s.angular_velocity + velocity_increment.z,
         };
         end.body_accelerations[b] = a1;
+        if body.drive.is_some() {
+            // Trapezoidal, as the scheme moves the body: exact in the
+            // balance for α = 0 (the start's force is the last step's).
+            let start_force = body.mass * a0.x - start.body_loads[b].x;
+            let end_force = body.tractive_force(&forcing);
+            end.tractive_work += 0.5 * (start_force + end_force) * position_increment.x;
+        }
     }
 
     /// The end-of-step force enters with weight 1 + α (at t_{n+1+α}).

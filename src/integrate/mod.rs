@@ -44,6 +44,10 @@ pub struct DynamicState {
     /// integrated with the step.
     #[serde(default)]
     pub beam_dissipated: f64,
+    /// Work of the tractive forces that hold the driven bodies' speeds since
+    /// t = 0 (J), integrated with the step.
+    #[serde(default)]
+    pub tractive_work: f64,
 }
 
 /// What one step starts from: the state, its contact frames (the same for

@@ -71,6 +71,7 @@ impl Rk4 {
         end.contact_x.copy_from_slice(&start.contact_x);
         let mut dissipation_sum = 0.0;
         let mut beam_dissipation_sum = 0.0;
+        let mut tractive_power_sum = 0.0;
 
         for stage in 0..4 {
             if stage > 0 {
@@ -103,6 +104,10 @@ impl Rk4 {
             self.sum_u.axpy(weight, &self.stage_v, 1.0);
             self.sum_v.axpy(weight, &self.accel, 1.0);
             for (b, body) in system.bodies.iter().enumerate() {
+                // RK4's own quadrature of the tractive power F_x ẋ.
+                tractive_power_sum += weight
+                    * body.tractive_force(&self.body_loads[b])
+                    * self.stage_bodies[b].velocity.x;
                 let acceleration = body.acceleration(&self.body_loads[b]);
                 // Kept as the stage's acceleration for the update below.
                 self.body_loads[b] = acceleration;
@@ -142,6 +147,7 @@ impl Rk4 {
         }
         end.dissipated = start.dissipated + w * dissipation_sum;
         end.beam_dissipated = start.beam_dissipated + w * beam_dissipation_sum;
+        end.tractive_work = start.tractive_work + w * tractive_power_sum;
         Ok(())
     }
 

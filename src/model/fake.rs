@@ -69,7 +69,8 @@ impl Dynamics for FakeDynamics {
             BodyKind::Glider
             | BodyKind::SprungMass
             | BodyKind::BogieVehicle
-            | BodyKind::MaglevVehicle => None,
+            | BodyKind::MaglevVehicle
+            | BodyKind::MovingForce => None,
         };
         for s in &scene.sensors {
             outputs.push(real(

@@ -7,6 +7,7 @@ pub mod plot;
 mod run;
 mod stream;
 mod summary;
+pub mod sweep_plot;
 mod trace;
 
 pub use run::{

@@ -24,7 +24,7 @@ pub const FONT_PATHS: [&str; 3] = [
 pub const FONT_ENV: &str = "GUIDEWAY_PLOT_FONT";
 
 const SIZE: (u32, u32) = (1000, 1200);
-const FONT: &str = "sans-serif";
+pub(crate) const FONT: &str = "sans-serif";
 const COLOURS: [RGBColor; 5] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),

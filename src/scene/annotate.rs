@@ -5,7 +5,7 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 40] = [
+const FIELD_NOTES: [(&str, &str); 42] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
     (
@@ -55,7 +55,7 @@ const FIELD_NOTES: [(&str, &str); 40] = [
     ("body.name", "identifier; outputs are <name>.x, ..."),
     (
         "body.kind",
-        "wheel | glider | sprung_mass | bogie_vehicle | maglev_vehicle",
+        "wheel | glider | sprung_mass | bogie_vehicle | maglev_vehicle | moving_force",
     ),
     ("body.mass", "kg, > 0"),
     ("body.inertia", "kg m^2, centroidal J; wheel only"),
@@ -65,6 +65,11 @@ const FIELD_NOTES: [(&str, &str); 40] = [
         "m, contact abscissa at t = 0, -approach <= x < L",
     ),
     ("body.initial_speed", "m/s, positive to the right"),
+    (
+        "body.prescribed_speed",
+        "m/s, or [[t, v], ...]: held by a tractive force",
+    ),
+    ("body.train", "HSLM-A1 ... HSLM-A10; moving_force only"),
     ("body.force_x", "N, constant force on the body's centre"),
     ("body.force_y", "N, y up: the paper's load is -600 kN"),
     (

@@ -177,6 +177,11 @@ pub struct BodySpec {
     pub initial_position: f64,
     /// Initial travel speed (m/s), positive to the right.
     pub initial_speed: f64,
+    /// Hold the body's horizontal speed (m/s): a number, or a table of
+    /// (time s, speed m/s) rows, linear between rows and held beyond them;
+    /// a tractive force computed each step holds it (wheels and gliders).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub prescribed_speed: Option<SpeedSpec>,
     /// Constant force on the body's centre, x component (N).
     #[serde(default)]
     pub force_x: f64,
@@ -187,6 +192,10 @@ pub struct BodySpec {
     /// The suspension of a `sprung_mass`; left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub suspension: Option<SuspensionSpec>,
+    /// A `moving_force` that stands for a whole standard train (`HSLM-A1` …
+    /// `HSLM-A10`): its first axle at `initial_position`, the others behind.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub train: Option<String>,
     /// The bogies, wheelsets and suspensions of a `bogie_vehicle` (whose
     /// `mass` is the car body's); left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -221,6 +230,36 @@ impl MaglevSpec {
     /// Offset of magnet `i` (0 = front) from the car body's centre (m).
     pub fn offset(&self, i: usize) -> f64 {
         (0.5 * (self.magnets as f64 - 1.0) - i as f64) * self.magnet_spacing
+    }
+}
+
+/// A prescribed horizontal speed: constant, or a table of (time, speed).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(
+    untagged,
+    expecting = "a speed in m/s, or a table [[t0, v0], [t1, v1], ...] of times (s) and speeds (m/s)"
+)]
+pub enum SpeedSpec {
+    Constant(f64),
+    Table(Vec<[f64; 2]>),
+}
+
+impl SpeedSpec {
+    /// The speed at time `t` (m/s): linear between the table's rows, held
+    /// before the first and after the last.
+    pub fn speed_at(&self, t: f64) -> f64 {
+        match self {
+            SpeedSpec::Constant(v) => *v,
+            SpeedSpec::Table(rows) => {
+                let after = rows.partition_point(|row| row[0] <= t);
+                match (after.checked_sub(1).map(|i| rows[i]), rows.get(after)) {
+                    (Some(a), Some(b)) => a[1] + (b[1] - a[1]) * (t - a[0]) / (b[0] - a[0]),
+                    (Some(a), None) => a[1],
+                    (None, Some(b)) => b[1],
+                    (None, None) => 0.0,
+                }
+            }
+        }
     }
 }
 
@@ -294,6 +333,11 @@ pub enum BodyKind {
     /// length (`maglev`); `initial_position` is the car body's centre.
     #[serde(rename = "maglev_vehicle")]
     MaglevVehicle,
+    /// A point force at constant speed with no body (no inertia, no
+    /// contact): its weight `mass` × `gravity` plus `force_y`, or each axle
+    /// of its `train`. Run by `guideway sweep`, not `guideway run`.
+    #[serde(rename = "moving_force")]
+    MovingForce,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -451,7 +495,8 @@ impl Scene {
             BodyKind::Glider
             | BodyKind::SprungMass
             | BodyKind::BogieVehicle
-            | BodyKind::MaglevVehicle => ("glider", None, None),
+            | BodyKind::MaglevVehicle
+            | BodyKind::MovingForce => ("glider", None, None),
         };
         Scene {
             name: format!("lee1994-{name}-{initial_speed}"),
@@ -474,9 +519,11 @@ impl Scene {
                 radius,
                 initial_position: 0.0,
                 initial_speed,
+                prescribed_speed: None,
                 force_x: 0.0,
                 force_y: -600e3,
                 suspension: None,
+                train: None,
                 bogie: None,
                 maglev: None,
             },

@@ -48,6 +48,9 @@ pub const MIN_MAGNITUDE: f64 = 1e-15;
 /// More vehicles than this is a typo, not a train.
 pub const MAX_VEHICLES: usize = 1_000;
 
+/// Rows of a prescribed-speed table.
+pub const MAX_SPEED_ROWS: usize = 10_000;
+
 pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     let mut checks = Checks::default();
     check_name(&mut checks, scene);
@@ -269,6 +272,7 @@ fn check_bodies(checks: &mut Checks, scene: &Scene, length_ok: bool) {
         );
         return;
     }
+    check_moving_forces_alone(checks, scene);
     let mut names = HashSet::from([scene.body.name.as_str()]);
     for (i, vehicle) in scene.vehicles.iter().enumerate() {
         let prefix = format!("vehicles[{i}]");
@@ -318,7 +322,8 @@ fn check_body(
         BodyKind::Glider
         | BodyKind::SprungMass
         | BodyKind::BogieVehicle
-        | BodyKind::MaglevVehicle => {
+        | BodyKind::MaglevVehicle
+        | BodyKind::MovingForce => {
             for (path, value) in [
                 (&path("inertia"), body.inertia),
                 (&path("radius"), body.radius),
@@ -334,6 +339,7 @@ fn check_body(
         }
     }
     check_suspension(checks, prefix, body);
+    check_train(checks, prefix, body);
     check_bogie(checks, prefix, body);
     check_maglev(checks, prefix, body);
     check_wheelsets_on_track(checks, prefix, body, scene);
@@ -358,8 +364,111 @@ fn check_body(
         }
     }
     checks.finite(&path("initial_speed"), body.initial_speed);
+    check_prescribed_speed(checks, prefix, body);
     checks.finite(&path("force_x"), body.force_x);
     checks.finite(&path("force_y"), body.force_y);
+}
+
+/// A prescribed speed: finite speeds, a table of at most `MAX_SPEED_ROWS`
+/// rows with strictly increasing times, starting at the initial speed, on a
+/// wheel or a glider (a tractive force on one body holds it).
+fn check_prescribed_speed(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    use super::SpeedSpec;
+    let path = format!("{prefix}.prescribed_speed");
+    let Some(speed) = &body.prescribed_speed else {
+        return;
+    };
+    if !matches!(body.kind, BodyKind::Wheel | BodyKind::Glider) {
+        checks.fail(
+            &path,
+            "present",
+            "a prescribed speed holds a wheel or a glider; other kinds must leave it out",
+        );
+        return;
+    }
+    let ok = match speed {
+        SpeedSpec::Constant(v) => checks.finite(&path, *v),
+        SpeedSpec::Table(rows) if rows.is_empty() || rows.len() > MAX_SPEED_ROWS => {
+            checks.fail(
+                &path,
+                format!("{} rows", rows.len()),
+                format!("a table needs 1 to {MAX_SPEED_ROWS} rows"),
+            );
+            false
+        }
+        SpeedSpec::Table(rows) => {
+            let mut ok = true;
+            for (i, [t, v]) in rows.iter().enumerate() {
+                ok &= checks.finite(&format!("{path}[{i}][0]"), *t);
+                ok &= checks.finite(&format!("{path}[{i}][1]"), *v);
+            }
+            for (i, pair) in rows.windows(2).enumerate() {
+                if ok && pair[1][0] <= pair[0][0] {
+                    checks.fail(
+                        format!("{path}[{}][0]", i + 1),
+                        fmt_f64(pair[1][0]),
+                        "times must increase strictly from row to row",
+                    );
+                    ok = false;
+                }
+            }
+            ok
+        }
+    };
+    let start = speed.speed_at(0.0);
+    if ok && body.initial_speed.is_finite() && body.initial_speed != start {
+        checks.fail(
+            format!("{prefix}.initial_speed"),
+            fmt_f64(body.initial_speed),
+            format!(
+                "must equal the prescribed speed at t = 0, {}",
+                fmt_f64(start)
+            ),
+        );
+    }
+}
+
+/// A train names an HSLM train and belongs to a moving force, whose own
+/// force it replaces (so `force_y` must be left at 0).
+fn check_train(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let path = format!("{prefix}.train");
+    let Some(name) = &body.train else {
+        return;
+    };
+    if body.kind != BodyKind::MovingForce {
+        checks.fail(
+            &path,
+            quoted(name),
+            format!("must be left out unless {prefix}.kind = \"moving_force\""),
+        );
+    } else if crate::moving_load::hslm(name).is_none() {
+        checks.fail(
+            &path,
+            quoted(name),
+            "must name a built-in train: HSLM-A1 … HSLM-A10",
+        );
+    } else if body.force_y != 0.0 {
+        checks.fail(
+            format!("{prefix}.force_y"),
+            fmt_f64(body.force_y),
+            "must be 0 for a moving force with a train (each axle carries the train's force)",
+        );
+    }
+}
+
+/// Moving forces run without bodies: a scene has only moving forces or none.
+fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
+    let moving = scene.body.kind == BodyKind::MovingForce;
+    for (i, vehicle) in scene.vehicles.iter().enumerate() {
+        if (vehicle.kind == BodyKind::MovingForce) != moving {
+            checks.fail(
+                format!("vehicles[{i}].kind"),
+                format!("{:?}", vehicle.kind),
+                "moving forces run without bodies: every vehicle is a moving_force if \
+                 [body] is one, and none otherwise",
+            );
+        }
+    }
 }
 
 /// A sprung mass needs its suspension; other kinds must leave it out.

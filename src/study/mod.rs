@@ -1,3 +1,5 @@
-//! Studies over many runs: error against run time (work-precision).
+//! Studies over many runs: error against run time (work-precision), speed
+//! sweeps of moving forces.
 
+pub mod sweep;
 pub mod work_precision;

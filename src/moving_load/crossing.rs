@@ -1,0 +1,198 @@
+//! The beam under moving forces, stepped with Newmark's average
+//! acceleration (β = 1/4, γ = 1/2): M a + C v + K u = f(t), the forces
+//! placed at their positions at each step's end.
+
+use nalgebra::DVector;
+
+use super::Axle;
+use crate::band::BandLdlt;
+use crate::beam::Beam;
+
+const BETA: f64 = 0.25;
+const GAMMA: f64 = 0.5;
+
+/// Steps a crossing of `axles` over `beam` with a fixed step.
+pub struct Crossing<'a> {
+    beam: &'a Beam,
+    axles: &'a [Axle],
+    step: f64,
+    /// Factor of M + γ Δt C + β Δt² K.
+    factor: BandLdlt,
+    time: f64,
+    u: DVector<f64>,
+    v: DVector<f64>,
+    a: DVector<f64>,
+    load: DVector<f64>,
+    rhs: DVector<f64>,
+    scratch: DVector<f64>,
+}
+
+/// The largest magnitudes at one sensor over a run.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Peaks {
+    /// Largest |w| (m).
+    pub deflection: f64,
+    /// Largest |ẅ| (m/s²).
+    pub acceleration: f64,
+}
+
+impl<'a> Crossing<'a> {
+    /// The beam at rest and undeformed at t = 0 under the forces there.
+    pub fn new(beam: &'a Beam, axles: &'a [Axle], step: f64) -> Result<Crossing<'a>, String> {
+        if !(step > 0.0 && step.is_finite()) {
+            return Err(format!("the step must be > 0 (got {step})"));
+        }
+        let factor = beam.factor_effective(GAMMA * step, BETA * step * step)?;
+        let n = beam.free_dofs();
+        let z = || DVector::zeros(n);
+        let mut crossing = Crossing {
+            beam,
+            axles,
+            step,
+            factor,
+            time: 0.0,
+            u: z(),
+            v: z(),
+            a: z(),
+            load: z(),
+            rhs: z(),
+            scratch: z(),
+        };
+        crossing.place_loads(0.0);
+        crossing.a.copy_from(&crossing.load);
+        beam.solve_mass(&mut crossing.a);
+        Ok(crossing)
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// When the last force has left the beam (s).
+    pub fn exit_time(&self) -> f64 {
+        exit_time(self.beam.length, self.axles)
+    }
+
+    /// The load vector of the forces at time `t` (those on the beam).
+    fn place_loads(&mut self, t: f64) {
+        self.load.fill(0.0);
+        let length = self.beam.length;
+        for axle in self.axles {
+            let x = axle.at(t);
+            if (0.0..=length).contains(&x) {
+                let shape = self.beam.shape(self.beam.element_at(x), x);
+                shape.scatter(&shape.n, axle.force, &mut self.load);
+            }
+        }
+    }
+
+    /// One step: predictors, then (M + γΔt C + βΔt² K) a₁ = f₁ − C ṽ − K ũ.
+    pub fn step(&mut self) {
+        let dt = self.step;
+        self.time += dt;
+        self.place_loads(self.time);
+        self.u.axpy(dt, &self.v, 1.0);
+        self.u.axpy(dt * dt * (0.5 - BETA), &self.a, 1.0);
+        self.v.axpy(dt * (1.0 - GAMMA), &self.a, 1.0);
+        self.beam
+            .internal_forces(&self.u, &self.v, &mut self.scratch, &mut self.rhs);
+        self.rhs.zip_apply(&self.load, |r, f| *r = f - *r);
+        self.factor.solve_mut(&mut self.rhs);
+        std::mem::swap(&mut self.a, &mut self.rhs);
+        self.u.axpy(BETA * dt * dt, &self.a, 1.0);
+        self.v.axpy(GAMMA * dt, &self.a, 1.0);
+    }
+
+    /// Deflection w at `x` (m, up positive).
+    pub fn deflection(&self, x: f64) -> f64 {
+        self.beam.deflection(&self.u, x)
+    }
+
+    /// Acceleration ẅ at `x` (m/s², up positive).
+    pub fn acceleration(&self, x: f64) -> f64 {
+        self.beam.deflection(&self.a, x)
+    }
+
+    /// Kinetic + strain energy of the beam (J).
+    pub fn beam_energy(&self) -> f64 {
+        self.beam.kinetic_energy(&self.v) + self.beam.strain_energy(&self.u)
+    }
+
+    /// Step until `end` (s) or the last force has left the beam, whichever
+    /// is earlier, and return the peaks at each of `sensors` (abscissae);
+    /// refused when that is more than `max_steps` steps.
+    pub fn peaks(
+        &mut self,
+        sensors: &[f64],
+        end: f64,
+        max_steps: u64,
+    ) -> Result<Vec<Peaks>, String> {
+        let end = end.min(self.exit_time());
+        let steps = (end / self.step).ceil();
+        if steps.is_nan() || steps > max_steps as f64 {
+            return Err(format!(
+                "the crossing needs {steps} steps of {} s, more than the limit of {max_steps}",
+                self.step
+            ));
+        }
+        let mut peaks = vec![Peaks::default(); sensors.len()];
+        for _ in 0..steps as u64 {
+            self.step();
+            for (peak, &x) in peaks.iter_mut().zip(sensors) {
+                peak.deflection = peak.deflection.max(self.deflection(x).abs());
+                peak.acceleration = peak.acceleration.max(self.acceleration(x).abs());
+            }
+        }
+        Ok(peaks)
+    }
+}
+
+/// The largest |static deflection| at `sensor` as the axles crawl across
+/// the beam in their order: the sum of each force times the influence line
+/// (by Maxwell's reciprocity, the deflection under a unit load at the
+/// sensor), sampled every eighth of the shortest element.
+pub fn static_peak(beam: &Beam, axles: &[Axle], sensor: f64) -> Result<f64, String> {
+    let mut unit = DVector::zeros(beam.free_dofs());
+    let shape = beam.shape(beam.element_at(sensor), sensor);
+    shape.scatter(&shape.n, 1.0, &mut unit);
+    let influence = beam.static_deflection(&unit)?;
+    let speed = axles.iter().map(|a| a.speed.abs()).fold(0.0, f64::max);
+    if speed == 0.0 {
+        return Err("the forces do not move".into());
+    }
+    let dt = beam.min_element_length() / 8.0 / speed;
+    let samples = (exit_time(beam.length, axles) / dt).ceil();
+    if samples.is_nan() || samples > 1e8 {
+        return Err(format!("the static crawl needs {samples} samples"));
+    }
+    let length = beam.length;
+    let mut peak: f64 = 0.0;
+    for k in 0..=samples as u64 {
+        let t = k as f64 * dt;
+        let w: f64 = axles
+            .iter()
+            .map(|axle| (axle.at(t), axle.force))
+            .filter(|(x, _)| (0.0..=length).contains(x))
+            .map(|(x, force)| force * beam.deflection(&influence, x))
+            .sum();
+        peak = peak.max(w.abs());
+    }
+    Ok(peak)
+}
+
+/// When the last of `axles` has left a beam of `length` (s); infinite if
+/// one never does.
+pub fn exit_time(length: f64, axles: &[Axle]) -> f64 {
+    axles
+        .iter()
+        .map(|axle| {
+            let edge = if axle.speed > 0.0 { length } else { 0.0 };
+            let time = (edge - axle.position) / axle.speed;
+            if time.is_nan() {
+                f64::INFINITY
+            } else {
+                time.max(0.0)
+            }
+        })
+        .fold(0.0, f64::max)
+}

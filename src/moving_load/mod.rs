@@ -1,0 +1,69 @@
+//! Moving forces: point loads crossing the beam at constant speed, with no
+//! body and no contact iteration: the classical model of code checks
+//! (Frýba's moving force) and of the standard trains (HSLM, EN 1991-2).
+//!
+//! The beam alone is integrated with Newmark's average acceleration (HHT-α
+//! at α = 0: unconditionally stable, second order, no numerical damping),
+//! the loads placed at their exact positions at each step's end through
+//! the Hermite shape functions (consistent nodal loads).
+
+mod crossing;
+mod hslm;
+
+pub use crossing::{exit_time, static_peak, Crossing, Peaks};
+pub use hslm::{hslm, HslmTrain, HSLM_TRAINS};
+
+use crate::scene::{BodyKind, BodySpec, Scene};
+
+/// One point force: its abscissa at t = 0 (m), its speed (m/s) and its
+/// vertical component (N, y up: a downward load is negative).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Axle {
+    pub position: f64,
+    pub speed: f64,
+    pub force: f64,
+}
+
+impl Axle {
+    /// Abscissa at time `t`.
+    pub fn at(&self, t: f64) -> f64 {
+        self.position + self.speed * t
+    }
+}
+
+/// Whether the scene's vehicles are moving forces (validation has made
+/// them all moving forces or none).
+pub fn is_moving_force_scene(scene: &Scene) -> bool {
+    scene.body.kind == BodyKind::MovingForce
+}
+
+/// The axles of one moving-force vehicle: its train's, the first at
+/// `initial_position` and the others behind it, or a single force of the
+/// body's weight plus its applied `force_y`.
+pub fn vehicle_axles(spec: &BodySpec, gravity: f64) -> Vec<Axle> {
+    let speed = spec.initial_speed;
+    match spec.train.as_deref().and_then(hslm) {
+        Some(train) => train
+            .axles()
+            .into_iter()
+            .map(|(offset, force)| Axle {
+                position: spec.initial_position - offset,
+                speed,
+                force,
+            })
+            .collect(),
+        None => vec![Axle {
+            position: spec.initial_position,
+            speed,
+            force: spec.force_y - spec.mass * gravity,
+        }],
+    }
+}
+
+/// Every axle of a moving-force scene ([body] and [[vehicles]]).
+pub fn scene_axles(scene: &Scene) -> Vec<Axle> {
+    std::iter::once(&scene.body)
+        .chain(&scene.vehicles)
+        .flat_map(|spec| vehicle_axles(spec, scene.gravity))
+        .collect()
+}

@@ -1,0 +1,158 @@
+//! The envelope of a speed sweep as a PNG: peak deck acceleration and the
+//! dynamic amplification against speed, one curve per train, with the deck
+//! acceleration limits of EN 1990 Annex A2 (A2.4.4.2.1): 3.5 m/s² on
+//! ballasted track, 5 m/s² on slab track.
+
+use super::plot::{load_font, Text, FONT};
+use crate::study::sweep::{EnvelopeRow, SpeedUnit};
+use plotters::prelude::*;
+use std::path::Path;
+
+/// EN 1990 A2.4.4.2.1(4): deck acceleration limits (m/s²).
+pub const BALLASTED_LIMIT: f64 = 3.5;
+pub const SLAB_TRACK_LIMIT: f64 = 5.0;
+
+const SIZE: (u32, u32) = (1000, 900);
+
+/// Distinct colours for up to ten trains (then they repeat).
+const COLOURS: [RGBColor; 10] = [
+    RGBColor(31, 119, 180),
+    RGBColor(214, 39, 40),
+    RGBColor(44, 160, 44),
+    RGBColor(148, 103, 189),
+    RGBColor(255, 127, 14),
+    RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
+];
+
+/// Write the envelope plot to `path`.
+pub fn write_sweep_plot(rows: &[EnvelopeRow], unit: SpeedUnit, path: &Path) -> Result<(), String> {
+    let text = load_font();
+    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE).map_err(|e| e.to_string())?;
+    let areas = root.split_evenly((2, 1));
+    let acceleration = |r: &EnvelopeRow| r.peak_acceleration;
+    let daf = |r: &EnvelopeRow| r.daf;
+    panel(
+        rows,
+        unit,
+        &areas[0],
+        text,
+        ("peak deck acceleration (m/s²)", &acceleration),
+        true,
+    )?;
+    panel(
+        rows,
+        unit,
+        &areas[1],
+        text,
+        ("dynamic amplification (deflection)", &daf),
+        false,
+    )?;
+    root.present()
+        .map_err(|e| format!("cannot write the plot to {}: {e}", path.display()))
+}
+
+type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
+
+fn panel(
+    rows: &[EnvelopeRow],
+    unit: SpeedUnit,
+    area: &Area,
+    text: Text,
+    (label, value): (&str, &dyn Fn(&EnvelopeRow) -> f64),
+    limits: bool,
+) -> Result<(), String> {
+    let err = |e: DrawingAreaErrorKind<_>| e.to_string();
+    let (low, high) = rows
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), r| {
+            (l.min(r.speed), h.max(r.speed))
+        });
+    let (low, high) = if low < high {
+        (low, high)
+    } else {
+        (low - 1.0, low + 1.0)
+    };
+    let mut top = rows
+        .iter()
+        .map(value)
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    if limits {
+        top = top.max(SLAB_TRACK_LIMIT);
+    }
+    let top = if top > 0.0 { 1.1 * top } else { 1.0 };
+    let mut builder = ChartBuilder::on(area);
+    builder.margin(15);
+    if text == Text::Labelled {
+        builder.x_label_area_size(45).y_label_area_size(70);
+    }
+    let mut chart = builder
+        .build_cartesian_2d(low..high, 0.0..top)
+        .map_err(err)?;
+    let mut mesh = chart.configure_mesh();
+    if text == Text::Labelled {
+        mesh.x_desc(format!("speed ({})", unit.label()))
+            .y_desc(label)
+            .label_style((FONT, 16))
+            .x_labels(10);
+    } else {
+        mesh.disable_x_axis().disable_y_axis();
+    }
+    mesh.draw().map_err(err)?;
+    let mut trains: Vec<&str> = rows.iter().map(|r| r.train.as_str()).collect();
+    trains.dedup();
+    for (i, train) in trains.iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let points: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|r| r.train == *train)
+            .map(|r| (r.speed, value(r)))
+            .filter(|p| p.1.is_finite())
+            .collect();
+        let series = chart
+            .draw_series(LineSeries::new(points, colour.stroke_width(2)))
+            .map_err(err)?;
+        if text == Text::Labelled {
+            series.label(*train).legend(move |(x, y)| {
+                PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        }
+    }
+    if limits {
+        for (limit, name) in [
+            (BALLASTED_LIMIT, "EN 1990 A2 limit, ballasted 3.5 m/s²"),
+            (SLAB_TRACK_LIMIT, "EN 1990 A2 limit, slab track 5 m/s²"),
+        ] {
+            let style = BLACK.stroke_width(if limit == BALLASTED_LIMIT { 1 } else { 2 });
+            let series = chart
+                .draw_series(DashedLineSeries::new(
+                    [(low, limit), (high, limit)],
+                    8,
+                    6,
+                    style,
+                ))
+                .map_err(err)?;
+            if text == Text::Labelled {
+                series
+                    .label(name)
+                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
+            }
+        }
+    }
+    if text == Text::Labelled {
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font((FONT, 13))
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
+}

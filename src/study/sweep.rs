@@ -1,0 +1,264 @@
+//! Speed sweeps of moving forces: a scene's forces, or every HSLM train,
+//! run at every speed of a range, in parallel on the machine's cores; per
+//! run the peaks at the deck's sensors and the dynamic amplification.
+
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::Mutex;
+
+use crate::beam::Beam;
+use crate::moving_load::{
+    exit_time, scene_axles, static_peak, vehicle_axles, Axle, Crossing, HslmTrain,
+};
+use crate::scene::Scene;
+
+/// Speeds per sweep.
+pub const MAX_SPEEDS: usize = 10_000;
+/// Steps of one run.
+pub const MAX_STEPS_PER_RUN: u64 = 10_000_000;
+/// Steps of a whole sweep by default (about a minute of CPU on a 20-element
+/// beam; the full HSLM sweep of README takes 5 million).
+pub const DEFAULT_MAX_SWEEP_STEPS: u64 = 200_000_000;
+
+/// The unit the speeds of a sweep are given in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpeedUnit {
+    MetresPerSecond,
+    KilometresPerHour,
+}
+
+impl SpeedUnit {
+    pub fn parse(text: &str) -> Result<SpeedUnit, String> {
+        match text {
+            "m/s" => Ok(SpeedUnit::MetresPerSecond),
+            "km/h" => Ok(SpeedUnit::KilometresPerHour),
+            _ => Err(format!("--unit {text:?}: want \"m/s\" or \"km/h\"")),
+        }
+    }
+
+    /// Metres per second in one of this unit.
+    pub fn in_metres_per_second(self) -> f64 {
+        match self {
+            SpeedUnit::MetresPerSecond => 1.0,
+            SpeedUnit::KilometresPerHour => 1.0 / 3.6,
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            SpeedUnit::MetresPerSecond => "m/s",
+            SpeedUnit::KilometresPerHour => "km/h",
+        }
+    }
+}
+
+/// The speeds of `start:stop:step` (inclusive of `stop` when the steps land
+/// on it), in the unit given: all > 0, stop >= start, step > 0, at most
+/// `MAX_SPEEDS`; a single number is one speed.
+pub fn parse_speeds(text: &str) -> Result<Vec<f64>, String> {
+    let bad = |rule: &str| format!("--speeds {text:?}: {rule}");
+    let number = |part: &str, what: &str| -> Result<f64, String> {
+        let x: f64 = part
+            .trim()
+            .parse()
+            .map_err(|_| bad(&format!("{what} {part:?} is not a number")))?;
+        if !x.is_finite() || x.abs() > crate::scene::MAX_MAGNITUDE {
+            return Err(bad(&format!(
+                "{what} {part} is not a finite speed within ±1e15"
+            )));
+        }
+        Ok(x)
+    };
+    let parts: Vec<&str> = text.split(':').collect();
+    let (start, stop, step) = match parts.as_slice() {
+        [single] => {
+            let v = number(single, "the speed")?;
+            (v, v, 1.0)
+        }
+        [start, stop, step] => (
+            number(start, "start")?,
+            number(stop, "stop")?,
+            number(step, "step")?,
+        ),
+        _ => return Err(bad("want START:STOP:STEP (e.g. 100:400:5) or one speed")),
+    };
+    if start <= 0.0 {
+        return Err(bad(&format!("start {start} must be > 0")));
+    }
+    if stop < start {
+        return Err(bad(&format!("stop {stop} is below start {start}")));
+    }
+    if step <= 0.0 {
+        return Err(bad(&format!("step {step} must be > 0")));
+    }
+    let count = ((stop - start) / step + 1e-9).floor() + 1.0;
+    if count > MAX_SPEEDS as f64 {
+        return Err(bad(&format!(
+            "{count} speeds, more than the limit of {MAX_SPEEDS}"
+        )));
+    }
+    Ok((0..count as usize)
+        .map(|i| start + i as f64 * step)
+        .collect())
+}
+
+/// One run of the sweep: a load at a speed, and what the deck did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EnvelopeRow {
+    /// The HSLM train, or the scene's name for its own forces.
+    pub train: String,
+    /// Speed in the sweep's unit, as given.
+    pub speed: f64,
+    /// Speed (m/s).
+    pub speed_m_s: f64,
+    /// Largest |deflection| at the sensors (m).
+    pub peak_deflection: f64,
+    /// Largest |acceleration| at the sensors (m/s²).
+    pub peak_acceleration: f64,
+    /// Dynamic amplification: peak_deflection over the largest |static
+    /// deflection| at the sensors under the same forces crawling across.
+    pub daf: f64,
+}
+
+/// What a sweep runs: the scene's own forces, or HSLM trains put in
+/// place of its `[body]`.
+#[derive(Debug, Clone)]
+pub enum Loads {
+    Scene,
+    Trains(Vec<HslmTrain>),
+}
+
+/// Every run of the sweep (`speeds` in `unit`), `threads` at a time; rows
+/// in the order train by train, speed by speed.
+pub fn sweep(
+    scene: &Scene,
+    loads: &Loads,
+    (speeds, unit): (&[f64], SpeedUnit),
+    threads: usize,
+    max_steps: u64,
+) -> Result<Vec<EnvelopeRow>, String> {
+    if !crate::moving_load::is_moving_force_scene(scene) {
+        return Err(format!(
+            "the sweep runs moving forces: {}.body.kind must be \"moving_force\"",
+            scene.name
+        ));
+    }
+    let beam = Beam::new(&scene.beam)?;
+    let sensors: Vec<f64> = if scene.sensors.is_empty() {
+        vec![0.5 * beam.length]
+    } else {
+        scene.sensors.iter().map(|s| s.position).collect()
+    };
+    // Each load with its axles at unit speed (the speed scales them) and
+    // its static peak at the sensors (the same at every speed).
+    let loads: Vec<(String, Vec<Axle>)> = match loads {
+        Loads::Scene => vec![(scene.name.clone(), scene_axles(scene))],
+        Loads::Trains(trains) => trains
+            .iter()
+            .map(|t| {
+                let mut spec = scene.body.clone();
+                spec.train = Some(t.name.to_string());
+                (t.name.to_string(), vehicle_axles(&spec, scene.gravity))
+            })
+            .collect(),
+    };
+    let statics = loads
+        .iter()
+        .map(|(_, axles)| {
+            let unit = at_speed(axles, 1.0);
+            sensors
+                .iter()
+                .map(|&x| static_peak(&beam, &unit, x))
+                .try_fold(0.0_f64, |m, p| p.map(|p| m.max(p)))
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    let jobs: Vec<(usize, f64)> = (0..loads.len())
+        .flat_map(|l| speeds.iter().map(move |&v| (l, v)))
+        .collect();
+    let end = scene.solver.end_time.unwrap_or(f64::INFINITY);
+    let total: f64 = jobs
+        .iter()
+        .map(|&(l, v)| {
+            let axles = at_speed(&loads[l].1, v * unit.in_metres_per_second());
+            (end.min(exit_time(beam.length, &axles)) / scene.solver.step).ceil()
+        })
+        .sum();
+    if total.is_nan() || total > max_steps as f64 {
+        return Err(format!(
+            "the sweep needs {total:.0} steps of solver.step = {} s in all, more than the \
+             limit of {max_steps} (--max-steps)",
+            scene.solver.step
+        ));
+    }
+    let run = |(l, speed): (usize, f64)| -> Result<EnvelopeRow, String> {
+        let speed_m_s = speed * unit.in_metres_per_second();
+        let axles = at_speed(&loads[l].1, speed_m_s);
+        let mut crossing = Crossing::new(&beam, &axles, scene.solver.step)?;
+        let peaks = crossing.peaks(&sensors, end, MAX_STEPS_PER_RUN)?;
+        let deflection = peaks.iter().map(|p| p.deflection).fold(0.0, f64::max);
+        Ok(EnvelopeRow {
+            train: loads[l].0.clone(),
+            speed,
+            speed_m_s,
+            peak_deflection: deflection,
+            peak_acceleration: peaks.iter().map(|p| p.acceleration).fold(0.0, f64::max),
+            daf: deflection / statics[l],
+        })
+    };
+    in_parallel(&jobs, threads, run)
+}
+
+/// The axles moving at `speed` (the sign of each axle's own speed kept).
+fn at_speed(axles: &[Axle], speed: f64) -> Vec<Axle> {
+    axles
+        .iter()
+        .map(|a| Axle {
+            speed: if a.speed < 0.0 { -speed } else { speed },
+            ..*a
+        })
+        .collect()
+}
+
+/// `run` over every job on `threads` scoped threads taking the next job
+/// as they finish one; results in the jobs' order, the first error wins.
+fn in_parallel<J: Copy + Sync, R: Send>(
+    jobs: &[J],
+    threads: usize,
+    run: impl Fn(J) -> Result<R, String> + Sync,
+) -> Result<Vec<R>, String> {
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<Result<R, String>>>> =
+        Mutex::new((0..jobs.len()).map(|_| None).collect());
+    std::thread::scope(|scope| {
+        for _ in 0..threads.clamp(1, jobs.len().max(1)) {
+            scope.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::Relaxed);
+                let Some(&job) = jobs.get(i) else {
+                    break;
+                };
+                let result = run(job);
+                results.lock().expect("no thread panics holding it")[i] = Some(result);
+            });
+        }
+    });
+    results
+        .into_inner()
+        .expect("no thread panicked")
+        .into_iter()
+        .map(|r| r.expect("every job ran"))
+        .collect()
+}
+
+/// The envelope as CSV: one row per train and speed.
+pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
+    let mut text = format!(
+        "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,daf\n",
+        unit.label().replace('/', "_")
+    );
+    for r in rows {
+        text.push_str(&format!(
+            "{},{},{},{},{},{}\n",
+            r.train, r.speed, r.speed_m_s, r.peak_deflection, r.peak_acceleration, r.daf
+        ));
+    }
+    text
+}
