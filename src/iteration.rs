@@ -193,6 +193,11 @@ pub struct ContactIteration {
     delassus: Delassus,
     measured_elements: Vec<usize>,
     loaded_elements: Vec<usize>,
+    /// Per contact: open (no rows: its force is held at zero, its gap only
+    /// measured), set by the caller for each step (`set_open`).
+    open: Vec<bool>,
+    /// Every contact's gap at the end of the last integration, open or not.
+    contact_gaps: Vec<f64>,
 }
 
 impl ContactIteration {
@@ -223,6 +228,39 @@ impl ContactIteration {
             },
             measured_elements: Vec::new(),
             loaded_elements: Vec::new(),
+            open: vec![false; system.contacts.len()],
+            contact_gaps: vec![0.0; system.contacts.len()],
+        }
+    }
+
+    /// Which contacts are open in the next steps solved.
+    pub fn set_open(&mut self, open: &[bool]) {
+        self.open.clear();
+        self.open.extend_from_slice(open);
+    }
+
+    /// Every contact's gap g at the end of the last step solved (m).
+    pub fn contact_gaps(&self) -> &[f64] {
+        &self.contact_gaps
+    }
+
+    /// Decouple the open contacts' rows: identity rows and columns, so that
+    /// the inverse acts on the closed contacts alone (the inverse of the
+    /// closed rows' principal block) and leaves the open ones' zero errors
+    /// at zero.
+    fn mask_open(&self, system: &System, velocity: &mut DMatrix<f64>, gap: &mut DMatrix<f64>) {
+        for (c, contact) in system.contacts.iter().enumerate() {
+            if !self.open[c] {
+                continue;
+            }
+            for row in self.offsets[c]..self.offsets[c] + contact.rows() {
+                velocity.row_mut(row).fill(0.0);
+                velocity.column_mut(row).fill(0.0);
+                velocity[(row, row)] = 1.0;
+            }
+            gap.row_mut(c).fill(0.0);
+            gap.column_mut(c).fill(0.0);
+            gap[(c, c)] = 1.0;
         }
     }
 
@@ -437,6 +475,7 @@ impl ContactIteration {
             self.beam_compliance_integrated(system, start_frames, dt, &mut velocity, &mut gap);
         }
         self.add_body_compliance(system, start_frames, dt, &mut velocity, &mut gap);
+        self.mask_open(system, &mut velocity, &mut gap);
         let finite = velocity.iter().chain(gap.iter()).all(|x| x.is_finite());
         let inverted = finite && velocity.try_inverse_mut() && gap.try_inverse_mut();
         self.delassus = Delassus {
@@ -474,7 +513,12 @@ impl ContactIteration {
         for (c, contact) in system.contacts.iter().enumerate() {
             let frame = &self.end_frames[c];
             let state = &end.bodies[contact.body];
-            let e = frame.velocity_error(&system.beam, contact.radius(), state, &end.beam_velocity);
+            let mut e =
+                frame.velocity_error(&system.beam, contact.radius(), state, &end.beam_velocity);
+            if self.open[c] {
+                // No rows: nothing to drive to zero.
+                e.fill(0.0);
+            }
             let offset = self.offsets[c];
             let norm = if contact.rolls() {
                 self.error[offset] = e.x;
@@ -500,7 +544,11 @@ impl ContactIteration {
         let mut worst: f64 = 0.0;
         for (c, contact) in system.contacts.iter().enumerate() {
             let centre = &end.bodies[contact.body].position;
-            let g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
+            let mut g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
+            self.contact_gaps[c] = g;
+            if self.open[c] {
+                g = 0.0;
+            }
             self.gap_errors[c] = g;
             if g.is_nan() || g.abs() > worst.abs() {
                 worst = g;
@@ -533,9 +581,12 @@ impl ContactIteration {
         self.integrator.begin_step();
         self.forces.clear();
         self.forces.extend_from_slice(guess);
-        for (force, contact) in self.forces.iter_mut().zip(&system.contacts) {
+        for ((force, contact), &open) in self.forces.iter_mut().zip(&system.contacts).zip(&self.open) {
             if !contact.rolls() {
                 force.tangential = 0.0;
+            }
+            if open {
+                *force = ContactForce::default();
             }
         }
         let from = StepStart {

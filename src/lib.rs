@@ -14,6 +14,7 @@ pub mod contact;
 pub mod fmi2;
 pub mod fmu;
 pub mod force_element;
+pub mod impact;
 pub mod integrate;
 pub mod iteration;
 pub mod model;
