@@ -113,7 +113,12 @@ fn unit_responses(system: &System, frames: &[ContactFrame], active: &[bool]) -> 
 
 /// The row's velocity error e = rim velocity − surface velocity changed by
 /// a response.
-fn error_change(system: &System, frames: &[ContactFrame], row: (usize, usize), r: &Response) -> f64 {
+fn error_change(
+    system: &System,
+    frames: &[ContactFrame],
+    row: (usize, usize),
+    r: &Response,
+) -> f64 {
     let (c, kind) = row;
     let contact = &system.contacts[c];
     let frame = &frames[c];
@@ -140,7 +145,12 @@ fn delassus(system: &System, frames: &[ContactFrame], responses: &[Response]) ->
     })
 }
 
-fn apply(system: &System, responses: &[Response], impulses: &DVector<f64>, state: &mut DynamicState) {
+fn apply(
+    system: &System,
+    responses: &[Response],
+    impulses: &DVector<f64>,
+    state: &mut DynamicState,
+) {
     for (r, &p) in responses.iter().zip(impulses.iter()) {
         let b = system.contacts[r.contact].body;
         let body = &mut state.bodies[b];

@@ -103,11 +103,20 @@ pub struct ContactStatus {
     /// The grid step in which it last opened: a contact opens at most once
     /// per grid step (see `Simulation::solve_active_set`).
     pub opened_in: Option<u64>,
+    /// The grid step in which it last landed: a second landing in the same
+    /// grid step is plastic (see `Simulation::land`).
+    #[serde(default)]
+    pub landed_in: Option<u64>,
 }
 
 /// Impacts slower than this (m/s) are plastic whatever the restitution: a
 /// bouncing contact comes to rest after finitely many bounces (e^k v₀ <
 /// `RESTING_SPEED`) instead of an endless sequence of ever shorter flights.
+/// With the rules that a contact opens at most once and bounces at most
+/// once per grid step (a second landing in it is plastic, and the contact
+/// then stays closed to the grid point), a contact has at most three
+/// events per grid step, so a run takes at most (1 + 3 × contacts) steps
+/// per grid step plus its track events.
 pub const RESTING_SPEED: f64 = 1e-2;
 
 /// An event located inside a step (the step is shortened to its instant).
@@ -213,7 +222,11 @@ impl SimState {
             .chain(self.body_force)
             .chain(d.contact_x.iter().copied())
             .chain(self.events.iter().map(|e| e.time))
-            .chain(self.contacts.iter().flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]))
+            .chain(
+                self.contacts
+                    .iter()
+                    .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
+            )
             .chain(bodies)
             .chain(forces)
             .chain(generalized.copied())
@@ -568,12 +581,19 @@ impl Simulation {
         let landing = self
             .first_landing()
             .filter(|&(f, _)| track.is_none_or(|(g, ..)| f < g));
-        if let Some((_, contact)) = landing {
+        if let Some((fraction, contact)) = landing {
+            if fraction == 0.0 {
+                // Back on the track within the step it bounced in: the
+                // bounce is dropped (a plastic landing now) and the step
+                // taken again with the contact closed.
+                self.land(contact, true)?;
+                return Ok(false);
+            }
             let (solution, dt) = self.locate_landing(contact, &solution.forces, dt)?;
             self.record_lift_offs();
             self.accept(solution, dt);
             self.record_events(None);
-            self.land(contact)?;
+            self.land(contact, false)?;
             return Ok(false);
         }
         let (solution, dt, event) = match track {
@@ -643,16 +663,17 @@ impl Simulation {
 
     /// The open contact (open at the step's start) whose gap closes first
     /// in the step just solved, with a linear estimate of the fraction of
-    /// the step at which it does.
+    /// the step at which it does: 0 for a contact that starts the step on
+    /// the track (it has just bounced) and ends it below.
     fn first_landing(&self) -> Option<(f64, usize)> {
         let end = self.iteration.contact_gaps();
         let mut first: Option<(f64, usize)> = None;
         for (c, status) in self.state.contacts.iter().enumerate() {
             let (g0, g1) = (status.gap, end[c]);
-            if !status.open || self.opened[c] || !(g0 > 0.0 && g1 < 0.0) {
+            if !status.open || self.opened[c] || !(g1 < 0.0) {
                 continue;
             }
-            let fraction = g0 / (g0 - g1);
+            let fraction = if g0 > 0.0 { g0 / (g0 - g1) } else { 0.0 };
             if first.is_none_or(|(f, _)| fraction < f) {
                 first = Some((fraction, c));
             }
@@ -667,7 +688,7 @@ impl Simulation {
         for c in 0..self.state.contacts.len() {
             let status = self.state.contacts[c];
             if status.open && status.gap <= 0.0 && self.normal_velocity_error(c)? < 0.0 {
-                self.land(c)?;
+                self.land(c, false)?;
             }
         }
         Ok(())
@@ -822,11 +843,17 @@ impl Simulation {
         let d = &self.state.dynamic;
         let mut frames = Vec::new();
         let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
-        contact_frames(&self.system, &d.beam_displacement, &d.bodies, located, &mut frames)
-            .map_err(|e| SolverError {
-                time: self.state.time,
-                message: crate::iteration::StepError::from(e).to_string(),
-            })?;
+        contact_frames(
+            &self.system,
+            &d.beam_displacement,
+            &d.bodies,
+            located,
+            &mut frames,
+        )
+        .map_err(|e| SolverError {
+            time: self.state.time,
+            message: crate::iteration::StepError::from(e).to_string(),
+        })?;
         Ok(frames)
     }
 
@@ -852,14 +879,17 @@ impl Simulation {
     }
 
     /// Open contact `c` lands now: the impact (Newton's law on its normal
-    /// row with its restitution, plastic below `RESTING_SPEED`; a wheel's
+    /// row with its restitution, plastic below `RESTING_SPEED`, for a
+    /// second landing in the same grid step and if `plastic`; a wheel's
     /// no-slip row brought to zero; the closed contacts' errors kept) and
     /// its event. It closes unless it bounces.
-    fn land(&mut self, c: usize) -> Result<(), SolverError> {
+    fn land(&mut self, c: usize, plastic: bool) -> Result<(), SolverError> {
         let frames = self.frames_now()?;
         let errors = self.velocity_errors(&frames);
         let approach = errors[c].y.min(0.0);
-        let e = if -approach < RESTING_SPEED {
+        let grid = self.state.grid_step;
+        let again = self.state.contacts[c].landed_in == Some(grid);
+        let e = if -approach < RESTING_SPEED || again || plastic {
             0.0
         } else {
             self.restitution[c]
@@ -889,6 +919,7 @@ impl Simulation {
         let status = &mut s.contacts[c];
         status.impulse = [impact.impulses[c].x, impact.impulses[c].y];
         status.open = e > 0.0;
+        status.landed_in = Some(grid);
         s.force_history[c] = [ContactForce::default(); 3];
         push_event(s, c, EventKind::Landing);
         Ok(())
@@ -1010,8 +1041,14 @@ fn initial_contacts(
 ) -> Result<Vec<ContactStatus>, String> {
     let mut frames = Vec::new();
     let located = (d.contact_x.as_slice(), parts);
-    contact_frames(system, &d.beam_displacement, &d.bodies, located, &mut frames)
-        .map_err(|_| "no contact point at the start".to_string())?;
+    contact_frames(
+        system,
+        &d.beam_displacement,
+        &d.bodies,
+        located,
+        &mut frames,
+    )
+    .map_err(|_| "no contact point at the start".to_string())?;
     let statuses = system.contacts.iter().zip(&frames).zip(open);
     Ok(statuses
         .map(|((contact, frame), &open)| {
