@@ -1,7 +1,8 @@
 //! The run as a PNG in the manner of the paper's Fig. 10: nominal speed,
 //! sensor deflections over the static midspan deflection, and the energy
 //! balance's relative drift, against normalised time t·V0/L; with vehicles
-//! also every contact's normal force and the sprung bodies' vertical
+//! also every contact's normal force (its flights shaded, as in any run
+//! with a lift-off) and the sprung bodies' vertical
 //! accelerations.
 
 use super::output_names;
@@ -82,6 +83,8 @@ struct Panel {
     /// Where the legend least hides the curves of the paper's cases.
     legend: SeriesLabelPosition,
     curves: Vec<Curve>,
+    /// Spans of x in which a contact is open (in flight), shaded.
+    flights: Vec<(f64, f64)>,
 }
 
 /// Write the plot, drawing text or not.
@@ -171,6 +174,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             y_decimals: Some(2),
             legend: SeriesLabelPosition::UpperLeft,
             curves: speed.into_iter().collect(),
+            flights: Vec::new(),
         },
         Panel {
             title: "Sensor deflection".to_string(),
@@ -178,9 +182,11 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             y_decimals: Some(2),
             legend: SeriesLabelPosition::LowerLeft,
             curves: deflections,
+            flights: Vec::new(),
         },
     ];
-    if has_vehicles(scene) {
+    let flights = flights(trace, x);
+    if has_vehicles(scene) || !flights.is_empty() {
         let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
             trace
                 .names
@@ -195,6 +201,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             y_decimals: Some(1),
             legend: SeriesLabelPosition::LowerLeft,
             curves: columns(".normal_force", 1e3),
+            flights,
         });
         let accelerations = columns(".ay", 1.0);
         if !accelerations.is_empty() {
@@ -204,6 +211,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
                 y_decimals: None,
                 legend: SeriesLabelPosition::UpperRight,
                 curves: accelerations,
+                flights: Vec::new(),
             });
         }
     }
@@ -213,8 +221,34 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         y_decimals: None,
         legend: SeriesLabelPosition::UpperRight,
         curves: drift.into_iter().collect(),
+        flights: Vec::new(),
     });
     panels
+}
+
+/// The spans of `x` in which any contact is open (its `.state` is 0).
+fn flights(trace: &Trace, x: &[f64]) -> Vec<(f64, f64)> {
+    let mut spans = Vec::new();
+    for name in trace.names.iter().filter(|n| n.ends_with(".state")) {
+        let Some(state) = trace.column(name) else {
+            continue;
+        };
+        let mut start = None;
+        for (&x, &closed) in x.iter().zip(state) {
+            match (start, closed == 0.0) {
+                (None, true) => start = Some(x),
+                (Some(from), false) => {
+                    spans.push((from, x));
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let (Some(from), Some(&end)) = (start, x.last()) {
+            spans.push((from, end));
+        }
+    }
+    spans
 }
 
 /// Whether the scene has more than the paper's one body: then the plot
@@ -270,6 +304,12 @@ fn draw_panel(
         )))?;
     }
 
+    chart.draw_series(panel.flights.iter().map(|&(from, to)| {
+        Rectangle::new(
+            [(from, y_range.start), (to, y_range.end)],
+            BLACK.mix(0.12).filled(),
+        )
+    }))?;
     for (i, curve) in panel.curves.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let series = chart.draw_series(LineSeries::new(
