@@ -328,3 +328,31 @@ fn bouncing_wheel_on_a_rough_track_neither_fails_nor_grinds() {
         "{steps} steps for {grid}"
     );
 }
+
+#[test]
+fn a_state_saved_in_flight_continues_identically_and_bad_ones_are_refused() {
+    let scene = drop_scene(BodyKind::Wheel, 0.1, 0.5);
+    let mut sim = Simulation::new(&scene).unwrap();
+    sim.advance_to(0.1).unwrap();
+    let saved = sim.state();
+    assert!(saved.contacts[0].open);
+    sim.advance_to(0.3).unwrap();
+    let mut other = Simulation::new(&scene).unwrap();
+    other.restore(&saved).unwrap();
+    other.advance_to(0.3).unwrap();
+    let (a, b) = (sim.state(), other.state());
+    assert_eq!(a.dynamic.bodies, b.dynamic.bodies);
+    assert_eq!(a.dynamic.beam_velocity, b.dynamic.beam_velocity);
+    assert_eq!(
+        (a.contacts, a.events, a.impact_loss),
+        (b.contacts, b.events, b.impact_loss)
+    );
+    // At 0.143 s and, after a rebound to 0.025 m, at 0.286 s.
+    assert_eq!(landings(&other), 2);
+    let mut bad = saved.clone();
+    bad.contacts.clear();
+    assert!(other.restore(&bad).unwrap_err().contains("contact states"));
+    let mut bad = saved.clone();
+    bad.contacts[0].gap = f64::NAN;
+    assert!(bad.check_values(scene.solver.step).is_err());
+}
