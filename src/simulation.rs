@@ -670,7 +670,7 @@ impl Simulation {
         let mut first: Option<(f64, usize)> = None;
         for (c, status) in self.state.contacts.iter().enumerate() {
             let (g0, g1) = (status.gap, end[c]);
-            if !status.open || self.opened[c] || !(g1 < 0.0) {
+            if !status.open || self.opened[c] || g1.is_nan() || g1 >= 0.0 {
                 continue;
             }
             let fraction = if g0 > 0.0 { g0 / (g0 - g1) } else { 0.0 };
@@ -760,8 +760,8 @@ impl Simulation {
         let s = &mut self.state;
         // `accept` swapped the step's start state into `scratch`.
         let starts = &self.scratch.contact_x;
-        for c in 0..s.parts.len() {
-            let x = s.dynamic.contact_x[c];
+        let ends = s.dynamic.contact_x.clone();
+        for (c, &x) in ends.iter().enumerate() {
             let from = s.parts[c];
             // The located contact sits on its edge to round-off: take the
             // side it was moving to.
