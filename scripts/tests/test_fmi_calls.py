@@ -202,21 +202,21 @@ def test_solver_failure_rolls_the_step_back_and_the_master_can_retry(slave):
     s = slave(WHEEL).init()
     s.fmu.doStep(0.0, 0.1)
     before = s.outputs()
-    # pulling the wheel up makes the bilateral contact force tensile at once:
-    # the solver refuses the step, and no smaller step would do better, so
-    # it is an error (a Discard would invite endless retries)
-    s.fmu.setReal([s.vr["wheel.force_y"]], [5e6])
+    # pushing the wheel back with 1e12 N makes the contact iteration diverge
+    # (pulling it up, as this test did, no longer fails: the wheel lifts
+    # off): the solver refuses the step; a far smaller one gets further, so
+    # it is a discard
+    s.fmu.setReal([s.vr["wheel.force_x"]], [-1e12])
     with pytest.raises(FMICallException) as e:
         s.fmu.doStep(0.1, 0.1)
-    assert e.value.status == 3  # fmi2Error
+    assert e.value.status == 2  # fmi2Discard
     assert "rolled back to t = 0.1" in s.messages.text()
-    assert "no step size cures this" in s.messages.text()
     assert np.array_equal(before, s.outputs())
     assert np.all(np.isfinite(s.outputs()))
     assert not s.fmu.getBooleanStatus(fmi2Terminated)
     assert s.fmu.getRealStatus(fmi2LastSuccessfulTime) == pytest.approx(0.1)
     # retry with the force restored: same result as an undisturbed run
-    s.fmu.setReal([s.vr["wheel.force_y"]], [-600e3])
+    s.fmu.setReal([s.vr["wheel.force_x"]], [0.0])
     s.fmu.doStep(0.1, 0.1)
     ref = slave(WHEEL, name="ref").init()
     ref.fmu.doStep(0.0, 0.1)
