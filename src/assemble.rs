@@ -20,6 +20,10 @@ pub struct Assembly {
     /// The first body of each vehicle and the constant force (fx, fy) on it
     /// (the first is the driven body: the FMU's force inputs act on it).
     pub vehicle_forces: Vec<(usize, [f64; 2])>,
+    /// Per contact: its vehicle's coefficient of restitution, and whether
+    /// it starts open (its vehicle starts above the track).
+    pub restitution: Vec<f64>,
+    pub open: Vec<bool>,
 }
 
 /// Height of a sprung mass's centre above its unsprung mass at rest (m):
@@ -401,6 +405,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         gravity,
     };
     let mut bodies = Vec::new();
+    let (mut restitution, mut open) = (Vec::new(), Vec::new());
     for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {
         let mut vehicle = match spec.kind {
             BodyKind::Wheel | BodyKind::Glider => {
@@ -438,7 +443,16 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         // The normal forces share the vehicle's weight and balance its
         // applied force (a symmetric vehicle loads its contacts equally).
         let weight: f64 = vehicle.bodies.iter().map(|b| b.mass * gravity).sum();
-        let share = (weight - spec.force_y) / vehicle.contacts.len() as f64;
+        let mut share = (weight - spec.force_y) / vehicle.contacts.len() as f64;
+        if spec.initial_height > 0.0 {
+            // Above the track: no contact force until it lands.
+            share = 0.0;
+            for state in &mut vehicle.states {
+                state.position.y += spec.initial_height;
+            }
+        }
+        restitution.extend(vehicle.contacts.iter().map(|_| spec.restitution));
+        open.extend(vehicle.contacts.iter().map(|_| spec.initial_height > 0.0));
         forces.extend(vehicle.contacts.iter().map(|_| ContactForce {
             tangential: 0.0,
             normal: share,
@@ -454,6 +468,8 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         bodies,
         forces,
         vehicle_forces: applied,
+        restitution,
+        open,
     })
 }
 

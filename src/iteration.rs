@@ -246,6 +246,13 @@ pub struct ContactIteration {
     delassus: Delassus,
     measured_elements: Vec<usize>,
     loaded_elements: Vec<usize>,
+    /// Per contact: open (no rows: its force is held at zero, its gap only
+    /// measured), set by the caller for each step (`set_open`).
+    open: Vec<bool>,
+    /// Every contact's gap at the end of the last integration, open or not.
+    contact_gaps: Vec<f64>,
+    /// The bodies at the end of the previous integration of the step.
+    previous_bodies: Vec<crate::body::BodyState>,
 }
 
 impl ContactIteration {
@@ -279,6 +286,40 @@ impl ContactIteration {
             },
             measured_elements: Vec::new(),
             loaded_elements: Vec::new(),
+            open: vec![false; system.contacts.len()],
+            contact_gaps: vec![0.0; system.contacts.len()],
+            previous_bodies: Vec::new(),
+        }
+    }
+
+    /// Which contacts are open in the next steps solved.
+    pub fn set_open(&mut self, open: &[bool]) {
+        self.open.clear();
+        self.open.extend_from_slice(open);
+    }
+
+    /// Every contact's gap g at the end of the last step solved (m).
+    pub fn contact_gaps(&self) -> &[f64] {
+        &self.contact_gaps
+    }
+
+    /// Decouple the open contacts' rows: identity rows and columns, so that
+    /// the inverse acts on the closed contacts alone (the inverse of the
+    /// closed rows' principal block) and leaves the open ones' zero errors
+    /// at zero.
+    fn mask_open(&self, system: &System, velocity: &mut DMatrix<f64>, gap: &mut DMatrix<f64>) {
+        for (c, contact) in system.contacts.iter().enumerate() {
+            if !self.open[c] {
+                continue;
+            }
+            for row in self.offsets[c]..self.offsets[c] + contact.rows() {
+                velocity.row_mut(row).fill(0.0);
+                velocity.column_mut(row).fill(0.0);
+                velocity[(row, row)] = 1.0;
+            }
+            gap.row_mut(c).fill(0.0);
+            gap.column_mut(c).fill(0.0);
+            gap[(c, c)] = 1.0;
         }
     }
 
@@ -494,6 +535,7 @@ impl ContactIteration {
             self.beam_compliance_integrated(system, start_frames, dt, &mut velocity, &mut gap);
         }
         self.add_body_compliance(system, start_frames, dt, &mut velocity, &mut gap);
+        self.mask_open(system, &mut velocity, &mut gap);
         let finite = velocity.iter().chain(gap.iter()).all(|x| x.is_finite());
         let inverted = finite
             .then(|| Some((Inverted::new(velocity)?, Inverted::new(gap)?)))
@@ -534,7 +576,12 @@ impl ContactIteration {
         for (c, contact) in system.contacts.iter().enumerate() {
             let frame = &self.end_frames[c];
             let state = &end.bodies[contact.body];
-            let e = frame.velocity_error(&system.beam, contact.radius(), state, &end.beam_velocity);
+            let mut e =
+                frame.velocity_error(&system.beam, contact.radius(), state, &end.beam_velocity);
+            if self.open[c] {
+                // No rows: nothing to drive to zero.
+                e.fill(0.0);
+            }
             let offset = self.offsets[c];
             let norm = if contact.rolls() {
                 self.error[offset] = e.x;
@@ -560,7 +607,11 @@ impl ContactIteration {
         let mut worst: f64 = 0.0;
         for (c, contact) in system.contacts.iter().enumerate() {
             let centre = &end.bodies[contact.body].position;
-            let g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
+            let mut g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
+            self.contact_gaps[c] = g;
+            if self.open[c] {
+                g = 0.0;
+            }
             self.gap_errors[c] = g;
             if g.is_nan() || g.abs() > worst.abs() {
                 worst = g;
@@ -593,9 +644,14 @@ impl ContactIteration {
         self.integrator.begin_step();
         self.forces.clear();
         self.forces.extend_from_slice(guess);
-        for (force, contact) in self.forces.iter_mut().zip(&system.contacts) {
+        for ((force, contact), &open) in
+            self.forces.iter_mut().zip(&system.contacts).zip(&self.open)
+        {
             if !contact.rolls() {
                 force.tangential = 0.0;
+            }
+            if open {
+                *force = ContactForce::default();
             }
         }
         let from = StepStart {
@@ -620,6 +676,7 @@ impl ContactIteration {
     ) -> Result<StepSolution, StepError> {
         // Built once per step, on the first correction that needs it.
         self.delassus.built = false;
+        self.previous_bodies.clear();
         let mut iterations = self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
@@ -651,7 +708,18 @@ impl ContactIteration {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
             if residual <= settings.velocity_tolerance {
-                return Ok(iterations);
+                if self.settled(system, end, settings.velocity_tolerance) {
+                    return Ok(iterations);
+                }
+                if iterations >= settings.max_iterations {
+                    return Err(StepError::NotConverged {
+                        stage: "velocity",
+                        iterations,
+                        residual,
+                        tolerance: settings.velocity_tolerance,
+                    });
+                }
+                continue;
             }
             let first = *first_residual.get_or_insert(residual);
             if iterations >= 3 && residual > 10.0 * first {
@@ -685,6 +753,32 @@ impl ContactIteration {
                 }
             }
         }
+    }
+
+    /// Whether the bodies' end velocities have settled. HHT-α evaluates the
+    /// force elements at the end configuration predicted by the previous
+    /// integration, which the contact iteration refines as it goes; a
+    /// vehicle whose contacts are all open has no contact rows to iterate
+    /// on, so the step is integrated again until its velocities change by
+    /// no more than `tolerance` (a fixed point, implicit as the scheme
+    /// needs). RK4 and systems without force elements need no prediction.
+    fn settled(&mut self, system: &System, end: &DynamicState, tolerance: f64) -> bool {
+        let predicted = matches!(self.integrator, Integrator::Hht(_))
+            && !system.force_elements.is_empty()
+            && self.open.contains(&true);
+        if !predicted {
+            return true;
+        }
+        let first = self.previous_bodies.is_empty();
+        let change = end
+            .bodies
+            .iter()
+            .zip(&self.previous_bodies)
+            .map(|(a, b)| (a.generalized_velocity() - b.generalized_velocity()).amax())
+            .fold(0.0, f64::max);
+        self.previous_bodies.clear();
+        self.previous_bodies.extend_from_slice(&end.bodies);
+        !first && change <= tolerance
     }
 
     /// Position stage (eq. 17); returns its integrations and the final gap

@@ -15,6 +15,7 @@ pub mod design;
 pub mod fmi2;
 pub mod fmu;
 pub mod force_element;
+pub mod impact;
 pub mod integrate;
 pub mod iteration;
 pub mod model;

@@ -36,6 +36,10 @@ pub enum Quantity {
     TangentialForce(usize),
     NormalForce(usize),
     OnBeam(usize),
+    ContactClosed(usize),
+    Gap(usize),
+    ImpulseTangential(usize),
+    ImpulseNormal(usize),
     Sensor(usize),
     SensorVelocity(usize),
     SensorAcceleration(usize),
@@ -54,6 +58,7 @@ pub enum Quantity {
     GravityWork,
     ExternalWork,
     TractiveWork,
+    ImpactLoss,
     Balance,
     VelocityError,
     GapError,
@@ -182,6 +187,39 @@ impl Catalogue {
                 OutputKind::Integer,
             );
         }
+        self.flight(contact, c);
+    }
+
+    /// Lift-off and landing: the contact's state, gap and last impact.
+    fn flight(&mut self, contact: &crate::contact::Contact, c: usize) {
+        let n = &contact.name;
+        self.push(
+            format!("{n}.state"),
+            "",
+            "1 while the contact is closed, 0 while it is open (in flight)",
+            Quantity::ContactClosed(c),
+            OutputKind::Integer,
+        );
+        self.real(
+            format!("{n}.gap"),
+            "m",
+            "gap g between the body and the track (zero to the gap tolerance while closed)",
+            Quantity::Gap(c),
+        );
+        if contact.rolls() {
+            self.real(
+                format!("{n}.impact_impulse_tangential"),
+                "N.s",
+                "tangential impulse on the body at its last landing",
+                Quantity::ImpulseTangential(c),
+            );
+        }
+        self.real(
+            format!("{n}.impact_impulse"),
+            "N.s",
+            "normal impulse on the body at its last landing",
+            Quantity::ImpulseNormal(c),
+        );
     }
 
     fn energy(&mut self, system: &System) {
@@ -249,10 +287,16 @@ impl Catalogue {
             );
         }
         self.real(
+            e("impact_loss"),
+            "J",
+            "kinetic energy lost in the landings' impacts",
+            Quantity::ImpactLoss,
+        );
+        self.real(
             e("balance"),
             "J",
-            "kinetic + strain + spring energy + dissipated (dampers, beam damping) - work of \
-             gravity, applied and tractive forces: \
+            "kinetic + strain + spring energy + dissipated (dampers, beam damping, impacts) \
+             - work of gravity, applied and tractive forces: \
              constant for the exact solution",
             Quantity::Balance,
         );
@@ -420,6 +464,10 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::OnBeam(c) => {
                 f64::from(u8::from(state.parts[c] == crate::system::TrackPart::Beam))
             }
+            Quantity::ContactClosed(c) => f64::from(u8::from(!state.contacts[c].open)),
+            Quantity::Gap(c) => state.contacts[c].gap,
+            Quantity::ImpulseTangential(c) => state.contacts[c].impulse[0],
+            Quantity::ImpulseNormal(c) => state.contacts[c].impulse[1],
             Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, sim.sensor_positions()[i]),
             Quantity::SensorVelocity(i) => {
                 beam.deflection(&d.beam_velocity, sim.sensor_positions()[i])
@@ -448,6 +496,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::GravityWork => state.gravity_work,
             Quantity::ExternalWork => state.external_work,
             Quantity::TractiveWork => d.tractive_work,
+            Quantity::ImpactLoss => state.impact_loss,
             Quantity::Balance => sim.energy_balance(),
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,

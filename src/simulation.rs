@@ -83,7 +83,41 @@ pub enum EventKind {
     Exit,
     /// The contact point left the track: the run ends.
     LeftTrack,
+    /// The contact opened: its normal force would have turned tensile in
+    /// the step from this instant.
+    LiftOff,
+    /// An open contact's gap closed: an impact (which may bounce).
+    Landing,
 }
+
+/// Whether a contact is closed (the paper's rows) or open (in flight), its
+/// gap, and its last impact.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct ContactStatus {
+    pub open: bool,
+    /// Gap g to the track at the current time (m): zero to the gap
+    /// tolerance while closed.
+    pub gap: f64,
+    /// The impulse of the last impact on the body (N s): tangential, normal.
+    pub impulse: [f64; 2],
+    /// The grid step in which it last opened: a contact opens at most once
+    /// per grid step (see `Simulation::solve_active_set`).
+    pub opened_in: Option<u64>,
+    /// The grid step in which it last landed: a second landing in the same
+    /// grid step is plastic (see `Simulation::land`).
+    #[serde(default)]
+    pub landed_in: Option<u64>,
+}
+
+/// Impacts slower than this (m/s) are plastic whatever the restitution: a
+/// bouncing contact comes to rest after finitely many bounces (e^k v₀ <
+/// `RESTING_SPEED`) instead of an endless sequence of ever shorter flights.
+/// With the rules that a contact opens at most once and bounces at most
+/// once per grid step (a second landing in it is plastic, and the contact
+/// then stays closed to the grid point), a contact has at most three
+/// events per grid step, so a run takes at most (1 + 3 × contacts) steps
+/// per grid step plus its track events.
+pub const RESTING_SPEED: f64 = 1e-2;
 
 /// An event located inside a step (the step is shortened to its instant).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -125,6 +159,10 @@ pub struct SimState {
     pub events_dropped: u64,
     /// When the run ended (see `Advance::Exited`).
     pub exit_time: Option<f64>,
+    /// Per contact: closed or open, gap, last impact.
+    pub contacts: Vec<ContactStatus>,
+    /// Kinetic energy removed by impacts since t = 0 (J).
+    pub impact_loss: f64,
 }
 
 impl SimState {
@@ -155,6 +193,7 @@ impl SimState {
             d.dissipated,
             d.beam_dissipated,
             d.tractive_work,
+            self.impact_loss,
         ];
         let bodies = d.bodies.iter().flat_map(|b| {
             [
@@ -184,6 +223,11 @@ impl SimState {
             .chain(self.body_force)
             .chain(d.contact_x.iter().copied())
             .chain(self.events.iter().map(|e| e.time))
+            .chain(
+                self.contacts
+                    .iter()
+                    .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
+            )
             .chain(bodies)
             .chain(forces)
             .chain(generalized.copied())
@@ -246,6 +290,12 @@ pub struct Simulation {
     /// Per-step buffers: the force guesses and the constant body forces.
     guess: Vec<ContactForce>,
     applied: Vec<Vector3<f64>>,
+    /// Per contact: its vehicle's coefficient of restitution.
+    restitution: Vec<f64>,
+    /// The step's active set: which contacts are open in it, and which of
+    /// them opened in it.
+    open: Vec<bool>,
+    opened: Vec<bool>,
 }
 
 impl Simulation {
@@ -281,11 +331,12 @@ impl Simulation {
             catalogue(&system, &sensor_names, &section_names, scene.reactions)
                 .into_iter()
                 .unzip();
-        let parts = dynamic
+        let parts: Vec<TrackPart> = dynamic
             .contact_x
             .iter()
             .map(|&x| system.track_part(x))
             .collect();
+        let contacts = initial_contacts(&system, &dynamic, &parts, &assembly.open)?;
         let mut simulation = Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
             sections: scene.sections.iter().map(|s| s.position).collect(),
@@ -321,12 +372,17 @@ impl Simulation {
                 events: Vec::new(),
                 events_dropped: 0,
                 exit_time: None,
+                contacts,
+                impact_loss: 0.0,
             },
             system,
             outputs,
             quantities,
             guess: Vec::new(),
             applied: Vec::new(),
+            open: assembly.open.clone(),
+            opened: vec![false; assembly.open.len()],
+            restitution: assembly.restitution,
         };
         simulation.state.initial_energy = simulation.energy_balance();
         Ok(simulation)
@@ -356,8 +412,8 @@ impl Simulation {
         crate::outputs::values(self, &self.quantities, values);
     }
 
-    /// Kinetic + strain + spring energy + energy dissipated (dampers and
-    /// structural damping) − work of
+    /// Kinetic + strain + spring energy + energy dissipated (dampers,
+    /// structural damping and impacts) − work of
     /// gravity and of the applied force (J).
     pub fn energy_balance(&self) -> f64 {
         let d = &self.state.dynamic;
@@ -368,6 +424,7 @@ impl Simulation {
             + s.spring_energy(&d.bodies)
             + d.dissipated
             + d.beam_dissipated
+            + self.state.impact_loss
             - self.state.gravity_work
             - self.state.external_work
             - d.tractive_work
@@ -412,6 +469,16 @@ impl Simulation {
     /// The contacts' entries onto and exits from the beam so far.
     pub fn events(&self) -> &[ContactEvent] {
         &self.state.events
+    }
+
+    /// Each contact's status: closed or open, gap, last impact.
+    pub fn contact_statuses(&self) -> &[ContactStatus] {
+        &self.state.contacts
+    }
+
+    /// Kinetic energy lost in impacts so far (J).
+    pub fn impact_loss(&self) -> f64 {
+        self.state.impact_loss
     }
 
     pub fn state(&self) -> SimState {
@@ -541,8 +608,10 @@ impl Simulation {
     }
 
     /// One step from the current time to `to`, or to the first event inside
-    /// it. Returns whether it reached `to`.
+    /// it (a track boundary crossed, an open contact landing). Returns
+    /// whether it reached `to`.
     fn step_to(&mut self, to: f64) -> Result<bool, SolverError> {
+        self.land_at_start()?;
         let dt = to - self.state.time;
         let s = &self.state;
         let mut guess = std::mem::take(&mut self.guess);
@@ -552,20 +621,39 @@ impl Simulation {
                 .iter()
                 .map(|h| extrapolate(h, &s.step_history, dt)),
         );
-        let solution = self.solve(&guess, dt);
+        let solution = self.solve_active_set(&guess, dt);
         self.guess = guess;
         let solution = solution?;
-        self.refuse_lift_off(&solution)?;
-        let (solution, dt, event) = match self.first_event() {
+        let track = self.first_event();
+        let landing = self
+            .first_landing()
+            .filter(|&(f, _)| track.is_none_or(|(g, ..)| f < g));
+        if let Some((fraction, contact)) = landing {
+            if fraction == 0.0 {
+                // Back on the track within the step it bounced in: the
+                // bounce is dropped (a plastic landing now) and the step
+                // taken again with the contact closed.
+                self.land(contact, true)?;
+                return Ok(false);
+            }
+            let (solution, dt) = self.locate_landing(contact, &solution.forces, dt)?;
+            self.record_lift_offs();
+            self.accept(solution, dt);
+            self.record_events(None);
+            self.land(contact, false)?;
+            return Ok(false);
+        }
+        let (solution, dt, event) = match track {
             None => (solution, dt, None),
-            Some((contact, edge, part)) => {
+            Some((_, contact, edge, part)) => {
                 let (solution, dt) = self.locate_event(contact, edge, &solution.forces, dt)?;
                 (solution, dt, Some((contact, part)))
             }
         };
+        self.record_lift_offs();
         self.accept(solution, dt);
-        if let Some((contact, part)) = event {
-            self.record_events(contact, part);
+        if event.is_some() {
+            self.record_events(event);
             Ok(false)
         } else {
             self.state.time = to;
@@ -573,34 +661,91 @@ impl Simulation {
         }
     }
 
-    fn refuse_lift_off(&self, solution: &StepSolution) -> Result<(), SolverError> {
-        for (c, force) in solution.forces.iter().enumerate() {
-            if force.normal < 0.0 {
-                // The contact is bilateral: a tensile normal force means the
-                // body would leave the surface, which this model does not follow.
-                let which = if solution.forces.len() > 1 {
-                    format!(" of {}", self.system.contacts[c].name)
-                } else {
-                    String::new()
-                };
-                return Err(SolverError {
-                    time: self.state.time,
-                    message: format!(
-                        "lift-off: the normal contact force{which} would become tensile \
-                         ({:.6e} N) in the step from t = {} s at x = {:.6} m; the contact is \
-                         bilateral, so the run stops at the last step with compression",
-                        force.normal, self.state.time, self.scratch.contact_x[c]
-                    ),
-                });
+    /// Solve the step with the contacts open at its start open, then open
+    /// every closed contact whose normal force came out tensile and solve
+    /// it again, until no closed contact pulls. The loop ends: a contact
+    /// opened in the step stays open for the rest of it, so there are at
+    /// most (contacts + 1) passes. A contact opens at most once per grid
+    /// step: one that already opened in this grid step (and has landed
+    /// since) stays closed until the next grid point, its force reported
+    /// as it is, so that no contact chatters within a step.
+    fn solve_active_set(
+        &mut self,
+        guess: &[ContactForce],
+        dt: f64,
+    ) -> Result<StepSolution, SolverError> {
+        for (open, status) in self.open.iter_mut().zip(&self.state.contacts) {
+            *open = status.open;
+        }
+        self.opened.fill(false);
+        loop {
+            self.iteration.set_open(&self.open);
+            let solution = self.solve(guess, dt)?;
+            let grid = self.state.grid_step;
+            let mut opened_any = false;
+            for (c, force) in solution.forces.iter().enumerate() {
+                let may_open = self.state.contacts[c].opened_in != Some(grid);
+                if !self.open[c] && force.normal < 0.0 && may_open {
+                    self.open[c] = true;
+                    self.opened[c] = true;
+                    opened_any = true;
+                }
+            }
+            if !opened_any {
+                return Ok(solution);
+            }
+        }
+    }
+
+    /// The contacts opened in the step just solved lift off at its start.
+    fn record_lift_offs(&mut self) {
+        let grid = self.state.grid_step;
+        for c in 0..self.opened.len() {
+            if self.opened[c] {
+                self.state.contacts[c].opened_in = Some(grid);
+                push_event(&mut self.state, c, EventKind::LiftOff);
+            }
+        }
+    }
+
+    /// The open contact (open at the step's start) whose gap closes first
+    /// in the step just solved, with a linear estimate of the fraction of
+    /// the step at which it does: 0 for a contact that starts the step on
+    /// the track (it has just bounced) and ends it below.
+    fn first_landing(&self) -> Option<(f64, usize)> {
+        let end = self.iteration.contact_gaps();
+        let mut first: Option<(f64, usize)> = None;
+        for (c, status) in self.state.contacts.iter().enumerate() {
+            let (g0, g1) = (status.gap, end[c]);
+            if !status.open || self.opened[c] || g1.is_nan() || g1 >= 0.0 {
+                continue;
+            }
+            let fraction = if g0 > 0.0 { g0 / (g0 - g1) } else { 0.0 };
+            if first.is_none_or(|(f, _)| fraction < f) {
+                first = Some((fraction, c));
+            }
+        }
+        first
+    }
+
+    /// An open contact that starts the step on or below the track and
+    /// approaching it (left there by an event located just before its
+    /// landing) lands now.
+    fn land_at_start(&mut self) -> Result<(), SolverError> {
+        for c in 0..self.state.contacts.len() {
+            let status = self.state.contacts[c];
+            if status.open && status.gap <= 0.0 && self.normal_velocity_error(c)? < 0.0 {
+                self.land(c, false)?;
             }
         }
         Ok(())
     }
 
     /// The contact whose crossing of a track boundary comes first in the
-    /// step just solved (into `scratch`), the boundary's abscissa and the
-    /// part beyond it.
-    fn first_event(&self) -> Option<(usize, f64, TrackPart)> {
+    /// step just solved (into `scratch`): the fraction of the step at which
+    /// it does (linear estimate), the contact, the boundary's abscissa and
+    /// the part beyond it.
+    fn first_event(&self) -> Option<(f64, usize, f64, TrackPart)> {
         let (start, end) = (&self.state.dynamic.contact_x, &self.scratch.contact_x);
         let mut first: Option<(f64, usize, f64, TrackPart)> = None;
         for c in 0..start.len() {
@@ -615,7 +760,7 @@ impl Simulation {
                 first = Some((fraction, c, edge, part));
             }
         }
-        first.map(|(_, c, edge, part)| (c, edge, part))
+        first
     }
 
     /// Take the step solved into `scratch`.
@@ -648,19 +793,26 @@ impl Simulation {
         s.last_gap_error = solution.gap_error;
         s.steps += 1;
         s.total_iterations += solution.iterations as u64;
+        let gaps = self.iteration.contact_gaps();
+        for ((status, &open), &gap) in s.contacts.iter_mut().zip(&self.open).zip(gaps) {
+            status.open = open;
+            status.gap = gap;
+        }
     }
 
-    /// Record the events of the step just taken, which ends where contact
-    /// `located` reaches `part`, and end the run if it is over.
-    fn record_events(&mut self, located: usize, part: TrackPart) {
+    /// Record the track events of the step just taken, which ends where
+    /// contact `located.0` reaches part `located.1` (or at another event),
+    /// and end the run if it is over.
+    fn record_events(&mut self, located: Option<(usize, TrackPart)>) {
         let s = &mut self.state;
         // `accept` swapped the step's start state into `scratch`.
         let starts = &self.scratch.contact_x;
-        for (c, &x) in s.dynamic.contact_x.iter().enumerate() {
+        let ends = s.dynamic.contact_x.clone();
+        for (c, &x) in ends.iter().enumerate() {
             let from = s.parts[c];
             // The located contact sits on its edge to round-off: take the
             // side it was moving to.
-            let to = if c == located {
+            let to = if let Some((_, part)) = located.filter(|&(l, _)| l == c) {
                 part
             } else {
                 match self.system.leaves(from, starts[c], x) {
@@ -674,21 +826,10 @@ impl Simulation {
                 (_, TrackPart::Beam) => EventKind::Entry,
                 _ => EventKind::Exit,
             };
-            let mut push = |kind| {
-                if s.events.len() < MAX_EVENTS {
-                    s.events.push(ContactEvent {
-                        contact: c,
-                        time: s.time,
-                        kind,
-                    });
-                } else {
-                    s.events_dropped += 1;
-                }
-            };
             if from == TrackPart::Beam && kind == EventKind::LeftTrack {
-                push(EventKind::Exit);
+                push_event(s, c, EventKind::Exit);
             }
-            push(kind);
+            push_event(s, c, kind);
         }
         let left_track = s.parts.contains(&TrackPart::Beyond);
         let all_left_beam = !s.parts.contains(&TrackPart::Beam)
@@ -700,6 +841,135 @@ impl Simulation {
         if left_track || (self.stop_at_beam_exit && all_left_beam) {
             s.exit_time = Some(s.time);
         }
+    }
+
+    /// Shorten the step so that open contact `contact`'s gap closes at its
+    /// end (regula falsi on the step length, Illinois variant, as
+    /// `locate_event`). Leaves the state at that instant in `scratch`.
+    fn locate_landing(
+        &mut self,
+        contact: usize,
+        forces: &[ContactForce],
+        dt: f64,
+    ) -> Result<(StepSolution, f64), SolverError> {
+        let (mut lo, mut f_lo) = (0.0, self.state.contacts[contact].gap);
+        let (mut hi, mut f_hi) = (dt, self.iteration.contact_gaps()[contact]);
+        let mut side = 0;
+        for _ in 0..60 {
+            let tau = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+            let solution = self.solve(forces, tau)?;
+            let f = self.iteration.contact_gaps()[contact];
+            if f.abs() <= LANDING_GAP || (hi - lo) <= 1e-15 * dt {
+                return Ok((solution, tau));
+            }
+            if (f > 0.0) == (f_hi > 0.0) {
+                (hi, f_hi) = (tau, f);
+                if side == 1 {
+                    f_lo *= 0.5;
+                }
+                side = 1;
+            } else {
+                (lo, f_lo) = (tau, f);
+                if side == -1 {
+                    f_hi *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        Err(SolverError {
+            time: self.state.time,
+            message: format!(
+                "the instant {} lands could not be located",
+                self.system.contacts[contact].name
+            ),
+        })
+    }
+
+    /// The contact frames of the current state.
+    fn frames_now(&self) -> Result<Vec<crate::contact::ContactFrame>, SolverError> {
+        let d = &self.state.dynamic;
+        let mut frames = Vec::new();
+        let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
+        contact_frames(
+            &self.system,
+            &d.beam_displacement,
+            &d.bodies,
+            located,
+            &mut frames,
+        )
+        .map_err(|e| SolverError {
+            time: self.state.time,
+            message: crate::iteration::StepError::from(e).to_string(),
+        })?;
+        Ok(frames)
+    }
+
+    /// Contact `c`'s normal velocity error now (m/s): negative approaches.
+    fn normal_velocity_error(&self, c: usize) -> Result<f64, SolverError> {
+        let frames = self.frames_now()?;
+        Ok(self.velocity_errors(&frames)[c].y)
+    }
+
+    /// Every contact's velocity error (tangential, normal) at `frames`.
+    fn velocity_errors(&self, frames: &[crate::contact::ContactFrame]) -> Vec<Vector2<f64>> {
+        let d = &self.state.dynamic;
+        let beam = &self.system.beam;
+        self.system
+            .contacts
+            .iter()
+            .zip(frames)
+            .map(|(contact, frame)| {
+                let body = &d.bodies[contact.body];
+                frame.velocity_error(beam, contact.radius(), body, &d.beam_velocity)
+            })
+            .collect()
+    }
+
+    /// Open contact `c` lands now: the impact (Newton's law on its normal
+    /// row with its restitution, plastic below `RESTING_SPEED`, for a
+    /// second landing in the same grid step and if `plastic`; a wheel's
+    /// no-slip row brought to zero; the closed contacts' errors kept) and
+    /// its event. It closes unless it bounces.
+    fn land(&mut self, c: usize, plastic: bool) -> Result<(), SolverError> {
+        let frames = self.frames_now()?;
+        let errors = self.velocity_errors(&frames);
+        let approach = errors[c].y.min(0.0);
+        let grid = self.state.grid_step;
+        let again = self.state.contacts[c].landed_in == Some(grid);
+        let e = if -approach < RESTING_SPEED || again || plastic {
+            0.0
+        } else {
+            self.restitution[c]
+        };
+        let (offsets, rows) = self.system.row_offsets();
+        let mut change = DVector::zeros(rows);
+        let contact = &self.system.contacts[c];
+        if contact.rolls() {
+            change[offsets[c]] = -errors[c].x;
+        }
+        change[offsets[c] + contact.rows() - 1] = -(1.0 + e) * approach;
+        let mut active: Vec<bool> = self.state.contacts.iter().map(|s| !s.open).collect();
+        active[c] = true;
+        let impact = crate::impact::resolve(
+            &self.system,
+            &frames,
+            &active,
+            &change,
+            &mut self.state.dynamic,
+        )
+        .map_err(|message| SolverError {
+            time: self.state.time,
+            message,
+        })?;
+        let s = &mut self.state;
+        s.impact_loss += impact.loss;
+        let status = &mut s.contacts[c];
+        status.impulse = [impact.impulses[c].x, impact.impulses[c].y];
+        status.open = e > 0.0;
+        status.landed_in = Some(grid);
+        s.force_history[c] = [ContactForce::default(); 3];
+        push_event(s, c, EventKind::Landing);
+        Ok(())
     }
 
     fn solve(&mut self, guess: &[ContactForce], dt: f64) -> Result<StepSolution, SolverError> {
@@ -802,6 +1072,54 @@ impl Simulation {
     }
 }
 
+/// Gaps within which a landing counts as located (m).
+const LANDING_GAP: f64 = 1e-12;
+
+/// Record an event of contact `c` at the state's time (counted, not kept,
+/// beyond `MAX_EVENTS`).
+fn push_event(s: &mut SimState, c: usize, kind: EventKind) {
+    if s.events.len() < MAX_EVENTS {
+        s.events.push(ContactEvent {
+            contact: c,
+            time: s.time,
+            kind,
+        });
+    } else {
+        s.events_dropped += 1;
+    }
+}
+
+/// Each contact's status at t = 0: open where its vehicle starts above the
+/// track, with its gap.
+fn initial_contacts(
+    system: &System,
+    d: &DynamicState,
+    parts: &[TrackPart],
+    open: &[bool],
+) -> Result<Vec<ContactStatus>, String> {
+    let mut frames = Vec::new();
+    let located = (d.contact_x.as_slice(), parts);
+    contact_frames(
+        system,
+        &d.beam_displacement,
+        &d.bodies,
+        located,
+        &mut frames,
+    )
+    .map_err(|_| "no contact point at the start".to_string())?;
+    let statuses = system.contacts.iter().zip(&frames).zip(open);
+    Ok(statuses
+        .map(|((contact, frame), &open)| {
+            let centre = &d.bodies[contact.body].position;
+            ContactStatus {
+                open,
+                gap: frame.gap(&system.beam, contact.radius(), centre),
+                ..ContactStatus::default()
+            }
+        })
+        .collect())
+}
+
 /// The dynamic state at t = 0: at rest on the beam deflected by `u` (zero
 /// or the static deflection), with loads and accelerations consistent with
 /// the initial contact forces (the implicit scheme starts from them).
@@ -878,6 +1196,7 @@ fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
             contacts,
         ),
         ("contact track parts", state.parts.len(), contacts),
+        ("contact states", state.contacts.len(), contacts),
     ];
     for (what, found, expected) in checks {
         if found != expected {

@@ -508,8 +508,8 @@ fn a_failed_run_leaves_the_previous_results_and_keeps_its_rows_apart() {
     let file = scene_file(
         dir.path(),
         "up.toml",
-        "force_y = -600000.0",
-        "force_y = 600000.0",
+        "max_iterations = 50",
+        "max_iterations = 1",
     );
     let csv = dir.path().join("r.csv");
     let summary = dir.path().join("s.json");
@@ -536,13 +536,14 @@ fn a_failed_run_leaves_the_previous_results_and_keeps_its_rows_apart() {
 
 #[test]
 fn an_unwritable_output_fails_before_the_run() {
-    // The run would fail (lift-off); the output is refused first.
+    // The run would fail (one iteration cannot converge); the output is
+    // refused first.
     let dir = tempfile::tempdir().unwrap();
     let file = scene_file(
         dir.path(),
         "up.toml",
-        "force_y = -600000.0",
-        "force_y = 600000.0",
+        "max_iterations = 50",
+        "max_iterations = 1",
     );
     let output = guideway(&["run", &file, "--out", "/proc/x.csv"]);
     assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));

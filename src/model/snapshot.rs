@@ -20,7 +20,9 @@ use sha2::{Digest, Sha256};
 
 pub const MAGIC: &[u8; 8] = b"GWSTATE\0";
 // Version 2: the physics state holds lists of bodies and contacts.
-pub const FORMAT_VERSION: u32 = 2;
+// Version 3: each contact's status (open or closed, gap, last impact) and
+// the energy lost in impacts.
+pub const FORMAT_VERSION: u32 = 3;
 
 pub fn encode<T: Serialize>(guid: &str, payload: &T) -> Result<Vec<u8>, String> {
     let body = rmp_serde::to_vec_named(payload).map_err(|e| format!("cannot encode state: {e}"))?;

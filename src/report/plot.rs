@@ -1,7 +1,8 @@
 //! The run as a PNG in the manner of the paper's Fig. 10: nominal speed,
 //! sensor deflections over the static midspan deflection, and the energy
 //! balance's relative drift, against normalised time t·V0/L; with vehicles
-//! also every contact's normal force and the sprung bodies' vertical
+//! also every contact's normal force (its flights shaded, as in any run
+//! with a lift-off) and the sprung bodies' vertical
 //! accelerations.
 
 use super::output_names;
@@ -80,6 +81,8 @@ struct Panel {
     /// Digits after the point on the y axis; scientific notation if `None`.
     y_decimals: Option<usize>,
     curves: Vec<Curve>,
+    /// Spans of x in which a contact is open (in flight), shaded.
+    flights: Vec<(f64, f64)>,
 }
 
 /// Write the plot, drawing text or not.
@@ -186,15 +189,18 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             y_label: "V (m/s)".to_string(),
             y_decimals: Some(2),
             curves: speed.into_iter().collect(),
+            flights: Vec::new(),
         },
         Panel {
             title: "Sensor deflection".to_string(),
             y_label,
             y_decimals: Some(2),
             curves: deflections,
+            flights: Vec::new(),
         },
     ];
-    if has_vehicles(scene) {
+    let flights = flights(trace, x);
+    if has_vehicles(scene) || !flights.is_empty() {
         let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
             trace
                 .names
@@ -208,6 +214,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             y_label: "normal force (kN)".to_string(),
             y_decimals: Some(1),
             curves: columns(".normal_force", 1e3),
+            flights,
         });
         let accelerations = columns(".ay", 1.0);
         if !accelerations.is_empty() {
@@ -216,6 +223,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
                 y_label: "ay (m/s^2)".to_string(),
                 y_decimals: None,
                 curves: accelerations,
+                flights: Vec::new(),
             });
         }
     }
@@ -224,8 +232,34 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         y_label: "(E - E0) / E0".to_string(),
         y_decimals: None,
         curves: drift.into_iter().collect(),
+        flights: Vec::new(),
     });
     panels
+}
+
+/// The spans of `x` in which any contact is open (its `.state` is 0).
+fn flights(trace: &Trace, x: &[f64]) -> Vec<(f64, f64)> {
+    let mut spans = Vec::new();
+    for name in trace.names.iter().filter(|n| n.ends_with(".state")) {
+        let Some(state) = trace.column(name) else {
+            continue;
+        };
+        let mut start = None;
+        for (&x, &closed) in x.iter().zip(state) {
+            match (start, closed == 0.0) {
+                (None, true) => start = Some(x),
+                (Some(from), false) => {
+                    spans.push((from, x));
+                    start = None;
+                }
+                _ => {}
+            }
+        }
+        if let (Some(from), Some(&end)) = (start, x.last()) {
+            spans.push((from, end));
+        }
+    }
+    spans
 }
 
 /// Whether the scene has more than the paper's one body: then the plot
@@ -281,6 +315,12 @@ fn draw_panel(
         )))?;
     }
 
+    chart.draw_series(panel.flights.iter().map(|&(from, to)| {
+        Rectangle::new(
+            [(from, y_range.start), (to, y_range.end)],
+            BLACK.mix(0.12).filled(),
+        )
+    }))?;
     for (i, curve) in panel.curves.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let series = chart.draw_series(LineSeries::new(

@@ -54,7 +54,8 @@ pub struct RunSummary {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SummaryEvent {
     pub contact: String,
-    /// `entry` (onto the beam), `exit` (off the beam) or `left_track`.
+    /// `entry` (onto the beam), `exit` (off the beam), `left_track`,
+    /// `lift_off` or `landing`.
     pub kind: String,
     /// Time (s).
     pub time: f64,
@@ -72,6 +73,8 @@ impl SummaryEvent {
                     EventKind::Entry => "entry",
                     EventKind::Exit => "exit",
                     EventKind::LeftTrack => "left_track",
+                    EventKind::LiftOff => "lift_off",
+                    EventKind::Landing => "landing",
                 }
                 .to_string(),
                 time: e.time,

@@ -204,6 +204,18 @@ pub struct BodySpec {
     /// the car body's); left out for other kinds.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub maglev: Option<MaglevSpec>,
+    /// Newton's coefficient of restitution e ∈ [0, 1] of the vehicle's
+    /// contacts at a landing (0: plastic, 1: elastic).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub restitution: f64,
+    /// Height (m) of the whole vehicle above its place on the track at
+    /// t = 0: its contacts start open and it falls (needs `start = "rest"`).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub initial_height: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 /// A maglev car body (bounce, pitch) over `magnets` gliders evenly spaced
@@ -526,6 +538,8 @@ impl Scene {
                 train: None,
                 bogie: None,
                 maglev: None,
+                restitution: 0.0,
+                initial_height: 0.0,
             },
             track: TrackSpec::default(),
             vehicles: Vec::new(),

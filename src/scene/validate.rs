@@ -367,6 +367,27 @@ fn check_body(
     check_prescribed_speed(checks, prefix, body);
     checks.finite(&path("force_x"), body.force_x);
     checks.finite(&path("force_y"), body.force_y);
+    check_flight(checks, scene, prefix, body);
+}
+
+/// Restitution in [0, 1]; a start above the track is ≥ 0 and needs the
+/// rest start (the static start puts every vehicle on the beam).
+fn check_flight(checks: &mut Checks, scene: &Scene, prefix: &str, body: &super::BodySpec) {
+    let path = |field: &str| format!("{prefix}.{field}");
+    let e = body.restitution;
+    if checks.finite(&path("restitution"), e) && !(0.0..=1.0).contains(&e) {
+        checks.fail(path("restitution"), fmt_f64(e), "must lie in [0, 1]");
+    }
+    let height = body.initial_height;
+    checks.non_negative(&path("initial_height"), height);
+    if height > 0.0 && scene.solver.start == super::StartKind::Static {
+        checks.fail(
+            path("initial_height"),
+            fmt_f64(height),
+            "must be 0 with solver.start = \"static\" (the static start sets every vehicle \
+             on the beam)",
+        );
+    }
 }
 
 /// A prescribed speed: finite speeds, a table of at most `MAX_SPEED_ROWS`
