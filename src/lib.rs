@@ -16,6 +16,7 @@ pub mod fmu;
 pub mod force_element;
 pub mod integrate;
 pub mod iteration;
+pub mod mesh;
 pub mod model;
 pub mod output_file;
 pub mod outputs;

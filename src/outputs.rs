@@ -209,11 +209,11 @@ impl Catalogue {
                 Quantity::Dissipated,
             );
         }
-        if !system.beam.damping().is_zero() {
+        if system.beam.is_damped() {
             self.real(
                 e("beam_damping"),
                 "J",
-                "energy dissipated by the beam's Rayleigh structural damping",
+                "energy dissipated by the beam's Rayleigh structural damping and support dampers",
                 Quantity::BeamDamping,
             );
         }

@@ -1,0 +1,181 @@
+//! Elastic supports and tracks of several beams (issue 11 item 2): static
+//! deflections and frequencies against closed forms, and the energy
+//! balance with support dampers.
+
+mod common;
+use common::{paper_scene, run_to_exit};
+use guideway::beam::Beam;
+use guideway::scene::{
+    BeamSpec, BodyKind, EndSupport, IntegratorKind, JointKind, JointSpec, SpringSpec, StartKind,
+};
+use nalgebra::DVector;
+
+const EI: f64 = 1e9;
+const MU: f64 = 1250.0;
+const P: f64 = 600e3;
+
+fn beam(length: f64, elements: usize) -> BeamSpec {
+    let mut spec = paper_scene(BodyKind::Wheel, 10.0, 1e-3).beam;
+    spec.length = length;
+    spec.elements = elements;
+    spec
+}
+
+/// Static deflections at `measure` under a downward point load P at `load`.
+fn static_deflections(spec: &BeamSpec, load: f64, measure: &[f64]) -> Vec<f64> {
+    let beam = Beam::new(spec).expect("beam builds");
+    let mut f = DVector::zeros(beam.free_dofs());
+    let shape = beam.shape(beam.element_at(load), load);
+    shape.scatter(&shape.n, -P, &mut f);
+    let u = beam.static_deflection(&f).expect("static deflection");
+    measure.iter().map(|&x| beam.deflection(&u, x)).collect()
+}
+
+fn assert_close(found: f64, expected: f64, tolerance: f64, what: &str) {
+    println!("{what}: {found:.9e} vs closed form {expected:.9e}");
+    assert!(
+        (found / expected - 1.0).abs() <= tolerance,
+        "{what}: {found} vs closed form {expected}"
+    );
+}
+
+fn spring(at: f64) -> SpringSpec {
+    SpringSpec {
+        at,
+        ..SpringSpec::default()
+    }
+}
+
+#[test]
+fn beam_on_vertical_end_springs_deflects_as_the_closed_form() {
+    // Free ends on springs k: each spring carries P/2, so midspan goes
+    // down by P L³/48EI + P/2k.
+    let (length, k) = (24.0, 2e8);
+    let mut spec = beam(length, 8);
+    spec.supports.left = EndSupport::Free;
+    spec.supports.right = EndSupport::Free;
+    spec.supports.springs = vec![
+        SpringSpec {
+            vertical: k,
+            ..spring(0.0)
+        },
+        SpringSpec {
+            vertical: k,
+            ..spring(length)
+        },
+    ];
+    let w = static_deflections(&spec, 12.0, &[12.0, 0.0]);
+    let bending = P * length.powi(3) / (48.0 * EI);
+    assert_close(
+        w[0],
+        -(bending + P / (2.0 * k)),
+        1e-10,
+        "midspan on end springs",
+    );
+    assert_close(w[1], -P / (2.0 * k), 1e-10, "end on its spring");
+}
+
+#[test]
+fn beam_with_rotational_end_springs_deflects_as_the_closed_form() {
+    // Pinned ends restrained by rotational springs k_r: the end moment
+    // M = k_r θ with θ (1 + k_r L / 2EI) = P L² / 16EI, and midspan goes
+    // down by P L³/48EI − M L²/8EI.
+    let (length, kr) = (24.0, 5e8);
+    let mut spec = beam(length, 6);
+    spec.supports.springs = vec![
+        SpringSpec {
+            rotational: kr,
+            ..spring(0.0)
+        },
+        SpringSpec {
+            rotational: kr,
+            ..spring(length)
+        },
+    ];
+    let w = static_deflections(&spec, 12.0, &[12.0]);
+    let theta = P * length.powi(2) / (16.0 * EI) / (1.0 + kr * length / (2.0 * EI));
+    let moment = kr * theta;
+    let expected = P * length.powi(3) / (48.0 * EI) - moment * length.powi(2) / (8.0 * EI);
+    assert_close(w[0], -expected, 1e-10, "midspan with rotational springs");
+}
+
+#[test]
+fn a_stiff_intermediate_spring_approaches_a_pinned_support() {
+    let mut pinned = beam(24.0, 8);
+    pinned.supports.intermediate = vec![12.0];
+    let mut elastic = beam(24.0, 8);
+    elastic.supports.springs = vec![SpringSpec {
+        vertical: 1e15,
+        ..spring(12.0)
+    }];
+    let a = static_deflections(&pinned, 6.0, &[6.0])[0];
+    let b = static_deflections(&elastic, 6.0, &[6.0])[0];
+    assert_close(b, a, 1e-5, "stiff spring vs pinned support");
+}
+
+#[test]
+fn springs_where_a_support_holds_the_dof_are_refused() {
+    let mut spec = beam(24.0, 4);
+    spec.supports.springs = vec![SpringSpec {
+        vertical: 1e8,
+        ..spring(0.0)
+    }];
+    let error = Beam::new(&spec).err().expect("refused");
+    assert!(error.contains("beam.supports.springs[0]"), "{error}");
+    assert!(error.contains("deflection"), "{error}");
+}
+
+/// The paper's wheel at 10 m/s on a beam whose left end stands on a
+/// spring and damper, the right end pinned with a rotational spring and
+/// damper, and an elastic support with a damper at x = 16 m.
+fn elastic_scene(damping: f64) -> guideway::Scene {
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 1e-3);
+    scene.beam.elements = 12;
+    scene.beam.supports.left = EndSupport::Free;
+    scene.beam.supports.springs = vec![
+        SpringSpec {
+            vertical: 5e8,
+            vertical_damping: damping,
+            ..spring(0.0)
+        },
+        SpringSpec {
+            rotational: 1e9,
+            rotational_damping: damping * 10.0,
+            ..spring(24.0)
+        },
+        SpringSpec {
+            vertical: 2e8,
+            vertical_damping: damping,
+            ..spring(16.0)
+        },
+    ];
+    scene.solver.integrator = IntegratorKind::Hht;
+    scene.solver.numerical_damping = 0.0;
+    // Loaded suddenly at the soft end the wheel would bounce off.
+    scene.solver.start = StartKind::Static;
+    scene
+}
+
+#[test]
+fn energy_balance_holds_with_support_dampers() {
+    let undamped = run_to_exit(&elastic_scene(0.0));
+    let damped = run_to_exit(&elastic_scene(2e7));
+    let dissipated = damped.value("energy.beam_damping");
+    let initial = damped.initial("energy.balance");
+    println!(
+        "support dampers dissipated {dissipated} J of {initial} J; drift {:e} (undamped {:e})",
+        damped.max_energy_drift, undamped.max_energy_drift
+    );
+    assert!(
+        dissipated > 2e-3 * initial,
+        "dissipated {dissipated} J of {initial} J"
+    );
+    assert!(
+        damped.max_energy_drift <= 1e-5,
+        "drift {}",
+        damped.max_energy_drift
+    );
+    // Left out of the balance, the dampers' share would show as a drift
+    // of dissipated / initial (3e-3), a hundred times the bound.
+    assert!(dissipated / initial > 100.0 * 1e-5);
+}
