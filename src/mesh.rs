@@ -14,7 +14,8 @@ use std::ops::Range;
 
 use crate::scene::{BeamSpec, EndSupport, JointKind};
 
-/// One beam of the track: its abscissae and its elements.
+/// One smooth piece of the track's surface: a beam, or the part of a beam
+/// between its ends and hinges; its abscissae and its elements.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Segment {
     pub start: f64,
@@ -37,6 +38,7 @@ pub struct Mesh {
     pub element_length: Vec<f64>,
     /// Free-DOF index of each element's (w_i, ψ_i, w_j, ψ_j), `None` where held.
     pub element_dofs: Vec<[Option<usize>; 4]>,
+    /// The pieces of the surface, split at separate joints and hinges.
     pub segments: Vec<Segment>,
     pub free_dofs: usize,
     /// Free rotation DOFs.
@@ -149,7 +151,7 @@ impl Mesh {
             .map(|j| j.at)
             .collect();
         let mut layout = Layout::default();
-        for (s, segment_breaks) in breaks.iter().enumerate() {
+        for segment_breaks in &breaks {
             layout.start_segment();
             for (k, pair) in segment_breaks.windows(2).enumerate() {
                 if k == 0 {
@@ -167,7 +169,7 @@ impl Mesh {
                     }
                 }
             }
-            layout.end_segment(bounds[s]);
+            layout.end_segment();
         }
         layout.hold_supports(spec)?;
         layout.finish(spec)
@@ -184,7 +186,8 @@ struct Layout {
     break_nodes: Vec<(f64, usize)>,
     ends: Vec<(usize, usize)>,
     elements: Vec<(usize, usize)>,
-    segments: Vec<Segment>,
+    /// The first element of each smooth piece (a beam, or after a hinge).
+    piece_starts: Vec<usize>,
     global_dofs: usize,
     held: Vec<bool>,
     segment_first: usize,
@@ -193,6 +196,7 @@ struct Layout {
 impl Layout {
     fn start_segment(&mut self) {
         self.segment_first = self.nodes.len();
+        self.piece_starts.push(self.elements.len());
     }
 
     fn new_dof(&mut self) -> usize {
@@ -227,23 +231,34 @@ impl Layout {
         }
         self.nodes.push(node);
         self.node_x.push(x);
+        if hinge {
+            self.piece_starts.push(self.elements.len());
+        }
     }
 
     fn mark_break(&mut self, x: f64) {
         self.break_nodes.push((x, self.nodes.len() - 1));
     }
 
-    fn end_segment(&mut self, (start, end): (f64, f64)) {
+    fn end_segment(&mut self) {
         let last = self.nodes.len() - 1;
         // The last break of a beam is its end, not an interior node.
         self.break_nodes.pop();
-        let first_element = self.segments.last().map_or(0, |s| s.elements.end);
-        self.segments.push(Segment {
-            start,
-            end,
-            elements: first_element..self.elements.len(),
-        });
         self.ends.push((self.segment_first, last));
+    }
+
+    /// The smooth pieces of the surface, from `piece_starts`.
+    fn pieces(&self) -> Vec<Segment> {
+        let mut bounds = self.piece_starts.clone();
+        bounds.push(self.elements.len());
+        bounds
+            .windows(2)
+            .map(|w| Segment {
+                start: self.node_x[self.elements[w[0]].0],
+                end: self.node_x[self.elements[w[1] - 1].1],
+                elements: w[0]..w[1],
+            })
+            .collect()
     }
 
     fn interior_node(&self, x: f64) -> Option<usize> {
@@ -412,7 +427,7 @@ impl Layout {
                 .map(|&(p, q)| self.node_x[q] - self.node_x[p])
                 .collect(),
             element_dofs,
-            segments: self.segments,
+            segments: self.pieces(),
             free_dofs,
             rotation_dofs,
             springs,

@@ -340,9 +340,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::ContactPosition(c) => d.contact_x[c],
             Quantity::TangentialForce(c) => state.force_history[c][0].tangential,
             Quantity::NormalForce(c) => state.force_history[c][0].normal,
-            Quantity::OnBeam(c) => {
-                f64::from(u8::from(state.parts[c] == crate::system::TrackPart::Beam))
-            }
+            Quantity::OnBeam(c) => f64::from(u8::from(state.parts[c].on_structure())),
             Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, sim.sensor_positions()[i]),
             Quantity::BodyKinetic => sim.body_kinetic_energy(),
             Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),

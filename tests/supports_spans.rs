@@ -179,3 +179,161 @@ fn energy_balance_holds_with_support_dampers() {
     // of dissipated / initial (3e-3), a hundred times the bound.
     assert!(dissipated / initial > 100.0 * 1e-5);
 }
+
+fn two_spans(span: f64, kind: JointKind, gap: f64, elements: usize) -> BeamSpec {
+    let mut spec = beam(2.0 * span + gap, elements);
+    spec.joints = vec![JointSpec {
+        at: span,
+        kind,
+        gap,
+    }];
+    spec
+}
+
+#[test]
+fn continuous_two_span_beam_deflects_as_the_closed_form() {
+    // Two equal spans L, load P at the middle of the first: 23 P L³ / 1536 EI
+    // under the load (three-moment equation).
+    let span = 12.0;
+    let spec = two_spans(span, JointKind::Continuous, 0.0, 8);
+    let w = static_deflections(&spec, span / 2.0, &[span / 2.0, span]);
+    let expected = 23.0 * P * span.powi(3) / (1536.0 * EI);
+    assert_close(w[0], -expected, 1e-10, "continuous beam under the load");
+    assert_eq!(w[1], 0.0, "the joint's support holds");
+    // The same as an intermediate support.
+    let mut intermediate = beam(2.0 * span, 8);
+    intermediate.supports.intermediate = vec![span];
+    let v = static_deflections(&intermediate, span / 2.0, &[span / 2.0]);
+    assert_eq!(w[0], v[0]);
+}
+
+#[test]
+fn continuous_two_span_beam_has_the_closed_form_frequencies() {
+    // Two equal spans: mode 1 is one span's simply supported mode
+    // (λL = π), mode 2 the propped cantilever's (λL = 3.9266); ω = λ² √(EI/μ).
+    let span = 12.0;
+    let spec = two_spans(span, JointKind::Continuous, 0.0, 40);
+    let omega = Beam::new(&spec).unwrap().modes(2).unwrap().omega;
+    let exact = |lambda_l: f64| (lambda_l / span).powi(2) * (EI / MU).sqrt();
+    assert_close(omega[0], exact(std::f64::consts::PI), 1e-6, "mode 1");
+    assert_close(omega[1], exact(3.926_602_312_047_919), 1e-6, "mode 2");
+}
+
+#[test]
+fn separate_spans_do_not_load_each_other() {
+    for gap in [0.0, 0.05] {
+        let span = 12.0;
+        let spec = two_spans(span, JointKind::Separate, gap, 8);
+        let far = span + gap + span / 2.0;
+        let w = static_deflections(&spec, span / 2.0, &[span / 2.0, far, span, span + gap]);
+        let expected = P * span.powi(3) / (48.0 * EI);
+        assert_close(w[0], -expected, 1e-10, "loaded span at midspan");
+        assert_eq!(w[1], 0.0, "the other span stays unloaded (gap {gap})");
+        assert_eq!(w[2], 0.0);
+        assert_eq!(w[3], 0.0);
+        // Its frequencies are one span's, each twice.
+        let omega = Beam::new(&spec).unwrap().modes(2).unwrap().omega;
+        assert!((omega[1] / omega[0] - 1.0).abs() < 1e-9, "{omega:?}");
+    }
+}
+
+#[test]
+fn hinge_shares_the_deflection_but_not_the_rotation() {
+    // A cantilever of length a, clamped at x = 0, carries at its tip a hinge
+    // and a suspended span b pinned at its far end. A load P on the hinge
+    // goes to the cantilever alone: P a³ / 3EI.
+    let (a, b) = (6.0, 10.0);
+    let mut spec = beam(a + b, 8);
+    spec.supports.left = EndSupport::Clamped;
+    spec.joints = vec![JointSpec {
+        at: a,
+        kind: JointKind::Hinge,
+        gap: 0.0,
+    }];
+    let w = static_deflections(&spec, a, &[a, a - 1e-9, a + 1e-9]);
+    let expected = P * a.powi(3) / (3.0 * EI);
+    assert_close(w[0], -expected, 1e-10, "hinge deflection");
+    assert_close(w[1], w[2], 1e-6, "deflection continuous across the hinge");
+    // The suspended span stays straight: its midpoint halfway down.
+    let mid = static_deflections(&spec, a, &[a + b / 2.0])[0];
+    assert_close(
+        mid,
+        -expected / 2.0,
+        1e-10,
+        "suspended span is a straight link",
+    );
+}
+
+/// The problems `validate` reports for a scene, as (path, value, rule).
+fn problems(scene: &guideway::Scene) -> Vec<(String, String, String)> {
+    match scene.validate() {
+        Ok(()) => vec![],
+        Err(e) => e
+            .problems()
+            .into_iter()
+            .map(|p| (p.path, p.value, p.rule))
+            .collect(),
+    }
+}
+
+#[test]
+fn scenes_with_joints_and_springs_are_validated() {
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 1e-3);
+    scene.beam.length = 48.05;
+    scene.beam.elements = 8;
+    scene.beam.joints = vec![JointSpec {
+        at: 24.0,
+        kind: JointKind::Separate,
+        gap: 0.05,
+    }];
+    assert_eq!(problems(&scene), vec![]);
+    // The TOML round trip keeps joints and springs.
+    scene.beam.supports.springs = vec![SpringSpec {
+        rotational: 1e9,
+        ..spring(48.05)
+    }];
+    let text = scene.to_toml_string();
+    assert_eq!(guideway::Scene::from_toml_str(&text).unwrap(), scene);
+
+    let mut wide = scene.clone();
+    wide.beam.joints[0].gap = 0.3;
+    wide.beam.length = 48.3;
+    wide.beam.supports.springs.clear();
+    let found = problems(&wide);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "beam.joints[0].gap");
+    assert!(found[0].2.contains("radius"), "{found:?}");
+
+    let glider = Scene {
+        body: paper_scene(BodyKind::Glider, 10.0, 1e-3).body,
+        ..scene.clone()
+    };
+    let found = problems(&glider);
+    assert!(
+        found
+            .iter()
+            .any(|p| p.0 == "beam.joints[0].gap" && p.2.contains("only wheels")),
+        "{found:?}"
+    );
+
+    let mut in_gap = scene.clone();
+    in_gap.sensors[0].position = 24.02;
+    in_gap.beam.supports.springs[0].at = 24.01;
+    in_gap.beam.supports.springs[0].vertical = -1.0;
+    let paths: Vec<String> = problems(&in_gap).into_iter().map(|p| p.0).collect();
+    for path in [
+        "sensors[0].position",
+        "beam.supports.springs[0].at",
+        "beam.supports.springs[0].vertical",
+    ] {
+        assert!(paths.iter().any(|p| p == path), "{path} not in {paths:?}");
+    }
+
+    let mut hinge_gap = scene.clone();
+    hinge_gap.beam.joints[0].kind = JointKind::Hinge;
+    let found = problems(&hinge_gap);
+    assert!(
+        found.iter().any(|p| p.0 == "beam.joints[0].gap"),
+        "{found:?}"
+    );
+}

@@ -374,6 +374,7 @@ fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
         }
         previous_end = Some(end);
     }
+    check_gap_crossing(checks, scene);
     for (i, &x) in scene.beam.supports.intermediate.iter().enumerate() {
         let separate_end = joints
             .iter()
@@ -385,6 +386,52 @@ fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
                 "must not lie in a rail gap or at a separate joint (whose beam ends are \
                  pinned already)",
             );
+        }
+    }
+}
+
+/// Only wheels cross rail gaps, and only gaps narrower than their radius.
+fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
+    let Some((i, widest)) = scene
+        .beam
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| j.gap > 0.0)
+        .max_by(|a, b| a.1.gap.total_cmp(&b.1.gap))
+    else {
+        return;
+    };
+    let bodies = std::iter::once(("body".to_string(), &scene.body)).chain(
+        scene
+            .vehicles
+            .iter()
+            .enumerate()
+            .map(|(k, v)| (format!("vehicles[{k}]"), v)),
+    );
+    for (prefix, body) in bodies {
+        match (body.kind, body.radius) {
+            (BodyKind::Wheel, Some(r)) if widest.gap >= r => checks.fail(
+                format!("beam.joints[{i}].gap"),
+                fmt_f64(widest.gap),
+                format!(
+                    "must be less than the radius of {prefix} ({}): a wheel rolls over a gap \
+                     narrower than its radius",
+                    fmt_f64(r)
+                ),
+            ),
+            (BodyKind::Wheel, _) => {}
+            _ => checks.fail(
+                format!("beam.joints[{i}].gap"),
+                fmt_f64(widest.gap),
+                format!(
+                    "must be 0 with {prefix}.kind = {:?}: gliders, sprung masses and bogie \
+                     vehicles touch the track at a point, which would fall into a rail gap; \
+                     only wheels cross gaps",
+                    body.kind
+                )
+                .to_lowercase(),
+            ),
         }
     }
 }
