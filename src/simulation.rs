@@ -668,7 +668,7 @@ impl Simulation {
         let s = &mut self.state;
         // `accept` swapped the step's start state into `scratch`.
         let starts = &self.scratch.contact_x;
-        for c in 0..s.dynamic.contact_x.len() {
+        for (c, &start) in starts.iter().enumerate() {
             let x = s.dynamic.contact_x[c];
             let from = s.parts[c];
             // The located contact sits on its edge to round-off: take the
@@ -676,7 +676,7 @@ impl Simulation {
             let to = if c == located {
                 part
             } else {
-                match self.system.leaves(from, starts[c], x) {
+                match self.system.leaves(from, start, x) {
                     Some(right) => self.system.next_part(from, right).1,
                     None => continue,
                 }
