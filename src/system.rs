@@ -388,3 +388,114 @@ fn corner_frame(
         on_beam: true,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{BodyKind, JointKind, JointSpec, Scene};
+
+    /// Two 24 m spans with a rail gap of `gap` after x = 24, and a hinge at 36.
+    fn track(gap: f64) -> System {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 1e-3);
+        scene.beam.length = 48.0 + gap;
+        scene.beam.elements = 8;
+        scene.beam.supports.intermediate = vec![30.0 + gap];
+        scene.beam.joints = vec![
+            JointSpec {
+                at: 24.0,
+                kind: JointKind::Separate,
+                gap,
+            },
+            JointSpec {
+                at: 36.0 + gap,
+                kind: JointKind::Hinge,
+                gap: 0.0,
+            },
+        ];
+        crate::assemble::assemble(&scene).expect("assembles").system
+    }
+
+    #[test]
+    fn a_contact_crosses_joints_piece_by_piece() {
+        let system = track(0.05);
+        assert_eq!(system.beam.segments().len(), 3);
+        assert_eq!(system.track_part(10.0), TrackPart::Beam);
+        assert_eq!(system.track_part(24.05), TrackPart::Span(1));
+        assert_eq!(system.track_part(40.0), TrackPart::Span(2));
+        // Moving right: piece, its end corner, the far corner, the next piece.
+        assert_eq!(
+            system.next_part(TrackPart::Beam, true),
+            (24.0, TrackPart::JointBefore(0))
+        );
+        let (middle, after) = system.next_part(TrackPart::JointBefore(0), true);
+        assert_eq!(after, TrackPart::JointAfter(0));
+        assert!((middle - 24.025).abs() < 1e-12);
+        assert_eq!(
+            system.next_part(TrackPart::JointAfter(0), true),
+            (24.05, TrackPart::Span(1))
+        );
+        assert_eq!(
+            system.next_part(TrackPart::Span(1), true).1,
+            TrackPart::JointBefore(1)
+        );
+        // Moving left onto a joint leaves the track.
+        assert_eq!(
+            system.next_part(TrackPart::Span(1), false),
+            (24.05, TrackPart::Beyond)
+        );
+        // Only the forward crossing of a corner's edge is an event.
+        assert_eq!(
+            system.leaves(TrackPart::JointBefore(0), 24.0, 24.03),
+            Some(true)
+        );
+        assert_eq!(system.leaves(TrackPart::JointBefore(0), 24.03, 24.04), None);
+        assert_eq!(system.leaves(TrackPart::JointBefore(0), 24.01, 23.99), None);
+        // The far corner's switch is an impact; a continuous turn is not.
+        assert!(system.velocity_jump(TrackPart::JointBefore(0), TrackPart::JointAfter(0)));
+        assert!(!system.velocity_jump(TrackPart::Approach, TrackPart::Beam));
+        assert!(system.has_part(TrackPart::JointAfter(1)));
+        assert!(!system.has_part(TrackPart::JointAfter(2)));
+        assert!(!system.has_part(TrackPart::Span(3)));
+    }
+
+    #[test]
+    fn a_centre_already_past_the_corner_passes_the_joint_at_once() {
+        let system = track(0.0);
+        // Without a gap the middle is the corner itself.
+        assert_eq!(
+            system.settle_part(TrackPart::JointBefore(0), 23.999),
+            TrackPart::JointBefore(0)
+        );
+        assert_eq!(
+            system.settle_part(TrackPart::JointBefore(0), 24.001),
+            TrackPart::Span(1)
+        );
+        let gapped = track(0.05);
+        assert_eq!(
+            gapped.settle_part(TrackPart::JointBefore(0), 24.03),
+            TrackPart::JointAfter(0)
+        );
+    }
+
+    #[test]
+    fn the_corner_frame_measures_the_distance_to_the_corner() {
+        let system = track(0.05);
+        let u = DVector::zeros(system.beam.free_dofs());
+        let centre = Vector2::new(24.01, 0.85);
+        let frame = system
+            .contact_frame(&u, &centre, 24.0, TrackPart::JointBefore(0))
+            .expect("frame");
+        let distance = (centre - Vector2::new(24.0, 0.0)).norm();
+        let gap = frame.gap(&system.beam, 0.3, &centre);
+        assert!((gap - (distance - 0.9)).abs() < 1e-12, "{gap}");
+        assert_eq!(frame.x, centre.x);
+        // The normal points from the corner to the centre.
+        let n = frame.normal();
+        assert!((n.x - 0.01 / distance).abs() < 1e-12);
+        let after = system
+            .contact_frame(&u, &centre, 24.0, TrackPart::JointAfter(0))
+            .expect("frame");
+        let to_far = (centre - Vector2::new(24.05, 0.0)).norm();
+        assert!((after.gap(&system.beam, 0.3, &centre) - (to_far - 0.9)).abs() < 1e-12);
+    }
+}
