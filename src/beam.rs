@@ -7,7 +7,8 @@
 //! in the number of elements.
 
 use crate::band::{BandLdlt, SymBand};
-use crate::scene::{BeamSpec, DampingSpec, EndSupport};
+use crate::mesh::{GroundSpring, Mesh, Segment};
+use crate::scene::{BeamSpec, DampingSpec};
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
 
 /// Most free DOFs for which the natural modes are computed (a dense
@@ -92,10 +93,21 @@ pub struct Beam {
     pub surface_offset: f64,
     pub mass_per_length: f64,
     pub bending_stiffness: f64,
-    /// Node abscissae, increasing, from 0 to `length`.
+    /// Start abscissa of each element, increasing, then the last one's end
+    /// (`length`); with one beam, the node abscissae.
     pub node_x: Vec<f64>,
-    /// Free-DOF index of each global DOF (2 per node), `None` where held.
-    dof_map: Vec<Option<usize>>,
+    /// Free-DOF index of each element's four DOFs, `None` where held.
+    element_dofs: Vec<[Option<usize>; 4]>,
+    /// End abscissa of each element.
+    element_end: Vec<f64>,
+    /// The beams of the track (one unless there are separate joints).
+    segments: Vec<Segment>,
+    /// Per element: whether it is the first, the last element of its beam.
+    segment_ends: Vec<(bool, bool)>,
+    /// Free rotation DOFs.
+    rotation_dofs: Vec<usize>,
+    /// Elastic supports: stiffness in `stiffness`, dampers here.
+    springs: Vec<GroundSpring>,
     free_dofs: usize,
     /// Length of each element (m), and the shortest.
     element_length: Vec<f64>,
@@ -152,94 +164,16 @@ fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
     ) * c
 }
 
-/// Split `elements` over spans in proportion to their lengths, at least one each.
-fn elements_per_span(spans: &[f64], elements: usize) -> Vec<usize> {
-    let total: f64 = spans.iter().sum();
-    let mut counts: Vec<usize> = spans
-        .iter()
-        .map(|s| ((s / total) * elements as f64).floor().max(1.0) as usize)
-        .collect();
-    while counts.iter().sum::<usize>() < elements {
-        // Give the next element to the span with the longest elements.
-        let i = (0..spans.len())
-            .max_by(|&a, &b| {
-                (spans[a] / counts[a] as f64).total_cmp(&(spans[b] / counts[b] as f64))
-            })
-            .unwrap_or(0);
-        counts[i] += 1;
-    }
-    while counts.iter().sum::<usize>() > elements {
-        let i = (0..spans.len())
-            .filter(|&i| counts[i] > 1)
-            .min_by(|&a, &b| {
-                (spans[a] / counts[a] as f64).total_cmp(&(spans[b] / counts[b] as f64))
-            })
-            .unwrap_or(0);
-        counts[i] -= 1;
-    }
-    counts
-}
-
 impl Beam {
     /// Assemble the beam of a (validated) spec.
     pub fn new(spec: &BeamSpec) -> Result<Beam, String> {
-        let mut breaks = vec![0.0];
-        breaks.extend(spec.supports.intermediate.iter().copied());
-        breaks.push(spec.length);
-        let spans: Vec<f64> = breaks.windows(2).map(|w| w[1] - w[0]).collect();
-        if spec.elements < spans.len() {
-            return Err(format!(
-                "beam.elements = {} is fewer than the {} spans between supports; \
-                 each span needs at least one element",
-                spec.elements,
-                spans.len()
-            ));
-        }
-        let counts = elements_per_span(&spans, spec.elements);
-        let mut node_x = vec![0.0];
-        let mut support_nodes = Vec::new();
-        for (s, &count) in counts.iter().enumerate() {
-            for k in 1..=count {
-                node_x.push(breaks[s] + spans[s] * k as f64 / count as f64);
-            }
-            if s + 1 < spans.len() {
-                support_nodes.push(node_x.len() - 1);
-            }
-        }
-        let nodes = node_x.len();
-        let mut held = vec![false; 2 * nodes];
-        let mut hold_end = |node: usize, support: EndSupport| match support {
-            EndSupport::Pinned => held[2 * node] = true,
-            EndSupport::Clamped => {
-                held[2 * node] = true;
-                held[2 * node + 1] = true;
-            }
-            EndSupport::Free => {}
-        };
-        hold_end(0, spec.supports.left);
-        hold_end(nodes - 1, spec.supports.right);
-        for &node in &support_nodes {
-            held[2 * node] = true;
-        }
-        let mut dof_map = vec![None; 2 * nodes];
-        let mut free_dofs = 0;
-        for (dof, &is_held) in held.iter().enumerate() {
-            if !is_held {
-                dof_map[dof] = Some(free_dofs);
-                free_dofs += 1;
-            }
-        }
-        if free_dofs == 0 {
-            return Err("the supports hold every DOF of the beam".into());
-        }
-
+        let mesh = Mesh::new(spec)?;
+        let free_dofs = mesh.free_dofs;
         let mut mass = SymBand::zeros(free_dofs);
         let mut stiffness = SymBand::zeros(free_dofs);
-        let element_length: Vec<f64> = node_x.windows(2).map(|w| w[1] - w[0]).collect();
-        for (e, &len) in element_length.iter().enumerate() {
+        for (&len, dofs) in mesh.element_length.iter().zip(&mesh.element_dofs) {
             let me = element_mass(len, spec.mass_per_length);
             let ke = element_stiffness(len, spec.bending_stiffness);
-            let dofs: Vec<Option<usize>> = (0..4).map(|k| dof_map[2 * e + k]).collect();
             for a in 0..4 {
                 for b in 0..=a {
                     if let (Some(i), Some(j)) = (dofs[a], dofs[b]) {
@@ -249,17 +183,40 @@ impl Beam {
                 }
             }
         }
+        for spring in &mesh.springs {
+            stiffness.add_symmetric(spring.dof, spring.dof, spring.stiffness);
+        }
         let mass_factor = mass
             .ldlt()
             .ok_or("beam mass matrix is not positive definite")?;
+        if !spec.joints.is_empty() && stiffness.ldlt().is_none() {
+            return Err(format!(
+                "beam.joints: the supports, springs and joints ({} joints) leave a beam of the \
+                 track free to move as a mechanism; hold each beam against rigid motion",
+                spec.joints.len()
+            ));
+        }
+        let element_length = mesh.element_length;
+        let mut node_x = mesh.element_start;
+        node_x.extend(mesh.element_end.last());
+        let mut segment_ends = vec![(false, false); element_length.len()];
+        for segment in &mesh.segments {
+            segment_ends[segment.elements.start].0 = true;
+            segment_ends[segment.elements.end - 1].1 = true;
+        }
         let min_element_length = element_length.iter().copied().fold(f64::INFINITY, f64::min);
-        Ok(Beam {
+        let mut beam = Beam {
             length: spec.length,
             surface_offset: spec.surface_offset,
             mass_per_length: spec.mass_per_length,
             bending_stiffness: spec.bending_stiffness,
             node_x,
-            dof_map,
+            element_dofs: mesh.element_dofs,
+            element_end: mesh.element_end,
+            segments: mesh.segments,
+            segment_ends,
+            rotation_dofs: mesh.rotation_dofs,
+            springs: mesh.springs,
             free_dofs,
             element_length,
             min_element_length,
@@ -267,11 +224,9 @@ impl Beam {
             stiffness,
             mass_factor,
             damping: Rayleigh::default(),
-        })
-        .and_then(|mut beam| {
-            beam.damping = beam.rayleigh(spec.damping.as_ref())?;
-            Ok(beam)
-        })
+        };
+        beam.damping = beam.rayleigh(spec.damping.as_ref())?;
+        Ok(beam)
     }
 
     /// The Rayleigh coefficients of a (validated) damping spec.
@@ -368,21 +323,45 @@ impl Beam {
     }
 
     /// The element whose span holds `x`, searched from element `hint`
-    /// outwards: a walk of a few elements when `x` is near, bisection when
-    /// it is far. Same answer as `element_at`.
+    /// outwards within the hint's beam: a walk of a few elements when `x`
+    /// is near, bisection when it is far. Same answer as `element_at` on a
+    /// track of one beam; on several, abscissae beyond the hint's beam map
+    /// to its end elements.
     pub fn element_near(&self, x: f64, hint: usize) -> usize {
         let last = self.elements() - 1;
         let mut e = hint.min(last);
         for _ in 0..4 {
-            if e > 0 && x < self.node_x[e] {
+            let (first_of_beam, last_of_beam) = self.segment_ends[e];
+            if !first_of_beam && x < self.node_x[e] {
                 e -= 1;
-            } else if e < last && x >= self.node_x[e + 1] {
+            } else if !last_of_beam && x >= self.node_x[e + 1] {
                 e += 1;
             } else {
                 return e;
             }
         }
-        self.element_at(x)
+        let range = self.segment_of_element(e).elements.clone();
+        let starts = &self.node_x[range.clone()];
+        let offset = match starts.binary_search_by(|n| n.total_cmp(&x)) {
+            Ok(i) => i,
+            Err(0) => 0,
+            Err(i) => i - 1,
+        };
+        range.start + offset.min(range.len() - 1)
+    }
+
+    /// The beams of the track, in order.
+    pub fn segments(&self) -> &[Segment] {
+        &self.segments
+    }
+
+    /// The beam element `element` belongs to.
+    pub fn segment_of_element(&self, element: usize) -> &Segment {
+        let i = self
+            .segments
+            .partition_point(|s| s.elements.end <= element)
+            .min(self.segments.len() - 1);
+        &self.segments[i]
     }
 
     /// Length of element `element` (m).
@@ -390,16 +369,17 @@ impl Beam {
         self.element_length[element]
     }
 
-    /// Where `x` lies past an end of the beam, the end element's abscissa
+    /// Where `x` lies past an end of the element's beam, the end element's abscissa
     /// of that end (0 or 1) and the distance past it (m); otherwise `x`'s
     /// own abscissa and 0.
     fn abscissa(&self, element: usize, x: f64) -> (f64, f64) {
         let len = self.element_length[element];
         let s = (x - self.node_x[element]) / len;
-        if element + 1 == self.elements() && s > 1.0 {
-            (1.0, x - self.node_x[element + 1])
-        } else if element == 0 && s < 0.0 {
-            (0.0, x - self.node_x[0])
+        let (first_of_beam, last_of_beam) = self.segment_ends[element];
+        if last_of_beam && s > 1.0 {
+            (1.0, x - self.element_end[element])
+        } else if first_of_beam && s < 0.0 {
+            (0.0, x - self.node_x[element])
         } else {
             (s, 0.0)
         }
@@ -442,12 +422,7 @@ impl Beam {
                 dn[k] += past * ddn[k];
             }
         }
-        let dofs = [
-            self.dof_map[2 * element],
-            self.dof_map[2 * element + 1],
-            self.dof_map[2 * element + 2],
-            self.dof_map[2 * element + 3],
-        ];
+        let dofs = self.element_dofs[element];
         Shape {
             element,
             dofs,
@@ -464,7 +439,7 @@ impl Beam {
     pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
         let len = self.element_length[element];
         let (s, past) = self.abscissa(element, x);
-        let dof = |k: usize| self.dof_map[2 * element + k].map_or(0.0, |i| u[i]);
+        let dof = |k: usize| self.element_dofs[element][k].map_or(0.0, |i| u[i]);
         let (a, b, c, d) = (dof(0), dof(1) * len, dof(2), dof(3) * len);
         let c2 = -3.0 * a - 2.0 * b + 3.0 * c - d;
         let c3 = 2.0 * a + b - 2.0 * c + d;
@@ -510,15 +485,18 @@ impl Beam {
         let c = self.damping;
         let mass_weight = 1.0 + damping_weight * c.mass;
         let stiffness_weight = stiffness_weight + damping_weight * c.stiffness;
-        self.mass
-            .combine(mass_weight, &self.stiffness, stiffness_weight)
-            .ldlt()
-            .ok_or_else(|| {
-                format!(
-                    "the implicit scheme's effective matrix {mass_weight:e} M + \
+        let mut effective = self
+            .mass
+            .combine(mass_weight, &self.stiffness, stiffness_weight);
+        for spring in self.dampers() {
+            effective.add_symmetric(spring.dof, spring.dof, damping_weight * spring.damping);
+        }
+        effective.ldlt().ok_or_else(|| {
+            format!(
+                "the implicit scheme's effective matrix {mass_weight:e} M + \
                      {stiffness_weight:e} K is not positive definite"
-                )
-            })
+            )
+        })
     }
 
     /// The static deflection u with K u = `load`, through the band LDLᵀ
@@ -545,24 +523,63 @@ impl Beam {
         let c = self.damping;
         if c.is_zero() {
             self.stiffness_times(u, out);
-            return;
+        } else {
+            // K u + C v = K (u + β v) + α M v.
+            scratch.copy_from(u);
+            scratch.axpy(c.stiffness, v, 1.0);
+            self.stiffness_times(scratch, out);
+            self.mass_times(v, scratch);
+            out.axpy(c.mass, scratch, 1.0);
         }
-        // K u + C v = K (u + β v) + α M v.
-        scratch.copy_from(u);
-        scratch.axpy(c.stiffness, v, 1.0);
-        self.stiffness_times(scratch, out);
-        self.mass_times(v, scratch);
-        out.axpy(c.mass, scratch, 1.0);
+        for spring in self.dampers() {
+            out[spring.dof] += spring.damping * v[spring.dof];
+        }
+    }
+
+    /// Whether the structure dissipates: Rayleigh damping or support dampers.
+    pub fn is_damped(&self) -> bool {
+        !self.damping.is_zero() || self.dampers().next().is_some()
+    }
+
+    /// The elastic supports that have a damper.
+    fn dampers(&self) -> impl Iterator<Item = &GroundSpring> {
+        self.springs.iter().filter(|s| s.damping != 0.0)
+    }
+
+    /// Power dissipated by the support dampers, Σ c v² (W).
+    fn damper_power(&self, v: &DVector<f64>) -> f64 {
+        self.dampers()
+            .map(|s| s.damping * v[s.dof] * v[s.dof])
+            .sum()
+    }
+
+    /// Σ c (M⁻¹)ᵢᵢ over the support dampers (1/s): at least the decay rate
+    /// of any mode they damp (the explicit scheme's stability limit).
+    pub fn damper_rate_bound(&self) -> f64 {
+        self.dampers()
+            .map(|s| s.damping * self.inverse_mass_diagonal(s.dof))
+            .sum()
+    }
+
+    /// (M⁻¹)ᵢᵢ, by one band solve.
+    fn inverse_mass_diagonal(&self, i: usize) -> f64 {
+        let mut e = DVector::zeros(self.free_dofs);
+        e[i] = 1.0;
+        self.solve_mass(&mut e);
+        e[i]
     }
 
     /// Power dissipated by the structural damping, vᵀ C v (W).
     pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
         let c = self.damping;
+        let supports = self.damper_power(v);
         if c.is_zero() {
-            return 0.0;
+            return supports;
         }
         let x = v.as_slice();
-        c.mass * self.mass.quadratic_form(x) + c.stiffness * self.stiffness.quadratic_form(x)
+        c.mass * self.mass.quadratic_form(x)
+            + c.stiffness * self.stiffness.quadratic_form(x)
+            + supports
     }
 
     /// `rhs ← M⁻¹ rhs`.
@@ -586,6 +603,9 @@ impl Beam {
             self.stiffness
                 .mul_add_to(-c.stiffness, v.as_slice(), out.as_mut_slice());
         }
+        for spring in self.dampers() {
+            out[spring.dof] -= spring.damping * v[spring.dof];
+        }
         self.solve_mass(out);
         if c.mass != 0.0 {
             out.axpy(-c.mass, v, 1.0);
@@ -608,7 +628,8 @@ impl Beam {
     /// λ_max of K x = λ M x is bracketed: below by the Rayleigh quotient of a
     /// few power iterations from the mesh's zigzag mode, above by the
     /// highest free-free element eigenvalue (the assembled spectrum never
-    /// exceeds the elements', `max_element_frequency`). The bracket is
+    /// exceeds the elements', `max_element_frequency`) plus the support
+    /// springs' bound. The bracket is
     /// narrowed by bisection, each trial σ tested by factoring σ M − K:
     /// every LDLᵀ pivot positive ⇔ σ M − K positive definite ⇔ σ > λ_max
     /// (Sylvester's law of inertia). The upper end is always a σ that
@@ -617,7 +638,14 @@ impl Beam {
     /// factorization, O(elements).
     pub fn highest_frequency(&self) -> f64 {
         const RELATIVE_WIDTH: f64 = 1e-4;
-        let bound = self.max_element_frequency().powi(2);
+        // Support springs add to K: Rayleigh quotients add, and a spring k
+        // on DOF i alone reaches at most k (M⁻¹)ᵢᵢ.
+        let springs: f64 = self
+            .springs
+            .iter()
+            .map(|s| s.stiffness * self.inverse_mass_diagonal(s.dof))
+            .sum();
+        let bound = self.max_element_frequency().powi(2) + springs;
         let mut upper = bound * (1.0 + 1e-12);
         // f64::max drops a NaN: a failed quotient leaves the bracket at 0.
         let mut lower = self.rayleigh_lower_bound().min(upper).max(0.0);
@@ -657,10 +685,8 @@ impl Beam {
     fn rayleigh_lower_bound(&self) -> f64 {
         let n = self.free_dofs;
         let mut x = DVector::zeros(n);
-        for (global, free) in self.dof_map.iter().enumerate() {
-            if let (Some(i), true) = (free, global % 2 == 1) {
-                x[*i] = 1.0;
-            }
+        for &i in &self.rotation_dofs {
+            x[i] = 1.0;
         }
         let mut work = DVector::zeros(n);
         let mut quotient = 0.0f64;
@@ -710,9 +736,20 @@ impl Beam {
         self.stiffness.ldlt()
     }
 
-    /// Whether a support holds global DOF `k` of node `node` (0: w, 1: ψ).
+    /// Whether a support holds DOF `k` (0: w, 1: ψ) of node `node`, the
+    /// start of element `node` (the end of the last element for the last
+    /// node).
     pub fn is_held(&self, node: usize, k: usize) -> bool {
-        self.dof_map[2 * node + k].is_none()
+        match node.checked_sub(self.elements()) {
+            None => self.element_dofs[node][k].is_none(),
+            Some(_) => self.element_dofs[self.elements() - 1][2 + k].is_none(),
+        }
+    }
+
+    /// Whether a support holds local DOF `local` (w_i, ψ_i, w_j, ψ_j) of
+    /// `element`: at a joint the two sides of a node can differ.
+    pub fn is_held_in(&self, element: usize, local: usize) -> bool {
+        self.element_dofs[element][local].is_none()
     }
 
     /// Element `element`'s end forces K_e q(`u`) + M_e q(`a`) on its DOFs
@@ -728,7 +765,7 @@ impl Beam {
         let ke = element_stiffness(len, self.bending_stiffness);
         let me = element_mass(len, self.mass_per_length);
         let local = |v: &DVector<f64>| {
-            nalgebra::Vector4::from_fn(|k, _| self.dof_map[2 * element + k].map_or(0.0, |i| v[i]))
+            nalgebra::Vector4::from_fn(|k, _| self.element_dofs[element][k].map_or(0.0, |i| v[i]))
         };
         let f = ke * local(u) + me * local(a);
         [f[0], f[1], f[2], f[3]]
@@ -738,7 +775,7 @@ impl Beam {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::SupportsSpec;
+    use crate::scene::{EndSupport, SupportsSpec};
     use nalgebra::DMatrix;
 
     fn paper_beam(elements: usize) -> BeamSpec {
@@ -749,6 +786,7 @@ mod tests {
             surface_offset: 0.6,
             elements,
             supports: SupportsSpec::default(),
+            joints: Vec::new(),
             damping: None,
         }
     }
@@ -789,6 +827,15 @@ mod tests {
         let mut free = paper_beam(6);
         free.supports.left = EndSupport::Free;
         free.supports.right = EndSupport::Free;
+        specs.push(free.clone());
+        // Stiff springs raise the highest frequency above the elements' bound.
+        let spring = |at, vertical| crate::scene::SpringSpec {
+            at,
+            vertical,
+            rotational: 1e12,
+            ..Default::default()
+        };
+        free.supports.springs = vec![spring(0.0, 1e12), spring(24.0, 1e8), spring(10.0, 1e10)];
         specs.push(free);
         for spec in specs {
             let beam = Beam::new(&spec).unwrap();

@@ -311,6 +311,7 @@ mod tests {
             surface_offset: 0.6,
             elements: 3,
             supports: SupportsSpec::default(),
+            joints: Vec::new(),
             damping: None,
         })
         .unwrap();
@@ -345,6 +346,7 @@ mod tests {
             surface_offset: 0.6,
             elements: 65_536,
             supports: SupportsSpec::default(),
+            joints: Vec::new(),
             damping: None,
         })
         .unwrap();

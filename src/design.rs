@@ -234,7 +234,7 @@ impl BeamDynamics {
             }
             let f = self.end_forces(beam, element, u, a);
             for (k, r) in reaction.iter_mut().enumerate() {
-                if beam.is_held(node, k) {
+                if beam.is_held_in(element, first + k) {
                     *r += f[first + k];
                 }
             }

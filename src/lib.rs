@@ -18,6 +18,7 @@ pub mod force_element;
 pub mod impact;
 pub mod integrate;
 pub mod iteration;
+pub mod mesh;
 pub mod model;
 pub mod moving_load;
 pub mod output_file;

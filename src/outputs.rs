@@ -256,11 +256,11 @@ impl Catalogue {
                 Quantity::Dissipated,
             );
         }
-        if !system.beam.damping().is_zero() {
+        if system.beam.is_damped() {
             self.real(
                 e("beam_damping"),
                 "J",
-                "energy dissipated by the beam's Rayleigh structural damping",
+                "energy dissipated by the beam's Rayleigh structural damping and support dampers",
                 Quantity::BeamDamping,
             );
         }
@@ -461,9 +461,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::ContactPosition(c) => d.contact_x[c],
             Quantity::TangentialForce(c) => state.force_history[c][0].tangential,
             Quantity::NormalForce(c) => state.force_history[c][0].normal,
-            Quantity::OnBeam(c) => {
-                f64::from(u8::from(state.parts[c] == crate::system::TrackPart::Beam))
-            }
+            Quantity::OnBeam(c) => f64::from(u8::from(state.parts[c].on_structure())),
             Quantity::ContactClosed(c) => f64::from(u8::from(!state.contacts[c].open)),
             Quantity::Gap(c) => state.contacts[c].gap,
             Quantity::ImpulseTangential(c) => state.contacts[c].impulse[0],

@@ -130,6 +130,20 @@ pub struct ContactEvent {
 /// Events kept per run; later ones are counted, not kept.
 pub const MAX_EVENTS: usize = 10_000;
 
+/// Length of the step that takes a rail gap's impact, in `solver.step`s.
+pub const IMPACT_STEP: f64 = 1e-3;
+
+/// A contact's impact on the far corner of a rail gap.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JointImpact {
+    /// When it ended (s).
+    pub time: f64,
+    pub contact: usize,
+    /// Tangential and normal impulse on the body in the new corner's
+    /// frame (N s).
+    pub impulse: Vector2<f64>,
+}
+
 /// Everything needed to continue a run bit-identically.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct SimState {
@@ -296,6 +310,8 @@ pub struct Simulation {
     /// them opened in it.
     open: Vec<bool>,
     opened: Vec<bool>,
+    /// Impacts at rail gaps (not part of the state: a record of the run).
+    joint_impacts: Vec<JointImpact>,
 }
 
 impl Simulation {
@@ -383,6 +399,7 @@ impl Simulation {
             open: assembly.open.clone(),
             opened: vec![false; assembly.open.len()],
             restitution: assembly.restitution,
+            joint_impacts: Vec::new(),
         };
         simulation.state.initial_energy = simulation.energy_balance();
         Ok(simulation)
@@ -652,8 +669,12 @@ impl Simulation {
         };
         self.record_lift_offs();
         self.accept(solution, dt);
-        if event.is_some() {
+        if let Some((contact, _)) = event {
+            let from = self.state.parts[contact];
             self.record_events(event);
+            if self.system.velocity_jump(from, self.state.parts[contact]) {
+                self.joint_impact(contact, to)?;
+            }
             Ok(false)
         } else {
             self.state.time = to;
@@ -741,6 +762,70 @@ impl Simulation {
         Ok(())
     }
 
+    /// The velocity jump of a contact switching from one corner of a rail
+    /// gap to the other, taken as a plastic impact in a step of
+    /// `IMPACT_STEP` × `solver.step` (or up to `to`, if sooner): the
+    /// contact iteration finds the force whose impulse over it brings the
+    /// velocity error at the new corner to zero, while the bodies move by
+    /// less than the gap tolerance. The impulse is recorded
+    /// (`joint_impacts`); the force history the next step extrapolates
+    /// from is the one before the impact.
+    fn joint_impact(&mut self, contact: usize, to: f64) -> Result<(), SolverError> {
+        let tau = (IMPACT_STEP * self.step).min(to - self.state.time);
+        if tau <= 1e-9 * self.step {
+            // At the grid point: the next step carries the jump.
+            return Ok(());
+        }
+        let before = self.state.force_history.clone();
+        let steps = self.state.step_history;
+        let guess: Vec<ContactForce> = before.iter().map(|h| h[0]).collect();
+        let solution = self.solve(&guess, tau)?;
+        self.refuse_lift_off(&solution)?;
+        let impulse = solution.forces[contact].as_vector() * tau;
+        self.accept(solution, tau);
+        if self.joint_impacts.len() < MAX_EVENTS {
+            self.joint_impacts.push(JointImpact {
+                time: self.state.time,
+                contact,
+                impulse,
+            });
+        }
+        self.state.force_history = before;
+        self.state.step_history = steps;
+        Ok(())
+    }
+
+    /// The impacts of contacts crossing rail gaps so far in this run.
+    pub fn joint_impacts(&self) -> &[JointImpact] {
+        &self.joint_impacts
+    }
+
+    /// A rail-gap impact step is solved with the contacts as they are:
+    /// a tensile force in it is refused, not opened.
+    fn refuse_lift_off(&self, solution: &StepSolution) -> Result<(), SolverError> {
+        for (c, force) in solution.forces.iter().enumerate() {
+            if force.normal < 0.0 {
+                // The impact step holds its contacts closed: a tensile
+                // force there is not a lift-off this model follows.
+                let which = if solution.forces.len() > 1 {
+                    format!(" of {}", self.system.contacts[c].name)
+                } else {
+                    String::new()
+                };
+                return Err(SolverError {
+                    time: self.state.time,
+                    message: format!(
+                        "the normal contact force{which} would become tensile \
+                         ({:.6e} N) in the rail-gap impact from t = {} s at x = {:.6} m; \
+                         an impact step holds its contacts closed, so the run stops there",
+                        force.normal, self.state.time, self.scratch.contact_x[c]
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
     /// The contact whose crossing of a track boundary comes first in the
     /// step just solved (into `scratch`): the fraction of the step at which
     /// it does (linear estimate), the contact, the boundary's abscissa and
@@ -807,32 +892,40 @@ impl Simulation {
         let s = &mut self.state;
         // `accept` swapped the step's start state into `scratch`.
         let starts = &self.scratch.contact_x;
-        let ends = s.dynamic.contact_x.clone();
-        for (c, &x) in ends.iter().enumerate() {
+        for (c, &start) in starts.iter().enumerate() {
+            let x = s.dynamic.contact_x[c];
             let from = s.parts[c];
             // The located contact sits on its edge to round-off: take the
             // side it was moving to.
             let to = if let Some((_, part)) = located.filter(|&(l, _)| l == c) {
                 part
             } else {
-                match self.system.leaves(from, starts[c], x) {
+                match self.system.leaves(from, start, x) {
                     Some(right) => self.system.next_part(from, right).1,
                     None => continue,
                 }
             };
+            let centre_x = s.dynamic.bodies[self.system.contacts[c].body].position.x;
+            let to = self.system.settle_part(to, centre_x);
+            if matches!(to, TrackPart::JointBefore(_) | TrackPart::JointAfter(_)) {
+                // Over a joint the contact's abscissa is its centre's.
+                s.dynamic.contact_x[c] = centre_x;
+            }
             s.parts[c] = to;
             let kind = match (from, to) {
                 (_, TrackPart::Beyond) => EventKind::LeftTrack,
-                (_, TrackPart::Beam) => EventKind::Entry,
+                // From piece to joint to piece: still on the structure.
+                _ if from.on_structure() && to.on_structure() => continue,
+                _ if to.on_structure() => EventKind::Entry,
                 _ => EventKind::Exit,
             };
-            if from == TrackPart::Beam && kind == EventKind::LeftTrack {
+            if from.on_structure() && kind == EventKind::LeftTrack {
                 push_event(s, c, EventKind::Exit);
             }
             push_event(s, c, kind);
         }
         let left_track = s.parts.contains(&TrackPart::Beyond);
-        let all_left_beam = !s.parts.contains(&TrackPart::Beam)
+        let all_left_beam = !s.parts.iter().any(|p| p.on_structure())
             && (0..s.parts.len()).all(|c| {
                 s.events
                     .iter()
@@ -1204,6 +1297,11 @@ fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
                 "the state has {found} {what} but this model has {expected}"
             ));
         }
+    }
+    if !state.parts.iter().all(|&p| system.has_part(p)) {
+        return Err(
+            "the state names a piece or joint of the track this model does not have".into(),
+        );
     }
     if state.events.len() > MAX_EVENTS || state.events.iter().any(|e| e.contact >= contacts) {
         return Err("the state's event list does not fit this model".into());

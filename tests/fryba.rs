@@ -33,6 +33,7 @@ fn beam() -> Beam {
         elements: ELEMENTS,
         supports: SupportsSpec::default(),
         damping: None,
+        joints: Vec::new(),
     })
     .expect("beam builds")
 }

@@ -17,8 +17,10 @@ fn beam(elements: usize, left: EndSupport, right: EndSupport) -> Beam {
             left,
             right,
             intermediate: Vec::new(),
+            springs: Vec::new(),
         },
         damping: None,
+        joints: Vec::new(),
     })
     .unwrap()
 }
@@ -123,6 +125,7 @@ fn continuous_beam_reactions() {
         elements: 6,
         supports: SupportsSpec::default(),
         damping: None,
+        joints: Vec::new(),
     };
     spec.supports.intermediate = vec![L / 2.0];
     let beam = Beam::new(&spec).unwrap();

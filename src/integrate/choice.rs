@@ -14,6 +14,18 @@ type Complex64 = Complex<f64>;
 /// moves them out along the negative real axis, where the region ends at
 /// −2.785: the limit is then taken over a spread of frequencies up to ω_max.
 pub fn rk4_step_limit(system: &System) -> f64 {
+    // Support dampers: a decay rate up to `damper_rate_bound` on the
+    // negative real axis, where the region ends at −2.785.
+    let dampers = system.beam.damper_rate_bound();
+    let damper_limit = if dampers > 0.0 {
+        2.785 / dampers
+    } else {
+        f64::INFINITY
+    };
+    rk4_beam_limit(system).min(damper_limit)
+}
+
+fn rk4_beam_limit(system: &System) -> f64 {
     let omega_max = system.beam.highest_frequency();
     let damping = system.beam.damping();
     if damping.is_zero() {

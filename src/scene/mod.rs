@@ -70,6 +70,59 @@ pub struct BeamSpec {
     /// Rayleigh structural damping C = α M + β K; none when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<DampingSpec>,
+    /// Joints splitting the structure into several beams in a row, by
+    /// increasing abscissa; none: one beam.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<JointSpec>,
+}
+
+/// Where one beam of the track meets the next.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JointSpec {
+    /// Abscissa of the joint (m); for a separate joint, where the beam
+    /// before it ends.
+    pub at: f64,
+    pub kind: JointKind,
+    /// Separate joints only: width of the rail gap (m); the next beam
+    /// starts at `at + gap`.
+    #[serde(default)]
+    pub gap: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum JointKind {
+    /// The beam runs on over a pinned support at `at` (as an intermediate
+    /// support).
+    Continuous,
+    /// Internal hinge: deflection shared, rotations independent; no support
+    /// of its own (add an intermediate support or a spring at `at`).
+    Hinge,
+    /// Two simply supported beams: the one before ends pinned at `at`, the
+    /// next starts pinned at `at + gap`.
+    Separate,
+}
+
+/// An elastic support at a node: vertical and rotational springs and
+/// dampers to the ground (all default 0).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    /// Abscissa (m), 0 <= at <= L; a node is placed there.
+    pub at: f64,
+    /// Vertical stiffness (N/m).
+    #[serde(default)]
+    pub vertical: f64,
+    /// Rotational stiffness (N m/rad).
+    #[serde(default)]
+    pub rotational: f64,
+    /// Vertical damping (N s/m).
+    #[serde(default)]
+    pub vertical_damping: f64,
+    /// Rotational damping (N m s/rad).
+    #[serde(default)]
+    pub rotational_damping: f64,
 }
 
 /// Rayleigh damping of the beam, C = α M + β K, given either way:
@@ -130,6 +183,9 @@ pub struct SupportsSpec {
     /// Abscissae (m) of intermediate pinned supports for multi-span beams.
     #[serde(default)]
     pub intermediate: Vec<f64>,
+    /// Elastic supports (springs and dampers to the ground) at nodes.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub springs: Vec<SpringSpec>,
 }
 
 fn pinned() -> EndSupport {
@@ -142,6 +198,7 @@ impl Default for SupportsSpec {
             left: EndSupport::Pinned,
             right: EndSupport::Pinned,
             intermediate: Vec::new(),
+            springs: Vec::new(),
         }
     }
 }
@@ -522,6 +579,7 @@ impl Scene {
                 elements: 2,
                 supports: SupportsSpec::default(),
                 damping: None,
+                joints: Vec::new(),
             },
             body: BodySpec {
                 name: name.to_string(),

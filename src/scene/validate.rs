@@ -3,7 +3,7 @@
 //! Every rule is checked and every broken one reported, so that a person can
 //! fix a scene file in one pass.
 
-use super::{BodyKind, DampingSpec, EndSupport, Scene, SceneError};
+use super::{BodyKind, DampingSpec, EndSupport, JointKind, Scene, SceneError};
 use crate::scene::error::Problem;
 use std::collections::HashSet;
 
@@ -240,12 +240,38 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
         previous = Some(x);
     }
 
+    check_springs(checks, scene, length_ok);
+    check_joints(checks, scene, length_ok);
     let held = |end: EndSupport| match end {
         EndSupport::Pinned => 1,
         EndSupport::Clamped => 2,
         EndSupport::Free => 0,
     };
-    let constraints = held(supports.left) + held(supports.right) + supports.intermediate.len();
+    let springs: usize = supports
+        .springs
+        .iter()
+        .map(|s| usize::from(s.vertical > 0.0) + usize::from(s.rotational > 0.0))
+        .sum();
+    let joints: usize = beam
+        .joints
+        .iter()
+        .map(|j| match j.kind {
+            JointKind::Continuous => 1,
+            JointKind::Separate => 2,
+            JointKind::Hinge => 0,
+        })
+        .sum();
+    let hinges = beam
+        .joints
+        .iter()
+        .filter(|j| j.kind == JointKind::Hinge)
+        .count();
+    let constraints = (held(supports.left)
+        + held(supports.right)
+        + supports.intermediate.len()
+        + springs
+        + joints)
+        .saturating_sub(hinges);
     if constraints < 2 {
         checks.fail(
             "beam.supports",
@@ -260,6 +286,169 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
         );
     }
     length_ok
+}
+
+/// Elastic supports: on the track, finite non-negative springs and dampers.
+fn check_springs(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let springs = &scene.beam.supports.springs;
+    if springs.len() > MAX_INTERMEDIATE_SUPPORTS {
+        checks.fail(
+            "beam.supports.springs",
+            format!("{} springs", springs.len()),
+            format!("must hold at most {MAX_INTERMEDIATE_SUPPORTS}"),
+        );
+        return;
+    }
+    for (i, spring) in springs.iter().enumerate() {
+        let path = |field: &str| format!("beam.supports.springs[{i}].{field}");
+        for (field, value) in [
+            ("vertical", spring.vertical),
+            ("rotational", spring.rotational),
+            ("vertical_damping", spring.vertical_damping),
+            ("rotational_damping", spring.rotational_damping),
+        ] {
+            checks.non_negative(&path(field), value);
+        }
+        let length = scene.beam.length;
+        if checks.finite(&path("at"), spring.at) && length_ok {
+            if !(0.0..=length).contains(&spring.at) {
+                checks.fail(
+                    path("at"),
+                    fmt_f64(spring.at),
+                    format!(
+                        "must lie on the track, 0 <= x <= beam.length = {}",
+                        fmt_f64(length)
+                    ),
+                );
+            } else if in_gap(scene, spring.at) {
+                checks.fail(path("at"), fmt_f64(spring.at), "must not lie in a rail gap");
+            }
+        }
+    }
+}
+
+/// Joints: strictly inside the track, increasing, gaps only at separate
+/// joints, each beam at least as long as its gap is wide apart.
+fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let joints = &scene.beam.joints;
+    if joints.len() > MAX_INTERMEDIATE_SUPPORTS {
+        checks.fail(
+            "beam.joints",
+            format!("{} joints", joints.len()),
+            format!("must hold at most {MAX_INTERMEDIATE_SUPPORTS}"),
+        );
+        return;
+    }
+    let mut previous_end: Option<f64> = None;
+    for (i, joint) in joints.iter().enumerate() {
+        let path = |field: &str| format!("beam.joints[{i}].{field}");
+        let at_ok = checks.finite(&path("at"), joint.at);
+        checks.non_negative(&path("gap"), joint.gap);
+        if joint.gap != 0.0 && joint.kind != JointKind::Separate {
+            checks.fail(
+                path("gap"),
+                fmt_f64(joint.gap),
+                "must be 0 unless kind = \"separate\" (only separate beams leave a gap)",
+            );
+        }
+        if !(at_ok && joint.gap.is_finite()) {
+            continue;
+        }
+        let end = joint.at + joint.gap;
+        if length_ok && !(joint.at > 0.0 && end < scene.beam.length) {
+            checks.fail(
+                path("at"),
+                fmt_f64(joint.at),
+                format!(
+                    "must lie strictly inside the track with its gap, 0 < at and at + gap < \
+                     beam.length = {}",
+                    fmt_f64(scene.beam.length)
+                ),
+            );
+        }
+        if let Some(before) = previous_end {
+            if joint.at <= before {
+                checks.fail(
+                    path("at"),
+                    fmt_f64(joint.at),
+                    format!(
+                        "must lie after the joint before it and its gap ({})",
+                        fmt_f64(before)
+                    ),
+                );
+            }
+        }
+        previous_end = Some(end);
+    }
+    check_gap_crossing(checks, scene);
+    for (i, &x) in scene.beam.supports.intermediate.iter().enumerate() {
+        let separate_end = joints
+            .iter()
+            .any(|j| j.kind == JointKind::Separate && (x == j.at || x == j.at + j.gap));
+        if in_gap(scene, x) || separate_end {
+            checks.fail(
+                format!("beam.supports.intermediate[{i}]"),
+                fmt_f64(x),
+                "must not lie in a rail gap or at a separate joint (whose beam ends are \
+                 pinned already)",
+            );
+        }
+    }
+}
+
+/// Only wheels cross rail gaps, and only gaps narrower than their radius.
+fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
+    let Some((i, widest)) = scene
+        .beam
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| j.gap > 0.0)
+        .max_by(|a, b| a.1.gap.total_cmp(&b.1.gap))
+    else {
+        return;
+    };
+    let bodies = std::iter::once(("body".to_string(), &scene.body)).chain(
+        scene
+            .vehicles
+            .iter()
+            .enumerate()
+            .map(|(k, v)| (format!("vehicles[{k}]"), v)),
+    );
+    for (prefix, body) in bodies {
+        match (body.kind, body.radius) {
+            (BodyKind::Wheel, Some(r)) if widest.gap >= r => checks.fail(
+                format!("beam.joints[{i}].gap"),
+                fmt_f64(widest.gap),
+                format!(
+                    "must be less than the radius of {prefix} ({}): a wheel rolls over a gap \
+                     narrower than its radius",
+                    fmt_f64(r)
+                ),
+            ),
+            (BodyKind::Wheel, _) => {}
+            _ => checks.fail(
+                format!("beam.joints[{i}].gap"),
+                fmt_f64(widest.gap),
+                format!(
+                    "must be 0 with {prefix}.kind = {:?}: gliders, sprung masses and bogie \
+                     vehicles touch the track at a point, which would fall into a rail gap; \
+                     only wheels cross gaps",
+                    body.kind
+                )
+                .to_lowercase(),
+            ),
+        }
+    }
+}
+
+/// Whether `x` lies strictly inside the gap of a separate joint.
+pub(crate) fn in_gap(scene: &Scene, x: f64) -> bool {
+    scene
+        .beam
+        .joints
+        .iter()
+        .any(|j| j.kind == JointKind::Separate && x > j.at && x < j.at + j.gap)
 }
 
 fn check_bodies(checks: &mut Checks, scene: &Scene, length_ok: bool) {
@@ -361,6 +550,12 @@ fn check_body(
                 )
             };
             checks.fail(path("initial_position"), fmt_f64(x), rule);
+        } else if in_gap(scene, x) {
+            checks.fail(
+                path("initial_position"),
+                fmt_f64(x),
+                "must not lie in a rail gap (between beam.joints[].at and at + gap)",
+            );
         }
     }
     checks.finite(&path("initial_speed"), body.initial_speed);
@@ -726,6 +921,12 @@ fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
                     "must lie on the beam, 0 <= x <= beam.length = {}",
                     fmt_f64(scene.beam.length)
                 ),
+            );
+        } else if in_gap(scene, sensor.position) {
+            checks.fail(
+                position_path,
+                fmt_f64(sensor.position),
+                "must not lie in a rail gap (between beam.joints[].at and at + gap)",
             );
         }
     }
