@@ -302,6 +302,10 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         force_elements: Vec::new(),
         contacts: Vec::new(),
         gravity,
+        profile: {
+            let (start, length) = crate::scene::track_extent(scene);
+            crate::profile::Profile::new(&scene.track.irregularities, start, length)?
+        },
     };
     let mut bodies = Vec::new();
     for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {

@@ -19,6 +19,7 @@ pub mod iteration;
 pub mod model;
 pub mod output_file;
 pub mod outputs;
+pub mod profile;
 pub mod report;
 pub mod scene;
 pub mod simulation;

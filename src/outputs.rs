@@ -36,6 +36,7 @@ pub enum Quantity {
     TangentialForce(usize),
     NormalForce(usize),
     OnBeam(usize),
+    Irregularity(usize),
     Sensor(usize),
     BodyKinetic,
     BeamKinetic,
@@ -164,6 +165,14 @@ impl Catalogue {
             "normal contact force on the body (positive pushes it off the track)",
             Quantity::NormalForce(c),
         );
+        if system.profile.is_some() {
+            self.real(
+                format!("{n}.irregularity"),
+                "m",
+                "track irregularity r(x) at the contact point (up positive)",
+                Quantity::Irregularity(c),
+            );
+        }
         if system.track.approach > 0.0 || system.track.run_off > 0.0 {
             self.push(
                 format!("{n}.on_beam"),
@@ -343,6 +352,10 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::OnBeam(c) => {
                 f64::from(u8::from(state.parts[c] == crate::system::TrackPart::Beam))
             }
+            Quantity::Irregularity(c) => system
+                .profile
+                .as_ref()
+                .map_or(0.0, |p| p.at(d.contact_x[c])[0]),
             Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, sim.sensor_positions()[i]),
             Quantity::BodyKinetic => sim.body_kinetic_energy(),
             Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),

@@ -6,8 +6,9 @@ use nalgebra::{DVector, Vector2};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
-use crate::contact::{foot_point, Contact, ContactFrame, FootPointError};
+use crate::contact::{foot_point, foot_point_on, Contact, ContactFrame, FootPointError};
 use crate::force_element::ForceElement;
+use crate::profile::Profile;
 
 /// The track: rigid ground of length `approach` before the beam (x < 0) and
 /// `run_off` after it (x > L), level with the beam's supports.
@@ -25,6 +26,8 @@ pub struct System {
     pub contacts: Vec<Contact>,
     /// Acceleration of gravity (m/s², acting in −y).
     pub gravity: f64,
+    /// Irregularity r(x) of the running surface, beam and ground alike.
+    pub profile: Option<Profile>,
 }
 
 /// Where along the track a contact point is.
@@ -101,6 +104,9 @@ impl System {
         guess: f64,
         part: TrackPart,
     ) -> Result<ContactFrame, FootPointError> {
+        if let Some(profile) = &self.profile {
+            return self.contact_frame_on(profile, u, centre, guess, part);
+        }
         let length = self.beam.length;
         Ok(match part {
             TrackPart::Beam => {
@@ -121,6 +127,37 @@ impl System {
             TrackPart::Beyond if self.ground_at(centre.x) => ContactFrame::on_ground(centre),
             TrackPart::Beyond => foot_point(&self.beam, u, centre, guess)?,
         })
+    }
+
+    /// `contact_frame` on a track carrying the irregularity `profile`: the
+    /// same cases, each on the surface raised by r(x).
+    fn contact_frame_on(
+        &self,
+        profile: &Profile,
+        u: &DVector<f64>,
+        centre: &Vector2<f64>,
+        guess: f64,
+        part: TrackPart,
+    ) -> Result<ContactFrame, FootPointError> {
+        let (beam, length) = (&self.beam, self.beam.length);
+        match part {
+            TrackPart::Beam => {
+                let frame = foot_point_on(beam, Some(profile), u, centre, guess)?;
+                if frame.x < 0.0 && self.track.approach > 0.0 {
+                    ContactFrame::at_profile_corner(profile, 0.0, centre)
+                } else {
+                    Ok(frame)
+                }
+            }
+            TrackPart::RunOff if centre.x < length => {
+                ContactFrame::at_profile_corner(profile, length, centre)
+            }
+            TrackPart::Approach | TrackPart::RunOff => ContactFrame::on_profile(profile, centre),
+            TrackPart::Beyond if self.ground_at(centre.x) => {
+                ContactFrame::on_profile(profile, centre)
+            }
+            TrackPart::Beyond => foot_point_on(beam, Some(profile), u, centre, guess),
+        }
     }
 
     /// Whether a contact on `part` that moved from `start` to `end` (foot

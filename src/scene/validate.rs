@@ -54,6 +54,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     check_bodies(&mut checks, scene, length_ok);
     check_sensors(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
+    checks.problems.extend(super::irregularity::problems(scene));
     if checks.problems.is_empty() {
         Ok(())
     } else {
