@@ -80,3 +80,155 @@ fn glider_follows_a_sine_profile_with_the_normal_force_of_its_path() {
         "height off the profile by {worst_y} m"
     );
 }
+
+fn random(spectrum: &str, class: Option<&str>, seed: u32) -> IrregularitySpec {
+    IrregularitySpec::Random {
+        spectrum: spectrum.into(),
+        class: class.map(str::to_string),
+        seed,
+        shortest_wavelength: 0.5,
+        longest_wavelength: 50.0,
+        spacing: None,
+    }
+}
+
+/// 13 km of track: the grid has 2¹⁸ samples 5 cm apart.
+const TRACK: (f64, f64) = (-100.0, 13_000.0);
+const SPACING: f64 = 0.05;
+const SAMPLES: usize = 1 << 18;
+
+fn samples(profile: &Profile) -> Vec<f64> {
+    (0..SAMPLES)
+        .map(|j| profile.at(TRACK.0 + j as f64 * SPACING)[0])
+        .collect()
+}
+
+#[test]
+fn a_random_profile_regenerates_bit_for_bit_from_its_seed() {
+    let make = |seed| {
+        Profile::new(&[random("iso8608", Some("C"), seed)], TRACK.0, TRACK.1)
+            .unwrap()
+            .unwrap()
+    };
+    let (a, b, other) = (make(7), make(7), make(8));
+    let mut differing = 0;
+    for k in 0..20_000 {
+        // On the samples and between them, with every derivative.
+        let x = TRACK.0 + 0.6537 * k as f64;
+        let (va, vb, vo) = (a.at(x), b.at(x), other.at(x));
+        for i in 0..4 {
+            assert_eq!(va[i].to_bits(), vb[i].to_bits(), "x {x}, derivative {i}");
+        }
+        differing += usize::from(va[0] != vo[0]);
+    }
+    assert_eq!(differing, 20_000, "another seed gives another profile");
+    let rms = |p: &Profile| (samples(p).iter().map(|r| r * r).sum::<f64>() / SAMPLES as f64).sqrt();
+    // Class C over 0.02–2 cycles/m: σ² = G₀ n₀² (1/0.02 − 1/2) = 1.267e-4 m²
+    // (σ = 11.26 mm); both seeds within 10 %.
+    for p in [&a, &other] {
+        let sigma = rms(p);
+        assert!((sigma / 1.126e-2 - 1.0).abs() < 0.1, "rms {sigma}");
+    }
+}
+
+/// Welch's estimate of the one-sided PSD (m³) of `x` sampled every `dx`:
+/// Hann-windowed segments of `len` samples overlapping by half, their
+/// periodograms averaged. Returns (frequency, density) for bins 1..len/2.
+fn welch(x: &[f64], dx: f64, len: usize) -> Vec<(f64, f64)> {
+    use rustfft::num_complex::Complex;
+    let fft = rustfft::FftPlanner::new().plan_fft_forward(len);
+    let window: Vec<f64> = (0..len)
+        .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / len as f64).cos())
+        .collect();
+    let power: f64 = window.iter().map(|w| w * w).sum();
+    let mut sum = vec![0.0; len / 2];
+    let mut segments = 0;
+    let mut buffer = vec![Complex::new(0.0, 0.0); len];
+    let mut start = 0;
+    while start + len <= x.len() {
+        for i in 0..len {
+            buffer[i] = Complex::new(x[start + i] * window[i], 0.0);
+        }
+        fft.process(&mut buffer);
+        for k in 1..len / 2 {
+            sum[k] += 2.0 * buffer[k].norm_sqr() * dx / power;
+        }
+        segments += 1;
+        start += len / 2;
+    }
+    (1..len / 2)
+        .map(|k| (k as f64 / (len as f64 * dx), sum[k] / segments as f64))
+        .collect()
+}
+
+/// The estimated PSD of a long sample against the target, averaged over
+/// third-octave bands within the wavelength band (three bins in from its
+/// edges, where the window's leakage across the cut-offs is felt): the
+/// largest relative difference.
+fn spectrum_error(spec: IrregularitySpec, target: impl Fn(f64) -> f64) -> f64 {
+    let profile = Profile::new(&[spec], TRACK.0, TRACK.1).unwrap().unwrap();
+    let len = 1 << 12;
+    let estimate = welch(&samples(&profile), SPACING, len);
+    let bin = 1.0 / (len as f64 * SPACING);
+    let (low, high) = (1.0 / 50.0 + 3.0 * bin, 1.0 / 0.5 - 3.0 * bin);
+    let mut worst: f64 = 0.0;
+    let mut band_low = low;
+    let mut bands = 0;
+    while band_low < high {
+        let band_high = (band_low * 2f64.powf(1.0 / 3.0)).min(high);
+        let inside: Vec<&(f64, f64)> = estimate
+            .iter()
+            .filter(|(n, _)| *n >= band_low && *n < band_high)
+            .collect();
+        if !inside.is_empty() {
+            let measured: f64 = inside.iter().map(|(_, p)| p).sum();
+            let expected: f64 = inside.iter().map(|(n, _)| target(*n)).sum();
+            worst = worst.max((measured / expected - 1.0).abs());
+            bands += 1;
+        }
+        band_low = band_high;
+    }
+    assert!(bands >= 15, "{bands} bands");
+    worst
+}
+
+#[test]
+fn iso_8608_profile_has_its_class_spectrum_within_the_band() {
+    // Class C: G_d(n) = 256e-6 m³ (n / 0.1)⁻².
+    let error = spectrum_error(random("iso8608", Some("C"), 11), |n| {
+        256e-6 * (n / 0.1).powi(-2)
+    });
+    eprintln!(
+        "ISO 8608 C: largest third-octave difference {:.2} %",
+        100.0 * error
+    );
+    assert!(error < 0.1, "{error}");
+}
+
+#[test]
+fn railway_profiles_have_their_spectra_within_the_band() {
+    let tau = 2.0 * std::f64::consts::PI;
+    // FRA class 4: S(Ω) = k A_v Ω_c² / (Ω² (Ω² + Ω_c²)) cm²/(rad/m).
+    let fra = |n: f64| {
+        let w2 = (tau * n).powi(2);
+        tau * 1e-4 * 0.25 * 0.5376 * 0.8245f64.powi(2) / (w2 * (w2 + 0.8245f64.powi(2)))
+    };
+    let error = spectrum_error(random("fra", Some("4"), 5), fra);
+    eprintln!(
+        "FRA 4: largest third-octave difference {:.2} %",
+        100.0 * error
+    );
+    assert!(error < 0.1, "FRA {error}");
+    // German high interference: A_v Ω_c² / ((Ω² + Ω_r²)(Ω² + Ω_c²)) m²/(rad/m).
+    let german = |n: f64| {
+        let w2 = (tau * n).powi(2);
+        let (c2, r2) = (0.8246f64.powi(2), 0.0206f64.powi(2));
+        tau * 1.080e-6 * c2 / ((w2 + r2) * (w2 + c2))
+    };
+    let error = spectrum_error(random("german_high", None, 5), german);
+    eprintln!(
+        "German high: largest third-octave difference {:.2} %",
+        100.0 * error
+    );
+    assert!(error < 0.1, "German {error}");
+}
