@@ -232,3 +232,137 @@ fn railway_profiles_have_their_spectra_within_the_band() {
     );
     assert!(error < 0.1, "German {error}");
 }
+
+const SCENE_WITH_TABLE: &str = r#"
+name = "table"
+gravity = 9.81
+[beam]
+length = 24.0
+mass_per_length = 1250.0
+bending_stiffness = 1e9
+surface_offset = 0.6
+elements = 2
+[track]
+approach = 10.0
+[[track.irregularities]]
+type = "table"
+file = "profiles/dip.csv"
+[[track.irregularities]]
+type = "step"
+position = 12.0
+height = 0.001
+smoothing = 0.5
+[body]
+name = "glider"
+kind = "glider"
+mass = 3000.0
+initial_position = -5.0
+initial_speed = 10.0
+"#;
+
+#[test]
+fn a_table_is_read_beside_the_scene_and_kept_inline() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("profiles")).unwrap();
+    let csv = "# measured\nx, r\n-2.0, 0.0\n0.0, -0.003\n\n2.0, 0.0\n";
+    std::fs::write(dir.path().join("profiles/dip.csv"), csv).unwrap();
+    let path = dir.path().join("scene.toml");
+    std::fs::write(&path, SCENE_WITH_TABLE).unwrap();
+    let scene = Scene::load(path.to_str().unwrap()).unwrap();
+    let IrregularitySpec::Table { file, points } = &scene.track.irregularities[0] else {
+        panic!("{:?}", scene.track.irregularities[0]);
+    };
+    assert_eq!(file, &None);
+    assert_eq!(points, &vec![[-2.0, 0.0], [0.0, -0.003], [2.0, 0.0]]);
+    // The scene as written (the FMU's copy) needs no file any more.
+    let again = Scene::from_toml_str(&scene.to_toml_string()).unwrap();
+    assert_eq!(again, scene);
+    // The vehicle starts on the table's profile, moving along it.
+    let sim = Simulation::new(&scene).unwrap();
+    let profile = sim.system().profile.as_ref().unwrap();
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let mut values = vec![0.0; names.len()];
+    sim.output_values(&mut values);
+    let value = |n: &str| values[names.iter().position(|x| x == n).unwrap()];
+    // At x = −5 m the spline through (−2, 0), (0, −3 mm), (2, 0) is flat at
+    // 0; at −1 m it has a slope. Start the glider there instead.
+    assert_eq!(profile.at(-5.0), [0.0; 4]);
+    assert!((value("glider.y") - 0.6).abs() < 1e-12);
+    let mut on_slope = scene.clone();
+    on_slope.body.initial_position = -1.0;
+    let sim = Simulation::new(&on_slope).unwrap();
+    sim.output_values(&mut values);
+    let value = |n: &str| values[names.iter().position(|x| x == n).unwrap()];
+    // The centre is h = 0.6 m from the surface along its normal, at the
+    // foot x_d = x + h sin φ(x_d).
+    let mut foot = -1.0;
+    for _ in 0..30 {
+        let slope = profile.at(foot)[1];
+        foot = -1.0 + 0.6 * slope / (1.0 + slope * slope).sqrt();
+    }
+    let [r, slope, ..] = profile.at(foot);
+    let cos = 1.0 / (1.0 + slope * slope).sqrt();
+    assert!(slope.abs() > 1e-4);
+    assert!((value("glider.y") - (r + 0.6 * cos)).abs() < 1e-9);
+    assert!((value("glider.vy") - 10.0 * slope).abs() < 1e-9);
+    // Unresolved, the same scene is refused with the field named.
+    let error = Scene::from_toml_str(SCENE_WITH_TABLE)
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("track.irregularities[0].file"), "{error}");
+}
+
+#[test]
+fn bad_table_rows_are_named_by_line() {
+    let cases = [
+        ("x,r\n0,0\n1,abc\n", "line 3"),
+        ("0,0\n1\n", "line 2"),
+        ("0,0\n2,1\n1,0\n", "line 3"),
+        ("0,0\n1,inf\n", "line 2"),
+        ("0,0\n", "at least two rows"),
+    ];
+    for (text, expected) in cases {
+        let error = guideway::scene::parse_table(text).unwrap_err();
+        assert!(error.contains(expected), "{text:?}: {error}");
+    }
+    // Too many rows is refused at the bound, named.
+    let long: String = (0..=guideway::scene::MAX_TABLE_POINTS)
+        .map(|i| format!("{i},0\n"))
+        .collect();
+    let error = guideway::scene::parse_table(&long).unwrap_err();
+    assert!(error.contains("100000 rows"), "{error}");
+}
+
+#[test]
+fn irregularity_rules_name_the_field_and_the_rule() {
+    let mut scene = sine_scene();
+    scene.track.irregularities = vec![
+        IrregularitySpec::Step {
+            position: 3.0,
+            height: 0.01,
+            smoothing: 0.0,
+        },
+        random("iso8608", Some("Z"), 1),
+        IrregularitySpec::Random {
+            spectrum: "german_low".into(),
+            class: None,
+            seed: 1,
+            shortest_wavelength: 0.5,
+            longest_wavelength: 50.0,
+            spacing: Some(1e-6),
+        },
+        IrregularitySpec::Table {
+            file: None,
+            points: vec![[0.0, 0.0], [0.0, 1.0]],
+        },
+    ];
+    let error = scene.validate().unwrap_err().to_string();
+    for expected in [
+        "track.irregularities[0].smoothing = 0.0: must be > 0",
+        "track.irregularities[1].spectrum = \"iso8608\": iso8608 needs class",
+        "track.irregularities[2].spacing = 1e-6: gives more than 2097152 samples",
+        "track.irregularities[3].points[1][0] = 0.0: must be greater than the previous x",
+    ] {
+        assert!(error.contains(expected), "missing {expected:?} in {error}");
+    }
+}
