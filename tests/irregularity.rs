@@ -366,3 +366,91 @@ fn irregularity_rules_name_the_field_and_the_rule() {
         assert!(error.contains(expected), "missing {expected:?} in {error}");
     }
 }
+
+#[test]
+fn each_wheelset_of_a_bogie_vehicle_meets_the_dip_at_its_own_position() {
+    // A coach on rigid ground over a 2 mm cosine dip at x = −40 m: every
+    // wheelset (10 and 7.5 m either side of the car's centre) reads the
+    // dip as it passes it, and at that instant its own force departs most
+    // from the static one.
+    let scene = Scene::from_toml_str(
+        r#"
+name = "bogie-dip"
+[beam]
+length = 25.0
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = 10
+[track]
+approach = 100.0
+[[track.irregularities]]
+type = "cosine_dip"
+position = -40.0
+wavelength = 2.0
+depth = 0.002
+[body]
+name = "coach"
+kind = "bogie_vehicle"
+mass = 38884.0
+initial_position = -80.0
+initial_speed = 20.0
+[body.bogie]
+car_inertia = 1.95e6
+bogie_mass = 2400.0
+bogie_inertia = 3200.0
+wheelset_mass = 1400.0
+bogie_half_distance = 8.75
+axle_half_distance = 1.25
+primary_stiffness = 1.18e6
+primary_damping = 2.0e4
+secondary_stiffness = 5.3e5
+secondary_damping = 1.0e4
+[solver]
+step = 0.0005
+integrator = "hht"
+end_time = 3.0
+"#,
+    )
+    .unwrap();
+    let mut sim = Simulation::new(&scene).unwrap();
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let contacts: Vec<String> = names
+        .iter()
+        .filter_map(|n| n.strip_suffix(".irregularity").map(str::to_string))
+        .collect();
+    assert_eq!(contacts.len(), 4, "{names:?}");
+    let column = |c: &str, q: &str| names.iter().position(|n| *n == format!("{c}.{q}")).unwrap();
+    let mut values = vec![0.0; names.len()];
+    sim.output_values(&mut values);
+    let statics: Vec<f64> = contacts
+        .iter()
+        .map(|c| values[column(c, "normal_force")])
+        .collect();
+    // Per contact: (lowest r, its position then, force departures of all
+    // contacts then).
+    let mut lowest: Vec<(f64, f64, Vec<f64>)> = vec![(0.0, f64::NAN, vec![]); 4];
+    let dt = sim.step_size();
+    for k in 1..=(3.0 / dt).round() as u64 {
+        sim.advance_to(k as f64 * dt).unwrap();
+        sim.output_values(&mut values);
+        for (i, c) in contacts.iter().enumerate() {
+            let r = values[column(c, "irregularity")];
+            if r < lowest[i].0 {
+                let departures = contacts
+                    .iter()
+                    .zip(&statics)
+                    .map(|(d, s)| (values[column(d, "normal_force")] - s).abs())
+                    .collect();
+                lowest[i] = (r, values[column(c, "position")], departures);
+            }
+        }
+    }
+    for (i, (r, x, departures)) in lowest.iter().enumerate() {
+        assert!((r + 0.002).abs() < 1e-6, "{}: lowest r {r}", contacts[i]);
+        assert!((x + 40.0).abs() < 0.02, "{}: at x = {x}", contacts[i]);
+        let largest = departures.iter().cloned().fold(0.0, f64::max);
+        assert_eq!(departures[i], largest, "{}: {departures:?}", contacts[i]);
+        assert!(largest > 1e3, "{}: {departures:?}", contacts[i]);
+    }
+}
