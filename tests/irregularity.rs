@@ -454,3 +454,30 @@ end_time = 3.0
         assert!(largest > 1e3, "{}: {departures:?}", contacts[i]);
     }
 }
+
+#[test]
+fn the_irregularities_together_are_bounded() {
+    // Each random profile alone is within its bound; together they are not.
+    let mut scene = sine_scene();
+    let spec = IrregularitySpec::Random {
+        spectrum: "german_low".into(),
+        class: None,
+        seed: 1,
+        shortest_wavelength: 0.5,
+        longest_wavelength: 50.0,
+        spacing: Some(0.0002),
+    };
+    scene.track.irregularities = vec![spec; 3];
+    let error = scene.validate().unwrap_err().to_string();
+    assert!(
+        error.contains("track.irregularities = 6291456 random-profile samples"),
+        "{error}"
+    );
+    let table = IrregularitySpec::Table {
+        file: None,
+        points: (0..60_000).map(|i| [i as f64, 0.0]).collect(),
+    };
+    scene.track.irregularities = vec![table.clone(), table];
+    let error = scene.validate().unwrap_err().to_string();
+    assert!(error.contains("120000 table points"), "{error}");
+}

@@ -89,9 +89,11 @@ pub fn track_extent(scene: &Scene) -> (f64, f64) {
     (-t.approach, t.approach + scene.beam.length + t.run_off)
 }
 
-/// Read every table `file` relative to `base` into its `points`.
+/// Read every table `file` relative to `base` into its `points`; all the
+/// tables together hold at most `MAX_TABLE_POINTS` points.
 pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneError> {
     let mut problems = Vec::new();
+    let mut total = 0;
     for (i, spec) in scene.track.irregularities.iter_mut().enumerate() {
         if let IrregularitySpec::Table { file, points } = spec {
             let Some(name) = file.clone() else { continue };
@@ -105,7 +107,16 @@ pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneErr
                 continue;
             }
             match read_table(&base.join(&name)) {
+                Ok(read) if total + read.len() > MAX_TABLE_POINTS => {
+                    problems.push(Problem::new(
+                        path,
+                        format!("{name:?}"),
+                        format!("the tables together must hold at most {MAX_TABLE_POINTS} points"),
+                    ));
+                    break;
+                }
                 Ok(read) => {
+                    total += read.len();
                     *points = read;
                     *file = None;
                 }
@@ -198,6 +209,42 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
             format!("must hold at most {MAX_IRREGULARITIES}"),
         ));
         return problems;
+    }
+    // Bounds on the whole: every table and random grid is held in memory.
+    let (mut points, mut samples) = (0usize, 0usize);
+    for spec in list {
+        match spec {
+            IrregularitySpec::Table { points: p, .. } => points += p.len(),
+            IrregularitySpec::Random {
+                shortest_wavelength,
+                longest_wavelength,
+                spacing,
+                ..
+            } => {
+                let (start, length) = track_extent(scene);
+                let spacing = IrregularitySpec::random_spacing(*shortest_wavelength, *spacing);
+                let band = (*shortest_wavelength, *longest_wavelength);
+                samples += Grid::covering(start, length, spacing, band).map_or(0, |g| g.samples);
+            }
+            _ => {}
+        }
+    }
+    if points > MAX_TABLE_POINTS {
+        problems.push(Problem::new(
+            "track.irregularities",
+            format!("{points} table points"),
+            format!("the tables together must hold at most {MAX_TABLE_POINTS} points"),
+        ));
+    }
+    if samples > MAX_SAMPLES {
+        problems.push(Problem::new(
+            "track.irregularities",
+            format!("{samples} random-profile samples"),
+            format!(
+                "the random profiles together must have at most {MAX_SAMPLES} samples (raise \
+                 their spacing)"
+            ),
+        ));
     }
     for (i, spec) in list.iter().enumerate() {
         let mut rules = Rules {
