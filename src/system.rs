@@ -6,7 +6,7 @@ use nalgebra::{DVector, Vector2};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
-use crate::contact::{foot_point, foot_point_on, Contact, ContactFrame, FootPointError};
+use crate::contact::{foot_point_on, Contact, ContactFrame, FootPointError};
 use crate::force_element::ForceElement;
 use crate::profile::Profile;
 
@@ -104,59 +104,35 @@ impl System {
         guess: f64,
         part: TrackPart,
     ) -> Result<ContactFrame, FootPointError> {
-        if let Some(profile) = &self.profile {
-            return self.contact_frame_on(profile, u, centre, guess, part);
-        }
-        let length = self.beam.length;
-        Ok(match part {
+        let (beam, length, profile) = (&self.beam, self.beam.length, self.profile.as_ref());
+        // With an irregularity profile each case runs on the surface
+        // raised by r(x); without one, exactly as before it existed.
+        let ground = |centre: &Vector2<f64>| match profile {
+            None => Ok(ContactFrame::on_ground(centre)),
+            Some(profile) => ContactFrame::on_profile(profile, centre),
+        };
+        let corner = |x: f64, centre: &Vector2<f64>| match profile {
+            None => Ok(ContactFrame::at_corner(x, centre)),
+            Some(profile) => ContactFrame::at_profile_corner(profile, x, centre),
+        };
+        match part {
             TrackPart::Beam => {
-                let frame = foot_point(&self.beam, u, centre, guess)?;
+                let frame = foot_point_on(beam, profile, u, centre, guess)?;
                 // Onto a beam that slopes down from its start the wheel
                 // turns about the start (a corner) until its centre is over
                 // the beam's normal there.
                 if frame.x < 0.0 && self.track.approach > 0.0 {
-                    ContactFrame::at_corner(0.0, centre)
-                } else {
-                    frame
-                }
-            }
-            TrackPart::RunOff if centre.x < length => ContactFrame::at_corner(length, centre),
-            // Contacts enter from the approach at centre.x = 0 (the event):
-            // a left-moving exit onto the approach is taken on flat ground.
-            TrackPart::Approach | TrackPart::RunOff => ContactFrame::on_ground(centre),
-            TrackPart::Beyond if self.ground_at(centre.x) => ContactFrame::on_ground(centre),
-            TrackPart::Beyond => foot_point(&self.beam, u, centre, guess)?,
-        })
-    }
-
-    /// `contact_frame` on a track carrying the irregularity `profile`: the
-    /// same cases, each on the surface raised by r(x).
-    fn contact_frame_on(
-        &self,
-        profile: &Profile,
-        u: &DVector<f64>,
-        centre: &Vector2<f64>,
-        guess: f64,
-        part: TrackPart,
-    ) -> Result<ContactFrame, FootPointError> {
-        let (beam, length) = (&self.beam, self.beam.length);
-        match part {
-            TrackPart::Beam => {
-                let frame = foot_point_on(beam, Some(profile), u, centre, guess)?;
-                if frame.x < 0.0 && self.track.approach > 0.0 {
-                    ContactFrame::at_profile_corner(profile, 0.0, centre)
+                    corner(0.0, centre)
                 } else {
                     Ok(frame)
                 }
             }
-            TrackPart::RunOff if centre.x < length => {
-                ContactFrame::at_profile_corner(profile, length, centre)
-            }
-            TrackPart::Approach | TrackPart::RunOff => ContactFrame::on_profile(profile, centre),
-            TrackPart::Beyond if self.ground_at(centre.x) => {
-                ContactFrame::on_profile(profile, centre)
-            }
-            TrackPart::Beyond => foot_point_on(beam, Some(profile), u, centre, guess),
+            TrackPart::RunOff if centre.x < length => corner(length, centre),
+            // Contacts enter from the approach at centre.x = 0 (the event):
+            // a left-moving exit onto the approach is taken on flat ground.
+            TrackPart::Approach | TrackPart::RunOff => ground(centre),
+            TrackPart::Beyond if self.ground_at(centre.x) => ground(centre),
+            TrackPart::Beyond => foot_point_on(beam, profile, u, centre, guess),
         }
     }
 
