@@ -403,6 +403,10 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         force_elements: Vec::new(),
         contacts: Vec::new(),
         gravity,
+        profile: {
+            let (start, length) = crate::scene::track_extent(scene);
+            crate::profile::Profile::new(&scene.track.irregularities, start, length)?
+        },
     };
     let mut bodies = Vec::new();
     let (mut restitution, mut open) = (Vec::new(), Vec::new());

@@ -17,6 +17,7 @@ use nalgebra::{DVector, Vector2, Vector3};
 
 use crate::beam::{Beam, Shape};
 use crate::body::BodyState;
+use crate::profile::Profile;
 
 /// What touches the track.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -217,6 +218,66 @@ impl ContactFrame {
             on_beam: false,
         }
     }
+
+    /// The frame on rigid ground carrying the irregularity `profile`: the
+    /// foot of the perpendicular from `centre` on y = r(x), found by
+    /// Newton's method from below the centre.
+    pub fn on_profile(
+        profile: &Profile,
+        centre: &Vector2<f64>,
+    ) -> Result<ContactFrame, FootPointError> {
+        let mut x = centre.x;
+        for _ in 0..50 {
+            let [r, slope, curvature, _] = profile.at(x);
+            let height = centre.y - r;
+            let residual = (centre.x - x) + height * slope;
+            let derivative = -1.0 - slope * slope + height * curvature;
+            if !(derivative.is_finite() && residual.is_finite()) || derivative.abs() < 1e-12 {
+                return Err(FootPointError { last_x: x });
+            }
+            // The foot lies within |height × slope| of the centre's abscissa.
+            let trust = height.abs().max(1e-3);
+            let dx = (-residual / derivative).clamp(-trust, trust);
+            if dx.abs() <= 1e-14 * x.abs().max(1.0) {
+                let secant = (1.0 + slope * slope).sqrt();
+                return Ok(ContactFrame {
+                    x,
+                    deflection: r,
+                    slope,
+                    curvature,
+                    cos: 1.0 / secant,
+                    sin: slope / secant,
+                    ..ContactFrame::on_ground(centre)
+                });
+            }
+            x += dx;
+        }
+        Err(FootPointError { last_x: x })
+    }
+
+    /// `at_corner` on a track carrying `profile`: the corner is the point
+    /// (`x`, r(x)); where there is no corner to turn about, the ground.
+    pub fn at_profile_corner(
+        profile: &Profile,
+        x: f64,
+        centre: &Vector2<f64>,
+    ) -> Result<ContactFrame, FootPointError> {
+        let height = profile.at(x)[0];
+        let offset = centre - Vector2::new(x, height);
+        let distance = offset.norm();
+        if distance.is_nan() || distance <= 1e-9 * x.abs().max(1.0) || offset.y <= 0.0 {
+            return ContactFrame::on_profile(profile, centre);
+        }
+        let n = offset / distance;
+        Ok(ContactFrame {
+            x,
+            deflection: height,
+            slope: -n.x / n.y,
+            cos: n.y,
+            sin: -n.x,
+            ..ContactFrame::on_ground(centre)
+        })
+    }
 }
 
 /// Find the foot of the perpendicular from `centre` on the deformed neutral
@@ -238,11 +299,39 @@ pub fn foot_point(
     centre: &Vector2<f64>,
     guess: f64,
 ) -> Result<ContactFrame, FootPointError> {
+    foot_point_on(beam, None, u, centre, guess)
+}
+
+/// `foot_point` on the deformed neutral axis raised by the irregularity
+/// `profile`, y = w(x) + r(x): the frame's height, slope and curvature are
+/// then those of the sum, so its normal, gap and velocity rows carry the
+/// irregularity (the travel-induced surface velocity V r' enters the
+/// normal row through the tilted normal).
+pub fn foot_point_on(
+    beam: &Beam,
+    profile: Option<&Profile>,
+    u: &DVector<f64>,
+    centre: &Vector2<f64>,
+    guess: f64,
+) -> Result<ContactFrame, FootPointError> {
     let mut x = guess;
     let mut element = beam.element_at(x);
     for _ in 0..50 {
         element = beam.element_near(x, element);
-        let [w, slope, curvature, third] = beam.axis(element, x, u);
+        let axis = beam.axis(element, x, u);
+        // Without a profile the axis is used untouched (same bits as before).
+        let [w, slope, curvature, third] = match profile {
+            None => axis,
+            Some(profile) => {
+                let r = profile.at(x);
+                [
+                    axis[0] + r[0],
+                    axis[1] + r[1],
+                    axis[2] + r[2],
+                    axis[3] + r[3],
+                ]
+            }
+        };
         let height = centre.y - w;
         // f(x) = (X − x) + (Y − w) w' = 0 and its first two derivatives.
         let residual = (centre.x - x) + height * slope;
@@ -424,5 +513,79 @@ mod tests {
         let frame = foot_point(&beam, &u, &state.position, 9.0).unwrap();
         let e = frame.velocity_error(&beam, RADIUS, &state, &v);
         assert!((rate - e.y).abs() < 1e-7, "{rate} vs {}", e.y);
+    }
+}
+
+#[cfg(test)]
+mod profile_tests {
+    use super::*;
+    use crate::profile::Profile;
+    use crate::scene::{BeamSpec, IrregularitySpec, SupportsSpec};
+
+    fn sine() -> Profile {
+        let spec = IrregularitySpec::Sine {
+            amplitude: 0.01,
+            wavelength: 3.0,
+            phase: 0.2,
+        };
+        Profile::new(&[spec], 0.0, 24.0).unwrap().unwrap()
+    }
+
+    #[test]
+    fn with_a_profile_the_normal_velocity_error_is_still_the_rate_of_the_gap() {
+        // On the beam and on rigid ground: the travel over the profile's
+        // slope (V r') is in the normal row.
+        let beam = Beam::new(&BeamSpec {
+            length: 24.0,
+            mass_per_length: 1250.0,
+            bending_stiffness: 1e9,
+            surface_offset: 0.6,
+            elements: 3,
+            supports: SupportsSpec::default(),
+            damping: None,
+            joints: Vec::new(),
+        })
+        .unwrap();
+        let u = DVector::from_fn(beam.free_dofs(), |i, _| 0.05 * ((i as f64) * 1.3).sin());
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let profile = sine();
+        let state = BodyState {
+            position: Vector2::new(9.1, 0.95),
+            velocity: Vector2::new(10.0, -0.4),
+            angle: 0.0,
+            angular_velocity: -31.0,
+        };
+        let frame_at = |u: &DVector<f64>, c: &Vector2<f64>, ground: bool| {
+            if ground {
+                ContactFrame::on_profile(&profile, c).unwrap()
+            } else {
+                foot_point_on(&beam, Some(&profile), u, c, 9.0).unwrap()
+            }
+        };
+        for ground in [false, true] {
+            let gap_at = |h: f64| {
+                let u_h = &u + &v * h;
+                let c = state.position + state.velocity * h;
+                frame_at(&u_h, &c, ground).gap(&beam, 0.3, &c)
+            };
+            let h = 1e-6;
+            let rate = (gap_at(h) - gap_at(-h)) / (2.0 * h);
+            let frame = frame_at(&u, &state.position, ground);
+            let e = frame.velocity_error(&beam, 0.3, &state, &v);
+            assert!(
+                (rate - e.y).abs() < 1e-7,
+                "ground {ground}: {rate} vs {}",
+                e.y
+            );
+            // The profile tilts the frame: its slope is w' + r'.
+            let r_slope = profile.at(frame.x)[1];
+            let w_slope = if ground {
+                0.0
+            } else {
+                beam.axis(frame.shape.element, frame.x, &u)[1]
+            };
+            assert!((frame.slope - w_slope - r_slope).abs() < 1e-12);
+            assert!(r_slope.abs() > 1e-3, "the test point must be on a slope");
+        }
     }
 }

@@ -23,6 +23,7 @@ pub mod model;
 pub mod moving_load;
 pub mod output_file;
 pub mod outputs;
+pub mod profile;
 pub mod report;
 pub mod scene;
 pub mod simulation;

@@ -40,6 +40,7 @@ pub enum Quantity {
     Gap(usize),
     ImpulseTangential(usize),
     ImpulseNormal(usize),
+    Irregularity(usize),
     Sensor(usize),
     SensorVelocity(usize),
     SensorAcceleration(usize),
@@ -178,6 +179,14 @@ impl Catalogue {
             "normal contact force on the body (positive pushes it off the track)",
             Quantity::NormalForce(c),
         );
+        if system.profile.is_some() {
+            self.real(
+                format!("{n}.irregularity"),
+                "m",
+                "track irregularity r(x) at the contact point (up positive)",
+                Quantity::Irregularity(c),
+            );
+        }
         if system.track.approach > 0.0 || system.track.run_off > 0.0 {
             self.push(
                 format!("{n}.on_beam"),
@@ -466,6 +475,10 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::Gap(c) => state.contacts[c].gap,
             Quantity::ImpulseTangential(c) => state.contacts[c].impulse[0],
             Quantity::ImpulseNormal(c) => state.contacts[c].impulse[1],
+            Quantity::Irregularity(c) => system
+                .profile
+                .as_ref()
+                .map_or(0.0, |p| p.at(d.contact_x[c])[0]),
             Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, sim.sensor_positions()[i]),
             Quantity::SensorVelocity(i) => {
                 beam.deflection(&d.beam_velocity, sim.sensor_positions()[i])

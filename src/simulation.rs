@@ -13,7 +13,7 @@ use crate::integrate::{
 use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
 use crate::outputs::{catalogue, Quantity};
 use crate::scene::{Scene, SpeedSpec, StartKind};
-use crate::static_start::static_start;
+use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
@@ -330,6 +330,11 @@ impl Simulation {
         let applied: Vec<Vector3<f64>> =
             constant_forces(&assembly.system, &vehicle_forces).collect();
         let u = match scene.solver.start {
+            StartKind::Rest if assembly.system.profile.is_some() => {
+                let u = DVector::zeros(assembly.system.beam.free_dofs());
+                place_on_profile(&mut assembly.system, &mut assembly.bodies, &u)?;
+                u
+            }
             StartKind::Rest => DVector::zeros(assembly.system.beam.free_dofs()),
             StartKind::Static => static_start(
                 &mut assembly.system,

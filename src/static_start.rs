@@ -80,6 +80,27 @@ pub fn static_start(
     Ok(u)
 }
 
+/// A start at rest on a track with irregularities: each contact body moved
+/// vertically onto the profile at its abscissa and moving along it (a jump
+/// across it would need an impulse), the force elements at their preloads.
+pub fn place_on_profile(
+    system: &mut System,
+    bodies: &mut [BodyState],
+    u: &DVector<f64>,
+) -> Result<(), String> {
+    let mut frames = Vec::new();
+    // The foot point moves with the body's height by the profile's slope:
+    // a second pass settles that.
+    for _ in 0..2 {
+        contact_frames_at_bodies(system, u, bodies, &mut frames)
+            .map_err(|_| "a contact point lies off the track at the start".to_string())?;
+        settle_on_surface(system, bodies, &frames);
+    }
+    follow_surface(system, bodies, &frames);
+    reset_rests(system, bodies);
+    Ok(())
+}
+
 fn locate(
     system: &System,
     u: &DVector<f64>,

@@ -6,8 +6,9 @@ use nalgebra::{DVector, Vector2};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
-use crate::contact::{foot_point, Contact, ContactFrame, FootPointError};
+use crate::contact::{foot_point, foot_point_on, Contact, ContactFrame, FootPointError};
 use crate::force_element::ForceElement;
+use crate::profile::Profile;
 
 /// The track: rigid ground of length `approach` before the beam (x < 0) and
 /// `run_off` after it (x > L), level with the beam's supports.
@@ -25,6 +26,8 @@ pub struct System {
     pub contacts: Vec<Contact>,
     /// Acceleration of gravity (m/s², acting in −y).
     pub gravity: f64,
+    /// Irregularity r(x) of the running surface, beam and ground alike.
+    pub profile: Option<Profile>,
 }
 
 /// Where along the track a contact point is.
@@ -184,33 +187,48 @@ impl System {
         guess: f64,
         part: TrackPart,
     ) -> Result<ContactFrame, FootPointError> {
-        let length = self.beam.length;
+        let (length, profile) = (self.beam.length, self.profile.as_ref());
         let several = self.beam.segments().len() > 1;
-        Ok(match part {
-            TrackPart::Beam if !several => self.first_piece_frame(u, centre, guess)?,
+        // With an irregularity profile each case runs on the surface
+        // raised by r(x); without one, exactly as before it existed.
+        // (Scenes with both irregularities and joints are refused.)
+        let ground = |centre: &Vector2<f64>| match profile {
+            None => Ok(ContactFrame::on_ground(centre)),
+            Some(profile) => ContactFrame::on_profile(profile, centre),
+        };
+        match part {
+            TrackPart::Beam if !several => self.first_piece_frame(u, centre, guess),
             TrackPart::Beam | TrackPart::Span(_) => {
                 let k = part.piece_index().unwrap_or(0);
-                self.piece_frame(k, u, centre, guess)?
+                self.piece_frame(k, u, centre, guess)
             }
             TrackPart::JointBefore(j) => {
                 let piece = &self.beam.segments()[j];
                 let element = piece.elements.end - 1;
                 corner_frame(&self.beam, u, (element, piece.end), centre)
-                    .map_or_else(|| foot_point(&self.beam, u, centre, piece.end), Ok)?
+                    .map_or_else(|| foot_point(&self.beam, u, centre, piece.end), Ok)
             }
             TrackPart::JointAfter(j) => {
                 let piece = &self.beam.segments()[j + 1];
                 let element = piece.elements.start;
                 corner_frame(&self.beam, u, (element, piece.start), centre)
-                    .map_or_else(|| foot_point(&self.beam, u, centre, piece.start), Ok)?
+                    .map_or_else(|| foot_point(&self.beam, u, centre, piece.start), Ok)
             }
-            TrackPart::RunOff if centre.x < length => ContactFrame::at_corner(length, centre),
+            TrackPart::RunOff if centre.x < length => self.end_corner(length, centre),
             // Contacts enter from the approach at centre.x = 0 (the event):
             // a left-moving exit onto the approach is taken on flat ground.
-            TrackPart::Approach | TrackPart::RunOff => ContactFrame::on_ground(centre),
-            TrackPart::Beyond if self.ground_at(centre.x) => ContactFrame::on_ground(centre),
-            TrackPart::Beyond => foot_point(&self.beam, u, centre, guess)?,
-        })
+            TrackPart::Approach | TrackPart::RunOff => ground(centre),
+            TrackPart::Beyond if self.ground_at(centre.x) => ground(centre),
+            TrackPart::Beyond => foot_point_on(&self.beam, profile, u, centre, guess),
+        }
+    }
+
+    /// The corner at the beam's end `x`, on the profile where there is one.
+    fn end_corner(&self, x: f64, centre: &Vector2<f64>) -> Result<ContactFrame, FootPointError> {
+        match self.profile.as_ref() {
+            None => Ok(ContactFrame::at_corner(x, centre)),
+            Some(profile) => ContactFrame::at_profile_corner(profile, x, centre),
+        }
     }
 
     /// The frame on the first piece: the foot point, or the beam's start
@@ -221,15 +239,15 @@ impl System {
         centre: &Vector2<f64>,
         guess: f64,
     ) -> Result<ContactFrame, FootPointError> {
-        let frame = foot_point(&self.beam, u, centre, guess)?;
+        let frame = foot_point_on(&self.beam, self.profile.as_ref(), u, centre, guess)?;
         // Onto a beam that slopes down from its start the wheel
         // turns about the start (a corner) until its centre is over
         // the beam's normal there.
-        Ok(if frame.x < 0.0 && self.track.approach > 0.0 {
-            ContactFrame::at_corner(0.0, centre)
+        if frame.x < 0.0 && self.track.approach > 0.0 {
+            self.end_corner(0.0, centre)
         } else {
-            frame
-        })
+            Ok(frame)
+        }
     }
 
     /// The frame on smooth piece `k` of a track with joints: the foot point

@@ -227,6 +227,21 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             });
         }
     }
+    if !scene.track.irregularities.is_empty() {
+        let profiles = trace
+            .names
+            .iter()
+            .filter(|n| n.ends_with(".irregularity"))
+            .filter_map(|n| trace.column(n).map(|v| curve(n.clone(), v, 1e-3)))
+            .collect();
+        panels.push(Panel {
+            title: "Track irregularity at the contacts".to_string(),
+            y_label: "r (mm)".to_string(),
+            y_decimals: Some(2),
+            curves: profiles,
+            flights: Vec::new(),
+        });
+    }
     panels.push(Panel {
         title: "Energy balance, relative drift".to_string(),
         y_label: "(E - E0) / E0".to_string(),

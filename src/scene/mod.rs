@@ -6,10 +6,14 @@
 mod annotate;
 mod builtin;
 mod error;
+mod irregularity;
 mod validate;
 
 pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
 pub use error::{Problem, SceneError};
+pub use irregularity::{
+    parse_table, read_table, track_extent, IrregularitySpec, MAX_IRREGULARITIES, MAX_TABLE_POINTS,
+};
 pub use validate::{
     is_identifier, is_xml_char, MAX_DESCRIPTION_CHARS, MAX_ELEMENTS, MAX_INTERMEDIATE_SUPPORTS,
     MAX_ITERATIONS, MAX_MAGNITUDE, MAX_NAME_CHARS, MAX_SCENE_BYTES, MAX_SENSORS, MIN_MAGNITUDE,
@@ -154,13 +158,16 @@ pub enum DampingSpec {
 }
 
 /// The rigid approach (x < 0) and run-off (x > L) of the track (m).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TrackSpec {
     #[serde(default)]
     pub approach: f64,
     #[serde(default)]
     pub run_off: f64,
+    /// Irregularities of the running surface, summed (none when empty).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub irregularities: Vec<IrregularitySpec>,
 }
 
 impl TrackSpec {
@@ -519,13 +526,22 @@ pub enum IntegratorKind {
 impl Scene {
     /// Parse a scene from TOML text and validate it.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
+        Scene::parse(text, None)
+    }
+
+    /// Parse, read profile tables relative to `base` (the scene file's
+    /// folder) when given, and validate.
+    fn parse(text: &str, base: Option<&Path>) -> Result<Scene, SceneError> {
         if text.len() as u64 > MAX_SCENE_BYTES {
             return Err(SceneError::TooLarge {
                 bytes: text.len() as u64,
             });
         }
-        let scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
+        let mut scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
             .map_err(|e| error::from_toml_error(e, text))?;
+        if let Some(base) = base {
+            irregularity::read_tables(&mut scene, base)?;
+        }
         scene.validate()?;
         Ok(scene)
     }
@@ -545,7 +561,8 @@ impl Scene {
             || file_or_builtin.contains(std::path::MAIN_SEPARATOR)
             || file_or_builtin.contains('/');
         if path.is_file() || looks_like_file {
-            return Scene::from_toml_str(&read_limited(path, file_or_builtin)?);
+            let base = path.parent().unwrap_or(Path::new(""));
+            return Scene::parse(&read_limited(path, file_or_builtin)?, Some(base));
         }
         builtin(file_or_builtin).ok_or_else(|| SceneError::NotFound {
             name: file_or_builtin.to_string(),

@@ -60,6 +60,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     check_sensors(&mut checks, scene, length_ok);
     check_sections(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
+    checks.problems.extend(super::irregularity::problems(scene));
     if checks.problems.is_empty() {
         Ok(())
     } else {
@@ -338,6 +339,14 @@ fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             format!("must hold at most {MAX_INTERMEDIATE_SUPPORTS}"),
         );
         return;
+    }
+    if !joints.is_empty() && !scene.track.irregularities.is_empty() {
+        // The corners of joints are found on the bare beam, not on r(x).
+        checks.fail(
+            "track.irregularities",
+            format!("{} irregularities", scene.track.irregularities.len()),
+            "not supported yet on a track with beam.joints: leave out one or the other",
+        );
     }
     let mut previous_end: Option<f64> = None;
     for (i, joint) in joints.iter().enumerate() {

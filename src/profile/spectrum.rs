@@ -1,0 +1,238 @@
+//! Random profiles from a one-sided displacement power spectral density:
+//! ISO 8608 classes A–H, the FRA track classes 1–6 and the German track
+//! spectra for low and high interference.
+//!
+//! Generation: a sum of cosines at the frequencies k/P of a periodic grid
+//! of N samples (period P = N Δx) within the wavelength band, amplitudes
+//! √(2 G(n_k) Δn) and phases uniform from a ChaCha20 stream seeded with the
+//! scene's seed, summed by an inverse FFT (rustfft), then interpolated by a
+//! periodic C² cubic spline. The FFT makes N = 2²¹ samples cost a
+//! fraction of a second where a direct sum of N/2 cosines at N points would
+//! cost N²/2; its scalar planner is used so that the result does not depend
+//! on the SIMD instructions of the machine: the same seed, band, spacing
+//! and extent give the same bits.
+
+use rand_chacha::rand_core::{RngCore, SeedableRng};
+use rand_chacha::ChaCha20Rng;
+use rustfft::num_complex::Complex;
+use rustfft::FftPlannerScalar;
+
+use super::spline::PeriodicSpline;
+
+/// Reference spatial frequency n₀ of ISO 8608 (cycles/m).
+pub const ISO_REFERENCE_FREQUENCY: f64 = 0.1;
+
+/// ISO 8608 (2016), table of road classes: the geometric mean of G_d(n₀)
+/// of each class (m³, i.e. m² per cycle/m); each class is 4 times the one
+/// before.
+pub const ISO_CLASSES: [(&str, f64); 8] = [
+    ("A", 16e-6),
+    ("B", 64e-6),
+    ("C", 256e-6),
+    ("D", 1024e-6),
+    ("E", 4096e-6),
+    ("F", 16384e-6),
+    ("G", 65536e-6),
+    ("H", 262144e-6),
+];
+
+/// FRA track classes 1–6, vertical profile: roughness A_v (cm²·rad/m).
+pub const FRA_CLASSES: [(&str, f64); 6] = [
+    ("1", 1.2107),
+    ("2", 1.0181),
+    ("3", 0.6816),
+    ("4", 0.5376),
+    ("5", 0.2095),
+    ("6", 0.0339),
+];
+/// FRA vertical-profile cut-off wavenumber Ω_c (rad/m) and factor k.
+pub const FRA_CUTOFF: f64 = 0.8245;
+pub const FRA_FACTOR: f64 = 0.25;
+
+/// German track spectra, vertical profile: cut-off wavenumbers Ω_c, Ω_r
+/// (rad/m) and A_v (m·rad) for low and high interference.
+pub const GERMAN_CUTOFF: f64 = 0.8246;
+pub const GERMAN_ROLL_OFF: f64 = 0.0206;
+pub const GERMAN_LOW: f64 = 4.032e-7;
+pub const GERMAN_HIGH: f64 = 1.080e-6;
+
+/// Most samples of a random profile's grid (memory about 100 MB while it
+/// is generated).
+pub const MAX_SAMPLES: usize = 1 << 21;
+
+/// A displacement spectrum.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Spectrum {
+    /// G_d(n) = G_d(n₀) (n/n₀)⁻², G_d(n₀) in m³.
+    Iso8608 { reference: f64 },
+    /// S(Ω) = k A_v Ω_c² / (Ω² (Ω² + Ω_c²)) cm²/(rad/m), A_v in cm²·rad/m.
+    Fra { roughness: f64 },
+    /// S(Ω) = A_v Ω_c² / ((Ω² + Ω_r²)(Ω² + Ω_c²)) m²/(rad/m), A_v in m·rad.
+    German { roughness: f64 },
+}
+
+impl Spectrum {
+    /// The spectrum named in a scene (`iso8608` with class A–H, `fra` with
+    /// class 1–6, `german_low`, `german_high` without); the error says what
+    /// is allowed.
+    pub fn from_name(spectrum: &str, class: Option<&str>) -> Result<Spectrum, String> {
+        let find = |table: &[(&str, f64)], class: Option<&str>| {
+            table
+                .iter()
+                .find(|(name, _)| Some(*name) == class)
+                .map(|&(_, value)| value)
+        };
+        match (spectrum, class) {
+            ("iso8608", _) => find(&ISO_CLASSES, class)
+                .map(|reference| Spectrum::Iso8608 { reference })
+                .ok_or_else(|| "iso8608 needs class = \"A\" ... \"H\"".to_string()),
+            ("fra", _) => find(&FRA_CLASSES, class)
+                .map(|roughness| Spectrum::Fra { roughness })
+                .ok_or_else(|| "fra needs class = \"1\" ... \"6\"".to_string()),
+            ("german_low", None) => Ok(Spectrum::German {
+                roughness: GERMAN_LOW,
+            }),
+            ("german_high", None) => Ok(Spectrum::German {
+                roughness: GERMAN_HIGH,
+            }),
+            ("german_low" | "german_high", Some(_)) => {
+                Err("the German spectra take no class".to_string())
+            }
+            _ => Err("must be iso8608, fra, german_low or german_high".to_string()),
+        }
+    }
+
+    /// One-sided displacement PSD G(n) at the spatial frequency n
+    /// (cycles/m), in m³ (m² per cycle/m): σ² = ∫ G(n) dn. The railway
+    /// spectra are given per rad/m, S(Ω) with σ² = ∫ S(Ω) dΩ, so
+    /// G(n) = 2π S(2πn).
+    pub fn density(&self, n: f64) -> f64 {
+        let omega = 2.0 * std::f64::consts::PI * n;
+        let w2 = omega * omega;
+        match *self {
+            Spectrum::Iso8608 { reference } => reference * (n / ISO_REFERENCE_FREQUENCY).powi(-2),
+            Spectrum::Fra { roughness } => {
+                let c2 = FRA_CUTOFF * FRA_CUTOFF;
+                // cm² → m².
+                let s = 1e-4 * FRA_FACTOR * roughness * c2 / (w2 * (w2 + c2));
+                2.0 * std::f64::consts::PI * s
+            }
+            Spectrum::German { roughness } => {
+                let c2 = GERMAN_CUTOFF * GERMAN_CUTOFF;
+                let r2 = GERMAN_ROLL_OFF * GERMAN_ROLL_OFF;
+                let s = roughness * c2 / ((w2 + r2) * (w2 + c2));
+                2.0 * std::f64::consts::PI * s
+            }
+        }
+    }
+}
+
+/// Where and how finely a random profile is sampled, and its band.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    pub start: f64,
+    pub spacing: f64,
+    /// Number of samples, a power of two.
+    pub samples: usize,
+    /// Wavelengths kept (m): shortest, longest.
+    pub band: (f64, f64),
+}
+
+impl Grid {
+    /// The grid covering `length` metres from `start`, and at least two
+    /// longest wavelengths, at `spacing`; None beyond `MAX_SAMPLES`.
+    pub fn covering(start: f64, length: f64, spacing: f64, band: (f64, f64)) -> Option<Grid> {
+        let needed = (length.max(2.0 * band.1) / spacing).ceil();
+        if !(needed.is_finite() && needed <= MAX_SAMPLES as f64) {
+            return None;
+        }
+        Some(Grid {
+            start,
+            spacing,
+            samples: (needed as usize).max(4).next_power_of_two(),
+            band,
+        })
+    }
+}
+
+/// A random profile of `spectrum` on `grid`, from `seed`.
+pub fn generate(spectrum: &Spectrum, grid: &Grid, seed: u64) -> PeriodicSpline {
+    let n = grid.samples;
+    let period = n as f64 * grid.spacing;
+    let dn = 1.0 / period;
+    let (lowest, highest) = (1.0 / grid.band.1, 1.0 / grid.band.0);
+    let mut rng = ChaCha20Rng::seed_from_u64(seed);
+    let mut values = vec![Complex::new(0.0, 0.0); n];
+    let mut curvatures = vec![Complex::new(0.0, 0.0); n];
+    let tau = 2.0 * std::f64::consts::PI;
+    for k in 1..n / 2 {
+        // One phase per frequency of the grid, drawn in order whether or
+        // not it is in the band: the band does not reshuffle the phases.
+        let phase = (rng.next_u64() >> 11) as f64 * (tau / (1u64 << 53) as f64);
+        let frequency = k as f64 * dn;
+        if frequency < lowest || frequency > highest {
+            continue;
+        }
+        let amplitude = (2.0 * spectrum.density(frequency) * dn).sqrt();
+        let c = Complex::from_polar(amplitude, phase);
+        let theta = tau * k as f64 / n as f64;
+        values[k] = c;
+        curvatures[k] = c * PeriodicSpline::curvature_factor(theta, grid.spacing);
+    }
+    let fft = FftPlannerScalar::new().plan_fft_inverse(n);
+    fft.process(&mut values);
+    fft.process(&mut curvatures);
+    PeriodicSpline {
+        start: grid.start,
+        spacing: grid.spacing,
+        y: values.iter().map(|c| c.re).collect(),
+        m: curvatures.iter().map(|c| c.re).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn iso_class_at_reference_frequency_is_its_mean() {
+        let c = Spectrum::from_name("iso8608", Some("C")).unwrap();
+        assert_eq!(c.density(0.1), 256e-6);
+        assert!((c.density(0.2) - 64e-6).abs() < 1e-18);
+        assert!(Spectrum::from_name("iso8608", Some("I")).is_err());
+        assert!(Spectrum::from_name("fra", None).is_err());
+        assert!(Spectrum::from_name("german_low", Some("1")).is_err());
+    }
+
+    #[test]
+    fn railway_spectra_per_cycle_are_2pi_times_per_radian() {
+        // FRA class 6 at Ω = 1 rad/m: k A_v Ω_c²/(1 + Ω_c²) cm²/(rad/m).
+        let s = 0.25 * 0.0339 * 0.8245f64.powi(2) / (1.0 + 0.8245f64.powi(2)) * 1e-4;
+        let fra = Spectrum::from_name("fra", Some("6")).unwrap();
+        let n = 1.0 / (2.0 * std::f64::consts::PI);
+        assert!((fra.density(n) / (2.0 * std::f64::consts::PI * s) - 1.0).abs() < 1e-12);
+        let high = Spectrum::from_name("german_high", None).unwrap();
+        let low = Spectrum::from_name("german_low", None).unwrap();
+        assert!((high.density(0.3) / low.density(0.3) - 1.080e-6 / 4.032e-7).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_spline_passes_through_the_samples_with_their_curvature() {
+        let grid = Grid::covering(-5.0, 60.0, 0.1, (1.0, 20.0)).unwrap();
+        let spline = generate(
+            &Spectrum::from_name("iso8608", Some("D")).unwrap(),
+            &grid,
+            3,
+        );
+        // At the samples the spline's second derivative is m; it is the
+        // derivative of its slope between them.
+        let x = -5.0 + 0.1 * 37.0 + 0.04;
+        let d = 1e-6;
+        let bend = (spline.at(x + d)[1] - spline.at(x - d)[1]) / (2.0 * d);
+        assert!((bend - spline.at(x)[2]).abs() < 1e-6 * spline.at(x)[2].abs().max(1e-3));
+        // Periodic: the profile repeats after N Δx.
+        let period = grid.samples as f64 * grid.spacing;
+        let (a, b) = (spline.at(1.234), spline.at(1.234 + period));
+        assert!((a[0] - b[0]).abs() < 1e-12);
+    }
+}

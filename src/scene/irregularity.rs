@@ -1,0 +1,439 @@
+//! Track irregularities in a scene: `[[track.irregularities]]`, summed into
+//! the profile r(x) that `crate::profile` evaluates; their rules, and the
+//! reading of profile tables from CSV files beside the scene.
+
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+use super::error::Problem;
+use super::{Scene, SceneError, MAX_MAGNITUDE, MAX_SCENE_BYTES};
+use crate::profile::spectrum::{Grid, Spectrum, MAX_SAMPLES};
+
+/// Most irregularities in a scene (the scene's list limit).
+pub const MAX_IRREGULARITIES: usize = 10_000;
+
+/// Most points of a profile table: a measured profile is long (100 km at
+/// 1 m), so this is ten times the scene's list limit; the scene's byte
+/// limit bounds the text either way.
+pub const MAX_TABLE_POINTS: usize = 100_000;
+
+/// One irregularity of the running surface, r(x) in metres (up positive),
+/// added on the beam and on the rigid approach and run-off alike.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum IrregularitySpec {
+    /// A rise by `height` centred at `position`, smoothed over `smoothing`
+    /// metres (half a sine period): a bilateral contact cannot follow a
+    /// sharp step without an impulse.
+    Step {
+        position: f64,
+        height: f64,
+        smoothing: f64,
+    },
+    /// A linear rise by `height` from `start` over `length`, its two
+    /// corners rounded over `smoothing` metres each.
+    Ramp {
+        start: f64,
+        length: f64,
+        height: f64,
+        smoothing: f64,
+    },
+    /// A dip −depth (1 + cos 2π(x − position)/wavelength)/2 one wavelength
+    /// long, centred at `position`.
+    CosineDip {
+        position: f64,
+        wavelength: f64,
+        depth: f64,
+    },
+    /// amplitude · sin(2π x / wavelength + phase) along the whole track.
+    Sine {
+        amplitude: f64,
+        wavelength: f64,
+        #[serde(default)]
+        phase: f64,
+    },
+    /// A table of (x, r) points, inline or read from a CSV `file` (path
+    /// relative to the scene file; read when the scene is loaded and kept
+    /// inline from then on), interpolated by a cubic spline.
+    Table {
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        file: Option<String>,
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        points: Vec<[f64; 2]>,
+    },
+    /// A random profile from a spectrum (`iso8608` class A–H, `fra` class
+    /// 1–6, `german_low`, `german_high`) within a wavelength band, from a
+    /// seed; `spacing` of its samples defaults to shortest_wavelength / 10.
+    Random {
+        spectrum: String,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        class: Option<String>,
+        seed: u32,
+        shortest_wavelength: f64,
+        longest_wavelength: f64,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        spacing: Option<f64>,
+    },
+}
+
+impl IrregularitySpec {
+    /// The sample spacing of a random profile.
+    pub fn random_spacing(shortest_wavelength: f64, spacing: Option<f64>) -> f64 {
+        spacing.unwrap_or(shortest_wavelength / 10.0)
+    }
+}
+
+/// Where a random profile's grid starts and how long the track is (m).
+pub fn track_extent(scene: &Scene) -> (f64, f64) {
+    let t = &scene.track;
+    (-t.approach, t.approach + scene.beam.length + t.run_off)
+}
+
+/// Read every table `file` relative to `base` into its `points`; all the
+/// tables together hold at most `MAX_TABLE_POINTS` points.
+pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneError> {
+    let mut problems = Vec::new();
+    let mut total = 0;
+    for (i, spec) in scene.track.irregularities.iter_mut().enumerate() {
+        if let IrregularitySpec::Table { file, points } = spec {
+            let Some(name) = file.clone() else { continue };
+            let path = format!("track.irregularities[{i}].file");
+            if !points.is_empty() {
+                problems.push(Problem::new(
+                    path,
+                    format!("{name:?}"),
+                    "give either file or points, not both",
+                ));
+                continue;
+            }
+            match read_table(&base.join(&name)) {
+                Ok(read) if total + read.len() > MAX_TABLE_POINTS => {
+                    problems.push(Problem::new(
+                        path,
+                        format!("{name:?}"),
+                        format!("the tables together must hold at most {MAX_TABLE_POINTS} points"),
+                    ));
+                    break;
+                }
+                Ok(read) => {
+                    total += read.len();
+                    *points = read;
+                    *file = None;
+                }
+                Err(rule) => problems.push(Problem::new(path, format!("{name:?}"), rule)),
+            }
+        }
+    }
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(SceneError::Invalid { problems })
+    }
+}
+
+/// The (x, r) rows of a CSV file: two numbers a line, separated by a comma;
+/// blank lines and lines starting with `#` skipped, and a first line that
+/// is not numeric taken as a header. Bounded by `MAX_SCENE_BYTES` and
+/// `MAX_TABLE_POINTS`; the first bad line is named.
+pub fn read_table(path: &Path) -> Result<Vec<[f64; 2]>, String> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| format!("cannot be read: {e}"))?;
+    let mut bytes = Vec::new();
+    file.take(MAX_SCENE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| format!("cannot be read: {e}"))?;
+    if bytes.len() as u64 > MAX_SCENE_BYTES {
+        return Err(format!("is larger than {MAX_SCENE_BYTES} bytes"));
+    }
+    let text = String::from_utf8(bytes).map_err(|e| format!("is not UTF-8 text: {e}"))?;
+    parse_table(&text)
+}
+
+/// The rows of a table's text (see `read_table`).
+pub fn parse_table(text: &str) -> Result<Vec<[f64; 2]>, String> {
+    let mut points: Vec<[f64; 2]> = Vec::new();
+    let mut first = true;
+    for (number, line) in text.lines().enumerate().map(|(i, l)| (i + 1, l.trim())) {
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        let parsed: Vec<Option<f64>> = fields.iter().map(|f| f.parse::<f64>().ok()).collect();
+        let header = first && parsed.first().is_some_and(|p| p.is_none());
+        first = false;
+        if header {
+            continue;
+        }
+        let shown: String = line.chars().take(60).collect();
+        let (x, r) = match (fields.len(), parsed.as_slice()) {
+            (2, &[Some(x), Some(r)]) => (x, r),
+            _ => {
+                return Err(format!(
+                    "line {number} ({shown:?}) must hold two numbers x, r separated by a comma"
+                ))
+            }
+        };
+        if !(x.is_finite() && r.is_finite() && x.abs() <= MAX_MAGNITUDE && r.abs() <= MAX_MAGNITUDE)
+        {
+            return Err(format!(
+                "line {number} ({shown:?}) must hold finite numbers within ±{MAX_MAGNITUDE:e}"
+            ));
+        }
+        if let Some(last) = points.last() {
+            if x <= last[0] {
+                return Err(format!(
+                    "line {number} ({shown:?}): x must increase from row to row (previous x = {})",
+                    last[0]
+                ));
+            }
+        }
+        if points.len() == MAX_TABLE_POINTS {
+            return Err(format!("has more than {MAX_TABLE_POINTS} rows"));
+        }
+        points.push([x, r]);
+    }
+    if points.len() < 2 {
+        return Err("must hold at least two rows x, r".into());
+    }
+    Ok(points)
+}
+
+/// Every rule the irregularities break.
+pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
+    let list = &scene.track.irregularities;
+    let mut problems = Vec::new();
+    if list.len() > MAX_IRREGULARITIES {
+        problems.push(Problem::new(
+            "track.irregularities",
+            format!("{} irregularities", list.len()),
+            format!("must hold at most {MAX_IRREGULARITIES}"),
+        ));
+        return problems;
+    }
+    // Bounds on the whole: every table and random grid is held in memory.
+    let (mut points, mut samples) = (0usize, 0usize);
+    for spec in list {
+        match spec {
+            IrregularitySpec::Table { points: p, .. } => points += p.len(),
+            IrregularitySpec::Random {
+                shortest_wavelength,
+                longest_wavelength,
+                spacing,
+                ..
+            } => {
+                let (start, length) = track_extent(scene);
+                let spacing = IrregularitySpec::random_spacing(*shortest_wavelength, *spacing);
+                let band = (*shortest_wavelength, *longest_wavelength);
+                samples += Grid::covering(start, length, spacing, band).map_or(0, |g| g.samples);
+            }
+            _ => {}
+        }
+    }
+    if points > MAX_TABLE_POINTS {
+        problems.push(Problem::new(
+            "track.irregularities",
+            format!("{points} table points"),
+            format!("the tables together must hold at most {MAX_TABLE_POINTS} points"),
+        ));
+    }
+    if samples > MAX_SAMPLES {
+        problems.push(Problem::new(
+            "track.irregularities",
+            format!("{samples} random-profile samples"),
+            format!(
+                "the random profiles together must have at most {MAX_SAMPLES} samples (raise \
+                 their spacing)"
+            ),
+        ));
+    }
+    for (i, spec) in list.iter().enumerate() {
+        let mut rules = Rules {
+            prefix: format!("track.irregularities[{i}]"),
+            problems: &mut problems,
+        };
+        rules.check(spec, scene);
+    }
+    problems
+}
+
+struct Rules<'a> {
+    prefix: String,
+    problems: &'a mut Vec<Problem>,
+}
+
+impl Rules<'_> {
+    fn fail(&mut self, field: &str, value: String, rule: impl Into<String>) {
+        let path = format!("{}.{field}", self.prefix);
+        self.problems.push(Problem::new(path, value, rule));
+    }
+    fn finite(&mut self, field: &str, x: f64) -> bool {
+        let ok = x.is_finite() && x.abs() <= MAX_MAGNITUDE;
+        if !ok {
+            self.fail(
+                field,
+                format!("{x:?}"),
+                format!("must be a finite number within ±{MAX_MAGNITUDE:e}"),
+            );
+        }
+        ok
+    }
+    fn positive(&mut self, field: &str, x: f64) -> bool {
+        if !self.finite(field, x) {
+            return false;
+        }
+        let ok = x >= super::MIN_MAGNITUDE;
+        if !ok {
+            self.fail(field, format!("{x:?}"), "must be > 0");
+        }
+        ok
+    }
+
+    fn check(&mut self, spec: &IrregularitySpec, scene: &Scene) {
+        match spec {
+            IrregularitySpec::Step {
+                position,
+                height,
+                smoothing,
+            } => {
+                self.finite("position", *position);
+                self.finite("height", *height);
+                self.smoothing(*smoothing);
+            }
+            IrregularitySpec::Ramp {
+                start,
+                length,
+                height,
+                smoothing,
+            } => {
+                self.finite("start", *start);
+                self.positive("length", *length);
+                self.finite("height", *height);
+                self.smoothing(*smoothing);
+            }
+            IrregularitySpec::CosineDip {
+                position,
+                wavelength,
+                depth,
+            } => {
+                self.finite("position", *position);
+                self.positive("wavelength", *wavelength);
+                self.finite("depth", *depth);
+            }
+            IrregularitySpec::Sine {
+                amplitude,
+                wavelength,
+                phase,
+            } => {
+                self.finite("amplitude", *amplitude);
+                self.positive("wavelength", *wavelength);
+                self.finite("phase", *phase);
+            }
+            IrregularitySpec::Table { file, points } => self.table(file.as_deref(), points),
+            IrregularitySpec::Random {
+                spectrum,
+                class,
+                shortest_wavelength,
+                longest_wavelength,
+                spacing,
+                ..
+            } => {
+                if let Err(rule) = Spectrum::from_name(spectrum, class.as_deref()) {
+                    self.fail("spectrum", format!("{spectrum:?}"), rule);
+                }
+                let band = (*shortest_wavelength, *longest_wavelength);
+                self.band(band, *spacing, scene);
+            }
+        }
+    }
+
+    /// A kink needs an impulse the bilateral contact cannot give.
+    fn smoothing(&mut self, smoothing: f64) {
+        if self.finite("smoothing", smoothing) && smoothing < super::MIN_MAGNITUDE {
+            self.fail(
+                "smoothing",
+                format!("{smoothing:?}"),
+                "must be > 0: a contact that stays closed cannot follow a kink (it would \
+                 need an impulse)",
+            );
+        }
+    }
+
+    fn table(&mut self, file: Option<&str>, points: &[[f64; 2]]) {
+        if let Some(file) = file {
+            self.fail(
+                "file",
+                format!("{file:?}"),
+                "can only be read when the scene is loaded from its own file (the path is \
+                 relative to it); the points are then kept in the scene",
+            );
+            return;
+        }
+        if points.len() < 2 || points.len() > MAX_TABLE_POINTS {
+            self.fail(
+                "points",
+                format!("{} points", points.len()),
+                format!("must hold between 2 and {MAX_TABLE_POINTS} points [x, r]"),
+            );
+            return;
+        }
+        for (k, p) in points.iter().enumerate() {
+            let ok = self.finite(&format!("points[{k}][0]"), p[0])
+                & self.finite(&format!("points[{k}][1]"), p[1]);
+            if ok && k > 0 && p[0] <= points[k - 1][0] {
+                self.fail(
+                    &format!("points[{k}][0]"),
+                    format!("{:?}", p[0]),
+                    format!(
+                        "must be greater than the previous x = {:?}",
+                        points[k - 1][0]
+                    ),
+                );
+            }
+        }
+    }
+
+    fn band(&mut self, (shortest, longest): (f64, f64), spacing: Option<f64>, scene: &Scene) {
+        let ok = self.positive("shortest_wavelength", shortest)
+            & self.positive("longest_wavelength", longest);
+        if !ok {
+            return;
+        }
+        if longest <= shortest {
+            self.fail(
+                "longest_wavelength",
+                format!("{longest:?}"),
+                format!("must be greater than shortest_wavelength = {shortest:?}"),
+            );
+            return;
+        }
+        let spacing = IrregularitySpec::random_spacing(shortest, spacing);
+        if !self.positive("spacing", spacing) {
+            return;
+        }
+        if spacing > shortest / 4.0 {
+            self.fail(
+                "spacing",
+                format!("{spacing:?}"),
+                format!(
+                    "must be at most shortest_wavelength / 4 = {:?} (four samples a \
+                     wavelength for the spline)",
+                    shortest / 4.0
+                ),
+            );
+            return;
+        }
+        let (start, length) = track_extent(scene);
+        if length.is_finite()
+            && Grid::covering(start, length, spacing, (shortest, longest)).is_none()
+        {
+            self.fail(
+                "spacing",
+                format!("{spacing:?}"),
+                format!(
+                    "gives more than {MAX_SAMPLES} samples over the track ({length:?} m) or \
+                     two longest wavelengths: raise spacing or shortest_wavelength"
+                ),
+            );
+        }
+    }
+}
