@@ -297,11 +297,13 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         track: Track {
             approach: scene.track.approach,
             run_off: scene.track.run_off,
+            open_ends: false,
         },
         bodies: Vec::new(),
         force_elements: Vec::new(),
         contacts: Vec::new(),
         gravity,
+        couplings: Vec::new(),
     };
     let mut bodies = Vec::new();
     for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {
@@ -344,6 +346,12 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         system.contacts.extend(vehicle.contacts);
         system.force_elements.extend(vehicle.force_elements);
         bodies.extend(vehicle.states);
+    }
+    for name in &scene.couplings {
+        let Some(b) = system.bodies.iter().position(|b| &b.name == name) else {
+            return Err(format!("couplings: no body named {name:?}"));
+        };
+        system.couplings.push(b);
     }
     Ok(Assembly {
         system,

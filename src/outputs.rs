@@ -28,7 +28,9 @@ pub enum Quantity {
     Y(usize),
     Vx(usize),
     Vy(usize),
+    Ax(usize),
     Ay(usize),
+    AngularAcceleration(usize),
     Angle(usize),
     AngularVelocity(usize),
     NominalSpeed(usize),
@@ -105,7 +107,16 @@ impl Catalogue {
             "vertical velocity of the body's centre",
             Quantity::Vy(b),
         );
-        if !system.force_elements.is_empty() {
+        let coupled = system.couplings.contains(&b);
+        if coupled {
+            self.real(
+                format!("{n}.ax"),
+                "m/s2",
+                "horizontal acceleration of the body's centre",
+                Quantity::Ax(b),
+            );
+        }
+        if !system.force_elements.is_empty() || coupled {
             self.real(
                 format!("{n}.ay"),
                 "m/s2",
@@ -113,7 +124,7 @@ impl Catalogue {
                 Quantity::Ay(b),
             );
         }
-        if body.turns() && !is_contact_body {
+        if body.turns() && (!is_contact_body || coupled) {
             self.real(
                 format!("{n}.pitch"),
                 "rad",
@@ -127,6 +138,14 @@ impl Catalogue {
                 "rad/s",
                 "angular velocity, counter-clockwise positive",
                 Quantity::AngularVelocity(b),
+            );
+        }
+        if body.turns() && coupled {
+            self.real(
+                format!("{n}.angular_acceleration"),
+                "rad/s2",
+                "angular acceleration, counter-clockwise positive",
+                Quantity::AngularAcceleration(b),
             );
         }
         for (c, contact) in system.contacts.iter().enumerate() {
@@ -164,11 +183,13 @@ impl Catalogue {
             "normal contact force on the body (positive pushes it off the track)",
             Quantity::NormalForce(c),
         );
-        if system.track.approach > 0.0 || system.track.run_off > 0.0 {
+        let track = &system.track;
+        if track.approach > 0.0 || track.run_off > 0.0 || track.open_ends {
             self.push(
                 format!("{n}.on_beam"),
                 "",
-                "1 while the contact point is on the beam, 0 on rigid ground",
+                "1 while the contact point is on the beam (the structure), 0 on rigid ground or \
+                 beyond the track",
                 Quantity::OnBeam(c),
                 OutputKind::Integer,
             );
@@ -318,7 +339,12 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
         .map(|_| frames)
         .ok()
     });
-    let needs_accelerations = quantities.iter().any(|q| matches!(q, Quantity::Ay(_)));
+    let needs_accelerations = quantities.iter().any(|q| {
+        matches!(
+            q,
+            Quantity::Ax(_) | Quantity::Ay(_) | Quantity::AngularAcceleration(_)
+        )
+    });
     let accelerations = needs_accelerations.then(|| sim.body_accelerations());
     for (value, quantity) in values.iter_mut().zip(quantities) {
         *value = match *quantity {
@@ -326,7 +352,9 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::Y(b) => d.bodies[b].position.y,
             Quantity::Vx(b) => d.bodies[b].velocity.x,
             Quantity::Vy(b) => d.bodies[b].velocity.y,
+            Quantity::Ax(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].x),
             Quantity::Ay(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].y),
+            Quantity::AngularAcceleration(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].z),
             Quantity::Angle(b) => d.bodies[b].angle,
             Quantity::AngularVelocity(b) => d.bodies[b].angular_velocity,
             Quantity::NominalSpeed(c) => match frames.as_ref().and_then(|f| f.as_ref()) {

@@ -18,7 +18,8 @@ use sha2::{Digest, Sha256};
 pub const LOG_CATEGORIES: &[(&str, &str)] = &[
     (
         "logEvents",
-        "initialization, exit of the body, state save and restore",
+        "initialization; every simulation event (a contact's entry onto and exit from the \
+         structure, leaving the track, ...) with its time; state save and restore",
     ),
     ("logStatusWarning", "calls that returned fmi2Warning"),
     (

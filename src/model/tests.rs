@@ -387,7 +387,7 @@ fn chunked_advance_gives_the_same_result_as_one_advance() {
     m.initialize().unwrap();
     m.do_step(0.0, 0.0101).unwrap();
     m.do_step(0.0101, 1.5).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
+    let mut sim = Simulation::new_open_ended(&scene).unwrap();
     sim.advance_to(0.0101).unwrap();
     sim.advance_to(0.0101 + 1.5).unwrap();
     let mut want = vec![0.0; sim.outputs().len()];
@@ -531,4 +531,45 @@ fn a_step_into_a_state_that_could_not_be_restored_fails() {
     assert!(!curable && message.contains("unusable"), "{message}");
     let now = m.snapshot();
     m.restore(&now).unwrap();
+}
+
+// ---- issue 12: the end of the structure is an event ------------------------------
+
+#[test]
+fn the_fmu_model_steps_past_the_exit_and_reports_it_as_an_event() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    let on_beam = m
+        .table()
+        .by_name("contact.on_beam")
+        .unwrap()
+        .value_reference;
+    let mut events = Vec::new();
+    let mut left_at = None;
+    for k in 0..35 {
+        let t = k as f64 * 0.1;
+        assert_eq!(
+            m.do_step(t, 0.1).unwrap(),
+            StepOutcome::Completed,
+            "t = {t}"
+        );
+        events.extend(m.take_events());
+        let Value::Integer(on) = m.get(VarType::Integer, &[on_beam]).unwrap()[0] else {
+            panic!()
+        };
+        if on == 0 && left_at.is_none() {
+            left_at = Some(m.time());
+        }
+    }
+    assert!(
+        left_at.is_some_and(|t| (t - 2.3).abs() < 1e-9),
+        "{left_at:?}"
+    );
+    assert_eq!(events.len(), 2, "{events:?}");
+    assert!(events[0].starts_with("t = 2.27") && events[0].ends_with("Exit of contact"));
+    assert!(events[1].ends_with("LeftTrack of contact"), "{events:?}");
+    assert!(m.take_events().is_empty(), "each event is handed out once");
+    assert_eq!(m.exit_time(), None);
 }
