@@ -8,6 +8,7 @@
 
 mod advance;
 mod dynamics;
+pub mod experiment;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
 mod restore;
