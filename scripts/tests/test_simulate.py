@@ -160,8 +160,11 @@ def test_output_interval_a_multiple_of_the_solver_step_matches_every_fourth_row(
     names, data = read_csv(FMU_DIR / "cross-check" / f"{identifier(WHEEL)}_ref.csv")
     step = float(read_model_description(str(fmu_path(WHEEL))).defaultExperiment.stepSize)
     rows = data[::4]
+    # the rows on the output grid (the default stop time is not on it)
+    on_grid = np.abs(rows[:, 0] / (4 * step) - np.round(rows[:, 0] / (4 * step))) < 1e-6
+    rows = rows[on_grid]
     result = simulate_fmu(str(fmu_path(WHEEL)), output_interval=4 * step, output=names[1:],
-                          stop_time=rows[-1, 0] + 1e-9)
+                          stop_time=rows[-1, 0])
     n = min(len(result), len(rows))
     assert n > 200
     compare(result[:n], names, rows[:n])
