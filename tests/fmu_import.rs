@@ -3,7 +3,6 @@
 
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
-use fmi::fmi2::Fmi2Error;
 use guideway::model::{Model, StepOutcome, Value, VarType};
 use guideway::scene::{BodyKind, Scene};
 use guideway::Simulation;
@@ -43,7 +42,6 @@ fn the_fmi_crate_runs_the_exported_fmu_like_the_native_model() {
 
     let h = 0.05;
     let mut values = vec![0.0; outputs.len()];
-    let mut steps = 0;
     let on_beam = vr("contact.on_beam");
     let mut exit = None;
     // Past the exit (an event, not the end of the run) to 3 s.
