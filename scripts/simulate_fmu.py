@@ -4,9 +4,9 @@
     .venv/bin/python scripts/simulate_fmu.py out/fmu/lee1994_wheel_10.fmu \
         [--plot out/fmu/lee1994_wheel_10.png] [--interval 0.0025] [--set NAME=VALUE ...]
 
-Runs the FMU's default experiment (it ends early when the body leaves the
-beam: fmi2DoStep returns fmi2Discard and fmi2LastSuccessfulTime is the exit
-time).
+Runs the FMU's default experiment to its stop time. Leaving the beam is an
+event, not the end of the run: the exit shows as the first output where
+`contact.on_beam` is 0 (the exact time is logged under `logEvents`).
 """
 
 import argparse
@@ -45,12 +45,17 @@ def main(argv=None):
                 if v.name.endswith(".initial_speed"))
     t = result["time"]
     stop = float(exp.stopTime)
-    exited = t[-1] < stop - 1e-9
+    off = np.flatnonzero(result["contact.on_beam"] == 0) if "contact.on_beam" in names else []
+    exited = len(off) > 0
 
     print(f"model        {md.modelName} (GUID {md.guid})")
     print(f"run          0 .. {t[-1]:.6g} s, {len(t) - 1} communication steps of {interval:g} s")
-    print(f"exit         " + (f"t = {t[-1]:.9g} s (fmi2LastSuccessfulTime)" if exited
-                             else f"none before the stop time {stop:g} s"))
+    if exited:
+        k = off[0]
+        print(f"exit         contact.on_beam = 0 from t = {t[k]:.9g} s (the first output after "
+              f"the exit), speed {result[body + '.vx'][k]:.6g} m/s; run on to {stop:g} s")
+    else:
+        print(f"exit         none before the stop time {stop:g} s")
     v = result[body + ".nominal_speed"]
     print(f"nominal V    {v[0]:.6g} -> {v[-1]:.6g} m/s at the end, peak {v.max():.6g} m/s")
     print(f"centre vx    {result[body + '.vx'][0]:.6g} -> {result[body + '.vx'][-1]:.6g} m/s")

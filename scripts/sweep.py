@@ -170,6 +170,9 @@ def run_case(plugin, params):
             slave.enterInitializationMode()
             slave.exitInitializationMode()
             sensor = vr[SENSOR][0]
+            # Leaving the beam is an event, not the end of the FMU's run:
+            # the case ends at the first communication point after it.
+            on_beam = vr.get("contact.on_beam", (None,))[0]
             while t < stop - 1e-9 * h:
                 step = min(h, stop - t)
                 try:
@@ -187,6 +190,9 @@ def run_case(plugin, params):
                         row["status"] = "lift-off" if lift_off else "discarded"
                     break
                 t += step
+                if on_beam is not None and slave.getInteger([on_beam])[0] == 0:
+                    row["status"] = "exited"  # left the beam
+                    break
                 peak = max(peak, abs(slave.getReal([sensor])[0]))
         except FMICallException as e:
             row["status"] = "error"

@@ -398,6 +398,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         track: Track {
             approach: scene.track.approach,
             run_off: scene.track.run_off,
+            open_ends: false,
         },
         bodies: Vec::new(),
         force_elements: Vec::new(),
@@ -407,6 +408,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             let (start, length) = crate::scene::track_extent(scene);
             crate::profile::Profile::new(&scene.track.irregularities, start, length)?
         },
+        couplings: Vec::new(),
     };
     let mut bodies = Vec::new();
     let (mut restitution, mut open) = (Vec::new(), Vec::new());
@@ -466,6 +468,12 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         system.contacts.extend(vehicle.contacts);
         system.force_elements.extend(vehicle.force_elements);
         bodies.extend(vehicle.states);
+    }
+    for name in &scene.couplings {
+        let Some(b) = system.bodies.iter().position(|b| &b.name == name) else {
+            return Err(format!("couplings: no body named {name:?}"));
+        };
+        system.couplings.push(b);
     }
     Ok(Assembly {
         system,

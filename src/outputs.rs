@@ -28,7 +28,9 @@ pub enum Quantity {
     Y(usize),
     Vx(usize),
     Vy(usize),
+    Ax(usize),
     Ay(usize),
+    AngularAcceleration(usize),
     Angle(usize),
     AngularVelocity(usize),
     NominalSpeed(usize),
@@ -120,7 +122,16 @@ impl Catalogue {
             "vertical velocity of the body's centre",
             Quantity::Vy(b),
         );
-        if !system.force_elements.is_empty() {
+        let coupled = system.couplings.contains(&b);
+        if coupled {
+            self.real(
+                format!("{n}.ax"),
+                "m/s2",
+                "horizontal acceleration of the body's centre",
+                Quantity::Ax(b),
+            );
+        }
+        if !system.force_elements.is_empty() || coupled {
             self.real(
                 format!("{n}.ay"),
                 "m/s2",
@@ -128,7 +139,7 @@ impl Catalogue {
                 Quantity::Ay(b),
             );
         }
-        if body.turns() && !is_contact_body {
+        if body.turns() && (!is_contact_body || coupled) {
             self.real(
                 format!("{n}.pitch"),
                 "rad",
@@ -142,6 +153,14 @@ impl Catalogue {
                 "rad/s",
                 "angular velocity, counter-clockwise positive",
                 Quantity::AngularVelocity(b),
+            );
+        }
+        if body.turns() && coupled {
+            self.real(
+                format!("{n}.angular_acceleration"),
+                "rad/s2",
+                "angular acceleration, counter-clockwise positive",
+                Quantity::AngularAcceleration(b),
             );
         }
         for (c, contact) in system.contacts.iter().enumerate() {
@@ -187,11 +206,13 @@ impl Catalogue {
                 Quantity::Irregularity(c),
             );
         }
-        if system.track.approach > 0.0 || system.track.run_off > 0.0 {
+        let track = &system.track;
+        if track.approach > 0.0 || track.run_off > 0.0 || track.open_ends {
             self.push(
                 format!("{n}.on_beam"),
                 "",
-                "1 while the contact point is on the beam, 0 on rigid ground",
+                "1 while the contact point is on the beam (the structure), 0 on rigid ground or \
+                 beyond the track",
                 Quantity::OnBeam(c),
                 OutputKind::Integer,
             );
@@ -448,7 +469,12 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
     });
     let needs_beam = quantities.iter().any(needs_beam_dynamics);
     let beam_dynamics = needs_beam.then(|| sim.beam_dynamics()).flatten();
-    let needs_accelerations = quantities.iter().any(|q| matches!(q, Quantity::Ay(_)));
+    let needs_accelerations = quantities.iter().any(|q| {
+        matches!(
+            q,
+            Quantity::Ax(_) | Quantity::Ay(_) | Quantity::AngularAcceleration(_)
+        )
+    });
     let accelerations = needs_accelerations.then(|| sim.body_accelerations());
     for (value, quantity) in values.iter_mut().zip(quantities) {
         *value = match *quantity {
@@ -456,7 +482,9 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::Y(b) => d.bodies[b].position.y,
             Quantity::Vx(b) => d.bodies[b].velocity.x,
             Quantity::Vy(b) => d.bodies[b].velocity.y,
+            Quantity::Ax(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].x),
             Quantity::Ay(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].y),
+            Quantity::AngularAcceleration(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].z),
             Quantity::Angle(b) => d.bodies[b].angle,
             Quantity::AngularVelocity(b) => d.bodies[b].angular_velocity,
             Quantity::NominalSpeed(c) => match frames.as_ref().and_then(|f| f.as_ref()) {

@@ -177,6 +177,15 @@ pub struct SimState {
     pub contacts: Vec<ContactStatus>,
     /// Kinetic energy removed by impacts since t = 0 (J).
     pub impact_loss: f64,
+    /// The additional load (fx, fy, moment) on each coupling point
+    /// (`System::couplings`), held until changed (the FMU's inputs).
+    #[serde(default)]
+    pub coupling_loads: Vec<[f64; 3]>,
+    /// The constant generalized force on each body over the last step
+    /// taken (empty before the first): the accelerations reported at its
+    /// end are those of the loads that acted, whatever was set since.
+    #[serde(default)]
+    pub last_applied: Vec<Vector3<f64>>,
 }
 
 impl SimState {
@@ -317,7 +326,21 @@ pub struct Simulation {
 impl Simulation {
     /// Build the model a scene asks for. The scene must be valid.
     pub fn new(scene: &Scene) -> Result<Simulation, String> {
+        Simulation::build(scene, false)
+    }
+
+    /// The model of `scene` for a co-simulation: the end of the structure
+    /// is an event, not the end of the run. A contact that leaves the track
+    /// (past the run-off, or past the beam's end where there is none) goes
+    /// on over level ground beyond it, which the structure no longer feels,
+    /// and the run goes on to any time asked for.
+    pub fn new_open_ended(scene: &Scene) -> Result<Simulation, String> {
+        Simulation::build(scene, true)
+    }
+
+    fn build(scene: &Scene, open_ends: bool) -> Result<Simulation, String> {
         let mut assembly = assemble(scene)?;
+        assembly.system.track.open_ends = open_ends;
         let step = scene.solver.step;
         let body_force = [scene.body.force_x, scene.body.force_y];
         let mut vehicle_forces = assembly.vehicle_forces;
@@ -395,6 +418,8 @@ impl Simulation {
                 exit_time: None,
                 contacts,
                 impact_loss: 0.0,
+                coupling_loads: vec![[0.0; 3]; system.couplings.len()],
+                last_applied: Vec::new(),
             },
             system,
             outputs,
@@ -473,6 +498,15 @@ impl Simulation {
         self.vehicle_forces[0].1 = [fx, fy];
     }
 
+    /// Set the additional loads (fx, fy in N, moment in N m) on the
+    /// coupling points, one per `System::couplings` entry (extra entries are
+    /// ignored, missing ones left as they were), held until changed.
+    pub fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
+        for (held, load) in self.state.coupling_loads.iter_mut().zip(loads) {
+            *held = *load;
+        }
+    }
+
     /// The fixed internal step (s).
     pub fn step_size(&self) -> f64 {
         self.step
@@ -535,7 +569,17 @@ impl Simulation {
     }
 
     fn constant_forces_iter(&self) -> impl Iterator<Item = Vector3<f64>> + '_ {
+        let couplings = &self.system.couplings;
+        let loads = &self.state.coupling_loads;
         constant_forces(&self.system, &self.vehicle_forces)
+            .enumerate()
+            .map(move |(b, force)| {
+                couplings
+                    .iter()
+                    .zip(loads)
+                    .filter(|(&c, _)| c == b)
+                    .fold(force, |f, (_, l)| f + Vector3::new(l[0], l[1], l[2]))
+            })
     }
 
     /// Each body's (ẍ, ÿ, θ̈) in the current state under the last forces.
@@ -545,7 +589,10 @@ impl Simulation {
         let mut beam_load = DVector::zeros(d.beam_displacement.len());
         let mut body_loads = vec![Vector3::zeros(); self.system.bodies.len()];
         let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
-        let applied = self.constant_forces();
+        let applied = match self.state.last_applied.len() {
+            0 => self.constant_forces(),
+            _ => self.state.last_applied.clone(),
+        };
         let ok = contact_frames(
             &self.system,
             &d.beam_displacement,
@@ -871,6 +918,13 @@ impl Simulation {
             let weight = -self.system.bodies[b].mass * self.system.gravity;
             s.gravity_work += weight * moved.y;
         }
+        for (&b, load) in self.system.couplings.iter().zip(&s.coupling_loads) {
+            let (old, new) = (&s.dynamic.bodies[b], &self.scratch.bodies[b]);
+            let moved = new.position - old.position;
+            s.external_work +=
+                load[0] * moved.x + load[1] * moved.y + load[2] * (new.angle - old.angle);
+        }
+        s.last_applied.clone_from(&self.applied);
         std::mem::swap(&mut s.dynamic, &mut self.scratch);
         for (history, force) in s.force_history.iter_mut().zip(&solution.forces) {
             *history = [*force, history[0], history[1]];
@@ -936,7 +990,8 @@ impl Simulation {
                     .iter()
                     .any(|e| e.contact == c && e.kind == EventKind::Exit)
             });
-        if left_track || (self.stop_at_beam_exit && all_left_beam) {
+        let run_over = left_track || (self.stop_at_beam_exit && all_left_beam);
+        if run_over && !self.system.track.open_ends {
             s.exit_time = Some(s.time);
         }
     }
@@ -1295,7 +1350,23 @@ fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
         ),
         ("contact track parts", state.parts.len(), contacts),
         ("contact states", state.contacts.len(), contacts),
+        (
+            "coupling loads",
+            state.coupling_loads.len(),
+            system.couplings.len(),
+        ),
     ];
+    if !(state.last_applied.is_empty() || state.last_applied.len() == bodies) {
+        return Err(format!(
+            "the state has {} last applied forces but this model has {bodies} bodies",
+            state.last_applied.len()
+        ));
+    }
+    let loads = state.coupling_loads.iter().flatten();
+    let applied = state.last_applied.iter().flat_map(|v| v.iter());
+    if !loads.chain(applied).all(|x| x.is_finite()) {
+        return Err("the state has a load that is not finite".into());
+    }
     for (what, found, expected) in checks {
         if found != expected {
             return Err(format!(

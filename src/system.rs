@@ -16,6 +16,11 @@ use crate::profile::Profile;
 pub struct Track {
     pub approach: f64,
     pub run_off: f64,
+    /// Beyond either end of the track the ground goes on (level with the
+    /// supports): a body that leaves the track leaves the structure's
+    /// model but keeps a defined motion, so a co-simulation can run on to
+    /// its stop time (the FMU). Otherwise leaving the track ends the run.
+    pub open_ends: bool,
 }
 
 pub struct System {
@@ -28,6 +33,9 @@ pub struct System {
     pub gravity: f64,
     /// Irregularity r(x) of the running surface, beam and ground alike.
     pub profile: Option<Profile>,
+    /// The coupling points: bodies (indices) that take an additional load
+    /// from outside (the FMU's coupling ports), in the scene's order.
+    pub couplings: Vec<usize>,
 }
 
 /// Where along the track a contact point is.
@@ -218,7 +226,7 @@ impl System {
             // Contacts enter from the approach at centre.x = 0 (the event):
             // a left-moving exit onto the approach is taken on flat ground.
             TrackPart::Approach | TrackPart::RunOff => ground(centre),
-            TrackPart::Beyond if self.ground_at(centre.x) => ground(centre),
+            TrackPart::Beyond if self.track.open_ends || self.ground_at(centre.x) => ground(centre),
             TrackPart::Beyond => foot_point_on(&self.beam, profile, u, centre, guess),
         }
     }

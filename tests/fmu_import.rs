@@ -3,7 +3,6 @@
 
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common};
-use fmi::fmi2::Fmi2Error;
 use guideway::model::{Model, StepOutcome, Value, VarType};
 use guideway::scene::{BodyKind, Scene};
 use guideway::Simulation;
@@ -43,8 +42,10 @@ fn the_fmi_crate_runs_the_exported_fmu_like_the_native_model() {
 
     let h = 0.05;
     let mut values = vec![0.0; outputs.len()];
-    let mut steps = 0;
-    let exit = loop {
+    let on_beam = vr("contact.on_beam");
+    let mut exit = None;
+    // Past the exit (an event, not the end of the run) to 3 s.
+    for steps in 0..60 {
         let t = steps as f64 * h;
         let fmu = inst.do_step(t, h, true);
         let nat = native.do_step(native.time(), h).unwrap();
@@ -61,16 +62,19 @@ fn the_fmi_crate_runs_the_exported_fmu_like_the_native_model() {
         assert_eq!(values, want, "outputs differ after step {steps}");
         match (fmu, nat) {
             (Ok(_), StepOutcome::Completed) => {}
-            (Err(Fmi2Error::Discard), StepOutcome::Exited { time }) => break time,
             (f, n) => panic!("FMU {f:?} vs native {n:?} at step {steps}"),
         }
-        steps += 1;
-        assert!(steps < 100, "the wheel never left the beam");
-    };
+        let mut on = [0];
+        inst.get_integer(&[on_beam], &mut on).unwrap();
+        if on[0] == 0 && exit.is_none() {
+            exit = Some(t + h);
+        }
+    }
+    let exit = exit.expect("the wheel left the beam");
     assert!(exit > 2.0 && exit < 2.5, "exit at {exit}");
     let mut x = [0.0];
     inst.get_real(&[vr("contact.position")], &mut x).unwrap();
-    assert!((x[0] - 24.0).abs() < 1e-9);
+    assert!(x[0] > 30.0, "{}", x[0]);
 
     // parameters through the importer: a refused value is an error, the
     // instance goes on

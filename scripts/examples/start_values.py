@@ -17,11 +17,16 @@ from fmpy import simulate_fmu
 
 
 def peak_deflection(fmu, **start_values):
-    """Largest downward midspan deflection (m) and exit time (s) of one run."""
+    """Largest downward midspan deflection (m) while the wheel is on the beam
+    and exit time (s, to the output interval) of one run."""
     # keyword arguments cannot contain dots: wheel__mass -> wheel.mass
     start = {k.replace("__", "."): v for k, v in start_values.items()}
-    result = simulate_fmu(fmu, start_values=start, output=["sensor.midspan.deflection"])
-    return -result["sensor.midspan.deflection"].min(), result["time"][-1]
+    result = simulate_fmu(fmu, start_values=start,
+                          output=["sensor.midspan.deflection", "contact.on_beam"])
+    # the first output after the contact left the beam (the run goes on)
+    on = result["contact.on_beam"] == 1
+    exit_time = result["time"][~on][0] if not on.all() else float("nan")
+    return -result["sensor.midspan.deflection"][on].min(), exit_time
 
 
 def main(fmu):

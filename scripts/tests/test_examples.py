@@ -14,13 +14,15 @@ import start_values  # noqa: E402
 import step_by_hand  # noqa: E402
 
 
-def test_run_and_plot_writes_a_png_and_stops_at_the_exit(tmp_path):
+def test_run_and_plot_writes_a_png_and_runs_past_the_exit(tmp_path):
     png = tmp_path / "run.png"
     result = run_and_plot.main(str(fmu_path(WHEEL)), str(png))
     assert png.read_bytes().startswith(b"\x89PNG")
     # the wheel (speeding up to 11 m/s over the beam) leaves the 24 m beam
-    # at 2.275 s, long before the default stop time
-    assert result["time"][-1] == pytest.approx(2.2749, abs=1e-3)
+    # at 2.275 s (an event), and the run goes on to the default stop time
+    off = result["time"][result["contact.on_beam"] == 0]
+    assert off[0] == pytest.approx(2.2749, abs=3e-3)
+    assert result["time"][-1] > off[0] + 0.5
     # the paper's figure: peak midspan deflection 1.093 x 0.1728 m
     assert result["sensor.midspan.deflection"].min() == pytest.approx(-1.093 * 0.1728, rel=2e-3)
 
@@ -32,7 +34,7 @@ def test_start_values_change_the_run():
     # doubling EI roughly halves the deflection; faster runs leave earlier
     assert 0.4 < peak[(10.0, 2e9)] / peak[(10.0, 1e9)] < 0.6
     assert exit_time[(100.0, 1e9)] < exit_time[(50.0, 1e9)] < exit_time[(10.0, 1e9)]
-    assert exit_time[(100.0, 1e9)] == pytest.approx(24 / 100, rel=0.02)
+    assert exit_time[(100.0, 1e9)] == pytest.approx(24 / 100, abs=0.0025 + 0.005)
 
 
 def test_traction_input_accelerates_the_wheel():

@@ -40,43 +40,54 @@ def test_fmpy_matches_the_cli_run():
     subprocess.run([str(GUIDEWAY), "run", WHEEL, "--out", str(out), "--quiet"], check=True)
     names, data = read_csv(out)
     md = read_model_description(str(fmu_path(WHEEL)))
+    # The CLI stops at the exit (its last row, inside a solver step); the FMU
+    # goes on: compare the solver steps before it.
+    data = data[:-1]
     result = simulate_fmu(str(fmu_path(WHEEL)), output_interval=float(md.defaultExperiment.stepSize),
-                          output=names[1:], stop_time=data[-1, 0] + 1.0)
+                          output=names[1:], stop_time=data[-1, 0])
     compare(result, names, data)
 
 
-def test_exit_is_reported_through_last_successful_time():
-    names, data = read_csv(FMU_DIR / "cross-check" / f"{identifier(WHEEL)}_ref.csv")
-    exit_time = data[-1, 0]
+def contact_exit(result):
+    """First time in `result` at which `contact.on_beam` is 0."""
+    off = np.flatnonzero(result["contact.on_beam"] == 0)
+    assert len(off) > 0, "the contact never left the beam"
+    return result["time"][off[0]]
+
+
+def test_the_default_run_goes_past_the_exit_to_its_stop_time():
+    """Leaving the structure is an event: fmpy runs the default experiment to
+    its stop time, and the exit shows in `contact.on_beam` (issue 12)."""
     md = read_model_description(str(fmu_path(WHEEL)))
     stop = float(md.defaultExperiment.stopTime)
-    assert exit_time < stop - 0.1, "the 10 m/s run should leave the beam before the stop time"
-    result = simulate_fmu(str(fmu_path(WHEEL)), output_interval=0.01, output=["contact.position"])
-    assert result["time"][-1] == pytest.approx(exit_time, rel=1e-9)
-    assert result["time"][-1] < stop
-    assert result["contact.position"][-1] == pytest.approx(24.0, rel=1e-9)
+    result = simulate_fmu(str(fmu_path(WHEEL)), output_interval=0.01,
+                          output=["contact.position", "contact.on_beam", "wheel.vx"])
+    assert result["time"][-1] == pytest.approx(stop, rel=1e-12)
+    t_exit = contact_exit(result)
+    assert 2.27 < t_exit < 2.28 + 1e-9  # the paper's exit, 2.2749 s, to the output interval
+    k = np.flatnonzero(result["time"] == t_exit)[0]
+    assert result["contact.position"][k - 1] < 24.0 < result["contact.position"][k]
+    assert result["contact.position"][-1] > 24.0 + 9.0 * (stop - t_exit)
     assert np.all(np.isfinite(result["contact.position"]))
 
 
 def test_exit_statuses_through_the_api(slave):
-    from fmpy.fmi2 import fmi2Terminated, fmi2LastSuccessfulTime
-    from fmpy.fmi1 import FMICallException
-    s = slave(WHEEL).init()
+    """Every step is fmi2OK; the exit is logged under logEvents with its
+    exact time; fmi2Terminated stays false."""
+    from fmpy.fmi2 import fmi2Terminated
+    s = slave(WHEEL, logging_on=True).init()
+    s.fmu.setDebugLogging(True, ["logEvents"])
     t, h = 0.0, 0.1
+    while t < 3.0 - 1e-9:
+        s.fmu.doStep(t, h)  # fmpy raises on anything but fmi2OK
+        t += h
     assert not s.fmu.getBooleanStatus(fmi2Terminated)
-    with pytest.raises(FMICallException) as e:
-        while True:
-            s.fmu.doStep(t, h)
-            t += h
-    assert e.value.status == 2  # fmi2Discard
-    assert s.fmu.getBooleanStatus(fmi2Terminated)
-    t_exit = s.fmu.getRealStatus(fmi2LastSuccessfulTime)
-    assert 2.0 < t_exit < t + h
-    assert "end of the beam" in s.messages.text()
-    assert s.real("contact.position")[0] == pytest.approx(24.0)
-    with pytest.raises(FMICallException):
-        s.fmu.doStep(t_exit, h)
-    assert "left the beam" in s.messages.text()
+    events = [m for m in s.messages if "logEvents: event:" in m]
+    assert len(events) == 2, s.messages.text()
+    assert "Exit of contact" in events[0] and "t = 2.2748781" in events[0]
+    assert "LeftTrack of contact" in events[1]
+    assert s.fmu.getInteger([s.vr["contact.on_beam"]]) == [0]
+    assert s.real("contact.position")[0] > 30.0
 
 
 PARAMS = [
@@ -92,7 +103,8 @@ def test_start_values_change_the_result_as_a_native_run_does(variable, section, 
                                                               tmp_path):
     fmu = str(fmu_path(WHEEL))
     names, native = native_reference(set_in_toml(scene_of(fmu), section, key, value), tmp_path)
-    step = value if key == "step" else float(read_model_description(fmu).defaultExperiment.stepSize)
+    # the reference's communication step (a multiple of solver.step for long runs)
+    step = native[1, 0] - native[0, 0]
     n = 200  # compare the first 200 solver steps
     stop = native[n, 0]
     result = simulate_fmu(fmu, start_values={variable: value}, output_interval=step,
@@ -140,7 +152,7 @@ def test_main_job_script_prints_the_summary_and_writes_the_plot(tmp_path, capsys
     png = tmp_path / "plot.png"
     assert script.main([str(fmu_path(WHEEL)), "--interval", "0.01", "--plot", str(png)]) == 0
     out = capsys.readouterr().out
-    assert "fmi2LastSuccessfulTime" in out
+    assert "contact.on_beam = 0 from t = 2.28 s" in out
     assert "sensor.midspan.deflection  peak" in out
     assert png.stat().st_size > 10_000
 
@@ -149,8 +161,11 @@ def test_output_interval_a_multiple_of_the_solver_step_matches_every_fourth_row(
     names, data = read_csv(FMU_DIR / "cross-check" / f"{identifier(WHEEL)}_ref.csv")
     step = float(read_model_description(str(fmu_path(WHEEL))).defaultExperiment.stepSize)
     rows = data[::4]
+    # the rows on the output grid (the default stop time is not on it)
+    on_grid = np.abs(rows[:, 0] / (4 * step) - np.round(rows[:, 0] / (4 * step))) < 1e-6
+    rows = rows[on_grid]
     result = simulate_fmu(str(fmu_path(WHEEL)), output_interval=4 * step, output=names[1:],
-                          stop_time=rows[-1, 0] + 1e-9)
+                          stop_time=rows[-1, 0])
     n = min(len(result), len(rows))
     assert n > 200
     compare(result[:n], names, rows[:n])
@@ -161,8 +176,6 @@ def test_any_communication_step_size_is_accepted():
     result = simulate_fmu(str(fmu_path(WHEEL)), output_interval=0.007,
                           output=["wheel.x", "sensor.midspan.deflection"])
     assert np.all(np.diff(result["time"][:-1]) == pytest.approx(0.007))
-    # the exit is found inside whatever step contains it
-    assert result["time"][-1] == pytest.approx(data[-1, 0], abs=1e-6)
     k = int(round(1.001 / 0.007))  # compare at t = 1.001 s against the native trajectory
     x_native = np.interp(result["time"][k], data[:, 0], data[:, names.index("wheel.x")])
     assert result["wheel.x"][k] == pytest.approx(x_native, rel=1e-4)

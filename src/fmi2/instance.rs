@@ -237,11 +237,15 @@ impl<D: Dynamics> Instance<D> {
                 self.model.time()
             ));
         }
-        match self
+        let outcome = self
             .model
             .do_step(t, h)
-            .map_err(|e| format!("fmi2DoStep: {e}"))?
-        {
+            .map_err(|e| format!("fmi2DoStep: {e}"))?;
+        for event in self.model.take_events() {
+            self.logger
+                .log(fmi2Status_fmi2OK, &format!("event: {event}"));
+        }
+        match outcome {
             StepOutcome::Completed => {
                 self.mode = StepComplete;
                 Ok(fmi2Status_fmi2OK)

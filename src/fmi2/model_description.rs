@@ -18,7 +18,8 @@ use sha2::{Digest, Sha256};
 pub const LOG_CATEGORIES: &[(&str, &str)] = &[
     (
         "logEvents",
-        "initialization, exit of the body, state save and restore",
+        "initialization; every simulation event (a contact's entry onto and exit from the \
+         structure, leaving the track, ...) with its time; state save and restore",
     ),
     ("logStatusWarning", "calls that returned fmi2Warning"),
     (
@@ -44,21 +45,7 @@ pub fn model_identifier(scene_name: &str) -> String {
     id
 }
 
-/// Stop time of the default experiment: the scene's end time, else a quarter
-/// more than the time the body needs to cross the beam at its initial speed
-/// (so the exit is part of the run), else 1 s.
-pub fn default_stop_time(scene: &Scene) -> f64 {
-    if let Some(t) = scene.solver.end_time {
-        return t;
-    }
-    let travel = scene.beam.length - scene.body.initial_position;
-    let v = scene.body.initial_speed;
-    if v > 0.0 && travel > 0.0 {
-        1.25 * travel / v
-    } else {
-        1.0
-    }
-}
+pub use crate::model::experiment::default_stop_time;
 
 /// Base-unit exponents (kg, m, s, rad) of the units the outputs may use.
 fn base_unit(unit: &str) -> Option<BaseUnit> {

@@ -89,13 +89,27 @@ pub fn index_html(scene: &Scene, d: &Description) -> String {
 Model identifier <code>{id}</code>, GUID <code>{guid}</code>.</p>
 <p>A {kind} of {mass} kg moves along a beam of {length} m ({elements} Hermite
 elements). Parameters can be set before initialization mode is left; the
-inputs (forces on the body's centre) at any communication point. When the body
-reaches the end of the beam, <code>fmi2DoStep</code> returns
-<code>fmi2Discard</code>, <code>fmi2Terminated</code> is true and
-<code>fmi2LastSuccessfulTime</code> gives the exit time.</p>
+inputs (forces on the body's centre) at any communication point.</p>
+<h2>The end of the structure</h2>
+<p>Leaving the beam is an event, not the end of the run: every step returns
+<code>fmi2OK</code> up to any stop time. Each contact's
+<code>&lt;contact&gt;.on_beam</code> output is 1 while its contact point is on
+the beam and 0 on rigid ground or beyond the track; every simulation event
+(<code>Entry</code>, <code>Exit</code>, <code>LeftTrack</code>, ...) is logged
+with its exact time under the log category <code>logEvents</code>. Past the end
+of the track (the run-off's end, or the beam's end where there is no run-off)
+the body leaves the model: it goes on over level ground at the height of the
+supports, held there both ways, which the beam does not feel; the beam
+vibrates freely. <code>fmi2Discard</code> means a failed step that a smaller
+communication step gets past (the state is rolled back), <code>fmi2Error</code>
+one that no step size cures, with the reason in the log.</p>
+{coupling}
 <h2>Default experiment</h2>
-<p>Start 0 s, stop {stop} s, step {step} s (the internal solver step is
-<code>solver.step</code>; any communication step size is accepted).</p>
+<p>Start 0 s, stop {stop} s, step {step} s: the stop time is the scene's
+<code>solver.end_time</code>, or the last exit from the beam at the initial
+speeds plus three periods of the longest span's fundamental mode (free
+vibration); the step is the internal solver step <code>solver.step</code>
+(any communication step size is accepted).</p>
 <h2>Variables</h2>
 <p>Outputs are the state at a communication point: an input set there acts
 over the next step and changes no output before it (<code>dependencies=""</code>).
@@ -119,5 +133,42 @@ each one alone).</p>
         elements = scene.beam.elements,
         stop = default_stop_time(scene),
         step = scene.solver.step,
+        coupling = coupling_section(scene),
+    )
+}
+
+/// The coupling ports, their frames and sign conventions.
+fn coupling_section(scene: &Scene) -> String {
+    if scene.couplings.is_empty() {
+        return String::new();
+    }
+    let bodies: Vec<String> = scene
+        .couplings
+        .iter()
+        .map(|b| format!("<code>{}</code>", escape(b)))
+        .collect();
+    format!(
+        r#"<h2>Coupling ports</h2>
+<p>Coupling bodies: {bodies}. Each has the inputs
+<code>&lt;body&gt;.coupling_force_x</code>, <code>.coupling_force_y</code> (N)
+and, if it turns, <code>.coupling_moment</code> (N m): a load from a coupled
+model (a vehicle hanging on the body through its own spring&ndash;damper) that
+acts on the body's centre <em>in addition</em> to its weight (gravity is
+already applied) and to the scene's applied force. Each is held from the
+communication point where it is set over the next step. Outputs of the body's
+motion: <code>.x</code>, <code>.y</code> (m), <code>.pitch</code> (rad, if it
+turns), <code>.vx</code>, <code>.vy</code> (m/s),
+<code>.angular_velocity</code> (rad/s), <code>.ax</code>, <code>.ay</code>
+(m/s&sup2;), <code>.angular_acceleration</code> (rad/s&sup2;): the state at the
+communication point; the accelerations are those under the loads of the step
+that ended there, so no output depends on an input set after it.</p>
+<p>Frame: global and fixed. x along the track, positive in the direction of
+positive speed, 0 at the beam's left end (the left support); y up, 0 on the
+beam's undeformed neutral axis, so a body on the beam has y = surface offset
+h + radius r plus the deflection there (a glider's centre is on the
+surface); angles and moments counter-clockwise positive (x right, y up).
+A force pushing the body down (a vehicle's weight carried through a
+suspension) is a negative <code>coupling_force_y</code>.</p>"#,
+        bodies = bodies.join(", ")
     )
 }

@@ -18,7 +18,18 @@ pub trait Dynamics: Steppable + Sized {
     /// Build the model a (valid) scene asks for.
     fn build(scene: &Scene) -> Result<Self, String>;
     fn set_body_force(&mut self, fx: f64, fy: f64);
+    /// The coupling ports' additional loads (fx, fy, moment), one per port.
+    fn set_coupling_loads(&mut self, _loads: &[[f64; 3]]) {}
     fn exit_time(&self) -> Option<f64>;
+    /// The simulation events (entries, exits, ...) after the first `from`,
+    /// in words, each with its time; the list only grows as the run goes on.
+    fn events_since(&self, _from: usize) -> Vec<String> {
+        Vec::new()
+    }
+    /// How many events there are so far.
+    fn event_count(&self) -> usize {
+        0
+    }
     fn state(&self) -> Self::State;
     /// Continue from `state`, which may come from a forged FMU state:
     /// refused (Err naming why) unless it fits these dynamics.
@@ -33,11 +44,32 @@ pub trait Dynamics: Steppable + Sized {
 impl Dynamics for Simulation {
     type State = SimState;
 
+    /// A co-simulation runs to its stop time: the end of the structure is
+    /// an event.
     fn build(scene: &Scene) -> Result<Self, String> {
-        Simulation::new(scene)
+        Simulation::new_open_ended(scene)
     }
     fn set_body_force(&mut self, fx: f64, fy: f64) {
         Simulation::set_body_force(self, fx, fy)
+    }
+    fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
+        Simulation::set_coupling_loads(self, loads)
+    }
+    fn event_count(&self) -> usize {
+        Simulation::events(self).len()
+    }
+    fn events_since(&self, from: usize) -> Vec<String> {
+        let contacts = &self.system().contacts;
+        let events = Simulation::events(self);
+        events
+            .get(from..)
+            .unwrap_or_default()
+            .iter()
+            .map(|e| {
+                let name = contacts.get(e.contact).map_or("?", |c| c.name.as_str());
+                format!("t = {} s: {:?} of {name}", e.time, e.kind)
+            })
+            .collect()
     }
     fn exit_time(&self) -> Option<f64> {
         Simulation::exit_time(self)

@@ -8,6 +8,7 @@
 
 mod advance;
 mod dynamics;
+pub mod experiment;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
 mod restore;
@@ -25,7 +26,7 @@ pub use variables::{
 use crate::report::non_finite_output;
 use crate::scene::{Scene, MAX_MAGNITUDE};
 use serde::{Deserialize, Serialize};
-use variables::{param_value, set_param, Input};
+use variables::{param_value, set_param, start_inputs};
 
 /// Most internal solver steps one `do_step` may take. fmi2DoStep is
 /// synchronous and cannot be cancelled: a communication step of 1e6 s with a
@@ -87,7 +88,7 @@ pub enum StepOutcome {
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Snapshot<S> {
     scene: Scene,
-    inputs: [f64; 2],
+    inputs: Vec<f64>,
     start_time: f64,
     phase: Phase,
     sim: Option<S>,
@@ -97,7 +98,8 @@ pub struct Model<D: Dynamics> {
     table: VariableTable,
     start_scene: Scene,
     scene: Scene,
-    inputs: [f64; 2],
+    /// Input values, in the order of `Input::index`.
+    inputs: Vec<f64>,
     /// Communication time of simulation time 0 (from fmi2SetupExperiment).
     start_time: f64,
     phase: Phase,
@@ -111,14 +113,16 @@ pub struct Model<D: Dynamics> {
     /// The last step discarded as curable, and why: retried unchanged it
     /// would fail again, so it is refused instead of run.
     discarded: Option<(DiscardedStep, String)>,
+    /// The simulation events of the last completed step, in words.
+    new_events: Vec<String>,
 }
 
 /// What a step is determined by, besides the state: its time, size, inputs.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 struct DiscardedStep {
     t: f64,
     h: f64,
-    inputs: [f64; 2],
+    inputs: Vec<f64>,
 }
 
 /// The FMU variable that a scene field path stands for: `body.mass` is
@@ -161,6 +165,17 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
     })
 }
 
+/// Hand the input values (`Input::index` order) to the dynamics: the
+/// applied force on `[body]`, then the coupling ports' loads.
+fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
+    sim.set_body_force(inputs[0], inputs[1]);
+    let loads: Vec<[f64; 3]> = inputs[2..]
+        .chunks_exact(3)
+        .map(|c| [c[0], c[1], c[2]])
+        .collect();
+    sim.set_coupling_loads(&loads);
+}
+
 /// The first output of `sim` that is not finite, named with its value.
 fn first_non_finite<D: Dynamics>(sim: &D) -> Option<String> {
     let mut values = vec![0.0; sim.outputs().len()];
@@ -181,7 +196,7 @@ impl<D: Dynamics> Model<D> {
         Ok(Model {
             table,
             start_scene: scene.clone(),
-            inputs: [scene.body.force_x, scene.body.force_y],
+            inputs: start_inputs(&scene),
             scene,
             start_time: 0.0,
             phase: Phase::Configuring,
@@ -189,6 +204,7 @@ impl<D: Dynamics> Model<D> {
             stop_time: None,
             wall_time_budget: DEFAULT_WALL_TIME_BUDGET,
             discarded: None,
+            new_events: Vec::new(),
         })
     }
 
@@ -208,7 +224,7 @@ impl<D: Dynamics> Model<D> {
     /// Back to the start values, before initialization.
     pub fn reset(&mut self) {
         self.scene = self.start_scene.clone();
-        self.inputs = [self.scene.body.force_x, self.scene.body.force_y];
+        self.inputs = start_inputs(&self.scene);
         self.start_time = 0.0;
         self.phase = Phase::Configuring;
         self.sim = None;
@@ -270,11 +286,11 @@ impl<D: Dynamics> Model<D> {
             // Built with the inputs as the scene's forces, so that the
             // state at t = 0 (the contact force) balances them.
             let mut scene = self.scene.clone();
-            scene.body.force_x = self.inputs[Input::ForceX as usize];
-            scene.body.force_y = self.inputs[Input::ForceY as usize];
+            scene.body.force_x = self.inputs[0];
+            scene.body.force_y = self.inputs[1];
             let mut sim =
                 D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
-            sim.set_body_force(self.inputs[0], self.inputs[1]);
+            apply_inputs(&mut sim, &self.inputs);
             self.sim = Some(sim);
         }
         Ok(self.sim.as_mut().expect("just built"))
@@ -310,7 +326,7 @@ impl<D: Dynamics> Model<D> {
             let value = match role {
                 Role::Parameter(p) => param_value(&self.scene, p),
                 Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
-                Role::Input(i) => Value::Real(self.inputs[i as usize]),
+                Role::Input(i) => Value::Real(self.inputs[i.index()]),
                 Role::Output(k) => {
                     if outputs.is_none() {
                         outputs = Some(self.output_values()?);
@@ -332,7 +348,7 @@ impl<D: Dynamics> Model<D> {
     /// initialization is left, inputs at any time, outputs never.
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
         let mut scene = self.scene.clone();
-        let mut inputs = self.inputs;
+        let mut inputs = self.inputs.clone();
         let mut budget = self.wall_time_budget;
         let mut params_changed = false;
         for (&vr, &value) in vrs.iter().zip(values) {
@@ -367,7 +383,7 @@ impl<D: Dynamics> Model<D> {
                 },
                 // The scene's rule for the same forces (body.force_x/_y).
                 Role::Input(i) => match value {
-                    Value::Real(x) if x.abs() <= MAX_MAGNITUDE => inputs[i as usize] = x,
+                    Value::Real(x) if x.abs() <= MAX_MAGNITUDE => inputs[i.index()] = x,
                     _ => {
                         return refuse(&format!(
                             "must be finite and within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
@@ -385,7 +401,7 @@ impl<D: Dynamics> Model<D> {
         if params_changed || (inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
-            sim.set_body_force(inputs[0], inputs[1]);
+            apply_inputs(sim, &self.inputs);
         }
         Ok(())
     }
@@ -402,7 +418,7 @@ impl<D: Dynamics> Model<D> {
     pub fn snapshot(&self) -> Snapshot<D::State> {
         Snapshot {
             scene: self.scene.clone(),
-            inputs: self.inputs,
+            inputs: self.inputs.clone(),
             start_time: self.start_time,
             phase: self.phase,
             sim: match self.phase {
@@ -421,12 +437,15 @@ impl<D: Dynamics> Model<D> {
         snapshot::decode(guid, bytes).map_err(ModelError)
     }
 
+    /// The simulation events (entries onto and exits from the structure,
+    /// ...) of the last step, in words; each is handed out once.
+    pub fn take_events(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.new_events)
+    }
+
     /// Input values as they are now: (force_x, force_y).
     pub fn input_values(&self) -> (f64, f64) {
-        (
-            self.inputs[Input::ForceX as usize],
-            self.inputs[Input::ForceY as usize],
-        )
+        (self.inputs[0], self.inputs[1])
     }
 }
 

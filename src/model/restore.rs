@@ -3,8 +3,8 @@
 //! it, and all or nothing.
 
 use super::{
-    err, first_non_finite, param_value, set_param, validate, Dynamics, Model, ModelError, Phase,
-    Role, Snapshot,
+    apply_inputs, err, first_non_finite, param_value, set_param, validate, Dynamics, Model,
+    ModelError, Phase, Role, Snapshot,
 };
 
 impl<D: Dynamics> Model<D> {
@@ -39,6 +39,13 @@ impl<D: Dynamics> Model<D> {
             validate(theirs)
                 .map_err(|e| ModelError(format!("the state's scene is invalid: {e}")))?;
         }
+        if snap.inputs.len() != self.inputs.len() {
+            return refuse(format!(
+                "it has {} inputs, this model {}",
+                snap.inputs.len(),
+                self.inputs.len()
+            ));
+        }
         if !(snap.inputs.iter().all(|x| x.is_finite()) && snap.start_time.is_finite()) {
             return refuse("an input or the start time is not finite".into());
         }
@@ -64,7 +71,7 @@ impl<D: Dynamics> Model<D> {
             None => None,
         };
         self.scene = snap.scene.clone();
-        self.inputs = snap.inputs;
+        self.inputs = snap.inputs.clone();
         self.start_time = snap.start_time;
         self.phase = snap.phase;
         self.sim = sim;
@@ -95,7 +102,7 @@ impl<D: Dynamics> Model<D> {
                 .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
         };
         let fitted = sim.restore(state).and_then(|()| {
-            sim.set_body_force(snap.inputs[0], snap.inputs[1]);
+            apply_inputs(&mut sim, &snap.inputs);
             match first_non_finite(&sim) {
                 Some(bad) => Err(bad),
                 None if !sim.time().is_finite() => Err(format!("its time is {}", sim.time())),
@@ -108,7 +115,7 @@ impl<D: Dynamics> Model<D> {
                 if let Some(old) = old {
                     sim.restore(&old)
                         .map_err(|e| ModelError(format!("cannot put the model back: {e}")))?;
-                    sim.set_body_force(self.inputs[0], self.inputs[1]);
+                    apply_inputs(&mut sim, &self.inputs);
                     self.sim = Some(sim);
                 }
                 err(format!("cannot restore the state: {e}"))

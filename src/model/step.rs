@@ -95,7 +95,7 @@ impl<D: Dynamics> Model<D> {
         let this = DiscardedStep {
             t,
             h,
-            inputs: self.inputs,
+            inputs: self.inputs.clone(),
         };
         if let Some((step, reason)) = &self.discarded {
             if *step == this {
@@ -109,7 +109,12 @@ impl<D: Dynamics> Model<D> {
                 });
             }
         }
+        let events_before = self.sim.as_ref().map_or(0, |s| s.event_count());
         let outcome = self.advance(t + h)?;
+        self.new_events = match (&outcome, &self.sim) {
+            (StepOutcome::Failed { .. }, _) | (_, None) => Vec::new(),
+            (_, Some(sim)) => sim.events_since(events_before),
+        };
         self.discarded = match &outcome {
             StepOutcome::Failed {
                 message,

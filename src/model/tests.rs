@@ -387,7 +387,7 @@ fn chunked_advance_gives_the_same_result_as_one_advance() {
     m.initialize().unwrap();
     m.do_step(0.0, 0.0101).unwrap();
     m.do_step(0.0101, 1.5).unwrap();
-    let mut sim = Simulation::new(&scene).unwrap();
+    let mut sim = Simulation::new_open_ended(&scene).unwrap();
     sim.advance_to(0.0101).unwrap();
     sim.advance_to(0.0101 + 1.5).unwrap();
     let mut want = vec![0.0; sim.outputs().len()];
@@ -531,4 +531,122 @@ fn a_step_into_a_state_that_could_not_be_restored_fails() {
     assert!(!curable && message.contains("unusable"), "{message}");
     let now = m.snapshot();
     m.restore(&now).unwrap();
+}
+
+// ---- issue 12: the end of the structure is an event ------------------------------
+
+#[test]
+fn the_fmu_model_steps_past_the_exit_and_reports_it_as_an_event() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    let on_beam = m
+        .table()
+        .by_name("contact.on_beam")
+        .unwrap()
+        .value_reference;
+    let mut events = Vec::new();
+    let mut left_at = None;
+    for k in 0..35 {
+        let t = k as f64 * 0.1;
+        assert_eq!(
+            m.do_step(t, 0.1).unwrap(),
+            StepOutcome::Completed,
+            "t = {t}"
+        );
+        events.extend(m.take_events());
+        let Value::Integer(on) = m.get(VarType::Integer, &[on_beam]).unwrap()[0] else {
+            panic!()
+        };
+        if on == 0 && left_at.is_none() {
+            left_at = Some(m.time());
+        }
+    }
+    assert!(
+        left_at.is_some_and(|t| (t - 2.3).abs() < 1e-9),
+        "{left_at:?}"
+    );
+    assert_eq!(events.len(), 2, "{events:?}");
+    assert!(events[0].starts_with("t = 2.27") && events[0].ends_with("Exit of contact"));
+    assert!(events[1].ends_with("LeftTrack of contact"), "{events:?}");
+    assert!(m.take_events().is_empty(), "each event is handed out once");
+    assert_eq!(m.exit_time(), None);
+}
+
+// ---- issue 12: coupling ports ------------------------------------------------------
+
+fn coupled_wheel() -> Scene {
+    let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    scene.couplings = vec!["wheel".into()];
+    scene
+}
+
+#[test]
+fn a_coupling_body_gets_load_inputs_and_motion_outputs_without_direct_dependencies() {
+    use crate::simulation::Simulation;
+    let m = Model::<Simulation>::new(coupled_wheel()).unwrap();
+    let t = m.table();
+    for name in [
+        "wheel.coupling_force_x",
+        "wheel.coupling_force_y",
+        "wheel.coupling_moment",
+    ] {
+        let v = t.by_name(name).unwrap_or_else(|| panic!("{name}"));
+        assert_eq!(v.causality, Causality::Input);
+        assert_eq!(v.start, Some(Value::Real(0.0)));
+    }
+    for name in [
+        "wheel.x",
+        "wheel.y",
+        "wheel.pitch",
+        "wheel.vx",
+        "wheel.vy",
+        "wheel.angular_velocity",
+        "wheel.ax",
+        "wheel.ay",
+        "wheel.angular_acceleration",
+    ] {
+        let v = t.by_name(name).unwrap_or_else(|| panic!("{name}"));
+        assert_eq!(v.dependencies.as_deref(), Some(&[][..]), "{name}");
+    }
+    // a glider does not turn: no moment
+    let mut glider = Scene::lee1994(BodyKind::Glider, 30.0, 0.005);
+    glider.couplings = vec!["glider".into()];
+    let g = Model::<Simulation>::new(glider).unwrap();
+    assert!(g.table().by_name("glider.coupling_force_y").is_some());
+    assert!(g.table().by_name("glider.coupling_moment").is_none());
+}
+
+/// The coupling force is additional to the scene's applied force: on rigid
+/// ground (the wheel beyond a zero-length beam's end is not needed: a glider
+/// at rest on the beam) adding -F to the coupling port and +F to force_y
+/// changes nothing; the reported acceleration follows the loads of the step
+/// that ended, not an input set after it.
+#[test]
+fn coupling_loads_add_to_the_applied_force_and_accelerations_follow_the_last_step() {
+    use crate::simulation::Simulation;
+    let run = |force_y: f64, coupling_y: f64| {
+        let mut m = Model::<Simulation>::new(coupled_wheel()).unwrap();
+        let vr = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().value_reference;
+        let (fy, cy) = (vr(&m, "wheel.force_y"), vr(&m, "wheel.coupling_force_y"));
+        m.set(&[fy, cy], &[Value::Real(force_y), Value::Real(coupling_y)])
+            .unwrap();
+        m.initialize().unwrap();
+        m.do_step(0.0, 0.1).unwrap();
+        let ay = vr(&m, "wheel.ay");
+        let y = vr(&m, "sensor.midspan.deflection");
+        let before = m.get(VarType::Real, &[ay, y]).unwrap();
+        // an input set now does not change what the step ended with
+        m.set(&[cy], &[Value::Real(coupling_y - 1e5)]).unwrap();
+        assert_eq!(m.get(VarType::Real, &[ay, y]).unwrap(), before);
+        before
+    };
+    let split = run(-3e5, -3e5);
+    let whole = run(-6e5, 0.0);
+    let (Value::Real(a), Value::Real(b)) = (split[1], whole[1]) else {
+        panic!()
+    };
+    assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} vs {b}");
+    assert_ne!(run(-6e5, -1e5)[1], whole[1], "the coupling load acts");
 }

@@ -83,6 +83,33 @@ pub enum Param {
 pub enum Input {
     ForceX,
     ForceY,
+    /// Component `axis` (0: force x, 1: force y, 2: moment) of the
+    /// additional load on coupling point `port` (`scene.couplings[port]`).
+    Coupling {
+        port: usize,
+        axis: usize,
+    },
+}
+
+impl Input {
+    /// Where the input's value is held in the model's input vector:
+    /// force_x, force_y, then three per coupling port.
+    pub fn index(self) -> usize {
+        match self {
+            Input::ForceX => 0,
+            Input::ForceY => 1,
+            Input::Coupling { port, axis } => 2 + 3 * port + axis,
+        }
+    }
+}
+
+/// The inputs' start values in the order of `Input::index`: the scene's
+/// applied force on `[body]`, no coupling load.
+pub fn start_inputs(scene: &Scene) -> Vec<f64> {
+    let mut inputs = vec![0.0; 2 + 3 * scene.couplings.len()];
+    inputs[0] = scene.body.force_x;
+    inputs[1] = scene.body.force_y;
+    inputs
 }
 
 /// A parameter of the FMU itself, not of the scene.
@@ -242,6 +269,13 @@ impl VariableTable {
             Input::ForceY,
             "vertical force on the body's centre",
         );
+
+        for (port, name) in scene.couplings.iter().enumerate() {
+            let turns = outputs
+                .iter()
+                .any(|o| o.name == format!("{name}.angular_velocity"));
+            b.coupling_inputs(name, port, turns);
+        }
 
         for (i, o) in outputs.iter().enumerate() {
             let (ty, variability) = match o.kind {
@@ -502,6 +536,25 @@ impl Builder {
             initial_dependencies: None,
         });
     }
+    /// The coupling port's inputs on body `name`: the force, and the
+    /// moment on a body that turns.
+    fn coupling_inputs(&mut self, name: &str, port: usize, turns: bool) {
+        let axes = [
+            ("coupling_force_x", "N", "additional horizontal force on the body's centre from a coupled model (global x, positive to the right)"),
+            ("coupling_force_y", "N", "additional vertical force on the body's centre from a coupled model (global y, positive up; the body's weight is already applied)"),
+            ("coupling_moment", "N.m", "additional moment on the body from a coupled model (counter-clockwise positive)"),
+        ];
+        for (axis, (suffix, u, description)) in axes.into_iter().enumerate() {
+            if axis == 2 && !turns {
+                continue;
+            }
+            let name = format!("{name}.{suffix}");
+            self.input(&name, Input::Coupling { port, axis }, description);
+            let v = self.vars.last_mut().expect("just pushed");
+            v.unit = unit(u);
+            v.display_unit = display_unit(&name, u);
+        }
+    }
     fn input(&mut self, name: &str, i: Input, description: &str) {
         self.push(Variable {
             name: name.to_string(),
@@ -582,10 +635,7 @@ pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String
 const MAX_ELEMENTS: i32 = crate::scene::MAX_ELEMENTS as i32;
 
 fn input_start(scene: &Scene, i: Input) -> f64 {
-    match i {
-        Input::ForceX => scene.body.force_x,
-        Input::ForceY => scene.body.force_y,
-    }
+    start_inputs(scene)[i.index()]
 }
 
 #[cfg(test)]

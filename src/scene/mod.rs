@@ -54,6 +54,12 @@ pub struct Scene {
     pub reactions: bool,
     #[serde(default)]
     pub solver: SolverSpec,
+    /// Bodies (by name: `wheel`, `car_unsprung`, `train_bogie1`, ...) that
+    /// are coupling points of the FMU: each gets inputs for an additional
+    /// force and moment and outputs of its motion (see README, "Coupling
+    /// guideway into your system").
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub couplings: Vec<String>,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -628,7 +634,43 @@ impl Scene {
                 step,
                 ..SolverSpec::default()
             },
+            couplings: Vec::new(),
         }
+    }
+
+    /// The names of every body of the scene, vehicle by vehicle (what a
+    /// coupling may name).
+    pub fn body_names(&self) -> Vec<String> {
+        std::iter::once(&self.body)
+            .chain(&self.vehicles)
+            .flat_map(BodySpec::body_names)
+            .collect()
+    }
+}
+
+impl BodySpec {
+    /// The names of this vehicle's bodies, as the assembled system names
+    /// them: `<name>`, and `<name>_unsprung` (sprung mass) or
+    /// `<name>_bogie1..2`, `<name>_wheelset1..4` (bogie vehicle),
+    /// `<name>_magnet1..N` (maglev vehicle); none for a moving force.
+    pub fn body_names(&self) -> Vec<String> {
+        let n = &self.name;
+        let mut names = vec![n.clone()];
+        match self.kind {
+            BodyKind::Wheel | BodyKind::Glider => {}
+            BodyKind::SprungMass => names.push(format!("{n}_unsprung")),
+            BodyKind::BogieVehicle => {
+                names.extend((1..=2).map(|i| format!("{n}_bogie{i}")));
+                names.extend((1..=4).map(|i| format!("{n}_wheelset{i}")));
+            }
+            BodyKind::MaglevVehicle => {
+                let magnets = self.maglev.map_or(0, |m| m.magnets);
+                names.extend((1..=magnets).map(|i| format!("{n}_magnet{i}")));
+            }
+            // A moving force is a load, not a body.
+            BodyKind::MovingForce => names.clear(),
+        }
+        names
     }
 }
 

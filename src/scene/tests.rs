@@ -946,3 +946,57 @@ fn maglev_vehicle_needs_its_magnets_on_the_track() {
         "maglev_vehicle",
     );
 }
+
+// ---- issue 12: couplings ------------------------------------------------------------
+
+#[test]
+fn couplings_must_name_bodies_of_the_scene_once() {
+    let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    scene.couplings = vec!["wheel".into()];
+    scene.validate().unwrap();
+    scene.couplings = vec!["wheel".into(), "lorry".into(), "wheel".into()];
+    let text = scene.validate().unwrap_err().to_string();
+    assert!(
+        text.contains("couplings[1] = \"lorry\": must name a body of the scene (one of wheel)"),
+        "{text}"
+    );
+    assert!(
+        text.contains("couplings[2] = \"wheel\": must be unique"),
+        "{text}"
+    );
+}
+
+#[test]
+fn body_names_are_the_assembled_systems() {
+    let wheel = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut sprung = Scene::lee1994(BodyKind::SprungMass, 10.0, 0.0025);
+    sprung.body.name = "car".into();
+    sprung.body.suspension = Some(SuspensionSpec {
+        stiffness: 1e6,
+        damping: 0.0,
+        unsprung_mass: 50.0,
+    });
+    let mut bogie = Scene::lee1994(BodyKind::BogieVehicle, 10.0, 0.0025);
+    bogie.body.name = "coach".into();
+    bogie.body.initial_position = 12.0;
+    bogie.body.bogie = Some(BogieSpec {
+        car_inertia: 1e6,
+        bogie_mass: 2000.0,
+        bogie_inertia: 3000.0,
+        wheelset_mass: 1000.0,
+        bogie_half_distance: 5.0,
+        axle_half_distance: 1.0,
+        primary_stiffness: 1e6,
+        primary_damping: 0.0,
+        secondary_stiffness: 5e5,
+        secondary_damping: 0.0,
+        wheel_radius: None,
+        wheelset_inertia: None,
+    });
+    for scene in [wheel, sprung, bogie] {
+        scene.validate().unwrap();
+        let system = crate::assemble::assemble(&scene).unwrap().system;
+        let assembled: Vec<String> = system.bodies.iter().map(|b| b.name.clone()).collect();
+        assert_eq!(scene.body_names(), assembled);
+    }
+}

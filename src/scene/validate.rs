@@ -61,6 +61,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     check_sections(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
     checks.problems.extend(super::irregularity::problems(scene));
+    check_couplings(&mut checks, scene);
     if checks.problems.is_empty() {
         Ok(())
     } else {
@@ -886,6 +887,43 @@ fn check_track(checks: &mut Checks, scene: &Scene) {
                 "must be 0 next to a free beam end (rigid ground meets the beam only where \
                  its deflection is held: pinned or clamped)",
             );
+        }
+    }
+}
+
+/// Each coupling names a body of the scene, once.
+fn check_couplings(checks: &mut Checks, scene: &Scene) {
+    let count = scene.couplings.len();
+    if count > MAX_SENSORS {
+        checks.fail(
+            "couplings",
+            format!("{count} couplings"),
+            format!("must hold at most {MAX_SENSORS}"),
+        );
+        return;
+    }
+    if count == 0 || scene.vehicles.len() > MAX_VEHICLES {
+        return;
+    }
+    let bodies: HashSet<String> = scene.body_names().into_iter().collect();
+    let mut seen = HashSet::new();
+    for (i, name) in scene.couplings.iter().enumerate() {
+        let path = format!("couplings[{i}]");
+        if !bodies.contains(name) {
+            let mut known: Vec<&String> = bodies.iter().collect();
+            known.sort();
+            known.truncate(20);
+            let known: Vec<&str> = known.iter().map(|s| s.as_str()).collect();
+            checks.fail(
+                path,
+                quoted(name),
+                format!(
+                    "must name a body of the scene (one of {})",
+                    known.join(", ")
+                ),
+            );
+        } else if !seen.insert(name.as_str()) {
+            checks.fail(path, quoted(name), "must be unique among the couplings");
         }
     }
 }

@@ -1,0 +1,91 @@
+//! The default experiment a scene's FMU declares: from the start to the
+//! last exit from the structure plus a time of free vibration (or the
+//! scene's `solver.end_time`), in steps of the solver's.
+
+use crate::scene::{BodyKind, BodySpec, Scene};
+
+/// Free vibration after the last exit, in periods of the fundamental mode
+/// of the longest span.
+pub const FREE_VIBRATION_PERIODS: f64 = 3.0;
+
+/// Stop time of the default experiment: `solver.end_time` if the scene sets
+/// one; else the last exit from the beam at the vehicles' initial speeds
+/// plus `FREE_VIBRATION_PERIODS` periods of the longest span's fundamental
+/// mode (simply supported: T₁ = 2 L² / π · √(m / EI)); 1 s where no vehicle
+/// moves.
+pub fn default_stop_time(scene: &Scene) -> f64 {
+    if let Some(t) = scene.solver.end_time {
+        return t;
+    }
+    let exits = std::iter::once(&scene.body)
+        .chain(&scene.vehicles)
+        .filter_map(|v| exit_time(v, scene.beam.length));
+    match exits.reduce(f64::max) {
+        Some(t) => t + FREE_VIBRATION_PERIODS * fundamental_period(scene),
+        None => 1.0,
+    }
+}
+
+/// When the last contact of vehicle `v` leaves the beam [0, L] at its
+/// initial speed (an estimate: forces change the speed); `None` at rest.
+fn exit_time(v: &BodySpec, length: f64) -> Option<f64> {
+    let speed = v.initial_speed;
+    // The contacts' spread about `initial_position` (a bogie vehicle's
+    // wheelsets lie ±(l_c + l_t) about its centre).
+    let reach = match (v.kind, v.bogie) {
+        (BodyKind::BogieVehicle, Some(b)) => b.bogie_half_distance + b.axle_half_distance,
+        _ => 0.0,
+    };
+    let x = v.initial_position;
+    let t = if speed > 0.0 {
+        (length - (x - reach)) / speed
+    } else if speed < 0.0 {
+        (x + reach) / -speed
+    } else {
+        return None;
+    };
+    Some(t.max(0.0))
+}
+
+/// Fundamental period (s) of the longest span between supports, taken as
+/// simply supported.
+pub fn fundamental_period(scene: &Scene) -> f64 {
+    let beam = &scene.beam;
+    let mut supports = vec![0.0];
+    supports.extend(&beam.supports.intermediate);
+    supports.push(beam.length);
+    let span = supports.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+    2.0 * span * span / std::f64::consts::PI
+        * (beam.mass_per_length / beam.bending_stiffness).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_default_scene_stops_three_periods_after_its_exit() {
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        // L = 24 m, m = 1250 kg/m, EI = 1e9 N m²: T1 = 0.4099 s
+        let period = fundamental_period(&scene);
+        assert!((period - 2.0 * 576.0 / std::f64::consts::PI * 1.25e-6f64.sqrt()).abs() < 1e-12);
+        assert!((period - 0.41).abs() < 1e-3, "{period}");
+        let stop = default_stop_time(&scene);
+        assert!((stop - (2.4 + 3.0 * period)).abs() < 1e-12, "{stop}");
+    }
+
+    #[test]
+    fn end_time_wins_and_a_vehicle_at_rest_gives_one_second() {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        scene.solver.end_time = Some(0.7);
+        assert_eq!(default_stop_time(&scene), 0.7);
+        scene.solver.end_time = None;
+        scene.body.initial_speed = 0.0;
+        assert_eq!(default_stop_time(&scene), 1.0);
+        // moving left from x = 6 m at 3 m/s: out at 2 s
+        scene.body.initial_speed = -3.0;
+        scene.body.initial_position = 6.0;
+        let stop = default_stop_time(&scene);
+        assert!((stop - 2.0 - 3.0 * fundamental_period(&scene)).abs() < 1e-12);
+    }
+}
