@@ -11,9 +11,10 @@ Each run sets `wheel.initial_speed`, `beam.bending_stiffness` and
 `wheel.mass` as start values, steps the FMU with communication steps of its
 `solver.step` until the wheel leaves the beam, and records the peak
 |midspan deflection| over the static deflection P L^3 / (48 EI) of the
-span. Runs that stop early (lift-off above the critical speed: fmi2Discard,
-or fmi2Error once no smaller step gets further; state rolled back) are kept
-in the table with their status, message and the time reached.
+span. A wheel that lifts off flies and lands within the run (an event, not
+a failure). Runs that stop early (a step that fails: fmi2Discard, or
+fmi2Error once no smaller step gets further; state rolled back) are kept in
+the table with their status, message and the time reached.
 
 Without --scheduler a LocalCluster of --workers processes (one thread each)
 is started. With --scheduler the runs go to that cluster; the FMU file is
@@ -262,7 +263,7 @@ def plot(table, png, length, mass_per_length):
             early = rows[rows["status"] != "exited"]
             if len(early):
                 ax.plot(early[f"{BODY}.initial_speed"], early["amplification"], "x", color=colour)
-    ax.plot([], [], "kx", label="stopped early (lift-off): peak before the stop")
+    ax.plot([], [], "kx", label="stopped early: peak before the stop")
     ax.set_xlabel("initial speed V0 (m/s)")
     ax.set_ylabel("peak |midspan deflection| / (P L³ / 48 EI)")
     ax.set_title("Dynamic amplification of midspan deflection (vertical lines: critical speeds)")

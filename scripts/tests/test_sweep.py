@@ -48,12 +48,10 @@ def test_sweep_on_an_existing_scheduler(cluster, tmp_path):
     # near the critical speed (117 m/s) the amplification is largest
     exited = table[(table["status"] == "exited") & (table["wheel.mass"] == 3000)]
     assert exited["amplification"].max() > 1.3
-    # every run is recorded with a status and the time it reached
-    assert set(table["status"]) <= {"exited", "lift-off"}
+    # a lift-off is an event of the run, not its end (unilateral contact):
+    # every run reaches the exit, with the time it reached
+    assert set(table["status"]) == {"exited"}
     assert (table["time_reached"] > 0).all()
-    early = table[table["status"] != "exited"]
-    assert (early["time_reached"] < 24 / early["wheel.initial_speed"]).all()
-    assert early["message"].str.contains("lift-off").all()
 
 
 def test_one_fmu_extraction_per_worker(cluster):
