@@ -997,45 +997,23 @@ impl Simulation {
     }
 
     /// Shorten the step so that open contact `contact`'s gap closes at its
-    /// end (regula falsi on the step length, Illinois variant, as
-    /// `locate_event`). Leaves the state at that instant in `scratch`.
+    /// end. Leaves the state at that instant in `scratch`.
     fn locate_landing(
         &mut self,
         contact: usize,
         forces: &[ContactForce],
         dt: f64,
     ) -> Result<(StepSolution, f64), SolverError> {
-        let (mut lo, mut f_lo) = (0.0, self.state.contacts[contact].gap);
-        let (mut hi, mut f_hi) = (dt, self.iteration.contact_gaps()[contact]);
-        let mut side = 0;
-        for _ in 0..60 {
-            let tau = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
-            let solution = self.solve(forces, tau)?;
-            let f = self.iteration.contact_gaps()[contact];
-            if f.abs() <= LANDING_GAP || (hi - lo) <= 1e-15 * dt {
-                return Ok((solution, tau));
-            }
-            if (f > 0.0) == (f_hi > 0.0) {
-                (hi, f_hi) = (tau, f);
-                if side == 1 {
-                    f_lo *= 0.5;
-                }
-                side = 1;
-            } else {
-                (lo, f_lo) = (tau, f);
-                if side == -1 {
-                    f_hi *= 0.5;
-                }
-                side = -1;
-            }
-        }
-        Err(SolverError {
-            time: self.state.time,
-            message: format!(
-                "the instant {} lands could not be located",
-                self.system.contacts[contact].name
-            ),
-        })
+        let start = self.state.contacts[contact].gap;
+        let gap = |sim: &Simulation| sim.iteration.contact_gaps()[contact];
+        self.locate(forces, dt, start, LANDING_GAP, gap)?
+            .ok_or_else(|| SolverError {
+                time: self.state.time,
+                message: format!(
+                    "the instant {} lands could not be located",
+                    self.system.contacts[contact].name
+                ),
+            })
     }
 
     /// The contact frames of the current state.
@@ -1177,9 +1155,8 @@ impl Simulation {
         Ok(solution)
     }
 
-    /// Shorten the step so that contact `contact` lands on `edge` (regula
-    /// falsi on the step length, Illinois variant). Leaves the state at
-    /// that instant in `scratch`.
+    /// Shorten the step so that contact `contact` lands on `edge`. Leaves
+    /// the state at that instant in `scratch`.
     fn locate_event(
         &mut self,
         contact: usize,
@@ -1187,41 +1164,56 @@ impl Simulation {
         forces: &[ContactForce],
         dt: f64,
     ) -> Result<(StepSolution, f64), SolverError> {
-        let start_x = self.state.dynamic.contact_x[contact];
-        let (mut lo, mut f_lo) = (0.0, start_x - edge);
-        let (mut hi, mut f_hi) = (dt, self.scratch.contact_x[contact] - edge);
+        let start = self.state.dynamic.contact_x[contact] - edge;
+        let tolerance = 1e-12 * self.system.beam.length;
+        let miss = |sim: &Simulation| sim.scratch.contact_x[contact] - edge;
+        self.locate(forces, dt, start, tolerance, miss)?
+            .ok_or_else(|| SolverError {
+                time: self.state.time,
+                message: format!(
+                    "the instant {} reaches x = {edge} m could not be located",
+                    self.system.contacts[contact].name
+                ),
+            })
+    }
+
+    /// Shorten the step until `miss`, a signed distance read from the
+    /// solved state (`start` at the step's start), is within `tolerance`:
+    /// regula falsi on the step length, Illinois variant. `None` when 60
+    /// passes do not get there.
+    fn locate(
+        &mut self,
+        forces: &[ContactForce],
+        dt: f64,
+        start: f64,
+        tolerance: f64,
+        miss: impl Fn(&Simulation) -> f64,
+    ) -> Result<Option<(StepSolution, f64)>, SolverError> {
+        let (mut lo, mut f_lo) = (0.0, start);
+        let (mut hi, mut f_hi) = (dt, miss(self));
         let mut side = 0;
-        let scale = self.system.beam.length;
         for _ in 0..60 {
             let tau = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
             let solution = self.solve(forces, tau)?;
-            let f = self.scratch.contact_x[contact] - edge;
-            if f.abs() <= 1e-12 * scale || (hi - lo) <= 1e-15 * dt {
-                return Ok((solution, tau));
+            let f = miss(self);
+            if f.abs() <= tolerance || (hi - lo) <= 1e-15 * dt {
+                return Ok(Some((solution, tau)));
             }
             if (f > 0.0) == (f_hi > 0.0) {
-                hi = tau;
-                f_hi = f;
+                (hi, f_hi) = (tau, f);
                 if side == 1 {
                     f_lo *= 0.5;
                 }
                 side = 1;
             } else {
-                lo = tau;
-                f_lo = f;
+                (lo, f_lo) = (tau, f);
                 if side == -1 {
                     f_hi *= 0.5;
                 }
                 side = -1;
             }
         }
-        Err(SolverError {
-            time: self.state.time,
-            message: format!(
-                "the instant {} reaches x = {edge} m could not be located",
-                self.system.contacts[contact].name
-            ),
-        })
+        Ok(None)
     }
 }
 
