@@ -625,16 +625,7 @@ impl Simulation {
     /// point cannot be located.
     pub fn beam_dynamics(&self) -> Option<crate::design::BeamDynamics> {
         let d = &self.state.dynamic;
-        let mut frames = Vec::new();
-        let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
-        contact_frames(
-            &self.system,
-            &d.beam_displacement,
-            &d.bodies,
-            located,
-            &mut frames,
-        )
-        .ok()?;
+        let frames = self.frames_now().ok()?;
         let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
         let beam = &self.system.beam;
         let loads = crate::design::contact_loads(beam, &frames, &forces);
