@@ -6,35 +6,17 @@
 //!
 //! `cargo run --release --example contacts_scaling`
 
-use guideway::scene::{BodyKind, IntegratorKind, Scene};
+#[path = "common/three_spans.rs"]
+mod three_spans;
+
+use guideway::scene::{IntegratorKind, Scene};
 use guideway::Simulation;
 use std::time::Instant;
 
 fn scene(contacts: usize) -> Scene {
-    let mut scene = Scene::lee1994(BodyKind::Wheel, 150.0 / 3.6, 0.001);
-    scene.gravity = 9.81;
-    scene.beam.length = 75.0;
-    scene.beam.bending_stiffness = 1e10;
-    scene.beam.mass_per_length = 5000.0;
-    scene.beam.elements = 75;
-    scene.beam.supports.intermediate = vec![25.0, 50.0];
-    scene.track.run_off = 100.0;
-    scene.solver.integrator = IntegratorKind::Hht;
-    scene.solver.numerical_damping = 0.1;
+    let mut scene = three_spans::wheels_on_three_spans(contacts, 75, IntegratorKind::Hht, 0.001);
     scene.solver.end_time = Some(1.0);
-    scene.sensors[0].position = 37.5;
     // All stay on the beam over the measured 0.22 s (9 m at 150 km/h).
-    let spacing = 50.0 / contacts as f64;
-    let template = scene.body.clone();
-    let mut wheels = (0..contacts).map(|i| {
-        let mut body = template.clone();
-        body.name = format!("wheel{}", i + 1);
-        body.force_y = -2e5;
-        body.initial_position = 0.5 + spacing * i as f64;
-        body
-    });
-    scene.body = wheels.next().expect("at least one");
-    scene.vehicles = wheels.collect();
     scene.validate().expect("valid scene");
     scene
 }

@@ -8,6 +8,9 @@
 //! `contacts_scaling`: that many paper wheels (3000 kg, gravity, 200 kN
 //! each) spread over a three-span continuous beam of 3 × 25 m at 150 km/h,
 //! Δt = 1 ms, on `elements` elements.
+#[path = "common/three_spans.rs"]
+mod three_spans;
+
 use guideway::scene::{BodyKind, IntegratorKind, Scene};
 use guideway::Simulation;
 
@@ -50,28 +53,7 @@ fn main() {
 fn many_contacts(elements: usize, integrator: IntegratorKind, steps: u32, contacts: usize) {
     let mut step = 0.001;
     let mut sim = loop {
-        let mut scene = Scene::lee1994(BodyKind::Wheel, 150.0 / 3.6, step);
-        scene.gravity = 9.81;
-        scene.beam.length = 75.0;
-        scene.beam.bending_stiffness = 1e10;
-        scene.beam.mass_per_length = 5000.0;
-        scene.beam.elements = elements;
-        scene.beam.supports.intermediate = vec![25.0, 50.0];
-        scene.track.run_off = 100.0;
-        scene.solver.integrator = integrator;
-        scene.solver.numerical_damping = 0.1;
-        scene.sensors[0].position = 37.5;
-        let spacing = 50.0 / contacts as f64;
-        let template = scene.body.clone();
-        let mut wheels = (0..contacts).map(|i| {
-            let mut body = template.clone();
-            body.name = format!("wheel{}", i + 1);
-            body.force_y = -2e5;
-            body.initial_position = 0.5 + spacing * i as f64;
-            body
-        });
-        scene.body = wheels.next().expect("at least one contact");
-        scene.vehicles = wheels.collect();
+        let scene = three_spans::wheels_on_three_spans(contacts, elements, integrator, step);
         if let Ok(sim) = Simulation::new(&scene) {
             break sim;
         }
