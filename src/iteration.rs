@@ -18,7 +18,9 @@ use std::hash::BuildHasherDefault;
 use nalgebra::{DMatrix, DVector, Dyn, Matrix4, Vector4, LU};
 
 use crate::contact::{ContactForce, ContactFrame};
-use crate::integrate::{contact_frames, DynamicState, IntegrationError, Integrator, StepStart};
+use crate::integrate::{
+    contact_frames, DynamicState, ForceShape, IntegrationError, Integrator, StepStart,
+};
 use crate::system::System;
 
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
@@ -251,6 +253,9 @@ pub struct ContactIteration {
     open: Vec<bool>,
     /// Every contact's gap at the end of the last integration, open or not.
     contact_gaps: Vec<f64>,
+    /// Per contact: the shape of its force over the next steps solved
+    /// (`set_force_shapes`; held when empty).
+    shapes: Vec<ForceShape>,
     /// The bodies at the end of the previous integration of the step.
     previous_bodies: Vec<crate::body::BodyState>,
 }
@@ -288,6 +293,7 @@ impl ContactIteration {
             loaded_elements: Vec::new(),
             open: vec![false; system.contacts.len()],
             contact_gaps: vec![0.0; system.contacts.len()],
+            shapes: vec![ForceShape::default(); system.contacts.len()],
             previous_bodies: Vec::new(),
         }
     }
@@ -296,6 +302,13 @@ impl ContactIteration {
     pub fn set_open(&mut self, open: &[bool]) {
         self.open.clear();
         self.open.extend_from_slice(open);
+    }
+
+    /// Each contact's force shape over the next steps solved; the
+    /// iteration's unknown stays the force's mean over the step.
+    pub fn set_force_shapes(&mut self, shapes: &[ForceShape]) {
+        self.shapes.clear();
+        self.shapes.extend_from_slice(shapes);
     }
 
     /// Every contact's gap g at the end of the last step solved (m).
@@ -638,6 +651,7 @@ impl ContactIteration {
         // Taken out of the workspace for the step: `from` lends them to the
         // integrator while the workspace is borrowed mutably.
         let mut start_frames = std::mem::take(&mut self.start_frames);
+        let mut shapes = std::mem::take(&mut self.shapes);
         let (u, bodies) = (&start.beam_displacement, &start.bodies);
         let located = (start.contact_x.as_slice(), parts);
         contact_frames(system, u, bodies, located, &mut start_frames)?;
@@ -654,15 +668,23 @@ impl ContactIteration {
                 *force = ContactForce::default();
             }
         }
+        // An open contact's force is zero all through the step.
+        for (shape, &open) in shapes.iter_mut().zip(&self.open) {
+            if open {
+                *shape = ForceShape::default();
+            }
+        }
         let from = StepStart {
             state: start,
             frames: &start_frames,
             parts,
             applied,
             dt,
+            shapes: &shapes,
         };
         let solution = self.iterate(system, &from, settings, end);
         self.start_frames = start_frames;
+        self.shapes = shapes;
         solution
     }
 

@@ -8,11 +8,12 @@ use serde::{Deserialize, Serialize};
 use crate::assemble::{assemble, constant_forces};
 use crate::contact::ContactForce;
 use crate::integrate::{
-    choose_integrator, contact_frames, contact_frames_at_bodies, loads, DynamicState,
+    choose_integrator, contact_frames, contact_frames_at_bodies, force_shape, loads, DynamicState,
+    ForceShape,
 };
 use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
 use crate::outputs::{catalogue, Quantity};
-use crate::scene::{Scene, SpeedSpec, StartKind};
+use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
@@ -305,6 +306,9 @@ pub struct Simulation {
     /// The bodies driven at a prescribed speed, and their speeds.
     drives: Vec<(usize, SpeedSpec)>,
     settings: IterationSettings,
+    /// The contact force's shape within a step, and its per-step buffer.
+    force_profile: ForceProfile,
+    shapes: Vec<ForceShape>,
     iteration: ContactIteration,
     state: SimState,
     scratch: DynamicState,
@@ -394,6 +398,8 @@ impl Simulation {
                 max_iterations: scene.solver.max_iterations,
             },
             iteration: ContactIteration::new(integrator, &system, step),
+            force_profile: scene.solver.force_profile,
+            shapes: Vec::new(),
             integrator_choice,
             scratch: dynamic.clone(),
             state: SimState {
@@ -822,7 +828,8 @@ impl Simulation {
         let before = self.state.force_history.clone();
         let steps = self.state.step_history;
         let guess: Vec<ContactForce> = before.iter().map(|h| h[0]).collect();
-        let solution = self.solve(&guess, tau)?;
+        // An impulse, not a smooth force: held over its short step.
+        let solution = self.solve_shaped(&guess, tau, ForceProfile::Held)?;
         self.refuse_lift_off(&solution)?;
         let impulse = solution.forces[contact].as_vector() * tau;
         self.accept(solution, tau);
@@ -1095,6 +1102,17 @@ impl Simulation {
     }
 
     fn solve(&mut self, guess: &[ContactForce], dt: f64) -> Result<StepSolution, SolverError> {
+        self.solve_shaped(guess, dt, self.force_profile)
+    }
+
+    /// `solve` with the contact forces shaped by `profile` over the step.
+    fn solve_shaped(
+        &mut self,
+        guess: &[ContactForce],
+        dt: f64,
+        profile: ForceProfile,
+    ) -> Result<StepSolution, SolverError> {
+        self.set_force_shapes(dt, profile);
         self.set_drives(dt);
         let mut applied = std::mem::take(&mut self.applied);
         applied.clear();
@@ -1102,6 +1120,33 @@ impl Simulation {
         let solution = self.solve_with(guess, &applied, dt);
         self.applied = applied;
         solution
+    }
+
+    /// Each contact's force shape over a step of `dt`, fitted to the means
+    /// of the steps before that it was closed in (none at the start, after
+    /// a landing: held there).
+    fn set_force_shapes(&mut self, dt: f64, profile: ForceProfile) {
+        let s = &self.state;
+        // A step whose gap was corrected carries a position-correcting
+        // impulse in its mean, not a sample of the smooth force: fitted
+        // to, it would be carried on into the next steps' shapes.
+        let steps_taken = if s.last_position_iterations > 0 {
+            0
+        } else {
+            s.steps.min(2) as usize
+        };
+        self.shapes.clear();
+        self.shapes.extend(s.force_history.iter().map(|history| {
+            let closed = history.iter().take_while(|f| f.normal != 0.0).count();
+            force_shape(
+                profile,
+                history,
+                &s.step_history,
+                closed.min(steps_taken),
+                dt,
+            )
+        }));
+        self.iteration.set_force_shapes(&self.shapes);
     }
 
     /// Each driven body's ẍ over a step of `dt`: the one that brings its

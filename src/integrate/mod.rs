@@ -5,6 +5,7 @@
 
 mod choice;
 mod hht;
+mod profile;
 mod rk4;
 
 use nalgebra::{DVector, Vector3};
@@ -17,6 +18,7 @@ use crate::system::{System, TrackPart};
 
 pub use choice::{choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
 pub use hht::Hht;
+pub use profile::{force_shape, ForceShape};
 pub use rk4::Rk4;
 
 /// Positions and velocities of everything that moves, plus each contact's
@@ -61,6 +63,9 @@ pub struct StepStart<'a> {
     pub parts: &'a [TrackPart],
     pub applied: &'a [Vector3<f64>],
     pub dt: f64,
+    /// Each contact's force shape over the step (RK4; HHT-α's unknown is
+    /// the end-of-step force and ignores it).
+    pub shapes: &'a [ForceShape],
 }
 
 /// Failure of one integration.

@@ -8,13 +8,15 @@
 
 use nalgebra::{DVector, Vector3};
 
-use super::{contact_frames, loads, DynamicState, IntegrationError, StepStart};
+use super::{contact_frames, loads, DynamicState, ForceShape, IntegrationError, StepStart};
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
 use crate::system::System;
 
 const STAGE_TIME: [f64; 3] = [0.5, 0.5, 1.0];
 const WEIGHT: [f64; 4] = [1.0, 2.0, 2.0, 1.0];
+/// Which of the force shape's stage times (0, ½, 1) each stage is at.
+const SHAPE_TIME: [usize; 4] = [0, 1, 1, 2];
 
 /// Scratch of the RK4 step, allocated once per simulation.
 pub struct Rk4 {
@@ -30,6 +32,8 @@ pub struct Rk4 {
     sum_rates: Vec<Vector3<f64>>,
     sum_accelerations: Vec<Vector3<f64>>,
     frames: Vec<ContactFrame>,
+    /// The contact forces at the current stage's time.
+    stage_forces: Vec<ContactForce>,
 }
 
 impl Rk4 {
@@ -47,6 +51,7 @@ impl Rk4 {
             sum_rates: vec![Vector3::zeros(); bodies],
             sum_accelerations: vec![Vector3::zeros(); bodies],
             frames: Vec::new(),
+            stage_forces: Vec::new(),
         }
     }
 
@@ -87,6 +92,7 @@ impl Rk4 {
             for (x, frame) in end.contact_x.iter_mut().zip(frames) {
                 *x = frame.x;
             }
+            let forces = stage_forces(forces, from.shapes, SHAPE_TIME[stage], &mut self.stage_forces);
             dissipation_sum += WEIGHT[stage]
                 * loads(
                     system,
@@ -185,4 +191,20 @@ impl Rk4 {
         velocity.copy_from(&self.sum_v);
         velocity.scale_mut(dt / 6.0);
     }
+}
+
+/// The contact forces at stage time `k` of the shapes, for the step's mean
+/// `forces` (the means themselves where every force is held).
+fn stage_forces<'a>(
+    forces: &'a [ContactForce],
+    shapes: &[ForceShape],
+    k: usize,
+    out: &'a mut Vec<ContactForce>,
+) -> &'a [ContactForce] {
+    if shapes.len() != forces.len() || shapes.iter().all(ForceShape::is_held) {
+        return forces;
+    }
+    out.clear();
+    out.extend(forces.iter().zip(shapes).map(|(f, shape)| shape.at(k, f)));
+    out
 }

@@ -463,6 +463,10 @@ pub struct SolverSpec {
     /// (0: Newmark's average acceleration, energy-conserving).
     #[serde(default)]
     pub numerical_damping: f64,
+    /// How the contact force varies within a step under RK4 (HHT-α's
+    /// unknown force is its end-of-step value whatever this says).
+    #[serde(default, skip_serializing_if = "ForceProfile::is_default")]
+    pub force_profile: ForceProfile,
     /// Stop time (s) if the body has not left the beam before.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end_time: Option<f64>,
@@ -509,9 +513,31 @@ impl Default for SolverSpec {
             max_iterations: default_max_iterations(),
             integrator: IntegratorKind::default(),
             numerical_damping: 0.0,
+            force_profile: ForceProfile::default(),
             end_time: None,
             start: StartKind::Rest,
         }
+    }
+}
+
+/// The contact force within a step. The iteration's unknown is always the
+/// force's mean over the step; the profile sets its shape from the means of
+/// the steps before.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ForceProfile {
+    /// Constant over the step: the paper's scheme (second order).
+    #[default]
+    Held,
+    /// Linear: its mean over this step and the previous one as found.
+    Linear,
+    /// Quadratic: its means over this step and the two before as found.
+    Quadratic,
+}
+
+impl ForceProfile {
+    pub fn is_default(&self) -> bool {
+        *self == ForceProfile::default()
     }
 }
 
