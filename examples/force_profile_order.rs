@@ -21,14 +21,19 @@ fn run(scene: &Scene) -> (f64, f64, u64) {
 }
 
 fn main() {
-    let elements: usize = std::env::args().nth(1).map_or(2, |a| a.parse().expect("a count"));
+    let elements: usize = std::env::args()
+        .nth(1)
+        .map_or(2, |a| a.parse().expect("a count"));
     let mut base = builtin("lee1994-wheel-10").expect("built in");
     base.beam.elements = elements;
     base.solver.integrator = IntegratorKind::Rk4;
     base.solver.velocity_tolerance = 1e-12;
     let mut largest = 0.0025;
     while guideway::Simulation::new(&Scene {
-        solver: guideway::scene::SolverSpec { step: largest, ..base.solver.clone() },
+        solver: guideway::scene::SolverSpec {
+            step: largest,
+            ..base.solver.clone()
+        },
         ..base.clone()
     })
     .is_err()
@@ -39,14 +44,23 @@ fn main() {
     reference.solver.force_profile = ForceProfile::Quadratic;
     reference.solver.step = (largest / 4.0).min(0.0025 / 64.0);
     let (v_ref, drift_ref, _) = run(&reference);
-    println!("{elements} elements, reference V = {v_ref:.12} m/s (Δt = {:.3e} s, drift {drift_ref:.2e})", reference.solver.step);
-    println!("| profile | Δt (s) | exit V error (m/s) | ratio | max energy drift | ratio | iterations |");
+    println!(
+        "{elements} elements, reference V = {v_ref:.12} m/s (Δt = {:.3e} s, drift {drift_ref:.2e})",
+        reference.solver.step
+    );
+    println!(
+        "| profile | Δt (s) | exit V error (m/s) | ratio | max energy drift | ratio | iterations |"
+    );
     println!("|---|---:|---:|---:|---:|---:|---:|");
     if std::env::args().nth(2).as_deref() == Some("hht") {
         hht_table(&base, v_ref);
         return;
     }
-    for profile in [ForceProfile::Held, ForceProfile::Linear, ForceProfile::Quadratic] {
+    for profile in [
+        ForceProfile::Held,
+        ForceProfile::Linear,
+        ForceProfile::Quadratic,
+    ] {
         let mut last: Option<(f64, f64)> = None;
         for k in 0..5 {
             let mut scene = base.clone();

@@ -97,7 +97,8 @@ pub fn force_shape(
         2 => {
             // Cells [0, 1], [−r₁, 0], [−r₁ − r₂, −r₁]: means of (1, τ, τ²).
             let (r1, r2) = (ratios[0], ratios[1]);
-            let row = |a: f64, b: f64| RowVector3::new(1.0, 0.5 * (a + b), (a * a + a * b + b * b) / 3.0);
+            let row =
+                |a: f64, b: f64| RowVector3::new(1.0, 0.5 * (a + b), (a * a + a * b + b * b) / 3.0);
             let cells = Matrix3::from_rows(&[row(0.0, 1.0), row(-r1, 0.0), row(-r1 - r2, -r1)]);
             let Some(inverse) = cells.try_inverse() else {
                 return shape;

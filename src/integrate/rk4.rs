@@ -92,7 +92,12 @@ impl Rk4 {
             for (x, frame) in end.contact_x.iter_mut().zip(frames) {
                 *x = frame.x;
             }
-            let forces = stage_forces(forces, from.shapes, SHAPE_TIME[stage], &mut self.stage_forces);
+            let forces = stage_forces(
+                forces,
+                from.shapes,
+                SHAPE_TIME[stage],
+                &mut self.stage_forces,
+            );
             dissipation_sum += WEIGHT[stage]
                 * loads(
                     system,
