@@ -36,6 +36,17 @@ fn reference_is_converged_and_rk4_errors_shrink_with_the_step() {
                 .collect::<Vec<_>>()
         );
     }
+    // The quadratic force profile: fourth order once the step resolves the
+    // force (from 1.25 ms on the paper's mesh).
+    let quadratic = |step: f64| {
+        points
+            .iter()
+            .find(|p| p.scheme == "rk4-quadratic" && p.step == step && p.velocity_tolerance == 1e-7)
+            .expect("measured")
+    };
+    let (coarse, fine) = (quadratic(1.25e-3), quadratic(6.25e-4));
+    assert!(coarse.max_energy_drift > 12.0 * fine.max_energy_drift);
+    assert!(coarse.rms_deflection_error > 12.0 * fine.rms_deflection_error);
     let paper = points
         .iter()
         .find(|p| p.paper_setting)
