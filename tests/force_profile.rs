@@ -4,7 +4,7 @@
 //! landing) keep working with the shaped force.
 
 use guideway::report::run_scene;
-use guideway::scene::{BodyKind, ForceProfile, IntegratorKind, Scene};
+use guideway::scene::{BodyKind, DampingSpec, ForceProfile, IntegratorKind, Scene};
 use guideway::simulation::EventKind;
 use guideway::{Advance, Simulation};
 
@@ -111,6 +111,36 @@ fn hht_exit_speed_converges_at_second_order_on_the_paper_mesh() {
         let (speed, energy) = (pair[0].0 / pair[1].0, pair[0].1 / pair[1].1);
         assert!((3.5..4.5).contains(&speed), "{errors:?}");
         assert!((3.5..4.5).contains(&energy), "{errors:?}");
+    }
+}
+
+#[test]
+fn hht_exit_speed_converges_on_a_damped_fine_mesh() {
+    // On 32 undamped elements HHT-α's exit speed does not converge with
+    // the step (errors of 2e-4 to 2e-3 m/s down to Δt = 39 µs): the beam's
+    // undamped high modes, rung up where the contact crosses nodes, carry a
+    // fast part of V (RMS 6e-4 m/s near the exit in the RK4 reference)
+    // whose phase a second-order scheme loses over the run. With 2 %
+    // Rayleigh damping at modes 1 and 3 that part decays, and V converges
+    // at second order from the paper's step (measured on 2026-11-22:
+    // successive differences 1.44e-4, 3.9e-5, 9.6e-6 m/s).
+    let mut scene = paper_case(ForceProfile::Held, 0.0025);
+    scene.beam.elements = 32;
+    scene.beam.damping = Some(DampingSpec::Modes {
+        ratio: 0.02,
+        modes: [1, 3],
+    });
+    scene.solver.integrator = IntegratorKind::Hht;
+    let speeds: Vec<f64> = (0..4)
+        .map(|k| {
+            scene.solver.step = 0.0025 / f64::from(1u32 << k);
+            exit_and_drift(&scene).0
+        })
+        .collect();
+    let differences: Vec<f64> = speeds.windows(2).map(|p| (p[1] - p[0]).abs()).collect();
+    assert!(differences[0] < 3e-4, "{speeds:?}");
+    for pair in differences.windows(2) {
+        assert!((3.3..4.5).contains(&(pair[0] / pair[1])), "{speeds:?}");
     }
 }
 

@@ -5,7 +5,7 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 42] = [
+const FIELD_NOTES: [(&str, &str); 43] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
     (
@@ -91,6 +91,10 @@ const FIELD_NOTES: [(&str, &str); 42] = [
     (
         "solver.numerical_damping",
         "HHT's -alpha in [0, 1/3]; 0 conserves energy",
+    ),
+    (
+        "solver.force_profile",
+        "held (the paper's) | linear | quadratic: RK4's force in the step",
     ),
     ("solver.end_time", "s, stop here if the body has not left"),
 ];
