@@ -1000,3 +1000,20 @@ fn body_names_are_the_assembled_systems() {
         assert_eq!(scene.body_names(), assembled);
     }
 }
+
+#[test]
+fn a_shaped_force_profile_is_refused_with_hht_and_kept_with_auto() {
+    assert_single_problem(
+        |s| {
+            s.solver.integrator = IntegratorKind::Hht;
+            s.solver.force_profile = ForceProfile::Quadratic;
+        },
+        "solver.force_profile",
+        "quadratic",
+        "HHT-α",
+    );
+    let mut scene = default_scene();
+    scene.solver.integrator = IntegratorKind::Auto;
+    scene.solver.force_profile = ForceProfile::Linear;
+    scene.validate().unwrap();
+}

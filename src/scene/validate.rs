@@ -3,7 +3,9 @@
 //! Every rule is checked and every broken one reported, so that a person can
 //! fix a scene file in one pass.
 
-use super::{BodyKind, DampingSpec, EndSupport, JointKind, Scene, SceneError};
+use super::{
+    BodyKind, DampingSpec, EndSupport, ForceProfile, IntegratorKind, JointKind, Scene, SceneError,
+};
 use crate::scene::error::Problem;
 use std::collections::HashSet;
 
@@ -1047,6 +1049,15 @@ fn check_solver(checks: &mut Checks, scene: &Scene) {
     }
     if let Some(end) = solver.end_time {
         checks.positive("solver.end_time", end);
+    }
+    // HHT-α's unknown is its end-of-step force: a shaped profile would be
+    // silently ignored, so it is refused (under `auto` it serves the RK4 runs).
+    if solver.integrator == IntegratorKind::Hht && solver.force_profile != ForceProfile::Held {
+        checks.fail(
+            "solver.force_profile",
+            format!("{:?}", solver.force_profile).to_lowercase(),
+            "must be \"held\" with integrator = \"hht\" (HHT-α solves for the end-of-step force; use \"rk4\" or \"auto\")",
+        );
     }
 }
 
