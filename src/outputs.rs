@@ -62,6 +62,7 @@ pub enum Quantity {
     ExternalWork,
     TractiveWork,
     ImpactLoss,
+    NumericalDissipation,
     Balance,
     VelocityError,
     GapError,
@@ -323,9 +324,17 @@ impl Catalogue {
             Quantity::ImpactLoss,
         );
         self.real(
+            e("numerical_dissipation"),
+            "J",
+            "energy removed by HHT-alpha's numerical damping (zero under RK4), \
+             from the scheme's discrete energy identity",
+            Quantity::NumericalDissipation,
+        );
+        self.real(
             e("balance"),
             "J",
-            "kinetic + strain + spring energy + dissipated (dampers, beam damping, impacts) \
+            "kinetic + strain + spring energy + dissipated (dampers, beam damping, impacts, \
+             numerical damping) \
              - work of gravity, applied and tractive forces: \
              constant for the exact solution",
             Quantity::Balance,
@@ -536,6 +545,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::ExternalWork => state.external_work,
             Quantity::TractiveWork => d.tractive_work,
             Quantity::ImpactLoss => state.impact_loss,
+            Quantity::NumericalDissipation => d.numerical_dissipation,
             Quantity::Balance => sim.energy_balance(),
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,

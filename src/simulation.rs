@@ -217,6 +217,7 @@ impl SimState {
             d.dissipated,
             d.beam_dissipated,
             d.tractive_work,
+            d.numerical_dissipation,
             self.impact_loss,
         ];
         let bodies = d.bodies.iter().flat_map(|b| {
@@ -466,7 +467,7 @@ impl Simulation {
     }
 
     /// Kinetic + strain + spring energy + energy dissipated (dampers,
-    /// structural damping and impacts) − work of
+    /// structural damping, impacts and HHT-α's numerical damping) − work of
     /// gravity and of the applied force (J).
     pub fn energy_balance(&self) -> f64 {
         let d = &self.state.dynamic;
@@ -477,6 +478,7 @@ impl Simulation {
             + s.spring_energy(&d.bodies)
             + d.dissipated
             + d.beam_dissipated
+            + d.numerical_dissipation
             + self.state.impact_loss
             - self.state.gravity_work
             - self.state.external_work
@@ -1353,6 +1355,7 @@ fn initial_state(
         dissipated: 0.0,
         beam_dissipated: 0.0,
         tractive_work: 0.0,
+        numerical_dissipation: 0.0,
     })
 }
 

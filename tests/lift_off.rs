@@ -129,11 +129,18 @@ fn paper_scene(speed: f64, elements: usize, step: f64) -> Scene {
 
 /// The paper's wheel crossing at `speed` onto a run-off of rigid ground,
 /// until `after` seconds past the beam's end.
-fn crossing(speed: f64, step: f64, after: f64) -> (Scene, Simulation, Vec<f64>) {
+fn crossing_scene(speed: f64, step: f64, after: f64) -> Scene {
     let mut scene = paper_scene(speed, 16, step);
     scene.track.run_off = 30.0;
-    let end = 24.0 / speed + after;
-    scene.solver.end_time = Some(end);
+    scene.solver.end_time = Some(24.0 / speed + after);
+    scene
+}
+
+/// The crossing of `crossing_scene`, with the balance's drift after
+/// every step.
+fn crossing(speed: f64, step: f64, after: f64) -> (Scene, Simulation, Vec<f64>) {
+    let scene = crossing_scene(speed, step, after);
+    let end = scene.solver.end_time.unwrap();
     let mut drift = Vec::new();
     let sim = run(&scene, end, |sim| {
         drift.push(sim.energy_balance() - sim.initial_energy())
@@ -205,6 +212,43 @@ fn energy_balance_with_impacts_holds_within_rk4s_limit() {
         let added = (drift.last().unwrap() - before).abs();
         assert!(added <= 1e-5 * sim.impact_loss(), "{speed} m/s: {added} J");
     }
+}
+
+#[test]
+fn energy_balance_with_impacts_holds_at_the_papers_step_under_auto() {
+    // At Δt = 2.5 ms `auto` picks HHT-α with α = −0.1; its numerical
+    // dissipation, from the scheme's discrete energy identity step by step,
+    // is a term of the balance. Measured on 2026-11-22 (largest drift over
+    // the run, with D and without, of the total): 150 m/s 333 J and 694 J
+    // of 5.07e7 J (6.6e-6, 1.4e-5), D = 346 J; 250 m/s 2.9e3 J and
+    // 4.4e3 J of 1.41e8 J (2.0e-5, 3.1e-5), D = 2.9e3 J: at 250 m/s the
+    // balance does not hold to 1e-5. What is left is the
+    // same at α = −0.05, −0.1 and −0.2 (2.1e3, 2.9e3, 2.7e3 J): not the
+    // numerical damping but the contact forces' work at the coarse step,
+    // while the force alternates from step to step near the beam's end.
+    let scene = crossing_scene(150.0, 0.0025, 0.08);
+    let end = scene.solver.end_time.unwrap();
+    let (mut drift, mut numerical_history) = (Vec::new(), Vec::new());
+    let sim = run(&scene, end, |sim| {
+        drift.push(sim.energy_balance() - sim.initial_energy());
+        numerical_history.push(sim.state().dynamic.numerical_dissipation);
+    });
+    assert!(sim.integrator_choice().starts_with("hht"));
+    let s = sim.state();
+    let total = sim.initial_energy().abs()
+        + s.external_work.abs()
+        + s.gravity_work.abs()
+        + sim.impact_loss();
+    let worst = drift.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    let numerical = s.dynamic.numerical_dissipation;
+    let without = drift
+        .iter()
+        .zip(&numerical_history)
+        .fold(0.0f64, |m, (d, n)| m.max((d - n).abs()));
+    eprintln!("150 m/s: drift {worst} J (without D {without} J) of {total} J, D {numerical} J");
+    assert!(worst <= 1e-5 * total, "drift {worst} J of {total} J");
+    // Left out of the balance, the numerical damping would break it.
+    assert!(numerical > 0.0 && without > 1e-5 * total, "{without} J");
 }
 
 #[test]

@@ -13,6 +13,7 @@
 use crate::band::BandLdlt;
 use nalgebra::{DVector, Vector3};
 
+use super::hht_energy::{step_dissipation, Buffers, Weights};
 use super::{contact_frames, loads, DynamicState, IntegrationError, StepStart};
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
@@ -37,6 +38,9 @@ pub struct Hht {
     rhs: DVector<f64>,
     work: DVector<f64>,
     scratch: DVector<f64>,
+    /// Each body's tractive force at the end of the step (zero if free).
+    tractive: Vec<f64>,
+    energy: Buffers,
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -72,6 +76,8 @@ impl Hht {
             rhs: z(),
             work: z(),
             scratch: z(),
+            tractive: vec![0.0; system.bodies.len()],
+            energy: Buffers::new(system.beam.free_dofs()),
         })
     }
 
@@ -138,7 +144,7 @@ impl Hht {
         self.beam_step(system, start, dt, end);
         end.tractive_work = start.tractive_work;
         for (b, body) in system.bodies.iter().enumerate() {
-            self.body_step(body, b, start, dt, end);
+            self.tractive[b] = self.body_step(body, b, start, dt, end);
         }
         end.beam_load.copy_from(&self.load);
         for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
@@ -153,6 +159,19 @@ impl Hht {
         // Trapezoidal rule for the dampers' dissipation over the step.
         let start_dissipation = dissipation_power(&system.force_elements, &start.bodies);
         end.dissipated = start.dissipated + 0.5 * dt * (start_dissipation + dissipation);
+        let weights = Weights {
+            beta: self.beta,
+            gamma: self.gamma,
+        };
+        let numerical = step_dissipation(
+            system,
+            weights,
+            dt,
+            (start, end),
+            &self.tractive,
+            &mut self.energy,
+        );
+        end.numerical_dissipation = start.numerical_dissipation + numerical;
         self.predicted_u.copy_from(&end.beam_displacement);
         self.predicted_bodies.clear();
         self.predicted_bodies.extend_from_slice(&end.bodies);
@@ -201,7 +220,8 @@ impl Hht {
     }
 
     /// Body `b`: the same forcing and Newmark weights as the beam. Its
-    /// end-of-step load is already in `end.body_loads[b]`.
+    /// end-of-step load is already in `end.body_loads[b]`. Returns the
+    /// tractive force at the step's end (zero for a free body).
     fn body_step(
         &self,
         body: &crate::body::RigidBody,
@@ -209,7 +229,7 @@ impl Hht {
         start: &DynamicState,
         dt: f64,
         end: &mut DynamicState,
-    ) {
+    ) -> f64 {
         let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
         let generalized = end.body_loads[b];
         let forcing = (1.0 + alpha) * generalized - alpha * start.body_loads[b];
@@ -232,7 +252,9 @@ impl Hht {
             let start_force = body.mass * a0.x - start.body_loads[b].x;
             let end_force = body.tractive_force(&forcing);
             end.tractive_work += 0.5 * (start_force + end_force) * position_increment.x;
+            return end_force;
         }
+        0.0
     }
 
     /// The end-of-step force enters with weight 1 + α (at t_{n+1+α}).

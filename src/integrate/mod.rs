@@ -5,6 +5,7 @@
 
 mod choice;
 mod hht;
+mod hht_energy;
 mod profile;
 mod rk4;
 
@@ -50,6 +51,10 @@ pub struct DynamicState {
     /// t = 0 (J), integrated with the step.
     #[serde(default)]
     pub tractive_work: f64,
+    /// Energy removed by HHT-α's numerical damping since t = 0 (J), from
+    /// the scheme's discrete energy identity step by step (zero under RK4).
+    #[serde(default)]
+    pub numerical_dissipation: f64,
 }
 
 /// What one step starts from: the state, its contact frames (the same for

@@ -159,6 +159,7 @@ impl Rk4 {
         end.dissipated = start.dissipated + w * dissipation_sum;
         end.beam_dissipated = start.beam_dissipated + w * beam_dissipation_sum;
         end.tractive_work = start.tractive_work + w * tractive_power_sum;
+        end.numerical_dissipation = start.numerical_dissipation;
         Ok(())
     }
 
