@@ -37,7 +37,12 @@ fn assert_same_run(full: &RunFigures, reduced: &RunFigures, tolerance: f64) {
         );
     }
     assert!(relative(full.exit_nominal_speed, reduced.exit_nominal_speed) < tolerance);
-    assert!(relative(full.peak_midspan_deflection, reduced.peak_midspan_deflection) < tolerance);
+    assert!(
+        relative(
+            full.peak_midspan_deflection,
+            reduced.peak_midspan_deflection
+        ) < tolerance
+    );
     assert!(relative(full.exit_time, reduced.exit_time) < tolerance);
 }
 
@@ -90,7 +95,11 @@ fn sensor_deflection_and_exit_speed_converge_as_modes_are_added() {
         );
         // The energy balance holds on the reduced structure too (the full
         // model's drift at this step is 1.3e-6).
-        assert!(run.max_energy_drift < 2e-6, "{k} modes: {:e}", run.max_energy_drift);
+        assert!(
+            run.max_energy_drift < 2e-6,
+            "{k} modes: {:e}",
+            run.max_energy_drift
+        );
         errors.push((k, deflection, speed));
     }
     let at = |k: usize| *errors.iter().find(|e| e.0 == k).expect("k in the table");
@@ -139,13 +148,20 @@ fn a_long_mesh_is_reduced_without_a_dense_eigenproblem() {
     // The lowest 12 modes of 32 and 1000 elements differ by the mesh's
     // discretisation error only (≈ 1e-6 for mode 12 on 32 elements).
     assert!(
-        relative(reduced.peak_midspan_deflection, dense.peak_midspan_deflection) < 1e-4,
+        relative(
+            reduced.peak_midspan_deflection,
+            dense.peak_midspan_deflection
+        ) < 1e-4,
         "{} vs {}",
         reduced.peak_midspan_deflection,
         dense.peak_midspan_deflection
     );
     assert!((reduced.exit_nominal_speed - dense.exit_nominal_speed).abs() < 1e-4);
-    assert!(reduced.max_energy_drift < 1e-4, "{}", reduced.max_energy_drift);
+    assert!(
+        reduced.max_energy_drift < 1e-4,
+        "{}",
+        reduced.max_energy_drift
+    );
 }
 
 #[test]
@@ -156,25 +172,40 @@ fn the_modal_fields_are_validated_by_name() {
         scene.validate().expect_err("invalid").to_string()
     };
     let text = problem(|s| s.solver.modes = Some(3));
-    assert!(text.contains("solver.modes") && text.contains("structure = \"modal\""), "{text}");
+    assert!(
+        text.contains("solver.modes") && text.contains("structure = \"modal\""),
+        "{text}"
+    );
     let text = problem(|s| s.solver.structure = StructureKind::Modal);
-    assert!(text.contains("solver.structure") && text.contains("needs solver.modes"), "{text}");
+    assert!(
+        text.contains("solver.structure") && text.contains("needs solver.modes"),
+        "{text}"
+    );
     let text = problem(|s| {
         s.solver.structure = StructureKind::Modal;
         s.solver.modes = Some(0);
     });
-    assert!(text.contains("solver.modes") && text.contains("between 1 and"), "{text}");
+    assert!(
+        text.contains("solver.modes") && text.contains("between 1 and"),
+        "{text}"
+    );
     let text = problem(|s| {
         s.solver.structure = StructureKind::Modal;
         s.solver.modes = Some(2);
         s.solver.max_frequency = Some(10.0);
     });
-    assert!(text.contains("solver.max_frequency") && text.contains("choose one"), "{text}");
+    assert!(
+        text.contains("solver.max_frequency") && text.contains("choose one"),
+        "{text}"
+    );
     let text = problem(|s| {
         s.solver.structure = StructureKind::Modal;
         s.solver.max_frequency = Some(f64::NAN);
     });
-    assert!(text.contains("solver.max_frequency") && text.contains("finite"), "{text}");
+    assert!(
+        text.contains("solver.max_frequency") && text.contains("finite"),
+        "{text}"
+    );
     let text = problem(|s| {
         *s = modal(s.clone(), 2);
         s.beam.length = 48.0;
@@ -186,14 +217,23 @@ fn the_modal_fields_are_validated_by_name() {
             gap: 0.0,
         }];
     });
-    assert!(text.contains("solver.structure") && text.contains("rail joints"), "{text}");
+    assert!(
+        text.contains("solver.structure") && text.contains("rail joints"),
+        "{text}"
+    );
     // What only the mesh can tell is refused when the simulation is built.
     let scene = modal(paper_scene(BodyKind::Wheel, 10.0, 0.0025), 5);
     let error = Simulation::new(&scene).err().expect("refused");
-    assert!(error.contains("solver.modes = 5") && error.contains("4 free DOFs"), "{error}");
+    assert!(
+        error.contains("solver.modes = 5") && error.contains("4 free DOFs"),
+        "{error}"
+    );
     let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
     scene.solver.structure = StructureKind::Modal;
     scene.solver.max_frequency = Some(1.0);
     let error = Simulation::new(&scene).err().expect("refused");
-    assert!(error.contains("solver.max_frequency = 1.0") && error.contains("keeps no mode"), "{error}");
+    assert!(
+        error.contains("solver.max_frequency = 1.0") && error.contains("keeps no mode"),
+        "{error}"
+    );
 }
