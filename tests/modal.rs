@@ -221,6 +221,11 @@ fn the_modal_fields_are_validated_by_name() {
         text.contains("solver.structure") && text.contains("rail joints"),
         "{text}"
     );
+    let text = problem(|s| {
+        *s = modal(s.clone(), 2);
+        s.body.kind = BodyKind::MovingForce;
+    });
+    assert!(text.contains("solver.structure") && text.contains("moving_force"), "{text}");
     // What only the mesh can tell is refused when the simulation is built.
     let scene = modal(paper_scene(BodyKind::Wheel, 10.0, 0.0025), 5);
     let error = Simulation::new(&scene).err().expect("refused");

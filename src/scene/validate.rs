@@ -1089,6 +1089,14 @@ fn check_structure(checks: &mut Checks, scene: &Scene) {
         }
         _ => {}
     }
+    if scene.body.kind == BodyKind::MovingForce {
+        checks.fail(
+            "solver.structure",
+            "\"modal\"",
+            "is not supported with body.kind = \"moving_force\" (the speed sweep \
+             integrates the full beam)",
+        );
+    }
     if !scene.beam.joints.is_empty() {
         checks.fail(
             "solver.structure",
