@@ -242,3 +242,32 @@ fn the_modal_fields_are_validated_by_name() {
         "{error}"
     );
 }
+
+#[test]
+fn the_work_precision_study_measures_the_modal_structure() {
+    use guideway::study::work_precision::{cases, measure_modal, reference};
+    let case = cases(true)
+        .into_iter()
+        .find(|c| c.scene.beam.elements == 32)
+        .expect("the 32-element case");
+    let reference = reference(&case).expect("reference runs");
+    let points = measure_modal(&case, &reference, 1, |_| {});
+    let finest = |scheme: &str| {
+        points
+            .iter()
+            .filter(|p| p.scheme == scheme)
+            .min_by(|a, b| a.step.total_cmp(&b.step))
+            .unwrap_or_else(|| panic!("{scheme} measured"))
+    };
+    for scheme in ["modal-2", "modal-4", "modal-8", "modal-16"] {
+        assert!(points.iter().filter(|p| p.scheme == scheme).all(|p| p.failure.is_none()));
+    }
+    // At the finest step the truncation error remains: it falls with k.
+    let errors: Vec<f64> = ["modal-2", "modal-4", "modal-8", "modal-16"]
+        .iter()
+        .map(|s| finest(s).rms_deflection_error)
+        .collect();
+    for pair in errors.windows(2) {
+        assert!(pair[1] < 0.5 * pair[0], "{errors:?}");
+    }
+}
