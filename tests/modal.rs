@@ -225,7 +225,10 @@ fn the_modal_fields_are_validated_by_name() {
         *s = modal(s.clone(), 2);
         s.body.kind = BodyKind::MovingForce;
     });
-    assert!(text.contains("solver.structure") && text.contains("moving_force"), "{text}");
+    assert!(
+        text.contains("solver.structure") && text.contains("moving_force"),
+        "{text}"
+    );
     // What only the mesh can tell is refused when the simulation is built.
     let scene = modal(paper_scene(BodyKind::Wheel, 10.0, 0.0025), 5);
     let error = Simulation::new(&scene).err().expect("refused");
@@ -260,7 +263,10 @@ fn the_work_precision_study_measures_the_modal_structure() {
             .unwrap_or_else(|| panic!("{scheme} measured"))
     };
     for scheme in ["modal-2", "modal-4", "modal-8", "modal-16"] {
-        assert!(points.iter().filter(|p| p.scheme == scheme).all(|p| p.failure.is_none()));
+        assert!(points
+            .iter()
+            .filter(|p| p.scheme == scheme)
+            .all(|p| p.failure.is_none()));
     }
     // At the finest step the truncation error remains: it falls with k.
     let errors: Vec<f64> = ["modal-2", "modal-4", "modal-8", "modal-16"]

@@ -322,7 +322,13 @@ pub fn measure_modal(
             scene.solver.modes = Some(modes);
             scene.solver.integrator = IntegratorKind::Auto;
             scene.solver.step = step;
-            let point = measure_point((case.name, name), &scene, false, (reference, scale), repeats);
+            let point = measure_point(
+                (case.name, name),
+                &scene,
+                false,
+                (reference, scale),
+                repeats,
+            );
             progress(&point);
             points.push(point);
         }
