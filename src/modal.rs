@@ -34,6 +34,10 @@ pub const MAX_SUBSPACE_WORK: f64 = 2e9;
 /// iteration.
 pub const DENSE_MODAL_DOFS: usize = 64;
 
+/// Largest n·p (free DOFs times subspace size) the subspace iteration
+/// holds: its four n×p matrices then take at most 128 MB.
+pub const MAX_SUBSPACE_ENTRIES: usize = 4_000_000;
+
 /// Most iterations of the subspace iteration.
 const MAX_SUBSPACE_ITERATIONS: usize = 300;
 
@@ -236,6 +240,13 @@ fn subspace_lowest(beam: &Beam, k: usize) -> Result<(Vec<f64>, DMatrix<f64>), St
     let n = mass.size();
     let p = (2 * k).max(k + 8).min(n);
     let work = n as f64 * (p * p) as f64;
+    if n * p > MAX_SUBSPACE_ENTRIES {
+        return Err(format!(
+            "solver.modes: {k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
+             (n·p = {}); at most {MAX_SUBSPACE_ENTRIES} (fewer modes or elements)",
+            n * p
+        ));
+    }
     if work > MAX_SUBSPACE_WORK {
         return Err(format!(
             "solver.modes: {k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \

@@ -244,6 +244,14 @@ fn the_modal_fields_are_validated_by_name() {
         error.contains("solver.max_frequency = 1.0") && error.contains("keeps no mode"),
         "{error}"
     );
+    // The subspace iteration's memory is bounded up front.
+    let mut scene = modal(paper_scene(BodyKind::Wheel, 10.0, 0.0025), 500);
+    scene.beam.elements = 20_000;
+    let error = Simulation::new(&scene).err().expect("refused");
+    assert!(
+        error.contains("solver.modes: 500 modes") && error.contains("at most"),
+        "{error}"
+    );
 }
 
 #[test]
