@@ -389,7 +389,10 @@ pub const MOVING_FORCE_REFUSAL: &str =
      (or the library's moving_load::Crossing)";
 
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
-    let beam = Beam::new(&scene.beam)?;
+    let mut beam = Beam::new(&scene.beam)?;
+    if let Some(selection) = crate::modal::ModeSelection::of(&scene.solver) {
+        beam.reduce_to_modes(selection)?;
+    }
     let spec = &scene.body;
     let gravity = scene.gravity;
     let (mut forces, mut applied) = (Vec::new(), Vec::new());

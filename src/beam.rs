@@ -8,6 +8,7 @@
 
 use crate::band::{BandLdlt, SymBand};
 use crate::mesh::{GroundSpring, Mesh, Segment};
+use crate::modal::{ModalBasis, ModeSelection, ReducedFactor};
 use crate::scene::{BeamSpec, DampingSpec};
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
 
@@ -116,6 +117,26 @@ pub struct Beam {
     stiffness: SymBand,
     mass_factor: BandLdlt,
     damping: Rayleigh,
+    /// The kept modes when the structure is modal (`crate::modal`).
+    modal: Option<ModalBasis>,
+}
+
+/// The inverse of an implicit scheme's effective matrix: the band factor,
+/// or on a modal structure its projection onto the modes.
+#[derive(Debug, Clone)]
+pub enum EffectiveFactor {
+    Band(BandLdlt),
+    Modal(ReducedFactor),
+}
+
+impl EffectiveFactor {
+    /// `rhs ← S⁻¹ rhs`.
+    pub fn solve_mut(&self, rhs: &mut DVector<f64>) {
+        match self {
+            EffectiveFactor::Band(factor) => factor.solve_mut(rhs),
+            EffectiveFactor::Modal(factor) => factor.solve_mut(rhs),
+        }
+    }
 }
 
 fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
@@ -224,6 +245,7 @@ impl Beam {
             stiffness,
             mass_factor,
             damping: Rayleigh::default(),
+            modal: None,
         };
         beam.damping = beam.rayleigh(spec.damping.as_ref())?;
         Ok(beam)
@@ -499,9 +521,61 @@ impl Beam {
         })
     }
 
+    /// The inverse of M + `damping_weight` C + `stiffness_weight` K: the
+    /// band factor, or on a modal structure its projection onto the modes.
+    pub fn effective_factor(
+        &self,
+        damping_weight: f64,
+        stiffness_weight: f64,
+    ) -> Result<EffectiveFactor, String> {
+        let band = self.factor_effective(damping_weight, stiffness_weight)?;
+        let Some(modal) = &self.modal else {
+            return Ok(EffectiveFactor::Band(band));
+        };
+        let c = self.damping;
+        let mass_weight = 1.0 + damping_weight * c.mass;
+        let stiffness_weight = stiffness_weight + damping_weight * c.stiffness;
+        let reduced = modal.reduced_factor(|x, out| {
+            self.mass.mul_to(x.as_slice(), out.as_mut_slice());
+            out.scale_mut(mass_weight);
+            self.stiffness
+                .mul_add_to(stiffness_weight, x.as_slice(), out.as_mut_slice());
+            for spring in self.dampers() {
+                out[spring.dof] += damping_weight * spring.damping * x[spring.dof];
+            }
+        });
+        reduced.map(EffectiveFactor::Modal).ok_or_else(|| {
+            "the implicit scheme's effective matrix on the modes is not positive definite".into()
+        })
+    }
+
+    /// Represent the beam by the modes `selection` keeps (`crate::modal`):
+    /// from here on M⁻¹ is Φ Φᵀ and the effective matrices are projected.
+    pub fn reduce_to_modes(&mut self, selection: ModeSelection) -> Result<(), String> {
+        self.modal = Some(ModalBasis::new(self, selection)?);
+        Ok(())
+    }
+
+    /// The kept modes when the structure is modal.
+    pub fn modal(&self) -> Option<&ModalBasis> {
+        self.modal.as_ref()
+    }
+
+    /// The mass and stiffness band matrices (the modal eigensolver's input).
+    pub(crate) fn mass_band(&self) -> &SymBand {
+        &self.mass
+    }
+
+    pub(crate) fn stiffness_band(&self) -> &SymBand {
+        &self.stiffness
+    }
+
     /// The static deflection u with K u = `load`, through the band LDLᵀ
     /// factor of K (refused when the supports leave a rigid-body motion).
     pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
+        if let Some(modal) = &self.modal {
+            return modal.static_deflection(load);
+        }
         let factor = self.stiffness.ldlt().ok_or(
             "beam.supports: the stiffness matrix is singular (the supports leave the beam \
              free to move), so solver.start = \"static\" has no static deflection",
@@ -582,9 +656,12 @@ impl Beam {
             + supports
     }
 
-    /// `rhs ← M⁻¹ rhs`.
+    /// `rhs ← M⁻¹ rhs` (Φ Φᵀ `rhs` on a modal structure).
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
-        self.mass_factor.solve_mut(rhs);
+        match &self.modal {
+            None => self.mass_factor.solve_mut(rhs),
+            Some(modal) => modal.project(rhs),
+        }
     }
 
     /// Nodal accelerations `M⁻¹ (load − K u − C v)`.
@@ -638,6 +715,10 @@ impl Beam {
     /// factorization, O(elements).
     pub fn highest_frequency(&self) -> f64 {
         const RELATIVE_WIDTH: f64 = 1e-4;
+        // The kept modes are exact eigenpairs: the highest is known.
+        if let Some(modal) = &self.modal {
+            return modal.omega().last().copied().unwrap_or(0.0);
+        }
         // Support springs add to K: Rayleigh quotients add, and a spring k
         // on DOF i alone reaches at most k (M⁻¹)ᵢᵢ.
         let springs: f64 = self

@@ -19,6 +19,7 @@ pub mod impact;
 pub mod integrate;
 pub mod iteration;
 pub mod mesh;
+pub mod modal;
 pub mod model;
 pub mod moving_load;
 pub mod output_file;

@@ -36,7 +36,13 @@ def test_work_precision_quick_run_writes_csv_and_plot(tmp_path):
         points = list(csv.DictReader(f))
     assert {p["case"] for p in points} == {
         "wheel-10 (2 elements)", "wheel-100 (2 elements)", "wheel-10 (32 elements)"}
-    assert {p["scheme"] for p in points} == {"rk4", "rk4-quadratic", "hht-0", "hht-0.1"}
+    assert {p["scheme"] for p in points} == {
+        "rk4", "rk4-quadratic", "hht-0", "hht-0.1", "modal-2", "modal-4", "modal-8", "modal-16"}
+    # The modal curves: k modes where the beam has more than k free DOFs.
+    modal = {(p["case"], p["scheme"]) for p in points if p["scheme"].startswith("modal")}
+    assert ("wheel-10 (2 elements)", "modal-2") in modal
+    assert ("wheel-10 (2 elements)", "modal-4") not in modal
+    assert ("wheel-10 (32 elements)", "modal-16") in modal
     paper = {p["case"]: p for p in points if p["paper_setting"] == "true"}
     assert len(paper) == 3
     # RK4 at the paper's step runs on the paper's mesh; on 32 elements it is

@@ -10,7 +10,7 @@
 //! Force elements are evaluated at the same predicted end configuration,
 //! which the iteration refines with every integration of the step.
 
-use crate::band::BandLdlt;
+use crate::beam::EffectiveFactor;
 use nalgebra::{DVector, Vector3};
 
 use super::hht_energy::{step_dissipation, Buffers, Weights};
@@ -27,8 +27,8 @@ pub struct Hht {
     /// Factor of M + (1 + α) β Δt² K for the nominal step, and for the last
     /// other step length met (the shortened last step before an exit or a
     /// communication point).
-    nominal: (f64, BandLdlt),
-    other: Option<(f64, BandLdlt)>,
+    nominal: (f64, EffectiveFactor),
+    other: Option<(f64, EffectiveFactor)>,
     /// The previous iterate's end configuration, within the current step.
     predicted_u: DVector<f64>,
     predicted_bodies: Vec<BodyState>,
@@ -48,11 +48,11 @@ fn effective_factor(
     system: &System,
     (alpha, beta, gamma): (f64, f64, f64),
     dt: f64,
-) -> Result<BandLdlt, String> {
+) -> Result<EffectiveFactor, String> {
     let forcing = 1.0 + alpha;
     system
         .beam
-        .factor_effective(forcing * gamma * dt, forcing * beta * dt * dt)
+        .effective_factor(forcing * gamma * dt, forcing * beta * dt * dt)
 }
 
 impl Hht {

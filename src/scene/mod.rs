@@ -475,6 +475,32 @@ pub struct SolverSpec {
     /// its preload (the vehicles start in equilibrium).
     #[serde(default, skip_serializing_if = "StartKind::is_rest")]
     pub start: StartKind,
+    /// How the beam is represented: its finite elements (`full`), or its
+    /// lowest natural modes (`modal`, with `modes` or `max_frequency`).
+    #[serde(default, skip_serializing_if = "StructureKind::is_full")]
+    pub structure: StructureKind,
+    /// With `structure = "modal"`: how many of the lowest modes to keep.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub modes: Option<usize>,
+    /// With `structure = "modal"`: keep the modes up to this frequency (Hz).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_frequency: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StructureKind {
+    /// Every finite-element DOF of the beam (the paper's model).
+    #[default]
+    Full,
+    /// The beam's lowest natural modes of the finite-element model.
+    Modal,
+}
+
+impl StructureKind {
+    pub fn is_full(&self) -> bool {
+        *self == StructureKind::Full
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -516,6 +542,9 @@ impl Default for SolverSpec {
             force_profile: ForceProfile::default(),
             end_time: None,
             start: StartKind::Rest,
+            structure: StructureKind::Full,
+            modes: None,
+            max_frequency: None,
         }
     }
 }

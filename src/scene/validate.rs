@@ -1059,6 +1059,66 @@ fn check_solver(checks: &mut Checks, scene: &Scene) {
             "must be \"held\" with integrator = \"hht\" (HHT-α solves for the end-of-step force; use \"rk4\" or \"auto\")",
         );
     }
+    check_structure(checks, scene);
+}
+
+/// Most modes `solver.modes` may ask for (the list limit).
+pub const MAX_MODES: usize = 10_000;
+
+/// `solver.structure` and its `modes` or `max_frequency`.
+fn check_structure(checks: &mut Checks, scene: &Scene) {
+    let solver = &scene.solver;
+    if solver.structure == super::StructureKind::Full {
+        if let Some(k) = solver.modes {
+            let rule = "is read only with solver.structure = \"modal\"";
+            checks.fail("solver.modes", k.to_string(), rule);
+        }
+        if let Some(f) = solver.max_frequency {
+            let rule = "is read only with solver.structure = \"modal\"";
+            checks.fail("solver.max_frequency", fmt_f64(f), rule);
+        }
+        return;
+    }
+    match (solver.modes, solver.max_frequency) {
+        (None, None) => checks.fail(
+            "solver.structure",
+            "\"modal\"",
+            "needs solver.modes (how many modes) or solver.max_frequency (Hz)",
+        ),
+        (Some(k), Some(f)) => checks.fail(
+            "solver.max_frequency",
+            fmt_f64(f),
+            format!("must not be given together with solver.modes = {k}: choose one"),
+        ),
+        (Some(k), None) if !(1..=MAX_MODES).contains(&k) => checks.fail(
+            "solver.modes",
+            k.to_string(),
+            format!("must be between 1 and {MAX_MODES}"),
+        ),
+        (None, Some(f)) => {
+            checks.positive("solver.max_frequency", f);
+        }
+        _ => {}
+    }
+    if scene.body.kind == BodyKind::MovingForce {
+        checks.fail(
+            "solver.structure",
+            "\"modal\"",
+            "is not supported with body.kind = \"moving_force\" (the speed sweep \
+             integrates the full beam)",
+        );
+    }
+    if !scene.beam.joints.is_empty() {
+        checks.fail(
+            "solver.structure",
+            "\"modal\"",
+            format!(
+                "is not supported with rail joints (beam.joints has {}): a joint's corner \
+                 needs the nodal DOFs of both sides",
+                scene.beam.joints.len()
+            ),
+        );
+    }
 }
 
 /// A letter or `_`, then letters, digits or `_` (ASCII): safe inside

@@ -241,44 +241,106 @@ pub fn measure(
             let paper_setting = scheme.name == "rk4"
                 && step == case.scene.solver.step
                 && tolerance == case.scene.solver.velocity_tolerance;
-            let mut point = Point {
-                case: case.name,
-                scheme: scheme.name,
-                step,
-                velocity_tolerance: tolerance,
+            let point = measure_point(
+                (case.name, scheme.name),
+                &scene,
                 paper_setting,
-                exit_speed_error: f64::NAN,
-                rms_deflection_error: f64::NAN,
-                max_energy_drift: f64::NAN,
-                wall_time_s: f64::NAN,
-                steps: 0,
-                iterations: 0,
-                failure: None,
-            };
-            let mut times = Vec::new();
-            let mut outcome = Err(String::new());
-            for _ in 0..repeats.max(1) {
-                outcome = run_with(&scene).and_then(|run| {
-                    times.push(run.solve_time.as_secs_f64());
-                    sample(&scene, &run)
-                });
-                if outcome.is_err() {
-                    break;
-                }
-            }
-            match outcome {
-                Ok(sampled) => {
-                    times.sort_by(f64::total_cmp);
-                    point.wall_time_s = times[times.len() / 2];
-                    point.exit_speed_error = (sampled.exit_speed - reference.exit_speed).abs();
-                    point.rms_deflection_error =
-                        rms_difference(&sampled.deflection, &reference.deflection, scale);
-                    point.max_energy_drift = sampled.max_energy_drift;
-                    point.steps = sampled.steps;
-                    point.iterations = sampled.iterations;
-                }
-                Err(message) => point.failure = Some(message),
-            }
+                (reference, scale),
+                repeats,
+            );
+            progress(&point);
+            points.push(point);
+        }
+    }
+    points
+}
+
+/// One run setting of a case, repeated `repeats` times for the median
+/// solve time, its errors against `reference` (deflections over `scale`).
+fn measure_point(
+    (case, scheme): (&'static str, &'static str),
+    scene: &Scene,
+    paper_setting: bool,
+    (reference, scale): (&Reference, f64),
+    repeats: usize,
+) -> Point {
+    let mut point = Point {
+        case,
+        scheme,
+        step: scene.solver.step,
+        velocity_tolerance: scene.solver.velocity_tolerance,
+        paper_setting,
+        exit_speed_error: f64::NAN,
+        rms_deflection_error: f64::NAN,
+        max_energy_drift: f64::NAN,
+        wall_time_s: f64::NAN,
+        steps: 0,
+        iterations: 0,
+        failure: None,
+    };
+    let mut times = Vec::new();
+    let mut outcome = Err(String::new());
+    for _ in 0..repeats.max(1) {
+        outcome = run_with(scene).and_then(|run| {
+            times.push(run.solve_time.as_secs_f64());
+            sample(scene, &run)
+        });
+        if outcome.is_err() {
+            break;
+        }
+    }
+    match outcome {
+        Ok(sampled) => {
+            times.sort_by(f64::total_cmp);
+            point.wall_time_s = times[times.len() / 2];
+            point.exit_speed_error = (sampled.exit_speed - reference.exit_speed).abs();
+            point.rms_deflection_error =
+                rms_difference(&sampled.deflection, &reference.deflection, scale);
+            point.max_energy_drift = sampled.max_energy_drift;
+            point.steps = sampled.steps;
+            point.iterations = sampled.iterations;
+        }
+        Err(message) => point.failure = Some(message),
+    }
+    point
+}
+
+/// The modal structures measured (`solver.structure = "modal"`): k modes
+/// and the curve's name, each where the beam has more than k free DOFs.
+pub const MODAL_MODES: [(usize, &str); 4] = [
+    (2, "modal-2"),
+    (4, "modal-4"),
+    (8, "modal-8"),
+    (16, "modal-16"),
+];
+
+/// The modal structures of `MODAL_MODES` on `case` over its step sweep,
+/// under `auto` (RK4 up to the kept modes' stability limit, HHT-α beyond),
+/// against the full model's reference: the error levels off at the
+/// truncation error of the k modes.
+pub fn measure_modal(
+    case: &Case,
+    reference: &Reference,
+    repeats: usize,
+    mut progress: impl FnMut(&Point),
+) -> Vec<Point> {
+    let mut points = Vec::new();
+    let scale = static_deflection(&case.scene);
+    let free_dofs = crate::beam::Beam::new(&case.scene.beam).map_or(0, |b| b.free_dofs());
+    for (modes, name) in MODAL_MODES.into_iter().filter(|(k, _)| *k < free_dofs) {
+        for step in (1..=case.depth).map(|k| COARSE_GRID / f64::from(1u32 << k)) {
+            let mut scene = case.scene.clone();
+            scene.solver.structure = crate::scene::StructureKind::Modal;
+            scene.solver.modes = Some(modes);
+            scene.solver.integrator = IntegratorKind::Auto;
+            scene.solver.step = step;
+            let point = measure_point(
+                (case.name, name),
+                &scene,
+                false,
+                (reference, scale),
+                repeats,
+            );
             progress(&point);
             points.push(point);
         }
