@@ -85,6 +85,11 @@ impl BodyState {
 
     /// World offset from the centre of a point fixed in the body at `local`.
     pub fn offset_of(&self, local: &Vector2<f64>) -> Vector2<f64> {
+        // A body's centre (where a suspension meets a wheelset) needs no
+        // rotation: the sine and cosine were a tenth of a train's run.
+        if local.x == 0.0 && local.y == 0.0 {
+            return Vector2::zeros();
+        }
         let (sin, cos) = self.angle.sin_cos();
         Vector2::new(cos * local.x - sin * local.y, sin * local.x + cos * local.y)
     }

@@ -272,22 +272,41 @@ impl SimState {
     }
 }
 
+/// Largest sum of |weights| an extrapolation of the force history may
+/// have: it bounds how much the history's differences are magnified. With
+/// equal steps the quadratic one has 7; after a step much shorter than the
+/// next (an event located just after a grid point) it grows as dt² over
+/// the short step's length, and a guess of 1e11 N threw the bodies off
+/// the track before the first correction.
+const MAX_EXTRAPOLATION_GAIN: f64 = 50.0;
+
 /// Initial guess of the next step's contact force (procedure step 1):
 /// quadratic extrapolation of the last three converged forces, at times
-/// 0, −h₀, −h₀−h₁, to time `dt`.
+/// 0, −h₀, −h₀−h₁, to time `dt`; linear, or the last force, where the
+/// higher order would magnify the history by more than
+/// `MAX_EXTRAPOLATION_GAIN`.
 fn extrapolate(history: &[ContactForce; 3], steps: &[f64; 2], dt: f64) -> ContactForce {
     let nodes = [0.0, -steps[0], -steps[0] - steps[1]];
-    let mut guess = Vector2::zeros();
-    for (i, force) in history.iter().enumerate() {
-        let mut weight = 1.0;
-        for (j, node) in nodes.iter().enumerate() {
-            if i != j {
-                weight *= (dt - node) / (nodes[i] - node);
+    for order in [2, 1] {
+        let mut weights = [0.0; 3];
+        for (i, weight) in weights.iter_mut().enumerate().take(order + 1) {
+            *weight = 1.0;
+            for (j, node) in nodes.iter().enumerate().take(order + 1) {
+                if i != j {
+                    *weight *= (dt - node) / (nodes[i] - node);
+                }
             }
         }
-        guess += weight * force.as_vector();
+        let gain: f64 = weights.iter().map(|w| w.abs()).sum();
+        if gain <= MAX_EXTRAPOLATION_GAIN {
+            let mut guess = Vector2::zeros();
+            for (weight, force) in weights.iter().zip(history).take(order + 1) {
+                guess += *weight * force.as_vector();
+            }
+            return ContactForce::from_vector(guess);
+        }
     }
-    ContactForce::from_vector(guess)
+    history[0]
 }
 
 pub struct Simulation {
@@ -1414,4 +1433,44 @@ fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
         return Err("the state's event list does not fit this model".into());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod extrapolation_tests {
+    use super::*;
+
+    fn history(values: [f64; 3]) -> [ContactForce; 3] {
+        values.map(|normal| ContactForce {
+            tangential: -0.1 * normal,
+            normal,
+        })
+    }
+
+    #[test]
+    fn equal_steps_extrapolate_a_quadratic_exactly() {
+        // f(t) = 5 + 3 t − 2 t² sampled at 0, −h, −2h, guessed at h.
+        let h = 1e-3;
+        let f = |t: f64| 5e5 + 3e7 * t - 2e9 * t * t;
+        let guess = extrapolate(&history([f(0.0), f(-h), f(-2.0 * h)]), &[h, h], h);
+        assert!((guess.normal - f(h)).abs() < 1e-6 * f(h), "{guess:?}");
+        assert!((guess.tangential + 0.1 * f(h)).abs() < 1e-7 * f(h));
+    }
+
+    #[test]
+    fn a_step_far_shorter_than_the_next_does_not_magnify_the_history() {
+        // An event located 8.5e-12 s after a grid point, then a full step:
+        // quadratic extrapolation would multiply the differences of the
+        // history by about 1e8 (forces of 1e11 N from a history of 1e5 N).
+        let forces = history([1.21e5, 1.29e5, 1.15e5]);
+        let guess = extrapolate(&forces, &[8.45e-12, 9.9e-4], 9.9e-4);
+        let (low, high) = (1.15e5, 1.29e5);
+        let spread = high - low;
+        assert!(
+            guess.normal > low - 2.0 * spread && guess.normal < high + 2.0 * spread,
+            "{guess:?}"
+        );
+        // Both steps short: the last force, held.
+        let held = extrapolate(&forces, &[1e-12, 1e-12], 1e-3);
+        assert_eq!(held, forces[0]);
+    }
 }

@@ -6,7 +6,7 @@ use super::{BodyKind, Scene};
 /// The scene `guideway run` uses when none is given.
 pub const DEFAULT_SCENE: &str = "lee1994-wheel-10";
 
-const BUILTINS: [(&str, &str); 6] = [
+const BUILTINS: [(&str, &str); 7] = [
     (
         "lee1994-wheel-1",
         "Lee (1994) model 1: wheel rolling at 1 m/s onto a 24 m simply supported beam, dt = 0.005 s",
@@ -31,10 +31,14 @@ const BUILTINS: [(&str, &str); 6] = [
         "train-2-coaches-2x40-100",
         "two coaches on glider wheelsets at 100 km/h over the middle pier of a 2 x 40 m continuous bridge, from the static start until the front wheelset nears the end",
     ),
+    (
+        "train-8-coaches-3x25-300",
+        "eight coaches on glider wheelsets at 300 km/h from the approach over a 3 x 25 m continuous bridge onto the run-off, then 1 s of free vibration (HHT, alpha = -0.1, 1 ms)",
+    ),
 ];
 
 /// The train scenes, as TOML (they are read like any scene file).
-const TRAINS: [(&str, &str); 2] = [
+const TRAINS: [(&str, &str); 3] = [
     (
         "train-3-coaches-2x25-5",
         include_str!("trains/train-3-coaches-2x25-5.toml"),
@@ -42,6 +46,10 @@ const TRAINS: [(&str, &str); 2] = [
     (
         "train-2-coaches-2x40-100",
         include_str!("trains/train-2-coaches-2x40-100.toml"),
+    ),
+    (
+        "train-8-coaches-3x25-300",
+        include_str!("trains/train-8-coaches-3x25-300.toml"),
     ),
 ];
 
