@@ -7,7 +7,7 @@
 
 mod common;
 use common::paper_scene;
-use guideway::scene::{BodyKind, IntegratorKind, JointKind, JointSpec, Scene};
+use guideway::scene::{BodyKind, IntegratorKind, IrregularitySpec, JointKind, JointSpec, Scene};
 use guideway::{Advance, Simulation};
 
 const SPAN: f64 = 24.0;
@@ -259,6 +259,105 @@ fn wheel_crosses_a_joint_without_gap_with_no_impact_loss_beyond_the_kink() {
         // end): the impact onto the second span is small but present.
         assert!(!run.impacts.is_empty());
         assert!(run.impacts.iter().all(|i| i.impulse.norm() < 100.0));
+    }
+}
+
+#[test]
+fn a_wheel_moving_left_over_joints_is_refused_before_the_run() {
+    // Joints are crossed moving right only: the mirrored scene (from the
+    // right end at −10 m/s) is refused up front, naming the field and the
+    // way out.
+    let mut scene = two_spans(GAP, 8, 2.5e-4, IntegratorKind::Rk4);
+    scene.body.initial_position = 2.0 * SPAN;
+    scene.body.initial_speed = -10.0;
+    let message = scene.validate().unwrap_err().to_string();
+    println!("{message}");
+    assert!(message.contains("body.initial_speed = -10"), "{message}");
+    assert!(message.contains("mirror the scene"), "{message}");
+    // Without joints (a continuous support) the same start is valid.
+    scene.beam.joints[0].kind = JointKind::Continuous;
+    scene.beam.joints[0].gap = 0.0;
+    scene.validate().expect("leftwards without joints");
+}
+
+/// Over the joint the centre keeps r + h from the corner it turns about,
+/// and the corners are the beam ends raised by the profile `r` (the ends
+/// are pinned: w = 0 there). Returns the largest error (m) over the
+/// samples on the two corners.
+fn corner_distance_error(run: &Crossing, r: impl Fn(f64) -> f64) -> f64 {
+    let mut worst = 0.0f64;
+    let mut samples = 0;
+    for k in 0..run.x.len() {
+        let x = run.x[k];
+        let corner = if x > SPAN + 0.001 && x < SPAN + GAP / 2.0 - 0.001 {
+            SPAN
+        } else if x > SPAN + GAP / 2.0 + 0.001 && x < SPAN + GAP - 0.001 {
+            SPAN + GAP
+        } else {
+            continue;
+        };
+        let distance = (x - corner).hypot(run.y[k] - r(corner));
+        worst = worst.max((distance - REACH).abs());
+        samples += 1;
+    }
+    assert!(samples > 10, "{samples} samples on the corners");
+    worst
+}
+
+#[test]
+fn the_joints_corners_follow_the_irregularity() {
+    // A track raised 2 mm everywhere (a constant table): the crossing is
+    // the flat one raised by 2 mm.
+    let flat = cross(&two_spans(GAP, 8, 2.5e-4, IntegratorKind::Rk4));
+    let mut scene = two_spans(GAP, 8, 2.5e-4, IntegratorKind::Rk4);
+    scene.track.irregularities = vec![IrregularitySpec::Table {
+        file: None,
+        points: vec![[0.0, 0.002], [2.0 * SPAN + GAP, 0.002]],
+    }];
+    scene
+        .validate()
+        .expect("irregularities with joints are valid");
+    let raised = cross(&scene);
+    check_5_cm_crossing(&raised);
+    let (a, b) = (flat.impacts[0].impulse.y, raised.impacts[0].impulse.y);
+    assert!((a / b - 1.0).abs() < 1e-6, "impulse {a} flat, {b} raised");
+    let error = corner_distance_error(&raised, |_| 0.002);
+    assert!(error < 2e-5, "centre to corner off r + h by {error} m");
+    let k = raised.x.len() / 2;
+    assert!((raised.y[k] - flat.y[k] - 0.002).abs() < 1e-6);
+}
+
+#[test]
+fn a_wheel_crosses_a_joint_on_a_sine_profile_with_either_integrator() {
+    // 1 mm, 4 m sine: at the joint the corners are 0.02 mm apart in height
+    // and the surface slopes by 1.4 mrad.
+    let (amplitude, wavelength, phase) = (0.001, 4.0, 0.7);
+    let r = |x: f64| amplitude * (2.0 * std::f64::consts::PI * x / wavelength + phase).sin();
+    for integrator in [IntegratorKind::Rk4, IntegratorKind::Hht] {
+        let mut scene = two_spans(GAP, 8, 2.5e-4, integrator);
+        // From the approach, so that the wheel starts on the profile.
+        scene.track.approach = 10.0;
+        scene.body.initial_position = -5.0;
+        scene.track.irregularities = vec![IrregularitySpec::Sine {
+            amplitude,
+            wavelength,
+            phase,
+        }];
+        let run = cross(&scene);
+        assert!(run.exited, "{integrator:?}: the crossing did not complete");
+        let drift = drift(&run);
+        let error = corner_distance_error(&run, r);
+        println!(
+            "{integrator:?}: drift {drift:e}, corner distance error {error:e} m, impacts {:?}",
+            run.impacts
+        );
+        assert!(drift < 1e-5, "{integrator:?}: drift {drift}");
+        // The gap tolerance (1e-5 m) bounds the distance's error; the
+        // profile moves the corners by up to 1 mm.
+        assert!(
+            error < 2e-5,
+            "{integrator:?}: centre to corner off by {error} m"
+        );
     }
 }
 
