@@ -221,10 +221,10 @@ impl System {
             TrackPart::JointAfter(j) => {
                 let piece = &self.beam.segments()[j + 1];
                 let element = piece.elements.start;
-                self.corner(u, (element, piece.start), centre).map_or_else(
-                    || foot_point_on(&self.beam, profile, u, centre, piece.start),
-                    Ok,
-                )
+                match self.corner(u, (element, piece.start), centre) {
+                    Some(frame) => Ok(self.along_next_piece(j, u, frame, centre)),
+                    None => foot_point_on(&self.beam, profile, u, centre, piece.start),
+                }
             }
             TrackPart::RunOff if centre.x < length => self.end_corner(length, centre),
             // Contacts enter from the approach at centre.x = 0 (the event):
@@ -327,6 +327,36 @@ impl System {
         let along = Vector2::new(b - a, far - near).normalize();
         let from_middle = centre - Vector2::new(middle, 0.5 * (near + far));
         let x = middle + from_middle.dot(&along);
+        ContactFrame {
+            deflection: frame.deflection + frame.slope * (x - frame.x),
+            x,
+            ..frame
+        }
+    }
+
+    /// A frame on joint j's far corner, its abscissa moved along the
+    /// corner's tangent to where the centre is along the next piece's
+    /// surface at its start: the switch onto the piece, where the centre
+    /// crosses that surface's normal through the corner and the velocity
+    /// turns continuously, is then where the abscissa passes the corner.
+    /// Without a profile the frame is kept as it is (the switch where the
+    /// centre's abscissa passes the corner, as before profiles existed).
+    fn along_next_piece(
+        &self,
+        j: usize,
+        u: &DVector<f64>,
+        frame: ContactFrame,
+        centre: &Vector2<f64>,
+    ) -> ContactFrame {
+        let Some(profile) = self.profile.as_ref() else {
+            return frame;
+        };
+        let piece = &self.beam.segments()[j + 1];
+        let b = piece.start;
+        let (axis, r) = (self.beam.axis(piece.elements.start, b, u), profile.at(b));
+        let corner = Vector2::new(b, axis[0] + r[0]);
+        let tangent = Vector2::new(1.0, axis[1] + r[1]).normalize();
+        let x = b + (centre - corner).dot(&tangent);
         ContactFrame {
             deflection: frame.deflection + frame.slope * (x - frame.x),
             x,
