@@ -17,6 +17,8 @@ use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
+mod switch;
+
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
 pub use crate::outputs::{OutputInfo, OutputKind};
 
@@ -130,9 +132,6 @@ pub struct ContactEvent {
 
 /// Events kept per run; later ones are counted, not kept.
 pub const MAX_EVENTS: usize = 10_000;
-
-/// Length of the step that takes a rail gap's impact, in `solver.step`s.
-pub const IMPACT_STEP: f64 = 1e-3;
 
 /// A contact's impact on the far corner of a rail gap.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -345,6 +344,10 @@ pub struct Simulation {
     opened: Vec<bool>,
     /// Impacts at rail gaps (not part of the state: a record of the run).
     joint_impacts: Vec<JointImpact>,
+    /// Where the integrator carries accelerations from step to step
+    /// (HHT-α), it restarts where a contact switches surfaces; the weight
+    /// (1 + α) γ of a step's end acceleration in its mean.
+    restart_weight: Option<f64>,
 }
 
 impl Simulation {
@@ -392,6 +395,8 @@ impl Simulation {
         };
         let system = assembly.system;
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
+        let restart_weight = matches!(integrator, crate::integrate::Integrator::Hht(_))
+            .then(|| integrator.body_weights(1.0).0);
         let dynamic = initial_state(&system, u, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
         let section_names: Vec<String> = scene.sections.iter().map(|s| s.name.clone()).collect();
@@ -456,6 +461,7 @@ impl Simulation {
             opened: vec![false; assembly.open.len()],
             restitution: assembly.restitution,
             joint_impacts: Vec::new(),
+            restart_weight,
         };
         simulation.state.initial_energy = simulation.energy_balance();
         Ok(simulation)
@@ -740,11 +746,9 @@ impl Simulation {
         self.record_lift_offs();
         self.accept(solution, dt);
         if let Some((contact, _)) = event {
-            let from = self.state.parts[contact];
+            let before = self.state.parts.clone();
             self.record_events(event);
-            if self.system.velocity_jump(from, self.state.parts[contact]) {
-                self.joint_impact(contact, to)?;
-            }
+            self.after_switch(contact, &before)?;
             Ok(false)
         } else {
             self.state.time = to;
@@ -832,69 +836,9 @@ impl Simulation {
         Ok(())
     }
 
-    /// The velocity jump of a contact switching from one corner of a rail
-    /// gap to the other, taken as a plastic impact in a step of
-    /// `IMPACT_STEP` × `solver.step` (or up to `to`, if sooner): the
-    /// contact iteration finds the force whose impulse over it brings the
-    /// velocity error at the new corner to zero, while the bodies move by
-    /// less than the gap tolerance. The impulse is recorded
-    /// (`joint_impacts`); the force history the next step extrapolates
-    /// from is the one before the impact.
-    fn joint_impact(&mut self, contact: usize, to: f64) -> Result<(), SolverError> {
-        let tau = (IMPACT_STEP * self.step).min(to - self.state.time);
-        if tau <= 1e-9 * self.step {
-            // At the grid point: the next step carries the jump.
-            return Ok(());
-        }
-        let before = self.state.force_history.clone();
-        let steps = self.state.step_history;
-        let guess: Vec<ContactForce> = before.iter().map(|h| h[0]).collect();
-        // An impulse, not a smooth force: held over its short step.
-        let solution = self.solve_shaped(&guess, tau, ForceProfile::Held)?;
-        self.refuse_lift_off(&solution)?;
-        let impulse = solution.forces[contact].as_vector() * tau;
-        self.accept(solution, tau);
-        if self.joint_impacts.len() < MAX_EVENTS {
-            self.joint_impacts.push(JointImpact {
-                time: self.state.time,
-                contact,
-                impulse,
-            });
-        }
-        self.state.force_history = before;
-        self.state.step_history = steps;
-        Ok(())
-    }
-
     /// The impacts of contacts crossing rail gaps so far in this run.
     pub fn joint_impacts(&self) -> &[JointImpact] {
         &self.joint_impacts
-    }
-
-    /// A rail-gap impact step is solved with the contacts as they are:
-    /// a tensile force in it is refused, not opened.
-    fn refuse_lift_off(&self, solution: &StepSolution) -> Result<(), SolverError> {
-        for (c, force) in solution.forces.iter().enumerate() {
-            if force.normal < 0.0 {
-                // The impact step holds its contacts closed: a tensile
-                // force there is not a lift-off this model follows.
-                let which = if solution.forces.len() > 1 {
-                    format!(" of {}", self.system.contacts[c].name)
-                } else {
-                    String::new()
-                };
-                return Err(SolverError {
-                    time: self.state.time,
-                    message: format!(
-                        "the normal contact force{which} would become tensile \
-                         ({:.6e} N) in the rail-gap impact from t = {} s at x = {:.6} m; \
-                         an impact step holds its contacts closed, so the run stops there",
-                        force.normal, self.state.time, self.scratch.contact_x[c]
-                    ),
-                });
-            }
-        }
-        Ok(())
     }
 
     /// The contact whose crossing of a track boundary comes first in the

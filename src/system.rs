@@ -6,7 +6,7 @@ use nalgebra::{DVector, Vector2};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
-use crate::contact::{foot_point, foot_point_on, Contact, ContactFrame, FootPointError};
+use crate::contact::{foot_point_on, Contact, ContactFrame, FootPointError};
 use crate::force_element::ForceElement;
 use crate::profile::Profile;
 
@@ -198,8 +198,8 @@ impl System {
         let (length, profile) = (self.beam.length, self.profile.as_ref());
         let several = self.beam.segments().len() > 1;
         // With an irregularity profile each case runs on the surface
-        // raised by r(x); without one, exactly as before it existed.
-        // (Scenes with both irregularities and joints are refused.)
+        // raised by r(x) (a joint's corners too); without one, exactly as
+        // before it existed.
         let ground = |centre: &Vector2<f64>| match profile {
             None => Ok(ContactFrame::on_ground(centre)),
             Some(profile) => ContactFrame::on_profile(profile, centre),
@@ -213,14 +213,18 @@ impl System {
             TrackPart::JointBefore(j) => {
                 let piece = &self.beam.segments()[j];
                 let element = piece.elements.end - 1;
-                corner_frame(&self.beam, u, (element, piece.end), centre)
-                    .map_or_else(|| foot_point(&self.beam, u, centre, piece.end), Ok)
+                match self.corner(u, (element, piece.end), centre) {
+                    Some(frame) => Ok(self.toward_far_corner(j, frame, centre)),
+                    None => foot_point_on(&self.beam, profile, u, centre, piece.end),
+                }
             }
             TrackPart::JointAfter(j) => {
                 let piece = &self.beam.segments()[j + 1];
                 let element = piece.elements.start;
-                corner_frame(&self.beam, u, (element, piece.start), centre)
-                    .map_or_else(|| foot_point(&self.beam, u, centre, piece.start), Ok)
+                match self.corner(u, (element, piece.start), centre) {
+                    Some(frame) => Ok(self.along_next_piece(j, u, frame, centre)),
+                    None => foot_point_on(&self.beam, profile, u, centre, piece.start),
+                }
             }
             TrackPart::RunOff if centre.x < length => self.end_corner(length, centre),
             // Contacts enter from the approach at centre.x = 0 (the event):
@@ -276,14 +280,88 @@ impl System {
         }
         let margin = self.inset(piece);
         let inside = (piece.start + margin).max(guess.min(piece.end - margin));
-        let frame = foot_point(&self.beam, u, centre, inside)?;
+        let frame = foot_point_on(&self.beam, self.profile.as_ref(), u, centre, inside)?;
         if frame.x < piece.start {
             let element = piece.elements.start;
-            if let Some(corner) = corner_frame(&self.beam, u, (element, piece.start), centre) {
+            if let Some(corner) = self.corner(u, (element, piece.start), centre) {
                 return Ok(corner);
             }
         }
         Ok(frame)
+    }
+
+    /// `corner_frame` at the end of a piece, raised by the profile there:
+    /// the corner is the beam end's plus r at its abscissa.
+    fn corner(
+        &self,
+        u: &DVector<f64>,
+        (element, x): (usize, f64),
+        centre: &Vector2<f64>,
+    ) -> Option<ContactFrame> {
+        let raise = self.profile.as_ref().map_or(0.0, |p| p.at(x)[0]);
+        corner_frame(&self.beam, u, (element, x, raise), centre)
+    }
+
+    /// A frame on joint j's near corner, its abscissa moved along the
+    /// corner's tangent (the gap unchanged) to where the centre is along
+    /// the line from the near corner to the far one: the switch to the far
+    /// corner, where the rim touches both, is then where that abscissa
+    /// passes the middle of the gap. Without a profile the corners are
+    /// level and that is the centre's abscissa itself (the frame is kept
+    /// as it is); with one they differ by r(b) − r(a), and the switch moves
+    /// by about (r + h)(r(b) − r(a))/w. (The ends at a gap are held.)
+    fn toward_far_corner(
+        &self,
+        j: usize,
+        frame: ContactFrame,
+        centre: &Vector2<f64>,
+    ) -> ContactFrame {
+        let Some(profile) = self.profile.as_ref() else {
+            return frame;
+        };
+        let (a, b, middle) = self.joint(j);
+        if b <= a {
+            return frame;
+        }
+        let (near, far) = (profile.at(a)[0], profile.at(b)[0]);
+        let along = Vector2::new(b - a, far - near).normalize();
+        let from_middle = centre - Vector2::new(middle, 0.5 * (near + far));
+        let x = middle + from_middle.dot(&along);
+        ContactFrame {
+            deflection: frame.deflection + frame.slope * (x - frame.x),
+            x,
+            ..frame
+        }
+    }
+
+    /// A frame on joint j's far corner, its abscissa moved along the
+    /// corner's tangent to where the centre is along the next piece's
+    /// surface at its start: the switch onto the piece, where the centre
+    /// crosses that surface's normal through the corner and the velocity
+    /// turns continuously, is then where the abscissa passes the corner.
+    /// Without a profile the frame is kept as it is (the switch where the
+    /// centre's abscissa passes the corner, as before profiles existed).
+    fn along_next_piece(
+        &self,
+        j: usize,
+        u: &DVector<f64>,
+        frame: ContactFrame,
+        centre: &Vector2<f64>,
+    ) -> ContactFrame {
+        let Some(profile) = self.profile.as_ref() else {
+            return frame;
+        };
+        let piece = &self.beam.segments()[j + 1];
+        let b = piece.start;
+        let (axis, r) = (self.beam.axis(piece.elements.start, b, u), profile.at(b));
+        let corner = Vector2::new(b, axis[0] + r[0]);
+        let tangent = Vector2::new(1.0, axis[1] + r[1]).normalize();
+        let x = b + (centre - corner).dot(&tangent);
+        ContactFrame {
+            deflection: frame.deflection + frame.slope * (x - frame.x),
+            x,
+            ..frame
+        }
     }
 
     /// How far inside a piece its foot-point search starts at the least:
@@ -387,15 +465,17 @@ impl System {
 /// frame's abscissa is the centre's, on the tangent through the corner:
 /// the gap is the same, and the abscissa moves with the body so that the
 /// middle of a gap and the next piece's start can be located as events.
-/// `None` when the centre is not above the corner (no corner to turn about).
+/// The corner is raised by `raise` (the irregularity there, fixed to the
+/// beam's end: it moves with the end). `None` when the centre is not above
+/// the corner (no corner to turn about).
 fn corner_frame(
     beam: &Beam,
     u: &DVector<f64>,
-    (element, x): (usize, f64),
+    (element, x, raise): (usize, f64, f64),
     centre: &Vector2<f64>,
 ) -> Option<ContactFrame> {
     let shape = beam.shape(element, x);
-    let w = shape.dot(&shape.n, u);
+    let w = shape.dot(&shape.n, u) + raise;
     let offset = centre - Vector2::new(x, w);
     let distance = offset.norm();
     if !(distance > 1e-9 * x.abs().max(1.0) && offset.y > 0.0) {

@@ -33,6 +33,40 @@ fn expected_offsets(n: usize, coach: f64, bogie: f64) -> Vec<f64> {
     x
 }
 
+/// The axles of Figure E.1 found by walking along the train vehicle by
+/// vehicle from their ends and bogie centres (rather than by the chain of
+/// axle spacings above): a power car is 3.525 + 3 + 11 + 3 + 3.525 m
+/// between its ends, its axles 3.525 m from them; an end coach has 3.525 m
+/// before its own bogie (3 m), then 15 m from that bogie's rear axle to the
+/// first axle of the Jacobs bogie it shares with the first intermediate
+/// coach, and ends at that bogie's centre; each intermediate coach is D
+/// between the centres of its two Jacobs bogies, whose axles are d apart
+/// about them; the rear end coach and power car mirror the front ones.
+fn walk_figure_e1(n: usize, coach: f64, bogie: f64) -> Vec<f64> {
+    let mut axles = Vec::new();
+    // The leading power car's front end; its first axle is at 0.
+    let front = -3.525;
+    let power_car = |start: f64, axles: &mut Vec<f64>| {
+        axles.extend([3.525, 6.525, 17.525, 20.525].map(|a| start + a));
+        start + 24.05
+    };
+    let end_coach_front = power_car(front, &mut axles);
+    axles.extend([end_coach_front + 3.525, end_coach_front + 6.525]);
+    let first_jacobs_centre = end_coach_front + 6.525 + 15.0 + bogie / 2.0;
+    let centres: Vec<f64> = (0..=n)
+        .map(|k| first_jacobs_centre + k as f64 * coach)
+        .collect();
+    for c in &centres {
+        axles.extend([c - bogie / 2.0, c + bogie / 2.0]);
+    }
+    // The rear end coach starts at the last Jacobs bogie's centre.
+    let rear_coach_axle = centres[n] + bogie / 2.0 + 15.0;
+    axles.extend([rear_coach_axle, rear_coach_axle + 3.0]);
+    let rear_coach_end = rear_coach_axle + 3.0 + 3.525;
+    power_car(rear_coach_end, &mut axles);
+    axles
+}
+
 fn check_train(index: usize) {
     let (name, n, coach, bogie, p_kn) = TABLE[index];
     let train = hslm(name).expect("the train is built in");
@@ -50,6 +84,24 @@ fn check_train(index: usize) {
             "{name} axle {k}: {offset} m, expected {want} m"
         );
         assert_eq!(*force, -p_kn * 1e3, "{name} axle {k}: force");
+    }
+    // The same positions walking vehicle by vehicle; every intermediate
+    // coach D long between its Jacobs bogies' centres.
+    let walked = walk_figure_e1(n, coach, bogie);
+    assert_eq!(walked.len(), axles.len(), "{name}: axle count of the walk");
+    for (k, ((offset, _), want)) in axles.iter().zip(&walked).enumerate() {
+        assert!(
+            (offset - want).abs() < 1e-9,
+            "{name} axle {k}: {offset} m, Figure E.1 walked gives {want} m"
+        );
+    }
+    let jacobs = &axles[6..6 + 2 * (n + 1)];
+    let centres: Vec<f64> = jacobs.chunks(2).map(|a| 0.5 * (a[0].0 + a[1].0)).collect();
+    for pair in centres.windows(2) {
+        assert!((pair[1] - pair[0] - coach).abs() < 1e-9, "{name}: D");
+    }
+    for axle in jacobs.chunks(2) {
+        assert!((axle[1].0 - axle[0].0 - bogie).abs() < 1e-9, "{name}: d");
     }
     // Symmetric front to back.
     let length = train.length();

@@ -24,7 +24,9 @@ pub const ISO_REFERENCE_FREQUENCY: f64 = 0.1;
 
 /// ISO 8608 (2016), table of road classes: the geometric mean of G_d(n₀)
 /// of each class (m³, i.e. m² per cycle/m); each class is 4 times the one
-/// before.
+/// before. Source: ISO 8608:2016, *Mechanical vibration — Road surface
+/// profiles — Reporting of measured data*, Table 2 (n₀ = 0.1 cycles/m,
+/// waviness w = 2); checked 2026-11-22, unchanged.
 pub const ISO_CLASSES: [(&str, f64); 8] = [
     ("A", 16e-6),
     ("B", 64e-6),
@@ -37,6 +39,12 @@ pub const ISO_CLASSES: [(&str, f64); 8] = [
 ];
 
 /// FRA track classes 1–6, vertical profile: roughness A_v (cm²·rad/m).
+/// Source: the US Federal Railroad Administration's track-geometry spectra
+/// as tabulated in W. Zhai, *Vehicle–Track Coupled Dynamics* (Springer,
+/// 2020), ch. 3 (vertical profile: A_v, Ω_c = 0.8245 rad/m, k = 0.25; the
+/// spectrum one-sided in Ω); checked 2026-11-22 against that table, no
+/// constant differs. Other tabulations omit k (a profile twice as large)
+/// or give Ω_c = 0.8242 rad/m.
 pub const FRA_CLASSES: [(&str, f64); 6] = [
     ("1", 1.2107),
     ("2", 1.0181),
@@ -50,7 +58,11 @@ pub const FRA_CUTOFF: f64 = 0.8245;
 pub const FRA_FACTOR: f64 = 0.25;
 
 /// German track spectra, vertical profile: cut-off wavenumbers Ω_c, Ω_r
-/// (rad/m) and A_v (m·rad) for low and high interference.
+/// (rad/m) and A_v (m·rad) for low and high interference. Source: the
+/// German high-speed track spectra as tabulated in Zhai (2020), ch. 3
+/// (vertical: Ω_c = 0.8246, Ω_r = 0.0206 rad/m, A_v = 4.032e-7 and
+/// 1.080e-6 m·rad; the spectrum one-sided in Ω); checked 2026-11-22, no
+/// constant differs.
 pub const GERMAN_CUTOFF: f64 = 0.8246;
 pub const GERMAN_ROLL_OFF: f64 = 0.0206;
 pub const GERMAN_LOW: f64 = 4.032e-7;
@@ -214,6 +226,37 @@ mod tests {
         let high = Spectrum::from_name("german_high", None).unwrap();
         let low = Spectrum::from_name("german_low", None).unwrap();
         assert!((high.density(0.3) / low.density(0.3) - 1.080e-6 / 4.032e-7).abs() < 1e-12);
+    }
+
+    /// Each spectrum at one point, worked out by hand from the published
+    /// formula and constants (the literals here are not read from the
+    /// tables above): G(n) = 2π S(Ω) at n = Ω / 2π.
+    #[test]
+    fn each_spectrum_at_a_known_point() {
+        let per_cycle = |omega: f64| omega / (2.0 * std::f64::consts::PI);
+        let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-9;
+        // ISO 8608 class A at n = 1 cycle/m: 16e-6 m³ × (1 / 0.1)⁻².
+        let a = Spectrum::from_name("iso8608", Some("A")).unwrap();
+        assert!(close(a.density(1.0), 1.6e-7), "{}", a.density(1.0));
+        // Class H at n = 0.05: 262144e-6 × 0.5⁻² = 1.048576 m³.
+        let h = Spectrum::from_name("iso8608", Some("H")).unwrap();
+        assert!(close(h.density(0.05), 1.048576));
+        // FRA class 1 at Ω = Ω_c: k A_v / (2 Ω_c²) = 0.25 × 1.2107 /
+        // (2 × 0.8245²) = 0.222621 cm²/(rad/m); × 2π × 1e-4 m²/cm².
+        let fra1 = Spectrum::from_name("fra", Some("1")).unwrap();
+        assert!(close(fra1.density(per_cycle(0.8245)), 1.398766117584e-4));
+        // FRA class 5 at Ω = 2 rad/m: 0.25 × 0.2095 × 0.8245² /
+        // (4 × (4 + 0.8245²)) = 1.902033e-3 cm²/(rad/m).
+        let fra5 = Spectrum::from_name("fra", Some("5")).unwrap();
+        assert!(close(fra5.density(per_cycle(2.0)), 1.195082581888e-6));
+        // German low interference at Ω = 1 rad/m: 4.032e-7 × 0.8246² /
+        // ((1 + 0.0206²)(1 + 0.8246²)) = 1.631258e-7 m²/(rad/m).
+        let low = Spectrum::from_name("german_low", None).unwrap();
+        assert!(close(low.density(per_cycle(1.0)), 1.024949621551e-6));
+        // German high interference at Ω = Ω_c: 1.080e-6 × 0.8246² /
+        // ((0.8246² + 0.0206²) × 2 × 0.8246²) = 7.936630e-7 m²/(rad/m).
+        let high = Spectrum::from_name("german_high", None).unwrap();
+        assert!(close(high.density(per_cycle(0.8246)), 4.986731814854e-6));
     }
 
     #[test]

@@ -246,6 +246,7 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
 
     check_springs(checks, scene, length_ok);
     check_joints(checks, scene, length_ok);
+    check_leftward_over_joints(checks, scene);
     let held = |end: EndSupport| match end {
         EndSupport::Pinned => 1,
         EndSupport::Clamped => 2,
@@ -342,14 +343,6 @@ fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             format!("must hold at most {MAX_INTERMEDIATE_SUPPORTS}"),
         );
         return;
-    }
-    if !joints.is_empty() && !scene.track.irregularities.is_empty() {
-        // The corners of joints are found on the bare beam, not on r(x).
-        checks.fail(
-            "track.irregularities",
-            format!("{} irregularities", scene.track.irregularities.len()),
-            "not supported yet on a track with beam.joints: leave out one or the other",
-        );
     }
     let mut previous_end: Option<f64> = None;
     for (i, joint) in joints.iter().enumerate() {
@@ -451,6 +444,49 @@ fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
                 .to_lowercase(),
             ),
         }
+    }
+}
+
+/// Joints (separate or hinged) are crossed moving right only: a contact
+/// body that starts moving left on a track with joints is refused before
+/// the run, not stopped at the first joint.
+fn check_leftward_over_joints(checks: &mut Checks, scene: &Scene) {
+    if scene
+        .beam
+        .joints
+        .iter()
+        .all(|j| j.kind == JointKind::Continuous)
+    {
+        return;
+    }
+    let bodies = std::iter::once(("body".to_string(), &scene.body)).chain(
+        scene
+            .vehicles
+            .iter()
+            .enumerate()
+            .map(|(k, v)| (format!("vehicles[{k}]"), v)),
+    );
+    for (prefix, body) in bodies {
+        let prescribed_left = match &body.prescribed_speed {
+            Some(super::SpeedSpec::Constant(v)) => *v < 0.0,
+            Some(super::SpeedSpec::Table(rows)) => rows.iter().any(|r| r[1] < 0.0),
+            None => false,
+        };
+        if body.kind == BodyKind::MovingForce || !(body.initial_speed < 0.0 || prescribed_left) {
+            continue;
+        }
+        let (field, value) = if body.initial_speed < 0.0 {
+            ("initial_speed", fmt_f64(body.initial_speed))
+        } else {
+            ("prescribed_speed", "a speed below 0".to_string())
+        };
+        checks.fail(
+            format!("{prefix}.{field}"),
+            value,
+            "must not be negative on a track with beam.joints (separate or hinge): joints are \
+             crossed moving right only; mirror the scene (x → beam.length − x) to run it the \
+             other way",
+        );
     }
 }
 
