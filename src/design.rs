@@ -219,10 +219,23 @@ impl BeamDynamics {
         SectionForces { moment, shear }
     }
 
-    /// The force (N, up positive) and, where the rotation is held too, the
-    /// moment (N m, counter-clockwise positive) support `node` exerts on
-    /// the beam: the residual of the held DOFs.
+    /// The force (N, up positive) and, where the rotation is held or
+    /// sprung, the moment (N m, counter-clockwise positive) support `node`
+    /// exerts on the beam: the residual of the held DOFs plus the forces
+    /// of its springs and dampers, −k u − c v.
     pub fn reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
+        let mut reaction = self.held_reaction(beam, node);
+        for (spring, vertical) in beam.springs_at(node) {
+            let dof = spring.dof;
+            let force =
+                -spring.stiffness * self.displacement[dof] - spring.damping * self.velocity[dof];
+            reaction[usize::from(!vertical)] += force;
+        }
+        reaction
+    }
+
+    /// The residual of the held DOFs of `node`.
+    fn held_reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
         let (u, a) = self.damped_state();
         let mut reaction = [0.0; 2];
         let elements = beam.elements();
@@ -280,36 +293,49 @@ pub struct SectionForces {
     pub shear: f64,
 }
 
-/// A support of the beam: a node whose deflection is held.
+/// A support of the beam: a node whose deflection is held, or that has
+/// a spring or damper to the ground.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Support {
-    /// `left`, `right`, or `intermediate1`, `intermediate2`, … from left to right.
+    /// `left` and `right` at the ends; inside, `intermediate1`,
+    /// `intermediate2`, … where the deflection is held and `spring1`,
+    /// `spring2`, … where it is elastic, each from left to right.
     pub name: String,
     pub node: usize,
-    /// The rotation is held too (a clamp): the support has a moment.
-    pub clamped: bool,
+    /// The support resists rotation (a clamp or a rotational spring or
+    /// damper): it has a moment.
+    pub has_moment: bool,
 }
 
-/// The beam's supports, from left to right.
+/// The beam's supports, from left to right: held nodes and elastic
+/// supports (named as before when held, so old scenes keep their names).
 pub fn supports(beam: &Beam) -> Vec<Support> {
     let last = beam.node_x.len() - 1;
-    let mut intermediate = 0;
+    let (mut intermediate, mut elastic) = (0, 0);
     (0..=last)
-        .filter(|&node| beam.is_held(node, 0))
-        .map(|node| {
+        .filter_map(|node| {
+            let springs = beam.springs_at(node);
+            let held = beam.is_held(node, 0);
+            if !held && springs.is_empty() {
+                return None;
+            }
             let name = if node == 0 {
                 "left".to_string()
             } else if node == last {
                 "right".to_string()
-            } else {
+            } else if held {
                 intermediate += 1;
                 format!("intermediate{intermediate}")
+            } else {
+                elastic += 1;
+                format!("spring{elastic}")
             };
-            Support {
+            let rotational_spring = springs.iter().any(|&(_, vertical)| !vertical);
+            Some(Support {
                 name,
                 node,
-                clamped: beam.is_held(node, 1),
-            }
+                has_moment: beam.is_held(node, 1) || rotational_spring,
+            })
         })
         .collect()
 }

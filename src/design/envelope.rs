@@ -3,7 +3,8 @@
 //!
 //! The loads are the contacts' static shares of their vehicles' weight and
 //! vertical applied force (the contact forces a run starts from), at the
-//! spacing the contacts start with. The group is moved along the beam from
+//! spacing the contacts start with; in a scene of moving forces, the forces
+//! themselves. The group is moved along the beam from
 //! before the first load enters to after the last has left, and at each
 //! position the static response of the actual structure (its supports,
 //! spans and clamps) is read at every sensor, section and support.
@@ -13,6 +14,7 @@ use std::collections::BTreeMap;
 use super::{supports, BeamDynamics, PointLoad};
 use crate::assemble::assemble;
 use crate::beam::Beam;
+use crate::moving_load::{is_moving_force_scene, scene_axles};
 use crate::scene::Scene;
 
 /// Fewest load positions of a crossing.
@@ -85,7 +87,7 @@ fn quantities(scene: &Scene, beam: &Beam) -> Vec<(String, Read)> {
                 format!("support.{}.reaction", s.name),
                 Read::Reaction(s.node),
             ));
-            if s.clamped {
+            if s.has_moment {
                 list.push((
                     format!("support.{}.moment", s.name),
                     Read::ClampMoment(s.node),
@@ -97,20 +99,44 @@ fn quantities(scene: &Scene, beam: &Beam) -> Vec<(String, Read)> {
 }
 
 /// The static envelope of `scene`'s loads crossing its beam (see the
-/// module). Bounded: at most `MAX_POSITIONS` evenly spaced positions with
-/// positions × DOFs ≤ `MAX_WORK`, and `MAX_POSITIONS` more that put a
-/// load on a sensor or section.
+/// module): its contacts' static loads, or its moving forces.
 pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
+    let (beam, loads) = static_loads(scene)?;
+    envelope_of_loads(scene, &beam, &loads)
+}
+
+/// The beam of `scene` and its loads: (abscissa at the start, downward
+/// force) of each contact's static share, or of each moving force.
+fn static_loads(scene: &Scene) -> Result<(Beam, Vec<(f64, f64)>), String> {
+    if is_moving_force_scene(scene) {
+        let beam = Beam::new(&scene.beam)?;
+        let loads = scene_axles(scene)
+            .iter()
+            .map(|a| (a.position, -a.force))
+            .collect();
+        return Ok((beam, loads));
+    }
     let assembly = assemble(scene)?;
-    let beam = &assembly.system.beam;
-    // (abscissa at the start, downward static load) of each contact.
-    let loads: Vec<(f64, f64)> = assembly
+    let loads = assembly
         .system
         .contacts
         .iter()
         .zip(&assembly.forces)
         .map(|(c, f)| (assembly.bodies[c.body].position.x, f.normal))
         .collect();
+    Ok((assembly.system.beam, loads))
+}
+
+/// The static envelope of `loads` ((abscissa at the start, downward force))
+/// crossing `beam` together, read at `scene`'s sensors, sections and
+/// supports. Bounded: at most `MAX_POSITIONS` evenly spaced positions
+/// with positions × DOFs ≤ `MAX_WORK`, and `MAX_POSITIONS` more that put a
+/// load on a sensor or section.
+pub fn envelope_of_loads(
+    scene: &Scene,
+    beam: &Beam,
+    loads: &[(f64, f64)],
+) -> Result<StaticEnvelope, String> {
     let reads = quantities(scene, beam);
     let mut peaks = vec![0.0f64; reads.len()];
     let first = loads.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
@@ -125,7 +151,7 @@ pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
         "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
          to move), so the loads have no static response",
     )?;
-    let shifts = shifts(scene, beam, &loads, (first, last));
+    let shifts = shifts(scene, beam, loads, (first, last));
     for &shift in &shifts {
         let on_beam: Vec<PointLoad> = loads
             .iter()
@@ -148,11 +174,15 @@ pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
 /// the first at x = L, plus those that put a load exactly on a sensor or
 /// section (where a moment or shear peaks with a kink, between samples).
 fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64, f64)) -> Vec<f64> {
+    let (from, to) = (-last, beam.length - first);
+    // Four per element along the whole travel (a train is longer than the
+    // beam).
+    let per_element = 4.0 * (to - from) / beam.min_element_length();
     let even = (4 * beam.elements())
+        .max(per_element.min(MAX_POSITIONS as f64) as usize)
         .clamp(MIN_POSITIONS, MAX_POSITIONS)
         .min(MAX_WORK / beam.free_dofs().max(1))
         .max(2);
-    let (from, to) = (-last, beam.length - first);
     let mut shifts: Vec<f64> = (0..even)
         .map(|k| from + (to - from) * k as f64 / (even - 1) as f64)
         .collect();
