@@ -750,6 +750,9 @@ impl Beam {
     /// ground), each with whether it acts on the deflection (else on a
     /// rotation).
     pub fn springs_at(&self, node: usize) -> Vec<(GroundSpring, bool)> {
+        if self.springs.is_empty() {
+            return Vec::new();
+        }
         let elements = self.elements();
         let (left, right) = (node.checked_sub(1), (node < elements).then_some(node));
         let w = [right.and_then(|e| self.element_dofs[e][0])]

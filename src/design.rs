@@ -18,9 +18,10 @@
 //! and its distributed inertia. For static point loads this is exact at
 //! any mesh (Hermite elements give the exact nodal displacements).
 
-use crate::beam::Beam;
+use crate::beam::{Beam, Rayleigh};
 use crate::contact::{ContactForce, ContactFrame};
 use nalgebra::DVector;
+use std::cell::OnceCell;
 
 /// A concentrated load on the beam's axis at `x`, on element `element`:
 /// an upward force (N) and a counter-clockwise couple (N m).
@@ -87,8 +88,10 @@ pub struct BeamDynamics {
     loads: Vec<PointLoad>,
     /// u + β v and a + α v: the displacement and acceleration that carry
     /// the damping forces C v = α M v + β K v along with K u and M a
-    /// (`None` when undamped: u and a themselves).
-    damped: Option<(DVector<f64>, DVector<f64>)>,
+    /// (`None` when undamped: u and a themselves), computed when first
+    /// asked for (deflections and accelerations do without).
+    damped: OnceCell<Option<(DVector<f64>, DVector<f64>)>>,
+    damping: Rayleigh,
 }
 
 impl BeamDynamics {
@@ -104,13 +107,56 @@ impl BeamDynamics {
         let r = load_vector(beam, &loads);
         let mut acceleration = DVector::zeros(beam.free_dofs());
         beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
-        let damped = damped(beam, &displacement, &velocity, &acceleration);
         BeamDynamics {
             displacement,
             velocity,
             acceleration,
             loads,
-            damped,
+            damped: OnceCell::new(),
+            damping: beam.damping(),
+        }
+    }
+
+    /// The state (u, v) under `loads` with an acceleration `a` that
+    /// already satisfies M a + C v + K u = r (Newmark's, at a step's end).
+    pub fn with_acceleration(
+        beam: &Beam,
+        (displacement, velocity, acceleration): (DVector<f64>, DVector<f64>, DVector<f64>),
+        loads: Vec<PointLoad>,
+    ) -> BeamDynamics {
+        BeamDynamics {
+            displacement,
+            velocity,
+            acceleration,
+            loads,
+            damped: OnceCell::new(),
+            damping: beam.damping(),
+        }
+    }
+
+    /// Replace the state and the loads, keeping the storage (one state per
+    /// step without allocating).
+    pub fn update(
+        &mut self,
+        (u, v, a): (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+        loads: impl IntoIterator<Item = PointLoad>,
+    ) {
+        self.displacement.copy_from(u);
+        self.velocity.copy_from(v);
+        self.acceleration.copy_from(a);
+        self.loads.clear();
+        self.loads.extend(loads);
+        // Damped copies that were asked for last time are refreshed in place.
+        match self.damped.get_mut() {
+            Some(Some((du, da))) => {
+                let c = self.damping;
+                du.copy_from(u);
+                du.axpy(c.stiffness, v, 1.0);
+                da.copy_from(a);
+                da.axpy(c.mass, v, 1.0);
+            }
+            Some(None) => {}
+            None => self.damped = OnceCell::new(),
         }
     }
 
@@ -134,7 +180,8 @@ impl BeamDynamics {
     fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {
         let zero = DVector::zeros(beam.free_dofs());
         BeamDynamics {
-            damped: None,
+            damped: OnceCell::from(None),
+            damping: Rayleigh::default(),
             displacement,
             velocity: zero.clone(),
             acceleration: zero,
@@ -154,7 +201,15 @@ impl BeamDynamics {
 
     /// u + β v and a + α v (u and a when undamped).
     fn damped_state(&self) -> (&DVector<f64>, &DVector<f64>) {
-        match &self.damped {
+        let damped = self.damped.get_or_init(|| {
+            damped(
+                self.damping,
+                &self.displacement,
+                &self.velocity,
+                &self.acceleration,
+            )
+        });
+        match damped {
             Some((u, a)) => (u, a),
             None => (&self.displacement, &self.acceleration),
         }
@@ -258,12 +313,11 @@ impl BeamDynamics {
 
 /// u + β v and a + α v for the beam's Rayleigh damping (α M + β K).
 fn damped(
-    beam: &Beam,
+    c: Rayleigh,
     u: &DVector<f64>,
     v: &DVector<f64>,
     a: &DVector<f64>,
 ) -> Option<(DVector<f64>, DVector<f64>)> {
-    let c = beam.damping();
     if c.is_zero() {
         return None;
     }
@@ -341,7 +395,9 @@ pub fn supports(beam: &Beam) -> Vec<Support> {
 }
 
 mod envelope;
-pub use envelope::{static_envelope, StaticEnvelope};
+mod probes;
+pub use envelope::{envelope_of_loads, static_envelope, StaticEnvelope};
+pub use probes::{probes, DesignPeaks, Probe};
 
 #[cfg(test)]
 mod tests;

@@ -132,6 +132,10 @@ struct SweepArgs {
     /// Threads (default: the machine's cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(usize))]
     threads: Option<usize>,
+    /// The track on the deck, which sets the deck acceleration limit of
+    /// EN 1990 A2.4.4.2.1: ballasted (3.5 m/s²) or slab (5 m/s²).
+    #[arg(long, value_name = "ballasted|slab", default_value = "ballasted")]
+    track: String,
     /// Refuse, before running, a sweep of more steps than this in all.
     #[arg(long, value_name = "N", default_value_t = guideway::study::sweep::DEFAULT_MAX_SWEEP_STEPS)]
     max_steps: u64,

@@ -11,7 +11,8 @@
 
 use std::collections::BTreeMap;
 
-use super::{supports, BeamDynamics, PointLoad};
+use super::probes::{probes, Probe};
+use super::{BeamDynamics, PointLoad};
 use crate::assemble::assemble;
 use crate::beam::Beam;
 use crate::moving_load::{is_moving_force_scene, scene_axles};
@@ -44,58 +45,6 @@ impl StaticEnvelope {
         let reference = *self.peaks.get(name)?;
         (reference > 0.0 && dynamic_peak.is_finite()).then(|| dynamic_peak.abs() / reference)
     }
-}
-
-/// One quantity read from a static response.
-enum Read {
-    Deflection(f64),
-    Moment(f64),
-    Shear(f64),
-    Reaction(usize),
-    ClampMoment(usize),
-}
-
-impl Read {
-    fn value(&self, beam: &Beam, response: &BeamDynamics) -> f64 {
-        match *self {
-            Read::Deflection(x) => response.deflection_at(beam, x),
-            Read::Moment(x) => response.section_forces(beam, x).moment,
-            Read::Shear(x) => response.section_forces(beam, x).shear,
-            Read::Reaction(node) => response.reaction(beam, node)[0],
-            Read::ClampMoment(node) => response.reaction(beam, node)[1],
-        }
-    }
-}
-
-/// What `scene` reports that has a static counterpart, by output name.
-fn quantities(scene: &Scene, beam: &Beam) -> Vec<(String, Read)> {
-    let mut list = Vec::new();
-    for s in &scene.sensors {
-        let name = format!("sensor.{}.deflection", s.name);
-        list.push((name, Read::Deflection(s.position)));
-    }
-    for s in &scene.sections {
-        list.push((
-            format!("section.{}.moment", s.name),
-            Read::Moment(s.position),
-        ));
-        list.push((format!("section.{}.shear", s.name), Read::Shear(s.position)));
-    }
-    if scene.reactions {
-        for s in supports(beam) {
-            list.push((
-                format!("support.{}.reaction", s.name),
-                Read::Reaction(s.node),
-            ));
-            if s.has_moment {
-                list.push((
-                    format!("support.{}.moment", s.name),
-                    Read::ClampMoment(s.node),
-                ));
-            }
-        }
-    }
-    list
 }
 
 /// The static envelope of `scene`'s loads crossing its beam (see the
@@ -137,7 +86,10 @@ pub fn envelope_of_loads(
     beam: &Beam,
     loads: &[(f64, f64)],
 ) -> Result<StaticEnvelope, String> {
-    let reads = quantities(scene, beam);
+    let reads: Vec<Probe> = probes(scene, beam)
+        .into_iter()
+        .filter(Probe::is_static)
+        .collect();
     let mut peaks = vec![0.0f64; reads.len()];
     let first = loads.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
     let last = loads.iter().map(|l| l.0).fold(f64::NEG_INFINITY, f64::max);
@@ -160,12 +112,12 @@ pub fn envelope_of_loads(
             .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
             .collect();
         let response = BeamDynamics::static_response_with(beam, &stiffness, on_beam);
-        for (peak, (_, read)) in peaks.iter_mut().zip(&reads) {
+        for (peak, read) in peaks.iter_mut().zip(&reads) {
             *peak = peak.max(read.value(beam, &response).abs());
         }
     }
     Ok(StaticEnvelope {
-        peaks: reads.into_iter().map(|(name, _)| name).zip(peaks).collect(),
+        peaks: reads.into_iter().map(|r| r.name).zip(peaks).collect(),
         positions: shifts.len(),
     })
 }
@@ -175,9 +127,9 @@ pub fn envelope_of_loads(
 /// section (where a moment or shear peaks with a kink, between samples).
 fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64, f64)) -> Vec<f64> {
     let (from, to) = (-last, beam.length - first);
-    // Four per element along the whole travel (a train is longer than the
-    // beam).
-    let per_element = 4.0 * (to - from) / beam.min_element_length();
+    // And 16 per element along the whole travel: a train is longer than
+    // the beam, and its group's peak lies between axle positions.
+    let per_element = 16.0 * (to - from) / beam.min_element_length();
     let even = (4 * beam.elements())
         .max(per_element.min(MAX_POSITIONS as f64) as usize)
         .clamp(MIN_POSITIONS, MAX_POSITIONS)

@@ -7,6 +7,7 @@ use nalgebra::DVector;
 use super::Axle;
 use crate::band::BandLdlt;
 use crate::beam::Beam;
+use crate::design::{BeamDynamics, DesignPeaks, PointLoad, Probe};
 
 const BETA: f64 = 0.25;
 const GAMMA: f64 = 0.5;
@@ -113,6 +114,62 @@ impl<'a> Crossing<'a> {
         self.beam.deflection(&self.a, x)
     }
 
+    /// The forces on the beam now, as point loads.
+    pub fn point_loads(&self) -> impl Iterator<Item = PointLoad> + '_ {
+        let length = self.beam.length;
+        self.axles
+            .iter()
+            .map(|axle| (axle.at(self.time), axle.force))
+            .filter(move |(x, _)| (0.0..=length).contains(x))
+            .map(|(x, force)| PointLoad::vertical(self.beam, x, force))
+    }
+
+    /// The free DOFs' displacement, velocity and acceleration now.
+    pub fn state(&self) -> (&DVector<f64>, &DVector<f64>, &DVector<f64>) {
+        (&self.u, &self.v, &self.a)
+    }
+
+    /// The beam now, for its design outputs: Newmark's acceleration
+    /// satisfies the equation of motion at the step's end.
+    pub fn dynamics(&self) -> BeamDynamics {
+        let state = (self.u.clone(), self.v.clone(), self.a.clone());
+        BeamDynamics::with_acceleration(self.beam, state, self.point_loads().collect())
+    }
+
+    /// Step until `end` (s) or the last force has left the beam, whichever
+    /// is earlier, recording the design outputs `probes` after each step
+    /// (the state at rest at t = 0 is zero); refused when that is more
+    /// than `max_steps` steps.
+    pub fn design_peaks(
+        &mut self,
+        probes: &[Probe],
+        end: f64,
+        max_steps: u64,
+    ) -> Result<DesignPeaks, String> {
+        let steps = self.steps_to(end, max_steps)?;
+        let mut peaks = DesignPeaks::new(probes.len());
+        let mut now = self.dynamics();
+        for _ in 0..steps {
+            self.step();
+            now.update((&self.u, &self.v, &self.a), self.point_loads());
+            peaks.record(probes, self.beam, &now);
+        }
+        Ok(peaks)
+    }
+
+    /// Steps to `end` or the exit, refused beyond `max_steps`.
+    fn steps_to(&self, end: f64, max_steps: u64) -> Result<u64, String> {
+        let end = end.min(self.exit_time());
+        let steps = (end / self.step).ceil();
+        if steps.is_nan() || steps > max_steps as f64 {
+            return Err(format!(
+                "the crossing needs {steps} steps of {} s, more than the limit of {max_steps}",
+                self.step
+            ));
+        }
+        Ok(steps as u64)
+    }
+
     /// Kinetic + strain energy of the beam (J).
     pub fn beam_energy(&self) -> f64 {
         self.beam.kinetic_energy(&self.v) + self.beam.strain_energy(&self.u)
@@ -127,16 +184,9 @@ impl<'a> Crossing<'a> {
         end: f64,
         max_steps: u64,
     ) -> Result<Vec<Peaks>, String> {
-        let end = end.min(self.exit_time());
-        let steps = (end / self.step).ceil();
-        if steps.is_nan() || steps > max_steps as f64 {
-            return Err(format!(
-                "the crossing needs {steps} steps of {} s, more than the limit of {max_steps}",
-                self.step
-            ));
-        }
+        let steps = self.steps_to(end, max_steps)?;
         let mut peaks = vec![Peaks::default(); sensors.len()];
-        for _ in 0..steps as u64 {
+        for _ in 0..steps {
             self.step();
             for (peak, &x) in peaks.iter_mut().zip(sensors) {
                 peak.deflection = peak.deflection.max(self.deflection(x).abs());
