@@ -194,6 +194,16 @@ impl BeamDynamics {
         &self.displacement
     }
 
+    /// The free DOFs' velocities.
+    pub fn velocity(&self) -> &DVector<f64> {
+        &self.velocity
+    }
+
+    /// The free DOFs' accelerations.
+    pub fn acceleration(&self) -> &DVector<f64> {
+        &self.acceleration
+    }
+
     /// Deflection at `x` (m, up positive).
     pub fn deflection_at(&self, beam: &Beam, x: f64) -> f64 {
         beam.deflection(&self.displacement, x)

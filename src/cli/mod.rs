@@ -88,6 +88,10 @@ struct RunArgs {
     /// Draw nominal speed, sensor deflection and energy drift to this PNG.
     #[arg(long, value_name = "PNG")]
     plot: Option<PathBuf>,
+    /// Write every node's deflection and acceleration at every internal
+    /// step to this CSV file (refused beyond 5e7 rows × nodes).
+    #[arg(long, value_name = "CSV")]
+    nodes: Option<PathBuf>,
     /// Refuse, before running, a run that needs more internal steps than
     /// this (the time a step takes grows with beam.elements).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]

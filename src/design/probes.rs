@@ -3,8 +3,9 @@
 //! order and with the names of the run's outputs.
 
 use super::{supports, BeamDynamics, SectionForces};
-use crate::beam::Beam;
+use crate::beam::{Beam, Shape};
 use crate::scene::Scene;
+use nalgebra::DVector;
 
 /// What a probe reads.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -16,6 +17,17 @@ enum Read {
     Shear(f64),
     Reaction(usize),
     SupportMoment(usize),
+}
+
+impl BeamDynamics {
+    /// The vector a sensor reading interpolates.
+    fn vector(&self, read: Read) -> &DVector<f64> {
+        match read {
+            Read::Velocity(_) => self.velocity(),
+            Read::Acceleration(_) => self.acceleration(),
+            _ => self.displacement(),
+        }
+    }
 }
 
 /// One design output: its name (`sensor.<name>.deflection`, …) and what
@@ -115,8 +127,19 @@ impl DesignPeaks {
     pub fn record(&mut self, probes: &[Probe], beam: &Beam, state: &BeamDynamics) {
         // A section's moment and shear come from one evaluation.
         let mut section: Option<(f64, SectionForces)> = None;
+        // And a sensor's three values from one shape.
+        let mut sensor: Option<(f64, Shape)> = None;
         for (peak, probe) in self.peaks.iter_mut().zip(probes) {
             let value = match probe.read {
+                Read::Deflection(x) | Read::Velocity(x) | Read::Acceleration(x) => {
+                    let shape = match sensor.take() {
+                        Some((at, shape)) if at == x => shape,
+                        _ => beam.shape(beam.element_at(x), x),
+                    };
+                    let value = shape.dot(&shape.n, state.vector(probe.read));
+                    sensor = Some((x, shape));
+                    value
+                }
                 Read::Moment(x) | Read::Shear(x) => {
                     let forces = match section {
                         Some((at, forces)) if at == x => forces,

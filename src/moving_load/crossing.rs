@@ -24,6 +24,8 @@ pub struct Crossing<'a> {
     v: DVector<f64>,
     a: DVector<f64>,
     load: DVector<f64>,
+    /// The forces on the beam at `time`, as `load` was built from them.
+    placed: Vec<PointLoad>,
     rhs: DVector<f64>,
     scratch: DVector<f64>,
 }
@@ -56,6 +58,7 @@ impl<'a> Crossing<'a> {
             v: z(),
             a: z(),
             load: z(),
+            placed: Vec::new(),
             rhs: z(),
             scratch: z(),
         };
@@ -77,12 +80,19 @@ impl<'a> Crossing<'a> {
     /// The load vector of the forces at time `t` (those on the beam).
     fn place_loads(&mut self, t: f64) {
         self.load.fill(0.0);
+        self.placed.clear();
         let length = self.beam.length;
         for axle in self.axles {
             let x = axle.at(t);
             if (0.0..=length).contains(&x) {
                 let shape = self.beam.shape(self.beam.element_at(x), x);
                 shape.scatter(&shape.n, axle.force, &mut self.load);
+                self.placed.push(PointLoad {
+                    x,
+                    element: shape.element,
+                    force: axle.force,
+                    couple: 0.0,
+                });
             }
         }
     }
@@ -115,13 +125,8 @@ impl<'a> Crossing<'a> {
     }
 
     /// The forces on the beam now, as point loads.
-    pub fn point_loads(&self) -> impl Iterator<Item = PointLoad> + '_ {
-        let length = self.beam.length;
-        self.axles
-            .iter()
-            .map(|axle| (axle.at(self.time), axle.force))
-            .filter(move |(x, _)| (0.0..=length).contains(x))
-            .map(|(x, force)| PointLoad::vertical(self.beam, x, force))
+    pub fn point_loads(&self) -> &[PointLoad] {
+        &self.placed
     }
 
     /// The free DOFs' displacement, velocity and acceleration now.
@@ -133,7 +138,7 @@ impl<'a> Crossing<'a> {
     /// satisfies the equation of motion at the step's end.
     pub fn dynamics(&self) -> BeamDynamics {
         let state = (self.u.clone(), self.v.clone(), self.a.clone());
-        BeamDynamics::with_acceleration(self.beam, state, self.point_loads().collect())
+        BeamDynamics::with_acceleration(self.beam, state, self.placed.clone())
     }
 
     /// Step until `end` (s) or the last force has left the beam, whichever
@@ -151,7 +156,7 @@ impl<'a> Crossing<'a> {
         let mut now = self.dynamics();
         for _ in 0..steps {
             self.step();
-            now.update((&self.u, &self.v, &self.a), self.point_loads());
+            now.update((&self.u, &self.v, &self.a), self.placed.iter().copied());
             peaks.record(probes, self.beam, &now);
         }
         Ok(peaks)
