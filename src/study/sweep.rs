@@ -130,6 +130,8 @@ pub struct DesignPeak {
     pub name: String,
     /// The value of largest magnitude over the run, sign kept.
     pub peak: f64,
+    /// The output has a static counterpart (not velocity or acceleration).
+    pub is_static: bool,
     /// |peak| over the static envelope's peak of the same output under
     /// the same forces (`design::static_envelope`); `None` for velocity
     /// and acceleration, or where the static response is zero.
@@ -255,6 +257,7 @@ fn envelope_row(
         .map(|(probe, &peak)| DesignPeak {
             name: probe.name.clone(),
             peak,
+            is_static: probe.is_static(),
             daf: load.statics.amplification(&probe.name, peak),
         })
         .collect();
@@ -333,20 +336,12 @@ pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
         "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,daf",
         unit.label().replace('/', "_")
     );
-    let daf_columns =
-        |r: &EnvelopeRow| -> Vec<bool> { r.design.iter().map(|d| d.daf.is_some()).collect() };
-    // A column per output, and a DAF column where any row has one.
-    let with_daf: Vec<bool> = rows.iter().map(daf_columns).fold(Vec::new(), |acc, row| {
-        if acc.is_empty() {
-            row
-        } else {
-            acc.iter().zip(row).map(|(a, b)| *a || b).collect()
-        }
-    });
+    // Every row has the same outputs (one scene); a DAF column after each
+    // one with a static counterpart, empty where its static response is 0.
     if let Some(first) = rows.first() {
-        for (d, &daf) in first.design.iter().zip(&with_daf) {
+        for d in &first.design {
             text.push_str(&format!(",{}", d.name));
-            if daf {
+            if d.is_static {
                 text.push_str(&format!(",{}.daf", d.name));
             }
         }
@@ -357,9 +352,9 @@ pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
             "{},{},{},{},{},{}",
             r.train, r.speed, r.speed_m_s, r.peak_deflection, r.peak_acceleration, r.daf
         ));
-        for (d, &daf) in r.design.iter().zip(&with_daf) {
+        for d in &r.design {
             text.push_str(&format!(",{}", d.peak));
-            if daf {
+            if d.is_static {
                 match d.daf {
                     Some(x) => text.push_str(&format!(",{x}")),
                     None => text.push(','),
