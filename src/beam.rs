@@ -827,6 +827,37 @@ impl Beam {
         }
     }
 
+    /// The elastic supports at `node` (its springs and dampers to the
+    /// ground), each with whether it acts on the deflection (else on a
+    /// rotation).
+    pub fn springs_at(&self, node: usize) -> Vec<(GroundSpring, bool)> {
+        if self.springs.is_empty() {
+            return Vec::new();
+        }
+        let elements = self.elements();
+        let (left, right) = (node.checked_sub(1), (node < elements).then_some(node));
+        let w = [right.and_then(|e| self.element_dofs[e][0])]
+            .into_iter()
+            .chain([left.and_then(|e| self.element_dofs[e][2])])
+            .flatten()
+            .collect::<Vec<_>>();
+        let psi = [right.and_then(|e| self.element_dofs[e][1])]
+            .into_iter()
+            .chain([left.and_then(|e| self.element_dofs[e][3])])
+            .flatten()
+            .collect::<Vec<_>>();
+        self.springs
+            .iter()
+            .filter_map(|s| {
+                if w.contains(&s.dof) {
+                    Some((*s, true))
+                } else {
+                    psi.contains(&s.dof).then_some((*s, false))
+                }
+            })
+            .collect()
+    }
+
     /// Whether a support holds local DOF `local` (w_i, ψ_i, w_j, ψ_j) of
     /// `element`: at a joint the two sides of a node can differ.
     pub fn is_held_in(&self, element: usize, local: usize) -> bool {

@@ -18,9 +18,10 @@
 //! and its distributed inertia. For static point loads this is exact at
 //! any mesh (Hermite elements give the exact nodal displacements).
 
-use crate::beam::Beam;
+use crate::beam::{Beam, Rayleigh};
 use crate::contact::{ContactForce, ContactFrame};
 use nalgebra::DVector;
+use std::cell::OnceCell;
 
 /// A concentrated load on the beam's axis at `x`, on element `element`:
 /// an upward force (N) and a counter-clockwise couple (N m).
@@ -87,8 +88,10 @@ pub struct BeamDynamics {
     loads: Vec<PointLoad>,
     /// u + β v and a + α v: the displacement and acceleration that carry
     /// the damping forces C v = α M v + β K v along with K u and M a
-    /// (`None` when undamped: u and a themselves).
-    damped: Option<(DVector<f64>, DVector<f64>)>,
+    /// (`None` when undamped: u and a themselves), computed when first
+    /// asked for (deflections and accelerations do without).
+    damped: OnceCell<Option<(DVector<f64>, DVector<f64>)>>,
+    damping: Rayleigh,
 }
 
 impl BeamDynamics {
@@ -104,13 +107,56 @@ impl BeamDynamics {
         let r = load_vector(beam, &loads);
         let mut acceleration = DVector::zeros(beam.free_dofs());
         beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
-        let damped = damped(beam, &displacement, &velocity, &acceleration);
         BeamDynamics {
             displacement,
             velocity,
             acceleration,
             loads,
-            damped,
+            damped: OnceCell::new(),
+            damping: beam.damping(),
+        }
+    }
+
+    /// The state (u, v) under `loads` with an acceleration `a` that
+    /// already satisfies M a + C v + K u = r (Newmark's, at a step's end).
+    pub fn with_acceleration(
+        beam: &Beam,
+        (displacement, velocity, acceleration): (DVector<f64>, DVector<f64>, DVector<f64>),
+        loads: Vec<PointLoad>,
+    ) -> BeamDynamics {
+        BeamDynamics {
+            displacement,
+            velocity,
+            acceleration,
+            loads,
+            damped: OnceCell::new(),
+            damping: beam.damping(),
+        }
+    }
+
+    /// Replace the state and the loads, keeping the storage (one state per
+    /// step without allocating).
+    pub fn update(
+        &mut self,
+        (u, v, a): (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+        loads: impl IntoIterator<Item = PointLoad>,
+    ) {
+        self.displacement.copy_from(u);
+        self.velocity.copy_from(v);
+        self.acceleration.copy_from(a);
+        self.loads.clear();
+        self.loads.extend(loads);
+        // Damped copies that were asked for last time are refreshed in place.
+        match self.damped.get_mut() {
+            Some(Some((du, da))) => {
+                let c = self.damping;
+                du.copy_from(u);
+                du.axpy(c.stiffness, v, 1.0);
+                da.copy_from(a);
+                da.axpy(c.mass, v, 1.0);
+            }
+            Some(None) => {}
+            None => self.damped = OnceCell::new(),
         }
     }
 
@@ -134,7 +180,8 @@ impl BeamDynamics {
     fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {
         let zero = DVector::zeros(beam.free_dofs());
         BeamDynamics {
-            damped: None,
+            damped: OnceCell::from(None),
+            damping: Rayleigh::default(),
             displacement,
             velocity: zero.clone(),
             acceleration: zero,
@@ -147,6 +194,16 @@ impl BeamDynamics {
         &self.displacement
     }
 
+    /// The free DOFs' velocities.
+    pub fn velocity(&self) -> &DVector<f64> {
+        &self.velocity
+    }
+
+    /// The free DOFs' accelerations.
+    pub fn acceleration(&self) -> &DVector<f64> {
+        &self.acceleration
+    }
+
     /// Deflection at `x` (m, up positive).
     pub fn deflection_at(&self, beam: &Beam, x: f64) -> f64 {
         beam.deflection(&self.displacement, x)
@@ -154,7 +211,15 @@ impl BeamDynamics {
 
     /// u + β v and a + α v (u and a when undamped).
     fn damped_state(&self) -> (&DVector<f64>, &DVector<f64>) {
-        match &self.damped {
+        let damped = self.damped.get_or_init(|| {
+            damped(
+                self.damping,
+                &self.displacement,
+                &self.velocity,
+                &self.acceleration,
+            )
+        });
+        match damped {
             Some((u, a)) => (u, a),
             None => (&self.displacement, &self.acceleration),
         }
@@ -219,10 +284,23 @@ impl BeamDynamics {
         SectionForces { moment, shear }
     }
 
-    /// The force (N, up positive) and, where the rotation is held too, the
-    /// moment (N m, counter-clockwise positive) support `node` exerts on
-    /// the beam: the residual of the held DOFs.
+    /// The force (N, up positive) and, where the rotation is held or
+    /// sprung, the moment (N m, counter-clockwise positive) support `node`
+    /// exerts on the beam: the residual of the held DOFs plus the forces
+    /// of its springs and dampers, −k u − c v.
     pub fn reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
+        let mut reaction = self.held_reaction(beam, node);
+        for (spring, vertical) in beam.springs_at(node) {
+            let dof = spring.dof;
+            let force =
+                -spring.stiffness * self.displacement[dof] - spring.damping * self.velocity[dof];
+            reaction[usize::from(!vertical)] += force;
+        }
+        reaction
+    }
+
+    /// The residual of the held DOFs of `node`.
+    fn held_reaction(&self, beam: &Beam, node: usize) -> [f64; 2] {
         let (u, a) = self.damped_state();
         let mut reaction = [0.0; 2];
         let elements = beam.elements();
@@ -245,12 +323,11 @@ impl BeamDynamics {
 
 /// u + β v and a + α v for the beam's Rayleigh damping (α M + β K).
 fn damped(
-    beam: &Beam,
+    c: Rayleigh,
     u: &DVector<f64>,
     v: &DVector<f64>,
     a: &DVector<f64>,
 ) -> Option<(DVector<f64>, DVector<f64>)> {
-    let c = beam.damping();
     if c.is_zero() {
         return None;
     }
@@ -280,42 +357,57 @@ pub struct SectionForces {
     pub shear: f64,
 }
 
-/// A support of the beam: a node whose deflection is held.
+/// A support of the beam: a node whose deflection is held, or that has
+/// a spring or damper to the ground.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Support {
-    /// `left`, `right`, or `intermediate1`, `intermediate2`, … from left to right.
+    /// `left` and `right` at the ends; inside, `intermediate1`,
+    /// `intermediate2`, … where the deflection is held and `spring1`,
+    /// `spring2`, … where it is elastic, each from left to right.
     pub name: String,
     pub node: usize,
-    /// The rotation is held too (a clamp): the support has a moment.
-    pub clamped: bool,
+    /// The support resists rotation (a clamp or a rotational spring or
+    /// damper): it has a moment.
+    pub has_moment: bool,
 }
 
-/// The beam's supports, from left to right.
+/// The beam's supports, from left to right: held nodes and elastic
+/// supports (named as before when held, so old scenes keep their names).
 pub fn supports(beam: &Beam) -> Vec<Support> {
     let last = beam.node_x.len() - 1;
-    let mut intermediate = 0;
+    let (mut intermediate, mut elastic) = (0, 0);
     (0..=last)
-        .filter(|&node| beam.is_held(node, 0))
-        .map(|node| {
+        .filter_map(|node| {
+            let springs = beam.springs_at(node);
+            let held = beam.is_held(node, 0);
+            if !held && springs.is_empty() {
+                return None;
+            }
             let name = if node == 0 {
                 "left".to_string()
             } else if node == last {
                 "right".to_string()
-            } else {
+            } else if held {
                 intermediate += 1;
                 format!("intermediate{intermediate}")
+            } else {
+                elastic += 1;
+                format!("spring{elastic}")
             };
-            Support {
+            let rotational_spring = springs.iter().any(|&(_, vertical)| !vertical);
+            Some(Support {
                 name,
                 node,
-                clamped: beam.is_held(node, 1),
-            }
+                has_moment: beam.is_held(node, 1) || rotational_spring,
+            })
         })
         .collect()
 }
 
 mod envelope;
-pub use envelope::{static_envelope, StaticEnvelope};
+mod probes;
+pub use envelope::{envelope_of_loads, static_envelope, StaticEnvelope};
+pub use probes::{probes, DesignPeaks, Probe};
 
 #[cfg(test)]
 mod tests;

@@ -368,11 +368,11 @@ impl Catalogue {
                 "vertical force of the support on the beam, up positive",
                 Quantity::Reaction(support.node),
             );
-            if support.clamped {
+            if support.has_moment {
                 self.real(
                     format!("support.{name}.moment"),
                     "N.m",
-                    "moment of the clamp on the beam, counter-clockwise positive",
+                    "moment of the support (clamp or rotational spring) on the beam, counter-clockwise positive",
                     Quantity::ReactionMoment(support.node),
                 );
             }

@@ -88,6 +88,10 @@ struct RunArgs {
     /// Draw nominal speed, sensor deflection and energy drift to this PNG.
     #[arg(long, value_name = "PNG")]
     plot: Option<PathBuf>,
+    /// Write every node's deflection and acceleration at every internal
+    /// step to this CSV file (refused beyond 5e7 rows × nodes).
+    #[arg(long, value_name = "CSV")]
+    nodes: Option<PathBuf>,
     /// Refuse, before running, a run that needs more internal steps than
     /// this (the time a step takes grows with beam.elements).
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
@@ -132,6 +136,10 @@ struct SweepArgs {
     /// Threads (default: the machine's cores).
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(usize))]
     threads: Option<usize>,
+    /// The track on the deck, which sets the deck acceleration limit of
+    /// EN 1990 A2.4.4.2.1: ballasted (3.5 m/s²) or slab (5 m/s²).
+    #[arg(long, value_name = "ballasted|slab", default_value = "ballasted")]
+    track: String,
     /// Refuse, before running, a sweep of more steps than this in all.
     #[arg(long, value_name = "N", default_value_t = guideway::study::sweep::DEFAULT_MAX_SWEEP_STEPS)]
     max_steps: u64,

@@ -1,4 +1,5 @@
-//! `guideway run SCENE [--out CSV] [--summary JSON] [--plot PNG] [--max-steps N] [--quiet]`.
+//! `guideway run SCENE [--out CSV] [--summary JSON] [--plot PNG] [--nodes CSV] [--max-steps N]
+//! [--quiet]`.
 //!
 //! The rows go to the CSV as they are computed (memory does not grow with
 //! the run); the summary and the plot are built alongside, the plot from
@@ -9,6 +10,7 @@ use super::progress::Progress;
 use super::{interrupt, load_scene, Failure, RunArgs};
 use guideway::output_file::{check_distinct, Staged};
 use guideway::report::csv::CsvWriter;
+use guideway::report::nodes::{check_node_output, WithNodes};
 use guideway::report::{
     check_run_length, drive_into, plot, Decimated, RowSink, RunSummary, StreamError, Streamed,
     SummaryBuilder, SummaryEvent, Trace,
@@ -30,6 +32,7 @@ struct Outputs {
     csv: Option<Staged>,
     summary: Option<Staged>,
     plot: Option<Staged>,
+    nodes: Option<Staged>,
 }
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
@@ -44,27 +47,36 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         csv: stage(&args.out)?,
         summary: stage(&args.summary)?,
         plot: stage(&args.plot)?,
+        nodes: stage(&args.nodes)?,
     };
 
     let cannot_simulate =
         |m: String| Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name));
     let mut simulation = Simulation::new(&scene).map_err(cannot_simulate)?;
-    check_run_length(&scene, args.max_steps, " (--max-steps N raises it)")
+    let steps = check_run_length(&scene, args.max_steps, " (--max-steps N raises it)")
         .map_err(cannot_simulate)?;
+    if outputs.nodes.is_some() {
+        let nodes = simulation.system().beam.node_x.len();
+        check_node_output(steps + 1, nodes).map_err(Failure::Usage)?;
+    }
 
     if !args.quiet {
         println!("{}", frequencies_line(&simulation.system().beam));
     }
     let mut sink = Sink::new(&scene, &simulation, &outputs)?;
     let mut progress = Progress::new(args.quiet);
-    let result = drive_into(&scene, &mut simulation, &mut sink, |step| {
+    let on_step = |step| {
         progress.update(step);
         if interrupted.load(Ordering::SeqCst) {
             ControlFlow::Break(())
         } else {
             ControlFlow::Continue(())
         }
-    });
+    };
+    let result = match &outputs.nodes {
+        None => drive_into(&scene, &mut simulation, &mut sink, on_step),
+        Some(staged) => drive_with_nodes(&scene, &mut simulation, &mut sink, staged, on_step)?,
+    };
     progress.finish();
     match result {
         Ok(streamed) => {
@@ -81,6 +93,26 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     }
 }
 
+/// `drive_into` with every node written to `staged` after each row (the
+/// file is kept only when the run finishes).
+fn drive_with_nodes(
+    scene: &Scene,
+    simulation: &mut Simulation,
+    sink: &mut Sink,
+    staged: &Staged,
+    on_step: impl FnMut(guideway::report::StepProgress) -> ControlFlow<()>,
+) -> Result<Result<Streamed, StreamError>, Failure> {
+    let cannot = |e: &dyn std::fmt::Display| {
+        Failure::Run(format!("cannot write {}: {e}", staged.path().display()))
+    };
+    let file = staged.file().map_err(Failure::Run)?;
+    let mut with_nodes = WithNodes::new(simulation, file).map_err(|e| cannot(&e))?;
+    let result = drive_into(scene, &mut with_nodes, sink, on_step);
+    let file = with_nodes.finish().map_err(|e| cannot(&e))?;
+    file.sync_all().map_err(|e| cannot(&e))?;
+    Ok(result)
+}
+
 /// Write what a finished run produced and move each file onto its path.
 fn finish(
     mut sink: Sink,
@@ -93,6 +125,9 @@ fn finish(
     if let Some(csv) = outputs.csv {
         sink.finish_csv()?;
         csv.commit().map_err(Failure::Run)?;
+    }
+    if let Some(nodes) = outputs.nodes {
+        nodes.commit().map_err(Failure::Run)?;
     }
     let mut summary = sink
         .summary
@@ -157,6 +192,7 @@ fn check_paths(args: &RunArgs) -> Result<(), Failure> {
         ("--out", &args.out),
         ("--summary", &args.summary),
         ("--plot", &args.plot),
+        ("--nodes", &args.nodes),
     ]
     .into_iter()
     .filter_map(|(what, path)| Some((what, path.as_deref()?)))

@@ -1,5 +1,6 @@
 //! `guideway sweep SCENE --speeds START:STOP:STEP [--unit km/h]
-//! [--trains hslm|NAME,...] [--out CSV] [--plot PNG] [--threads N]`: the
+//! [--trains hslm|NAME,...] [--out CSV] [--plot PNG] [--threads N]
+//! [--track ballasted|slab]`: the
 //! scene's moving forces, or HSLM trains, at every speed; the envelope as
 //! CSV and a plot.
 
@@ -7,11 +8,12 @@ use std::time::Instant;
 
 use super::{load_scene, Failure, SweepArgs};
 use guideway::moving_load::{hslm, HSLM_TRAINS};
-use guideway::report::sweep_plot::write_sweep_plot;
+use guideway::report::sweep_plot::{write_sweep_plot, Track};
 use guideway::study::sweep::{envelope_csv, parse_speeds, sweep, Loads, SpeedUnit};
 
 pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
     let unit = SpeedUnit::parse(&args.unit).map_err(Failure::Usage)?;
+    let track = Track::parse(&args.track).map_err(Failure::Usage)?;
     let speeds = parse_speeds(&args.speeds).map_err(Failure::Usage)?;
     let loads = parse_trains(args.trains.as_deref()).map_err(Failure::Usage)?;
     let scene = load_scene(&args.scene)?;
@@ -24,7 +26,7 @@ pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
     let elapsed = started.elapsed().as_secs_f64();
     write_whole(&args.out, &envelope_csv(&rows, unit))?;
     if let Some(plot) = &args.plot {
-        write_sweep_plot(&rows, unit, plot).map_err(Failure::Run)?;
+        write_sweep_plot(&rows, unit, track, plot).map_err(Failure::Run)?;
     }
     let worst = rows
         .iter()
@@ -43,6 +45,13 @@ pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
             w.speed,
             unit.label(),
             w.daf
+        );
+        let limit = track.limit();
+        let above = rows.iter().filter(|r| r.peak_acceleration > limit).count();
+        println!(
+            "{above} of {} runs above the deck acceleration limit of {limit} m/s² ({}, EN 1990 A2)",
+            rows.len(),
+            track.label()
         );
     }
     if let Some(plot) = &args.plot {

@@ -3,16 +3,19 @@
 //!
 //! The loads are the contacts' static shares of their vehicles' weight and
 //! vertical applied force (the contact forces a run starts from), at the
-//! spacing the contacts start with. The group is moved along the beam from
+//! spacing the contacts start with; in a scene of moving forces, the forces
+//! themselves. The group is moved along the beam from
 //! before the first load enters to after the last has left, and at each
 //! position the static response of the actual structure (its supports,
 //! spans and clamps) is read at every sensor, section and support.
 
 use std::collections::BTreeMap;
 
-use super::{supports, BeamDynamics, PointLoad};
+use super::probes::{probes, Probe};
+use super::{BeamDynamics, PointLoad};
 use crate::assemble::assemble;
 use crate::beam::Beam;
+use crate::moving_load::{is_moving_force_scene, scene_axles};
 use crate::scene::Scene;
 
 /// Fewest load positions of a crossing.
@@ -44,74 +47,49 @@ impl StaticEnvelope {
     }
 }
 
-/// One quantity read from a static response.
-enum Read {
-    Deflection(f64),
-    Moment(f64),
-    Shear(f64),
-    Reaction(usize),
-    ClampMoment(usize),
-}
-
-impl Read {
-    fn value(&self, beam: &Beam, response: &BeamDynamics) -> f64 {
-        match *self {
-            Read::Deflection(x) => response.deflection_at(beam, x),
-            Read::Moment(x) => response.section_forces(beam, x).moment,
-            Read::Shear(x) => response.section_forces(beam, x).shear,
-            Read::Reaction(node) => response.reaction(beam, node)[0],
-            Read::ClampMoment(node) => response.reaction(beam, node)[1],
-        }
-    }
-}
-
-/// What `scene` reports that has a static counterpart, by output name.
-fn quantities(scene: &Scene, beam: &Beam) -> Vec<(String, Read)> {
-    let mut list = Vec::new();
-    for s in &scene.sensors {
-        let name = format!("sensor.{}.deflection", s.name);
-        list.push((name, Read::Deflection(s.position)));
-    }
-    for s in &scene.sections {
-        list.push((
-            format!("section.{}.moment", s.name),
-            Read::Moment(s.position),
-        ));
-        list.push((format!("section.{}.shear", s.name), Read::Shear(s.position)));
-    }
-    if scene.reactions {
-        for s in supports(beam) {
-            list.push((
-                format!("support.{}.reaction", s.name),
-                Read::Reaction(s.node),
-            ));
-            if s.clamped {
-                list.push((
-                    format!("support.{}.moment", s.name),
-                    Read::ClampMoment(s.node),
-                ));
-            }
-        }
-    }
-    list
-}
-
 /// The static envelope of `scene`'s loads crossing its beam (see the
-/// module). Bounded: at most `MAX_POSITIONS` evenly spaced positions with
-/// positions × DOFs ≤ `MAX_WORK`, and `MAX_POSITIONS` more that put a
-/// load on a sensor or section.
+/// module): its contacts' static loads, or its moving forces.
 pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
+    let (beam, loads) = static_loads(scene)?;
+    envelope_of_loads(scene, &beam, &loads)
+}
+
+/// The beam of `scene` and its loads: (abscissa at the start, downward
+/// force) of each contact's static share, or of each moving force.
+fn static_loads(scene: &Scene) -> Result<(Beam, Vec<(f64, f64)>), String> {
+    if is_moving_force_scene(scene) {
+        let beam = Beam::new(&scene.beam)?;
+        let loads = scene_axles(scene)
+            .iter()
+            .map(|a| (a.position, -a.force))
+            .collect();
+        return Ok((beam, loads));
+    }
     let assembly = assemble(scene)?;
-    let beam = &assembly.system.beam;
-    // (abscissa at the start, downward static load) of each contact.
-    let loads: Vec<(f64, f64)> = assembly
+    let loads = assembly
         .system
         .contacts
         .iter()
         .zip(&assembly.forces)
         .map(|(c, f)| (assembly.bodies[c.body].position.x, f.normal))
         .collect();
-    let reads = quantities(scene, beam);
+    Ok((assembly.system.beam, loads))
+}
+
+/// The static envelope of `loads` ((abscissa at the start, downward force))
+/// crossing `beam` together, read at `scene`'s sensors, sections and
+/// supports. Bounded: at most `MAX_POSITIONS` evenly spaced positions
+/// with positions × DOFs ≤ `MAX_WORK`, and `MAX_POSITIONS` more that put a
+/// load on a sensor or section.
+pub fn envelope_of_loads(
+    scene: &Scene,
+    beam: &Beam,
+    loads: &[(f64, f64)],
+) -> Result<StaticEnvelope, String> {
+    let reads: Vec<Probe> = probes(scene, beam)
+        .into_iter()
+        .filter(Probe::is_static)
+        .collect();
     let mut peaks = vec![0.0f64; reads.len()];
     let first = loads.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
     let last = loads.iter().map(|l| l.0).fold(f64::NEG_INFINITY, f64::max);
@@ -125,7 +103,7 @@ pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
         "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
          to move), so the loads have no static response",
     )?;
-    let shifts = shifts(scene, beam, &loads, (first, last));
+    let shifts = shifts(scene, beam, loads, (first, last));
     for &shift in &shifts {
         let on_beam: Vec<PointLoad> = loads
             .iter()
@@ -134,12 +112,12 @@ pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
             .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
             .collect();
         let response = BeamDynamics::static_response_with(beam, &stiffness, on_beam);
-        for (peak, (_, read)) in peaks.iter_mut().zip(&reads) {
+        for (peak, read) in peaks.iter_mut().zip(&reads) {
             *peak = peak.max(read.value(beam, &response).abs());
         }
     }
     Ok(StaticEnvelope {
-        peaks: reads.into_iter().map(|(name, _)| name).zip(peaks).collect(),
+        peaks: reads.into_iter().map(|r| r.name).zip(peaks).collect(),
         positions: shifts.len(),
     })
 }
@@ -148,11 +126,15 @@ pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
 /// the first at x = L, plus those that put a load exactly on a sensor or
 /// section (where a moment or shear peaks with a kink, between samples).
 fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64, f64)) -> Vec<f64> {
+    let (from, to) = (-last, beam.length - first);
+    // And 16 per element along the whole travel: a train is longer than
+    // the beam, and its group's peak lies between axle positions.
+    let per_element = 16.0 * (to - from) / beam.min_element_length();
     let even = (4 * beam.elements())
+        .max(per_element.min(MAX_POSITIONS as f64) as usize)
         .clamp(MIN_POSITIONS, MAX_POSITIONS)
         .min(MAX_WORK / beam.free_dofs().max(1))
         .max(2);
-    let (from, to) = (-last, beam.length - first);
     let mut shifts: Vec<f64> = (0..even)
         .map(|k| from + (to - from) * k as f64 / (even - 1) as f64)
         .collect();

@@ -7,6 +7,7 @@ use nalgebra::DVector;
 use super::Axle;
 use crate::band::BandLdlt;
 use crate::beam::Beam;
+use crate::design::{BeamDynamics, DesignPeaks, PointLoad, Probe};
 
 const BETA: f64 = 0.25;
 const GAMMA: f64 = 0.5;
@@ -23,6 +24,8 @@ pub struct Crossing<'a> {
     v: DVector<f64>,
     a: DVector<f64>,
     load: DVector<f64>,
+    /// The forces on the beam at `time`, as `load` was built from them.
+    placed: Vec<PointLoad>,
     rhs: DVector<f64>,
     scratch: DVector<f64>,
 }
@@ -55,6 +58,7 @@ impl<'a> Crossing<'a> {
             v: z(),
             a: z(),
             load: z(),
+            placed: Vec::new(),
             rhs: z(),
             scratch: z(),
         };
@@ -76,12 +80,19 @@ impl<'a> Crossing<'a> {
     /// The load vector of the forces at time `t` (those on the beam).
     fn place_loads(&mut self, t: f64) {
         self.load.fill(0.0);
+        self.placed.clear();
         let length = self.beam.length;
         for axle in self.axles {
             let x = axle.at(t);
             if (0.0..=length).contains(&x) {
                 let shape = self.beam.shape(self.beam.element_at(x), x);
                 shape.scatter(&shape.n, axle.force, &mut self.load);
+                self.placed.push(PointLoad {
+                    x,
+                    element: shape.element,
+                    force: axle.force,
+                    couple: 0.0,
+                });
             }
         }
     }
@@ -113,6 +124,57 @@ impl<'a> Crossing<'a> {
         self.beam.deflection(&self.a, x)
     }
 
+    /// The forces on the beam now, as point loads.
+    pub fn point_loads(&self) -> &[PointLoad] {
+        &self.placed
+    }
+
+    /// The free DOFs' displacement, velocity and acceleration now.
+    pub fn state(&self) -> (&DVector<f64>, &DVector<f64>, &DVector<f64>) {
+        (&self.u, &self.v, &self.a)
+    }
+
+    /// The beam now, for its design outputs: Newmark's acceleration
+    /// satisfies the equation of motion at the step's end.
+    pub fn dynamics(&self) -> BeamDynamics {
+        let state = (self.u.clone(), self.v.clone(), self.a.clone());
+        BeamDynamics::with_acceleration(self.beam, state, self.placed.clone())
+    }
+
+    /// Step until `end` (s) or the last force has left the beam, whichever
+    /// is earlier, recording the design outputs `probes` after each step
+    /// (the state at rest at t = 0 is zero); refused when that is more
+    /// than `max_steps` steps.
+    pub fn design_peaks(
+        &mut self,
+        probes: &[Probe],
+        end: f64,
+        max_steps: u64,
+    ) -> Result<DesignPeaks, String> {
+        let steps = self.steps_to(end, max_steps)?;
+        let mut peaks = DesignPeaks::new(probes.len());
+        let mut now = self.dynamics();
+        for _ in 0..steps {
+            self.step();
+            now.update((&self.u, &self.v, &self.a), self.placed.iter().copied());
+            peaks.record(probes, self.beam, &now);
+        }
+        Ok(peaks)
+    }
+
+    /// Steps to `end` or the exit, refused beyond `max_steps`.
+    fn steps_to(&self, end: f64, max_steps: u64) -> Result<u64, String> {
+        let end = end.min(self.exit_time());
+        let steps = (end / self.step).ceil();
+        if steps.is_nan() || steps > max_steps as f64 {
+            return Err(format!(
+                "the crossing needs {steps} steps of {} s, more than the limit of {max_steps}",
+                self.step
+            ));
+        }
+        Ok(steps as u64)
+    }
+
     /// Kinetic + strain energy of the beam (J).
     pub fn beam_energy(&self) -> f64 {
         self.beam.kinetic_energy(&self.v) + self.beam.strain_energy(&self.u)
@@ -127,16 +189,9 @@ impl<'a> Crossing<'a> {
         end: f64,
         max_steps: u64,
     ) -> Result<Vec<Peaks>, String> {
-        let end = end.min(self.exit_time());
-        let steps = (end / self.step).ceil();
-        if steps.is_nan() || steps > max_steps as f64 {
-            return Err(format!(
-                "the crossing needs {steps} steps of {} s, more than the limit of {max_steps}",
-                self.step
-            ));
-        }
+        let steps = self.steps_to(end, max_steps)?;
         let mut peaks = vec![Peaks::default(); sensors.len()];
-        for _ in 0..steps as u64 {
+        for _ in 0..steps {
             self.step();
             for (peak, &x) in peaks.iter_mut().zip(sensors) {
                 peak.deflection = peak.deflection.max(self.deflection(x).abs());

@@ -3,6 +3,7 @@
 //! command line, the tests and the FMU cross-check.
 
 pub mod csv;
+pub mod nodes;
 pub mod plot;
 mod run;
 mod stream;

@@ -1,7 +1,7 @@
 //! The envelope of a speed sweep as a PNG: peak deck acceleration and the
 //! dynamic amplification against speed, one curve per train, with the deck
-//! acceleration limits of EN 1990 Annex A2 (A2.4.4.2.1): 3.5 m/s² on
-//! ballasted track, 5 m/s² on slab track.
+//! acceleration limit of EN 1990 Annex A2 (A2.4.4.2.1) for the track on the
+//! deck: 3.5 m/s² on ballasted track, 5 m/s² on slab track.
 
 use super::plot::{load_font, Text, FONT};
 use crate::study::sweep::{EnvelopeRow, SpeedUnit};
@@ -11,6 +11,39 @@ use std::path::Path;
 /// EN 1990 A2.4.4.2.1(4): deck acceleration limits (m/s²).
 pub const BALLASTED_LIMIT: f64 = 3.5;
 pub const SLAB_TRACK_LIMIT: f64 = 5.0;
+
+/// The track on the deck, which sets the deck acceleration limit.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Track {
+    Ballasted,
+    Slab,
+}
+
+impl Track {
+    /// `ballasted` or `slab`.
+    pub fn parse(text: &str) -> Result<Track, String> {
+        match text {
+            "ballasted" => Ok(Track::Ballasted),
+            "slab" => Ok(Track::Slab),
+            _ => Err(format!("--track {text:?}: want \"ballasted\" or \"slab\"")),
+        }
+    }
+
+    /// The deck acceleration limit of EN 1990 A2.4.4.2.1(4) (m/s²).
+    pub fn limit(self) -> f64 {
+        match self {
+            Track::Ballasted => BALLASTED_LIMIT,
+            Track::Slab => SLAB_TRACK_LIMIT,
+        }
+    }
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Track::Ballasted => "ballasted track",
+            Track::Slab => "slab track",
+        }
+    }
+}
 
 const SIZE: (u32, u32) = (1000, 900);
 
@@ -28,8 +61,14 @@ const COLOURS: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-/// Write the envelope plot to `path`.
-pub fn write_sweep_plot(rows: &[EnvelopeRow], unit: SpeedUnit, path: &Path) -> Result<(), String> {
+/// Write the envelope plot to `path`, with the deck acceleration limit of
+/// `track`.
+pub fn write_sweep_plot(
+    rows: &[EnvelopeRow],
+    unit: SpeedUnit,
+    track: Track,
+    path: &Path,
+) -> Result<(), String> {
     let text = load_font();
     let root = BitMapBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE).map_err(|e| e.to_string())?;
@@ -42,7 +81,7 @@ pub fn write_sweep_plot(rows: &[EnvelopeRow], unit: SpeedUnit, path: &Path) -> R
         &areas[0],
         text,
         ("peak deck acceleration (m/s²)", &acceleration),
-        true,
+        Some(track),
     )?;
     panel(
         rows,
@@ -50,7 +89,7 @@ pub fn write_sweep_plot(rows: &[EnvelopeRow], unit: SpeedUnit, path: &Path) -> R
         &areas[1],
         text,
         ("dynamic amplification (deflection)", &daf),
-        false,
+        None,
     )?;
     root.present()
         .map_err(|e| format!("cannot write the plot to {}: {e}", path.display()))
@@ -64,7 +103,7 @@ fn panel(
     area: &Area,
     text: Text,
     (label, value): (&str, &dyn Fn(&EnvelopeRow) -> f64),
-    limits: bool,
+    limit: Option<Track>,
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<_>| e.to_string();
     let (low, high) = rows
@@ -82,8 +121,8 @@ fn panel(
         .map(value)
         .filter(|v| v.is_finite())
         .fold(0.0, f64::max);
-    if limits {
-        top = top.max(SLAB_TRACK_LIMIT);
+    if let Some(track) = limit {
+        top = top.max(track.limit());
     }
     let top = if top > 0.0 { 1.1 * top } else { 1.0 };
     let mut builder = ChartBuilder::on(area);
@@ -123,25 +162,22 @@ fn panel(
             });
         }
     }
-    if limits {
-        for (limit, name) in [
-            (BALLASTED_LIMIT, "EN 1990 A2 limit, ballasted 3.5 m/s²"),
-            (SLAB_TRACK_LIMIT, "EN 1990 A2 limit, slab track 5 m/s²"),
-        ] {
-            let style = BLACK.stroke_width(if limit == BALLASTED_LIMIT { 1 } else { 2 });
-            let series = chart
-                .draw_series(DashedLineSeries::new(
-                    [(low, limit), (high, limit)],
-                    8,
-                    6,
-                    style,
-                ))
-                .map_err(err)?;
-            if text == Text::Labelled {
-                series
-                    .label(name)
-                    .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
-            }
+    if let Some(track) = limit {
+        let limit = track.limit();
+        let style = BLACK.stroke_width(2);
+        let series = chart
+            .draw_series(DashedLineSeries::new(
+                [(low, limit), (high, limit)],
+                8,
+                6,
+                style,
+            ))
+            .map_err(err)?;
+        if text == Text::Labelled {
+            let name = format!("EN 1990 A2 limit, {} {limit} m/s²", track.label());
+            series
+                .label(name)
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
         }
     }
     if text == Text::Labelled {

@@ -1,15 +1,16 @@
 //! Speed sweeps of moving forces: a scene's forces, or every HSLM train,
 //! run at every speed of a range, in parallel on the machine's cores; per
-//! run the peaks at the deck's sensors and the dynamic amplification.
+//! run every design output's peak (at the sensors, sections and supports)
+//! and its dynamic amplification against the static envelope of the same
+//! forces on the same structure.
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use crate::beam::Beam;
-use crate::moving_load::{
-    exit_time, scene_axles, static_peak, vehicle_axles, Axle, Crossing, HslmTrain,
-};
-use crate::scene::Scene;
+use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, StaticEnvelope};
+use crate::moving_load::{exit_time, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain};
+use crate::scene::{Scene, SensorSpec};
 
 /// Speeds per sweep.
 pub const MAX_SPEEDS: usize = 10_000;
@@ -117,6 +118,24 @@ pub struct EnvelopeRow {
     /// Dynamic amplification: peak_deflection over the largest |static
     /// deflection| at the sensors under the same forces crawling across.
     pub daf: f64,
+    /// Every design output of the scene (`design::probes`), as a run
+    /// reports it.
+    pub design: Vec<DesignPeak>,
+}
+
+/// One design output's maximum over a run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DesignPeak {
+    /// The output's name (`sensor.midspan.acceleration`, …).
+    pub name: String,
+    /// The value of largest magnitude over the run, sign kept.
+    pub peak: f64,
+    /// The output has a static counterpart (not velocity or acceleration).
+    pub is_static: bool,
+    /// |peak| over the static envelope's peak of the same output under
+    /// the same forces (`design::static_envelope`); `None` for velocity
+    /// and acceleration, or where the static response is zero.
+    pub daf: Option<f64>,
 }
 
 /// What a sweep runs: the scene's own forces, or HSLM trains put in
@@ -125,6 +144,56 @@ pub struct EnvelopeRow {
 pub enum Loads {
     Scene,
     Trains(Vec<HslmTrain>),
+}
+
+/// One load of the sweep, ready to run at any speed.
+struct Load {
+    name: String,
+    /// Axles at unit speed (the speed scales them).
+    axles: Vec<Axle>,
+    /// Its static envelope on the scene's structure.
+    statics: StaticEnvelope,
+}
+
+/// The scene the sweep reads its outputs from: a midspan sensor (the
+/// deck) when it has none.
+fn with_deck_sensor(scene: &Scene) -> Scene {
+    let mut scene = scene.clone();
+    if scene.sensors.is_empty() {
+        scene.sensors.push(SensorSpec {
+            name: "midspan".into(),
+            position: 0.5 * scene.beam.length,
+        });
+    }
+    scene
+}
+
+/// The loads of the sweep with their static envelopes.
+fn sweep_loads(scene: &Scene, beam: &Beam, loads: &Loads) -> Result<Vec<Load>, String> {
+    let named: Vec<(String, Vec<Axle>)> = match loads {
+        Loads::Scene => vec![(scene.name.clone(), scene_axles(scene))],
+        Loads::Trains(trains) => trains
+            .iter()
+            .map(|t| {
+                let mut spec = scene.body.clone();
+                spec.train = Some(t.name.to_string());
+                (t.name.to_string(), vehicle_axles(&spec, scene.gravity))
+            })
+            .collect(),
+    };
+    named
+        .into_iter()
+        .map(|(name, axles)| {
+            let axles = at_speed(&axles, 1.0);
+            let forces: Vec<(f64, f64)> = axles.iter().map(|a| (a.position, -a.force)).collect();
+            let statics = envelope_of_loads(scene, beam, &forces)?;
+            Ok(Load {
+                name,
+                axles,
+                statics,
+            })
+        })
+        .collect()
 }
 
 /// Every run of the sweep (`speeds` in `unit`), `threads` at a time; rows
@@ -142,35 +211,10 @@ pub fn sweep(
             scene.name
         ));
     }
+    let scene = &with_deck_sensor(scene);
     let beam = Beam::new(&scene.beam)?;
-    let sensors: Vec<f64> = if scene.sensors.is_empty() {
-        vec![0.5 * beam.length]
-    } else {
-        scene.sensors.iter().map(|s| s.position).collect()
-    };
-    // Each load with its axles at unit speed (the speed scales them) and
-    // its static peak at the sensors (the same at every speed).
-    let loads: Vec<(String, Vec<Axle>)> = match loads {
-        Loads::Scene => vec![(scene.name.clone(), scene_axles(scene))],
-        Loads::Trains(trains) => trains
-            .iter()
-            .map(|t| {
-                let mut spec = scene.body.clone();
-                spec.train = Some(t.name.to_string());
-                (t.name.to_string(), vehicle_axles(&spec, scene.gravity))
-            })
-            .collect(),
-    };
-    let statics = loads
-        .iter()
-        .map(|(_, axles)| {
-            let unit = at_speed(axles, 1.0);
-            sensors
-                .iter()
-                .map(|&x| static_peak(&beam, &unit, x))
-                .try_fold(0.0_f64, |m, p| p.map(|p| m.max(p)))
-        })
-        .collect::<Result<Vec<f64>, String>>()?;
+    let probes = probes(scene, &beam);
+    let loads = sweep_loads(scene, &beam, loads)?;
     let jobs: Vec<(usize, f64)> = (0..loads.len())
         .flat_map(|l| speeds.iter().map(move |&v| (l, v)))
         .collect();
@@ -178,7 +222,7 @@ pub fn sweep(
     let total: f64 = jobs
         .iter()
         .map(|&(l, v)| {
-            let axles = at_speed(&loads[l].1, v * unit.in_metres_per_second());
+            let axles = at_speed(&loads[l].axles, v * unit.in_metres_per_second());
             (end.min(exit_time(beam.length, &axles)) / scene.solver.step).ceil()
         })
         .sum();
@@ -191,20 +235,56 @@ pub fn sweep(
     }
     let run = |(l, speed): (usize, f64)| -> Result<EnvelopeRow, String> {
         let speed_m_s = speed * unit.in_metres_per_second();
-        let axles = at_speed(&loads[l].1, speed_m_s);
+        let load = &loads[l];
+        let axles = at_speed(&load.axles, speed_m_s);
         let mut crossing = Crossing::new(&beam, &axles, scene.solver.step)?;
-        let peaks = crossing.peaks(&sensors, end, MAX_STEPS_PER_RUN)?;
-        let deflection = peaks.iter().map(|p| p.deflection).fold(0.0, f64::max);
-        Ok(EnvelopeRow {
-            train: loads[l].0.clone(),
-            speed,
-            speed_m_s,
-            peak_deflection: deflection,
-            peak_acceleration: peaks.iter().map(|p| p.acceleration).fold(0.0, f64::max),
-            daf: deflection / statics[l],
-        })
+        let peaks = crossing.design_peaks(&probes, end, MAX_STEPS_PER_RUN)?;
+        Ok(envelope_row(load, (speed, speed_m_s), &probes, &peaks))
     };
     in_parallel(&jobs, threads, run)
+}
+
+/// The row of one run: its design peaks, with the deck's summary.
+fn envelope_row(
+    load: &Load,
+    (speed, speed_m_s): (f64, f64),
+    probes: &[Probe],
+    peaks: &DesignPeaks,
+) -> EnvelopeRow {
+    let design: Vec<DesignPeak> = probes
+        .iter()
+        .zip(&peaks.peaks)
+        .map(|(probe, &peak)| DesignPeak {
+            name: probe.name.clone(),
+            peak,
+            is_static: probe.is_static(),
+            daf: load.statics.amplification(&probe.name, peak),
+        })
+        .collect();
+    let largest = |suffix: &str| {
+        design
+            .iter()
+            .filter(|d| d.name.starts_with("sensor.") && d.name.ends_with(suffix))
+            .map(|d| d.peak.abs())
+            .fold(0.0, f64::max)
+    };
+    let deflection = largest(".deflection");
+    let static_deflection = load
+        .statics
+        .peaks
+        .iter()
+        .filter(|(name, _)| name.starts_with("sensor.") && name.ends_with(".deflection"))
+        .map(|(_, &peak)| peak)
+        .fold(0.0, f64::max);
+    EnvelopeRow {
+        train: load.name.clone(),
+        speed,
+        speed_m_s,
+        peak_deflection: deflection,
+        peak_acceleration: largest(".acceleration"),
+        daf: deflection / static_deflection,
+        design,
+    }
 }
 
 /// The axles moving at `speed` (the sign of each axle's own speed kept).
@@ -248,17 +328,40 @@ fn in_parallel<J: Copy + Sync, R: Send>(
         .collect()
 }
 
-/// The envelope as CSV: one row per train and speed.
+/// The envelope as CSV: one row per train and speed; after the deck's
+/// summary, every design output's peak and, where it has one, its DAF
+/// (`<name>.daf`).
 pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
     let mut text = format!(
-        "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,daf\n",
+        "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,daf",
         unit.label().replace('/', "_")
     );
+    // Every row has the same outputs (one scene); a DAF column after each
+    // one with a static counterpart, empty where its static response is 0.
+    if let Some(first) = rows.first() {
+        for d in &first.design {
+            text.push_str(&format!(",{}", d.name));
+            if d.is_static {
+                text.push_str(&format!(",{}.daf", d.name));
+            }
+        }
+    }
+    text.push('\n');
     for r in rows {
         text.push_str(&format!(
-            "{},{},{},{},{},{}\n",
+            "{},{},{},{},{},{}",
             r.train, r.speed, r.speed_m_s, r.peak_deflection, r.peak_acceleration, r.daf
         ));
+        for d in &r.design {
+            text.push_str(&format!(",{}", d.peak));
+            if d.is_static {
+                match d.daf {
+                    Some(x) => text.push_str(&format!(",{x}")),
+                    None => text.push(','),
+                }
+            }
+        }
+        text.push('\n');
     }
     text
 }
