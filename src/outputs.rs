@@ -240,14 +240,14 @@ impl Catalogue {
             self.real(
                 format!("{n}.impact_impulse_tangential"),
                 "N.s",
-                "tangential impulse on the body at its last landing",
+                "tangential impulse on the body at the last impact it took part in",
                 Quantity::ImpulseTangential(c),
             );
         }
         self.real(
             format!("{n}.impact_impulse"),
             "N.s",
-            "normal impulse on the body at its last landing",
+            "normal impulse on the body at the last impact it took part in",
             Quantity::ImpulseNormal(c),
         );
     }
