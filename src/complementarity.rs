@@ -87,6 +87,11 @@ pub fn solve(w: &DMatrix<f64>, b: &DVector<f64>, rows: &[Row]) -> Result<Solutio
 fn solve_held(w: &DMatrix<f64>, b: &DVector<f64>, held: &[bool]) -> Result<DVector<f64>, String> {
     let index: Vec<usize> = (0..b.len()).filter(|&i| held[i]).collect();
     let k = index.len();
+    let mut p = DVector::zeros(b.len());
+    if k == 0 {
+        // Nothing held (nalgebra's LU does not take an empty system).
+        return Ok(p);
+    }
     let sub = DMatrix::from_fn(k, k, |i, j| w[(index[i], index[j])]);
     let rhs = DVector::from_iterator(k, index.iter().map(|&i| b[i]));
     let x = sub
@@ -94,7 +99,6 @@ fn solve_held(w: &DMatrix<f64>, b: &DVector<f64>, held: &[bool]) -> Result<DVect
         .solve(&rhs)
         .filter(|x| x.iter().all(|v| v.is_finite()))
         .ok_or("the impact's Delassus operator is singular")?;
-    let mut p = DVector::zeros(b.len());
     for (&i, &v) in index.iter().zip(x.iter()) {
         p[i] = v;
     }
@@ -131,6 +135,17 @@ mod tests {
         assert_eq!(s.p[0], 1.5);
         assert_eq!(s.w[1], 1.5);
         assert_eq!(s.switches, 1);
+    }
+
+    #[test]
+    fn rows_that_all_move_away_take_no_impulse() {
+        let w = DMatrix::from_row_slice(2, 2, &[2.0, 1.0, 1.0, 2.0]);
+        let b = DVector::from_vec(vec![-1.0, -1.0]);
+        let rows = [Row::Unilateral, Row::Unilateral];
+        let s = solve(&w, &b, &rows).unwrap();
+        check(&w, &b, &rows, &s);
+        assert_eq!(s.held, vec![false, false]);
+        assert_eq!(s.p, DVector::zeros(2));
     }
 
     #[test]
