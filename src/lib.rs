@@ -10,6 +10,7 @@ pub mod assemble;
 pub mod band;
 pub mod beam;
 pub mod body;
+pub mod complementarity;
 pub mod contact;
 pub mod design;
 pub mod fmi2;

@@ -241,14 +241,14 @@ impl Catalogue {
             self.real(
                 format!("{n}.impact_impulse_tangential"),
                 "N.s",
-                "tangential impulse on the body at its last landing or rail-gap impact",
+                "tangential impulse on the body at the last impact it took part in (a landing or a rail-gap impact)",
                 Quantity::ImpulseTangential(c),
             );
         }
         self.real(
             format!("{n}.impact_impulse"),
             "N.s",
-            "normal impulse on the body at its last landing or rail-gap impact",
+            "normal impulse on the body at the last impact it took part in (a landing or a rail-gap impact)",
             Quantity::ImpulseNormal(c),
         );
     }

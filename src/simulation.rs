@@ -1019,51 +1019,95 @@ impl Simulation {
             .collect()
     }
 
-    /// Open contact `c` lands now: the impact (Newton's law on its normal
-    /// row with its restitution, plastic below `RESTING_SPEED`, for a
-    /// second landing in the same grid step and if `plastic`; a wheel's
-    /// no-slip row brought to zero; the closed contacts' errors kept) and
-    /// its event. It closes unless it bounces.
+    /// Open contact `c` lands now, with every other open contact on the
+    /// track (gap within `LANDING_GAP`) and approaching it: one impact over
+    /// them and all closed contacts (`crate::impact`), Newton's law on each
+    /// landing contact with its restitution (plastic below
+    /// `RESTING_SPEED`, for a second landing in the same grid step and, for
+    /// `c`, if `plastic`), the closed ones kept (held bilateral if they
+    /// opened in this grid step already, see `solve_active_set`). A landing
+    /// contact closes unless it bounces; one whose impulse would pull
+    /// leaves the track instead (a closed one: a lift-off at the impact),
+    /// if at `RESTING_SPEED` at least and, for a landing one, at its first
+    /// landing in the grid step (else it closes, with no impulse).
     fn land(&mut self, c: usize, plastic: bool) -> Result<(), SolverError> {
         let frames = self.frames_now()?;
-        let errors = self.velocity_errors(&frames);
-        let approach = errors[c].y.min(0.0);
+        let parts = self.impact_parts(c, plastic, &frames);
+        let impact = crate::impact::resolve(&self.system, &frames, &parts, &mut self.state.dynamic)
+            .map_err(|message| SolverError {
+                time: self.state.time,
+                message,
+            })?;
         let grid = self.state.grid_step;
-        let again = self.state.contacts[c].landed_in == Some(grid);
-        let e = if -approach < RESTING_SPEED || again || plastic {
-            0.0
-        } else {
-            self.restitution[c]
-        };
-        let (offsets, rows) = self.system.row_offsets();
-        let mut change = DVector::zeros(rows);
-        let contact = &self.system.contacts[c];
-        if contact.rolls() {
-            change[offsets[c]] = -errors[c].x;
+        self.state.impact_loss += impact.loss;
+        for (d, &part) in parts.iter().enumerate() {
+            let s = &mut self.state;
+            let status = &mut s.contacts[d];
+            if part != crate::impact::Part::Out {
+                status.impulse = [impact.impulses[d].x, impact.impulses[d].y];
+            }
+            let leaves = impact.separation[d] >= RESTING_SPEED;
+            match part {
+                crate::impact::Part::Landing(e) => {
+                    let first = status.landed_in != Some(grid);
+                    status.open = e > 0.0 || (leaves && first);
+                    status.landed_in = Some(grid);
+                    s.force_history[d] = [ContactForce::default(); 3];
+                    push_event(s, d, EventKind::Landing);
+                }
+                crate::impact::Part::Closed => self.leave_at_impact(d, impact.separation[d]),
+                _ => {}
+            }
         }
-        change[offsets[c] + contact.rows() - 1] = -(1.0 + e) * approach;
-        let mut active: Vec<bool> = self.state.contacts.iter().map(|s| !s.open).collect();
-        active[c] = true;
-        let impact = crate::impact::resolve(
-            &self.system,
-            &frames,
-            &active,
-            &change,
-            &mut self.state.dynamic,
-        )
-        .map_err(|message| SolverError {
-            time: self.state.time,
-            message,
-        })?;
-        let s = &mut self.state;
-        s.impact_loss += impact.loss;
-        let status = &mut s.contacts[c];
-        status.impulse = [impact.impulses[c].x, impact.impulses[c].y];
-        status.open = e > 0.0;
-        status.landed_in = Some(grid);
-        s.force_history[c] = [ContactForce::default(); 3];
-        push_event(s, c, EventKind::Landing);
         Ok(())
+    }
+
+    /// A closed contact that an impact sends away from the track at
+    /// `separation` (m/s) opens, with a lift-off event, if that is at least
+    /// `RESTING_SPEED`; slower, it stays closed.
+    fn leave_at_impact(&mut self, d: usize, separation: f64) {
+        if separation < RESTING_SPEED {
+            return;
+        }
+        let s = &mut self.state;
+        s.contacts[d].open = true;
+        s.contacts[d].opened_in = Some(s.grid_step);
+        s.force_history[d] = [ContactForce::default(); 3];
+        push_event(s, d, EventKind::LiftOff);
+    }
+
+    /// How each contact takes part in the impact of `c`'s landing.
+    fn impact_parts(
+        &self,
+        c: usize,
+        plastic: bool,
+        frames: &[crate::contact::ContactFrame],
+    ) -> Vec<crate::impact::Part> {
+        use crate::impact::Part;
+        let errors = self.velocity_errors(frames);
+        let grid = self.state.grid_step;
+        let statuses = self.state.contacts.iter().enumerate();
+        statuses
+            .map(|(d, status)| {
+                let approach = errors[d].y.min(0.0);
+                if !status.open {
+                    return if status.opened_in == Some(grid) {
+                        Part::Held
+                    } else {
+                        Part::Closed
+                    };
+                }
+                if d != c && (status.gap > LANDING_GAP || approach == 0.0) {
+                    return Part::Out;
+                }
+                let again = status.landed_in == Some(grid);
+                if -approach < RESTING_SPEED || again || (plastic && d == c) {
+                    Part::Landing(0.0)
+                } else {
+                    Part::Landing(self.restitution[d])
+                }
+            })
+            .collect()
     }
 
     fn solve(&mut self, guess: &[ContactForce], dt: f64) -> Result<StepSolution, SolverError> {

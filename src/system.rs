@@ -226,10 +226,20 @@ impl System {
                     None => foot_point_on(&self.beam, profile, u, centre, piece.start),
                 }
             }
-            TrackPart::RunOff if centre.x < length => self.end_corner(length, centre),
+            // The corner while the ground's foot point is before the beam's
+            // end: on flat ground while the centre is, on a profile where
+            // the foot leans off the centre (else a body above the kink
+            // would hop between beam and run-off in ever shorter steps).
+            TrackPart::RunOff => ground(centre).and_then(|frame| {
+                if frame.x < length {
+                    self.end_corner(length, centre)
+                } else {
+                    Ok(frame)
+                }
+            }),
             // Contacts enter from the approach at centre.x = 0 (the event):
             // a left-moving exit onto the approach is taken on flat ground.
-            TrackPart::Approach | TrackPart::RunOff => ground(centre),
+            TrackPart::Approach => ground(centre),
             TrackPart::Beyond if self.track.open_ends || self.ground_at(centre.x) => ground(centre),
             TrackPart::Beyond => foot_point_on(&self.beam, profile, u, centre, guess),
         }

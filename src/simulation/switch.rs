@@ -17,7 +17,7 @@
 //! w = (1 + α) γ, so that update finds it in two or three steps (one, if
 //! the step were linear in p).
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::Vector3;
 
 use super::{JointImpact, Simulation, SolverError, MAX_EVENTS};
 use crate::contact::ContactForce;
@@ -58,31 +58,34 @@ impl Simulation {
     /// (`joint_impacts`, and the contact's `impact_impulse` outputs); its
     /// loss enters `energy.impact_loss`.
     fn joint_impact(&mut self, contact: usize) -> Result<(), SolverError> {
+        use crate::impact::Part;
         if self.state.contacts[contact].open {
             return Ok(());
         }
         let frames = self.frames_now()?;
-        let errors = self.velocity_errors(&frames);
-        let (offsets, rows) = self.system.row_offsets();
-        let mut change = DVector::zeros(rows);
-        let c = &self.system.contacts[contact];
-        if c.rolls() {
-            change[offsets[contact]] = -errors[contact].x;
+        let grid = self.state.grid_step;
+        // The switching contact meets its new corner plastically; the other
+        // closed ones keep their velocity errors with a compressive impulse
+        // (held bilateral if they opened in this grid step already, as at
+        // a landing), or leave the track.
+        let parts: Vec<Part> = (self.state.contacts.iter().enumerate())
+            .map(|(d, status)| match () {
+                _ if d == contact => Part::Landing(0.0),
+                _ if status.open => Part::Out,
+                _ if status.opened_in == Some(grid) => Part::Held,
+                _ => Part::Closed,
+            })
+            .collect();
+        let impact = crate::impact::resolve(&self.system, &frames, &parts, &mut self.state.dynamic)
+            .map_err(|message| SolverError {
+                time: self.state.time,
+                message,
+            })?;
+        for (d, &part) in parts.iter().enumerate() {
+            if part == Part::Closed && d != contact {
+                self.leave_at_impact(d, impact.separation[d]);
+            }
         }
-        // Only an approach is stopped: no impulse pulls.
-        change[offsets[contact] + c.rows() - 1] = -errors[contact].y.min(0.0);
-        let active: Vec<bool> = self.state.contacts.iter().map(|s| !s.open).collect();
-        let impact = crate::impact::resolve(
-            &self.system,
-            &frames,
-            &active,
-            &change,
-            &mut self.state.dynamic,
-        )
-        .map_err(|message| SolverError {
-            time: self.state.time,
-            message,
-        })?;
         self.state.impact_loss += impact.loss;
         let impulse = impact.impulses[contact];
         self.state.contacts[contact].impulse = [impulse.x, impulse.y];
