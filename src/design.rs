@@ -107,14 +107,7 @@ impl BeamDynamics {
         let r = load_vector(beam, &loads);
         let mut acceleration = DVector::zeros(beam.free_dofs());
         beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
-        BeamDynamics {
-            displacement,
-            velocity,
-            acceleration,
-            loads,
-            damped: OnceCell::new(),
-            damping: beam.damping(),
-        }
+        Self::with_acceleration(beam, (displacement, velocity, acceleration), loads)
     }
 
     /// The state (u, v) under `loads` with an acceleration `a` that

@@ -30,21 +30,7 @@ pub fn work_precision(args: WorkPrecisionArgs) -> Result<(), Failure> {
             Some(why) => eprintln!("  {:8} dt {:.3e}: {why}", p.scheme, p.step),
         };
         let modal = measure_modal(&case, &reference, args.repeats, report);
-        points.extend(measure(&case, &reference, args.repeats, |p| {
-            match &p.failure {
-                None => eprintln!(
-                    "  {:8} dt {:.3e} tol {:.0e}: |ΔV| {:.2e}  rms {:.2e}  drift {:.2e}  {:.2e} s",
-                    p.scheme,
-                    p.step,
-                    p.velocity_tolerance,
-                    p.exit_speed_error,
-                    p.rms_deflection_error,
-                    p.max_energy_drift,
-                    p.wall_time_s
-                ),
-                Some(why) => eprintln!("  {:8} dt {:.3e}: {why}", p.scheme, p.step),
-            }
-        }));
+        points.extend(measure(&case, &reference, args.repeats, report));
         points.extend(modal);
     }
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {

@@ -402,6 +402,13 @@ fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
 }
 
 /// Only wheels cross rail gaps, and only gaps narrower than their radius.
+/// `body` and every `vehicles[k]`, each with the path its fields are named by.
+fn bodies_with_paths(scene: &Scene) -> impl Iterator<Item = (String, &super::BodySpec)> {
+    let vehicles = scene.vehicles.iter().enumerate();
+    std::iter::once(("body".to_string(), &scene.body))
+        .chain(vehicles.map(|(k, v)| (format!("vehicles[{k}]"), v)))
+}
+
 fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
     let Some((i, widest)) = scene
         .beam
@@ -413,14 +420,7 @@ fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
     else {
         return;
     };
-    let bodies = std::iter::once(("body".to_string(), &scene.body)).chain(
-        scene
-            .vehicles
-            .iter()
-            .enumerate()
-            .map(|(k, v)| (format!("vehicles[{k}]"), v)),
-    );
-    for (prefix, body) in bodies {
+    for (prefix, body) in bodies_with_paths(scene) {
         match (body.kind, body.radius) {
             (BodyKind::Wheel, Some(r)) if widest.gap >= r => checks.fail(
                 format!("beam.joints[{i}].gap"),
@@ -459,14 +459,7 @@ fn check_leftward_over_joints(checks: &mut Checks, scene: &Scene) {
     {
         return;
     }
-    let bodies = std::iter::once(("body".to_string(), &scene.body)).chain(
-        scene
-            .vehicles
-            .iter()
-            .enumerate()
-            .map(|(k, v)| (format!("vehicles[{k}]"), v)),
-    );
-    for (prefix, body) in bodies {
+    for (prefix, body) in bodies_with_paths(scene) {
         let prescribed_left = match &body.prescribed_speed {
             Some(super::SpeedSpec::Constant(v)) => *v < 0.0,
             Some(super::SpeedSpec::Table(rows)) => rows.iter().any(|r| r[1] < 0.0),
