@@ -643,6 +643,7 @@ impl Simulation {
             &forces,
             &applied,
             bodies,
+            &d.beam_velocity,
             &mut beam_load,
             &mut body_loads,
         );
@@ -1335,6 +1336,7 @@ fn initial_state(
         forces,
         applied,
         bodies,
+        &DVector::zeros(n),
         &mut beam_load,
         &mut body_loads,
     );

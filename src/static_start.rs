@@ -32,8 +32,15 @@ pub fn static_start(
     forces: &mut [ContactForce],
     applied: &[Vector3<f64>],
 ) -> Result<DVector<f64>, String> {
+    if system.contacts.iter().any(|c| c.follower.is_some()) {
+        // Its contact is a force law, not a body to settle on the surface.
+        return Err("solver.start = \"static\" is not offered with a massless follower \
+                    (suspension.unsprung_mass = 0): use start = \"rest\""
+            .into());
+    }
     let n = system.beam.free_dofs();
     let mut u = DVector::zeros(n);
+    let at_rest = DVector::zeros(n);
     let mut frames = Vec::new();
     let mut beam_load = DVector::zeros(n);
     let mut body_loads = vec![Vector3::zeros(); bodies.len()];
@@ -48,6 +55,7 @@ pub fn static_start(
             &free,
             applied,
             bodies,
+            &at_rest,
             &mut beam_load,
             &mut body_loads,
         );
@@ -58,6 +66,7 @@ pub fn static_start(
             forces,
             applied,
             bodies,
+            &at_rest,
             &mut beam_load,
             &mut body_loads,
         );
@@ -73,6 +82,7 @@ pub fn static_start(
         forces,
         applied,
         bodies,
+        &at_rest,
         &mut beam_load,
         &mut body_loads,
     );

@@ -735,7 +735,8 @@ fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
         (BodyKind::SprungMass, Some(s)) => {
             checks.positive(&path("suspension.stiffness"), s.stiffness);
             checks.non_negative(&path("suspension.damping"), s.damping);
-            checks.positive(&path("suspension.unsprung_mass"), s.unsprung_mass);
+            // 0 is the massless follower.
+            checks.non_negative(&path("suspension.unsprung_mass"), s.unsprung_mass);
         }
         (BodyKind::SprungMass, None) => checks.fail(
             path("suspension"),
