@@ -132,7 +132,11 @@ impl Catalogue {
                 Quantity::Ax(b),
             );
         }
-        if !system.force_elements.is_empty() || coupled {
+        let on_follower = system
+            .contacts
+            .iter()
+            .any(|c| c.body == b && c.follower.is_some());
+        if !system.force_elements.is_empty() || coupled || on_follower {
             self.real(
                 format!("{n}.ay"),
                 "m/s2",

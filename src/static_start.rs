@@ -121,11 +121,13 @@ fn locate(
         .map_err(|_| "solver.start = \"static\": a contact point lies off the track".to_string())
 }
 
-/// Move each contact body vertically so that its gap is zero.
+/// Move each contact body vertically so that its gap is zero (a
+/// follower's body: so that its suspension is at rest).
 fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
     for (contact, frame) in system.contacts.iter().zip(frames) {
         let body = &mut bodies[contact.body];
-        let gap = frame.gap(&system.beam, contact.radius(), &body.position);
+        let rest = contact.follower.map_or(0.0, |f| f.rest);
+        let gap = frame.gap(&system.beam, contact.radius(), &body.position) - rest;
         body.position.y -= gap / frame.normal().y;
     }
 }

@@ -1,0 +1,182 @@
+//! The massless follower (`sprung_mass` with `unsprung_mass = 0`): on rigid
+//! ground over a cosine dip it is the base-excited single-DOF oscillator,
+//! solved here independently; on Yang & Yau's beam (the case of
+//! tests/sprung_mass.rs) the sprung mass over a glider of decreasing mass
+//! converges to it.
+
+use guideway::{Advance, Scene, Simulation};
+
+const SPRUNG: f64 = 5750.0;
+const STIFFNESS: f64 = 1.595e6;
+const DAMPING: f64 = 2.0e4;
+const GRAVITY: f64 = 9.81;
+/// Height of the sprung mass above its contact point at rest (assemble.rs).
+const HEIGHT: f64 = 1.0;
+
+const GROUND_SPEED: f64 = 20.0;
+const GROUND_START: f64 = -190.0;
+const DIP_AT: f64 = -170.0;
+const DIP_LENGTH: f64 = 10.0;
+const DIP_DEPTH: f64 = 0.01;
+const GROUND_STEP: f64 = 1.0e-4;
+const GROUND_END: f64 = 2.5;
+
+fn ground_scene() -> Scene {
+    Scene::from_toml_str(&format!(
+        r#"
+name = "follower-on-ground"
+gravity = {GRAVITY:?}
+[beam]
+length = 25.0
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = 2
+[track]
+approach = 200.0
+[[track.irregularities]]
+type = "cosine_dip"
+position = {DIP_AT:?}
+wavelength = {DIP_LENGTH:?}
+depth = {DIP_DEPTH:?}
+[body]
+name = "car"
+kind = "sprung_mass"
+mass = {SPRUNG:?}
+initial_position = {GROUND_START:?}
+initial_speed = {GROUND_SPEED:?}
+[body.suspension]
+stiffness = {STIFFNESS:?}
+damping = {DAMPING:?}
+unsprung_mass = 0.0
+[solver]
+integrator = "rk4"
+step = {GROUND_STEP:?}
+end_time = {GROUND_END:?}
+"#
+    ))
+    .expect("valid scene")
+}
+
+/// The dip r(x) and its slope.
+fn dip(x: f64) -> (f64, f64) {
+    let s = x - DIP_AT;
+    if s.abs() >= 0.5 * DIP_LENGTH {
+        return (0.0, 0.0);
+    }
+    let k = 2.0 * std::f64::consts::PI / DIP_LENGTH;
+    (
+        -0.5 * DIP_DEPTH * (1.0 + (k * s).cos()),
+        0.5 * DIP_DEPTH * k * (k * s).sin(),
+    )
+}
+
+/// The base-excited oscillator M z̈ = −k (z − r) − c (ż − ṙ), base
+/// r(x0 + V t), z the sprung mass's rise above its rest height; classical
+/// RK4 with `substeps` steps per output step. Returns (z, z̈) at each time.
+fn base_excited(times: &[f64], substeps: usize) -> (Vec<f64>, Vec<f64>) {
+    let acceleration = |t: f64, z: f64, zd: f64| {
+        let (r, slope) = dip(GROUND_START + GROUND_SPEED * t);
+        (-STIFFNESS * (z - r) - DAMPING * (zd - GROUND_SPEED * slope)) / SPRUNG
+    };
+    let h = GROUND_STEP / substeps as f64;
+    let (mut t, mut z, mut zd) = (0.0, 0.0, 0.0);
+    let (mut heights, mut accelerations) = (Vec::new(), Vec::new());
+    for &target in times {
+        while t < target - 0.5 * h {
+            let k1 = (zd, acceleration(t, z, zd));
+            let k2 = (
+                zd + 0.5 * h * k1.1,
+                acceleration(t + 0.5 * h, z + 0.5 * h * k1.0, zd + 0.5 * h * k1.1),
+            );
+            let k3 = (
+                zd + 0.5 * h * k2.1,
+                acceleration(t + 0.5 * h, z + 0.5 * h * k2.0, zd + 0.5 * h * k2.1),
+            );
+            let k4 = (
+                zd + h * k3.1,
+                acceleration(t + h, z + h * k3.0, zd + h * k3.1),
+            );
+            z += h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+            zd += h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            t += h;
+        }
+        heights.push(z);
+        accelerations.push(acceleration(t, z, zd));
+    }
+    (heights, accelerations)
+}
+
+/// Histories of the outputs `names` at every step until the run ends.
+fn histories(scene: &Scene, names: &[&str]) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let mut sim = Simulation::new(scene).expect("builds");
+    let all: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|n| all.iter().position(|x| x == n).expect(n))
+        .collect();
+    let mut values = vec![0.0; all.len()];
+    let (mut times, mut out) = (Vec::new(), vec![Vec::new(); names.len()]);
+    let dt = scene.solver.step;
+    let end = scene.solver.end_time.map_or(u64::MAX, |t| (t / dt).round() as u64);
+    for k in 1..=end {
+        let advance = sim.advance_to(k as f64 * dt).expect("no solver error");
+        if advance != Advance::Reached {
+            break;
+        }
+        sim.output_values(&mut values);
+        times.push(sim.time());
+        for (series, &i) in out.iter_mut().zip(&index) {
+            series.push(values[i]);
+        }
+    }
+    (times, out)
+}
+
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+fn peak(a: &[f64]) -> f64 {
+    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn follower_on_rigid_ground_is_the_base_excited_oscillator() {
+    let scene = ground_scene();
+    let (times, out) = histories(
+        &scene,
+        &["car.y", "car.ay", "contact.normal_force", "contact.irregularity"],
+    );
+    let last = *times.last().unwrap();
+    assert!((last - GROUND_END).abs() < 1e-9, "ran to {last} s");
+    let rise: Vec<f64> = out[0].iter().map(|y| y - HEIGHT).collect();
+    let (z, zdd) = base_excited(&times, 10);
+    let (peak_z, peak_a) = (peak(&z), peak(&zdd));
+    // The dip does excite the oscillator (its period 0.38 s, the dip's 0.5 s).
+    assert!(peak_z > 0.5 * DIP_DEPTH, "{peak_z}");
+    assert!(peak(&out[3]) > 0.99 * DIP_DEPTH);
+    let (dz, da) = (
+        largest_difference(&rise, &z),
+        largest_difference(&out[1], &zdd),
+    );
+    eprintln!(
+        "follower on ground: height {:.3e} of peak {peak_z:.4e} m, acceleration {:.3e} of \
+         peak {peak_a:.4e} m/s2",
+        dz / peak_z,
+        da / peak_a
+    );
+    // What is left is geometric: the follower's gap is measured along the
+    // surface normal (slopes up to 3e-3 here), the reference's vertically.
+    assert!(dz <= 0.01 * peak_z, "height: {dz} against {peak_z}");
+    assert!(da <= 0.01 * peak_a, "acceleration: {da} against {peak_a}");
+    // The contact force is what the suspension transmits: the sprung
+    // mass's weight plus its inertia force.
+    for (n, a) in out[2].iter().zip(&out[1]) {
+        let expected = SPRUNG * (GRAVITY + a);
+        assert!((n - expected).abs() < 1e-3 * SPRUNG * GRAVITY, "{n} vs {expected}");
+    }
+}
