@@ -347,7 +347,11 @@ impl ContactIteration {
     pub fn new(integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
         let free_dofs = system.beam.free_dofs();
         let (offsets, rows) = system.row_offsets();
-        let followers: Vec<bool> = system.contacts.iter().map(|c| c.follower.is_some()).collect();
+        let followers: Vec<bool> = system
+            .contacts
+            .iter()
+            .map(|c| c.follower.is_some())
+            .collect();
         ContactIteration {
             integrator,
             load: DVector::zeros(free_dofs),

@@ -34,9 +34,11 @@ pub fn static_start(
 ) -> Result<DVector<f64>, String> {
     if system.contacts.iter().any(|c| c.follower.is_some()) {
         // Its contact is a force law, not a body to settle on the surface.
-        return Err("solver.start = \"static\" is not offered with a massless follower \
+        return Err(
+            "solver.start = \"static\" is not offered with a massless follower \
                     (suspension.unsprung_mass = 0): use start = \"rest\""
-            .into());
+                .into(),
+        );
     }
     let n = system.beam.free_dofs();
     let mut u = DVector::zeros(n);
