@@ -69,6 +69,14 @@ impl Follower {
         (self.preload - self.stiffness * (gap - self.rest) - self.damping * rate).max(0.0)
     }
 
+    /// Potential energy of its spring at gap `gap` (J), zero at rest: that
+    /// of ½ k δ² − preload δ (δ = gap − rest) up to where the spring goes
+    /// slack, constant beyond.
+    pub fn potential_energy(&self, gap: f64) -> f64 {
+        let delta = (gap - self.rest).min(self.preload / self.stiffness);
+        0.5 * self.stiffness * delta * delta - self.preload * delta
+    }
+
     /// Power its damper dissipates at gap rate `rate` while it carries load.
     pub fn dissipation(&self, gap: f64, rate: f64) -> f64 {
         if self.force(gap, rate) > 0.0 {

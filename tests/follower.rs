@@ -22,6 +22,10 @@ const GROUND_STEP: f64 = 1.0e-4;
 const GROUND_END: f64 = 2.5;
 
 fn ground_scene() -> Scene {
+    ground_scene_with(DAMPING)
+}
+
+fn ground_scene_with(damping: f64) -> Scene {
     Scene::from_toml_str(&format!(
         r#"
 name = "follower-on-ground"
@@ -47,7 +51,7 @@ initial_position = {GROUND_START:?}
 initial_speed = {GROUND_SPEED:?}
 [body.suspension]
 stiffness = {STIFFNESS:?}
-damping = {DAMPING:?}
+damping = {damping:?}
 unsprung_mass = 0.0
 [solver]
 integrator = "rk4"
@@ -275,4 +279,35 @@ fn a_vanishing_unsprung_mass_converges_to_the_follower_on_the_beam() {
     }
     // At 0.01 % of the sprung mass the glider is the follower to 0.1 %.
     assert!(previous.iter().all(|&d| d < 1e-3), "{previous:?}");
+}
+
+#[test]
+fn the_follower_keeps_the_energy_balance() {
+    // Undamped the balance holds the suspension's energy; damped the
+    // dissipated energy is accounted for.
+    for damping in [0.0, DAMPING] {
+        let scene = ground_scene_with(damping);
+        let names = [
+            "energy.balance",
+            "energy.spring",
+            "energy.dissipated",
+            "energy.gravity_work",
+        ];
+        let (_, out) = histories(&scene, &names);
+        let e0 = out[0][0];
+        let drift = out[0].iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        let spring = peak(&out[1]);
+        let dissipated = *out[2].last().unwrap();
+        eprintln!(
+            "follower, c = {damping}: drift {drift:.3e} J, spring energy up to {spring:.4e} J, \
+             dissipated {dissipated:.4e} J"
+        );
+        assert!(spring > 10.0, "{spring}");
+        assert!(drift < 1e-6 * spring, "drift {drift} J of {spring} J");
+        if damping > 0.0 {
+            assert!(dissipated > 1e3 * drift, "{dissipated} vs {drift}");
+        } else {
+            assert_eq!(dissipated, 0.0);
+        }
+    }
 }
