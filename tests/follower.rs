@@ -311,3 +311,25 @@ fn the_follower_keeps_the_energy_balance() {
         }
     }
 }
+
+#[test]
+fn what_the_follower_does_not_offer_is_refused_with_the_field_named() {
+    let mut scene = ground_scene();
+    scene.body.suspension.as_mut().unwrap().unsprung_mass = -1.0;
+    let message = scene.validate().unwrap_err().to_string();
+    assert!(
+        message.contains("body.suspension.unsprung_mass"),
+        "{message}"
+    );
+
+    let mut scene = ground_scene();
+    scene.solver.integrator = guideway::scene::IntegratorKind::Hht;
+    let message = Simulation::new(&scene).err().expect("refused");
+    assert!(message.contains("solver.integrator"), "{message}");
+    assert!(message.contains("RK4"), "{message}");
+
+    let mut scene = beam_scene(0.0);
+    scene.solver.start = guideway::scene::StartKind::Static;
+    let message = Simulation::new(&scene).err().expect("refused");
+    assert!(message.contains("solver.start"), "{message}");
+}
