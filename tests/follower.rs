@@ -333,3 +333,30 @@ fn what_the_follower_does_not_offer_is_refused_with_the_field_named() {
     let message = Simulation::new(&scene).err().expect("refused");
     assert!(message.contains("solver.start"), "{message}");
 }
+
+#[test]
+fn the_follower_cannot_pull_the_body_flies_where_the_surface_drops_away() {
+    // A 50 mm, 2 m dip at 20 m/s drops the surface at up to 100 g: the
+    // suspension would have to pull, so it goes slack and the body falls.
+    let mut scene = ground_scene_with(0.0);
+    scene.track.irregularities = vec![guideway::scene::IrregularitySpec::CosineDip {
+        position: DIP_AT,
+        wavelength: 2.0,
+        depth: 0.05,
+    }];
+    let (_, out) = histories(&scene, &["contact.normal_force", "car.ay"]);
+    assert!(out[0].iter().all(|&n| n >= 0.0));
+    let slack: Vec<f64> = out[0]
+        .iter()
+        .zip(&out[1])
+        .filter(|(&n, _)| n == 0.0)
+        .map(|(_, &a)| a)
+        .collect();
+    eprintln!("slack at {} of {} steps", slack.len(), out[0].len());
+    assert!(slack.len() > 10, "{}", slack.len());
+    // Slack, the body falls freely (its acceleration from the last force).
+    assert!(
+        slack.iter().all(|a| (a + GRAVITY).abs() < 1e-9),
+        "{slack:?}"
+    );
+}
