@@ -323,6 +323,11 @@ fn what_the_follower_does_not_offer_is_refused_with_the_field_named() {
     );
 
     let mut scene = ground_scene();
+    scene.body.initial_height = 0.1;
+    let message = scene.validate().unwrap_err().to_string();
+    assert!(message.contains("body.initial_height"), "{message}");
+
+    let mut scene = ground_scene();
     scene.solver.integrator = guideway::scene::IntegratorKind::Hht;
     let message = Simulation::new(&scene).err().expect("refused");
     assert!(message.contains("solver.integrator"), "{message}");
