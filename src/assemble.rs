@@ -6,7 +6,7 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
-use crate::contact::{Contact, ContactForce, ContactKind};
+use crate::contact::{Contact, ContactForce, ContactKind, Follower};
 use crate::force_element::{Direction, ForceElement};
 use crate::scene::{BodyKind, BodySpec, BogieSpec, MaglevSpec, Scene, SuspensionSpec};
 use crate::system::{System, Track};
@@ -60,6 +60,7 @@ fn single_body(spec: &BodySpec, beam: &Beam) -> (RigidBody, Contact, BodyState) 
         name: "contact".into(),
         body: 0,
         kind,
+        follower: None,
     };
     let radius = contact.radius();
     let rolls = contact.rolls();
@@ -85,6 +86,9 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         damping: 0.0,
         unsprung_mass: 0.0,
     });
+    if suspension.unsprung_mass == 0.0 {
+        return sprung_mass_on_follower(spec, &suspension, beam, gravity);
+    }
     let (unsprung, mut contact, contact_state) = single_body(spec, beam);
     let unsprung = RigidBody {
         name: format!("{}_unsprung", spec.name),
@@ -137,6 +141,42 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         contacts: vec![contact],
         force_elements,
         states: vec![sprung_state, contact_state],
+    }
+}
+
+/// The moving oscillator over a massless follower (`unsprung_mass = 0`):
+/// one body, the sprung mass, whose contact is the follower at
+/// `SPRUNG_HEIGHT` below it; the suspension is the follower's force law.
+fn sprung_mass_on_follower(
+    spec: &BodySpec,
+    suspension: &SuspensionSpec,
+    beam: &Beam,
+    gravity: f64,
+) -> Vehicle {
+    let (_, contact, contact_state) = single_body(spec, beam);
+    let sprung = RigidBody {
+        name: spec.name.clone(),
+        mass: spec.mass,
+        inertia: 0.0,
+        drive: None,
+    };
+    let contact = Contact {
+        follower: Some(Follower {
+            stiffness: suspension.stiffness,
+            damping: suspension.damping,
+            preload: spec.mass * gravity,
+            rest: SPRUNG_HEIGHT,
+        }),
+        ..contact
+    };
+    Vehicle {
+        bodies: vec![sprung],
+        contacts: vec![contact],
+        force_elements: Vec::new(),
+        states: vec![BodyState {
+            position: contact_state.position + Vector2::new(0.0, SPRUNG_HEIGHT),
+            ..contact_state
+        }],
     }
 }
 

@@ -37,6 +37,54 @@ pub struct Contact {
     /// Index of the contact body in `System::bodies`.
     pub body: usize,
     pub kind: ContactKind,
+    /// A massless follower: the force is the suspension's, not a
+    /// constraint's (`None` for a contact body with mass).
+    pub follower: Option<Follower>,
+}
+
+/// The massless follower of the moving-oscillator literature: a contact
+/// point without mass under a body's vertical spring–damper. Having no
+/// inertia it moves with the surface, so its normal force is whatever the
+/// suspension transmits, P = preload − k (g − rest) − c ġ, with g the
+/// gap between the body's centre and the surface. It is computed from the
+/// state wherever loads are (each integrator stage), not solved by the
+/// contact iteration: it is a known function of the state, so the
+/// iteration holds it open (no rows) rather than adding a force-law row.
+/// The follower cannot pull: where the law gives tension the force is 0
+/// (the suspension goes slack; exact for c = 0, where the massless point
+/// hangs at the spring's length and lands again where the law turns
+/// compressive; with c > 0 it neglects the damper's relaxation in flight).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Follower {
+    pub stiffness: f64,
+    pub damping: f64,
+    pub preload: f64,
+    /// The gap at which the suspension carries exactly its preload (m).
+    pub rest: f64,
+}
+
+impl Follower {
+    /// Normal force (N, compression positive) at gap `gap` and gap rate `rate`.
+    pub fn force(&self, gap: f64, rate: f64) -> f64 {
+        (self.preload - self.stiffness * (gap - self.rest) - self.damping * rate).max(0.0)
+    }
+
+    /// Potential energy of its spring at gap `gap` (J), zero at rest: that
+    /// of ½ k δ² − preload δ (δ = gap − rest) up to where the spring goes
+    /// slack, constant beyond.
+    pub fn potential_energy(&self, gap: f64) -> f64 {
+        let delta = (gap - self.rest).min(self.preload / self.stiffness);
+        0.5 * self.stiffness * delta * delta - self.preload * delta
+    }
+
+    /// Power its damper dissipates at gap rate `rate` while it carries load.
+    pub fn dissipation(&self, gap: f64, rate: f64) -> f64 {
+        if self.force(gap, rate) > 0.0 {
+            self.damping * rate * rate
+        } else {
+            0.0
+        }
+    }
 }
 
 impl Contact {

@@ -338,6 +338,8 @@ pub struct ContactIteration {
     shapes: Vec<ForceShape>,
     /// The bodies at the end of the previous integration of the step.
     previous_bodies: Vec<crate::body::BodyState>,
+    /// Per contact: a massless follower (always open to the iteration).
+    followers: Vec<bool>,
 }
 
 impl ContactIteration {
@@ -345,6 +347,11 @@ impl ContactIteration {
     pub fn new(integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
         let free_dofs = system.beam.free_dofs();
         let (offsets, rows) = system.row_offsets();
+        let followers: Vec<bool> = system
+            .contacts
+            .iter()
+            .map(|c| c.follower.is_some())
+            .collect();
         ContactIteration {
             integrator,
             load: DVector::zeros(free_dofs),
@@ -371,10 +378,11 @@ impl ContactIteration {
             },
             measured_elements: Vec::new(),
             loaded_elements: Vec::new(),
-            open: vec![false; system.contacts.len()],
+            open: followers.clone(),
             contact_gaps: vec![0.0; system.contacts.len()],
             shapes: vec![ForceShape::default(); system.contacts.len()],
             previous_bodies: Vec::new(),
+            followers,
         }
     }
 
@@ -382,6 +390,11 @@ impl ContactIteration {
     pub fn set_open(&mut self, open: &[bool]) {
         self.open.clear();
         self.open.extend_from_slice(open);
+        // A follower's force is a function of the state, evaluated with
+        // the loads: the iteration has nothing to solve for it.
+        for (open, &follower) in self.open.iter_mut().zip(&self.followers) {
+            *open |= follower;
+        }
     }
 
     /// Each contact's force shape over the next steps solved; the
@@ -783,8 +796,16 @@ impl ContactIteration {
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
         let velocity_error = self.velocity_errors(system, end);
+        let mut forces = self.forces.clone();
+        crate::integrate::follower_forces(
+            system,
+            &self.end_frames,
+            &end.bodies,
+            &end.beam_velocity,
+            &mut forces,
+        );
         Ok(StepSolution {
-            forces: self.forces.clone(),
+            forces,
             iterations,
             position_iterations,
             velocity_error,

@@ -132,7 +132,11 @@ impl Catalogue {
                 Quantity::Ax(b),
             );
         }
-        if !system.force_elements.is_empty() || coupled {
+        let on_follower = system
+            .contacts
+            .iter()
+            .any(|c| c.body == b && c.follower.is_some());
+        if !system.force_elements.is_empty() || coupled || on_follower {
             self.real(
                 format!("{n}.ay"),
                 "m/s2",
@@ -273,11 +277,12 @@ impl Catalogue {
             "strain energy of the beam",
             Quantity::BeamStrain,
         );
-        if !system.force_elements.is_empty() {
+        let followers = system.contacts.iter().any(|c| c.follower.is_some());
+        if !system.force_elements.is_empty() || followers {
             self.real(
                 e("spring"),
                 "J",
-                "potential energy of the force elements' springs",
+                "potential energy of the force elements' and followers' springs",
                 Quantity::SpringEnergy,
             );
             self.real(
@@ -538,7 +543,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::BodyKinetic => sim.body_kinetic_energy(),
             Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
             Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
-            Quantity::SpringEnergy => system.spring_energy(&d.bodies),
+            Quantity::SpringEnergy => sim.spring_energy(),
             Quantity::Dissipated => d.dissipated,
             Quantity::BeamDamping => d.beam_dissipated,
             Quantity::GravityWork => state.gravity_work,

@@ -491,6 +491,19 @@ impl Simulation {
         crate::outputs::values(self, &self.quantities, values);
     }
 
+    /// Potential energy of the force elements and of the followers'
+    /// suspensions (at their gaps at the end of the last step) (J).
+    pub fn spring_energy(&self) -> f64 {
+        let followers: f64 = self
+            .system
+            .contacts
+            .iter()
+            .zip(&self.state.contacts)
+            .filter_map(|(c, status)| c.follower.map(|f| f.potential_energy(status.gap)))
+            .sum();
+        self.system.spring_energy(&self.state.dynamic.bodies) + followers
+    }
+
     /// Kinetic + strain + spring energy + energy dissipated (dampers,
     /// structural damping, impacts and HHT-α's numerical damping) − work of
     /// gravity and of the applied force (J).
@@ -500,7 +513,7 @@ impl Simulation {
         self.body_kinetic_energy()
             + s.beam.kinetic_energy(&d.beam_velocity)
             + s.beam.strain_energy(&d.beam_displacement)
-            + s.spring_energy(&d.bodies)
+            + self.spring_energy()
             + d.dissipated
             + d.beam_dissipated
             + d.numerical_dissipation
@@ -643,6 +656,7 @@ impl Simulation {
             &forces,
             &applied,
             bodies,
+            &d.beam_velocity,
             &mut beam_load,
             &mut body_loads,
         );
@@ -1335,6 +1349,7 @@ fn initial_state(
         forces,
         applied,
         bodies,
+        &DVector::zeros(n),
         &mut beam_load,
         &mut body_loads,
     );

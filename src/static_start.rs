@@ -32,8 +32,17 @@ pub fn static_start(
     forces: &mut [ContactForce],
     applied: &[Vector3<f64>],
 ) -> Result<DVector<f64>, String> {
+    if system.contacts.iter().any(|c| c.follower.is_some()) {
+        // Its contact is a force law, not a body to settle on the surface.
+        return Err(
+            "solver.start = \"static\" is not offered with a massless follower \
+                    (suspension.unsprung_mass = 0): use start = \"rest\""
+                .into(),
+        );
+    }
     let n = system.beam.free_dofs();
     let mut u = DVector::zeros(n);
+    let at_rest = DVector::zeros(n);
     let mut frames = Vec::new();
     let mut beam_load = DVector::zeros(n);
     let mut body_loads = vec![Vector3::zeros(); bodies.len()];
@@ -48,6 +57,7 @@ pub fn static_start(
             &free,
             applied,
             bodies,
+            &at_rest,
             &mut beam_load,
             &mut body_loads,
         );
@@ -58,6 +68,7 @@ pub fn static_start(
             forces,
             applied,
             bodies,
+            &at_rest,
             &mut beam_load,
             &mut body_loads,
         );
@@ -73,6 +84,7 @@ pub fn static_start(
         forces,
         applied,
         bodies,
+        &at_rest,
         &mut beam_load,
         &mut body_loads,
     );
@@ -111,11 +123,13 @@ fn locate(
         .map_err(|_| "solver.start = \"static\": a contact point lies off the track".to_string())
 }
 
-/// Move each contact body vertically so that its gap is zero.
+/// Move each contact body vertically so that its gap is zero (a
+/// follower's body: so that its suspension is at rest).
 fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
     for (contact, frame) in system.contacts.iter().zip(frames) {
         let body = &mut bodies[contact.body];
-        let gap = frame.gap(&system.beam, contact.radius(), &body.position);
+        let rest = contact.follower.map_or(0.0, |f| f.rest);
+        let gap = frame.gap(&system.beam, contact.radius(), &body.position) - rest;
         body.position.y -= gap / frame.normal().y;
     }
 }

@@ -138,6 +138,7 @@ impl Hht {
             forces,
             from.applied,
             &self.predicted_bodies,
+            &start.beam_velocity,
             &mut self.load,
             &mut end.body_loads,
         );

@@ -125,20 +125,38 @@ pub fn contact_frames(
 /// All loads for contact `forces` at `frames`: the beam's load vector into
 /// `beam_load` (overwritten) and each body's generalized force (F_x, F_y,
 /// torque) into `body_loads`: `applied`, the contact forces and the force
-/// elements. Returns the power the dampers dissipate.
+/// elements. A follower's force comes from its suspension law at this
+/// configuration (`beam_velocity` gives its gap rate), not from `forces`.
+/// Returns the power the dampers dissipate.
 #[inline]
+#[allow(clippy::too_many_arguments)]
 pub fn loads(
     system: &System,
     frames: &[ContactFrame],
     forces: &[ContactForce],
     applied: &[Vector3<f64>],
     bodies: &[BodyState],
+    beam_velocity: &DVector<f64>,
     beam_load: &mut DVector<f64>,
     body_loads: &mut [Vector3<f64>],
 ) -> f64 {
     beam_load.fill(0.0);
     body_loads.copy_from_slice(applied);
+    let mut dissipation = 0.0;
     for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
+        let follower_force;
+        let force = match contact.follower {
+            Some(follower) => {
+                let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+                dissipation += follower.dissipation(gap, rate);
+                follower_force = ContactForce {
+                    tangential: 0.0,
+                    normal: follower.force(gap, rate),
+                };
+                &follower_force
+            }
+            None => force,
+        };
         if frame.on_beam {
             let (t_row, n_row) = frame.beam_rows(system.beam.surface_offset);
             frame.shape.scatter(&t_row, -force.tangential, beam_load);
@@ -150,7 +168,44 @@ pub fn loads(
         load.y += on_body.y;
         load.z += force.tangential * contact.radius();
     }
-    add_element_forces(&system.force_elements, bodies, body_loads)
+    dissipation + add_element_forces(&system.force_elements, bodies, body_loads)
+}
+
+/// A follower's gap g (from its body's centre to the surface along the
+/// normal) and gap rate ġ at `frame`.
+pub fn follower_gap(
+    system: &System,
+    contact: &crate::contact::Contact,
+    frame: &ContactFrame,
+    bodies: &[BodyState],
+    beam_velocity: &DVector<f64>,
+) -> (f64, f64) {
+    let state = &bodies[contact.body];
+    let gap = frame.gap(&system.beam, 0.0, &state.position);
+    let rate = frame
+        .velocity_error(&system.beam, 0.0, state, beam_velocity)
+        .y;
+    (gap, rate)
+}
+
+/// Every follower's force at the given configuration into `forces` (the
+/// other contacts' are left as they are).
+pub fn follower_forces(
+    system: &System,
+    frames: &[ContactFrame],
+    bodies: &[BodyState],
+    beam_velocity: &DVector<f64>,
+    forces: &mut [ContactForce],
+) {
+    for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
+        if let Some(follower) = contact.follower {
+            let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+            *force = ContactForce {
+                tangential: 0.0,
+                normal: follower.force(gap, rate),
+            };
+        }
+    }
 }
 
 /// The time integrator of a simulation.

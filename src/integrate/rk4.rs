@@ -105,6 +105,7 @@ impl Rk4 {
                     forces,
                     from.applied,
                     &self.stage_bodies,
+                    &self.stage_v,
                     &mut self.load,
                     &mut self.body_loads,
                 );

@@ -18,7 +18,7 @@ const FIELD_NOTES: [(&str, &str); 43] = [
     ("body.suspension.damping", "N s/m, vertical damper, >= 0"),
     (
         "body.suspension.unsprung_mass",
-        "kg, the glider under the spring, > 0",
+        "kg, the glider under the spring, >= 0 (0: the massless follower)",
     ),
     ("beam.length", "m, L"),
     ("beam.mass_per_length", "kg/m"),

@@ -392,7 +392,8 @@ pub struct SuspensionSpec {
     /// Vertical damping c (N s/m).
     #[serde(default)]
     pub damping: f64,
-    /// Mass of the contact body under the spring (kg).
+    /// Mass of the contact body under the spring (kg); 0 makes it the
+    /// massless follower (its force is the suspension's).
     pub unsprung_mass: f64,
 }
 
@@ -713,6 +714,8 @@ impl BodySpec {
         let mut names = vec![n.clone()];
         match self.kind {
             BodyKind::Wheel | BodyKind::Glider => {}
+            // A massless follower (unsprung_mass = 0) is a contact, not a body.
+            BodyKind::SprungMass if self.suspension.is_some_and(|s| s.unsprung_mass == 0.0) => {}
             BodyKind::SprungMass => names.push(format!("{n}_unsprung")),
             BodyKind::BogieVehicle => {
                 names.extend((1..=2).map(|i| format!("{n}_bogie{i}")));

@@ -193,6 +193,7 @@ fn consistent_start(
         forces,
         applied,
         &state.bodies,
+        &state.beam_velocity,
         &mut state.beam_load,
         &mut state.body_loads,
     );

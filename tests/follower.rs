@@ -1,0 +1,402 @@
+//! The massless follower (`sprung_mass` with `unsprung_mass = 0`): on rigid
+//! ground over a cosine dip it is the base-excited single-DOF oscillator,
+//! solved here independently; on Yang & Yau's beam (the case of
+//! tests/sprung_mass.rs) the sprung mass over a glider of decreasing mass
+//! converges to it.
+
+use guideway::{Advance, Scene, Simulation};
+
+const SPRUNG: f64 = 5750.0;
+const STIFFNESS: f64 = 1.595e6;
+const DAMPING: f64 = 2.0e4;
+const GRAVITY: f64 = 9.81;
+/// Height of the sprung mass above its contact point at rest (assemble.rs).
+const HEIGHT: f64 = 1.0;
+
+const GROUND_SPEED: f64 = 20.0;
+const GROUND_START: f64 = -190.0;
+const DIP_AT: f64 = -170.0;
+const DIP_LENGTH: f64 = 10.0;
+const DIP_DEPTH: f64 = 0.01;
+const GROUND_STEP: f64 = 1.0e-4;
+const GROUND_END: f64 = 2.5;
+
+fn ground_scene() -> Scene {
+    ground_scene_with(DAMPING)
+}
+
+fn ground_scene_with(damping: f64) -> Scene {
+    Scene::from_toml_str(&format!(
+        r#"
+name = "follower-on-ground"
+gravity = {GRAVITY:?}
+[beam]
+length = 25.0
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = 2
+[track]
+approach = 200.0
+[[track.irregularities]]
+type = "cosine_dip"
+position = {DIP_AT:?}
+wavelength = {DIP_LENGTH:?}
+depth = {DIP_DEPTH:?}
+[body]
+name = "car"
+kind = "sprung_mass"
+mass = {SPRUNG:?}
+initial_position = {GROUND_START:?}
+initial_speed = {GROUND_SPEED:?}
+[body.suspension]
+stiffness = {STIFFNESS:?}
+damping = {damping:?}
+unsprung_mass = 0.0
+[solver]
+integrator = "rk4"
+step = {GROUND_STEP:?}
+end_time = {GROUND_END:?}
+"#
+    ))
+    .expect("valid scene")
+}
+
+/// The dip r(x) and its slope.
+fn dip(x: f64) -> (f64, f64) {
+    let s = x - DIP_AT;
+    if s.abs() >= 0.5 * DIP_LENGTH {
+        return (0.0, 0.0);
+    }
+    let k = 2.0 * std::f64::consts::PI / DIP_LENGTH;
+    (
+        -0.5 * DIP_DEPTH * (1.0 + (k * s).cos()),
+        0.5 * DIP_DEPTH * k * (k * s).sin(),
+    )
+}
+
+/// The base-excited oscillator M z̈ = −k (z − r) − c (ż − ṙ), base
+/// r(x0 + V t), z the sprung mass's rise above its rest height; classical
+/// RK4 with `substeps` steps per output step. Returns (z, z̈) at each time.
+fn base_excited(times: &[f64], substeps: usize) -> (Vec<f64>, Vec<f64>) {
+    let acceleration = |t: f64, z: f64, zd: f64| {
+        let (r, slope) = dip(GROUND_START + GROUND_SPEED * t);
+        (-STIFFNESS * (z - r) - DAMPING * (zd - GROUND_SPEED * slope)) / SPRUNG
+    };
+    let h = GROUND_STEP / substeps as f64;
+    let (mut t, mut z, mut zd) = (0.0, 0.0, 0.0);
+    let (mut heights, mut accelerations) = (Vec::new(), Vec::new());
+    for &target in times {
+        while t < target - 0.5 * h {
+            let k1 = (zd, acceleration(t, z, zd));
+            let k2 = (
+                zd + 0.5 * h * k1.1,
+                acceleration(t + 0.5 * h, z + 0.5 * h * k1.0, zd + 0.5 * h * k1.1),
+            );
+            let k3 = (
+                zd + 0.5 * h * k2.1,
+                acceleration(t + 0.5 * h, z + 0.5 * h * k2.0, zd + 0.5 * h * k2.1),
+            );
+            let k4 = (
+                zd + h * k3.1,
+                acceleration(t + h, z + h * k3.0, zd + h * k3.1),
+            );
+            z += h / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+            zd += h / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            t += h;
+        }
+        heights.push(z);
+        accelerations.push(acceleration(t, z, zd));
+    }
+    (heights, accelerations)
+}
+
+/// Histories of the outputs `names` at every step until the run ends.
+fn histories(scene: &Scene, names: &[&str]) -> (Vec<f64>, Vec<Vec<f64>>) {
+    let mut sim = Simulation::new(scene).expect("builds");
+    let all: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let index: Vec<usize> = names
+        .iter()
+        .map(|n| all.iter().position(|x| x == n).expect(n))
+        .collect();
+    let mut values = vec![0.0; all.len()];
+    let (mut times, mut out) = (Vec::new(), vec![Vec::new(); names.len()]);
+    let dt = scene.solver.step;
+    let end = scene
+        .solver
+        .end_time
+        .map_or(u64::MAX, |t| (t / dt).round() as u64);
+    for k in 1..=end {
+        let advance = sim.advance_to(k as f64 * dt).expect("no solver error");
+        if advance != Advance::Reached {
+            break;
+        }
+        sim.output_values(&mut values);
+        times.push(sim.time());
+        for (series, &i) in out.iter_mut().zip(&index) {
+            series.push(values[i]);
+        }
+    }
+    (times, out)
+}
+
+fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+fn peak(a: &[f64]) -> f64 {
+    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn follower_on_rigid_ground_is_the_base_excited_oscillator() {
+    let scene = ground_scene();
+    let (times, out) = histories(
+        &scene,
+        &[
+            "car.y",
+            "car.ay",
+            "contact.normal_force",
+            "contact.irregularity",
+        ],
+    );
+    let last = *times.last().unwrap();
+    assert!((last - GROUND_END).abs() < 1e-9, "ran to {last} s");
+    let rise: Vec<f64> = out[0].iter().map(|y| y - HEIGHT).collect();
+    let (z, zdd) = base_excited(&times, 10);
+    let (peak_z, peak_a) = (peak(&z), peak(&zdd));
+    // The dip does excite the oscillator (its period 0.38 s, the dip's 0.5 s).
+    assert!(peak_z > 0.5 * DIP_DEPTH, "{peak_z}");
+    assert!(peak(&out[3]) > 0.99 * DIP_DEPTH);
+    let (dz, da) = (
+        largest_difference(&rise, &z),
+        largest_difference(&out[1], &zdd),
+    );
+    eprintln!(
+        "follower on ground: height {:.3e} of peak {peak_z:.4e} m, acceleration {:.3e} of \
+         peak {peak_a:.4e} m/s2",
+        dz / peak_z,
+        da / peak_a
+    );
+    // What is left is geometric: the follower's gap is measured along the
+    // surface normal (slopes up to 3e-3 here), the reference's vertically.
+    assert!(dz <= 0.005 * peak_z, "height: {dz} against {peak_z}");
+    assert!(da <= 0.005 * peak_a, "acceleration: {da} against {peak_a}");
+    // The contact force is what the suspension transmits: the sprung
+    // mass's weight plus its inertia force.
+    for (n, a) in out[2].iter().zip(&out[1]) {
+        let expected = SPRUNG * (GRAVITY + a);
+        assert!(
+            (n - expected).abs() < 1e-3 * SPRUNG * GRAVITY,
+            "{n} vs {expected}"
+        );
+    }
+}
+
+const LENGTH: f64 = 25.0;
+const BEAM_STEP: f64 = 1.25e-5;
+
+/// Yang & Yau's sprung mass crossing their 25 m beam at 100 km/h (the case
+/// of tests/sprung_mass.rs), over a contact body of `unsprung` kg (0: the
+/// follower).
+fn beam_scene(unsprung: f64) -> Scene {
+    Scene::from_toml_str(&format!(
+        r#"
+name = "sprung-mass"
+gravity = {GRAVITY:?}
+[beam]
+length = {LENGTH:?}
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = 20
+[body]
+name = "car"
+kind = "sprung_mass"
+mass = {SPRUNG:?}
+initial_speed = {:?}
+[body.suspension]
+stiffness = {STIFFNESS:?}
+damping = {DAMPING:?}
+unsprung_mass = {unsprung:?}
+[[sensors]]
+name = "midspan"
+position = {:?}
+[solver]
+integrator = "rk4"
+step = {BEAM_STEP:?}
+"#,
+        100.0 / 3.6,
+        LENGTH / 2.0
+    ))
+    .expect("valid scene")
+}
+
+#[test]
+fn a_vanishing_unsprung_mass_converges_to_the_follower_on_the_beam() {
+    let names = [
+        "sensor.midspan.deflection",
+        "car.ay",
+        "contact.normal_force",
+    ];
+    let (times, follower) = histories(&beam_scene(0.0), &names);
+    let crossing = LENGTH / (100.0 / 3.6);
+    let last = *times.last().unwrap();
+    assert!((last - crossing).abs() < 0.01 * crossing, "ran to {last} s");
+    let peaks: Vec<f64> = follower.iter().map(|h| peak(h)).collect();
+    // The follower loads the beam: the midspan deflection is about the
+    // static one under the sprung weight.
+    let static_w = SPRUNG * GRAVITY * LENGTH.powi(3) / (48.0 * 8.5347e10);
+    assert!(
+        (0.8 * static_w..1.5 * static_w).contains(&peaks[0]),
+        "{} vs {static_w}",
+        peaks[0]
+    );
+    eprintln!("unsprung mass (kg) | midspan | sprung acceleration | contact force (of peak)");
+    let mut previous = [f64::INFINITY; 3];
+    for unsprung in [57.5, 5.75, 0.575] {
+        let (t, glider) = histories(&beam_scene(unsprung), &names);
+        let n = t.len().min(times.len());
+        let differences: Vec<f64> = (0..3)
+            .map(|i| largest_difference(&glider[i][..n], &follower[i][..n]) / peaks[i])
+            .collect();
+        eprintln!(
+            "{unsprung:>18} | {:.3e} | {:.3e} | {:.3e}",
+            differences[0], differences[1], differences[2]
+        );
+        for i in 0..3 {
+            assert!(
+                differences[i] < previous[i],
+                "{unsprung} kg, output {i}: {} not below {}",
+                differences[i],
+                previous[i]
+            );
+        }
+        previous = [differences[0], differences[1], differences[2]];
+    }
+    // At 0.01 % of the sprung mass the glider is the follower to 0.1 %.
+    assert!(previous.iter().all(|&d| d < 1e-3), "{previous:?}");
+}
+
+#[test]
+fn the_follower_keeps_the_energy_balance() {
+    // Undamped the balance holds the suspension's energy; damped the
+    // dissipated energy is accounted for.
+    for damping in [0.0, DAMPING] {
+        let scene = ground_scene_with(damping);
+        let names = [
+            "energy.balance",
+            "energy.spring",
+            "energy.dissipated",
+            "energy.gravity_work",
+        ];
+        let (_, out) = histories(&scene, &names);
+        let e0 = out[0][0];
+        let drift = out[0].iter().map(|e| (e - e0).abs()).fold(0.0, f64::max);
+        let spring = peak(&out[1]);
+        let dissipated = *out[2].last().unwrap();
+        eprintln!(
+            "follower, c = {damping}: drift {drift:.3e} J, spring energy up to {spring:.4e} J, \
+             dissipated {dissipated:.4e} J"
+        );
+        assert!(spring > 10.0, "{spring}");
+        assert!(drift < 1e-6 * spring, "drift {drift} J of {spring} J");
+        if damping > 0.0 {
+            assert!(dissipated > 1e3 * drift, "{dissipated} vs {drift}");
+        } else {
+            assert_eq!(dissipated, 0.0);
+        }
+    }
+}
+
+#[test]
+fn what_the_follower_does_not_offer_is_refused_with_the_field_named() {
+    let mut scene = ground_scene();
+    scene.body.suspension.as_mut().unwrap().unsprung_mass = -1.0;
+    let message = scene.validate().unwrap_err().to_string();
+    assert!(
+        message.contains("body.suspension.unsprung_mass"),
+        "{message}"
+    );
+
+    let mut scene = ground_scene();
+    scene.body.initial_height = 0.1;
+    let message = scene.validate().unwrap_err().to_string();
+    assert!(message.contains("body.initial_height"), "{message}");
+
+    let mut scene = ground_scene();
+    scene.solver.integrator = guideway::scene::IntegratorKind::Hht;
+    let message = Simulation::new(&scene).err().expect("refused");
+    assert!(message.contains("solver.integrator"), "{message}");
+    assert!(message.contains("RK4"), "{message}");
+
+    let mut scene = beam_scene(0.0);
+    scene.solver.start = guideway::scene::StartKind::Static;
+    let message = Simulation::new(&scene).err().expect("refused");
+    assert!(message.contains("solver.start"), "{message}");
+}
+
+#[test]
+fn the_follower_cannot_pull_the_body_flies_where_the_surface_drops_away() {
+    // A 50 mm, 2 m dip at 20 m/s drops the surface at up to 100 g: the
+    // suspension would have to pull, so it goes slack and the body falls.
+    let mut scene = ground_scene_with(0.0);
+    scene.track.irregularities = vec![guideway::scene::IrregularitySpec::CosineDip {
+        position: DIP_AT,
+        wavelength: 2.0,
+        depth: 0.05,
+    }];
+    let (_, out) = histories(&scene, &["contact.normal_force", "car.ay"]);
+    assert!(out[0].iter().all(|&n| n >= 0.0));
+    let slack: Vec<f64> = out[0]
+        .iter()
+        .zip(&out[1])
+        .filter(|(&n, _)| n == 0.0)
+        .map(|(_, &a)| a)
+        .collect();
+    eprintln!("slack at {} of {} steps", slack.len(), out[0].len());
+    assert!(slack.len() > 10, "{}", slack.len());
+    // Slack, the body falls freely (its acceleration from the last force).
+    assert!(
+        slack.iter().all(|a| (a + GRAVITY).abs() < 1e-9),
+        "{slack:?}"
+    );
+}
+
+#[test]
+fn the_follower_rolls_from_the_approach_over_the_beam_onto_the_run_off() {
+    let mut scene = beam_scene(0.0);
+    scene.track.approach = 10.0;
+    scene.track.run_off = 30.0;
+    scene.body.initial_position = -5.0;
+    scene.solver.end_time = Some(1.5);
+    let mut sim = Simulation::new(&scene).expect("builds");
+    let all: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let balance = all.iter().position(|n| n == "energy.balance").unwrap();
+    let mut values = vec![0.0; all.len()];
+    let e0 = sim.initial_energy();
+    let mut drift: f64 = 0.0;
+    let steps = (1.5 / BEAM_STEP).round() as u64;
+    for k in 1..=steps {
+        assert_eq!(
+            sim.advance_to(k as f64 * BEAM_STEP).unwrap(),
+            Advance::Reached
+        );
+        sim.output_values(&mut values);
+        drift = drift.max((values[balance] - e0).abs());
+    }
+    let kinds: Vec<guideway::simulation::EventKind> = sim.events().iter().map(|e| e.kind).collect();
+    eprintln!("events {kinds:?}, energy drift {drift:.3e} J");
+    assert_eq!(
+        kinds,
+        [
+            guideway::simulation::EventKind::Entry,
+            guideway::simulation::EventKind::Exit
+        ]
+    );
+    // Gravity does about M g × 0.2 mm ≈ 11 J of work as the beam deflects.
+    assert!(drift < 1e-6, "{drift}");
+}
