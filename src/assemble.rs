@@ -96,12 +96,7 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
         ..unsprung
     };
     contact.body = 1;
-    let sprung = RigidBody {
-        name: spec.name.clone(),
-        mass: spec.mass,
-        inertia: 0.0,
-        drive: None,
-    };
+    let sprung = sprung_body(spec);
     let sprung_state = BodyState {
         position: contact_state.position + Vector2::new(0.0, SPRUNG_HEIGHT),
         ..contact_state
@@ -144,6 +139,16 @@ fn sprung_mass(spec: &BodySpec, beam: &Beam, gravity: f64) -> Vehicle {
     }
 }
 
+/// The sprung mass of a `sprung_mass` vehicle: bounce only (no pitch).
+fn sprung_body(spec: &BodySpec) -> RigidBody {
+    RigidBody {
+        name: spec.name.clone(),
+        mass: spec.mass,
+        inertia: 0.0,
+        drive: None,
+    }
+}
+
 /// The moving oscillator over a massless follower (`unsprung_mass = 0`):
 /// one body, the sprung mass, whose contact is the follower at
 /// `SPRUNG_HEIGHT` below it; the suspension is the follower's force law.
@@ -154,12 +159,7 @@ fn sprung_mass_on_follower(
     gravity: f64,
 ) -> Vehicle {
     let (_, contact, contact_state) = single_body(spec, beam);
-    let sprung = RigidBody {
-        name: spec.name.clone(),
-        mass: spec.mass,
-        inertia: 0.0,
-        drive: None,
-    };
+    let sprung = sprung_body(spec);
     let contact = Contact {
         follower: Some(Follower {
             stiffness: suspension.stiffness,
