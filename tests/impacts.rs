@@ -66,19 +66,26 @@ fn first_wheelset_falling(sim: &Simulation, speed: f64) -> SimState {
     state
 }
 
-/// Each contact's velocity error (tangential, normal) in `state` (m/s).
-fn errors(sim: &Simulation, state: &SimState) -> Vec<[f64; 2]> {
-    let system = sim.system();
+/// Every contact's frame in `state`.
+fn frames(sim: &Simulation, state: &SimState) -> Vec<guideway::contact::ContactFrame> {
     let d = &state.dynamic;
     let mut frames = Vec::new();
     contact_frames(
-        system,
+        sim.system(),
         &d.beam_displacement,
         &d.bodies,
         (&d.contact_x, &state.parts),
         &mut frames,
     )
     .expect("frames");
+    frames
+}
+
+/// Each contact's velocity error (tangential, normal) in `state` (m/s).
+fn errors(sim: &Simulation, state: &SimState) -> Vec<[f64; 2]> {
+    let system = sim.system();
+    let d = &state.dynamic;
+    let frames = frames(sim, state);
     system
         .contacts
         .iter()
@@ -107,16 +114,7 @@ fn impact(
     let mut state = first_wheelset_falling(&sim, speed);
     let before = errors(&sim, &state);
     let system = sim.system();
-    let d = &state.dynamic;
-    let mut frames = Vec::new();
-    contact_frames(
-        system,
-        &d.beam_displacement,
-        &d.bodies,
-        (&d.contact_x, &state.parts),
-        &mut frames,
-    )
-    .expect("frames");
+    let frames = frames(&sim, &state);
     let parts = [Part::Landing(e), closed, closed, closed];
     let energy = kinetic_energy(system, &state.dynamic);
     let impact = resolve(system, &frames, &parts, &mut state.dynamic).expect("solved");
