@@ -331,8 +331,8 @@ impl Catalogue {
         self.real(
             e("numerical_dissipation"),
             "J",
-            "energy removed by HHT-alpha's numerical damping (zero under RK4), \
-             from the scheme's discrete energy identity",
+            "energy removed by the integrator's numerical damping: HHT-alpha's \
+             from its discrete energy identity, RK4's from the beam's energy",
             Quantity::NumericalDissipation,
         );
         self.real(

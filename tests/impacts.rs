@@ -283,7 +283,7 @@ fn a_bouncing_coach_on_a_rough_track_at_300_kmh_completes() {
     let grid = (0.75 / step).round() as u64;
     let mut sim = Simulation::new(&scene).expect("builds");
     let mut values = vec![0.0; sim.outputs().len()];
-    let mut worst_drift: f64 = 0.0;
+    let (mut worst_drift, mut worst_without) = (0.0f64, 0.0f64);
     for k in 1..=grid {
         match sim.advance_to(k as f64 * step) {
             Ok(Advance::Reached) => {}
@@ -291,7 +291,10 @@ fn a_bouncing_coach_on_a_rough_track_at_300_kmh_completes() {
         }
         sim.output_values(&mut values);
         assert!(values.iter().all(|v| v.is_finite()), "t = {}", sim.time());
-        worst_drift = worst_drift.max((sim.energy_balance() - sim.initial_energy()).abs());
+        let drift = sim.energy_balance() - sim.initial_energy();
+        worst_drift = worst_drift.max(drift.abs());
+        let numerical = sim.state().dynamic.numerical_dissipation;
+        worst_without = worst_without.max((drift - numerical).abs());
     }
     let (steps, _) = sim.counters();
     let kinds: Vec<_> = sim.events().iter().map(|e| (e.contact, e.kind)).collect();
@@ -300,9 +303,11 @@ fn a_bouncing_coach_on_a_rough_track_at_300_kmh_completes() {
     let relative = worst_drift / sim.initial_energy();
     eprintln!(
         "steps {steps} of {grid}, events {}, landings {landings}, lift-offs {lift_offs}, \
-         impact loss {:.1} J, largest energy drift {worst_drift:.1} J ({relative:.2e})",
+         impact loss {:.1} J, RK4's numerical dissipation {:.1} J, largest energy drift \
+         {worst_drift:.2} J ({relative:.2e}), without the numerical dissipation {worst_without:.1} J",
         kinds.len(),
-        sim.impact_loss()
+        sim.impact_loss(),
+        sim.state().dynamic.numerical_dissipation,
     );
     // Every wheelset went from the approach over the bridge onto the run-off.
     for c in 0..4 {
@@ -315,9 +320,22 @@ fn a_bouncing_coach_on_a_rough_track_at_300_kmh_completes() {
         steps <= grid + kinds.len() as u64,
         "{steps} steps for {grid}"
     );
-    // No energy from nowhere: the balance (impact losses included) drifts
-    // by 2.9e-4 of the initial energy here (63 kJ against 36 kJ of impact
-    // losses; not yet explained, see README), far from the tenths a
-    // blown-up step gives.
-    assert!(relative < 1e-3, "{relative}");
+    // Where the energy went: every impulse on the beam excites its highest
+    // modes, at ω Δt close to RK4's limit 2√2, where RK4 removes up to
+    // three quarters of a mode's energy per step. Unbooked, that was a
+    // drift of 3.0e-4 of the initial energy (66 kJ, more than the impact
+    // losses), nearly all in steps without events, while every wheelset
+    // flew and the beam vibrated freely.
+    assert!(
+        worst_without > 1e-4 * sim.initial_energy(),
+        "{worst_without}"
+    );
+    // Booked (`energy.numerical_dissipation`), the balance holds to
+    // 4.3 J of 2.19e8 J (2.0e-8, measured 2026-11-23), nearly all from the
+    // one step (t = 0.28884 s) in which a bounce was dropped by the
+    // chattering rule: a wheelset back on the track within the step it
+    // bounced in is closed while it still separates, and the closed step
+    // absorbs that relative velocity by a contact force whose work on
+    // wheelset and beam does not cancel (first order in the step).
+    assert!(relative < 1e-7, "{relative}");
 }

@@ -135,3 +135,68 @@ fn with_structural_damping_the_balance_still_closes() {
         "{worst} J of {initial} J"
     );
 }
+
+/// The paper's beam on 8 elements under RK4 at ω Δt = `omega_dt` of mode
+/// `mode` (1-based; 0 the highest), moving in that mode alone, a glider
+/// standing unloaded on rigid ground before it: (the simulation, ω Δt).
+fn rk4_in_one_mode(mode: usize, omega_dt: f64) -> (Simulation, f64) {
+    let mut beam_only = Scene::lee1994(BodyKind::Glider, 0.0, 1e-5);
+    beam_only.beam.elements = 8;
+    let built = Simulation::new(&beam_only).expect("builds");
+    let beam = &built.system().beam;
+    let modes = beam.modes(beam.free_dofs()).expect("modes");
+    let highest = modes.omega.len() - 1;
+    let k = if mode == 0 { highest } else { mode - 1 };
+    // Every step is set by the highest mode's ω Δt (RK4's limit 2√2).
+    let step = omega_dt / modes.omega[highest];
+    let mut scene = Scene::lee1994(BodyKind::Glider, 0.0, step);
+    scene.beam.elements = 8;
+    scene.body.force_y = 0.0;
+    scene.body.initial_position = -50.0;
+    scene.track.approach = 60.0;
+    scene.solver.integrator = IntegratorKind::Rk4;
+    scene.validate().expect("valid");
+    let mut sim = Simulation::new(&scene).expect("builds");
+    let mut state = sim.state();
+    let shape = modes.shapes.column(k).into_owned();
+    // ½ vᵀ M v = 5000 J (the shapes are mass-normalized).
+    state.dynamic.beam_velocity.copy_from(&(shape * 100.0));
+    sim.restore(&state).expect("restores");
+    (sim, modes.omega[k] * step)
+}
+
+#[test]
+fn rk4_dissipation_is_its_amplification_factor_on_each_mode() {
+    // RK4 multiplies a free mode's energy by |R(iωΔt)|² = 1 − (ωΔt)⁶/72 +
+    // (ωΔt)⁸/576 per step, exactly (the mode's two states rotate and
+    // shrink as one complex number): a quarter at ωΔt = √6, nearly one
+    // for the resolved modes. That loss is `energy.numerical_dissipation`
+    // under RK4, and the balance with it holds to round-off; the impacts
+    // that excite a mesh's highest modes made it most of the stress
+    // case's drift before it was booked (tests/impacts.rs).
+    for (mode, omega_dt) in [(0, 6f64.sqrt()), (0, 2.0), (1, 2.4)] {
+        let (mut sim, y) = rk4_in_one_mode(mode, omega_dt);
+        // The glider stands still: all the energy is the beam's.
+        let start = sim.energy_balance();
+        assert!((start - 5000.0).abs() < 1e-9 * 5000.0, "{start}");
+        let steps = 6;
+        for k in 1..=steps {
+            sim.advance_to(k as f64 * sim.step_size()).expect("runs");
+        }
+        let factor = 1.0 - y.powi(6) / 72.0 + y.powi(8) / 576.0;
+        let expected = start * (1.0 - factor.powi(steps));
+        let booked = sim.state().dynamic.numerical_dissipation;
+        assert!(
+            (booked - expected).abs() <= 1e-9 * start,
+            "mode {mode}, ωΔt = {y}: booked {booked} J, |R|^2n says {expected} J of {start} J"
+        );
+        assert!(
+            (sim.energy_balance() - start).abs() <= 1e-12 * start,
+            "mode {mode}"
+        );
+        if mode == 0 {
+            // Most of the highest mode's energy is gone.
+            assert!(booked > 0.5 * start, "{booked} J of {start} J");
+        }
+    }
+}

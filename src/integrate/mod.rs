@@ -51,8 +51,10 @@ pub struct DynamicState {
     /// t = 0 (J), integrated with the step.
     #[serde(default)]
     pub tractive_work: f64,
-    /// Energy removed by HHT-α's numerical damping since t = 0 (J), from
-    /// the scheme's discrete energy identity step by step (zero under RK4).
+    /// Energy removed by the integrator's numerical damping since t = 0
+    /// (J), step by step: HHT-α's from the scheme's discrete energy
+    /// identity, RK4's from the beam's energy against the work of its loads
+    /// (see `rk4::beam_dissipation`).
     #[serde(default)]
     pub numerical_dissipation: f64,
 }

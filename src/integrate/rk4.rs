@@ -77,6 +77,7 @@ impl Rk4 {
         let mut dissipation_sum = 0.0;
         let mut beam_dissipation_sum = 0.0;
         let mut tractive_power_sum = 0.0;
+        let mut beam_load_power_sum = 0.0;
 
         for stage in 0..4 {
             if stage > 0 {
@@ -111,6 +112,7 @@ impl Rk4 {
                 );
             beam.accelerations((&self.stage_u, &self.stage_v), &self.load, &mut self.accel);
             beam_dissipation_sum += WEIGHT[stage] * beam.damping_power(&self.stage_v);
+            beam_load_power_sum += WEIGHT[stage] * self.load.dot(&self.stage_v);
 
             let weight = WEIGHT[stage];
             self.sum_u.axpy(weight, &self.stage_v, 1.0);
@@ -160,7 +162,13 @@ impl Rk4 {
         end.dissipated = start.dissipated + w * dissipation_sum;
         end.beam_dissipated = start.beam_dissipated + w * beam_dissipation_sum;
         end.tractive_work = start.tractive_work + w * tractive_power_sum;
-        end.numerical_dissipation = start.numerical_dissipation;
+        end.numerical_dissipation = start.numerical_dissipation
+            + beam_dissipation(
+                system,
+                (start, &*end),
+                w * beam_load_power_sum,
+                w * beam_dissipation_sum,
+            );
         Ok(())
     }
 
@@ -198,6 +206,27 @@ impl Rk4 {
         velocity.copy_from(&self.sum_v);
         velocity.scale_mut(dt / 6.0);
     }
+}
+
+/// The beam energy RK4 removed in a step from `start` to `end`: the work
+/// of the loads on the beam and of its structural damping, by RK4's own
+/// quadrature of their power at the stages, less the change of its
+/// kinetic and strain energy. Zero to the method's order where the step
+/// resolves the motion; for a mode at ω Δt near the limit 2√2 (which an
+/// impulse on the consistent mass excites) RK4's amplification
+/// |R(iωΔt)|² = 1 − (ωΔt)⁶/72 + (ωΔt)⁸/576 < 1 removes up to three
+/// quarters of the mode's energy per step: that is what this books.
+fn beam_dissipation(
+    system: &System,
+    (start, end): (&DynamicState, &DynamicState),
+    load_work: f64,
+    damping_work: f64,
+) -> f64 {
+    let beam = &system.beam;
+    let energy = |s: &DynamicState| {
+        beam.kinetic_energy(&s.beam_velocity) + beam.strain_energy(&s.beam_displacement)
+    };
+    load_work - damping_work - (energy(end) - energy(start))
 }
 
 /// The contact forces at stage time `k` of the shapes, for the step's mean
