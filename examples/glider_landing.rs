@@ -35,8 +35,23 @@ fn main() {
     let mut min_gap: f64 = 0.0;
     let mut last_time = sim.time();
     let mut shortest = f64::INFINITY;
+    let mut balance = sim.energy_balance();
     for k in 1..=grid {
         sim.advance_to(k as f64 * step).expect("runs");
+        let jump = sim.energy_balance() - balance;
+        balance = sim.energy_balance();
+        if std::env::var("JUMPS").is_ok() && jump.abs() > 1.0 {
+            let events: Vec<String> = sim.events()[seen..]
+                .iter()
+                .map(|e| format!("{}:{:?}@{:.7}", e.contact, e.kind, e.time))
+                .collect();
+            let open: Vec<bool> = sim.contact_statuses().iter().map(|c| c.open).collect();
+            println!(
+                "t {:.5} jump {jump:+.2} J open {open:?} {}",
+                sim.time(),
+                events.join(" ")
+            );
+        }
         min_gap = min_gap.min(sim.contact_statuses()[1].gap);
         let new: Vec<_> = sim.events()[seen..].to_vec();
         seen = sim.events().len();
