@@ -2,6 +2,8 @@
 //! wheel at 100 m/s sets vibrating, undamped: its landings and lift-offs
 //! against the mesh and the step.
 //! `cargo run --release --example glider_landing -- ELEMENTS STEP [damped]`
+//! (`VERBOSE=1`: every event of the glider; `JUMPS=1`: every grid step in
+//! which the energy balance moves by more than 1 J, with its events).
 
 use guideway::scene::{BodyKind, DampingSpec, IntegratorKind, Scene};
 use guideway::simulation::EventKind;
