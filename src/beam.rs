@@ -494,7 +494,9 @@ impl Beam {
     /// velocities, loads): the free DOFs, or the kept modes on a modal
     /// structure.
     pub fn coordinates(&self) -> usize {
-        self.modal.as_ref().map_or(self.free_dofs, ModalBasis::modes)
+        self.modal
+            .as_ref()
+            .map_or(self.free_dofs, ModalBasis::modes)
     }
 
     /// Value on free DOF `dof` of the field a state vector `u` describes.
@@ -943,7 +945,8 @@ impl Beam {
         let len = self.element_length[element];
         let ke = element_stiffness(len, self.bending_stiffness);
         let me = element_mass(len, self.mass_per_length);
-        let local = |v: &DVector<f64>| nalgebra::Vector4::from(self.gather(&self.element_dofs[element], v));
+        let local =
+            |v: &DVector<f64>| nalgebra::Vector4::from(self.gather(&self.element_dofs[element], v));
         let f = ke * local(u) + me * local(a);
         [f[0], f[1], f[2], f[3]]
     }

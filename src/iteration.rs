@@ -575,11 +575,8 @@ impl ContactIteration {
                 for (a, &ki) in kinds_i.iter().enumerate() {
                     for b in 0..kinds_j.len() {
                         let column = self.offsets[j] + b;
-                        velocity[(self.offsets[i] + a, column)] = beam.dot(
-                            &measure.shape,
-                            &measure_rows[ki],
-                            &self.response_v[column],
-                        );
+                        velocity[(self.offsets[i] + a, column)] =
+                            beam.dot(&measure.shape, &measure_rows[ki], &self.response_v[column]);
                     }
                 }
                 gap[(i, j)] = beam.dot(

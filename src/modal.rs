@@ -235,14 +235,21 @@ impl ModalBasis {
     /// q̇ᵀ C q̇ (W).
     pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
         let rayleigh = v.zip_fold(&self.damping, 0.0, |s, v, c| s + c * v * v);
-        let dampers = self.dampers.as_ref().map_or(0.0, |d| d.dot(&(v * v.transpose())));
+        let dampers = self
+            .dampers
+            .as_ref()
+            .map_or(0.0, |d| d.dot(&(v * v.transpose())));
         rayleigh + dampers
     }
 
     /// The factor of I + `damping_weight` C + `stiffness_weight` Ω², the
     /// implicit scheme's effective matrix in modal coordinates: diagonal
     /// (one division per mode) unless support dampers couple the modes.
-    pub fn effective_factor(&self, damping_weight: f64, stiffness_weight: f64) -> Option<ModalFactor> {
+    pub fn effective_factor(
+        &self,
+        damping_weight: f64,
+        stiffness_weight: f64,
+    ) -> Option<ModalFactor> {
         let diagonal = DVector::from_fn(self.modes(), |j, _| {
             1.0 + damping_weight * self.damping[j] + stiffness_weight * self.stiffness[j]
         });
@@ -575,7 +582,10 @@ mod tests {
         let (u, w) = (basis.shapes() * &q, basis.shapes() * &v);
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-10 * a.abs().max(b.abs());
         assert!(close(basis.strain_energy(&q), spec_beam.strain_energy(&u)));
-        assert!(close(basis.kinetic_energy(&v), spec_beam.kinetic_energy(&w)));
+        assert!(close(
+            basis.kinetic_energy(&v),
+            spec_beam.kinetic_energy(&w)
+        ));
         assert!(close(basis.damping_power(&v), spec_beam.damping_power(&w)));
         // The effective factor inverts I + c C + d Ω².
         let factor = basis.effective_factor(0.01, 1e-6).expect("positive");
@@ -583,7 +593,8 @@ mod tests {
         factor.solve_mut(&mut x);
         let mut back = DVector::zeros(n);
         basis.internal_forces(&x, &x, &mut back);
-        let rebuilt = &x + 0.01 * (&back - basis.stiffness.component_mul(&x))
+        let rebuilt = &x
+            + 0.01 * (&back - basis.stiffness.component_mul(&x))
             + 1e-6 * basis.stiffness.component_mul(&x);
         assert!((&rebuilt - &q).amax() <= 1e-12 * q.amax());
     }
