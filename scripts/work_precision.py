@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Error against run time: run `guideway work-precision` and plot it.
 
-    .venv/bin/python scripts/work_precision.py [--quick] [--repeats 5] [--csv FILE]
+    .venv/bin/python scripts/work_precision.py [--quick] [--repeats 5] [--csv FILE] [--modal-only]
 
 Writes report/work_precision.csv (from the CLI, unless --csv names an
 existing file to plot) and report/work_precision.png: for each case (rows)
 and error measure (columns), error against the median wall time, log-log,
 one curve per scheme over the step sweep; the paper's own setting (RK4 at
 the built-in step and tolerance) is marked with a star, runs that stopped
-(beyond RK4's stability limit, lift-off) are left out.
+(beyond RK4's stability limit, lift-off) are left out. With --modal-only
+only the modal structures are measured again, and their rows replace the
+`modal-*` rows of the existing CSV.
 """
 
 import argparse
@@ -29,6 +31,17 @@ MEASURES = [
 def read_points(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+def merge_modal(csv_path, modal_path):
+    """Replace the `modal-*` rows of `csv_path` by those of `modal_path`."""
+    kept = [p for p in read_points(csv_path) if not p["scheme"].startswith("modal-")]
+    modal = read_points(modal_path)
+    with open(csv_path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(modal[0].keys()), lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(kept + modal)
+    modal_path.unlink()
 
 
 def plot(points, out):
@@ -77,6 +90,8 @@ def main(argv=None):
     parser.add_argument("--quick", action="store_true", help="short sweep, coarse reference")
     parser.add_argument("--repeats", type=int, default=5)
     parser.add_argument("--csv", help="plot this CSV instead of measuring")
+    parser.add_argument("--modal-only", action="store_true",
+                        help="measure the modal curves only, replacing them in the existing CSV")
     parser.add_argument("--out-dir", default=str(ROOT / "report"))
     parser.add_argument("--guideway", default=str(ROOT / os.environ.get("CARGO_TARGET_DIR", "target") / "release" / "guideway"))
     args = parser.parse_args(argv)
@@ -85,10 +100,15 @@ def main(argv=None):
     out_dir.mkdir(parents=True, exist_ok=True)
     csv_path = pathlib.Path(args.csv) if args.csv else out_dir / "work_precision.csv"
     if not args.csv:
-        command = [args.guideway, "work-precision", "-o", str(csv_path), "--repeats", str(args.repeats)]
+        target = csv_path.with_suffix(".modal.csv") if args.modal_only else csv_path
+        command = [args.guideway, "work-precision", "-o", str(target), "--repeats", str(args.repeats)]
         if args.quick:
             command.append("--quick")
+        if args.modal_only:
+            command.append("--modal-only")
         subprocess.run(command, check=True)
+        if args.modal_only:
+            merge_modal(csv_path, target)
     points = read_points(csv_path)
     png = out_dir / "work_precision.png"
     plot(points, png)

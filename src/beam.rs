@@ -8,7 +8,7 @@
 
 use crate::band::{BandLdlt, SymBand};
 use crate::mesh::{GroundSpring, Mesh, Segment};
-use crate::modal::{ModalBasis, ModeSelection, ReducedFactor};
+use crate::modal::{ModalBasis, ModalFactor, ModeSelection};
 use crate::scene::{BeamSpec, DampingSpec};
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
 
@@ -70,7 +70,9 @@ pub struct Shape {
 }
 
 impl Shape {
-    /// Dot a row of shape values with the element's entries of a free-DOF vector.
+    /// Dot a row of shape values with the element's entries of a nodal
+    /// free-DOF vector (a full structure's state; `Beam::dot` reads any
+    /// structure's).
     pub fn dot(&self, row: &[f64; 4], q: &DVector<f64>) -> f64 {
         self.dofs
             .iter()
@@ -79,7 +81,8 @@ impl Shape {
             .sum()
     }
 
-    /// Add `scale * row` into the element's entries of a free-DOF vector.
+    /// Add `scale * row` into the element's entries of a nodal free-DOF
+    /// vector (`Beam::scatter` loads any structure's).
     pub fn scatter(&self, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
         for (dof, r) in self.dofs.iter().zip(row) {
             if let Some(i) = *dof {
@@ -122,11 +125,11 @@ pub struct Beam {
 }
 
 /// The inverse of an implicit scheme's effective matrix: the band factor,
-/// or on a modal structure its projection onto the modes.
+/// or on a modal structure the modal one (diagonal without support dampers).
 #[derive(Debug, Clone)]
 pub enum EffectiveFactor {
     Band(BandLdlt),
-    Modal(ReducedFactor),
+    Modal(ModalFactor),
 }
 
 impl EffectiveFactor {
@@ -461,8 +464,8 @@ impl Beam {
     pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
         let len = self.element_length[element];
         let (s, past) = self.abscissa(element, x);
-        let dof = |k: usize| self.element_dofs[element][k].map_or(0.0, |i| u[i]);
-        let (a, b, c, d) = (dof(0), dof(1) * len, dof(2), dof(3) * len);
+        let [a, b, c, d] = self.gather(&self.element_dofs[element], u);
+        let (b, d) = (b * len, d * len);
         let c2 = -3.0 * a - 2.0 * b + 3.0 * c - d;
         let c3 = 2.0 * a + b - 2.0 * c + d;
         let w = a + s * (b + s * (c2 + s * c3));
@@ -484,17 +487,73 @@ impl Beam {
     /// Transverse deflection w at `x` (m).
     pub fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
         let shape = self.shape(self.element_at(x), x);
-        shape.dot(&shape.n, u)
+        self.dot(&shape, &shape.n, u)
+    }
+
+    /// Entries of a state vector of the structure (displacements,
+    /// velocities, loads): the free DOFs, or the kept modes on a modal
+    /// structure.
+    pub fn coordinates(&self) -> usize {
+        self.modal
+            .as_ref()
+            .map_or(self.free_dofs, ModalBasis::modes)
+    }
+
+    /// Value on free DOF `dof` of the field a state vector `u` describes.
+    pub fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
+        match &self.modal {
+            None => u[dof],
+            Some(modal) => modal.value(dof, u),
+        }
+    }
+
+    /// `out += scale` × a unit load on free DOF `dof`, in the structure's
+    /// coordinates.
+    pub fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        match &self.modal {
+            None => out[dof] += scale,
+            Some(modal) => modal.add_load(dof, scale, out),
+        }
+    }
+
+    /// The field of state vector `u` on the four DOFs `dofs` of an element
+    /// (0 where held).
+    pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
+        dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u)))
+    }
+
+    /// Dot a row of `shape`'s values with the field of state vector `u`.
+    pub fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
+        if self.modal.is_none() {
+            return shape.dot(row, u);
+        }
+        let local = self.gather(&shape.dofs, u);
+        local.iter().zip(row).map(|(a, b)| a * b).sum()
+    }
+
+    /// Add the load `scale * row` at `shape` into state vector `out`.
+    pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
+        for (dof, r) in shape.dofs.iter().zip(row) {
+            if let Some(i) = *dof {
+                self.add_dof_load(i, scale * r, out);
+            }
+        }
     }
 
     /// `out = K u`.
     pub fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
-        self.stiffness.mul_to(u.as_slice(), out.as_mut_slice());
+        match &self.modal {
+            None => self.stiffness.mul_to(u.as_slice(), out.as_mut_slice()),
+            Some(modal) => modal.stiffness_times(u, out),
+        }
     }
 
     /// `out = M v`.
     pub fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
-        self.mass.mul_to(v.as_slice(), out.as_mut_slice());
+        match &self.modal {
+            None => self.mass.mul_to(v.as_slice(), out.as_mut_slice()),
+            Some(_) => out.copy_from(v),
+        }
     }
 
     /// LDLᵀ factor of M + `damping_weight` C + `stiffness_weight` K, the
@@ -522,37 +581,29 @@ impl Beam {
     }
 
     /// The inverse of M + `damping_weight` C + `stiffness_weight` K: the
-    /// band factor, or on a modal structure its projection onto the modes.
+    /// band factor, or on a modal structure the modal one.
     pub fn effective_factor(
         &self,
         damping_weight: f64,
         stiffness_weight: f64,
     ) -> Result<EffectiveFactor, String> {
-        let band = self.factor_effective(damping_weight, stiffness_weight)?;
         let Some(modal) = &self.modal else {
+            let band = self.factor_effective(damping_weight, stiffness_weight)?;
             return Ok(EffectiveFactor::Band(band));
         };
-        let c = self.damping;
-        let mass_weight = 1.0 + damping_weight * c.mass;
-        let stiffness_weight = stiffness_weight + damping_weight * c.stiffness;
-        let reduced = modal.reduced_factor(|x, out| {
-            self.mass.mul_to(x.as_slice(), out.as_mut_slice());
-            out.scale_mut(mass_weight);
-            self.stiffness
-                .mul_add_to(stiffness_weight, x.as_slice(), out.as_mut_slice());
-            for spring in self.dampers() {
-                out[spring.dof] += damping_weight * spring.damping * x[spring.dof];
-            }
-        });
-        reduced.map(EffectiveFactor::Modal).ok_or_else(|| {
+        let factor = modal.effective_factor(damping_weight, stiffness_weight);
+        factor.map(EffectiveFactor::Modal).ok_or_else(|| {
             "the implicit scheme's effective matrix on the modes is not positive definite".into()
         })
     }
 
     /// Represent the beam by the modes `selection` keeps (`crate::modal`):
-    /// from here on M⁻¹ is Φ Φᵀ and the effective matrices are projected.
+    /// from here on its state vectors are modal coordinates.
     pub fn reduce_to_modes(&mut self, selection: ModeSelection) -> Result<(), String> {
-        self.modal = Some(ModalBasis::new(self, selection)?);
+        let rayleigh = (self.damping.mass, self.damping.stiffness);
+        let dampers = self.dampers().map(|s| (s.dof, s.damping));
+        let basis = ModalBasis::new(self, selection)?.with_damping(rayleigh, dampers);
+        self.modal = Some(basis);
         Ok(())
     }
 
@@ -572,6 +623,7 @@ impl Beam {
 
     /// The static deflection u with K u = `load`, through the band LDLᵀ
     /// factor of K (refused when the supports leave a rigid-body motion).
+    /// On a modal structure, load and deflection are modal coordinates.
     pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
         if let Some(modal) = &self.modal {
             return modal.static_deflection(load);
@@ -594,6 +646,9 @@ impl Beam {
         scratch: &mut DVector<f64>,
         out: &mut DVector<f64>,
     ) {
+        if let Some(modal) = &self.modal {
+            return modal.internal_forces(u, v, out);
+        }
         let c = self.damping;
         if c.is_zero() {
             self.stiffness_times(u, out);
@@ -635,8 +690,11 @@ impl Beam {
             .sum()
     }
 
-    /// (M⁻¹)ᵢᵢ, by one band solve.
+    /// (M⁻¹)ᵢᵢ, by one band solve ((Φ Φᵀ)ᵢᵢ on a modal structure).
     fn inverse_mass_diagonal(&self, i: usize) -> f64 {
+        if let Some(modal) = &self.modal {
+            return modal.inverse_mass_diagonal(i);
+        }
         let mut e = DVector::zeros(self.free_dofs);
         e[i] = 1.0;
         self.solve_mass(&mut e);
@@ -645,6 +703,9 @@ impl Beam {
 
     /// Power dissipated by the structural damping, vᵀ C v (W).
     pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
+        if let Some(modal) = &self.modal {
+            return modal.damping_power(v);
+        }
         let c = self.damping;
         let supports = self.damper_power(v);
         if c.is_zero() {
@@ -656,11 +717,10 @@ impl Beam {
             + supports
     }
 
-    /// `rhs ← M⁻¹ rhs` (Φ Φᵀ `rhs` on a modal structure).
+    /// `rhs ← M⁻¹ rhs` (the identity in modal coordinates).
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
-        match &self.modal {
-            None => self.mass_factor.solve_mut(rhs),
-            Some(modal) => modal.project(rhs),
+        if self.modal.is_none() {
+            self.mass_factor.solve_mut(rhs);
         }
     }
 
@@ -671,6 +731,9 @@ impl Beam {
         load: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
+        if let Some(modal) = &self.modal {
+            return modal.accelerations((u, v), load, out);
+        }
         let c = self.damping;
         // M⁻¹ (f − K (u + β v)) − α v: one mass solve, no product with M;
         // K (u + β v) = K u + β K v, accumulated in `out` without scratch.
@@ -691,12 +754,18 @@ impl Beam {
 
     /// ½ vᵀ M v.
     pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
-        0.5 * self.mass.quadratic_form(v.as_slice())
+        match &self.modal {
+            None => 0.5 * self.mass.quadratic_form(v.as_slice()),
+            Some(modal) => modal.kinetic_energy(v),
+        }
     }
 
     /// ½ uᵀ K u.
     pub fn strain_energy(&self, u: &DVector<f64>) -> f64 {
-        0.5 * self.stiffness.quadratic_form(u.as_slice())
+        match &self.modal {
+            None => 0.5 * self.stiffness.quadratic_form(u.as_slice()),
+            Some(modal) => modal.strain_energy(u),
+        }
     }
 
     /// Highest natural circular frequency of the assembled beam (rad/s),
@@ -876,9 +945,8 @@ impl Beam {
         let len = self.element_length[element];
         let ke = element_stiffness(len, self.bending_stiffness);
         let me = element_mass(len, self.mass_per_length);
-        let local = |v: &DVector<f64>| {
-            nalgebra::Vector4::from_fn(|k, _| self.element_dofs[element][k].map_or(0.0, |i| v[i]))
-        };
+        let local =
+            |v: &DVector<f64>| nalgebra::Vector4::from(self.gather(&self.element_dofs[element], v));
         let f = ke * local(u) + me * local(a);
         [f[0], f[1], f[2], f[3]]
     }

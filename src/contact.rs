@@ -193,8 +193,8 @@ impl ContactFrame {
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
         let (t_row, n_row) = self.beam_rows(beam.surface_offset);
         Vector2::new(
-            bt.dot(&q) - self.shape.dot(&t_row, beam_velocity),
-            bn.dot(&q) - self.shape.dot(&n_row, beam_velocity),
+            bt.dot(&q) - beam.dot(&self.shape, &t_row, beam_velocity),
+            bn.dot(&q) - beam.dot(&self.shape, &n_row, beam_velocity),
         )
     }
 
@@ -214,8 +214,8 @@ impl ContactFrame {
         beam_velocity: &DVector<f64>,
     ) -> f64 {
         let s = &self.shape;
-        let w_rate = s.dot(&s.n, beam_velocity);
-        let slope_rate = s.dot(&s.dn, beam_velocity);
+        let w_rate = beam.dot(s, &s.n, beam_velocity);
+        let slope_rate = beam.dot(s, &s.dn, beam_velocity);
         let height = state.position.y - self.deflection;
         // d/dt of the foot-point condition (X − x) + (Y − w(x)) w'(x) = 0.
         let foot_speed =

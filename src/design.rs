@@ -69,11 +69,11 @@ pub fn contact_loads(
 
 /// The consistent load vector of `loads` on the free DOFs.
 pub fn load_vector(beam: &Beam, loads: &[PointLoad]) -> DVector<f64> {
-    let mut r = DVector::zeros(beam.free_dofs());
+    let mut r = DVector::zeros(beam.coordinates());
     for load in loads {
         let shape = beam.shape(load.element, load.x);
-        shape.scatter(&shape.n, load.force, &mut r);
-        shape.scatter(&shape.dn, load.couple, &mut r);
+        beam.scatter(&shape, &shape.n, load.force, &mut r);
+        beam.scatter(&shape, &shape.dn, load.couple, &mut r);
     }
     r
 }
@@ -105,7 +105,7 @@ impl BeamDynamics {
         loads: Vec<PointLoad>,
     ) -> BeamDynamics {
         let r = load_vector(beam, &loads);
-        let mut acceleration = DVector::zeros(beam.free_dofs());
+        let mut acceleration = DVector::zeros(beam.coordinates());
         beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
         Self::with_acceleration(beam, (displacement, velocity, acceleration), loads)
     }
@@ -171,7 +171,7 @@ impl BeamDynamics {
     }
 
     fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {
-        let zero = DVector::zeros(beam.free_dofs());
+        let zero = DVector::zeros(beam.coordinates());
         BeamDynamics {
             damped: OnceCell::from(None),
             damping: Rayleigh::default(),
@@ -270,7 +270,7 @@ impl BeamDynamics {
         for (point, weight) in GAUSS_3 {
             let xi = middle + half * point;
             let shape = beam.shape(e, xi);
-            let inertia = mu * shape.dot(&shape.n, a) * weight * half;
+            let inertia = mu * beam.dot(&shape, &shape.n, a) * weight * half;
             shear -= inertia;
             moment -= inertia * (x - xi);
         }
@@ -285,8 +285,11 @@ impl BeamDynamics {
         let mut reaction = self.held_reaction(beam, node);
         for (spring, vertical) in beam.springs_at(node) {
             let dof = spring.dof;
-            let force =
-                -spring.stiffness * self.displacement[dof] - spring.damping * self.velocity[dof];
+            let (w, rate) = (
+                beam.dof_value(dof, &self.displacement),
+                beam.dof_value(dof, &self.velocity),
+            );
+            let force = -spring.stiffness * w - spring.damping * rate;
             reaction[usize::from(!vertical)] += force;
         }
         reaction

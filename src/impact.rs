@@ -157,8 +157,10 @@ fn unit_responses(system: &System, frames: &[ContactFrame], active: &[bool]) -> 
             };
             // The beam takes the opposite impulse.
             let beam = frame.on_beam.then(|| {
-                let mut load = DVector::zeros(system.beam.free_dofs());
-                frame.shape.scatter(&beam_row, -1.0, &mut load);
+                let mut load = DVector::zeros(system.beam.coordinates());
+                system
+                    .beam
+                    .scatter(&frame.shape, &beam_row, -1.0, &mut load);
                 system.beam.solve_mass(&mut load);
                 load
             });
@@ -192,7 +194,8 @@ fn error_change(
     }
     if let (true, Some(beam)) = (frame.on_beam, &r.beam) {
         let (t, n) = frame.beam_rows(system.beam.surface_offset);
-        change -= frame.shape.dot(if kind == 0 { &t } else { &n }, beam);
+        let row = if kind == 0 { &t } else { &n };
+        change -= system.beam.dot(&frame.shape, row, beam);
     }
     change
 }

@@ -345,7 +345,7 @@ pub struct ContactIteration {
 impl ContactIteration {
     /// `nominal_step`: the fixed step whose unit-load responses are cached.
     pub fn new(integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
-        let free_dofs = system.beam.free_dofs();
+        let free_dofs = system.beam.coordinates();
         let (offsets, rows) = system.row_offsets();
         let followers: Vec<bool> = system
             .contacts
@@ -460,7 +460,7 @@ impl ContactIteration {
                 self.response_v[l].fill(0.0);
                 let Some(dof) = *dof else { continue };
                 self.load.fill(0.0);
-                self.load[dof] = 1.0;
+                beam.add_dof_load(dof, 1.0, &mut self.load);
                 let (u, v) = (&mut self.response_u[l], &mut self.response_v[l]);
                 self.integrator
                     .beam_response(system, &self.load, self.nominal_step, u, v);
@@ -477,8 +477,8 @@ impl ContactIteration {
                     }
                     for (k, m) in mdofs.iter().enumerate() {
                         if let Some(m) = *m {
-                            response.displacement[(k, l)] = self.response_u[l][m];
-                            response.velocity[(k, l)] = self.response_v[l][m];
+                            response.displacement[(k, l)] = beam.dof_value(m, &self.response_u[l]);
+                            response.velocity[(k, l)] = beam.dof_value(m, &self.response_v[l]);
                         }
                     }
                 }
@@ -547,7 +547,8 @@ impl ContactIteration {
         velocity: &mut DMatrix<f64>,
         gap: &mut DMatrix<f64>,
     ) {
-        let h = system.beam.surface_offset;
+        let beam = &system.beam;
+        let h = beam.surface_offset;
         self.reserve_responses(self.rows);
         for (j, apply) in start_frames.iter().enumerate() {
             if !apply.on_beam {
@@ -559,7 +560,7 @@ impl ContactIteration {
             for (b, &kj) in kinds_j.iter().enumerate() {
                 let column = self.offsets[j] + b;
                 self.load.fill(0.0);
-                apply.shape.scatter(&rows[kj], 1.0, &mut self.load);
+                beam.scatter(&apply.shape, &rows[kj], 1.0, &mut self.load);
                 let (u, v) = (&mut self.response_u[column], &mut self.response_v[column]);
                 self.integrator.beam_response(system, &self.load, dt, u, v);
             }
@@ -574,14 +575,15 @@ impl ContactIteration {
                 for (a, &ki) in kinds_i.iter().enumerate() {
                     for b in 0..kinds_j.len() {
                         let column = self.offsets[j] + b;
-                        velocity[(self.offsets[i] + a, column)] = measure
-                            .shape
-                            .dot(&measure_rows[ki], &self.response_v[column]);
+                        velocity[(self.offsets[i] + a, column)] =
+                            beam.dot(&measure.shape, &measure_rows[ki], &self.response_v[column]);
                     }
                 }
-                gap[(i, j)] = measure
-                    .shape
-                    .dot(&measure_rows[1], &self.response_u[normal_column]);
+                gap[(i, j)] = beam.dot(
+                    &measure.shape,
+                    &measure_rows[1],
+                    &self.response_u[normal_column],
+                );
             }
         }
     }

@@ -1,21 +1,20 @@
 //! The modal structure (`solver.structure = "modal"`): the beam in its
 //! lowest k natural modes, mass-normalised (Φᵀ M Φ = I, Φᵀ K Φ = Ω²).
 //!
-//! The beam's state stays on its nodal DOFs, u = Φ q and v = Φ q̇, so the
-//! contact frames, sensors, sections and energies read the modal expansion
-//! through the same shape functions as before. What changes is the
-//! structure's response: where the full model applies M⁻¹ (accelerations,
-//! impulses) or the effective matrix's inverse S⁻¹ (HHT-α), the modal one
-//! applies Φ Φᵀ and Φ (Φᵀ S Φ)⁻¹ Φᵀ, the Galerkin projection onto the k
-//! modes. A contact load f therefore enters as Φᵀ f (Φᵀ times the shape
-//! functions at the contact), and the Delassus operator, which the
-//! iteration builds from the integrator's response to unit loads, is the
-//! modal compliance. The modal coordinates are integrated by the scene's
-//! own integrator (RK4 or HHT-α act linearly, so integrating u in span Φ is
-//! integrating q): the contact forces vary within the step, so exact
-//! per-mode integration would not be exact for the coupled system, and the
-//! same scheme keeps modal and full runs comparable step for step. With
-//! every mode kept, Φ Φᵀ = M⁻¹ and the run is the full model's to round-off.
+//! The structure's state is the k modal coordinates q and their rates, not
+//! the nodal DOFs: in these coordinates the mass is the identity, the
+//! stiffness Ω² and Rayleigh damping α + β ω² per mode are diagonal, so
+//! the integrators advance k decoupled oscillators (support dampers add
+//! Φᵀ D Φ, a k×k matrix). A nodal DOF's value is a row of Φ times q, and a
+//! load on it adds that row to the modal load: a contact reads and loads
+//! the structure through the Φ rows of its element's four DOFs, O(k) per
+//! contact, never O(n k). Nodal fields (sensors, sections, the nodes
+//! output) are reconstructed only where an output asks for them. The
+//! modal coordinates are integrated by the scene's own integrator (not
+//! exactly per mode: the contact forces vary within the step, and the same
+//! scheme keeps modal and full runs comparable step for step). With every
+//! mode kept the run is the full model's in other coordinates, equal to
+//! round-off.
 
 use std::sync::Arc;
 
@@ -70,17 +69,27 @@ impl ModeSelection {
 }
 
 /// The kept modes: shapes on the free DOFs (one per column) and their
-/// circular frequencies, lowest first.
+/// circular frequencies, lowest first, with the modal damping; and the
+/// structure's operations in modal coordinates.
 #[derive(Debug, Clone)]
 pub struct ModalBasis {
     shapes: Arc<DMatrix<f64>>,
     omega: Vec<f64>,
+    /// Φᵀ (k × n): row i of Φ stored contiguously as column i, what a
+    /// contact on DOF i reads and loads.
+    rows: DMatrix<f64>,
+    /// ω² per mode.
+    stiffness: DVector<f64>,
+    /// Rayleigh damping per mode, α + β ω² (1/s).
+    damping: DVector<f64>,
+    /// Φᵀ D Φ of the support dampers (k × k); `None` without dampers.
+    dampers: Option<DMatrix<f64>>,
 }
 
 impl ModalBasis {
     /// The modes of `beam` that `selection` keeps: a dense eigenproblem up
     /// to `MAX_MODE_DOFS` free DOFs, a subspace iteration on the band
-    /// factor beyond.
+    /// factor beyond. Undamped until `with_damping`.
     pub fn new(beam: &Beam, selection: ModeSelection) -> Result<ModalBasis, String> {
         let n = beam.free_dofs();
         if let ModeSelection::Count(k) = selection {
@@ -119,10 +128,34 @@ impl ModalBasis {
                 }
             ));
         }
+        let shapes = shapes.columns(0, keep).into_owned();
+        let omega = omega[..keep].to_vec();
         Ok(ModalBasis {
-            shapes: Arc::new(shapes.columns(0, keep).into_owned()),
-            omega: omega[..keep].to_vec(),
+            rows: shapes.transpose(),
+            shapes: Arc::new(shapes),
+            stiffness: DVector::from_iterator(keep, omega.iter().map(|w| w * w)),
+            damping: DVector::zeros(keep),
+            dampers: None,
+            omega,
         })
+    }
+
+    /// The basis with Rayleigh damping `mass` M + `stiffness` K and the
+    /// support dampers `dampers` (DOF, coefficient) projected onto it.
+    pub fn with_damping(
+        mut self,
+        rayleigh: (f64, f64),
+        dampers: impl Iterator<Item = (usize, f64)>,
+    ) -> ModalBasis {
+        let (alpha, beta) = rayleigh;
+        self.damping = self.stiffness.map(|w2| alpha + beta * w2);
+        let k = self.modes();
+        for (dof, c) in dampers {
+            let row = self.rows.column(dof);
+            let d = self.dampers.get_or_insert_with(|| DMatrix::zeros(k, k));
+            d.ger(c, &row, &row, 1.0);
+        }
+        self
     }
 
     /// How many modes are kept.
@@ -140,14 +173,100 @@ impl ModalBasis {
         &self.shapes
     }
 
-    /// `x ← Φ Φᵀ x`: M⁻¹ of the reduced structure (Φ Φᵀ = M⁻¹ when every
-    /// mode is kept).
-    pub fn project(&self, x: &mut DVector<f64>) {
-        let q = self.shapes.tr_mul(x);
-        self.shapes.mul_to(&q, x);
+    /// The value on free DOF `dof` of the field whose modal coordinates
+    /// are `q`: (Φ q)_dof, O(k).
+    pub fn value(&self, dof: usize, q: &DVector<f64>) -> f64 {
+        self.rows.column(dof).dot(q)
     }
 
-    /// The static deflection Φ Ω⁻² Φᵀ `load`.
+    /// `out += scale Φᵀ e_dof`: a load `scale` on free DOF `dof` in modal
+    /// coordinates, O(k).
+    pub fn add_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        out.axpy(scale, &self.rows.column(dof), 1.0);
+    }
+
+    /// (Φ Φᵀ)_dof,dof: the reduced structure's (M⁻¹)ᵢᵢ.
+    pub fn inverse_mass_diagonal(&self, dof: usize) -> f64 {
+        self.rows.column(dof).norm_squared()
+    }
+
+    /// `out = Ω² q`.
+    pub fn stiffness_times(&self, q: &DVector<f64>, out: &mut DVector<f64>) {
+        out.copy_from(q);
+        out.component_mul_assign(&self.stiffness);
+    }
+
+    /// `out += scale C v`, C the modal damping.
+    fn add_damping(&self, v: &DVector<f64>, scale: f64, out: &mut DVector<f64>) {
+        out.zip_zip_apply(v, &self.damping, |o, v, c| *o += scale * c * v);
+        if let Some(d) = &self.dampers {
+            out.gemv(scale, d, v, 1.0);
+        }
+    }
+
+    /// `out = Ω² q + C v`: the elastic and damping forces.
+    pub fn internal_forces(&self, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
+        self.stiffness_times(q, out);
+        self.add_damping(v, 1.0, out);
+    }
+
+    /// `out = load − Ω² q − C v`: the modal accelerations (M = I).
+    pub fn accelerations(
+        &self,
+        (q, v): (&DVector<f64>, &DVector<f64>),
+        load: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        out.copy_from(load);
+        out.zip_zip_apply(q, &self.stiffness, |a, q, w2| *a -= w2 * q);
+        self.add_damping(v, -1.0, out);
+    }
+
+    /// ½ q̇ᵀ q̇.
+    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        0.5 * v.norm_squared()
+    }
+
+    /// ½ qᵀ Ω² q.
+    pub fn strain_energy(&self, q: &DVector<f64>) -> f64 {
+        0.5 * q.zip_fold(&self.stiffness, 0.0, |s, q, w2| s + w2 * q * q)
+    }
+
+    /// q̇ᵀ C q̇ (W).
+    pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
+        let rayleigh = v.zip_fold(&self.damping, 0.0, |s, v, c| s + c * v * v);
+        let dampers = self
+            .dampers
+            .as_ref()
+            .map_or(0.0, |d| d.dot(&(v * v.transpose())));
+        rayleigh + dampers
+    }
+
+    /// The factor of I + `damping_weight` C + `stiffness_weight` Ω², the
+    /// implicit scheme's effective matrix in modal coordinates: diagonal
+    /// (one division per mode) unless support dampers couple the modes.
+    pub fn effective_factor(
+        &self,
+        damping_weight: f64,
+        stiffness_weight: f64,
+    ) -> Option<ModalFactor> {
+        let diagonal = DVector::from_fn(self.modes(), |j, _| {
+            1.0 + damping_weight * self.damping[j] + stiffness_weight * self.stiffness[j]
+        });
+        match &self.dampers {
+            None if diagonal.iter().all(|&d| d > 0.0) => {
+                Some(ModalFactor::Diagonal(diagonal.map(|d| 1.0 / d)))
+            }
+            None => None,
+            Some(d) => {
+                let s = DMatrix::from_diagonal(&diagonal) + damping_weight * d;
+                s.cholesky().map(ModalFactor::Dense)
+            }
+        }
+    }
+
+    /// The modal coordinates of the static deflection under the modal
+    /// load `load`: Ω⁻² `load`.
     pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
         if self.omega.iter().any(|&w| w.is_nan() || w <= 0.0) {
             return Err(
@@ -156,45 +275,26 @@ impl ModalBasis {
                     .into(),
             );
         }
-        let mut q = self.shapes.tr_mul(load);
-        q.iter_mut().zip(&self.omega).for_each(|(q, w)| *q /= w * w);
-        Ok(&*self.shapes * q)
-    }
-
-    /// The factor of Φᵀ S Φ for the symmetric matrix S that `apply` multiplies by.
-    pub fn reduced_factor(
-        &self,
-        apply: impl Fn(&DVector<f64>, &mut DVector<f64>),
-    ) -> Option<ReducedFactor> {
-        let (n, k) = self.shapes.shape();
-        let mut product = DMatrix::zeros(n, k);
-        let mut out = DVector::zeros(n);
-        for j in 0..k {
-            apply(&self.shapes.column(j).into_owned(), &mut out);
-            product.set_column(j, &out);
-        }
-        let reduced = self.shapes.tr_mul(&product);
-        let symmetric = 0.5 * (&reduced + reduced.transpose());
-        Some(ReducedFactor {
-            shapes: Arc::clone(&self.shapes),
-            factor: symmetric.cholesky()?,
-        })
+        Ok(load.component_div(&self.stiffness))
     }
 }
 
-/// Φ (Φᵀ S Φ)⁻¹ Φᵀ: the inverse of an effective matrix S on the modes.
+/// The inverse of an effective matrix in modal coordinates.
 #[derive(Debug, Clone)]
-pub struct ReducedFactor {
-    shapes: Arc<DMatrix<f64>>,
-    factor: Cholesky<f64, Dyn>,
+pub enum ModalFactor {
+    /// Reciprocals of the diagonal: the modes are decoupled.
+    Diagonal(DVector<f64>),
+    /// Support dampers couple the modes: a k × k Cholesky factor.
+    Dense(Cholesky<f64, Dyn>),
 }
 
-impl ReducedFactor {
-    /// `rhs ← Φ (Φᵀ S Φ)⁻¹ Φᵀ rhs`.
+impl ModalFactor {
+    /// `rhs ← S⁻¹ rhs`.
     pub fn solve_mut(&self, rhs: &mut DVector<f64>) {
-        let mut q = self.shapes.tr_mul(rhs);
-        self.factor.solve_mut(&mut q);
-        self.shapes.mul_to(&q, rhs);
+        match self {
+            ModalFactor::Diagonal(reciprocal) => rhs.component_mul_assign(reciprocal),
+            ModalFactor::Dense(factor) => factor.solve_mut(rhs),
+        }
     }
 }
 
@@ -421,25 +521,81 @@ mod tests {
     }
 
     #[test]
-    fn with_every_mode_the_projection_is_the_inverse_mass() {
-        let mut beam = beam(5, SupportsSpec::default());
+    fn with_every_mode_the_modal_round_trip_is_the_inverse_mass() {
+        let beam = beam(5, SupportsSpec::default());
         let n = beam.free_dofs();
         let x = DVector::from_fn(n, |i, _| start_value(i, 7));
         let mut exact = x.clone();
         beam.solve_mass(&mut exact);
-        beam.reduce_to_modes(ModeSelection::Count(n))
-            .expect("modes");
-        let mut projected = x.clone();
-        beam.solve_mass(&mut projected);
-        assert!((&projected - &exact).amax() <= 1e-12 * exact.amax());
-        // Fewer modes: a projection, Φ Φᵀ M Φ Φᵀ = Φ Φᵀ.
-        beam.reduce_to_modes(ModeSelection::Count(3))
-            .expect("modes");
-        let mut once = x.clone();
-        beam.solve_mass(&mut once);
-        let mut m_once = DVector::zeros(n);
-        beam.mass_times(&once, &mut m_once);
-        beam.solve_mass(&mut m_once);
-        assert!((&m_once - &once).amax() <= 1e-12 * once.amax());
+        // Nodal loads into modal coordinates and back, DOF by DOF: Φ Φᵀ x.
+        let basis = ModalBasis::new(&beam, ModeSelection::Count(n)).expect("modes");
+        let mut q = DVector::zeros(n);
+        for (i, &xi) in x.iter().enumerate() {
+            basis.add_load(i, xi, &mut q);
+        }
+        let back = DVector::from_fn(n, |i, _| basis.value(i, &q));
+        assert!((&back - &exact).amax() <= 1e-12 * exact.amax());
+        let diagonal = (0..n).map(|i| {
+            let mut e = DVector::zeros(n);
+            e[i] = 1.0;
+            beam.solve_mass(&mut e);
+            (e[i] - basis.inverse_mass_diagonal(i)).abs() / e[i]
+        });
+        assert!(diagonal.fold(0.0, f64::max) < 1e-12);
+        // Fewer modes: the kept shapes stay mass-orthonormal, Φᵀ M Φ = I.
+        let few = ModalBasis::new(&beam, ModeSelection::Count(3)).expect("modes");
+        let mut m_phi = DVector::zeros(n);
+        for j in 0..3 {
+            beam.mass_times(&few.shapes().column(j).into_owned(), &mut m_phi);
+            for i in 0..3 {
+                let entry = few.shapes().column(i).dot(&m_phi);
+                let expected = if i == j { 1.0 } else { 0.0 };
+                assert!((entry - expected).abs() < 1e-12, "({i}, {j}): {entry}");
+            }
+        }
+    }
+
+    #[test]
+    fn modal_operations_are_the_nodal_ones_in_modal_coordinates() {
+        // On every mode: energies and damping power of q equal those of
+        // the nodal field Φ q under Rayleigh damping.
+        let spec_beam = Beam::new(&BeamSpec {
+            length: 24.0,
+            mass_per_length: 1250.0,
+            bending_stiffness: 1e9,
+            surface_offset: 0.6,
+            elements: 4,
+            supports: SupportsSpec::default(),
+            joints: Vec::new(),
+            damping: Some(crate::scene::DampingSpec::Coefficients {
+                alpha: 0.3,
+                beta: 2e-4,
+            }),
+        })
+        .expect("beam");
+        let n = spec_beam.free_dofs();
+        let q = DVector::from_fn(n, |i, _| start_value(i, 3));
+        let v = DVector::from_fn(n, |i, _| start_value(i, 5));
+        let basis = ModalBasis::new(&spec_beam, ModeSelection::Count(n))
+            .expect("modes")
+            .with_damping((0.3, 2e-4), std::iter::empty());
+        let (u, w) = (basis.shapes() * &q, basis.shapes() * &v);
+        let close = |a: f64, b: f64| (a - b).abs() <= 1e-10 * a.abs().max(b.abs());
+        assert!(close(basis.strain_energy(&q), spec_beam.strain_energy(&u)));
+        assert!(close(
+            basis.kinetic_energy(&v),
+            spec_beam.kinetic_energy(&w)
+        ));
+        assert!(close(basis.damping_power(&v), spec_beam.damping_power(&w)));
+        // The effective factor inverts I + c C + d Ω².
+        let factor = basis.effective_factor(0.01, 1e-6).expect("positive");
+        let mut x = q.clone();
+        factor.solve_mut(&mut x);
+        let mut back = DVector::zeros(n);
+        basis.internal_forces(&x, &x, &mut back);
+        let rebuilt = &x
+            + 0.01 * (&back - basis.stiffness.component_mul(&x))
+            + 1e-6 * basis.stiffness.component_mul(&x);
+        assert!((&rebuilt - &q).amax() <= 1e-12 * q.amax());
     }
 }

@@ -381,11 +381,11 @@ impl Simulation {
             constant_forces(&assembly.system, &vehicle_forces).collect();
         let u = match scene.solver.start {
             StartKind::Rest if assembly.system.profile.is_some() => {
-                let u = DVector::zeros(assembly.system.beam.free_dofs());
+                let u = DVector::zeros(assembly.system.beam.coordinates());
                 place_on_profile(&mut assembly.system, &mut assembly.bodies, &u)?;
                 u
             }
-            StartKind::Rest => DVector::zeros(assembly.system.beam.free_dofs()),
+            StartKind::Rest => DVector::zeros(assembly.system.beam.coordinates()),
             StartKind::Static => static_start(
                 &mut assembly.system,
                 &mut assembly.bodies,
@@ -1334,7 +1334,7 @@ fn initial_state(
     forces: &[ContactForce],
     applied: &[Vector3<f64>],
 ) -> Result<DynamicState, String> {
-    let n = system.beam.free_dofs();
+    let n = system.beam.coordinates();
     let mut frames = Vec::new();
     contact_frames_at_bodies(system, &u, bodies, &mut frames).map_err(|e| match e {
         crate::integrate::IntegrationError::LostContact { x, .. } => {
@@ -1385,7 +1385,7 @@ fn initial_state(
 /// input: it may come from another model or be corrupted).
 fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
     let d = &state.dynamic;
-    let n = system.beam.free_dofs();
+    let n = system.beam.coordinates();
     let (bodies, contacts) = (system.bodies.len(), system.contacts.len());
     let checks = [
         ("beam DOFs (displacement)", d.beam_displacement.len(), n),

@@ -40,7 +40,7 @@ pub fn static_start(
                 .into(),
         );
     }
-    let n = system.beam.free_dofs();
+    let n = system.beam.coordinates();
     let mut u = DVector::zeros(n);
     let at_rest = DVector::zeros(n);
     let mut frames = Vec::new();

@@ -485,7 +485,7 @@ fn corner_frame(
     centre: &Vector2<f64>,
 ) -> Option<ContactFrame> {
     let shape = beam.shape(element, x);
-    let w = shape.dot(&shape.n, u) + raise;
+    let w = beam.dot(&shape, &shape.n, u) + raise;
     let offset = centre - Vector2::new(x, w);
     let distance = offset.norm();
     if !(distance > 1e-9 * x.abs().max(1.0) && offset.y > 0.0) {

@@ -285,3 +285,91 @@ fn the_work_precision_study_measures_the_modal_structure() {
         assert!(pair[1] < 0.5 * pair[0], "{errors:?}");
     }
 }
+
+#[test]
+fn every_mode_kept_reproduces_support_springs_and_dampers() {
+    // Elastic supports with dampers couple the modes (Φᵀ D Φ): RK4's
+    // accelerations and HHT-α's k×k effective factor carry the coupling.
+    // The tolerance of the contact iteration is tightened so that both
+    // runs take the same iterations; the stiff springs (ω_max² / ω₁² about
+    // 1e5) leave the accelerations equal to a few 1e-9 of the sensors'
+    // largest output, hence 1e-8 here against 1e-9 without springs.
+    let mut scene = eight_elements();
+    scene.beam.supports.left = guideway::scene::EndSupport::Free;
+    scene.beam.supports.springs = vec![
+        guideway::scene::SpringSpec {
+            at: 0.0,
+            vertical: 5e8,
+            vertical_damping: 2e6,
+            ..Default::default()
+        },
+        guideway::scene::SpringSpec {
+            at: 15.0,
+            vertical: 1e8,
+            rotational: 1e9,
+            vertical_damping: 1e6,
+            rotational_damping: 1e5,
+        },
+    ];
+    scene.solver.step = 0.0003;
+    scene.solver.velocity_tolerance = 1e-11;
+    let full = run_to_exit(&scene);
+    let free_dofs = Simulation::new(&scene)
+        .expect("builds")
+        .system()
+        .beam
+        .free_dofs();
+    let reduced = run_to_exit(&modal(scene.clone(), free_dofs));
+    assert_same_run(&full, &reduced, 1e-8);
+    scene.solver.integrator = IntegratorKind::Hht;
+    scene.solver.step = 0.0025;
+    let full = run_to_exit(&scene);
+    let reduced = run_to_exit(&modal(scene, free_dofs));
+    assert_same_run(&full, &reduced, 1e-8);
+}
+
+#[test]
+fn the_state_is_the_modal_coordinates_and_fields_are_reconstructed_from_them() {
+    // 1024 elements, 8 modes: the beam's state has 8 entries, and every
+    // nodal field read from it (sensors, the nodes output, sections) is
+    // Φ q evaluated by the element's shape functions.
+    let mut scene = modal(paper_scene(BodyKind::Wheel, 10.0, 0.0025), 8);
+    scene.beam.elements = 1024;
+    scene.solver.end_time = Some(1.2);
+    let mut sim = Simulation::new(&scene).expect("builds");
+    sim.advance_to(1.2).expect("runs");
+    let beam = &sim.system().beam;
+    let state = sim.state();
+    let q = &state.dynamic.beam_displacement;
+    assert_eq!((beam.coordinates(), q.len()), (8, 8));
+    assert_eq!(state.dynamic.beam_velocity.len(), 8);
+    let nodal = beam.modal().expect("modal").shapes() * q;
+    assert_eq!(nodal.len(), beam.free_dofs());
+    for x in [0.3, 7.77, 12.0, 23.9] {
+        let shape = beam.shape(beam.element_at(x), x);
+        let expected = shape.dot(&shape.n, &nodal);
+        let read = beam.deflection(q, x);
+        assert!(
+            (read - expected).abs() <= 1e-12 * expected.abs().max(1e-9),
+            "x = {x}: {read} vs {expected}"
+        );
+        assert!(expected.abs() > 1e-4, "the beam is deflected at {x}");
+    }
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let mut values = vec![0.0; names.len()];
+    sim.output_values(&mut values);
+    let midspan = names
+        .iter()
+        .position(|n| n == "sensor.midspan.deflection")
+        .expect("sensor");
+    let shape = beam.shape(beam.element_at(12.0), 12.0);
+    assert!((values[midspan] - shape.dot(&shape.n, &nodal)).abs() < 1e-12);
+    // The energies are those of the k modes: ½ q̇ᵀq̇ + ½ qᵀΩ²q.
+    let v = &state.dynamic.beam_velocity;
+    let omega = beam.modal().expect("modal").omega();
+    let modal_energy: f64 = (0..8)
+        .map(|j| 0.5 * v[j] * v[j] + 0.5 * (omega[j] * q[j]).powi(2))
+        .sum();
+    let beam_energy = beam.kinetic_energy(v) + beam.strain_energy(q);
+    assert!((beam_energy - modal_energy).abs() <= 1e-12 * modal_energy);
+}

@@ -71,6 +71,9 @@ struct WorkPrecisionArgs {
     /// Fewer steps and a coarser reference (for tests).
     #[arg(long)]
     quick: bool,
+    /// Only the modal structures' points (and the references they need).
+    #[arg(long)]
+    modal_only: bool,
 }
 
 #[derive(Debug, clap::Args)]

@@ -30,7 +30,9 @@ pub fn work_precision(args: WorkPrecisionArgs) -> Result<(), Failure> {
             Some(why) => eprintln!("  {:8} dt {:.3e}: {why}", p.scheme, p.step),
         };
         let modal = measure_modal(&case, &reference, args.repeats, report);
-        points.extend(measure(&case, &reference, args.repeats, report));
+        if !args.modal_only {
+            points.extend(measure(&case, &reference, args.repeats, report));
+        }
         points.extend(modal);
     }
     if let Some(dir) = args.out.parent().filter(|d| !d.as_os_str().is_empty()) {

@@ -99,10 +99,14 @@ pub fn envelope_of_loads(
             positions: 0,
         });
     }
-    let stiffness = beam.stiffness_factor().ok_or(
-        "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
-         to move), so the loads have no static response",
-    )?;
+    // A modal structure's static response is its modes' (Ω⁻² Φᵀ r).
+    let stiffness = match beam.modal() {
+        Some(_) => None,
+        None => Some(beam.stiffness_factor().ok_or(
+            "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
+             to move), so the loads have no static response",
+        )?),
+    };
     let shifts = shifts(scene, beam, loads, (first, last));
     for &shift in &shifts {
         let on_beam: Vec<PointLoad> = loads
@@ -111,7 +115,10 @@ pub fn envelope_of_loads(
             .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
             .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
             .collect();
-        let response = BeamDynamics::static_response_with(beam, &stiffness, on_beam);
+        let response = match &stiffness {
+            Some(factor) => BeamDynamics::static_response_with(beam, factor, on_beam),
+            None => BeamDynamics::static_response(beam, on_beam)?,
+        };
         for (peak, read) in peaks.iter_mut().zip(&reads) {
             *peak = peak.max(read.value(beam, &response).abs());
         }

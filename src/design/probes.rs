@@ -136,7 +136,7 @@ impl DesignPeaks {
                         Some((at, shape)) if at == x => shape,
                         _ => beam.shape(beam.element_at(x), x),
                     };
-                    let value = shape.dot(&shape.n, state.vector(probe.read));
+                    let value = beam.dot(&shape, &shape.n, state.vector(probe.read));
                     sensor = Some((x, shape));
                     value
                 }

@@ -115,7 +115,7 @@ pub fn choose_integrator(
         IntegratorKind::Hht => hht(damping, String::new()),
         IntegratorKind::Rk4 | IntegratorKind::Auto => {
             let limit = rk4_step_limit(system);
-            let free = system.beam.free_dofs();
+            let free = system.beam.coordinates();
             if step <= limit {
                 let why = if solver.integrator == IntegratorKind::Auto {
                     format!("; auto: the step is within RK4's stability limit {limit:.3e} s")

@@ -61,7 +61,7 @@ impl Hht {
         let beta = 0.25 * (1.0 - alpha) * (1.0 - alpha);
         let gamma = 0.5 - alpha;
         let factor = effective_factor(system, (alpha, beta, gamma), nominal_step)?;
-        let z = || DVector::zeros(system.beam.free_dofs());
+        let z = || DVector::zeros(system.beam.coordinates());
         Ok(Hht {
             alpha,
             beta,
@@ -77,7 +77,7 @@ impl Hht {
             work: z(),
             scratch: z(),
             tractive: vec![0.0; system.bodies.len()],
-            energy: Buffers::new(system.beam.free_dofs()),
+            energy: Buffers::new(system.beam.coordinates()),
         })
     }
 

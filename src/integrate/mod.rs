@@ -161,8 +161,9 @@ pub fn loads(
         };
         if frame.on_beam {
             let (t_row, n_row) = frame.beam_rows(system.beam.surface_offset);
-            frame.shape.scatter(&t_row, -force.tangential, beam_load);
-            frame.shape.scatter(&n_row, -force.normal, beam_load);
+            let beam = &system.beam;
+            beam.scatter(&frame.shape, &t_row, -force.tangential, beam_load);
+            beam.scatter(&frame.shape, &n_row, -force.normal, beam_load);
         }
         let on_body = frame.tangent() * force.tangential + frame.normal() * force.normal;
         let load = &mut body_loads[contact.body];
