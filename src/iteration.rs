@@ -795,6 +795,7 @@ impl ContactIteration {
         let mut iterations = self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
+        self.integrator.finish_step(system, from, end);
         let velocity_error = self.velocity_errors(system, end);
         let mut forces = self.forces.clone();
         crate::integrate::follower_forces(
