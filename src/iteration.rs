@@ -124,8 +124,19 @@ struct Delassus {
     velocity: Inverted,
     /// (∂g/∂p_n)⁻¹ over the contacts (N/m).
     gap: Inverted,
-    /// Whether they hold this step's operators.
+    /// Whether they hold this step's operators (velocity, gap).
     built: bool,
+    gap_built: bool,
+    /// The end frames the step's operators are measured in: those of the
+    /// integration at which the first of them was built.
+    frames: Vec<ContactFrame>,
+}
+
+/// Which of the two operators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Part {
+    Velocity,
+    Gap,
 }
 
 /// Operators up to this many rows are inverted explicitly, larger ones
@@ -143,7 +154,8 @@ enum Inverted {
     /// (contacts on rigid ground, open contacts, spans that do not load
     /// each other), each inverted on its own: of a train's 32 contacts a
     /// dozen are on the bridge, and factoring 32 rows was a tenth of its run.
-    Blocks(Vec<Block>),
+    /// The matrix they came from is kept to build the next operator in.
+    Blocks(Vec<Block>, DMatrix<f64>),
 }
 
 /// One decoupled block of an operator: a single row, or rows inverted
@@ -214,15 +226,15 @@ impl Inverted {
                 let (b, x) = (DVector::zeros(n), DVector::zeros(n));
                 inverted.push(Block::Rows(rows, Inverted::new(sub)?, b, x));
             }
-            Some(Inverted::Blocks(inverted))
+            Some(Inverted::Blocks(inverted, matrix))
         }
     }
 
     /// An n × n matrix to build the next operator in (this one's storage
-    /// when it is an explicit inverse of that size).
+    /// when it is an explicit inverse or blocks of that size).
     fn take_matrix(&mut self, n: usize) -> DMatrix<f64> {
         match std::mem::replace(self, Inverted::Inverse(DMatrix::zeros(0, 0))) {
-            Inverted::Inverse(m) if m.nrows() == n => m,
+            Inverted::Inverse(m) | Inverted::Blocks(_, m) if m.nrows() == n => m,
             _ => DMatrix::zeros(n, n),
         }
     }
@@ -236,7 +248,7 @@ impl Inverted {
                 // Invertible by construction.
                 lu.solve_mut(out);
             }
-            Inverted::Blocks(blocks) => {
+            Inverted::Blocks(blocks, _) => {
                 for block in blocks {
                     match block {
                         Block::Single(i, d) => out[*i] = b[*i] / *d,
@@ -375,6 +387,8 @@ impl ContactIteration {
                     system.contacts.len(),
                 )),
                 built: false,
+                gap_built: false,
+                frames: Vec::new(),
             },
             measured_elements: Vec::new(),
             loaded_elements: Vec::new(),
@@ -413,19 +427,20 @@ impl ContactIteration {
     /// the inverse acts on the closed contacts alone (the inverse of the
     /// closed rows' principal block) and leaves the open ones' zero errors
     /// at zero.
-    fn mask_open(&self, system: &System, velocity: &mut DMatrix<f64>, gap: &mut DMatrix<f64>) {
+    fn mask_open(&self, system: &System, part: Part, matrix: &mut DMatrix<f64>) {
         for (c, contact) in system.contacts.iter().enumerate() {
             if !self.open[c] {
                 continue;
             }
-            for row in self.offsets[c]..self.offsets[c] + contact.rows() {
-                velocity.row_mut(row).fill(0.0);
-                velocity.column_mut(row).fill(0.0);
-                velocity[(row, row)] = 1.0;
+            let rows = match part {
+                Part::Velocity => self.offsets[c]..self.offsets[c] + contact.rows(),
+                Part::Gap => c..c + 1,
+            };
+            for row in rows {
+                matrix.row_mut(row).fill(0.0);
+                matrix.column_mut(row).fill(0.0);
+                matrix[(row, row)] = 1.0;
             }
-            gap.row_mut(c).fill(0.0);
-            gap.column_mut(c).fill(0.0);
-            gap[(c, c)] = 1.0;
         }
     }
 
@@ -492,9 +507,9 @@ impl ContactIteration {
     fn beam_compliance_cached(
         &mut self,
         system: &System,
-        start_frames: &[ContactFrame],
-        velocity: &mut DMatrix<f64>,
-        gap: &mut DMatrix<f64>,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        part: Part,
+        matrix: &mut DMatrix<f64>,
     ) {
         let h = system.beam.surface_offset;
         let on_beam = |frames: &[ContactFrame], elements: &mut Vec<usize>| {
@@ -505,12 +520,12 @@ impl ContactIteration {
         };
         let mut measured = std::mem::take(&mut self.measured_elements);
         let mut loaded = std::mem::take(&mut self.loaded_elements);
-        on_beam(&self.end_frames, &mut measured);
+        on_beam(measure_frames, &mut measured);
         on_beam(start_frames, &mut loaded);
         self.fill_element_responses(system, &measured, &loaded);
         self.measured_elements = measured;
         self.loaded_elements = loaded;
-        for (i, measure) in self.end_frames.iter().enumerate() {
+        for (i, measure) in measure_frames.iter().enumerate() {
             if !measure.on_beam {
                 continue;
             }
@@ -524,14 +539,17 @@ impl ContactIteration {
                 let r = &self.element_responses[&(measure.shape.element, apply.shape.element)];
                 let (t, n) = apply.beam_rows(h);
                 let rows = [Vector4::from(t), Vector4::from(n)];
+                if part == Part::Gap {
+                    matrix[(i, j)] = measure_rows[1].dot(&(r.displacement * rows[1]));
+                    continue;
+                }
                 let kinds_j = row_kinds(system.contacts[j].rolls());
                 for (a, &ki) in kinds_i.iter().enumerate() {
                     for (b, &kj) in kinds_j.iter().enumerate() {
-                        velocity[(self.offsets[i] + a, self.offsets[j] + b)] =
+                        matrix[(self.offsets[i] + a, self.offsets[j] + b)] =
                             measure_rows[ki].dot(&(r.velocity * rows[kj]));
                     }
                 }
-                gap[(i, j)] = measure_rows[1].dot(&(r.displacement * rows[1]));
             }
         }
     }
@@ -542,10 +560,9 @@ impl ContactIteration {
     fn beam_compliance_integrated(
         &mut self,
         system: &System,
-        start_frames: &[ContactFrame],
-        dt: f64,
-        velocity: &mut DMatrix<f64>,
-        gap: &mut DMatrix<f64>,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        (dt, part): (f64, Part),
+        matrix: &mut DMatrix<f64>,
     ) {
         let h = system.beam.surface_offset;
         self.reserve_responses(self.rows);
@@ -564,24 +581,27 @@ impl ContactIteration {
                 self.integrator.beam_response(system, &self.load, dt, u, v);
             }
             let normal_column = self.offsets[j] + kinds_j.len() - 1;
-            for (i, measure) in self.end_frames.iter().enumerate() {
+            for (i, measure) in measure_frames.iter().enumerate() {
                 if !measure.on_beam {
                     continue;
                 }
                 let (mt, mn) = measure.beam_rows(h);
                 let measure_rows = [mt, mn];
                 let kinds_i = row_kinds(system.contacts[i].rolls());
+                if part == Part::Gap {
+                    matrix[(i, j)] = measure
+                        .shape
+                        .dot(&measure_rows[1], &self.response_u[normal_column]);
+                    continue;
+                }
                 for (a, &ki) in kinds_i.iter().enumerate() {
                     for b in 0..kinds_j.len() {
                         let column = self.offsets[j] + b;
-                        velocity[(self.offsets[i] + a, column)] = measure
+                        matrix[(self.offsets[i] + a, column)] = measure
                             .shape
                             .dot(&measure_rows[ki], &self.response_v[column]);
                     }
                 }
-                gap[(i, j)] = measure
-                    .shape
-                    .dot(&measure_rows[1], &self.response_u[normal_column]);
             }
         }
     }
@@ -590,14 +610,13 @@ impl ContactIteration {
     fn add_body_compliance(
         &self,
         system: &System,
-        start_frames: &[ContactFrame],
-        dt: f64,
-        velocity: &mut DMatrix<f64>,
-        gap: &mut DMatrix<f64>,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        (dt, part): (f64, Part),
+        matrix: &mut DMatrix<f64>,
     ) {
         let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
         for (i, ci) in system.contacts.iter().enumerate() {
-            let measure = &self.end_frames[i];
+            let measure = &measure_frames[i];
             let (mbt, mbn) = measure.body_rows(ci.radius());
             let measure_rows = [mbt, mbn];
             for (j, cj) in system.contacts.iter().enumerate() {
@@ -605,58 +624,72 @@ impl ContactIteration {
                     continue;
                 }
                 let body = &system.bodies[ci.body];
-                let inverse_inertia = body.inverse_inertia();
                 let apply = &start_frames[j];
+                if part == Part::Gap {
+                    matrix[(i, j)] +=
+                        position_weight * body.compliance(&measure.normal(), &apply.normal());
+                    continue;
+                }
+                let inverse_inertia = body.inverse_inertia();
                 let (bt, bn) = apply.body_rows(cj.radius());
                 let rows = [bt, bn];
                 for (a, &ki) in row_kinds(ci.rolls()).iter().enumerate() {
                     for (b, &kj) in row_kinds(cj.rolls()).iter().enumerate() {
                         let (m, r) = (&measure_rows[ki], &rows[kj]);
-                        velocity[(self.offsets[i] + a, self.offsets[j] + b)] += velocity_weight
+                        matrix[(self.offsets[i] + a, self.offsets[j] + b)] += velocity_weight
                             * (body.compliance(&m.xy(), &r.xy()) + m.z * r.z * inverse_inertia);
                     }
                 }
-                gap[(i, j)] +=
-                    position_weight * body.compliance(&measure.normal(), &apply.normal());
             }
         }
     }
 
-    /// Build and invert the block Delassus operators of the step (measured
-    /// in the end frames, applied in the start frames) into `self.delassus`.
+    /// Build and invert one block Delassus operator of the step (measured
+    /// in the end frames of the integration that first needed either,
+    /// applied in the start frames) into `self.delassus`. Each is built
+    /// only when its stage corrects: most steps end without the position
+    /// stage, and the gap operator was half of the building.
     fn build_delassus(
         &mut self,
         system: &System,
         start_frames: &[ContactFrame],
         dt: f64,
+        part: Part,
     ) -> Result<(), StepError> {
-        let mut velocity = self.delassus.velocity.take_matrix(self.rows);
-        let mut gap = self.delassus.gap.take_matrix(system.contacts.len());
-        velocity.fill(0.0);
-        gap.fill(0.0);
+        if !self.delassus.built && !self.delassus.gap_built {
+            self.delassus.frames.clone_from(&self.end_frames);
+        }
+        let measured = std::mem::take(&mut self.delassus.frames);
+        let frames = (measured.as_slice(), start_frames);
+        let mut matrix = match part {
+            Part::Velocity => self.delassus.velocity.take_matrix(self.rows),
+            Part::Gap => self.delassus.gap.take_matrix(system.contacts.len()),
+        };
+        matrix.fill(0.0);
         // Grid steps differ from the nominal step by round-off only.
         if (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step {
-            self.beam_compliance_cached(system, start_frames, &mut velocity, &mut gap);
+            self.beam_compliance_cached(system, frames, part, &mut matrix);
         } else {
-            self.beam_compliance_integrated(system, start_frames, dt, &mut velocity, &mut gap);
+            self.beam_compliance_integrated(system, frames, (dt, part), &mut matrix);
         }
-        self.add_body_compliance(system, start_frames, dt, &mut velocity, &mut gap);
-        self.mask_open(system, &mut velocity, &mut gap);
-        let finite = velocity.iter().chain(gap.iter()).all(|x| x.is_finite());
-        let inverted = finite
-            .then(|| Some((Inverted::new(velocity)?, Inverted::new(gap)?)))
-            .flatten();
-        let built = inverted.is_some();
-        if let Some((velocity, gap)) = inverted {
-            self.delassus.velocity = velocity;
-            self.delassus.gap = gap;
+        self.add_body_compliance(system, frames, (dt, part), &mut matrix);
+        self.mask_open(system, part, &mut matrix);
+        self.delassus.frames = measured;
+        let finite = matrix.iter().all(|x| x.is_finite());
+        let inverted = finite.then(|| Inverted::new(matrix)).flatten();
+        let Some(inverted) = inverted else {
+            return Err(StepError::NonFinite {
+                stage: match part {
+                    Part::Velocity => "velocity",
+                    Part::Gap => "position",
+                },
+            });
+        };
+        match part {
+            Part::Velocity => (self.delassus.velocity, self.delassus.built) = (inverted, true),
+            Part::Gap => (self.delassus.gap, self.delassus.gap_built) = (inverted, true),
         }
-        self.delassus.built = built;
-        if built {
-            Ok(())
-        } else {
-            Err(StepError::NonFinite { stage: "velocity" })
-        }
+        Ok(())
     }
 
     fn integrate_and_measure(
@@ -791,6 +824,7 @@ impl ContactIteration {
     ) -> Result<StepSolution, StepError> {
         // Built once per step, on the first correction that needs it.
         self.delassus.built = false;
+        self.delassus.gap_built = false;
         self.previous_bodies.clear();
         let mut iterations = self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
@@ -863,7 +897,7 @@ impl ContactIteration {
                 });
             }
             if !self.delassus.built {
-                self.build_delassus(system, from.frames, from.dt)?;
+                self.build_delassus(system, from.frames, from.dt, Part::Velocity)?;
             }
             let correction = &mut self.correction;
             self.delassus.velocity.apply(&self.error, correction);
@@ -928,8 +962,8 @@ impl ContactIteration {
                     tolerance: settings.gap_tolerance,
                 });
             }
-            if !self.delassus.built {
-                self.build_delassus(system, from.frames, from.dt)?;
+            if !self.delassus.gap_built {
+                self.build_delassus(system, from.frames, from.dt, Part::Gap)?;
             }
             let correction = &mut self.gap_correction;
             self.delassus.gap.apply(&self.gap_errors, correction);
@@ -989,18 +1023,21 @@ mod tests {
         let n = system.beam.free_dofs();
         let rk4 = Integrator::Rk4(Box::new(Rk4::new(n, system.bodies.len())));
         let mut iteration = ContactIteration::new(rk4, &system, dt);
-        iteration.end_frames = frames.clone();
         let (rows, contacts) = (iteration.rows, system.contacts.len());
         let mut cached = (
             DMatrix::zeros(rows, rows),
             DMatrix::zeros(contacts, contacts),
         );
-        iteration.beam_compliance_cached(&system, &frames, &mut cached.0, &mut cached.1);
+        let both = (frames.as_slice(), frames.as_slice());
+        iteration.beam_compliance_cached(&system, both, Part::Velocity, &mut cached.0);
+        iteration.beam_compliance_cached(&system, both, Part::Gap, &mut cached.1);
         let mut direct = (
             DMatrix::zeros(rows, rows),
             DMatrix::zeros(contacts, contacts),
         );
-        iteration.beam_compliance_integrated(&system, &frames, dt, &mut direct.0, &mut direct.1);
+        let (velocity, gap) = ((dt, Part::Velocity), (dt, Part::Gap));
+        iteration.beam_compliance_integrated(&system, both, velocity, &mut direct.0);
+        iteration.beam_compliance_integrated(&system, both, gap, &mut direct.1);
         let scale = direct.0.amax();
         assert!(scale > 0.0);
         assert!(
@@ -1045,7 +1082,7 @@ mod tests {
         let b = DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() + 0.2);
         let expected = m.clone().lu().solve(&b).unwrap();
         let mut inverted = Inverted::new(m).unwrap();
-        assert!(matches!(inverted, Inverted::Blocks(_)));
+        assert!(matches!(inverted, Inverted::Blocks(..)));
         let mut out = DVector::zeros(n);
         inverted.apply(&b, &mut out);
         assert!((&out - &expected).amax() < 1e-14, "{out} vs {expected}");
