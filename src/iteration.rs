@@ -9,7 +9,7 @@
 //! operator until every |g| is within its tolerance. C couples contacts
 //! through the beam (two wheels on one span load each other) and through a
 //! body they share; it is built once per step, when a correction first needs
-//! it. A glider (r = 0, J = 0) has no tangential row: its tangential force
+//! it (the gaps' operator only if the position stage corrects). A glider (r = 0, J = 0) has no tangential row: its tangential force
 //! stays exactly zero.
 
 use std::collections::HashMap;
@@ -455,7 +455,11 @@ impl ContactIteration {
             let entries = matrix.as_mut_slice();
             for row in rows {
                 entries[row * n..(row + 1) * n].fill(0.0);
-                entries.iter_mut().skip(row).step_by(n).for_each(|x| *x = 0.0);
+                entries
+                    .iter_mut()
+                    .skip(row)
+                    .step_by(n)
+                    .for_each(|x| *x = 0.0);
                 entries[row * n + row] = 1.0;
             }
         }
