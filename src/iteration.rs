@@ -9,8 +9,9 @@
 //! operator until every |g| is within its tolerance. C couples contacts
 //! through the beam (two wheels on one span load each other) and through a
 //! body they share; it is built once per step, when a correction first needs
-//! it (the gaps' operator only if the position stage corrects). A glider (r = 0, J = 0) has no tangential row: its tangential force
-//! stays exactly zero.
+//! it (the gaps' operator only if the position stage corrects). A glider
+//! (r = 0, J = 0) has no tangential row: its tangential force stays exactly
+//! zero.
 
 use std::collections::HashMap;
 use std::hash::BuildHasherDefault;
