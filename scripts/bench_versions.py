@@ -5,14 +5,16 @@ measurement run, so that the machine's load weighs on both alike.
     python3 scripts/bench_versions.py OLD_BINARY NEW_BINARY [--scene S] [--rounds N]
 
 Each round runs `guideway run S --summary ... --quiet` with each binary (the
-order alternates between rounds) and records the whole process's wall time
-and the run's own `wall_time_s` (scene read to exit, from the summary). It
+order alternates between rounds) and records the whole process's wall time, its CPU time (user + system,
+from getrusage: less sensitive to other processes on a loaded machine) and
+the run's own `wall_time_s` (scene read to exit, from the summary). It
 prints the medians and the per-round ratio old / new as median [min, max].
 """
 
 import argparse
 import json
 import pathlib
+import resource
 import statistics
 import subprocess
 import sys
@@ -20,12 +22,19 @@ import tempfile
 import time
 
 
+def cpu_seconds():
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def run_once(binary, scene, summary):
+    cpu = cpu_seconds()
     started = time.perf_counter()
     subprocess.run([binary, "run", scene, "--summary", str(summary), "--quiet"],
                    check=True, stdout=subprocess.DEVNULL)
     process = time.perf_counter() - started
-    return process, json.loads(summary.read_text())["wall_time_s"]
+    cpu = cpu_seconds() - cpu
+    return process, cpu, json.loads(summary.read_text())["wall_time_s"]
 
 
 def main():
@@ -44,7 +53,7 @@ def main():
             order = ["old", "new"] if round_ % 2 == 0 else ["new", "old"]
             for which in order:
                 times[which].append(run_once(getattr(args, which), args.scene, summary))
-    for k, what in enumerate(["whole process", "run (summary wall_time_s)"]):
+    for k, what in enumerate(["whole process", "process CPU", "run (summary wall_time_s)"]):
         old = [t[k] for t in times["old"]]
         new = [t[k] for t in times["new"]]
         ratios = [o / n for o, n in zip(old, new)]

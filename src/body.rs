@@ -67,6 +67,11 @@ impl RigidBody {
     }
 }
 
+/// `local` rotated by the angle whose (sine, cosine) is `sin_cos`.
+pub fn rotated((sin, cos): (f64, f64), local: &Vector2<f64>) -> Vector2<f64> {
+    Vector2::new(cos * local.x - sin * local.y, sin * local.x + cos * local.y)
+}
+
 /// Position and velocity of a body's centre, and its rotation.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct BodyState {
@@ -90,8 +95,7 @@ impl BodyState {
         if local.x == 0.0 && local.y == 0.0 {
             return Vector2::zeros();
         }
-        let (sin, cos) = self.angle.sin_cos();
-        Vector2::new(cos * local.x - sin * local.y, sin * local.x + cos * local.y)
+        rotated(self.angle.sin_cos(), local)
     }
 
     /// State advanced by `h` with rates (velocity, angular velocity) and

@@ -10,7 +10,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::body::BodyState;
+use crate::body::{rotated, BodyState};
 
 /// The direction a force element acts along.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,6 +66,34 @@ fn torque(offset: &Vector2<f64>, force: &Vector2<f64>) -> f64 {
     offset.x * force.y - offset.y * force.x
 }
 
+/// The sines and cosines of the bodies' angles met in one sweep over the
+/// force elements, each computed once: a vehicle's elements share a few
+/// bodies, and a sine and cosine per attachment point was a fifth of a
+/// train's run. Direct-mapped on the body index, so no allocation.
+pub struct Rotations([(usize, f64, f64); 8]);
+
+impl Default for Rotations {
+    fn default() -> Rotations {
+        Rotations([(usize::MAX, 0.0, 0.0); 8])
+    }
+}
+
+impl Rotations {
+    /// World offset from the centre of body `b` (in `state`) of its point
+    /// `local`: `BodyState::offset_of`, with the rotation remembered.
+    fn offset_of(&mut self, b: usize, state: &BodyState, local: &Vector2<f64>) -> Vector2<f64> {
+        if local.x == 0.0 && local.y == 0.0 {
+            return Vector2::zeros();
+        }
+        let slot = &mut self.0[b % 8];
+        if slot.0 != b {
+            let (sin, cos) = state.angle.sin_cos();
+            *slot = (b, sin, cos);
+        }
+        rotated((slot.1, slot.2), local)
+    }
+}
+
 impl ForceElement {
     /// (p_a − p_b)·d for the given body states.
     pub fn separation(&self, a: &BodyState, b: &BodyState) -> f64 {
@@ -75,9 +103,16 @@ impl ForceElement {
     }
 
     pub fn forces(&self, bodies: &[BodyState]) -> ElementForces {
+        self.forces_with(bodies, &mut Rotations::default())
+    }
+
+    /// `forces`, with the bodies' rotations taken from (and kept in)
+    /// `rotations`, valid for these `bodies`.
+    pub fn forces_with(&self, bodies: &[BodyState], rotations: &mut Rotations) -> ElementForces {
         let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let d = self.direction.unit();
-        let (ra, rb) = (a.offset_of(&self.point_a), b.offset_of(&self.point_b));
+        let ra = rotations.offset_of(self.body_a, a, &self.point_a);
+        let rb = rotations.offset_of(self.body_b, b, &self.point_b);
         let elongation = ((a.position + ra) - (b.position + rb)).dot(&d) - self.rest;
         let rate = (point_velocity(a, &ra) - point_velocity(b, &rb)).dot(&d);
         let magnitude = self.preload - self.stiffness * elongation - self.damping * rate;
@@ -93,7 +128,15 @@ impl ForceElement {
 
     /// Potential energy ½ k δ² − preload δ (J), zero in the rest configuration.
     pub fn potential_energy(&self, bodies: &[BodyState]) -> f64 {
-        let delta = self.separation(&bodies[self.body_a], &bodies[self.body_b]) - self.rest;
+        self.potential_energy_with(bodies, &mut Rotations::default())
+    }
+
+    /// `potential_energy` with the rotations of `rotations` (see `forces_with`).
+    pub fn potential_energy_with(&self, bodies: &[BodyState], rotations: &mut Rotations) -> f64 {
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
+        let pa = a.position + rotations.offset_of(self.body_a, a, &self.point_a);
+        let pb = b.position + rotations.offset_of(self.body_b, b, &self.point_b);
+        let delta = (pa - pb).dot(&self.direction.unit()) - self.rest;
         0.5 * self.stiffness * delta * delta - self.preload * delta
     }
 }
@@ -105,9 +148,10 @@ pub fn add_element_forces(
     bodies: &[BodyState],
     loads: &mut [Vector3<f64>],
 ) -> f64 {
+    let mut rotations = Rotations::default();
     let mut dissipation = 0.0;
     for element in elements {
-        let f = element.forces(bodies);
+        let f = element.forces_with(bodies, &mut rotations);
         loads[element.body_a] += f.on_a;
         loads[element.body_b] += f.on_b;
         dissipation += f.dissipation;
@@ -117,7 +161,20 @@ pub fn add_element_forces(
 
 /// Power the dampers dissipate (W).
 pub fn dissipation_power(elements: &[ForceElement], bodies: &[BodyState]) -> f64 {
-    elements.iter().map(|e| e.forces(bodies).dissipation).sum()
+    let mut rotations = Rotations::default();
+    elements
+        .iter()
+        .map(|e| e.forces_with(bodies, &mut rotations).dissipation)
+        .sum()
+}
+
+/// Potential energy of all `elements` (J).
+pub fn spring_energy(elements: &[ForceElement], bodies: &[BodyState]) -> f64 {
+    let mut rotations = Rotations::default();
+    elements
+        .iter()
+        .map(|e| e.potential_energy_with(bodies, &mut rotations))
+        .sum()
 }
 
 #[cfg(test)]

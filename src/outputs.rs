@@ -490,6 +490,8 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
         )
     });
     let accelerations = needs_accelerations.then(|| sim.body_accelerations());
+    let mut spring_energy = None;
+    let mut spring_energy = || *spring_energy.get_or_insert_with(|| sim.spring_energy());
     for (value, quantity) in values.iter_mut().zip(quantities) {
         *value = match *quantity {
             Quantity::X(b) => d.bodies[b].position.x,
@@ -543,7 +545,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::BodyKinetic => sim.body_kinetic_energy(),
             Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
             Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
-            Quantity::SpringEnergy => sim.spring_energy(),
+            Quantity::SpringEnergy => spring_energy(),
             Quantity::Dissipated => d.dissipated,
             Quantity::BeamDamping => d.beam_dissipated,
             Quantity::GravityWork => state.gravity_work,
@@ -551,7 +553,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::TractiveWork => d.tractive_work,
             Quantity::ImpactLoss => state.impact_loss,
             Quantity::NumericalDissipation => d.numerical_dissipation,
-            Quantity::Balance => sim.energy_balance(),
+            Quantity::Balance => sim.energy_balance_with(spring_energy()),
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,
             Quantity::Iterations => state.last_iterations as f64,

@@ -508,12 +508,18 @@ impl Simulation {
     /// structural damping, impacts and HHT-α's numerical damping) − work of
     /// gravity and of the applied force (J).
     pub fn energy_balance(&self) -> f64 {
+        self.energy_balance_with(self.spring_energy())
+    }
+
+    /// `energy_balance` with `spring_energy` already known (the outputs
+    /// report both: one sweep over the force elements, not two).
+    pub fn energy_balance_with(&self, spring_energy: f64) -> f64 {
         let d = &self.state.dynamic;
         let s = &self.system;
         self.body_kinetic_energy()
             + s.beam.kinetic_energy(&d.beam_velocity)
             + s.beam.strain_energy(&d.beam_displacement)
-            + self.spring_energy()
+            + spring_energy
             + d.dissipated
             + d.beam_dissipated
             + d.numerical_dissipation

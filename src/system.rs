@@ -460,10 +460,7 @@ impl System {
 
     /// Potential energy of the force elements (J).
     pub fn spring_energy(&self, bodies: &[BodyState]) -> f64 {
-        self.force_elements
-            .iter()
-            .map(|e| e.potential_energy(bodies))
-            .sum()
+        crate::force_element::spring_energy(&self.force_elements, bodies)
     }
 }
 

@@ -34,6 +34,7 @@ pub struct Hht {
     predicted_bodies: Vec<BodyState>,
     has_prediction: bool,
     frames: Vec<ContactFrame>,
+    guesses: Vec<f64>,
     load: DVector<f64>,
     rhs: DVector<f64>,
     work: DVector<f64>,
@@ -41,6 +42,13 @@ pub struct Hht {
     /// Each body's tractive force at the end of the step (zero if free).
     tractive: Vec<f64>,
     energy: Buffers,
+    /// Terms of the step's start, the same for every integration of the
+    /// step: computed at its first (`start_known`), not at every iterate.
+    start_known: bool,
+    start_internal: DVector<f64>,
+    start_dissipation: f64,
+    /// The dampers' power at the last integration's end configuration.
+    end_dissipation: f64,
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -72,17 +80,23 @@ impl Hht {
             predicted_bodies: Vec::new(),
             has_prediction: false,
             frames: Vec::new(),
+            guesses: Vec::new(),
             load: z(),
             rhs: z(),
             work: z(),
             scratch: z(),
             tractive: vec![0.0; system.bodies.len()],
             energy: Buffers::new(system.beam.coordinates()),
+            start_known: false,
+            start_internal: z(),
+            start_dissipation: 0.0,
+            end_dissipation: 0.0,
         })
     }
 
     pub fn begin_step(&mut self) {
         self.has_prediction = false;
+        self.start_known = false;
     }
 
     /// `rhs ← S⁻¹ rhs` for steps of `dt`.
@@ -124,15 +138,16 @@ impl Hht {
                 }));
         }
         // Load frames and force elements: the predicted end configuration.
-        let guesses: Vec<f64> = from.frames.iter().map(|f| f.x).collect();
+        self.guesses.clear();
+        self.guesses.extend(from.frames.iter().map(|f| f.x));
         contact_frames(
             system,
             &self.predicted_u,
             &self.predicted_bodies,
-            (&guesses, from.parts),
+            (&self.guesses, from.parts),
             &mut self.frames,
         )?;
-        let dissipation = loads(
+        self.end_dissipation = loads(
             system,
             &self.frames,
             forces,
@@ -142,6 +157,9 @@ impl Hht {
             &mut self.load,
             &mut end.body_loads,
         );
+        if !self.start_known {
+            self.know_start(system, start);
+        }
         self.beam_step(system, start, dt, end);
         end.tractive_work = start.tractive_work;
         for (b, body) in system.bodies.iter().enumerate() {
@@ -151,6 +169,30 @@ impl Hht {
         for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
             *x = frame.x;
         }
+        self.predicted_u.copy_from(&end.beam_displacement);
+        self.predicted_bodies.clear();
+        self.predicted_bodies.extend_from_slice(&end.bodies);
+        self.has_prediction = true;
+        Ok(())
+    }
+
+    /// The start's terms of every integration of the step: C v0 + K u0
+    /// and the dampers' power.
+    fn know_start(&mut self, system: &System, start: &DynamicState) {
+        if self.alpha != 0.0 {
+            let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
+            let beam = &system.beam;
+            beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
+        }
+        self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies);
+        self.start_known = true;
+    }
+
+    /// The energy bookkeeping of the step from `from` that ended in `end`
+    /// (its last integration): once per step, after the iteration has
+    /// converged, instead of at every iterate.
+    pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
+        let (start, dt) = (from.state, from.dt);
         // Structural damping: the power at the mean velocity, which for the
         // trapezoidal scheme (α = 0) is exactly the energy the step removes.
         self.work.copy_from(&start.beam_velocity);
@@ -158,8 +200,8 @@ impl Hht {
         self.work.scale_mut(0.5);
         end.beam_dissipated = start.beam_dissipated + dt * system.beam.damping_power(&self.work);
         // Trapezoidal rule for the dampers' dissipation over the step.
-        let start_dissipation = dissipation_power(&system.force_elements, &start.bodies);
-        end.dissipated = start.dissipated + 0.5 * dt * (start_dissipation + dissipation);
+        end.dissipated =
+            start.dissipated + 0.5 * dt * (self.start_dissipation + self.end_dissipation);
         let weights = Weights {
             beta: self.beta,
             gamma: self.gamma,
@@ -173,11 +215,6 @@ impl Hht {
             &mut self.energy,
         );
         end.numerical_dissipation = start.numerical_dissipation + numerical;
-        self.predicted_u.copy_from(&end.beam_displacement);
-        self.predicted_bodies.clear();
-        self.predicted_bodies.extend_from_slice(&end.bodies);
-        self.has_prediction = true;
-        Ok(())
     }
 
     /// Beam: predictors, then
@@ -208,8 +245,7 @@ impl Hht {
         self.rhs.scale_mut(1.0 + alpha);
         self.rhs.axpy(-(1.0 + alpha), &self.work, 1.0);
         if alpha != 0.0 {
-            beam.internal_forces(u0, v0, &mut self.scratch, &mut self.work);
-            self.rhs.axpy(alpha, &self.work, 1.0);
+            self.rhs.axpy(alpha, &self.start_internal, 1.0);
             self.rhs.axpy(-alpha, &start.beam_load, 1.0);
         }
         let mut a1 = std::mem::replace(&mut self.rhs, DVector::zeros(0));

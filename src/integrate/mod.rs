@@ -239,6 +239,15 @@ impl Integrator {
         }
     }
 
+    /// Called once after the iterations of a step that converged, with its
+    /// last integration in `end`: what only the accepted step needs (HHT-α's
+    /// energy bookkeeping; RK4 keeps its own with every integration).
+    pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
+        if let Integrator::Hht(hht) = self {
+            hht.finish_step(system, from, end);
+        }
+    }
+
     /// How a body's end-of-step velocity and position respond to the
     /// force at the end of the step, per unit of acceleration it causes:
     /// (Δt, Δt²/2) for RK4's held force, (γ Δt, β Δt²) for HHT-α.
