@@ -884,11 +884,13 @@ impl ContactIteration {
     /// vehicle whose contacts are all open has no contact rows to iterate
     /// on, so the step is integrated again until its velocities change by
     /// no more than `tolerance` (a fixed point, implicit as the scheme
-    /// needs). RK4 and systems without force elements need no prediction.
+    /// needs). A massless follower's force law is iterated the same way.
+    /// RK4 and systems without force elements or followers need no
+    /// prediction.
     fn settled(&mut self, system: &System, end: &DynamicState, tolerance: f64) -> bool {
-        let predicted = matches!(self.integrator, Integrator::Hht(_))
-            && !system.force_elements.is_empty()
-            && self.open.contains(&true);
+        let laws = !system.force_elements.is_empty() || self.followers.contains(&true);
+        let predicted =
+            matches!(self.integrator, Integrator::Hht(_)) && laws && self.open.contains(&true);
         if !predicted {
             return true;
         }
