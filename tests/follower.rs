@@ -698,3 +698,95 @@ fn a_follower_started_above_its_rest_within_its_spring_oscillates_about_it() {
     assert!(worst < 1e-6 * h, "{worst}");
     assert!(out[1].iter().all(|&n| n > 0.0));
 }
+
+/// Followers on rigid ground 2 km long: `bodies` as (name, start, speed),
+/// a 50 mm, 4 m bump 20 m ahead of each start (it unloads the follower).
+fn followers_on_ground(bodies: &[(&str, f64, f64)], hht: bool) -> Scene {
+    let mut scene = ground_scene();
+    scene.track.approach = 2000.0;
+    scene.track.irregularities = bodies
+        .iter()
+        .map(
+            |&(_, start, _)| guideway::scene::IrregularitySpec::CosineDip {
+                position: start + 20.0,
+                wavelength: 4.0,
+                depth: -0.05,
+            },
+        )
+        .collect();
+    let spec = |&(name, start, speed): &(&str, f64, f64)| {
+        let mut spec = scene.body.clone();
+        spec.name = name.into();
+        spec.initial_position = start;
+        spec.initial_speed = speed;
+        spec
+    };
+    scene.vehicles = bodies[1..].iter().map(spec).collect();
+    scene.body = spec(&bodies[0]);
+    if hht {
+        scene = with_hht(scene, 0.0, 5.0e-4);
+    }
+    scene.validate().expect("valid");
+    scene
+}
+
+#[test]
+fn two_followers_far_apart_are_two_single_followers() {
+    let (a, b) = (("car", -1500.0, 20.0), ("second", -500.0, 25.0));
+    for hht in [false, true] {
+        let quantities = ["y", "vy", "ay"];
+        let single_a = histories(
+            &followers_on_ground(&[a], hht),
+            &[
+                "car.y",
+                "car.vy",
+                "car.ay",
+                "contact.normal_force",
+                "contact.state",
+            ],
+        );
+        let single_b = histories(
+            &followers_on_ground(&[b], hht),
+            &[
+                "second.y",
+                "second.vy",
+                "second.ay",
+                "contact.normal_force",
+                "contact.state",
+            ],
+        );
+        let pair = followers_on_ground(&[a, b], hht);
+        let mut names: Vec<String> = quantities.iter().map(|q| format!("car.{q}")).collect();
+        names.extend(["contact.normal_force".into(), "contact.state".into()]);
+        names.extend(quantities.iter().map(|q| format!("second.{q}")));
+        names.extend([
+            "second_contact.normal_force".into(),
+            "second_contact.state".into(),
+        ]);
+        let refs: Vec<&str> = names.iter().map(String::as_str).collect();
+        let (_, together) = histories(&pair, &refs);
+        let mut worst: f64 = 0.0;
+        for (alone, offset) in [(&single_a.1, 0), (&single_b.1, 5)] {
+            for (i, series) in alone.iter().enumerate() {
+                let scale = peak(series).max(1.0);
+                let difference = largest_difference(series, &together[offset + i]) / scale;
+                worst = worst.max(difference);
+            }
+        }
+        // Both lift off over their bumps.
+        assert!(together[4].contains(&0.0) && together[9].contains(&0.0));
+        let mut sim = Simulation::new(&pair).expect("builds");
+        let end = pair.solver.end_time.unwrap();
+        assert_eq!(sim.advance_to(end).unwrap(), Advance::Reached);
+        let contacts: Vec<usize> = sim.events().iter().map(|e| e.contact).collect();
+        eprintln!(
+            "two followers (HHT {hht}): largest difference {worst:.3e} of the peaks; events of \
+             contacts {contacts:?}"
+        );
+        assert!(contacts.contains(&0) && contacts.contains(&1));
+        // RK4: each body's step is its own; HHT-α iterates the pair's
+        // force laws together to the iteration's tolerance (1e-7 m/s).
+        let bound = if hht { 1e-6 } else { 1e-12 };
+        assert!(worst <= bound, "{worst}");
+    }
+}
