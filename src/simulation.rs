@@ -90,7 +90,8 @@ pub enum EventKind {
     /// The contact opened: its normal force would have turned tensile in
     /// the step from this instant.
     LiftOff,
-    /// An open contact's gap closed: an impact (which may bounce).
+    /// An open contact's gap closed: an impact (which may bounce); a
+    /// massless follower's law turned compressive again: no impact.
     Landing,
 }
 
