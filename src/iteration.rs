@@ -340,6 +340,9 @@ pub struct ContactIteration {
     previous_bodies: Vec<crate::body::BodyState>,
     /// Per contact: a massless follower (always open to the iteration).
     followers: Vec<bool>,
+    /// The bodies' largest velocity change between the last two
+    /// integrations of a step that re-integrates for its force laws.
+    settle_change: f64,
 }
 
 impl ContactIteration {
@@ -383,6 +386,7 @@ impl ContactIteration {
             shapes: vec![ForceShape::default(); system.contacts.len()],
             previous_bodies: Vec::new(),
             followers,
+            settle_change: 0.0,
         }
     }
 
@@ -835,10 +839,12 @@ impl ContactIteration {
                     return Ok(iterations);
                 }
                 if iterations >= settings.max_iterations {
+                    // The contacts converged; the force laws' fixed point
+                    // did not: report the bodies' last velocity change.
                     return Err(StepError::NotConverged {
-                        stage: "velocity",
+                        stage: "force-law fixed-point",
                         iterations,
-                        residual,
+                        residual: self.settle_change,
                         tolerance: settings.velocity_tolerance,
                     });
                 }
@@ -903,6 +909,7 @@ impl ContactIteration {
             .fold(0.0, f64::max);
         self.previous_bodies.clear();
         self.previous_bodies.extend_from_slice(&end.bodies);
+        self.settle_change = change;
         !first && change <= tolerance
     }
 

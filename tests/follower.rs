@@ -795,3 +795,19 @@ fn two_followers_far_apart_are_two_single_followers() {
         assert!(worst <= bound, "{worst}");
     }
 }
+
+#[test]
+fn a_follower_too_stiff_for_the_hht_step_fails_with_a_message_not_a_panic() {
+    // k β Δt² / M ≈ 1e3: the fixed point of the force law cannot settle.
+    let mut scene = with_hht(beam_scene(0.0), 0.0, 2.5e-3);
+    scene.body.mass = 100.0;
+    let suspension = scene.body.suspension.as_mut().unwrap();
+    suspension.stiffness = 1e9;
+    suspension.damping = 1e7;
+    let mut sim = Simulation::new(&scene).expect("builds");
+    let error = sim.advance_to(0.1).expect_err("does not settle");
+    eprintln!("stiff follower: {error}");
+    let message = error.to_string();
+    assert!(message.contains("force-law fixed-point"), "{message}");
+    assert!(message.contains("solver.step"), "{message}");
+}
