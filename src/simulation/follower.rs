@@ -35,7 +35,10 @@ impl Simulation {
             };
             // The fraction of the step at which the law crossed zero.
             let fraction = match (law(&self.scratch, self), law(&self.state.dynamic, self)) {
-                (Some(p0), Some(p1)) if p0 != p1 => (p0 / (p0 - p1)).clamp(0.0, 1.0),
+                (Some(p0), Some(p1)) if p0 != p1 && (p0 - p1).is_finite() => {
+                    (p0 / (p0 - p1)).clamp(0.0, 1.0)
+                }
+                // No frame, or no crossing to interpolate: the step's end.
                 _ => 1.0,
             };
             let time = self.state.time - (1.0 - fraction) * dt;
