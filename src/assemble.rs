@@ -501,11 +501,19 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             }
         }
         restitution.extend(vehicle.contacts.iter().map(|_| spec.restitution));
-        open.extend(vehicle.contacts.iter().map(|_| spec.initial_height > 0.0));
-        forces.extend(vehicle.contacts.iter().map(|_| ContactForce {
-            tangential: 0.0,
-            normal: share,
-        }));
+        for contact in &vehicle.contacts {
+            // A follower above the track carries what its suspension
+            // still transmits; it is open (slack) if that is nothing.
+            let normal = contact
+                .follower
+                .map_or(share, |f| f.force(f.rest + spec.initial_height, 0.0));
+            let flying = contact.follower.is_none() && spec.initial_height > 0.0;
+            open.push(flying || normal == 0.0);
+            forces.push(ContactForce {
+                tangential: 0.0,
+                normal,
+            });
+        }
         applied.push((offset, [spec.force_x, spec.force_y]));
         system.bodies.extend(vehicle.bodies);
         system.contacts.extend(vehicle.contacts);

@@ -66,7 +66,13 @@ pub struct Follower {
 impl Follower {
     /// Normal force (N, compression positive) at gap `gap` and gap rate `rate`.
     pub fn force(&self, gap: f64, rate: f64) -> f64 {
-        (self.preload - self.stiffness * (gap - self.rest) - self.damping * rate).max(0.0)
+        self.law(gap, rate).max(0.0)
+    }
+
+    /// The suspension's law before the cut at zero: negative where the
+    /// suspension would pull (the follower is slack, its contact open).
+    pub fn law(&self, gap: f64, rate: f64) -> f64 {
+        self.preload - self.stiffness * (gap - self.rest) - self.damping * rate
     }
 
     /// Potential energy of its spring at gap `gap` (J), zero at rest: that
@@ -77,13 +83,17 @@ impl Follower {
         0.5 * self.stiffness * delta * delta - self.preload * delta
     }
 
-    /// Power its damper dissipates at gap rate `rate` while it carries load.
+    /// Power its damper dissipates at gap `gap` and rate `rate`: what the
+    /// follower's work leaves after its spring's share, so that spring
+    /// energy plus dissipation change by exactly that work (P ġ taken
+    /// from the bodies). With E = preload − k δ the spring's force (its
+    /// potential is flat where E < 0): (max(E, 0) − P) ġ. Carrying load
+    /// with E ≥ 0 that is c ġ²; with E < 0 (c > 0, closing) −P ġ; slack
+    /// it is max(E, 0) ġ, the compressed spring's energy that the damper's
+    /// relaxation, which the force law neglects, takes. Never negative.
     pub fn dissipation(&self, gap: f64, rate: f64) -> f64 {
-        if self.force(gap, rate) > 0.0 {
-            self.damping * rate * rate
-        } else {
-            0.0
-        }
+        let elastic = self.preload - self.stiffness * (gap - self.rest);
+        (elastic.max(0.0) - self.force(gap, rate)) * rate
     }
 }
 

@@ -361,6 +361,9 @@ pub struct ContactIteration {
     followers: Vec<bool>,
     /// Per body: its contacts, in increasing order.
     contacts_of_body: Vec<Vec<usize>>,
+    /// The bodies' largest velocity change between the last two
+    /// integrations of a step that re-integrates for its force laws.
+    settle_change: f64,
 }
 
 impl ContactIteration {
@@ -411,6 +414,7 @@ impl ContactIteration {
             previous_bodies: Vec::new(),
             followers,
             contacts_of_body,
+            settle_change: 0.0,
         }
     }
 
@@ -894,10 +898,12 @@ impl ContactIteration {
                     return Ok(iterations);
                 }
                 if iterations >= settings.max_iterations {
+                    // The contacts converged; the force laws' fixed point
+                    // did not: report the bodies' last velocity change.
                     return Err(StepError::NotConverged {
-                        stage: "velocity",
+                        stage: "force-law fixed-point",
                         iterations,
-                        residual,
+                        residual: self.settle_change,
                         tolerance: settings.velocity_tolerance,
                     });
                 }
@@ -943,11 +949,13 @@ impl ContactIteration {
     /// vehicle whose contacts are all open has no contact rows to iterate
     /// on, so the step is integrated again until its velocities change by
     /// no more than `tolerance` (a fixed point, implicit as the scheme
-    /// needs). RK4 and systems without force elements need no prediction.
+    /// needs). A massless follower's force law is iterated the same way.
+    /// RK4 and systems without force elements or followers need no
+    /// prediction.
     fn settled(&mut self, system: &System, end: &DynamicState, tolerance: f64) -> bool {
-        let predicted = matches!(self.integrator, Integrator::Hht(_))
-            && !system.force_elements.is_empty()
-            && self.open.contains(&true);
+        let laws = !system.force_elements.is_empty() || self.followers.contains(&true);
+        let predicted =
+            matches!(self.integrator, Integrator::Hht(_)) && laws && self.open.contains(&true);
         if !predicted {
             return true;
         }
@@ -960,6 +968,7 @@ impl ContactIteration {
             .fold(0.0, f64::max);
         self.previous_bodies.clear();
         self.previous_bodies.extend_from_slice(&end.bodies);
+        self.settle_change = change;
         !first && change <= tolerance
     }
 

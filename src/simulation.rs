@@ -17,6 +17,7 @@ use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
+mod follower;
 mod switch;
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
@@ -89,7 +90,8 @@ pub enum EventKind {
     /// The contact opened: its normal force would have turned tensile in
     /// the step from this instant.
     LiftOff,
-    /// An open contact's gap closed: an impact (which may bounce).
+    /// An open contact's gap closed: an impact (which may bounce); a
+    /// massless follower's law turned compressive again: no impact.
     Landing,
 }
 
@@ -832,7 +834,9 @@ impl Simulation {
         let mut first: Option<(f64, usize)> = None;
         for (c, status) in self.state.contacts.iter().enumerate() {
             let (g0, g1) = (status.gap, end[c]);
-            if !status.open || self.opened[c] || g1.is_nan() || g1 >= 0.0 {
+            // A slack follower's gap is its suspension's: it lands by its law.
+            let follower = self.system.contacts[c].follower.is_some();
+            if !status.open || self.opened[c] || g1.is_nan() || g1 >= 0.0 || follower {
                 continue;
             }
             let fraction = if g0 > 0.0 { g0 / (g0 - g1) } else { 0.0 };
@@ -849,7 +853,9 @@ impl Simulation {
     fn land_at_start(&mut self) -> Result<(), SolverError> {
         for c in 0..self.state.contacts.len() {
             let status = self.state.contacts[c];
-            if status.open && status.gap <= 0.0 && self.normal_velocity_error(c)? < 0.0 {
+            let follower = self.system.contacts[c].follower.is_some();
+            if status.open && !follower && status.gap <= 0.0 && self.normal_velocity_error(c)? < 0.0
+            {
                 self.land(c, false)?;
             }
         }
@@ -925,6 +931,7 @@ impl Simulation {
             status.open = open;
             status.gap = gap;
         }
+        self.follower_transitions(dt);
     }
 
     /// Record the track events of the step just taken, which ends where
@@ -1110,6 +1117,10 @@ impl Simulation {
         statuses
             .map(|(d, status)| {
                 let approach = errors[d].y.min(0.0);
+                if self.system.contacts[d].follower.is_some() {
+                    // A force law with no mass: no impulse passes through it.
+                    return Part::Out;
+                }
                 if !status.open {
                     return if status.opened_in == Some(grid) {
                         Part::Held

@@ -11,6 +11,9 @@
 //! A glider on a sloped surface feels the horizontal part of its normal
 //! force; it is carried by preloading the longitudinal elements, in their
 //! order (leaves first: wheelset guides, then bogie guides).
+//! A massless follower's body is set at its suspension's rest above the
+//! deflected surface, where the follower carries its preload, the body's
+//! weight; the beam deflects under it like under any contact force.
 
 use nalgebra::{DVector, Vector3};
 
@@ -32,14 +35,6 @@ pub fn static_start(
     forces: &mut [ContactForce],
     applied: &[Vector3<f64>],
 ) -> Result<DVector<f64>, String> {
-    if system.contacts.iter().any(|c| c.follower.is_some()) {
-        // Its contact is a force law, not a body to settle on the surface.
-        return Err(
-            "solver.start = \"static\" is not offered with a massless follower \
-                    (suspension.unsprung_mass = 0): use start = \"rest\""
-                .into(),
-        );
-    }
     let n = system.beam.coordinates();
     let mut u = DVector::zeros(n);
     let at_rest = DVector::zeros(n);
@@ -161,9 +156,15 @@ fn carry_loads(
     forces: &mut [ContactForce],
 ) {
     for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
+        // A follower's force is its suspension's, already in `body_loads`:
+        // settled at its rest, the preload.
+        let normal = match contact.follower {
+            Some(follower) => follower.preload,
+            None => -body_loads[contact.body].y / frame.normal().y,
+        };
         *force = ContactForce {
             tangential: 0.0,
-            normal: -body_loads[contact.body].y / frame.normal().y,
+            normal,
         };
     }
 }

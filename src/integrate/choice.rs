@@ -95,16 +95,6 @@ pub fn choose_integrator(
     let step = solver.step;
     let damping = solver.numerical_damping;
     let hht = |damping: f64, why: String| -> Result<(Integrator, String), String> {
-        // HHT-α evaluates force laws at a predicted configuration held over
-        // its step; a follower's force would lag its beam velocity there.
-        if system.contacts.iter().any(|c| c.follower.is_some()) {
-            return Err(format!(
-                "solver.integrator: a massless follower (suspension.unsprung_mass = 0) \
-                 runs with RK4 only (the step {step} s must be within RK4's limit \
-                 {:.3e} s for this mesh, or give the contact body a mass)",
-                rk4_step_limit(system)
-            ));
-        }
         let integrator = Hht::new(system, damping, step)?;
         Ok((
             Integrator::Hht(Box::new(integrator)),

@@ -7,14 +7,19 @@
 //! beam and body alike; both are integrated with the same Newmark weights,
 //! so the forces they receive are equal and opposite over every step and,
 //! for α = 0, the contact does no work beyond that of the velocity error.
-//! Force elements are evaluated at the same predicted end configuration,
-//! which the iteration refines with every integration of the step.
+//! Force elements and massless followers are evaluated at the same
+//! predicted end configuration (a follower's gap rate at the predicted
+//! beam velocity too), which the iteration refines with every integration
+//! of the step until the end state is a fixed point: they act at the end
+//! of the step like every other load, as the scheme needs.
 
 use crate::beam::EffectiveFactor;
 use nalgebra::{DVector, Vector3};
 
 use super::hht_energy::{step_dissipation, Buffers, Weights};
-use super::{contact_frames, loads, DynamicState, IntegrationError, StepStart};
+use super::{
+    contact_frames, follower_dissipation, loads, DynamicState, IntegrationError, StepStart,
+};
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::dissipation_power;
@@ -31,6 +36,7 @@ pub struct Hht {
     other: Option<(f64, EffectiveFactor)>,
     /// The previous iterate's end configuration, within the current step.
     predicted_u: DVector<f64>,
+    predicted_v: DVector<f64>,
     predicted_bodies: Vec<BodyState>,
     has_prediction: bool,
     frames: Vec<ContactFrame>,
@@ -77,6 +83,7 @@ impl Hht {
             nominal: (nominal_step, factor),
             other: None,
             predicted_u: z(),
+            predicted_v: z(),
             predicted_bodies: Vec::new(),
             has_prediction: false,
             frames: Vec::new(),
@@ -129,6 +136,7 @@ impl Hht {
         if !self.has_prediction {
             self.predicted_u.copy_from(&start.beam_displacement);
             self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
+            self.predicted_v.copy_from(&start.beam_velocity);
             self.predicted_bodies.clear();
             self.predicted_bodies
                 .extend(start.bodies.iter().map(|b| BodyState {
@@ -153,12 +161,12 @@ impl Hht {
             forces,
             from.applied,
             &self.predicted_bodies,
-            &start.beam_velocity,
+            &self.predicted_v,
             &mut self.load,
             &mut end.body_loads,
         );
         if !self.start_known {
-            self.know_start(system, start);
+            self.know_start(system, from);
         }
         self.beam_step(system, start, dt, end);
         end.tractive_work = start.tractive_work;
@@ -170,6 +178,7 @@ impl Hht {
             *x = frame.x;
         }
         self.predicted_u.copy_from(&end.beam_displacement);
+        self.predicted_v.copy_from(&end.beam_velocity);
         self.predicted_bodies.clear();
         self.predicted_bodies.extend_from_slice(&end.bodies);
         self.has_prediction = true;
@@ -178,13 +187,15 @@ impl Hht {
 
     /// The start's terms of every integration of the step: C v0 + K u0
     /// and the dampers' power.
-    fn know_start(&mut self, system: &System, start: &DynamicState) {
+    fn know_start(&mut self, system: &System, from: &StepStart) {
+        let start = from.state;
         if self.alpha != 0.0 {
             let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
             let beam = &system.beam;
             beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
         }
-        self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies);
+        self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
+            + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
         self.start_known = true;
     }
 

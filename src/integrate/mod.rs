@@ -191,6 +191,23 @@ pub fn follower_gap(
     (gap, rate)
 }
 
+/// The power every follower's damper dissipates at the given configuration.
+pub fn follower_dissipation(
+    system: &System,
+    frames: &[ContactFrame],
+    bodies: &[BodyState],
+    beam_velocity: &DVector<f64>,
+) -> f64 {
+    let contacts = system.contacts.iter().zip(frames);
+    contacts
+        .filter_map(|(contact, frame)| {
+            let follower = contact.follower?;
+            let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+            Some(follower.dissipation(gap, rate))
+        })
+        .sum()
+}
+
 /// Every follower's force at the given configuration into `forces` (the
 /// other contacts' are left as they are).
 pub fn follower_forces(

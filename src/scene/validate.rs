@@ -737,14 +737,6 @@ fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             checks.non_negative(&path("suspension.damping"), s.damping);
             // 0 is the massless follower.
             checks.non_negative(&path("suspension.unsprung_mass"), s.unsprung_mass);
-            if s.unsprung_mass == 0.0 && body.initial_height > 0.0 {
-                // A follower is on the surface by definition: it has no flight.
-                checks.fail(
-                    path("initial_height"),
-                    body.initial_height.to_string(),
-                    "must be 0 for a massless follower (suspension.unsprung_mass = 0)",
-                );
-            }
         }
         (BodyKind::SprungMass, None) => checks.fail(
             path("suspension"),

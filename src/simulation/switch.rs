@@ -59,7 +59,10 @@ impl Simulation {
     /// loss enters `energy.impact_loss`.
     fn joint_impact(&mut self, contact: usize) -> Result<(), SolverError> {
         use crate::impact::Part;
-        if self.state.contacts[contact].open {
+        let follower = |d: usize| self.system.contacts[d].follower.is_some();
+        // A follower has no mass to take an impulse: its law follows the
+        // new surface.
+        if self.state.contacts[contact].open || follower(contact) {
             return Ok(());
         }
         let frames = self.frames_now()?;
@@ -71,7 +74,7 @@ impl Simulation {
         let parts: Vec<Part> = (self.state.contacts.iter().enumerate())
             .map(|(d, status)| match () {
                 _ if d == contact => Part::Landing(0.0),
-                _ if status.open => Part::Out,
+                _ if status.open || follower(d) => Part::Out,
                 _ if status.opened_in == Some(grid) => Part::Held,
                 _ => Part::Closed,
             })
