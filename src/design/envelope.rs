@@ -104,14 +104,14 @@ pub fn envelope_of_loads(
          to move), so the loads have no static response",
     )?;
     let shifts = shifts(scene, beam, loads, (first, last));
+    let mut response = BeamDynamics::static_response_with(beam, &stiffness, Vec::new());
     for &shift in &shifts {
-        let on_beam: Vec<PointLoad> = loads
+        let on_beam = loads
             .iter()
             .map(|&(x, normal)| (x + shift, normal))
             .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
-            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
-            .collect();
-        let response = BeamDynamics::static_response_with(beam, &stiffness, on_beam);
+            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
+        response.set_static_response(beam, &stiffness, on_beam);
         for (peak, read) in peaks.iter_mut().zip(&reads) {
             *peak = peak.max(read.value(beam, &response).abs());
         }
