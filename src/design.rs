@@ -70,12 +70,17 @@ pub fn contact_loads(
 /// The consistent load vector of `loads` on the free DOFs.
 pub fn load_vector(beam: &Beam, loads: &[PointLoad]) -> DVector<f64> {
     let mut r = DVector::zeros(beam.coordinates());
+    add_loads(beam, loads, &mut r);
+    r
+}
+
+/// Add the consistent load vector of `loads` to `r`.
+fn add_loads(beam: &Beam, loads: &[PointLoad], r: &mut DVector<f64>) {
     for load in loads {
         let shape = beam.shape(load.element, load.x);
-        beam.scatter(&shape, &shape.n, load.force, &mut r);
-        beam.scatter(&shape, &shape.dn, load.couple, &mut r);
+        beam.scatter(&shape, &shape.n, load.force, r);
+        beam.scatter(&shape, &shape.dn, load.couple, r);
     }
-    r
 }
 
 /// The beam at one instant: displacement, velocity, the loads on it and
@@ -168,6 +173,30 @@ impl BeamDynamics {
         let mut displacement = load_vector(beam, &loads);
         stiffness.solve_mut(&mut displacement);
         BeamDynamics::at_rest(beam, displacement, loads)
+    }
+
+    /// This state at rest replaced by the static equilibrium under `loads`
+    /// (as `static_response_with`, in place: the envelope solves
+    /// thousands); a modal structure's (no factor) is its modes'.
+    fn set_static_response(
+        &mut self,
+        beam: &Beam,
+        stiffness: Option<&crate::band::BandLdlt>,
+        loads: impl IntoIterator<Item = PointLoad>,
+    ) -> Result<(), String> {
+        self.loads.clear();
+        self.loads.extend(loads);
+        match stiffness {
+            Some(factor) => {
+                self.displacement.fill(0.0);
+                add_loads(beam, &self.loads, &mut self.displacement);
+                factor.solve_mut(&mut self.displacement);
+            }
+            None => {
+                self.displacement = beam.static_deflection(&load_vector(beam, &self.loads))?;
+            }
+        }
+        Ok(())
     }
 
     fn at_rest(beam: &Beam, displacement: DVector<f64>, loads: Vec<PointLoad>) -> BeamDynamics {

@@ -83,8 +83,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
             let integrator = simulation.integrator_choice().to_string();
             let events = SummaryEvent::list(&simulation);
             let run = (integrator, events);
-            let summary = finish(sink, outputs, &streamed, run, &scene, args.quiet)?;
-            if !args.quiet {
+            if let Some(summary) = finish(sink, outputs, &streamed, run, &scene, args.quiet)? {
                 println!("{summary}");
             }
             Ok(())
@@ -113,7 +112,8 @@ fn drive_with_nodes(
     Ok(result)
 }
 
-/// Write what a finished run produced and move each file onto its path.
+/// Write what a finished run produced and move each file onto its path;
+/// the summary to print, unless quiet.
 fn finish(
     mut sink: Sink,
     outputs: Outputs,
@@ -121,7 +121,7 @@ fn finish(
     (integrator, events): (String, Vec<SummaryEvent>),
     scene: &Scene,
     quiet: bool,
-) -> Result<RunSummary, Failure> {
+) -> Result<Option<RunSummary>, Failure> {
     if let Some(csv) = outputs.csv {
         sink.finish_csv()?;
         csv.commit().map_err(Failure::Run)?;
@@ -129,12 +129,16 @@ fn finish(
     if let Some(nodes) = outputs.nodes {
         nodes.commit().map_err(Failure::Run)?;
     }
-    let mut summary = sink
-        .summary
-        .finish(streamed.exit_time, streamed.solve_time.as_secs_f64());
-    summary.integrator = Some(integrator);
-    summary.events = events;
-    if let Some(staged) = outputs.summary {
+    // Not built when nobody reads it (its static envelope is not free).
+    let summary = (!quiet || outputs.summary.is_some()).then(|| {
+        let mut summary = sink
+            .summary
+            .finish(streamed.exit_time, streamed.solve_time.as_secs_f64());
+        summary.integrator = Some(integrator);
+        summary.events = events;
+        summary
+    });
+    if let (Some(staged), Some(summary)) = (outputs.summary, &summary) {
         std::fs::write(staged.temp_path(), summary.to_json() + "\n")
             .map_err(|e| Failure::Run(format!("cannot write {}: {e}", staged.path().display())))?;
         staged.commit().map_err(Failure::Run)?;
@@ -150,7 +154,7 @@ fn finish(
         plot::write_plot(scene, &trace, staged.temp_path()).map_err(Failure::Run)?;
         staged.commit().map_err(Failure::Run)?;
     }
-    Ok(summary)
+    Ok(summary.filter(|_| !quiet))
 }
 
 /// Natural frequencies printed before a run.

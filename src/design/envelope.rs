@@ -11,6 +11,8 @@
 
 use std::collections::BTreeMap;
 
+use nalgebra::DVector;
+
 use super::probes::{probes, Probe};
 use super::{BeamDynamics, PointLoad};
 use crate::assemble::assemble;
@@ -108,17 +110,15 @@ pub fn envelope_of_loads(
         )?),
     };
     let shifts = shifts(scene, beam, loads, (first, last));
+    let at_rest = DVector::zeros(beam.coordinates());
+    let mut response = BeamDynamics::at_rest(beam, at_rest, Vec::new());
     for &shift in &shifts {
-        let on_beam: Vec<PointLoad> = loads
+        let on_beam = loads
             .iter()
             .map(|&(x, normal)| (x + shift, normal))
             .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
-            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
-            .collect();
-        let response = match &stiffness {
-            Some(factor) => BeamDynamics::static_response_with(beam, factor, on_beam),
-            None => BeamDynamics::static_response(beam, on_beam)?,
-        };
+            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
+        response.set_static_response(beam, stiffness.as_ref(), on_beam)?;
         for (peak, read) in peaks.iter_mut().zip(&reads) {
             *peak = peak.max(read.value(beam, &response).abs());
         }

@@ -39,6 +39,11 @@ pub trait Dynamics: Steppable + Sized {
     fn check_state(&self, _state: &Self::State) -> Result<(), String> {
         Ok(())
     }
+    /// `check_state` of the current state (without copying it where the
+    /// dynamics can lend it: this runs after every communication step).
+    fn check_current(&self) -> Result<(), String> {
+        self.check_state(&self.state())
+    }
 }
 
 impl Dynamics for Simulation {
@@ -83,6 +88,9 @@ impl Dynamics for Simulation {
     }
     fn check_state(&self, state: &SimState) -> Result<(), String> {
         check_sim_state(state, self.step_size())
+    }
+    fn check_current(&self) -> Result<(), String> {
+        check_sim_state(self.current(), self.step_size())
     }
 }
 

@@ -115,6 +115,11 @@ pub struct Model<D: Dynamics> {
     discarded: Option<(DiscardedStep, String)>,
     /// The simulation events of the last completed step, in words.
     new_events: Vec<String>,
+    /// The outputs of the current state, once computed (by the step's
+    /// check or a getter), so that the getters after a step do not compute
+    /// them again. Cleared by everything that changes the state, the
+    /// inputs or the parameters (`changing`).
+    outputs_now: Option<Vec<f64>>,
 }
 
 /// What a step is determined by, besides the state: its time, size, inputs.
@@ -205,7 +210,14 @@ impl<D: Dynamics> Model<D> {
             wall_time_budget: DEFAULT_WALL_TIME_BUDGET,
             discarded: None,
             new_events: Vec::new(),
+            outputs_now: None,
         })
+    }
+
+    /// Called first by everything that may change the state, the inputs or
+    /// the parameters: the outputs kept for the getters are out of date.
+    fn changing(&mut self) {
+        self.outputs_now = None;
     }
 
     pub fn table(&self) -> &VariableTable {
@@ -223,6 +235,7 @@ impl<D: Dynamics> Model<D> {
 
     /// Back to the start values, before initialization.
     pub fn reset(&mut self) {
+        self.changing();
         self.scene = self.start_scene.clone();
         self.inputs = start_inputs(&self.scene);
         self.start_time = 0.0;
@@ -236,6 +249,7 @@ impl<D: Dynamics> Model<D> {
     /// fmi2SetupExperiment's times: all or nothing. A stop time bounds the
     /// run's length (checked when initialization is left).
     pub fn set_experiment(&mut self, start: f64, stop: Option<f64>) -> Result<(), ModelError> {
+        self.changing();
         if !start.is_finite() {
             return err(format!("startTime = {start}: must be finite"));
         }
@@ -317,9 +331,16 @@ impl<D: Dynamics> Model<D> {
         Ok(values)
     }
 
+    /// `output_values`, computed once per state.
+    fn current_outputs(&mut self) -> Result<&[f64], ModelError> {
+        if self.outputs_now.is_none() {
+            self.outputs_now = Some(self.output_values()?);
+        }
+        Ok(self.outputs_now.as_deref().expect("just computed"))
+    }
+
     /// Values of the variables `vrs`, all of type `ty`.
     pub fn get(&mut self, ty: VarType, vrs: &[u32]) -> Result<Vec<Value>, ModelError> {
-        let mut outputs: Option<Vec<f64>> = None;
         let mut values = Vec::with_capacity(vrs.len());
         for &vr in vrs {
             let role = self.variable(vr, ty)?.role;
@@ -328,10 +349,7 @@ impl<D: Dynamics> Model<D> {
                 Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
                 Role::Input(i) => Value::Real(self.inputs[i.index()]),
                 Role::Output(k) => {
-                    if outputs.is_none() {
-                        outputs = Some(self.output_values()?);
-                    }
-                    let x = outputs.as_ref().expect("just computed")[k];
+                    let x = self.current_outputs()?[k];
                     match ty {
                         VarType::Integer => Value::Integer(x as i32),
                         VarType::Boolean => Value::Boolean(x != 0.0),
@@ -347,6 +365,7 @@ impl<D: Dynamics> Model<D> {
     /// Set the variables `vrs`: all or nothing. Parameters only before
     /// initialization is left, inputs at any time, outputs never.
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
+        self.changing();
         let mut scene = self.scene.clone();
         let mut inputs = self.inputs.clone();
         let mut budget = self.wall_time_budget;
@@ -408,6 +427,7 @@ impl<D: Dynamics> Model<D> {
 
     /// Leave initialization: check the whole scene and build the simulation.
     pub fn initialize(&mut self) -> Result<(), ModelError> {
+        self.changing();
         validate(&self.scene).map_err(|e| ModelError(format!("invalid parameters: {e}")))?;
         self.check_run_length()?;
         self.output_values()?;

@@ -65,6 +65,7 @@ impl<D: Dynamics> Model<D> {
 
     /// Restore `snap` (checked first); on any refusal the model is unchanged.
     pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
+        self.changing();
         self.check_snapshot(snap)?;
         let sim = match &snap.sim {
             Some(state) => Some(self.restored_sim(snap, state)?),

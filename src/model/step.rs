@@ -3,9 +3,10 @@
 //! and the classification of failures (see `advance`).
 
 use super::{
-    advance, err, first_non_finite, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
+    advance, err, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
     MAX_INTERNAL_STEPS_PER_CALL, MAX_RUN_STEPS,
 };
+use crate::report::non_finite_output;
 use crate::simulation::Advance;
 use std::time::Duration;
 
@@ -109,6 +110,7 @@ impl<D: Dynamics> Model<D> {
                 });
             }
         }
+        self.changing();
         let events_before = self.sim.as_ref().map_or(0, |s| s.event_count());
         let outcome = self.advance(t + h)?;
         self.new_events = match (&outcome, &self.sim) {
@@ -136,7 +138,7 @@ impl<D: Dynamics> Model<D> {
             return Ok(StepOutcome::Exited { time: t0 + time });
         }
         let (saved, start) = (sim.state(), sim.time());
-        let rolled_back = format!("step rolled back to t = {now} s");
+        let rolled_back = || format!("step rolled back to t = {now} s");
         let outcome = match advance::advance_within(sim, to - t0, step, budget) {
             Ok(Advance::Reached) => StepOutcome::Completed,
             Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
@@ -146,54 +148,65 @@ impl<D: Dynamics> Model<D> {
                     Err(m) => (false, m),
                 };
                 StepOutcome::Failed {
-                    message: format!("solver failed {e}; {rolled_back}; {cure}"),
+                    message: format!("solver failed {e}; {}; {cure}", rolled_back()),
                     curable,
                 }
             }
             Err(advance::Stop::OverBudget { reached }) => StepOutcome::Failed {
                 message: format!(
                     "the step took longer than solver.wall_time_budget = {} s (it had reached \
-                     t = {:e} s of {to:e} s); {rolled_back}; use shorter communication steps or \
+                     t = {:e} s of {to:e} s); {}; use shorter communication steps or \
                      a larger budget",
                     self.wall_time_budget,
                     t0 + reached,
+                    rolled_back(),
                 ),
                 curable: true,
             },
         };
-        let outcome = check_reached(sim, outcome, t0, &rolled_back);
+        let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back);
         if let StepOutcome::Failed { .. } = outcome {
             sim.restore(&saved)
                 .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
         }
+        // (Of the table's length: otherwise the getters' own check speaks.)
+        let outputs_in_table = self.table.outputs().count();
+        self.outputs_now = outputs.filter(|v| v.len() == outputs_in_table);
         Ok(outcome)
     }
 }
 
 /// A step that ended with a non-finite output, or in a state that
-/// could not be restored, failed (no step size cures an overflow).
+/// could not be restored, failed (no step size cures an overflow); one
+/// that did not hands back the outputs it checked, for the getters.
 fn check_reached<D: Dynamics>(
     sim: &D,
     outcome: StepOutcome,
     t0: f64,
-    rolled_back: &str,
-) -> StepOutcome {
+    rolled_back: impl Fn() -> String,
+) -> (StepOutcome, Option<Vec<f64>>) {
     if let StepOutcome::Failed { .. } = outcome {
-        return outcome;
+        return (outcome, None);
     }
     let at = t0 + sim.time();
-    let problem = match first_non_finite(sim) {
+    let mut values = vec![0.0; sim.outputs().len()];
+    sim.output_values(&mut values);
+    let problem = match non_finite_output(sim.outputs(), &values) {
         Some(bad) => Some(format!("{bad} at t = {at} s")),
         None => sim
-            .check_state(&sim.state())
+            .check_current()
             .err()
             .map(|e| format!("the state at t = {at} s is unusable: {e}")),
     };
     match problem {
-        Some(p) => StepOutcome::Failed {
-            message: format!("{p}; {rolled_back}"),
-            curable: false,
-        },
-        None => outcome,
+        Some(p) => {
+            let message = format!("{p}; {}", rolled_back());
+            let failed = StepOutcome::Failed {
+                message,
+                curable: false,
+            };
+            (failed, None)
+        }
+        None => (outcome, Some(values)),
     }
 }

@@ -128,7 +128,11 @@ pub struct SummaryBuilder {
     iterations: u64,
     /// Design outputs: name, column and the value of largest magnitude.
     design: Vec<(String, usize, Option<f64>)>,
-    envelope: Option<crate::design::StaticEnvelope>,
+    /// The scene whose static envelope the amplification factors are
+    /// relative to, when there are design outputs. The envelope is computed
+    /// in `finish`, not before the run: at 1,000 elements its thousands of
+    /// static solves take longer than the whole start-up otherwise.
+    envelope_of: Option<Scene>,
 }
 
 impl SummaryBuilder {
@@ -143,7 +147,9 @@ impl SummaryBuilder {
                 Some((s.name.clone(), column))
             })
             .collect();
+        let design = design_columns(names);
         SummaryBuilder {
+            envelope_of: (!design.is_empty()).then(|| scene.clone()),
             scene: scene.name.clone(),
             speed: find(&output_names::nominal_speed(&scene.body.name)),
             peak_deflection: vec![None; sensors.len()],
@@ -156,10 +162,7 @@ impl SummaryBuilder {
             initial_energy: None,
             max_drift: 0.0,
             iterations: 0,
-            design: design_columns(names),
-            // The reference of the amplification factors: bounded work
-            // (see `design::static_envelope`), none for a beam without one.
-            envelope: crate::design::static_envelope(scene).ok(),
+            design,
         }
     }
 
@@ -208,6 +211,12 @@ impl SummaryBuilder {
 
     pub fn finish(self, exit_time: Option<f64>, wall_time_s: f64) -> RunSummary {
         let usable = |e: &f64| e.is_finite() && *e != 0.0;
+        // The reference of the amplification factors: bounded work (see
+        // `design::static_envelope`), none for a beam without one.
+        let envelope = self
+            .envelope_of
+            .as_ref()
+            .and_then(|scene| crate::design::static_envelope(scene).ok());
         RunSummary {
             scene: self.scene,
             exit_time,
@@ -229,7 +238,7 @@ impl SummaryBuilder {
                 .design
                 .iter()
                 .filter_map(|(name, _, peak)| {
-                    let envelope = self.envelope.as_ref()?;
+                    let envelope = envelope.as_ref()?;
                     Some((name.clone(), envelope.amplification(name, (*peak)?)?))
                 })
                 .collect(),
