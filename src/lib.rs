@@ -9,6 +9,7 @@
 pub mod assemble;
 pub mod band;
 pub mod beam;
+pub mod bending;
 pub mod body;
 pub mod complementarity;
 pub mod contact;
