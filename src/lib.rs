@@ -33,6 +33,7 @@ pub mod simulation;
 pub mod static_start;
 pub mod study;
 pub mod system;
+pub mod two_level;
 
 pub use scene::Scene;
 pub use simulation::{Advance, OutputInfo, OutputKind, SimState, Simulation, SolverError};
