@@ -81,13 +81,20 @@ impl Bending {
         let (u, out) = (u.as_slice(), out.as_mut_slice());
         assert_eq!(u.len(), out.len());
         for e in &self.elements {
-            let (t1, t2) = Self::chord_rotations(e, u);
-            // End moments (EI/h)(4θ₁ + 2θ₂), (EI/h)(2θ₁ + 4θ₂); the shear
-            // (m₁ + m₂)/h acts on w₁ and, reversed, on w₂.
-            let k = scale * e.rotational_stiffness;
-            let (m1, m2) = (k * (4.0 * t1 + 2.0 * t2), k * (2.0 * t1 + 4.0 * t2));
-            let shear = (m1 + m2) * e.inverse_length;
-            for (&i, f) in e.dofs.iter().zip([shear, m1, -shear, m2]) {
+            let first = e.dofs[0];
+            // Interior elements: four consecutive free DOFs, one slice each.
+            if first != HELD && e.dofs[3] == first + 3 {
+                let q: &[f64; 4] = u[first..first + 4].try_into().expect("4");
+                let f = Self::element_forces(e, scale, q);
+                let o: &mut [f64; 4] = (&mut out[first..first + 4]).try_into().expect("4");
+                for (o, f) in o.iter_mut().zip(f) {
+                    *o += f;
+                }
+                continue;
+            }
+            let q = e.dofs.map(|i| if i == HELD { 0.0 } else { u[i] });
+            let f = Self::element_forces(e, scale, &q);
+            for (&i, f) in e.dofs.iter().zip(f) {
                 if i != HELD {
                     out[i] += f;
                 }
@@ -96,6 +103,19 @@ impl Bending {
         for &(i, k) in &self.springs {
             out[i] += scale * k * u[i];
         }
+    }
+
+    /// `scale` times the element's nodal forces for its DOF values `q`.
+    #[inline]
+    fn element_forces(e: &Element, scale: f64, q: &[f64; 4]) -> [f64; 4] {
+        let chord = (q[2] - q[0]) * e.inverse_length;
+        let (t1, t2) = (q[1] - chord, q[3] - chord);
+        // End moments (EI/h)(4θ₁ + 2θ₂), (EI/h)(2θ₁ + 4θ₂); the shear
+        // (m₁ + m₂)/h acts on w₁ and, reversed, on w₂.
+        let k = scale * e.rotational_stiffness;
+        let (m1, m2) = (k * (4.0 * t1 + 2.0 * t2), k * (2.0 * t1 + 4.0 * t2));
+        let shear = (m1 + m2) * e.inverse_length;
+        [shear, m1, -shear, m2]
     }
 
     /// uᵀ K u, as a sum of non-negative element terms.
