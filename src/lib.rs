@@ -9,6 +9,7 @@
 pub mod assemble;
 pub mod band;
 pub mod beam;
+pub mod bending;
 pub mod body;
 pub mod complementarity;
 pub mod contact;
@@ -32,6 +33,7 @@ pub mod simulation;
 pub mod static_start;
 pub mod study;
 pub mod system;
+pub mod two_level;
 
 pub use scene::Scene;
 pub use simulation::{Advance, OutputInfo, OutputKind, SimState, Simulation, SolverError};
