@@ -803,6 +803,10 @@ impl Simulation {
             if !opened_any {
                 return Ok(solution);
             }
+            // The opened contacts' forces leave the loads and accelerations
+            // the step starts from (HHT-α carries them).
+            let opened: Vec<usize> = (0..self.opened.len()).filter(|&c| self.opened[c]).collect();
+            self.restart(&opened)?;
         }
     }
 
@@ -1073,7 +1077,17 @@ impl Simulation {
                 _ => {}
             }
         }
-        Ok(())
+        // HHT-α restarts the bodies that landed or left the track.
+        let changed: Vec<usize> = (parts.iter().zip(&self.state.contacts).enumerate())
+            .filter(|(_, (part, status))| match part {
+                crate::impact::Part::Landing(_) => true,
+                crate::impact::Part::Closed => status.open,
+                _ => false,
+            })
+            .map(|(d, _)| d)
+            .collect();
+        self.sync_open();
+        self.restart(&changed)
     }
 
     /// A closed contact that an impact sends away from the track at
