@@ -186,6 +186,11 @@ pub struct SimState {
     /// end are those of the loads that acted, whatever was set since.
     #[serde(default)]
     pub last_applied: Vec<Vector3<f64>>,
+    /// Contacts whose HHT-α restart fitted a step shorter than the grid
+    /// step (after an event inside it): restarted again at the next grid
+    /// point, for the full steps that follow.
+    #[serde(default)]
+    pub pending_restart: Vec<usize>,
 }
 
 impl SimState {
@@ -451,6 +456,7 @@ impl Simulation {
                 impact_loss: 0.0,
                 coupling_loads: vec![[0.0; 3]; system.couplings.len()],
                 last_applied: Vec::new(),
+                pending_restart: Vec::new(),
             },
             system,
             outputs,
@@ -710,6 +716,7 @@ impl Simulation {
             }
             if to == next_grid && self.state.time == to {
                 self.state.grid_step += 1;
+                self.restart_pending()?;
             }
         }
     }
@@ -806,7 +813,7 @@ impl Simulation {
             // The opened contacts' forces leave the loads and accelerations
             // the step starts from (HHT-α carries them).
             let opened: Vec<usize> = (0..self.opened.len()).filter(|&c| self.opened[c]).collect();
-            self.restart(&opened)?;
+            self.restart(&opened, dt)?;
         }
     }
 
@@ -1087,7 +1094,7 @@ impl Simulation {
             .map(|(d, _)| d)
             .collect();
         self.sync_open();
-        self.restart(&changed)
+        self.restart(&changed, self.grid_remainder())
     }
 
     /// A closed contact that an impact sends away from the track at
@@ -1445,6 +1452,9 @@ fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
         return Err(
             "the state names a piece or joint of the track this model does not have".into(),
         );
+    }
+    if state.pending_restart.iter().any(|&c| c >= contacts) {
+        return Err("the state's pending restarts name a contact this model does not have".into());
     }
     if state.events.len() > MAX_EVENTS || state.events.iter().any(|e| e.contact >= contacts) {
         return Err("the state's event list does not fit this model".into());

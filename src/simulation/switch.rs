@@ -52,7 +52,7 @@ impl Simulation {
             })
             .collect();
         self.sync_open();
-        self.restart(&changed)
+        self.restart(&changed, self.grid_remainder())
     }
 
     /// Whether the implicit scheme meets the contact's switch as an impact:
@@ -140,7 +140,7 @@ impl Simulation {
     /// before (diverging), and then restarts from the p of the pass that
     /// moved least (at worst the held forces, which the step would have
     /// carried anyway, with the open contacts' zeroed).
-    pub(super) fn restart(&mut self, changed: &[usize]) -> Result<(), SolverError> {
+    pub(super) fn restart(&mut self, changed: &[usize], dt: f64) -> Result<(), SolverError> {
         let Some(weight) = self.restart_weight else {
             return Ok(());
         };
@@ -158,9 +158,39 @@ impl Simulation {
             .map(|(h, &open)| if open { ContactForce::default() } else { h[0] })
             .collect();
         if restarted.contains(&true) {
-            forces = self.restart_fixed_point(forces, &restarted, weight)?;
+            forces = self.restart_fixed_point(forces, &restarted, weight, dt)?;
+        }
+        if dt < self.step * (1.0 - 1e-9) {
+            for &c in changed {
+                if !self.state.pending_restart.contains(&c) {
+                    self.state.pending_restart.push(c);
+                }
+            }
         }
         self.restart_from(&forces, &restarted)
+    }
+
+    /// The restarts left pending by events inside the grid step just
+    /// ended, now for full steps.
+    pub(super) fn restart_pending(&mut self) -> Result<(), SolverError> {
+        let pending = std::mem::take(&mut self.state.pending_restart);
+        if pending.is_empty() {
+            return Ok(());
+        }
+        self.sync_open();
+        self.restart(&pending, self.step)
+    }
+
+    /// The time from now to the next grid point: the length of the step
+    /// that follows an event (the grid step, from a grid point).
+    pub(super) fn grid_remainder(&self) -> f64 {
+        let next = (self.state.grid_step + 1) as f64 * self.step;
+        let remainder = next - self.state.time;
+        if remainder > 1e-9 * self.step {
+            remainder.min(self.step)
+        } else {
+            self.step
+        }
     }
 
     /// The fixed point p of "a step from p ends at p₁" for the `restarted`
@@ -172,13 +202,14 @@ impl Simulation {
         mut forces: Vec<ContactForce>,
         restarted: &[bool],
         weight: f64,
+        dt: f64,
     ) -> Result<Vec<ContactForce>, SolverError> {
         self.iteration.set_open(&self.open);
         let mut solved_from = forces.clone();
         let mut least = f64::INFINITY;
         for _ in 0..RESTART_PASSES {
             self.restart_from(&forces, restarted)?;
-            let Ok(trial) = self.solve(&forces, self.step) else {
+            let Ok(trial) = self.solve(&forces, dt) else {
                 return Ok(solved_from);
             };
             let scale = (forces.iter().chain(&trial.forces))
