@@ -209,7 +209,9 @@ impl Simulation {
         let mut least = f64::INFINITY;
         for _ in 0..RESTART_PASSES {
             self.restart_from(&forces, restarted)?;
-            let Ok(trial) = self.solve(&forces, dt) else {
+            let trial = self.solve(&forces, dt);
+            if std::env::var_os("H1_DEBUG").is_some() { eprintln!("restart t {} dt {dt:e} p {:?} trial {:?}", self.state.time, forces.iter().map(|f| (f.normal, f.tangential)).collect::<Vec<_>>(), trial.as_ref().map(|t| t.forces.iter().map(|f| (f.normal, f.tangential)).collect::<Vec<_>>())); } // PROBE
+            let Ok(trial) = trial else {
                 return Ok(solved_from);
             };
             let scale = (forces.iter().chain(&trial.forces))
