@@ -16,6 +16,8 @@ use crate::iteration::StepSolution;
 /// A lift-off is located when its end force is within this fraction of
 /// the force it starts from.
 const LIFT_OFF_TOLERANCE: f64 = 1e-6;
+/// The shortest step a lift-off is located in, as a fraction of the step.
+const LIFT_OFF_EARLIEST: f64 = 1e-3;
 
 impl Simulation {
     /// Under HHT-α, the closed contact that starts the step compressed and
@@ -40,27 +42,28 @@ impl Simulation {
     }
 
     /// Shorten the step from its solution `forces` (over `dt`) to the
-    /// instant contact `c`'s end force reaches zero. Leaves that step in
-    /// `scratch`.
+    /// instant contact `c`'s end force reaches zero, leaving that step in
+    /// `scratch`. `None` where the force already pulls at the shortest step
+    /// tried (`LIFT_OFF_EARLIEST` of it: opening at the start drops at most
+    /// that share of the step's impulse) or the steps fail: the contact
+    /// then opens at the step's start.
     pub(super) fn locate_lift_off(
         &mut self,
         c: usize,
-        guess: &[ContactForce],
         forces: &[ContactForce],
         dt: f64,
-    ) -> Result<(StepSolution, f64), SolverError> {
-        let start = self.state.force_history[c][0].normal;
-        let tolerance = LIFT_OFF_TOLERANCE * start;
+    ) -> Option<(StepSolution, f64)> {
+        let tolerance = LIFT_OFF_TOLERANCE * self.state.force_history[c][0].normal;
+        let earliest = LIFT_OFF_EARLIEST * dt;
+        let early = self.solve(forces, earliest).ok()?.forces[c].normal;
+        if early < 0.0 {
+            return None;
+        }
         let end_force = |_: &Simulation, solution: &StepSolution| solution.forces[c].normal;
-        let _ = guess;
-        self.locate(forces, dt, (start, forces[c].normal), tolerance, end_force)?
-            .ok_or_else(|| SolverError {
-                time: self.state.time,
-                message: format!(
-                    "the instant {} lifts off could not be located",
-                    self.system.contacts[c].name
-                ),
-            })
+        let bracket = ((earliest, early), forces[c].normal);
+        self.locate(forces, dt, bracket, tolerance, end_force)
+            .ok()
+            .flatten()
     }
 
     /// Contact `c`, its force zero at the end of the step just taken,

@@ -210,7 +210,6 @@ impl Simulation {
         for _ in 0..RESTART_PASSES {
             self.restart_from(&forces, restarted)?;
             let trial = self.solve(&forces, dt);
-            if std::env::var_os("H1_DEBUG").is_some() { eprintln!("restart t {} dt {dt:e} p {:?} trial {:?}", self.state.time, forces.iter().map(|f| (f.normal, f.tangential)).collect::<Vec<_>>(), trial.as_ref().map(|t| t.forces.iter().map(|f| (f.normal, f.tangential)).collect::<Vec<_>>())); } // PROBE
             let Ok(trial) = trial else {
                 return Ok(solved_from);
             };
