@@ -827,10 +827,6 @@ impl Simulation {
             if !opened_any {
                 return Ok((solution, dt, None));
             }
-            // The opened contacts' forces leave the loads and accelerations
-            // the step starts from (HHT-α carries them).
-            let opened: Vec<usize> = (0..self.opened.len()).filter(|&c| self.opened[c]).collect();
-            self.restart(&opened, dt)?;
         }
     }
 
@@ -1111,7 +1107,6 @@ impl Simulation {
             })
             .map(|(d, _)| d)
             .collect();
-        self.sync_open();
         self.restart(&changed, self.grid_remainder())
     }
 

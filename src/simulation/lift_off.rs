@@ -74,7 +74,6 @@ impl Simulation {
         s.contacts[c].opened_in = Some(s.grid_step);
         s.force_history[c] = [ContactForce::default(); 3];
         push_event(s, c, EventKind::LiftOff);
-        self.sync_open();
         self.restart(&[c], self.grid_remainder())
     }
 }

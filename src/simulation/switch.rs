@@ -51,7 +51,6 @@ impl Simulation {
                 before[c] != self.state.parts[c] || was_open[c] != self.state.contacts[c].open
             })
             .collect();
-        self.sync_open();
         self.restart(&changed, self.grid_remainder())
     }
 
@@ -129,7 +128,7 @@ impl Simulation {
     /// HHT-α's restart where the contacts in `changed` changed state (a
     /// surface switch, a lift-off, a landing or an impact): loads and
     /// accelerations of the current state made those of one force per
-    /// contact, zero for the open ones (`self.open`), the fixed point of
+    /// contact, zero for the open ones (by their statuses), the fixed point of
     /// the module's comment for the closed ones on the changed contacts'
     /// bodies, the others held. A no-op under RK4, which carries nothing.
     ///
@@ -144,6 +143,7 @@ impl Simulation {
         let Some(weight) = self.restart_weight else {
             return Ok(());
         };
+        self.sync_open();
         if changed.is_empty() || self.state.exit_time.is_some() {
             return Ok(());
         }
@@ -177,7 +177,6 @@ impl Simulation {
         if pending.is_empty() {
             return Ok(());
         }
-        self.sync_open();
         self.restart(&pending, self.step)
     }
 
