@@ -1098,16 +1098,7 @@ impl Simulation {
                 _ => {}
             }
         }
-        // HHT-α restarts the bodies that landed or left the track.
-        let changed: Vec<usize> = (parts.iter().zip(&self.state.contacts).enumerate())
-            .filter(|(_, (part, status))| match part {
-                crate::impact::Part::Landing(_) => true,
-                crate::impact::Part::Closed => status.open,
-                _ => false,
-            })
-            .map(|(d, _)| d)
-            .collect();
-        self.restart(&changed, self.grid_remainder())
+        Ok(())
     }
 
     /// A closed contact that an impact sends away from the track at
