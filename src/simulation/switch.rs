@@ -15,7 +15,9 @@
 //! consistent with one force p; p is the fixed point of "take a step from
 //! p, end at p₁": the step's mean acceleration is that of p + w (p₁ − p),
 //! w = (1 + α) γ, so that update finds it in two or three steps (one, if
-//! the step were linear in p).
+//! the step were linear in p). The same restart follows a lift-off
+//! located inside a step (`lift_off.rs`), and a switch onto a surface the
+//! contact approaches (a concave kink) is a plastic impact under HHT-α.
 
 use nalgebra::Vector3;
 
@@ -119,14 +121,14 @@ impl Simulation {
 
     /// The step's active set from the contacts' statuses (after an event
     /// or an impact changed them).
-    pub(super) fn sync_open(&mut self) {
+    fn sync_open(&mut self) {
         for (open, status) in self.open.iter_mut().zip(&self.state.contacts) {
             *open = status.open;
         }
     }
 
     /// HHT-α's restart where the contacts in `changed` changed state (a
-    /// surface switch, a lift-off, a landing or an impact): loads and
+    /// surface switch, an impact at it, a lift-off inside a step): loads and
     /// accelerations of the current state made those of one force per
     /// contact, zero for the open ones (by their statuses), the fixed point of
     /// the module's comment for the closed ones on the changed contacts'
