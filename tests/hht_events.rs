@@ -327,3 +327,15 @@ fn the_bouncing_coach_under_hht_gains_no_energy() {
     assert!(worst(&run.drift) < 2e-6 * e0, "{}", worst(&run.drift));
     assert!(largest_gain < 1e-6 * e0, "{largest_gain}");
 }
+
+#[test]
+fn a_state_naming_a_missing_contact_to_restart_is_refused() {
+    let scene = hht(wheel_crossing(2, 2.5e-3), 0.0);
+    let mut sim = Simulation::new(&scene).expect("builds");
+    let mut state = sim.state();
+    state.pending_restart = vec![1];
+    let refused = sim.restore(&state).expect_err("refused");
+    assert!(refused.contains("pending restarts"), "{refused}");
+    state.pending_restart = vec![0];
+    sim.restore(&state).expect("one contact, index 0");
+}
