@@ -18,6 +18,7 @@ use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
 mod follower;
+mod lift_off;
 mod switch;
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
@@ -188,6 +189,11 @@ pub struct SimState {
     /// end are those of the loads that acted, whatever was set since.
     #[serde(default)]
     pub last_applied: Vec<Vector3<f64>>,
+    /// Contacts whose HHT-α restart fitted a step shorter than the grid
+    /// step (after an event inside it): restarted again at the next grid
+    /// point, for the full steps that follow.
+    #[serde(default)]
+    pub pending_restart: Vec<usize>,
 }
 
 impl SimState {
@@ -453,6 +459,7 @@ impl Simulation {
                 impact_loss: 0.0,
                 coupling_loads: vec![[0.0; 3]; system.couplings.len()],
                 last_applied: Vec::new(),
+                pending_restart: Vec::new(),
             },
             system,
             outputs,
@@ -718,6 +725,7 @@ impl Simulation {
             }
             if to == next_grid && self.state.time == to {
                 self.state.grid_step += 1;
+                self.restart_pending()?;
             }
         }
     }
@@ -738,7 +746,7 @@ impl Simulation {
         );
         let solution = self.solve_active_set(&guess, dt);
         self.guess = guess;
-        let solution = solution?;
+        let (solution, dt, lifting) = solution?;
         let track = self.first_event();
         let landing = self
             .first_landing()
@@ -772,6 +780,10 @@ impl Simulation {
             self.record_events(event);
             self.after_switch(contact, &before)?;
             Ok(false)
+        } else if let Some(contact) = lifting {
+            self.record_events(None);
+            self.lift_off_now(contact)?;
+            Ok(false)
         } else {
             self.state.time = to;
             Ok(true)
@@ -786,11 +798,17 @@ impl Simulation {
     /// step: one that already opened in this grid step (and has landed
     /// since) stays closed until the next grid point, its force reported
     /// as it is, so that no contact chatters within a step.
+    ///
+    /// Under HHT-α a contact that carries a compressive force into the step
+    /// does not open at its start (which would drop that force's share of
+    /// the step's impulse): the step is shortened to the instant its end
+    /// force reaches zero (`locate_lift_off`), and the contact opens there.
+    /// Returns the solution, the step's length and that contact.
     fn solve_active_set(
         &mut self,
         guess: &[ContactForce],
         dt: f64,
-    ) -> Result<StepSolution, SolverError> {
+    ) -> Result<(StepSolution, f64, Option<usize>), SolverError> {
         for (open, status) in self.open.iter_mut().zip(&self.state.contacts) {
             *open = status.open;
         }
@@ -798,6 +816,12 @@ impl Simulation {
         loop {
             self.iteration.set_open(&self.open);
             let solution = self.solve(guess, dt)?;
+            if let Some(c) = self.lift_off_inside(&solution.forces) {
+                if let Some((solution, tau)) = self.locate_lift_off(c, &solution.forces, dt) {
+                    return Ok((solution, tau, Some(c)));
+                }
+                // It pulls from the step's start: it opens there (below).
+            }
             let grid = self.state.grid_step;
             let mut opened_any = false;
             for (c, force) in solution.forces.iter().enumerate() {
@@ -809,7 +833,7 @@ impl Simulation {
                 }
             }
             if !opened_any {
-                return Ok(solution);
+                return Ok((solution, dt, None));
             }
         }
     }
@@ -995,8 +1019,9 @@ impl Simulation {
         dt: f64,
     ) -> Result<(StepSolution, f64), SolverError> {
         let start = self.state.contacts[contact].gap;
-        let gap = |sim: &Simulation| sim.iteration.contact_gaps()[contact];
-        self.locate(forces, dt, start, LANDING_GAP, gap)?
+        let gap = |sim: &Simulation, _: &StepSolution| sim.iteration.contact_gaps()[contact];
+        let end = self.iteration.contact_gaps()[contact];
+        self.locate(forces, dt, ((0.0, start), end), LANDING_GAP, gap)?
             .ok_or_else(|| SolverError {
                 time: self.state.time,
                 message: format!(
@@ -1242,8 +1267,9 @@ impl Simulation {
     ) -> Result<(StepSolution, f64), SolverError> {
         let start = self.state.dynamic.contact_x[contact] - edge;
         let tolerance = 1e-12 * self.system.beam.length;
-        let miss = |sim: &Simulation| sim.scratch.contact_x[contact] - edge;
-        self.locate(forces, dt, start, tolerance, miss)?
+        let miss = |sim: &Simulation, _: &StepSolution| sim.scratch.contact_x[contact] - edge;
+        let end = self.scratch.contact_x[contact] - edge;
+        self.locate(forces, dt, ((0.0, start), end), tolerance, miss)?
             .ok_or_else(|| SolverError {
                 time: self.state.time,
                 message: format!(
@@ -1254,24 +1280,25 @@ impl Simulation {
     }
 
     /// Shorten the step until `miss`, a signed distance read from the
-    /// solved state (`start` at the step's start), is within `tolerance`:
-    /// regula falsi on the step length, Illinois variant. `None` when 60
-    /// passes do not get there.
-    fn locate(
+    /// solved state and solution (`start` at the step's start, or at the
+    /// step length given with it, `end` at its end), is within
+    /// `tolerance`: regula falsi on the step length,
+    /// Illinois variant. `None` when 60 passes do not get there.
+    pub(crate) fn locate(
         &mut self,
         forces: &[ContactForce],
         dt: f64,
-        start: f64,
+        ((lo, start), end): ((f64, f64), f64),
         tolerance: f64,
-        miss: impl Fn(&Simulation) -> f64,
+        miss: impl Fn(&Simulation, &StepSolution) -> f64,
     ) -> Result<Option<(StepSolution, f64)>, SolverError> {
-        let (mut lo, mut f_lo) = (0.0, start);
-        let (mut hi, mut f_hi) = (dt, miss(self));
+        let (mut lo, mut f_lo) = (lo, start);
+        let (mut hi, mut f_hi) = (dt, end);
         let mut side = 0;
         for _ in 0..60 {
             let tau = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
             let solution = self.solve(forces, tau)?;
-            let f = miss(self);
+            let f = miss(self, &solution);
             if f.abs() <= tolerance || (hi - lo) <= 1e-15 * dt {
                 return Ok(Some((solution, tau)));
             }
@@ -1448,6 +1475,9 @@ fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
         return Err(
             "the state names a piece or joint of the track this model does not have".into(),
         );
+    }
+    if state.pending_restart.iter().any(|&c| c >= contacts) {
+        return Err("the state's pending restarts name a contact this model does not have".into());
     }
     if state.events.len() > MAX_EVENTS || state.events.iter().any(|e| e.contact >= contacts) {
         return Err("the state's event list does not fit this model".into());

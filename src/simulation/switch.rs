@@ -15,7 +15,9 @@
 //! consistent with one force p; p is the fixed point of "take a step from
 //! p, end at p₁": the step's mean acceleration is that of p + w (p₁ − p),
 //! w = (1 + α) γ, so that update finds it in two or three steps (one, if
-//! the step were linear in p).
+//! the step were linear in p). The same restart follows a lift-off
+//! located inside a step (`lift_off.rs`), and a switch onto a surface the
+//! contact approaches (a concave kink) is a plastic impact under HHT-α.
 
 use nalgebra::Vector3;
 
@@ -41,13 +43,31 @@ impl Simulation {
         before: &[TrackPart],
     ) -> Result<(), SolverError> {
         let now = self.state.parts[located];
-        if self.system.velocity_jump(before[located], now) {
+        let was_open: Vec<bool> = self.state.contacts.iter().map(|s| s.open).collect();
+        if self.system.velocity_jump(before[located], now) || self.kink_impact(located)? {
             self.joint_impact(located)?;
         }
-        if let Some(weight) = self.restart_weight {
-            self.restart_switched(before, weight)?;
+        // The contacts that switched, and those the impact sent away.
+        let changed: Vec<usize> = (0..before.len())
+            .filter(|&c| {
+                before[c] != self.state.parts[c] || was_open[c] != self.state.contacts[c].open
+            })
+            .collect();
+        self.restart(&changed, self.grid_remainder())
+    }
+
+    /// Whether the implicit scheme meets the contact's switch as an impact:
+    /// the contact is closed and approaches its new surface, as over a
+    /// concave kink (a beam's end sloping down into its support, onto
+    /// level ground). RK4 takes the jump into the step's force; HHT-α,
+    /// which carries that force into the next step, would make it
+    /// alternate (and pull, for α = 0) ever after.
+    fn kink_impact(&self, c: usize) -> Result<bool, SolverError> {
+        if self.restart_weight.is_none() || self.state.contacts[c].open {
+            return Ok(false);
         }
-        Ok(())
+        let approach = -self.normal_velocity_error(c)?;
+        Ok(approach > self.settings.velocity_tolerance)
     }
 
     /// The velocity jump of a contact switching from one corner of a rail
@@ -102,46 +122,125 @@ impl Simulation {
         Ok(())
     }
 
-    /// The implicit scheme restarts every closed contact on the bodies
-    /// whose contacts switched surfaces (the other contacts' forces held):
-    /// see the module's comment.
-    fn restart_switched(&mut self, before: &[TrackPart], weight: f64) -> Result<(), SolverError> {
-        let switched_bodies: Vec<usize> = (0..before.len())
-            .filter(|&c| before[c] != self.state.parts[c] && !self.state.contacts[c].open)
-            .map(|c| self.system.contacts[c].body)
-            .collect();
-        if switched_bodies.is_empty() || self.state.exit_time.is_some() {
+    /// The step's active set from the contacts' statuses (after an event
+    /// or an impact changed them).
+    fn sync_open(&mut self) {
+        for (open, status) in self.open.iter_mut().zip(&self.state.contacts) {
+            *open = status.open;
+        }
+    }
+
+    /// HHT-α's restart where the contacts in `changed` changed state (a
+    /// surface switch, an impact at it, a lift-off inside a step): loads and
+    /// accelerations of the current state made those of one force per
+    /// contact, zero for the open ones (by their statuses), the fixed point of
+    /// the module's comment for the closed ones on the changed contacts'
+    /// bodies, the others held. A no-op under RK4, which carries nothing.
+    ///
+    /// Any p ≥ 0 gives a consistent start; the fixed point only picks the
+    /// p whose step ends at p (no alternation). So the search is bounded
+    /// (`RESTART_PASSES` trial steps) and cannot make things worse: it
+    /// stops at a trial step that fails or moves p more than the pass
+    /// before (diverging), and then restarts from the p of the pass that
+    /// moved least (at worst the held forces, which the step would have
+    /// carried anyway, with the open contacts' zeroed).
+    pub(super) fn restart(&mut self, changed: &[usize], dt: f64) -> Result<(), SolverError> {
+        let Some(weight) = self.restart_weight else {
+            return Ok(());
+        };
+        self.sync_open();
+        if changed.is_empty() || self.state.exit_time.is_some() {
             return Ok(());
         }
-        let restarted: Vec<bool> = self
-            .system
-            .contacts
+        let bodies: Vec<usize> = changed
             .iter()
-            .zip(&self.state.contacts)
-            .map(|(c, s)| !s.open && switched_bodies.contains(&c.body))
+            .map(|&c| self.system.contacts[c].body)
             .collect();
-        let mut forces: Vec<_> = self.state.force_history.iter().map(|h| h[0]).collect();
+        let restarted: Vec<bool> = (self.system.contacts.iter().zip(&self.open))
+            .map(|(c, &open)| !open && bodies.contains(&c.body))
+            .collect();
+        let mut forces: Vec<ContactForce> = (self.state.force_history.iter().zip(&self.open))
+            .map(|(h, &open)| if open { ContactForce::default() } else { h[0] })
+            .collect();
+        if restarted.contains(&true) {
+            forces = self.restart_fixed_point(forces, &restarted, weight, dt)?;
+        }
+        if dt < self.step * (1.0 - 1e-9) {
+            for &c in changed {
+                if !self.state.pending_restart.contains(&c) {
+                    self.state.pending_restart.push(c);
+                }
+            }
+        }
+        self.restart_from(&forces, &restarted)
+    }
+
+    /// The restarts left pending by events inside the grid step just
+    /// ended, now for full steps.
+    pub(super) fn restart_pending(&mut self) -> Result<(), SolverError> {
+        let pending = std::mem::take(&mut self.state.pending_restart);
+        if pending.is_empty() {
+            return Ok(());
+        }
+        self.restart(&pending, self.step)
+    }
+
+    /// The time from now to the next grid point: the length of the step
+    /// that follows an event (the grid step, from a grid point).
+    pub(super) fn grid_remainder(&self) -> f64 {
+        let next = (self.state.grid_step + 1) as f64 * self.step;
+        let remainder = next - self.state.time;
+        if remainder > 1e-9 * self.step {
+            remainder.min(self.step)
+        } else {
+            self.step
+        }
+    }
+
+    /// The fixed point p of "a step from p ends at p₁" for the `restarted`
+    /// contacts (see `restart`): the converged p; else the update of the
+    /// pass that moved p least; at a trial step that fails, the p of the
+    /// last one solved (at first, the held forces).
+    fn restart_fixed_point(
+        &mut self,
+        mut forces: Vec<ContactForce>,
+        restarted: &[bool],
+        weight: f64,
+        dt: f64,
+    ) -> Result<Vec<ContactForce>, SolverError> {
+        self.iteration.set_open(&self.open);
+        let mut solved_from = forces.clone();
+        let mut least = f64::INFINITY;
         for _ in 0..RESTART_PASSES {
-            self.restart_from(&forces, &restarted)?;
-            let trial = self.solve(&forces, self.step)?;
-            let scale = forces
-                .iter()
+            self.restart_from(&forces, restarted)?;
+            let trial = self.solve(&forces, dt);
+            let Ok(trial) = trial else {
+                return Ok(solved_from);
+            };
+            let scale = (forces.iter().chain(&trial.forces))
                 .map(|f| f.as_vector().norm())
                 .fold(0.0, f64::max);
             let mut change = 0.0f64;
+            let mut next = forces.clone();
             for c in (0..forces.len()).filter(|&c| restarted[c]) {
                 let (p, p1) = (forces[c].as_vector(), trial.forces[c].as_vector());
                 let mut mean = ContactForce::from_vector(p + weight * (p1 - p));
                 // A pulling mean: the contact lifts off in the next step.
                 mean.normal = mean.normal.max(0.0);
                 change = change.max((mean.as_vector() - p).norm());
-                forces[c] = mean;
+                next[c] = mean;
             }
+            if change >= least {
+                // Diverging: the last update moved p least.
+                return Ok(forces);
+            }
+            least = change;
+            solved_from = std::mem::replace(&mut forces, next);
             if change <= RESTART_TOLERANCE * scale {
                 break;
             }
         }
-        self.restart_from(&forces, &restarted)
+        Ok(forces)
     }
 
     /// The constant forces on the bodies in the last step.
