@@ -1031,9 +1031,12 @@ impl Simulation {
             })
     }
 
-    /// The contact frames of the current state.
-    fn frames_now(&self) -> Result<Vec<crate::contact::ContactFrame>, SolverError> {
-        let d = &self.state.dynamic;
+    /// The contact frames of state `d`, each contact on the part of the
+    /// track it is on now.
+    fn frames_of(
+        &self,
+        d: &DynamicState,
+    ) -> Result<Vec<crate::contact::ContactFrame>, crate::integrate::IntegrationError> {
         let mut frames = Vec::new();
         let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
         contact_frames(
@@ -1042,12 +1045,17 @@ impl Simulation {
             &d.bodies,
             located,
             &mut frames,
-        )
-        .map_err(|e| SolverError {
-            time: self.state.time,
-            message: crate::iteration::StepError::from(e).to_string(),
-        })?;
+        )?;
         Ok(frames)
+    }
+
+    /// The contact frames of the current state.
+    fn frames_now(&self) -> Result<Vec<crate::contact::ContactFrame>, SolverError> {
+        self.frames_of(&self.state.dynamic)
+            .map_err(|e| SolverError {
+                time: self.state.time,
+                message: crate::iteration::StepError::from(e).to_string(),
+            })
     }
 
     /// Contact `c`'s normal velocity error now (m/s): negative approaches.

@@ -3,6 +3,8 @@
 //! each step's end force and accelerations into the next; at every such
 //! change it restarts from a consistent state (`src/simulation/switch.rs`).
 
+mod common;
+
 use guideway::scene::{BodyKind, IntegratorKind, Scene};
 use guideway::simulation::EventKind;
 use guideway::{Advance, Simulation};
@@ -250,53 +252,7 @@ fn the_remaining_drift_at_250_ms_is_second_order_in_the_step() {
 /// onto the run-off) on an ISO 8608 class A profile (seed 3), with `auto`
 /// at 50 µs: HHT-α (RK4's limit is 14.5 µs on this mesh).
 fn stress_case() -> Scene {
-    Scene::from_toml_str(
-        r#"
-name = "rough-track-300-hht"
-gravity = 9.81
-[beam]
-length = 25.0
-mass_per_length = 2303.0
-bending_stiffness = 8.5347e10
-surface_offset = 0.0
-elements = 20
-[track]
-approach = 30.0
-run_off = 40.0
-[[track.irregularities]]
-type = "random"
-spectrum = "iso8608"
-class = "A"
-seed = 3
-shortest_wavelength = 1.0
-longest_wavelength = 50.0
-[body]
-kind = "bogie_vehicle"
-name = "coach"
-mass = 38884.0
-initial_position = -15.0
-initial_speed = 83.33333333333333
-restitution = 0.9
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 2.0e3
-secondary_stiffness = 5.3e5
-secondary_damping = 4.5e3
-wheel_radius = 0.45
-wheelset_inertia = 700.0
-[solver]
-step = 5e-5
-integrator = "auto"
-end_time = 0.75
-"#,
-    )
-    .expect("valid")
+    common::rough_coach_scene("rough-track-300-hht", "A", 3, 5e-5, "auto")
 }
 
 #[test]

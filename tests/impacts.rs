@@ -2,6 +2,8 @@
 //! landing and closed contact) and the stress case of issue 15: a coach
 //! bouncing (e = 0.9) on a rough random track at 300 km/h.
 
+mod common;
+
 use guideway::impact::{kinetic_energy, resolve, Part};
 use guideway::integrate::contact_frames;
 use guideway::simulation::{EventKind, RESTING_SPEED};
@@ -227,53 +229,7 @@ fn the_run_records_the_landing_and_the_lift_off_it_causes() {
 /// the approach over Yang & Yau's 25 m bridge (20 elements) onto the
 /// run-off; RK4 at 12.5 µs (its limit on this mesh is 14.5 µs).
 fn rough_track() -> Scene {
-    Scene::from_toml_str(
-        r#"
-name = "rough-track-300"
-gravity = 9.81
-[beam]
-length = 25.0
-mass_per_length = 2303.0
-bending_stiffness = 8.5347e10
-surface_offset = 0.0
-elements = 20
-[track]
-approach = 30.0
-run_off = 40.0
-[[track.irregularities]]
-type = "random"
-spectrum = "iso8608"
-class = "C"
-seed = 2026
-shortest_wavelength = 1.0
-longest_wavelength = 50.0
-[body]
-kind = "bogie_vehicle"
-name = "coach"
-mass = 38884.0
-initial_position = -15.0
-initial_speed = 83.33333333333333
-restitution = 0.9
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 2.0e3
-secondary_stiffness = 5.3e5
-secondary_damping = 4.5e3
-wheel_radius = 0.45
-wheelset_inertia = 700.0
-[solver]
-step = 1.25e-5
-integrator = "rk4"
-end_time = 0.75
-"#,
-    )
-    .expect("valid")
+    common::rough_coach_scene("rough-track-300", "C", 2026, 1.25e-5, "rk4")
 }
 
 #[test]

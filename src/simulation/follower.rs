@@ -10,7 +10,7 @@
 
 use super::{ContactEvent, EventKind, SimState, Simulation, MAX_EVENTS};
 use crate::contact::ContactFrame;
-use crate::integrate::{contact_frames, follower_gap, DynamicState};
+use crate::integrate::{follower_gap, DynamicState};
 
 impl Simulation {
     /// After a step of `dt` was accepted (its start state in `scratch`):
@@ -53,17 +53,7 @@ impl Simulation {
 
     /// Contact `c`'s frame in state `d` on the part it is on now.
     fn frame(&self, c: usize, d: &DynamicState) -> Option<ContactFrame> {
-        let mut frames: Vec<ContactFrame> = Vec::new();
-        let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
-        contact_frames(
-            &self.system,
-            &d.beam_displacement,
-            &d.bodies,
-            located,
-            &mut frames,
-        )
-        .ok()?;
-        frames.into_iter().nth(c)
+        self.frames_of(d).ok()?.into_iter().nth(c)
     }
 }
 

@@ -100,3 +100,57 @@ pub fn model_description(fmu: &std::path::Path) -> String {
     guideway::fmu::check_well_formed(&xml).expect("modelDescription.xml is well-formed");
     xml
 }
+
+/// The stress case's scene: a coach on rolling wheelsets (e = 0.9) at
+/// 300 km/h on an ISO 8608 random profile of `class` (wavelengths 1–50 m,
+/// `seed`), from the approach over Yang & Yau's 25 m bridge (20 elements)
+/// onto the run-off, to 0.75 s at `step` with `integrator`.
+pub fn rough_coach_scene(name: &str, class: &str, seed: u64, step: f64, integrator: &str) -> Scene {
+    Scene::from_toml_str(&format!(
+        r#"
+name = "{name}"
+gravity = 9.81
+[beam]
+length = 25.0
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = 20
+[track]
+approach = 30.0
+run_off = 40.0
+[[track.irregularities]]
+type = "random"
+spectrum = "iso8608"
+class = "{class}"
+seed = {seed}
+shortest_wavelength = 1.0
+longest_wavelength = 50.0
+[body]
+kind = "bogie_vehicle"
+name = "coach"
+mass = 38884.0
+initial_position = -15.0
+initial_speed = 83.33333333333333
+restitution = 0.9
+[body.bogie]
+car_inertia = 1.95e6
+bogie_mass = 2400.0
+bogie_inertia = 3200.0
+wheelset_mass = 1400.0
+bogie_half_distance = 8.75
+axle_half_distance = 1.25
+primary_stiffness = 1.18e6
+primary_damping = 2.0e3
+secondary_stiffness = 5.3e5
+secondary_damping = 4.5e3
+wheel_radius = 0.45
+wheelset_inertia = 700.0
+[solver]
+step = {step:?}
+integrator = "{integrator}"
+end_time = 0.75
+"#
+    ))
+    .expect("valid")
+}
