@@ -125,7 +125,11 @@ def make_guideway(tmp, label, elements, step, integrator, damping=0.0, tolerance
     scene = tmp / f"{label}.toml"
     scene.write_text(guideway_scene(elements, step, integrator, damping, tolerance))
     summary = tmp / f"{label}.json"
-    cmd = [str(GUIDEWAY), "run", str(scene), "-q", "--summary", str(summary)]
+    # The run's step bound is 10 crossing times of steps; the fine reference
+    # steps need more than its default of 1e6 (the run stops at the exit).
+    max_steps = max(1_000_000, int(30.0 / step))
+    cmd = [str(GUIDEWAY), "run", str(scene), "-q", "--summary", str(summary),
+           "--max-steps", str(max_steps)]
     return Config("guideway", label, cmd, summary, elements, step)
 
 
