@@ -2,62 +2,22 @@
 //! `energy.balance`, summed by the events the step holds.
 //! `cargo run --release --example stress_balance -- [step] [restitution] [flat]`
 
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use guideway::simulation::EventKind;
 use guideway::{Scene, Simulation};
 
+/// The stress case's scene (the tests' own), with restitution `e`, and
+/// without its irregularity unless `rough`.
 fn scene(step: f64, e: f64, rough: bool) -> Scene {
-    let irregularity = if rough {
-        r#"[[track.irregularities]]
-type = "random"
-spectrum = "iso8608"
-class = "C"
-seed = 2026
-shortest_wavelength = 1.0
-longest_wavelength = 50.0"#
-    } else {
-        ""
-    };
-    Scene::from_toml_str(&format!(
-        r#"
-name = "rough-track-300"
-gravity = 9.81
-[beam]
-length = 25.0
-mass_per_length = 2303.0
-bending_stiffness = 8.5347e10
-surface_offset = 0.0
-elements = 20
-[track]
-approach = 30.0
-run_off = 40.0
-{irregularity}
-[body]
-kind = "bogie_vehicle"
-name = "coach"
-mass = 38884.0
-initial_position = -15.0
-initial_speed = 83.33333333333333
-restitution = {e:?}
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 2.0e3
-secondary_stiffness = 5.3e5
-secondary_damping = 4.5e3
-wheel_radius = 0.45
-wheelset_inertia = 700.0
-[solver]
-step = {step:?}
-integrator = "rk4"
-end_time = 0.75
-"#
-    ))
-    .expect("valid")
+    let mut scene = common::rough_coach_scene("rough-track-300", "C", 2026, step, "rk4");
+    scene.body.restitution = e;
+    if !rough {
+        scene.track.irregularities.clear();
+    }
+    scene.validate().expect("valid");
+    scene
 }
 
 fn main() {

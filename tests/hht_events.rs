@@ -96,6 +96,7 @@ fn undamped_hht_rolls_a_wheel_onto_the_beam_and_off_it_compressed() {
 /// onto Yang & Yau's 25 m beam, its first two wheelsets entering (the
 /// second one 2.5 m behind, at 0.6 s), HHT-α at α = 0.
 fn coach_entry(step: f64) -> Scene {
+    let bogie = common::coach_bogie(0.0, 0.0);
     Scene::from_toml_str(&format!(
         r#"
 name = "coach-entry"
@@ -115,19 +116,7 @@ kind = "bogie_vehicle"
 mass = 38884.0
 initial_position = -10.5
 initial_speed = 5.0
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 0.0
-secondary_stiffness = 5.3e5
-secondary_damping = 0.0
-wheel_radius = 0.45
-wheelset_inertia = 700.0
+{bogie}
 [solver]
 step = {step:?}
 start = "static"

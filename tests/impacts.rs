@@ -14,6 +14,7 @@ use guideway::{Advance, Scene, SimState, Simulation};
 /// an impulse on one moves the beam under the other the same way), all
 /// four wheelsets on it, with restitution `e`.
 fn coach(e: f64) -> Scene {
+    let bogie = common::coach_bogie(0.0, 0.0);
     Scene::from_toml_str(&format!(
         r#"
 name = "coach"
@@ -34,19 +35,7 @@ mass = 38884.0
 initial_position = 12.5
 initial_speed = 0.0
 restitution = {e:?}
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 0.0
-secondary_stiffness = 5.3e5
-secondary_damping = 0.0
-wheel_radius = 0.45
-wheelset_inertia = 700.0
+{bogie}
 [solver]
 step = 1e-4
 integrator = "hht"

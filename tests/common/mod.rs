@@ -106,6 +106,7 @@ pub fn model_description(fmu: &std::path::Path) -> String {
 /// `seed`), from the approach over Yang & Yau's 25 m bridge (20 elements)
 /// onto the run-off, to 0.75 s at `step` with `integrator`.
 pub fn rough_coach_scene(name: &str, class: &str, seed: u64, step: f64, integrator: &str) -> Scene {
+    let bogie = coach_bogie(2.0e3, 4.5e3);
     Scene::from_toml_str(&format!(
         r#"
 name = "{name}"
@@ -133,19 +134,7 @@ mass = 38884.0
 initial_position = -15.0
 initial_speed = 83.33333333333333
 restitution = 0.9
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 2.0e3
-secondary_stiffness = 5.3e5
-secondary_damping = 4.5e3
-wheel_radius = 0.45
-wheelset_inertia = 700.0
+{bogie}
 [solver]
 step = {step:?}
 integrator = "{integrator}"
@@ -153,4 +142,24 @@ end_time = 0.75
 "#
     ))
     .expect("valid")
+}
+
+/// The `[body.bogie]` table of the coach of `train-3-coaches` on rolling
+/// wheelsets, with its primary and secondary dampers (N s/m).
+pub fn coach_bogie(primary_damping: f64, secondary_damping: f64) -> String {
+    format!(
+        r#"[body.bogie]
+car_inertia = 1.95e6
+bogie_mass = 2400.0
+bogie_inertia = 3200.0
+wheelset_mass = 1400.0
+bogie_half_distance = 8.75
+axle_half_distance = 1.25
+primary_stiffness = 1.18e6
+primary_damping = {primary_damping:?}
+secondary_stiffness = 5.3e5
+secondary_damping = {secondary_damping:?}
+wheel_radius = 0.45
+wheelset_inertia = 700.0"#
+    )
 }
