@@ -133,6 +133,10 @@ pub struct ContactEvent {
     pub kind: EventKind,
 }
 
+/// The first steps of a run with a shaped force profile are the grid step
+/// divided by this (`Simulation::start_up_target`).
+const START_UP_DIVISIONS: f64 = 8.0;
+
 /// Events kept per run; later ones are counted, not kept.
 pub const MAX_EVENTS: usize = 10_000;
 
@@ -717,6 +721,7 @@ impl Simulation {
             } else {
                 target
             };
+            let to = self.start_up_target(to);
             let reached = self.step_to(to)?;
             // An event within round-off of `to` counts as reaching it: the
             // step left over would be empty.
@@ -727,6 +732,31 @@ impl Simulation {
                 self.state.grid_step += 1;
                 self.restart_pending()?;
             }
+        }
+    }
+
+    /// Where the next step of a run's first grid step ends, with a shaped
+    /// force profile under RK4: the first two steps have no converged means
+    /// to fit (held, then linear: second-order steps, whose error at the
+    /// full step outweighs the rest of the run's), so they are an eighth of
+    /// the grid step each, and the rest of the grid step is taken in
+    /// doubling steps (a fit then spans steps at most twice apart). Adds
+    /// three steps to a run.
+    fn start_up_target(&self, to: f64) -> f64 {
+        let s = &self.state;
+        let rk4 = self.restart_weight.is_none();
+        if self.force_profile == ForceProfile::Held || !rk4 || s.grid_step != 0 {
+            return to;
+        }
+        let next = if s.steps < 2 {
+            self.step / START_UP_DIVISIONS
+        } else {
+            2.0 * s.step_history[0]
+        };
+        if s.time + next < to - 1e-9 * self.step {
+            s.time + next
+        } else {
+            to
         }
     }
 

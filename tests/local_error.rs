@@ -110,3 +110,25 @@ fn the_quadratic_profile_reaches_the_issue_targets_at_half_a_millisecond() {
     );
     assert!(drift <= 1e-8, "drift {drift}");
 }
+
+#[test]
+fn a_shaped_profile_starts_with_short_steps_and_keeps_the_energy() {
+    // The first grid step's energy error, and its internal steps.
+    let first_step = |profile| {
+        let scene = paper_case(profile, 0.0025);
+        let mut simulation = Simulation::new(&scene).expect("builds");
+        simulation.advance_to(0.0025).expect("steps");
+        let drift = (simulation.energy_balance() - simulation.initial_energy()).abs()
+            / simulation.initial_energy();
+        (drift, simulation.state().steps)
+    };
+    let (held, held_steps) = first_step(ForceProfile::Held);
+    let (quadratic, quadratic_steps) = first_step(ForceProfile::Quadratic);
+    assert_eq!(held_steps, 1);
+    // Δt/8, Δt/8, Δt/4, Δt/2.
+    assert_eq!(quadratic_steps, 4);
+    assert!(
+        quadratic * 50.0 < held,
+        "quadratic {quadratic}, held {held}"
+    );
+}
