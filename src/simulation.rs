@@ -122,7 +122,8 @@ pub struct ContactStatus {
 /// once per grid step (a second landing in it is plastic, and the contact
 /// then stays closed to the grid point), a contact has at most three
 /// events per grid step, so a run takes at most (1 + 3 × contacts) steps
-/// per grid step plus its track events.
+/// per grid step plus its track events (and three start-up steps with a
+/// shaped force profile, `START_UP_DIVISIONS`).
 pub const RESTING_SPEED: f64 = 1e-2;
 
 /// An event located inside a step (the step is shortened to its instant).
