@@ -51,7 +51,7 @@ pub fn local_errors(scene: &Scene, fine: usize) -> Result<Vec<StepError>, String
     let speed = column(&coarse, |name| name.ends_with(".nominal_speed"))?;
     let energy = column(&coarse, |name| name == "energy.balance")?;
     let initial_energy = reference.initial_energy();
-    if reference.state().force_history.len() != 1 {
+    if reference.current().force_history.len() != 1 {
         return Err("local errors are measured on single-contact scenes".into());
     }
     let mut means = [ContactForce::default(); 3];
@@ -73,7 +73,7 @@ pub fn local_errors(scene: &Scene, fine: usize) -> Result<Vec<StepError>, String
             if coarse.advance_to(end).map_err(|e| e.to_string())? == Advance::Reached {
                 errors.push(StepError {
                     time: reference.time(),
-                    position: reference.state().dynamic.contact_x[0],
+                    position: reference.current().dynamic.contact_x[0],
                     speed: value(&coarse, speed) - value(&reference, speed),
                     energy: (value(&coarse, energy) - value(&reference, energy)) / initial_energy,
                 });
@@ -98,7 +98,7 @@ fn advance_summing(
         if let Advance::Exited { .. } = reference.advance_to(to).map_err(|e| e.to_string())? {
             return Ok(None);
         }
-        sum += reference.state().force_history[0][0].as_vector();
+        sum += reference.current().force_history[0][0].as_vector();
     }
     Ok(Some(ContactForce::from_vector(sum / fine as f64)))
 }
