@@ -506,8 +506,8 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::NominalSpeed(c) => match frames.as_ref().and_then(|f| f.as_ref()) {
                 Some(frames) => {
                     let contact = &system.contacts[c];
-                    let body = &d.bodies[contact.body];
-                    frames[c].nominal_speed(beam, contact.radius(), body, &d.beam_velocity)
+                    let point = contact.point(&d.bodies[contact.body]);
+                    frames[c].nominal_speed(beam, contact.radius(), &point, &d.beam_velocity)
                 }
                 None => f64::NAN,
             },
