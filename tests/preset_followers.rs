@@ -208,3 +208,119 @@ fn followers_replace_the_wheelsets_and_magnets_and_keep_their_names() {
     assert!(system.contacts.iter().all(|c| c.body == 0));
     assert_eq!(system.contacts[0].follower.unwrap().attachment.x, 10.5);
 }
+
+/// Deflection at `x` of a simply supported beam of length `l` under
+/// downward point loads (position, force): the closed form of beam theory.
+fn point_load_deflection(l: f64, loads: &[(f64, f64)], x: f64) -> f64 {
+    loads
+        .iter()
+        .map(|&(a, p)| {
+            // Mirror so that x lies left of the load.
+            let (a, x) = if x <= a { (a, x) } else { (l - a, l - x) };
+            let b = l - a;
+            -p * b * x * (l * l - b * b - x * x) / (6.0 * EI * l)
+        })
+        .sum()
+}
+
+/// Run `scene` 200 steps from its static start; assert it stays at rest
+/// (every body acceleration below 1e-9 g) and that the midspan deflection
+/// is beam theory's under the followers' vertical loads `loads` (one per
+/// contact, in order) at their foot points, which lie off their nominal
+/// abscissae `nominal` by the attachment's height times the slope there.
+/// Returns the largest acceleration.
+fn stays_at_rest(scene: &Scene, nominal: &[f64], loads: &[f64], label: &str) -> f64 {
+    let mut sim = Simulation::new(scene).expect("builds");
+    let all = names(&sim);
+    let midspan = index(&all, "sensor.midspan.deflection");
+    let mut values = vec![0.0; all.len()];
+    sim.output_values(&mut values);
+    let contacts: Vec<String> = sim.system().contacts.iter().map(|c| c.name.clone()).collect();
+    let at = |c: &String, what: &str| values[index(&all, &format!("{c}.{what}"))];
+    let placed: Vec<(f64, f64)> = contacts
+        .iter()
+        .zip(nominal.iter().zip(loads))
+        .map(|(c, (&x, &p))| {
+            let foot = at(c, "position");
+            assert!((foot - x).abs() < 1e-3, "{label}: {c} at {foot} m, not {x} m");
+            (foot, p)
+        })
+        .collect();
+    let expected = point_load_deflection(25.0, &placed, 12.5);
+    let deflection = values[midspan];
+    // The beam's own weight is not applied: only the vehicle's.
+    assert!(
+        (deflection - expected).abs() < 1e-9 * expected.abs(),
+        "{label}: midspan {deflection} m, beam theory {expected} m"
+    );
+    // The followers' normal forces carry the weight: their vertical parts.
+    let total: f64 = contacts.iter().map(|c| at(c, "normal_force")).sum();
+    let weight: f64 = loads.iter().sum();
+    assert!(
+        total >= weight && total - weight < 1e-6 * weight,
+        "{label}: {total} N"
+    );
+    let mut worst = largest_acceleration(&sim);
+    for k in 1..=200 {
+        let t = k as f64 * scene.solver.step;
+        assert_eq!(sim.advance_to(t).unwrap(), Advance::Reached);
+        worst = worst.max(largest_acceleration(&sim));
+    }
+    sim.output_values(&mut values);
+    eprintln!(
+        "{label}: midspan {deflection:.6e} m (beam theory {expected:.6e} m), largest \
+         acceleration {worst:.3e} g over 200 steps"
+    );
+    assert!(worst < 1e-9, "{label}: largest body acceleration {worst:e} g");
+    assert!((values[midspan] - deflection).abs() < 1e-9 * expected.abs());
+    worst
+}
+
+#[test]
+fn a_bogie_vehicle_on_followers_at_rest_on_the_deflected_beam_stays_at_rest() {
+    // Each follower carries half its bogie's load: (M g / 2 + m_b g) / 2.
+    let p = 0.5 * (0.5 * CAR + BOGIE) * GRAVITY;
+    let at: Vec<f64> = [LC + LT, LC - LT, -LC + LT, -LC - LT]
+        .iter()
+        .map(|dx| 12.5 + dx)
+        .collect();
+    let loads = [p; 4];
+    let scene = coach(0.0, 1, 12.5, 0.0, 1.0);
+    stays_at_rest(&scene, &at, &loads, "bogie vehicle on followers, RK4");
+    stays_at_rest(
+        &with_hht(scene, 1e-3),
+        &at,
+        &loads,
+        "bogie vehicle on followers, HHT-α",
+    );
+}
+
+#[test]
+fn a_maglev_vehicle_on_followers_at_rest_on_the_deflected_beam_stays_at_rest() {
+    let p = 30000.0 * GRAVITY / 8.0;
+    let at: Vec<f64> = (0..8).map(|i| 12.5 + 10.5 - 3.0 * i as f64).collect();
+    let loads = [p; 8];
+    let scene = maglev(0.0, 1, 12.5, 0.0, 1.0);
+    stays_at_rest(&scene, &at, &loads, "maglev vehicle on followers, RK4");
+    stays_at_rest(
+        &with_hht(scene, 1e-3),
+        &at,
+        &loads,
+        "maglev vehicle on followers, HHT-α",
+    );
+}
+
+#[test]
+fn without_the_static_start_the_bogie_vehicle_on_followers_moves() {
+    // On the undeformed beam the followers' preloads do not balance the
+    // beam: the at-rest test above could fail.
+    let mut scene = coach(0.0, 1, 12.5, 0.0, 1.0);
+    scene.solver.start = StartKind::Rest;
+    let mut sim = Simulation::new(&scene).expect("builds");
+    let mut worst: f64 = 0.0;
+    for k in 1..=200 {
+        sim.advance_to(k as f64 * 5e-5).unwrap();
+        worst = worst.max(largest_acceleration(&sim));
+    }
+    assert!(worst > 1e-3, "largest body acceleration {worst:e} g");
+}
