@@ -98,7 +98,12 @@ impl Catalogue {
     fn body(&mut self, system: &System, b: usize) {
         let body = &system.bodies[b];
         let n = &body.name;
-        let is_contact_body = system.contacts.iter().any(|c| c.body == b);
+        // A body over massless followers pitches like a car body: its
+        // angle is not a wheel's rolling angle.
+        let is_contact_body = system
+            .contacts
+            .iter()
+            .any(|c| c.body == b && c.follower.is_none());
         self.real(
             format!("{n}.x"),
             "m",

@@ -169,7 +169,8 @@ pub fn loads(
         let load = &mut body_loads[contact.body];
         load.x += on_body.x;
         load.y += on_body.y;
-        load.z += force.tangential * contact.radius() + contact.torque(&bodies[contact.body], &on_body);
+        load.z +=
+            force.tangential * contact.radius() + contact.torque(&bodies[contact.body], &on_body);
     }
     dissipation + add_element_forces(&system.force_elements, bodies, body_loads)
 }
