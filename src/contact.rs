@@ -103,6 +103,13 @@ impl Follower {
 }
 
 impl Contact {
+    /// Whether it is a follower attached off its body's centre (several
+    /// may share the body).
+    pub fn is_attached(&self) -> bool {
+        self.follower
+            .is_some_and(|f| f.attachment != Vector2::zeros())
+    }
+
     /// The state of the point that touches the track: the body's own, or
     /// a follower's attachment point (its velocity v + ω × r).
     pub fn point(&self, body: &BodyState) -> BodyState {

@@ -175,8 +175,14 @@ impl Catalogue {
         }
         for (c, contact) in system.contacts.iter().enumerate() {
             if contact.body == b {
+                // Several followers share their body: each its own speed.
+                let owner = if contact.is_attached() {
+                    &contact.name
+                } else {
+                    n
+                };
                 self.real(
-                    format!("{n}.nominal_speed"),
+                    format!("{owner}.nominal_speed"),
                     "m/s",
                     "nominal travel speed V = vx + (r + h) dphi/dt (eq. 24)",
                     Quantity::NominalSpeed(c),

@@ -19,10 +19,10 @@
 //! like a force element, its rest becomes its start gap, and its preload
 //! is set so that its vertical part is the load it was built to carry.
 
-use nalgebra::{DVector, Vector2, Vector3};
+use nalgebra::{DVector, Vector3};
 
 use crate::body::BodyState;
-use crate::contact::{Contact, ContactForce, ContactFrame};
+use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::Direction;
 use crate::integrate::{contact_frames_at_bodies, loads};
 use crate::system::System;
@@ -133,7 +133,7 @@ fn locate(
 /// follower's body: so that its suspension is at rest).
 fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
     for (contact, frame) in system.contacts.iter().zip(frames) {
-        if is_attached(contact) {
+        if contact.is_attached() {
             continue;
         }
         let body = &mut bodies[contact.body];
@@ -147,19 +147,12 @@ fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[Contac
 /// velocity error zero), not across it: a jump would need an impulse.
 fn follow_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
     for (contact, frame) in system.contacts.iter().zip(frames) {
-        if is_attached(contact) {
+        if contact.is_attached() {
             continue;
         }
         let body = &mut bodies[contact.body];
         body.velocity.y = body.velocity.x * frame.sin / frame.cos;
     }
-}
-
-/// Whether `contact` is a follower attached off its body's centre.
-fn is_attached(contact: &Contact) -> bool {
-    contact
-        .follower
-        .is_some_and(|f| f.attachment != Vector2::zeros())
 }
 
 /// Each attached follower at its preload where it stands: its rest the
@@ -174,7 +167,7 @@ fn rest_attached_followers(
 ) {
     let beam = &system.beam;
     for ((contact, frame), &load) in system.contacts.iter_mut().zip(frames).zip(carried) {
-        if !is_attached(contact) {
+        if !contact.is_attached() {
             continue;
         }
         let point = contact.point(&bodies[contact.body]);

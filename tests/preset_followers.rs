@@ -201,16 +201,28 @@ fn followers_replace_the_wheelsets_and_magnets_and_keep_their_names() {
         index(&all, name);
     }
     assert!(!all.iter().any(|n| n.starts_with("coach_wheelset1.y")));
+    assert_unique(&all);
 
     let sim = Simulation::new(&maglev(0.0, 1, 12.5, 0.0, 1.0)).expect("builds");
     let system = sim.system();
     assert_eq!(system.bodies.len(), 1);
     assert!(system.force_elements.is_empty());
-    let names: Vec<&str> = system.contacts.iter().map(|c| c.name.as_str()).collect();
-    assert_eq!(names[0], "car_magnet1");
-    assert_eq!(names[7], "car_magnet8");
+    let contacts: Vec<&str> = system.contacts.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(contacts[0], "car_magnet1");
+    assert_eq!(contacts[7], "car_magnet8");
     assert!(system.contacts.iter().all(|c| c.body == 0));
     assert_eq!(system.contacts[0].follower.unwrap().attachment.x, 10.5);
+    let all = names(&sim);
+    index(&all, "car_magnet8.nominal_speed");
+    assert_unique(&all);
+}
+
+/// Every output named once (the FMU's variable names must be unique).
+fn assert_unique(names: &[String]) {
+    let mut sorted = names.to_vec();
+    sorted.sort();
+    sorted.dedup();
+    assert_eq!(sorted.len(), names.len(), "duplicate output names");
 }
 
 /// Deflection at `x` of a simply supported beam of length `l` under
