@@ -476,10 +476,12 @@ fn a_bogie_vehicle_on_followers_runs_from_the_approach_onto_the_run_off() {
     // Followers, unlike glider wheelsets, pass the beam's ends: their
     // force is a function of the state, and a kink of the surface is a
     // kink of it. Entering a beam already deflected by the wheelsets ahead,
-    // a follower's normal tilts by the beam's end slope at once, so its
-    // gap rate jumps by v φ: the energy balance drifts there at first order
-    // in the step, as for wheels (`tests/bogie_vehicle.rs`). Asserted: four
-    // entries and four exits, and a drift that halves with the step.
+    // a follower leans on the beam's start (a corner) until its attachment
+    // is h sin φ past it, then on the sloped surface: its gap rate kinks
+    // by v φ inside a step, and the energy balance drifts there at first
+    // order in the step, as for wheels (`tests/bogie_vehicle.rs`).
+    // Asserted: four entries and four exits, and a drift that halves with
+    // the step.
     let speed = 100.0 / 3.6;
     let reach = LC + LT;
     let start = -25.0 + reach + 1.0;
