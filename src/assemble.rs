@@ -11,6 +11,8 @@ use crate::force_element::{Direction, ForceElement};
 use crate::scene::{BodyKind, BodySpec, BogieSpec, MaglevSpec, Scene, SuspensionSpec};
 use crate::system::{System, Track};
 
+mod followers;
+
 /// The system a scene asks for, where everything starts, the static
 /// contact forces (the first guesses) and the applied force on each body.
 pub struct Assembly {
@@ -166,6 +168,7 @@ fn sprung_mass_on_follower(
             damping: suspension.damping,
             preload: spec.mass * gravity,
             rest: SPRUNG_HEIGHT,
+            attachment: Vector2::zeros(),
         }),
         ..contact
     };
@@ -474,6 +477,9 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
             BodyKind::MaglevVehicle => maglev_vehicle(spec, &system.beam, gravity),
             BodyKind::MovingForce => return Err(MOVING_FORCE_REFUSAL.into()),
         };
+        if spec.massless_contacts() {
+            followers::fold_contact_bodies(&mut vehicle);
+        }
         // The first vehicle's contact keeps the name `contact` of the
         // single-body scenes; the others' are named after their vehicle.
         let offset = system.bodies.len();

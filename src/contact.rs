@@ -61,6 +61,11 @@ pub struct Follower {
     pub preload: f64,
     /// The gap at which the suspension carries exactly its preload (m).
     pub rest: f64,
+    /// Where the suspension meets its body, in body coordinates (m): the
+    /// body's centre for a sprung mass, a bogie's axle or a car body's
+    /// magnet station for the presets. Its gap, rate and force are that
+    /// point's, so the force also puts a torque on a pitching body.
+    pub attachment: Vector2<f64>,
 }
 
 impl Follower {
@@ -98,6 +103,41 @@ impl Follower {
 }
 
 impl Contact {
+    /// Whether it is a follower attached off its body's centre (several
+    /// may share the body).
+    pub fn is_attached(&self) -> bool {
+        self.follower
+            .is_some_and(|f| f.attachment != Vector2::zeros())
+    }
+
+    /// The state of the point that touches the track: the body's own, or
+    /// a follower's attachment point (its velocity v + ω × r).
+    pub fn point(&self, body: &BodyState) -> BodyState {
+        match self.follower {
+            Some(f) if f.attachment != Vector2::zeros() => {
+                let r = body.offset_of(&f.attachment);
+                BodyState {
+                    position: body.position + r,
+                    velocity: body.velocity + body.angular_velocity * Vector2::new(-r.y, r.x),
+                    ..*body
+                }
+            }
+            _ => *body,
+        }
+    }
+
+    /// The torque about the body's centre of a force `force` at the
+    /// contact point (nonzero for a follower attached off the centre).
+    pub fn torque(&self, body: &BodyState, force: &Vector2<f64>) -> f64 {
+        match self.follower {
+            Some(f) if f.attachment != Vector2::zeros() => {
+                let r = body.offset_of(&f.attachment);
+                r.x * force.y - r.y * force.x
+            }
+            _ => 0.0,
+        }
+    }
+
     pub fn radius(&self) -> f64 {
         match self.kind {
             ContactKind::Wheel { radius } => radius,

@@ -773,7 +773,7 @@ impl ContactIteration {
     fn gaps(&mut self, system: &System, end: &DynamicState) -> f64 {
         let mut worst: f64 = 0.0;
         for (c, contact) in system.contacts.iter().enumerate() {
-            let centre = &end.bodies[contact.body].position;
+            let centre = &contact.point(&end.bodies[contact.body]).position;
             let mut g = self.end_frames[c].gap(&system.beam, contact.radius(), centre);
             self.contact_gaps[c] = g;
             if self.open[c] {

@@ -98,7 +98,12 @@ impl Catalogue {
     fn body(&mut self, system: &System, b: usize) {
         let body = &system.bodies[b];
         let n = &body.name;
-        let is_contact_body = system.contacts.iter().any(|c| c.body == b);
+        // A body over massless followers pitches like a car body: its
+        // angle is not a wheel's rolling angle.
+        let is_contact_body = system
+            .contacts
+            .iter()
+            .any(|c| c.body == b && c.follower.is_none());
         self.real(
             format!("{n}.x"),
             "m",
@@ -170,8 +175,14 @@ impl Catalogue {
         }
         for (c, contact) in system.contacts.iter().enumerate() {
             if contact.body == b {
+                // Several followers share their body: each its own speed.
+                let owner = if contact.is_attached() {
+                    &contact.name
+                } else {
+                    n
+                };
                 self.real(
-                    format!("{n}.nominal_speed"),
+                    format!("{owner}.nominal_speed"),
                     "m/s",
                     "nominal travel speed V = vx + (r + h) dphi/dt (eq. 24)",
                     Quantity::NominalSpeed(c),
@@ -506,8 +517,8 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::NominalSpeed(c) => match frames.as_ref().and_then(|f| f.as_ref()) {
                 Some(frames) => {
                     let contact = &system.contacts[c];
-                    let body = &d.bodies[contact.body];
-                    frames[c].nominal_speed(beam, contact.radius(), body, &d.beam_velocity)
+                    let point = contact.point(&d.bodies[contact.body]);
+                    frames[c].nominal_speed(beam, contact.radius(), &point, &d.beam_velocity)
                 }
                 None => f64::NAN,
             },

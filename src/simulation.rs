@@ -1009,7 +1009,8 @@ impl Simulation {
                     None => continue,
                 }
             };
-            let centre_x = s.dynamic.bodies[self.system.contacts[c].body].position.x;
+            let contact = &self.system.contacts[c];
+            let centre_x = contact.point(&s.dynamic.bodies[contact.body]).position.x;
             let to = self.system.settle_part(to, centre_x);
             if matches!(to, TrackPart::JointBefore(_) | TrackPart::JointAfter(_)) {
                 // Over a joint the contact's abscissa is its centre's.
@@ -1104,8 +1105,8 @@ impl Simulation {
             .iter()
             .zip(frames)
             .map(|(contact, frame)| {
-                let body = &d.bodies[contact.body];
-                frame.velocity_error(beam, contact.radius(), body, &d.beam_velocity)
+                let point = contact.point(&d.bodies[contact.body]);
+                frame.velocity_error(beam, contact.radius(), &point, &d.beam_velocity)
             })
             .collect()
     }
@@ -1397,7 +1398,7 @@ fn initial_contacts(
     let statuses = system.contacts.iter().zip(&frames).zip(open);
     Ok(statuses
         .map(|((contact, frame), &open)| {
-            let centre = &d.bodies[contact.body].position;
+            let centre = &contact.point(&d.bodies[contact.body]).position;
             ContactStatus {
                 open,
                 gap: frame.gap(&system.beam, contact.radius(), centre),

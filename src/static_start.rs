@@ -14,6 +14,10 @@
 //! A massless follower's body is set at its suspension's rest above the
 //! deflected surface, where the follower carries its preload, the body's
 //! weight; the beam deflects under it like under any contact force.
+//! A follower attached off its body's centre (a bogie's axle, a car body's
+//! magnet station) does not move its body, which several of them hold:
+//! like a force element, its rest becomes its start gap, and its preload
+//! is set so that its vertical part is the load it was built to carry.
 
 use nalgebra::{DVector, Vector3};
 
@@ -41,10 +45,16 @@ pub fn static_start(
     let mut frames = Vec::new();
     let mut beam_load = DVector::zeros(n);
     let mut body_loads = vec![Vector3::zeros(); bodies.len()];
+    let carried: Vec<f64> = system
+        .contacts
+        .iter()
+        .map(|c| c.follower.map_or(0.0, |f| f.preload))
+        .collect();
     for _ in 0..PASSES {
         locate(system, &u, bodies, &mut frames)?;
         settle_on_surface(system, bodies, &frames);
         reset_rests(system, bodies);
+        rest_attached_followers(system, bodies, &frames, &carried);
         let free = vec![ContactForce::default(); forces.len()];
         loads(
             system,
@@ -73,6 +83,7 @@ pub fn static_start(
     settle_on_surface(system, bodies, &frames);
     follow_surface(system, bodies, &frames);
     reset_rests(system, bodies);
+    rest_attached_followers(system, bodies, &frames, &carried);
     loads(
         system,
         &frames,
@@ -122,6 +133,9 @@ fn locate(
 /// follower's body: so that its suspension is at rest).
 fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
     for (contact, frame) in system.contacts.iter().zip(frames) {
+        if contact.is_attached() {
+            continue;
+        }
         let body = &mut bodies[contact.body];
         let rest = contact.follower.map_or(0.0, |f| f.rest);
         let gap = frame.gap(&system.beam, contact.radius(), &body.position) - rest;
@@ -133,8 +147,35 @@ fn settle_on_surface(system: &System, bodies: &mut [BodyState], frames: &[Contac
 /// velocity error zero), not across it: a jump would need an impulse.
 fn follow_surface(system: &System, bodies: &mut [BodyState], frames: &[ContactFrame]) {
     for (contact, frame) in system.contacts.iter().zip(frames) {
+        if contact.is_attached() {
+            continue;
+        }
         let body = &mut bodies[contact.body];
         body.velocity.y = body.velocity.x * frame.sin / frame.cos;
+    }
+}
+
+/// Each attached follower at its preload where it stands: its rest the
+/// gap there, its preload the vertical load `carried` (its preload as
+/// built) over the normal's vertical part, so that the body's vertical
+/// forces and torques balance exactly as over wheelsets with mass.
+fn rest_attached_followers(
+    system: &mut System,
+    bodies: &[BodyState],
+    frames: &[ContactFrame],
+    carried: &[f64],
+) {
+    let beam = &system.beam;
+    for ((contact, frame), &load) in system.contacts.iter_mut().zip(frames).zip(carried) {
+        if !contact.is_attached() {
+            continue;
+        }
+        let point = contact.point(&bodies[contact.body]);
+        let gap = frame.gap(beam, 0.0, &point.position);
+        if let Some(follower) = contact.follower.as_mut() {
+            follower.rest = gap;
+            follower.preload = load / frame.normal().y;
+        }
     }
 }
 

@@ -99,3 +99,78 @@ def test_the_sprung_mass_start_value_sets_the_follower_preload(tmp_path, exporte
                                    err_msg=name)
     # At rest on the approach the follower carries the new weight.
     assert result["contact.normal_force"][0] == pytest.approx(mass * G, rel=1e-12)
+
+
+# The coach of tests/bogie_vehicle.rs on massless followers (wheelset_mass
+# = 0), HHT-α, from the static start on the approach over the 25 m beam.
+BOGIE_SCENE = f"""
+name = "bogie-followers-fmu"
+gravity = {G}
+[beam]
+length = 25.0
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = 10
+[track]
+approach = 25.0
+run_off = 25.0
+[body]
+name = "coach"
+kind = "bogie_vehicle"
+mass = 38884.0
+initial_position = -14.0
+initial_speed = 27.78
+[body.bogie]
+car_inertia = 1.95e6
+bogie_mass = 2400.0
+bogie_inertia = 3200.0
+wheelset_mass = 0.0
+bogie_half_distance = 8.75
+axle_half_distance = 1.25
+primary_stiffness = 1.18e6
+primary_damping = 2.0e4
+secondary_stiffness = 5.3e5
+secondary_damping = 2.0e4
+[[sensors]]
+name = "midspan"
+position = 12.5
+[solver]
+integrator = "hht"
+step = 2.5e-4
+start = "static"
+end_time = 1.0
+"""
+
+
+@pytest.fixture(scope="module")
+def exported_bogie(tmp_path_factory):
+    d = tmp_path_factory.mktemp("bogie_followers")
+    (d / "bogie.toml").write_text(BOGIE_SCENE)
+    fmu, cc = d / "bogie.fmu", d / "cc"
+    subprocess.run([str(GUIDEWAY), "export", str(d / "bogie.toml"), "-o", str(fmu),
+                    "--cross-check", str(cc)], check=True, capture_output=True)
+    return str(fmu), read_csv(cc / "bogie_followers_fmu_ref.csv")
+
+
+def test_a_bogie_vehicle_on_followers_exports_its_followers(exported_bogie):
+    fmu, _ = exported_bogie
+    names = {v.name: v for v in read_model_description(fmu).modelVariables}
+    for name in ["coach.ay", "coach.pitch", "coach_bogie1.ay", "coach_bogie1.pitch",
+                 "coach_wheelset1.normal_force", "coach_wheelset4.state", "energy.spring"]:
+        assert names[name].causality == "output", name
+    # The followers are contacts, not bodies: no wheelset positions.
+    assert not any(n.startswith("coach_wheelset1.y") for n in names)
+
+
+def test_fmpy_runs_the_bogie_vehicle_on_followers_to_the_native_results(exported_bogie):
+    fmu, (names, data) = exported_bogie
+    step = data[1, 0] - data[0, 0]
+    result = simulate_fmu(fmu, output_interval=step, output=names[1:], stop_time=data[-1, 0])
+    assert len(result["time"]) == len(data)
+    for k, name in enumerate(names[1:], start=1):
+        np.testing.assert_allclose(result[name], data[:, k], rtol=1e-12, atol=0, err_msg=name)
+    # The followers carry the vehicle: each about a quarter of its weight.
+    quarter = (38884.0 + 2 * 2400.0) * G / 4
+    force = result["coach_wheelset1.normal_force"]
+    assert np.all(np.abs(force / quarter - 1) < 0.1)

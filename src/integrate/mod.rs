@@ -93,7 +93,7 @@ pub fn contact_frames_at_bodies(
     let guesses: Vec<f64> = system
         .contacts
         .iter()
-        .map(|c| bodies[c.body].position.x)
+        .map(|c| c.point(&bodies[c.body]).position.x)
         .collect();
     let parts: Vec<TrackPart> = guesses.iter().map(|&x| system.track_part(x)).collect();
     contact_frames(system, u, bodies, (&guesses, &parts), frames)
@@ -112,7 +112,7 @@ pub fn contact_frames(
 ) -> Result<(), IntegrationError> {
     frames.clear();
     for (c, contact) in system.contacts.iter().enumerate() {
-        let centre = &bodies[contact.body].position;
+        let centre = &contact.point(&bodies[contact.body]).position;
         let frame = system
             .contact_frame(u, centre, guesses[c], parts[c])
             .map_err(|e| IntegrationError::LostContact {
@@ -169,7 +169,8 @@ pub fn loads(
         let load = &mut body_loads[contact.body];
         load.x += on_body.x;
         load.y += on_body.y;
-        load.z += force.tangential * contact.radius();
+        load.z +=
+            force.tangential * contact.radius() + contact.torque(&bodies[contact.body], &on_body);
     }
     dissipation + add_element_forces(&system.force_elements, bodies, body_loads)
 }
@@ -183,7 +184,7 @@ pub fn follower_gap(
     bodies: &[BodyState],
     beam_velocity: &DVector<f64>,
 ) -> (f64, f64) {
-    let state = &bodies[contact.body];
+    let state = &contact.point(&bodies[contact.body]);
     let gap = frame.gap(&system.beam, 0.0, &state.position);
     let rate = frame
         .velocity_error(&system.beam, 0.0, state, beam_velocity)

@@ -5,7 +5,7 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 43] = [
+const FIELD_NOTES: [(&str, &str); 45] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
     (
@@ -19,6 +19,14 @@ const FIELD_NOTES: [(&str, &str); 43] = [
     (
         "body.suspension.unsprung_mass",
         "kg, the glider under the spring, >= 0 (0: the massless follower)",
+    ),
+    (
+        "body.bogie.wheelset_mass",
+        "kg, > 0, or 0: massless followers under the axles",
+    ),
+    (
+        "body.maglev.magnet_mass",
+        "kg, > 0, or 0: massless followers under the magnets' stations",
     ),
     ("beam.length", "m, L"),
     ("beam.mass_per_length", "kg/m"),

@@ -719,8 +719,13 @@ impl BodySpec {
             BodyKind::SprungMass => names.push(format!("{n}_unsprung")),
             BodyKind::BogieVehicle => {
                 names.extend((1..=2).map(|i| format!("{n}_bogie{i}")));
-                names.extend((1..=4).map(|i| format!("{n}_wheelset{i}")));
+                // Massless followers are contacts, not bodies.
+                if !self.massless_contacts() {
+                    names.extend((1..=4).map(|i| format!("{n}_wheelset{i}")));
+                }
             }
+            // Massless followers are contacts, not bodies.
+            BodyKind::MaglevVehicle if self.massless_contacts() => {}
             BodyKind::MaglevVehicle => {
                 let magnets = self.maglev.map_or(0, |m| m.magnets);
                 names.extend((1..=magnets).map(|i| format!("{n}_magnet{i}")));
@@ -729,6 +734,17 @@ impl BodySpec {
             BodyKind::MovingForce => names.clear(),
         }
         names
+    }
+
+    /// Whether a bogie or maglev vehicle runs on massless followers
+    /// (`bogie.wheelset_mass = 0`, `maglev.magnet_mass = 0`) in place of
+    /// its wheelsets or magnets.
+    pub fn massless_contacts(&self) -> bool {
+        match self.kind {
+            BodyKind::BogieVehicle => self.bogie.is_some_and(|b| b.wheelset_mass == 0.0),
+            BodyKind::MaglevVehicle => self.maglev.is_some_and(|m| m.magnet_mass == 0.0),
+            _ => false,
+        }
     }
 }
 

@@ -796,12 +796,15 @@ fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
                 ("car_inertia", b.car_inertia),
                 ("bogie_mass", b.bogie_mass),
                 ("bogie_inertia", b.bogie_inertia),
-                ("wheelset_mass", b.wheelset_mass),
                 ("axle_half_distance", b.axle_half_distance),
                 ("primary_stiffness", b.primary_stiffness),
                 ("secondary_stiffness", b.secondary_stiffness),
             ] {
                 checks.positive(&path(field), value);
+            }
+            // 0: massless followers under the bogies' axles.
+            if b.wheelset_mass != 0.0 {
+                checks.positive(&path("wheelset_mass"), b.wheelset_mass);
             }
             checks.non_negative(&path("primary_damping"), b.primary_damping);
             checks.non_negative(&path("secondary_damping"), b.secondary_damping);
@@ -846,10 +849,13 @@ fn check_maglev(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
             for (field, value) in [
                 ("car_inertia", m.car_inertia),
                 ("magnet_spacing", m.magnet_spacing),
-                ("magnet_mass", m.magnet_mass),
                 ("stiffness", m.stiffness),
             ] {
                 checks.positive(&path(field), value);
+            }
+            // 0: massless followers at the magnets' stations.
+            if m.magnet_mass != 0.0 {
+                checks.positive(&path("magnet_mass"), m.magnet_mass);
             }
             checks.non_negative(&path("damping"), m.damping);
             if !(1..=MAX_MAGNETS).contains(&m.magnets) {
@@ -884,6 +890,14 @@ fn check_wheel_wheelsets(checks: &mut Checks, path: &dyn Fn(&str) -> String, b: 
         (Some(r), Some(j)) => {
             checks.positive(&path("wheel_radius"), r);
             checks.positive(&path("wheelset_inertia"), j);
+            if b.wheelset_mass == 0.0 {
+                checks.fail(
+                    path("wheelset_mass"),
+                    "0",
+                    "a massless follower does not roll: wheel wheelsets (with wheel_radius) \
+                     need a mass > 0; leave out wheel_radius and wheelset_inertia for followers",
+                );
+            }
         }
         (Some(_), None) => checks.fail(
             path("wheelset_inertia"),
