@@ -78,6 +78,9 @@ impl Rk4 {
         let mut beam_dissipation_sum = 0.0;
         let mut tractive_power_sum = 0.0;
         let mut beam_load_power_sum = 0.0;
+        // Tested once per integration, not at each stage.
+        let held = from.shapes.iter().all(ForceShape::is_held);
+        let shapes = if held { &[][..] } else { from.shapes };
 
         for stage in 0..4 {
             if stage > 0 {
@@ -95,7 +98,7 @@ impl Rk4 {
             }
             let forces = stage_forces(
                 forces,
-                from.shapes,
+                shapes,
                 SHAPE_TIME[stage],
                 &mut self.stage_forces,
             );
