@@ -118,8 +118,8 @@ impl Rk4 {
             beam_load_power_sum += WEIGHT[stage] * self.load.dot(&self.stage_v);
 
             let weight = WEIGHT[stage];
-            self.sum_u.axpy(weight, &self.stage_v, 1.0);
-            self.sum_v.axpy(weight, &self.accel, 1.0);
+            add_scaled(&mut self.sum_u, weight, &self.stage_v);
+            add_scaled(&mut self.sum_v, weight, &self.accel);
             for (b, body) in system.bodies.iter().enumerate() {
                 // RK4's own quadrature of the tractive power F_x ẋ.
                 tractive_power_sum += weight
@@ -135,20 +135,16 @@ impl Rk4 {
             if stage < 3 {
                 let h = STAGE_TIME[stage] * dt;
                 // stage_u ← u0 + h v_stage, then stage_v ← v0 + h a_stage.
-                self.stage_u.copy_from(&start.beam_displacement);
-                self.stage_u.axpy(h, &self.stage_v, 1.0);
-                self.stage_v.copy_from(&start.beam_velocity);
-                self.stage_v.axpy(h, &self.accel, 1.0);
+                set_sum(&mut self.stage_u, &start.beam_displacement, h, &self.stage_v);
+                set_sum(&mut self.stage_v, &start.beam_velocity, h, &self.accel);
                 for (b, stage_body) in self.stage_bodies.iter_mut().enumerate() {
                     *stage_body = start.bodies[b].advanced(h, stage_body, &self.body_loads[b]);
                 }
             }
         }
         let w = dt / 6.0;
-        end.beam_displacement.copy_from(&start.beam_displacement);
-        end.beam_displacement.axpy(w, &self.sum_u, 1.0);
-        end.beam_velocity.copy_from(&start.beam_velocity);
-        end.beam_velocity.axpy(w, &self.sum_v, 1.0);
+        set_sum(&mut end.beam_displacement, &start.beam_displacement, w, &self.sum_u);
+        set_sum(&mut end.beam_velocity, &start.beam_velocity, w, &self.sum_v);
         for (b, body) in end.bodies.iter_mut().enumerate() {
             let (b0, rates, accelerations) = (
                 &start.bodies[b],
@@ -230,6 +226,23 @@ fn beam_dissipation(
         beam.kinetic_energy(&s.beam_velocity) + beam.strain_energy(&s.beam_displacement)
     };
     load_work - damping_work - (energy(end) - energy(start))
+}
+
+/// `y ← y + a x`. By hand: nalgebra's `axpy` on a dynamic vector of a
+/// few entries (the small meshes) costs several times its flops; the
+/// same operations in the same order (same bits).
+fn add_scaled(y: &mut DVector<f64>, a: f64, x: &DVector<f64>) {
+    for (y, x) in y.as_mut_slice().iter_mut().zip(x.as_slice()) {
+        *y += a * x;
+    }
+}
+
+/// `y ← b + a x` (see `add_scaled`).
+fn set_sum(y: &mut DVector<f64>, b: &DVector<f64>, a: f64, x: &DVector<f64>) {
+    let terms = b.as_slice().iter().zip(x.as_slice());
+    for (y, (b, x)) in y.as_mut_slice().iter_mut().zip(terms) {
+        *y = b + a * x;
+    }
 }
 
 /// The contact forces at stage time `k` of the shapes, for the step's mean
