@@ -374,7 +374,10 @@ impl Beam {
         // Elements are few per span and usually uniform: bisection is
         // enough. The nodes at or before x, by plain comparisons (the
         // foot-point search starts here at every call).
-        self.node_x.partition_point(|&n| n <= x).saturating_sub(1).min(last)
+        self.node_x
+            .partition_point(|&n| n <= x)
+            .saturating_sub(1)
+            .min(last)
     }
 
     /// The element whose span holds `x`, searched from element `hint`

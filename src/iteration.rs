@@ -818,7 +818,8 @@ impl ContactIteration {
         let mut shapes = std::mem::take(&mut self.shapes);
         let (u, bodies) = (&start.beam_displacement, &start.bodies);
         let located = (start.contact_x.as_slice(), parts);
-        self.memo.contact_frames(system, u, bodies, located, &mut start_frames)?;
+        self.memo
+            .contact_frames(system, u, bodies, located, &mut start_frames)?;
         self.integrator.begin_step();
         self.forces.clear();
         self.forces.extend_from_slice(guess);
@@ -869,7 +870,8 @@ impl ContactIteration {
         iterations += position_iterations;
         self.integrator.finish_step(system, from, end);
         let configuration = (&end.beam_displacement, end.bodies.as_slice());
-        self.memo.keep(system, configuration, from.parts, &self.end_frames);
+        self.memo
+            .keep(system, configuration, from.parts, &self.end_frames);
         let velocity_error = self.velocity_errors(system, end);
         let mut forces = self.forces.clone();
         crate::integrate::follower_forces(

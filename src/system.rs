@@ -268,9 +268,7 @@ impl System {
         // the beam's normal there. (The search's result is passed on
         // whole: unpacked and packed again it was copied twice.)
         match &found {
-            Ok(frame) if frame.x < 0.0 && self.track.approach > 0.0 => {
-                self.end_corner(0.0, centre)
-            }
+            Ok(frame) if frame.x < 0.0 && self.track.approach > 0.0 => self.end_corner(0.0, centre),
             _ => found,
         }
     }

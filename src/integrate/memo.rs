@@ -71,7 +71,11 @@ impl FrameMemo {
         let same = self.kept
             && self.parts == parts
             && self.displacement.len() == u.len()
-            && self.displacement.iter().zip(u.iter()).all(|(&a, &b)| bits(a, b))
+            && self
+                .displacement
+                .iter()
+                .zip(u.iter())
+                .all(|(&a, &b)| bits(a, b))
             && self.centres.len() == bodies.len()
             && (self.centres.iter().zip(bodies))
                 .all(|(c, b)| bits(c.x, b.position.x) && bits(c.y, b.position.y))
@@ -160,14 +164,22 @@ mod tests {
         memo.keep(&system, (&u, &bodies), &parts, &frames);
         let mut moved_u = u.clone();
         moved_u[1] += 1e-15;
-        assert!(memo.recall((&moved_u, &bodies), (&guesses, &parts)).is_none());
+        assert!(memo
+            .recall((&moved_u, &bodies), (&guesses, &parts))
+            .is_none());
         let mut moved_bodies = bodies.clone();
         moved_bodies[1].position.y += 1e-12;
-        assert!(memo.recall((&u, &moved_bodies), (&guesses, &parts)).is_none());
+        assert!(memo
+            .recall((&u, &moved_bodies), (&guesses, &parts))
+            .is_none());
         let other_guesses = [guesses[0], guesses[1] + 1e-9];
-        assert!(memo.recall((&u, &bodies), (&other_guesses, &parts)).is_none());
+        assert!(memo
+            .recall((&u, &bodies), (&other_guesses, &parts))
+            .is_none());
         let other_parts = [TrackPart::Beam, TrackPart::RunOff];
-        assert!(memo.recall((&u, &bodies), (&guesses, &other_parts)).is_none());
+        assert!(memo
+            .recall((&u, &bodies), (&guesses, &other_parts))
+            .is_none());
         // A frame off the beam is never kept.
         let mut off = frames.clone();
         off[0].on_beam = false;

@@ -164,7 +164,9 @@ pub fn loads(
         if frame.on_beam {
             let (t_row, n_row) = frame.beam_rows(system.beam.surface_offset);
             let (tangential, normal) = ((&t_row, -force.tangential), (&n_row, -force.normal));
-            system.beam.scatter_rows(&frame.shape, tangential, normal, beam_load);
+            system
+                .beam
+                .scatter_rows(&frame.shape, tangential, normal, beam_load);
         }
         let on_body = frame.tangent() * force.tangential + frame.normal() * force.normal;
         let load = &mut body_loads[contact.body];

@@ -96,12 +96,7 @@ impl Rk4 {
             for (x, frame) in end.contact_x.iter_mut().zip(frames) {
                 *x = frame.x;
             }
-            let forces = stage_forces(
-                forces,
-                shapes,
-                SHAPE_TIME[stage],
-                &mut self.stage_forces,
-            );
+            let forces = stage_forces(forces, shapes, SHAPE_TIME[stage], &mut self.stage_forces);
             dissipation_sum += WEIGHT[stage]
                 * loads(
                     system,
@@ -135,7 +130,12 @@ impl Rk4 {
             if stage < 3 {
                 let h = STAGE_TIME[stage] * dt;
                 // stage_u ← u0 + h v_stage, then stage_v ← v0 + h a_stage.
-                set_sum(&mut self.stage_u, &start.beam_displacement, h, &self.stage_v);
+                set_sum(
+                    &mut self.stage_u,
+                    &start.beam_displacement,
+                    h,
+                    &self.stage_v,
+                );
                 set_sum(&mut self.stage_v, &start.beam_velocity, h, &self.accel);
                 for (b, stage_body) in self.stage_bodies.iter_mut().enumerate() {
                     *stage_body = start.bodies[b].advanced(h, stage_body, &self.body_loads[b]);
@@ -143,7 +143,12 @@ impl Rk4 {
             }
         }
         let w = dt / 6.0;
-        set_sum(&mut end.beam_displacement, &start.beam_displacement, w, &self.sum_u);
+        set_sum(
+            &mut end.beam_displacement,
+            &start.beam_displacement,
+            w,
+            &self.sum_u,
+        );
         set_sum(&mut end.beam_velocity, &start.beam_velocity, w, &self.sum_v);
         for (b, body) in end.bodies.iter_mut().enumerate() {
             let (b0, rates, accelerations) = (
