@@ -240,8 +240,9 @@ pub enum Integrator {
 impl Integrator {
     /// Called once before the iterations of each step.
     pub fn begin_step(&mut self) {
-        if let Integrator::Hht(hht) = self {
-            hht.begin_step();
+        match self {
+            Integrator::Rk4(rk4) => rk4.begin_step(),
+            Integrator::Hht(hht) => hht.begin_step(),
         }
     }
 

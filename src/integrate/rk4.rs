@@ -34,6 +34,10 @@ pub struct Rk4 {
     frames: Vec<ContactFrame>,
     /// The contact forces at the current stage's time.
     stage_forces: Vec<ContactForce>,
+    /// The beam's energy at the start of the step (the same for every
+    /// integration of the step): computed at its first, cleared by
+    /// `begin_step`.
+    start_energy: Option<f64>,
 }
 
 impl Rk4 {
@@ -52,7 +56,13 @@ impl Rk4 {
             sum_accelerations: vec![Vector3::zeros(); bodies],
             frames: Vec::new(),
             stage_forces: Vec::new(),
+            start_energy: None,
         }
+    }
+
+    /// Called once before the integrations of each step.
+    pub fn begin_step(&mut self) {
+        self.start_energy = None;
     }
 
     /// Advance from `from` over its step with `forces` held, into `end`.
@@ -166,10 +176,13 @@ impl Rk4 {
         end.dissipated = start.dissipated + w * dissipation_sum;
         end.beam_dissipated = start.beam_dissipated + w * beam_dissipation_sum;
         end.tractive_work = start.tractive_work + w * tractive_power_sum;
+        let start_energy = self
+            .start_energy
+            .get_or_insert_with(|| beam_energy(system, start));
         end.numerical_dissipation = start.numerical_dissipation
             + beam_dissipation(
                 system,
-                (start, &*end),
+                (*start_energy, &*end),
                 w * beam_load_power_sum,
                 w * beam_dissipation_sum,
             );
@@ -222,15 +235,17 @@ impl Rk4 {
 /// quarters of the mode's energy per step: that is what this books.
 fn beam_dissipation(
     system: &System,
-    (start, end): (&DynamicState, &DynamicState),
+    (start_energy, end): (f64, &DynamicState),
     load_work: f64,
     damping_work: f64,
 ) -> f64 {
+    load_work - damping_work - (beam_energy(system, end) - start_energy)
+}
+
+/// The beam's kinetic and strain energy in state `s`.
+fn beam_energy(system: &System, s: &DynamicState) -> f64 {
     let beam = &system.beam;
-    let energy = |s: &DynamicState| {
-        beam.kinetic_energy(&s.beam_velocity) + beam.strain_energy(&s.beam_displacement)
-    };
-    load_work - damping_work - (energy(end) - energy(start))
+    beam.kinetic_energy(&s.beam_velocity) + beam.strain_energy(&s.beam_displacement)
 }
 
 /// `y ← y + a x`. By hand: nalgebra's `axpy` on a dynamic vector of a
