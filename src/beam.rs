@@ -367,12 +367,17 @@ impl Beam {
     /// end elements (their cubics are extended past the beam).
     pub fn element_at(&self, x: f64) -> usize {
         let last = self.elements() - 1;
-        // Elements are few per span and usually uniform: bisection is enough.
-        match self.node_x.binary_search_by(|n| n.total_cmp(&x)) {
-            Ok(i) => i.min(last),
-            Err(0) => 0,
-            Err(i) => (i - 1).min(last),
+        if x.is_nan() {
+            // Where a total order puts it.
+            return if x.is_sign_negative() { 0 } else { last };
         }
+        // Elements are few per span and usually uniform: bisection is
+        // enough. The nodes at or before x, by plain comparisons (the
+        // foot-point search starts here at every call).
+        self.node_x
+            .partition_point(|&n| n <= x)
+            .saturating_sub(1)
+            .min(last)
     }
 
     /// The element whose span holds `x`, searched from element `hint`
@@ -490,9 +495,22 @@ impl Beam {
     /// no shape rows built): what the foot-point search evaluates at each
     /// of its iterates.
     pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
+        self.axis_of_field(element, x, &self.element_field(element, u))
+    }
+
+    /// The field of state vector `u` on the four DOFs of `element` (0
+    /// where held): what `axis_of_field` reads.
+    pub fn element_field(&self, element: usize, u: &DVector<f64>) -> [f64; 4] {
+        self.gather(&self.element_dofs[element], u)
+    }
+
+    /// `axis` from the element's field `element_field(element, u)`: the
+    /// foot-point search gathers it once per element, not at each iterate
+    /// (on a modal structure a gather is a product with the kept modes).
+    pub fn axis_of_field(&self, element: usize, x: f64, field: &[f64; 4]) -> [f64; 4] {
         let len = self.element_length[element];
         let (s, past) = self.abscissa(element, x);
-        let [a, b, c, d] = self.gather(&self.element_dofs[element], u);
+        let [a, b, c, d] = *field;
         let (b, d) = (b * len, d * len);
         let c2 = -3.0 * a - 2.0 * b + 3.0 * c - d;
         let c3 = 2.0 * a + b - 2.0 * c + d;
@@ -547,7 +565,20 @@ impl Beam {
     /// The field of state vector `u` on the four DOFs `dofs` of an element
     /// (0 where held).
     pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
-        dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u)))
+        // The nodal case reads `u` directly: the foot-point search gathers
+        // at every iterate, and a match per entry doubled its cost.
+        let mut local = [0.0; 4];
+        match &self.modal {
+            None => {
+                for (value, dof) in local.iter_mut().zip(dofs) {
+                    if let Some(i) = *dof {
+                        *value = u[i];
+                    }
+                }
+            }
+            Some(_) => local = dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u))),
+        }
+        local
     }
 
     /// Dot a row of `shape`'s values with the field of state vector `u`.
@@ -559,8 +590,48 @@ impl Beam {
         local.iter().zip(row).map(|(a, b)| a * b).sum()
     }
 
+    /// `dot` of two rows of `shape` with the same `u`: on a modal
+    /// structure the element's field is gathered once for both.
+    pub fn dot_rows(
+        &self,
+        shape: &Shape,
+        (first, second): (&[f64; 4], &[f64; 4]),
+        u: &DVector<f64>,
+    ) -> (f64, f64) {
+        if self.modal.is_none() {
+            return (shape.dot(first, u), shape.dot(second, u));
+        }
+        let local = self.gather(&shape.dofs, u);
+        let dot = |row: &[f64; 4]| local.iter().zip(row).map(|(a, b)| a * b).sum();
+        (dot(first), dot(second))
+    }
+
+    /// `scatter` of two loads at `shape`, `scale_1 row_1 + scale_2 row_2`:
+    /// on a modal structure one product with the kept modes per DOF, not
+    /// two.
+    pub fn scatter_rows(
+        &self,
+        shape: &Shape,
+        (first, scale_1): (&[f64; 4], f64),
+        (second, scale_2): (&[f64; 4], f64),
+        out: &mut DVector<f64>,
+    ) {
+        if self.modal.is_none() {
+            shape.scatter(first, scale_1, out);
+            return shape.scatter(second, scale_2, out);
+        }
+        for (k, dof) in shape.dofs.iter().enumerate() {
+            if let Some(i) = *dof {
+                self.add_dof_load(i, scale_1 * first[k] + scale_2 * second[k], out);
+            }
+        }
+    }
+
     /// Add the load `scale * row` at `shape` into state vector `out`.
     pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
+        if self.modal.is_none() {
+            return shape.scatter(row, scale, out);
+        }
         for (dof, r) in shape.dofs.iter().zip(row) {
             if let Some(i) = *dof {
                 self.add_dof_load(i, scale * r, out);

@@ -242,10 +242,8 @@ impl ContactFrame {
         let (bt, bn) = self.body_rows(radius);
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
         let (t_row, n_row) = self.beam_rows(beam.surface_offset);
-        Vector2::new(
-            bt.dot(&q) - beam.dot(&self.shape, &t_row, beam_velocity),
-            bn.dot(&q) - beam.dot(&self.shape, &n_row, beam_velocity),
-        )
+        let (vt, vn) = beam.dot_rows(&self.shape, (&t_row, &n_row), beam_velocity);
+        Vector2::new(bt.dot(&q) - vt, bn.dot(&q) - vn)
     }
 
     /// Gap error g = n·(centre − d) − (r + h) (m); negative is penetration.
@@ -264,8 +262,7 @@ impl ContactFrame {
         beam_velocity: &DVector<f64>,
     ) -> f64 {
         let s = &self.shape;
-        let w_rate = beam.dot(s, &s.n, beam_velocity);
-        let slope_rate = beam.dot(s, &s.dn, beam_velocity);
+        let (w_rate, slope_rate) = beam.dot_rows(s, (&s.n, &s.dn), beam_velocity);
         let height = state.position.y - self.deflection;
         // d/dt of the foot-point condition (X − x) + (Y − w(x)) w'(x) = 0.
         let foot_speed =
@@ -405,6 +402,7 @@ pub fn foot_point(
 /// then those of the sum, so its normal, gap and velocity rows carry the
 /// irregularity (the travel-induced surface velocity V r' enters the
 /// normal row through the tilted normal).
+#[inline]
 pub fn foot_point_on(
     beam: &Beam,
     profile: Option<&Profile>,
@@ -414,9 +412,14 @@ pub fn foot_point_on(
 ) -> Result<ContactFrame, FootPointError> {
     let mut x = guess;
     let mut element = beam.element_at(x);
+    // The element's field, gathered again only when the search moves on.
+    let mut field = (element, beam.element_field(element, u));
     for _ in 0..50 {
         element = beam.element_near(x, element);
-        let axis = beam.axis(element, x, u);
+        if field.0 != element {
+            field = (element, beam.element_field(element, u));
+        }
+        let axis = beam.axis_of_field(element, x, &field.1);
         // Without a profile the axis is used untouched (same bits as before).
         let [w, slope, curvature, third] = match profile {
             None => axis,

@@ -364,6 +364,9 @@ pub struct ContactIteration {
     /// The bodies' largest velocity change between the last two
     /// integrations of a step that re-integrates for its force laws.
     settle_change: f64,
+    /// The end frames of the last step solved, for the next step's start
+    /// and the outputs.
+    memo: crate::integrate::FrameMemo,
 }
 
 impl ContactIteration {
@@ -415,7 +418,14 @@ impl ContactIteration {
             followers,
             contacts_of_body,
             settle_change: 0.0,
+            memo: Default::default(),
         }
+    }
+
+    /// The end frames of the last step solved, with the configuration they
+    /// belong to.
+    pub fn frame_memo(&self) -> &crate::integrate::FrameMemo {
+        &self.memo
     }
 
     /// Which contacts are open in the next steps solved.
@@ -808,7 +818,8 @@ impl ContactIteration {
         let mut shapes = std::mem::take(&mut self.shapes);
         let (u, bodies) = (&start.beam_displacement, &start.bodies);
         let located = (start.contact_x.as_slice(), parts);
-        contact_frames(system, u, bodies, located, &mut start_frames)?;
+        self.memo
+            .contact_frames(system, u, bodies, located, &mut start_frames)?;
         self.integrator.begin_step();
         self.forces.clear();
         self.forces.extend_from_slice(guess);
@@ -858,6 +869,9 @@ impl ContactIteration {
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
         self.integrator.finish_step(system, from, end);
+        let configuration = (&end.beam_displacement, end.bodies.as_slice());
+        self.memo
+            .keep(system, configuration, from.parts, &self.end_frames);
         let velocity_error = self.velocity_errors(system, end);
         let mut forces = self.forces.clone();
         crate::integrate::follower_forces(

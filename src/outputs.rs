@@ -480,18 +480,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
     let needs_frames = quantities
         .iter()
         .any(|q| matches!(q, Quantity::NominalSpeed(_)));
-    let frames = needs_frames.then(|| {
-        let mut frames = Vec::new();
-        crate::integrate::contact_frames(
-            system,
-            &d.beam_displacement,
-            &d.bodies,
-            (&d.contact_x, &state.parts),
-            &mut frames,
-        )
-        .map(|_| frames)
-        .ok()
-    });
+    let frames = needs_frames.then(|| sim.contact_frames_now());
     let needs_beam = quantities.iter().any(needs_beam_dynamics);
     let beam_dynamics = needs_beam.then(|| sim.beam_dynamics()).flatten();
     let needs_accelerations = quantities.iter().any(|q| {

@@ -659,7 +659,7 @@ impl Simulation {
             0 => self.constant_forces(),
             _ => self.state.last_applied.clone(),
         };
-        let ok = contact_frames(
+        let ok = self.iteration.frame_memo().contact_frames(
             &self.system,
             &d.beam_displacement,
             &d.bodies,
@@ -1071,7 +1071,7 @@ impl Simulation {
     ) -> Result<Vec<crate::contact::ContactFrame>, crate::integrate::IntegrationError> {
         let mut frames = Vec::new();
         let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
-        contact_frames(
+        self.iteration.frame_memo().contact_frames(
             &self.system,
             &d.beam_displacement,
             &d.bodies,
@@ -1079,6 +1079,12 @@ impl Simulation {
             &mut frames,
         )?;
         Ok(frames)
+    }
+
+    /// The contact frames of the current state (each contact on the part
+    /// of the track it is on now); `None` when one cannot be located.
+    pub fn contact_frames_now(&self) -> Option<Vec<crate::contact::ContactFrame>> {
+        self.frames_of(&self.state.dynamic).ok()
     }
 
     /// The contact frames of the current state.

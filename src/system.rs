@@ -255,20 +255,21 @@ impl System {
 
     /// The frame on the first piece: the foot point, or the beam's start
     /// (a corner) while the beam slopes down from it below the centre.
+    #[inline]
     fn first_piece_frame(
         &self,
         u: &DVector<f64>,
         centre: &Vector2<f64>,
         guess: f64,
     ) -> Result<ContactFrame, FootPointError> {
-        let frame = foot_point_on(&self.beam, self.profile.as_ref(), u, centre, guess)?;
+        let found = foot_point_on(&self.beam, self.profile.as_ref(), u, centre, guess);
         // Onto a beam that slopes down from its start the wheel
         // turns about the start (a corner) until its centre is over
-        // the beam's normal there.
-        if frame.x < 0.0 && self.track.approach > 0.0 {
-            self.end_corner(0.0, centre)
-        } else {
-            Ok(frame)
+        // the beam's normal there. (The search's result is passed on
+        // whole: unpacked and packed again it was copied twice.)
+        match &found {
+            Ok(frame) if frame.x < 0.0 && self.track.approach > 0.0 => self.end_corner(0.0, centre),
+            _ => found,
         }
     }
 

@@ -6,6 +6,7 @@
 mod choice;
 mod hht;
 mod hht_energy;
+mod memo;
 mod profile;
 mod rk4;
 
@@ -19,6 +20,7 @@ use crate::system::{System, TrackPart};
 
 pub use choice::{choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
 pub use hht::Hht;
+pub use memo::FrameMemo;
 pub use profile::{force_shape, ForceShape};
 pub use rk4::Rk4;
 
@@ -161,9 +163,10 @@ pub fn loads(
         };
         if frame.on_beam {
             let (t_row, n_row) = frame.beam_rows(system.beam.surface_offset);
-            let beam = &system.beam;
-            beam.scatter(&frame.shape, &t_row, -force.tangential, beam_load);
-            beam.scatter(&frame.shape, &n_row, -force.normal, beam_load);
+            let (tangential, normal) = ((&t_row, -force.tangential), (&n_row, -force.normal));
+            system
+                .beam
+                .scatter_rows(&frame.shape, tangential, normal, beam_load);
         }
         let on_body = frame.tangent() * force.tangential + frame.normal() * force.normal;
         let load = &mut body_loads[contact.body];
@@ -238,8 +241,9 @@ pub enum Integrator {
 impl Integrator {
     /// Called once before the iterations of each step.
     pub fn begin_step(&mut self) {
-        if let Integrator::Hht(hht) = self {
-            hht.begin_step();
+        match self {
+            Integrator::Rk4(rk4) => rk4.begin_step(),
+            Integrator::Hht(hht) => hht.begin_step(),
         }
     }
 

@@ -1,0 +1,189 @@
+//! The contact frames of the last accepted configuration, kept so that the
+//! next step's start and the output rows of that configuration do not
+//! search the same foot points again.
+//!
+//! A search from a converged foot point evaluates the axis there, finds a
+//! correction below the convergence threshold and returns that same frame,
+//! bit for bit: recalling it is exact. That holds on a track of one beam,
+//! for frames on it (a corner's or the ground's frame is not a converged
+//! search, and on several beams the element walk may end on another beam's
+//! end element), so only such frames are kept.
+
+use nalgebra::{DVector, Vector2};
+
+use super::IntegrationError;
+use crate::body::BodyState;
+use crate::contact::ContactFrame;
+use crate::system::{System, TrackPart};
+
+/// Above this many structure coordinates the comparison of the state costs
+/// more than the foot-point searches it saves are worth; nothing is kept.
+const MAX_COORDINATES: usize = 1024;
+
+/// The frames of one configuration: the structure's state vector, the
+/// bodies' centres and each contact's part of the track.
+#[derive(Debug, Clone, Default)]
+pub struct FrameMemo {
+    displacement: DVector<f64>,
+    centres: Vec<Vector2<f64>>,
+    parts: Vec<TrackPart>,
+    frames: Vec<ContactFrame>,
+    kept: bool,
+}
+
+impl FrameMemo {
+    /// Keep `frames`, found for displacement `u` and `bodies` on `parts`,
+    /// where recalling them is exact (see the module's comment).
+    pub fn keep(
+        &mut self,
+        system: &System,
+        (u, bodies): (&DVector<f64>, &[BodyState]),
+        parts: &[TrackPart],
+        frames: &[ContactFrame],
+    ) {
+        self.kept = u.len() <= MAX_COORDINATES
+            && system.beam.segments().len() == 1
+            && frames.iter().all(|f| f.on_beam);
+        if !self.kept {
+            return;
+        }
+        if self.displacement.len() == u.len() {
+            self.displacement.copy_from(u);
+        } else {
+            self.displacement = u.clone();
+        }
+        self.centres.clear();
+        self.centres.extend(bodies.iter().map(|b| b.position));
+        self.parts.clear();
+        self.parts.extend_from_slice(parts);
+        self.frames.clear();
+        self.frames.extend_from_slice(frames);
+    }
+
+    /// The kept frames if they are those of this configuration searched
+    /// from `guesses` (each its frame's own abscissa) on `parts`.
+    pub fn recall(
+        &self,
+        (u, bodies): (&DVector<f64>, &[BodyState]),
+        (guesses, parts): (&[f64], &[TrackPart]),
+    ) -> Option<&[ContactFrame]> {
+        let bits = |a: f64, b: f64| a.to_bits() == b.to_bits();
+        let same = self.kept
+            && self.parts == parts
+            && self.displacement.len() == u.len()
+            && self
+                .displacement
+                .iter()
+                .zip(u.iter())
+                .all(|(&a, &b)| bits(a, b))
+            && self.centres.len() == bodies.len()
+            && (self.centres.iter().zip(bodies))
+                .all(|(c, b)| bits(c.x, b.position.x) && bits(c.y, b.position.y))
+            && self.frames.len() == guesses.len()
+            && self.frames.iter().zip(guesses).all(|(f, &g)| bits(f.x, g));
+        same.then_some(self.frames.as_slice())
+    }
+
+    /// `contact_frames`, from the kept frames where they are this
+    /// configuration's.
+    pub fn contact_frames(
+        &self,
+        system: &System,
+        u: &DVector<f64>,
+        bodies: &[BodyState],
+        located: (&[f64], &[TrackPart]),
+        frames: &mut Vec<ContactFrame>,
+    ) -> Result<(), IntegrationError> {
+        match self.recall((u, bodies), located) {
+            Some(kept) => {
+                frames.clear();
+                frames.extend_from_slice(kept);
+                Ok(())
+            }
+            None => super::contact_frames(system, u, bodies, located, frames),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assemble::assemble;
+    use crate::scene::{BodyKind, Scene};
+
+    /// Two paper wheels on a four-element beam, and their frames searched
+    /// from abscissae away from the foot points.
+    fn searched() -> (System, DVector<f64>, Vec<BodyState>, Vec<ContactFrame>) {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        scene.beam.elements = 4;
+        scene.body.initial_position = 3.0;
+        let mut second = scene.body.clone();
+        second.name = "second".into();
+        second.initial_position = 15.5;
+        scene.vehicles = vec![second];
+        let assembly = assemble(&scene).unwrap();
+        let system = assembly.system;
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * (i as f64).sin());
+        let mut frames = Vec::new();
+        let located = ([2.7, 15.9], [TrackPart::Beam; 2]);
+        let bodies = assembly.bodies;
+        super::super::contact_frames(&system, &u, &bodies, (&located.0, &located.1), &mut frames)
+            .unwrap();
+        (system, u, bodies, frames)
+    }
+
+    #[test]
+    fn recalled_frames_are_those_a_new_search_finds_bit_for_bit() {
+        let (system, u, bodies, frames) = searched();
+        let parts = [TrackPart::Beam; 2];
+        let mut memo = FrameMemo::default();
+        memo.keep(&system, (&u, &bodies), &parts, &frames);
+        // The next search starts from the frames' own abscissae.
+        let guesses: Vec<f64> = frames.iter().map(|f| f.x).collect();
+        let recalled = memo.recall((&u, &bodies), (&guesses, &parts)).unwrap();
+        let mut searched = Vec::new();
+        super::super::contact_frames(&system, &u, &bodies, (&guesses, &parts), &mut searched)
+            .unwrap();
+        for (a, b) in recalled.iter().zip(&searched) {
+            let fields = |f: &ContactFrame| {
+                let mut v = vec![f.x, f.deflection, f.slope, f.curvature, f.cos, f.sin];
+                v.extend(f.shape.n.iter().chain(&f.shape.dn).chain(&f.shape.ddn));
+                v.into_iter().map(f64::to_bits).collect::<Vec<_>>()
+            };
+            assert_eq!(fields(a), fields(b));
+            assert_eq!(a.shape.dofs, b.shape.dofs);
+        }
+    }
+
+    #[test]
+    fn any_change_of_the_configuration_is_a_miss() {
+        let (system, u, bodies, frames) = searched();
+        let parts = [TrackPart::Beam; 2];
+        let guesses: Vec<f64> = frames.iter().map(|f| f.x).collect();
+        let mut memo = FrameMemo::default();
+        memo.keep(&system, (&u, &bodies), &parts, &frames);
+        let mut moved_u = u.clone();
+        moved_u[1] += 1e-15;
+        assert!(memo
+            .recall((&moved_u, &bodies), (&guesses, &parts))
+            .is_none());
+        let mut moved_bodies = bodies.clone();
+        moved_bodies[1].position.y += 1e-12;
+        assert!(memo
+            .recall((&u, &moved_bodies), (&guesses, &parts))
+            .is_none());
+        let other_guesses = [guesses[0], guesses[1] + 1e-9];
+        assert!(memo
+            .recall((&u, &bodies), (&other_guesses, &parts))
+            .is_none());
+        let other_parts = [TrackPart::Beam, TrackPart::RunOff];
+        assert!(memo
+            .recall((&u, &bodies), (&guesses, &other_parts))
+            .is_none());
+        // A frame off the beam is never kept.
+        let mut off = frames.clone();
+        off[0].on_beam = false;
+        memo.keep(&system, (&u, &bodies), &parts, &off);
+        assert!(memo.recall((&u, &bodies), (&guesses, &parts)).is_none());
+    }
+}
