@@ -24,6 +24,8 @@ use crate::integrate::{
 };
 use crate::system::System;
 
+mod laws;
+
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IterationSettings {
@@ -364,6 +366,8 @@ pub struct ContactIteration {
     /// The bodies' largest velocity change between the last two
     /// integrations of a step that re-integrates for its force laws.
     settle_change: f64,
+    /// Workspace of the force elements' anticipated lag (`laws`).
+    law_lag: laws::LawLag,
 }
 
 impl ContactIteration {
@@ -415,6 +419,7 @@ impl ContactIteration {
             followers,
             contacts_of_body,
             settle_change: 0.0,
+            law_lag: laws::LawLag::default(),
         }
     }
 
@@ -929,8 +934,17 @@ impl ContactIteration {
             if !self.delassus.built {
                 self.build_delassus(system, from.frames, from.dt, Part::Velocity)?;
             }
-            let correction = &mut self.correction;
-            self.delassus.velocity.apply(&self.error, correction);
+            let lags = self.lags_laws(system);
+            self.delassus
+                .velocity
+                .apply(&self.error, &mut self.correction);
+            if lags {
+                self.anticipate_laws(system, from.dt, end);
+                self.delassus
+                    .velocity
+                    .apply(&self.error, &mut self.correction);
+            }
+            let correction = &self.correction;
             for (c, contact) in system.contacts.iter().enumerate() {
                 let offset = self.offsets[c];
                 if contact.rolls() {
@@ -939,6 +953,9 @@ impl ContactIteration {
                 } else {
                     self.forces[c].normal -= correction[offset];
                 }
+            }
+            if lags {
+                self.predict_bodies(system, from.dt, end);
             }
         }
     }
