@@ -934,7 +934,7 @@ impl ContactIteration {
             if !self.delassus.built {
                 self.build_delassus(system, from.frames, from.dt, Part::Velocity)?;
             }
-            let lags = self.lags_laws(system);
+            let lags = self.lags_laws(system, from.dt);
             self.delassus
                 .velocity
                 .apply(&self.error, &mut self.correction);

@@ -48,8 +48,16 @@ pub(super) struct LawLag {
 impl ContactIteration {
     /// Whether the integrator lags the force elements (HHT-α on a system
     /// with force elements).
-    pub(super) fn lags_laws(&mut self, system: &System) -> bool {
-        !system.force_elements.is_empty() && self.integrator.body_predictions().is_some()
+    pub(super) fn lags_laws(&mut self, system: &System, dt: f64) -> bool {
+        let full_step = (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step;
+        !system.force_elements.is_empty()
+            && full_step
+            && !self
+                .open
+                .iter()
+                .zip(&self.followers)
+                .any(|(&o, &f)| o && !f)
+            && self.integrator.body_predictions().is_some()
     }
 
     /// Each body's generalized force from the contact force changes `-dp`
