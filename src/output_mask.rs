@@ -50,7 +50,7 @@ fn spread(columns: &[usize], out: &mut [f64]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::builtin::builtin;
+    use crate::scene::builtin;
 
     #[test]
     fn spread_moves_each_value_to_its_column_and_zeroes_the_rest() {
