@@ -264,7 +264,11 @@ fn read_columns(
     let names: Vec<String> = outputs.iter().map(|o| o.name.clone()).collect();
     let mut read = vec![false; names.len()];
     let position = output_names::travel_position(&names, &scene.body.name);
-    let summary_columns = summary.then(|| sink.summary.columns()).unwrap_or_default();
+    let summary_columns = if summary {
+        sink.summary.columns()
+    } else {
+        Vec::new()
+    };
     for k in position.into_iter().chain(summary_columns) {
         read[k] = true;
     }
