@@ -24,6 +24,8 @@ use crate::integrate::{
 };
 use crate::system::System;
 
+mod laws;
+
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct IterationSettings {
@@ -367,6 +369,8 @@ pub struct ContactIteration {
     /// The end frames of the last step solved, for the next step's start
     /// and the outputs.
     memo: crate::integrate::FrameMemo,
+    /// Workspace of the force elements' anticipated lag (`laws`).
+    law_lag: laws::LawLag,
 }
 
 impl ContactIteration {
@@ -419,6 +423,7 @@ impl ContactIteration {
             contacts_of_body,
             settle_change: 0.0,
             memo: Default::default(),
+            law_lag: laws::LawLag::default(),
         }
     }
 
@@ -943,8 +948,17 @@ impl ContactIteration {
             if !self.delassus.built {
                 self.build_delassus(system, from.frames, from.dt, Part::Velocity)?;
             }
-            let correction = &mut self.correction;
-            self.delassus.velocity.apply(&self.error, correction);
+            let lags = self.lags_laws(system, from.dt);
+            self.delassus
+                .velocity
+                .apply(&self.error, &mut self.correction);
+            if lags {
+                self.anticipate_laws(system, from.dt, end);
+                self.delassus
+                    .velocity
+                    .apply(&self.error, &mut self.correction);
+            }
+            let correction = &self.correction;
             for (c, contact) in system.contacts.iter().enumerate() {
                 let offset = self.offsets[c];
                 if contact.rolls() {
@@ -953,6 +967,9 @@ impl ContactIteration {
                 } else {
                     self.forces[c].normal -= correction[offset];
                 }
+            }
+            if lags {
+                self.predict_bodies(system, from.dt, end);
             }
         }
     }

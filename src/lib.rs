@@ -25,6 +25,7 @@ pub mod modal;
 pub mod model;
 pub mod moving_load;
 pub mod output_file;
+pub mod output_mask;
 pub mod outputs;
 pub mod profile;
 pub mod report;

@@ -346,6 +346,8 @@ pub struct Simulation {
     scratch: DynamicState,
     outputs: Vec<OutputInfo>,
     quantities: Vec<Quantity>,
+    /// The outputs computed when a sink reads only some (`read_only`).
+    read: Option<crate::output_mask::OutputMask>,
     /// Per-step buffers: the force guesses and the constant body forces.
     guess: Vec<ContactForce>,
     applied: Vec<Vector3<f64>>,
@@ -469,6 +471,7 @@ impl Simulation {
             system,
             outputs,
             quantities,
+            read: None,
             guess: Vec::new(),
             applied: Vec::new(),
             open: assembly.open.clone(),
@@ -502,7 +505,16 @@ impl Simulation {
 
     /// Current output values, in the order of `outputs()`.
     pub fn output_values(&self, values: &mut [f64]) {
-        crate::outputs::values(self, &self.quantities, values);
+        match &self.read {
+            None => crate::outputs::values(self, &self.quantities, values),
+            Some(mask) => mask.values(self, values),
+        }
+    }
+
+    /// Compute only the outputs whose flag in `read` is set (those a sink
+    /// reads); the others are reported as 0. `None`: all of them.
+    pub fn read_only(&mut self, read: Option<&[bool]>) {
+        self.read = read.map(|r| crate::output_mask::OutputMask::new(&self.quantities, r));
     }
 
     /// Potential energy of the force elements and of the followers'

@@ -12,8 +12,8 @@ use guideway::output_file::{check_distinct, Staged};
 use guideway::report::csv::CsvWriter;
 use guideway::report::nodes::{check_node_output, WithNodes};
 use guideway::report::{
-    check_run_length, drive_into, plot, Decimated, RowSink, RunSummary, StreamError, Streamed,
-    SummaryBuilder, SummaryEvent, Trace,
+    check_run_length, drive_into, output_names, plot, Decimated, RowSink, RunSummary, StreamError,
+    Streamed, SummaryBuilder, SummaryEvent, Trace,
 };
 use guideway::simulation::Simulation;
 use guideway::Scene;
@@ -64,6 +64,11 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         println!("{}", frequencies_line(&simulation.system().beam));
     }
     let mut sink = Sink::new(&scene, &simulation, &outputs)?;
+    if outputs.csv.is_none() && outputs.plot.is_none() {
+        let summary = !args.quiet || outputs.summary.is_some();
+        let read = read_columns(&sink, simulation.outputs(), &scene, summary);
+        simulation.read_only(Some(&read));
+    }
     let mut progress = Progress::new(args.quiet);
     let on_step = |step| {
         progress.update(step);
@@ -246,6 +251,28 @@ fn incomplete_path(out: &Path) -> PathBuf {
     let mut name = out.as_os_str().to_owned();
     name.push(".incomplete");
     PathBuf::from(name)
+}
+
+/// The columns read when no file takes every row: the summary's (if it is
+/// built) and the travel position the progress bar follows.
+fn read_columns(
+    sink: &Sink,
+    outputs: &[guideway::simulation::OutputInfo],
+    scene: &Scene,
+    summary: bool,
+) -> Vec<bool> {
+    let names: Vec<String> = outputs.iter().map(|o| o.name.clone()).collect();
+    let mut read = vec![false; names.len()];
+    let position = output_names::travel_position(&names, &scene.body.name);
+    let summary_columns = if summary {
+        sink.summary.columns()
+    } else {
+        Vec::new()
+    };
+    for k in position.into_iter().chain(summary_columns) {
+        read[k] = true;
+    }
+    read
 }
 
 /// Every row goes to the CSV (if asked), the summary and the plot's

@@ -18,11 +18,11 @@ use nalgebra::{DVector, Vector3};
 
 use super::hht_energy::{step_dissipation, Buffers, Weights};
 use super::{
-    contact_frames, follower_dissipation, loads, DynamicState, IntegrationError, StepStart,
+    contact_frames, follower_dissipation, loads_but_laws, DynamicState, IntegrationError, StepStart,
 };
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
-use crate::force_element::dissipation_power;
+use crate::force_element::{add_element_forces, dissipation_power};
 use crate::system::System;
 
 pub struct Hht {
@@ -38,6 +38,9 @@ pub struct Hht {
     predicted_u: DVector<f64>,
     predicted_v: DVector<f64>,
     predicted_bodies: Vec<BodyState>,
+    /// The force elements' generalized force on each body in the last
+    /// integration (at the prediction it was given).
+    law_loads: Vec<Vector3<f64>>,
     has_prediction: bool,
     frames: Vec<ContactFrame>,
     guesses: Vec<f64>,
@@ -85,6 +88,7 @@ impl Hht {
             predicted_u: z(),
             predicted_v: z(),
             predicted_bodies: Vec::new(),
+            law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
             frames: Vec::new(),
             guesses: Vec::new(),
@@ -155,16 +159,23 @@ impl Hht {
             (&self.guesses, from.parts),
             &mut self.frames,
         )?;
-        self.end_dissipation = loads(
+        // The force elements' loads apart: the contact iteration reads them
+        // (`ContactIteration::anticipate_laws`).
+        let at = (self.predicted_bodies.as_slice(), &self.predicted_v);
+        let contacts = loads_but_laws(
             system,
             &self.frames,
             forces,
             from.applied,
-            &self.predicted_bodies,
-            &self.predicted_v,
-            &mut self.load,
-            &mut end.body_loads,
+            at,
+            (&mut self.load, &mut end.body_loads),
         );
+        self.law_loads.fill(Vector3::zeros());
+        let laws = add_element_forces(&system.force_elements, at.0, &mut self.law_loads);
+        for (load, law) in end.body_loads.iter_mut().zip(&self.law_loads) {
+            *load += law;
+        }
+        self.end_dissipation = contacts + laws;
         if !self.start_known {
             self.know_start(system, from);
         }
@@ -303,6 +314,13 @@ impl Hht {
             return end_force;
         }
         0.0
+    }
+
+    /// The force elements' loads on each body in the last integration, and
+    /// the bodies the next evaluates them at (the last end, which the
+    /// caller may move).
+    pub fn body_predictions(&mut self) -> (&[Vector3<f64>], &mut [BodyState]) {
+        (&self.law_loads, &mut self.predicted_bodies)
     }
 
     /// The end-of-step force enters with weight 1 + α (at t_{n+1+α}).

@@ -144,6 +144,22 @@ pub fn loads(
     beam_load: &mut DVector<f64>,
     body_loads: &mut [Vector3<f64>],
 ) -> f64 {
+    let loads = (beam_load, &mut *body_loads);
+    let at = (bodies, beam_velocity);
+    loads_but_laws(system, frames, forces, applied, at, loads)
+        + add_element_forces(&system.force_elements, bodies, body_loads)
+}
+
+/// `loads` without the force elements.
+#[inline]
+pub fn loads_but_laws(
+    system: &System,
+    frames: &[ContactFrame],
+    forces: &[ContactForce],
+    applied: &[Vector3<f64>],
+    (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
+    (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
+) -> f64 {
     beam_load.fill(0.0);
     body_loads.copy_from_slice(applied);
     let mut dissipation = 0.0;
@@ -175,7 +191,7 @@ pub fn loads(
         load.z +=
             force.tangential * contact.radius() + contact.torque(&bodies[contact.body], &on_body);
     }
-    dissipation + add_element_forces(&system.force_elements, bodies, body_loads)
+    dissipation
 }
 
 /// A follower's gap g (from its body's centre to the surface along the
@@ -267,6 +283,17 @@ impl Integrator {
     pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
         if let Integrator::Hht(hht) = self {
             hht.finish_step(system, from, end);
+        }
+    }
+
+    /// HHT-α's lagged force laws: the force elements' loads on each body in
+    /// the last integration and the bodies the next evaluates them at (see
+    /// `Hht::body_predictions`); None for RK4, which evaluates them in its
+    /// stages.
+    pub fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
+        match self {
+            Integrator::Rk4(_) => None,
+            Integrator::Hht(hht) => Some(hht.body_predictions()),
         }
     }
 

@@ -166,6 +166,19 @@ impl SummaryBuilder {
         }
     }
 
+    /// The columns the summary reads.
+    pub fn columns(&self) -> Vec<usize> {
+        let sensors = self.sensors.iter().map(|(_, k)| *k);
+        let design = self.design.iter().map(|(_, k, _)| *k);
+        let single = [self.speed, self.energy, self.iterations_column];
+        single
+            .into_iter()
+            .flatten()
+            .chain(sensors)
+            .chain(design)
+            .collect()
+    }
+
     /// The next row (the first is the initial state).
     pub fn push(&mut self, _time: f64, values: &[f64]) {
         if let Some(v) = self.speed.map(|k| values[k]) {
@@ -285,7 +298,11 @@ impl fmt::Display for RunSummary {
             .map_or("-".to_string(), |d| format!("{:.3e} %", d * 100.0));
         writeln!(f, "max energy drift   {drift}")?;
         writeln!(f, "steps              {}", self.steps)?;
-        let iterations = self.iterations.map_or("-".to_string(), |n| n.to_string());
+        let per_step = |n: u64| match self.steps {
+            0 => n.to_string(),
+            steps => format!("{n} ({:.2} per step)", n as f64 / steps as f64),
+        };
+        let iterations = self.iterations.map_or("-".to_string(), per_step);
         writeln!(f, "iterations         {iterations}")?;
         for e in self.events.iter().take(EVENTS_SHOWN) {
             writeln!(

@@ -102,7 +102,7 @@ fn human_summary_names_every_figure() {
         "-0.190000 m at sensor midspan",
         "max energy drift   4.000e-4 %",
         "steps              4",
-        "iterations         12",
+        "iterations         12 (3.00 per step)",
         "2.000 ms",
     ] {
         assert!(text.contains(expected), "{expected:?} missing from\n{text}");

@@ -1,0 +1,91 @@
+//! Outputs computed only for the columns a sink reads: a run whose rows go
+//! to no file needs only the summary's few columns, and the others (body
+//! accelerations, section forces, energies) were a sixth of a train's run.
+
+use crate::outputs::{values, Quantity};
+use crate::simulation::Simulation;
+
+/// The outputs a sink reads, in column order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OutputMask {
+    quantities: Vec<Quantity>,
+    columns: Vec<usize>,
+}
+
+impl OutputMask {
+    /// The quantities of `all` whose flag in `read` is set (a column beyond
+    /// `read` is not read).
+    pub fn new(all: &[Quantity], read: &[bool]) -> OutputMask {
+        let columns: Vec<usize> = (0..all.len())
+            .filter(|&k| read.get(k).copied().unwrap_or(false))
+            .collect();
+        OutputMask {
+            quantities: columns.iter().map(|&k| all[k]).collect(),
+            columns,
+        }
+    }
+
+    /// Every output of `sim` into `out`: the read ones computed, the others 0.
+    pub fn values(&self, sim: &Simulation, out: &mut [f64]) {
+        let read = self.columns.len();
+        values(sim, &self.quantities, &mut out[..read]);
+        spread(&self.columns, out);
+    }
+}
+
+/// Move `out[i]` to `out[columns[i]]` for the increasing `columns`, and set
+/// every other entry to 0. In place: column i is at or after entry i, so
+/// going backwards no entry is overwritten before it is moved.
+fn spread(columns: &[usize], out: &mut [f64]) {
+    let mut next = out.len();
+    for (i, &column) in columns.iter().enumerate().rev() {
+        let v = out[i];
+        out[column + 1..next].fill(0.0);
+        out[column] = v;
+        next = column;
+    }
+    out[..next].fill(0.0);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin;
+
+    #[test]
+    fn spread_moves_each_value_to_its_column_and_zeroes_the_rest() {
+        let mut out = [1.0, 2.0, 3.0, 9.0, 9.0, 9.0, 9.0];
+        spread(&[1, 2, 5], &mut out);
+        assert_eq!(out, [0.0, 1.0, 2.0, 0.0, 0.0, 3.0, 0.0]);
+        let mut all = [4.0, 5.0];
+        spread(&[0, 1], &mut all);
+        assert_eq!(all, [4.0, 5.0]);
+        let mut none = [7.0; 3];
+        spread(&[], &mut none);
+        assert_eq!(none, [0.0; 3]);
+    }
+
+    #[test]
+    fn a_masked_train_reports_the_read_columns_as_the_full_outputs_do() {
+        let scene = builtin("train-8-coaches-3x25-300").unwrap();
+        let mut sim = Simulation::new(&scene).unwrap();
+        sim.advance_to(0.02).unwrap();
+        let n = sim.outputs().len();
+        let mut full = vec![0.0; n];
+        sim.output_values(&mut full);
+        // Every third column, and the last (the energy balance's
+        // neighbours and the solver's counts).
+        let read: Vec<bool> = (0..n).map(|k| k % 3 == 1 || k == n - 1).collect();
+        sim.read_only(Some(&read));
+        let mut masked = vec![f64::NAN; n];
+        sim.output_values(&mut masked);
+        for k in 0..n {
+            let expected = if read[k] { full[k] } else { 0.0 };
+            assert_eq!(masked[k].to_bits(), expected.to_bits(), "column {k}");
+        }
+        assert!(masked.iter().any(|&v| v != 0.0));
+        sim.read_only(None);
+        sim.output_values(&mut masked);
+        assert_eq!(masked, full);
+    }
+}
