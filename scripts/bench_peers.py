@@ -328,7 +328,7 @@ def main():
       "32 elements reduced to their lowest 4, 6 or 8 modes (`[solver] structure = \"modal\"`) "
       "with RK4 at the paper's step, and the full 32-element mesh with HHT-α at four steps. "
       "Every configuration ran once per round, the two codes alternating, "
-      f"{args.rounds} rounds, together with the process floor (below). *Process*: wall clock "
+      f"{args.rounds} round{'s' if args.rounds > 1 else ''}, together with the process floor (below). *Process*: wall clock "
       "around the whole process (start-up, build, solve, output) as the script spawns it. "
       "*Solve*: the time each code reports for its time stepping alone. *Process CPU time*: "
       "user + system time of the process (less sensitive to the other processes on the "
