@@ -310,6 +310,7 @@ impl SimState {
 /// 0 when every number of `xs` is finite, NaN otherwise: x − x is 0 for a
 /// finite x and NaN for an infinite or NaN one, so the sum needs no branch
 /// per number.
+#[allow(clippy::eq_op)] // x − x is the point: 0 or NaN
 fn not_finite(xs: &[f64]) -> f64 {
     xs.iter().fold(0.0, |sum, &x| sum + (x - x))
 }

@@ -87,6 +87,7 @@ pub fn check_run_length(scene: &Scene, max_steps: u64, how_to_raise: &str) -> Re
 
 /// The first output that is not a finite number, named with its value.
 /// The CLI and the FMU refuse the same values with it.
+#[allow(clippy::eq_op)] // x − x is the point: 0 or NaN
 pub fn non_finite_output(outputs: &[OutputInfo], values: &[f64]) -> Option<String> {
     // x − x is 0 for a finite x, NaN otherwise: a sum without a branch per
     // value first (this runs after every step), the search only on failure.
