@@ -15,8 +15,14 @@
 //! core, which CPU time leaves out).
 //!
 //! `cargo bench --bench fmu`
+//!
+//! With `FMU_BENCH_CROSSINGS=native:N` (or `model:N`, `fmu:N`) the bench
+//! runs N crossings of that kind and nothing else, for callgrind:
+//! `scripts/fmu_overhead.sh` counts the instructions of the crossings'
+//! stepping loops alone (`native_steps`, `model_steps`, `fmu_steps`), so
+//! set-up (building, exporting, loading, instantiating) is left out.
 
-use criterion::{criterion_group, criterion_main, Criterion};
+use criterion::{criterion_group, Criterion};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
 use guideway::model::{Model, VarType};
@@ -77,13 +83,18 @@ fn thread_cpu_time() -> Duration {
 fn native_crossing(scene: &Scene, clock: Clock) -> Duration {
     let mut sim = Simulation::new(scene).expect("valid scene");
     let mut values = vec![0.0; Steppable::outputs(&sim).len()];
-    clock.time(|| {
-        for k in 1..=STEPS {
-            sim.advance_to(k as f64 * H).expect("converges");
-            sim.output_values(&mut values);
-            black_box(&values);
-        }
-    })
+    clock.time(|| native_steps(&mut sim, &mut values))
+}
+
+// The crossings' loops are functions of their own, never inlined, so that
+// callgrind can count them alone (scripts/fmu_overhead.sh).
+#[inline(never)]
+fn native_steps(sim: &mut Simulation, values: &mut [f64]) {
+    for k in 1..=STEPS {
+        sim.advance_to(k as f64 * H).expect("converges");
+        sim.output_values(values);
+        black_box(&values);
+    }
 }
 
 /// The real outputs' value references of the scene's FMU.
@@ -101,12 +112,15 @@ fn model_crossing(scene: &Scene, clock: Clock) -> Duration {
     let mut model = Model::<Simulation>::new(scene.clone()).expect("valid scene");
     let outputs = real_outputs(&model);
     model.initialize().expect("initializes");
-    clock.time(|| {
-        for k in 0..STEPS {
-            model.do_step(k as f64 * H, H).expect("steps");
-            black_box(model.get(VarType::Real, &outputs).expect("outputs"));
-        }
-    })
+    clock.time(|| model_steps(&mut model, &outputs))
+}
+
+#[inline(never)]
+fn model_steps(model: &mut Model<Simulation>, outputs: &[u32]) {
+    for k in 0..STEPS {
+        model.do_step(k as f64 * H, H).expect("steps");
+        black_box(model.get(VarType::Real, outputs).expect("outputs"));
+    }
 }
 
 /// The exported FMU, loaded once, and its real outputs.
@@ -146,13 +160,16 @@ impl Fmu {
     fn crossing(&self, clock: Clock) -> Duration {
         let mut inst = self.instance();
         let mut values = vec![0.0; self.outputs.len()];
-        clock.time(|| {
-            for k in 0..STEPS {
-                inst.do_step(k as f64 * H, H, true).expect("steps");
-                inst.get_real(&self.outputs, &mut values).expect("outputs");
-                black_box(&values);
-            }
-        })
+        clock.time(|| fmu_steps(&mut inst, &self.outputs, &mut values))
+    }
+}
+
+#[inline(never)]
+fn fmu_steps(inst: &mut InstanceCS, outputs: &[u32], values: &mut [f64]) {
+    for k in 0..STEPS {
+        inst.do_step(k as f64 * H, H, true).expect("steps");
+        inst.get_real(outputs, values).expect("outputs");
+        black_box(&values);
     }
 }
 
@@ -216,4 +233,31 @@ criterion_group! {
     config = Criterion::default().measurement_time(Duration::from_secs(3)).warm_up_time(Duration::from_secs(1));
     targets = paired, each
 }
-criterion_main!(benches);
+
+/// `FMU_BENCH_CROSSINGS=kind:N`: N crossings of one kind, untimed.
+fn crossings_only(spec: &str) {
+    let (kind, n) = spec
+        .split_once(':')
+        .and_then(|(k, n)| Some((k, n.parse::<usize>().ok()?)))
+        .expect("FMU_BENCH_CROSSINGS=native|model|fmu:N");
+    let scene = scene();
+    let fmu = (kind == "fmu").then(|| Fmu::new(&scene));
+    for _ in 0..n {
+        match (kind, &fmu) {
+            ("native", _) => native_crossing(&scene, Clock::Wall),
+            ("model", _) => model_crossing(&scene, Clock::Wall),
+            (_, Some(fmu)) => fmu.crossing(Clock::Wall),
+            _ => panic!("unknown kind {kind}: native, model or fmu"),
+        };
+    }
+}
+
+fn main() {
+    match std::env::var("FMU_BENCH_CROSSINGS") {
+        Ok(spec) => crossings_only(&spec),
+        Err(_) => {
+            benches();
+            Criterion::default().configure_from_args().final_summary();
+        }
+    }
+}

@@ -17,6 +17,7 @@ use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
+mod copy;
 mod follower;
 mod lift_off;
 mod switch;
@@ -232,7 +233,13 @@ impl SimState {
             d.numerical_dissipation,
             self.impact_loss,
         ];
-        let bodies = d.bodies.iter().flat_map(|b| {
+        let beam = [
+            &d.beam_displacement,
+            &d.beam_velocity,
+            &d.beam_acceleration,
+            &d.beam_load,
+        ];
+        let body = |b: &crate::body::BodyState| {
             [
                 b.position.x,
                 b.position.y,
@@ -241,36 +248,57 @@ impl SimState {
                 b.angle,
                 b.angular_velocity,
             ]
-        });
-        let forces = self
-            .force_history
-            .iter()
-            .flatten()
-            .flat_map(|f| [f.tangential, f.normal]);
-        let generalized = d.body_accelerations.iter().chain(&d.body_loads).flatten();
-        let beam = [
-            &d.beam_displacement,
-            &d.beam_velocity,
-            &d.beam_acceleration,
-            &d.beam_load,
-        ];
-        let mut all = scalars
-            .into_iter()
-            .chain(self.step_history)
-            .chain(self.body_force)
-            .chain(d.contact_x.iter().copied())
-            .chain(self.events.iter().map(|e| e.time))
-            .chain(
-                self.contacts
-                    .iter()
-                    .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
-            )
-            .chain(bodies)
-            .chain(forces)
-            .chain(generalized.copied())
-            .chain(beam.into_iter().flatten().copied());
-        if let Some(x) = all.find(|x| !x.is_finite()) {
-            return Err(format!("the state holds a non-finite number ({x})"));
+        };
+        // One branch-free sum over every number first (this runs after every
+        // FMU step); the number is looked for only when there is one.
+        let mut nan = not_finite(&scalars)
+            + not_finite(&self.step_history)
+            + not_finite(&self.body_force)
+            + not_finite(&d.contact_x);
+        for e in &self.events {
+            nan += not_finite(&[e.time]);
+        }
+        for c in &self.contacts {
+            nan += not_finite(&[c.gap, c.impulse[0], c.impulse[1]]);
+        }
+        for b in &d.bodies {
+            nan += not_finite(&body(b));
+        }
+        for f in self.force_history.iter().flatten() {
+            nan += not_finite(&[f.tangential, f.normal]);
+        }
+        for v in d.body_accelerations.iter().chain(&d.body_loads) {
+            nan += not_finite(v.as_slice());
+        }
+        for v in beam {
+            nan += not_finite(v.as_slice());
+        }
+        let finite = nan == 0.0;
+        if !finite {
+            let forces = self
+                .force_history
+                .iter()
+                .flatten()
+                .flat_map(|f| [f.tangential, f.normal]);
+            let generalized = d.body_accelerations.iter().chain(&d.body_loads).flatten();
+            let mut all = scalars
+                .into_iter()
+                .chain(self.step_history)
+                .chain(self.body_force)
+                .chain(d.contact_x.iter().copied())
+                .chain(self.events.iter().map(|e| e.time))
+                .chain(
+                    self.contacts
+                        .iter()
+                        .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
+                )
+                .chain(d.bodies.iter().flat_map(body))
+                .chain(forces)
+                .chain(generalized.copied())
+                .chain(beam.into_iter().flatten().copied());
+            if let Some(x) = all.find(|x| !x.is_finite()) {
+                return Err(format!("the state holds a non-finite number ({x})"));
+            }
         }
         let grid = self.grid_step as f64 * step;
         let slack = 1e-6 * step;
@@ -282,6 +310,14 @@ impl SimState {
         }
         Ok(())
     }
+}
+
+/// 0 when every number of `xs` is finite, NaN otherwise: x − x is 0 for a
+/// finite x and NaN for an infinite or NaN one, so the sum needs no branch
+/// per number.
+#[allow(clippy::eq_op)] // x − x is the point: 0 or NaN
+fn not_finite(xs: &[f64]) -> f64 {
+    xs.iter().fold(0.0, |sum, &x| sum + (x - x))
 }
 
 /// Largest sum of |weights| an extrapolation of the force history may

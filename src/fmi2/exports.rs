@@ -309,10 +309,12 @@ unsafe fn get<T>(
         with_instance(c, function, |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let out = slice_mut(value, nvr, "value")?;
-            let values = inst.get(function, ty, vrs)?;
-            for (o, v) in out.iter_mut().zip(values) {
-                *o = store(v);
-            }
+            let mut out = out.iter_mut();
+            inst.get_each(function, ty, vrs, |v| {
+                if let Some(o) = out.next() {
+                    *o = store(v);
+                }
+            })?;
             Ok(OK)
         })
     }

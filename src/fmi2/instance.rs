@@ -205,9 +205,22 @@ impl<D: Dynamics> Instance<D> {
     }
 
     pub fn get(&mut self, function: &str, ty: VarType, vrs: &[u32]) -> Result<Vec<Value>, String> {
+        let mut values = Vec::with_capacity(vrs.len());
+        self.get_each(function, ty, vrs, |v| values.push(v))?;
+        Ok(values)
+    }
+
+    /// `get`, each value handed to `put` in the order of `vrs`.
+    pub fn get_each(
+        &mut self,
+        function: &str,
+        ty: VarType,
+        vrs: &[u32],
+        put: impl FnMut(Value),
+    ) -> Result<(), String> {
         self.require(function, READABLE)?;
         self.model
-            .get(ty, vrs)
+            .get_each(ty, vrs, put)
             .map_err(|e| format!("{function}: {e}"))
     }
 

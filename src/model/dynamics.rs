@@ -31,6 +31,11 @@ pub trait Dynamics: Steppable + Sized {
         0
     }
     fn state(&self) -> Self::State;
+    /// `*into = self.state()`, in `into`'s storage where the dynamics can
+    /// (the roll-back copy taken before every communication step).
+    fn save_into(&self, into: &mut Self::State) {
+        *into = self.state();
+    }
     /// Continue from `state`, which may come from a forged FMU state:
     /// refused (Err naming why) unless it fits these dynamics.
     fn restore(&mut self, state: &Self::State) -> Result<(), String>;
@@ -81,6 +86,9 @@ impl Dynamics for Simulation {
     }
     fn state(&self) -> SimState {
         Simulation::state(self)
+    }
+    fn save_into(&self, into: &mut SimState) {
+        into.copy_from(self.current());
     }
     fn restore(&mut self, state: &SimState) -> Result<(), String> {
         check_sim_state(state, self.step_size())?;

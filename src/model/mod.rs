@@ -120,6 +120,12 @@ pub struct Model<D: Dynamics> {
     /// them again. Cleared by everything that changes the state, the
     /// inputs or the parameters (`changing`).
     outputs_now: Option<Vec<f64>>,
+    /// How many outputs the table has (fixed with the table).
+    output_count: usize,
+    /// The state at the start of the last communication step, for its
+    /// roll-back: kept between steps so that taking the next one copies
+    /// into its storage instead of allocating a new state.
+    rollback: Option<D::State>,
 }
 
 /// What a step is determined by, besides the state: its time, size, inputs.
@@ -181,6 +187,15 @@ fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
     sim.set_coupling_loads(&loads);
 }
 
+/// An output's value `x` as a variable of type `ty`.
+fn output_value(x: f64, ty: VarType) -> Value {
+    match ty {
+        VarType::Integer => Value::Integer(x as i32),
+        VarType::Boolean => Value::Boolean(x != 0.0),
+        VarType::Real => Value::Real(x),
+    }
+}
+
 /// The first output of `sim` that is not finite, named with its value.
 fn first_non_finite<D: Dynamics>(sim: &D) -> Option<String> {
     let mut values = vec![0.0; sim.outputs().len()];
@@ -198,6 +213,7 @@ impl<D: Dynamics> Model<D> {
         let mut start_values = vec![0.0; sim.outputs().len()];
         sim.output_values(&mut start_values);
         table.set_output_nominals(&start_values);
+        let output_count = table.outputs().count();
         Ok(Model {
             table,
             start_scene: scene.clone(),
@@ -211,6 +227,8 @@ impl<D: Dynamics> Model<D> {
             discarded: None,
             new_events: Vec::new(),
             outputs_now: None,
+            output_count,
+            rollback: None,
         })
     }
 
@@ -311,7 +329,7 @@ impl<D: Dynamics> Model<D> {
     }
 
     fn output_values(&mut self) -> Result<Vec<f64>, ModelError> {
-        let n = self.table.outputs().count();
+        let n = self.output_count;
         let sim = self.ensure_sim()?;
         let mut values = vec![0.0; sim.outputs().len()];
         sim.output_values(&mut values);
@@ -342,24 +360,68 @@ impl<D: Dynamics> Model<D> {
     /// Values of the variables `vrs`, all of type `ty`.
     pub fn get(&mut self, ty: VarType, vrs: &[u32]) -> Result<Vec<Value>, ModelError> {
         let mut values = Vec::with_capacity(vrs.len());
-        for &vr in vrs {
+        self.get_each(ty, vrs, |value| values.push(value))?;
+        Ok(values)
+    }
+
+    /// `get`, each value handed to `put` in the order of `vrs` (the FMI
+    /// getters write them straight into the importer's array). On an error
+    /// some values may have been handed out already.
+    pub fn get_each(
+        &mut self,
+        ty: VarType,
+        vrs: &[u32],
+        mut put: impl FnMut(Value),
+    ) -> Result<(), ModelError> {
+        for (i, &vr) in vrs.iter().enumerate() {
             let role = self.variable(vr, ty)?.role;
-            let value = match role {
-                Role::Parameter(p) => param_value(&self.scene, p),
-                Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
-                Role::Input(i) => Value::Real(self.inputs[i.index()]),
-                Role::Output(k) => {
-                    let x = self.current_outputs()?[k];
-                    match ty {
-                        VarType::Integer => Value::Integer(x as i32),
-                        VarType::Boolean => Value::Boolean(x != 0.0),
-                        VarType::Real => Value::Real(x),
-                    }
+            if let Role::Output(_) = role {
+                // Computed once here; the rest is read without `&mut self`.
+                self.current_outputs()?;
+                let outputs = self.outputs_now.as_deref().expect("just computed");
+                return self.get_with_outputs(ty, &vrs[i..], outputs, put);
+            }
+            put(self.value_of(role, ty, &[]));
+        }
+        Ok(())
+    }
+
+    /// `get_each` once the outputs are known.
+    fn get_with_outputs(
+        &self,
+        ty: VarType,
+        vrs: &[u32],
+        outputs: &[f64],
+        mut put: impl FnMut(Value),
+    ) -> Result<(), ModelError> {
+        for &vr in vrs {
+            // An output of the type asked for (what an importer reads after
+            // every step) without the general path's checks and copies.
+            let output = self.table.get(vr).and_then(|v| match v.role {
+                Role::Output(k) if v.ty == ty => Some(k),
+                _ => None,
+            });
+            let value = match output {
+                Some(k) => output_value(outputs[k], ty),
+                None => {
+                    let role = self.variable(vr, ty)?.role;
+                    self.value_of(role, ty, outputs)
                 }
             };
-            values.push(value);
+            put(value);
         }
-        Ok(values)
+        Ok(())
+    }
+
+    /// The value of a variable of type `ty` and role `role`; `outputs`:
+    /// the current outputs (read only for an output).
+    fn value_of(&self, role: Role, ty: VarType, outputs: &[f64]) -> Value {
+        match role {
+            Role::Parameter(p) => param_value(&self.scene, p),
+            Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
+            Role::Input(i) => Value::Real(self.inputs[i.index()]),
+            Role::Output(k) => output_value(outputs[k], ty),
+        }
     }
 
     /// Set the variables `vrs`: all or nothing. Parameters only before

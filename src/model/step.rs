@@ -93,13 +93,8 @@ impl<D: Dynamics> Model<D> {
     /// to accumulated rounding) to `t + h`.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
         self.check_step(t, h)?;
-        let this = DiscardedStep {
-            t,
-            h,
-            inputs: self.inputs.clone(),
-        };
         if let Some((step, reason)) = &self.discarded {
-            if *step == this {
+            if step.t == t && step.h == h && step.inputs == self.inputs {
                 return Ok(StepOutcome::Failed {
                     message: format!(
                         "this step (t = {t} s, h = {h} s) was discarded by the previous call and \
@@ -110,9 +105,11 @@ impl<D: Dynamics> Model<D> {
                 });
             }
         }
+        // The outputs' storage is reused for the step's outputs.
+        let spare = self.outputs_now.take().unwrap_or_default();
         self.changing();
         let events_before = self.sim.as_ref().map_or(0, |s| s.event_count());
-        let outcome = self.advance(t + h)?;
+        let outcome = self.advance(t + h, spare)?;
         self.new_events = match (&outcome, &self.sim) {
             (StepOutcome::Failed { .. }, _) | (_, None) => Vec::new(),
             (_, Some(sim)) => sim.events_since(events_before),
@@ -121,15 +118,19 @@ impl<D: Dynamics> Model<D> {
             StepOutcome::Failed {
                 message,
                 curable: true,
-            } => Some((this, message.clone())),
+            } => {
+                let inputs = self.inputs.clone();
+                Some((DiscardedStep { t, h, inputs }, message.clone()))
+            }
             _ => None,
         };
         Ok(outcome)
     }
 
     /// Advance the dynamics to communication time `to` within the wall-time
-    /// budget; a failure is rolled back and classified.
-    fn advance(&mut self, to: f64) -> Result<StepOutcome, ModelError> {
+    /// budget; a failure is rolled back and classified. `spare`: storage
+    /// for the outputs.
+    fn advance(&mut self, to: f64, spare: Vec<f64>) -> Result<StepOutcome, ModelError> {
         let (now, t0, step) = (self.time(), self.start_time, self.scene.solver.step);
         let budget = Duration::try_from_secs_f64(self.wall_time_budget).unwrap_or(Duration::MAX);
         let probe = (to - now).min(step) / 1024.0;
@@ -137,13 +138,20 @@ impl<D: Dynamics> Model<D> {
         if let Some(time) = sim.exit_time() {
             return Ok(StepOutcome::Exited { time: t0 + time });
         }
-        let (saved, start) = (sim.state(), sim.time());
+        let saved = match &mut self.rollback {
+            Some(saved) => {
+                sim.save_into(saved);
+                saved
+            }
+            none => none.insert(sim.state()),
+        };
+        let start = sim.time();
         let rolled_back = || format!("step rolled back to t = {now} s");
         let outcome = match advance::advance_within(sim, to - t0, step, budget) {
             Ok(Advance::Reached) => StepOutcome::Completed,
             Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
             Err(advance::Stop::Solver(e)) => {
-                let (curable, cure) = match advance::curable(sim, start, &saved, probe) {
+                let (curable, cure) = match advance::curable(sim, start, saved, probe) {
                     Ok(m) => (true, m),
                     Err(m) => (false, m),
                 };
@@ -164,13 +172,13 @@ impl<D: Dynamics> Model<D> {
                 curable: true,
             },
         };
-        let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back);
+        let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back, spare);
         if let StepOutcome::Failed { .. } = outcome {
-            sim.restore(&saved)
+            sim.restore(saved)
                 .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
         }
         // (Of the table's length: otherwise the getters' own check speaks.)
-        let outputs_in_table = self.table.outputs().count();
+        let outputs_in_table = self.output_count;
         self.outputs_now = outputs.filter(|v| v.len() == outputs_in_table);
         Ok(outcome)
     }
@@ -184,12 +192,14 @@ fn check_reached<D: Dynamics>(
     outcome: StepOutcome,
     t0: f64,
     rolled_back: impl Fn() -> String,
+    mut values: Vec<f64>,
 ) -> (StepOutcome, Option<Vec<f64>>) {
     if let StepOutcome::Failed { .. } = outcome {
         return (outcome, None);
     }
     let at = t0 + sim.time();
-    let mut values = vec![0.0; sim.outputs().len()];
+    values.clear();
+    values.resize(sim.outputs().len(), 0.0);
     sim.output_values(&mut values);
     let problem = match non_finite_output(sim.outputs(), &values) {
         Some(bad) => Some(format!("{bad} at t = {at} s")),
