@@ -146,6 +146,11 @@ pub enum EffectiveFactor {
 }
 
 impl EffectiveFactor {
+    /// Whether the solves have the coarse-mesh correction.
+    pub fn is_two_level(&self) -> bool {
+        matches!(self, EffectiveFactor::TwoLevel(_))
+    }
+
     /// `rhs ← S⁻¹ rhs`.
     pub fn solve_mut(&self, rhs: &mut DVector<f64>) {
         match self {
