@@ -71,6 +71,10 @@ pub enum StepError {
         contact: usize,
         x: f64,
     },
+    Factorization {
+        step: f64,
+        reason: String,
+    },
 }
 
 impl std::fmt::Display for StepError {
@@ -108,6 +112,11 @@ impl std::fmt::Display for StepError {
                  {x:.6} m)",
                 contact + 1
             ),
+            StepError::Factorization { step, reason } => write!(
+                f,
+                "the implicit scheme could not factor its effective matrix for a step of \
+                 {step:e} s: {reason}"
+            ),
         }
     }
 }
@@ -116,6 +125,9 @@ impl From<IntegrationError> for StepError {
     fn from(e: IntegrationError) -> StepError {
         match e {
             IntegrationError::LostContact { contact, x } => StepError::LostContact { contact, x },
+            IntegrationError::Factorization { step, reason } => {
+                StepError::Factorization { step, reason }
+            }
         }
     }
 }
@@ -825,7 +837,7 @@ impl ContactIteration {
         let located = (start.contact_x.as_slice(), parts);
         self.memo
             .contact_frames(system, u, bodies, located, &mut start_frames)?;
-        self.integrator.begin_step();
+        self.integrator.begin_step(system, dt)?;
         self.forces.clear();
         self.forces.extend_from_slice(guess);
         for ((force, contact), &open) in

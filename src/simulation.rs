@@ -1478,6 +1478,7 @@ fn initial_state(
         crate::integrate::IntegrationError::LostContact { x, .. } => {
             format!("no contact point at the start (x = {x})")
         }
+        other => format!("{other:?}"),
     })?;
     let mut beam_load = DVector::zeros(n);
     let mut body_loads = vec![Vector3::zeros(); bodies.len()];

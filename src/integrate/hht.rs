@@ -129,25 +129,47 @@ impl Hht {
         })
     }
 
-    pub fn begin_step(&mut self) {
+    /// Reset the step's caches and factor the effective matrix for `dt`
+    /// if it is not the nominal step's.
+    pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
         self.start_known = false;
         self.base.known = false;
+        self.prepare_factor(system, dt)
+    }
+
+    fn is_nominal(&self, dt: f64) -> bool {
+        (dt - self.nominal.0).abs() <= 1e-9 * self.nominal.0
+    }
+
+    /// The factor of the effective matrix for a step of `dt`, kept until
+    /// another step length is asked for. M + c C + d K is positive definite
+    /// for every c, d >= 0, but on a very fine mesh (100,000 elements) the
+    /// band LDLᵀ of a shortened step's matrix can meet a non-positive pivot
+    /// by rounding: that is a failed step, not a panic.
+    fn prepare_factor(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
+        if self.is_nominal(dt) || self.other.as_ref().map(|(step, _)| *step) == Some(dt) {
+            return Ok(());
+        }
+        self.other = None;
+        let factor = effective_factor(system, (self.alpha, self.beta, self.gamma), dt)
+            .map_err(|reason| IntegrationError::Factorization { step: dt, reason })?;
+        self.other = Some((dt, factor));
+        Ok(())
     }
 
     /// `rhs ← S⁻¹ rhs` for steps of `dt`.
     fn solve_effective(&mut self, system: &System, dt: f64, rhs: &mut DVector<f64>) {
-        if (dt - self.nominal.0).abs() <= 1e-9 * self.nominal.0 {
+        if self.is_nominal(dt) {
             self.nominal.1.solve_mut(rhs);
             return;
         }
-        if self.other.as_ref().map(|(step, _)| *step) != Some(dt) {
-            // The nominal factorisation succeeded, so M + c C + d K is SPD
-            // for every c, d >= 0 (C is a non-negative mix of M and K) and
-            // this one is too.
-            let factor = effective_factor(system, (self.alpha, self.beta, self.gamma), dt)
-                .expect("M + c C + d K is positive definite");
-            self.other = Some((dt, factor));
+        // A step not prepared by `begin_step` (a restart's trial step)
+        // factors here; without a factor its result is NaN, which the
+        // iteration reports as a non-finite step.
+        if self.prepare_factor(system, dt).is_err() {
+            rhs.fill(f64::NAN);
+            return;
         }
         if let Some((_, factor)) = &self.other {
             factor.solve_mut(rhs);

@@ -82,6 +82,10 @@ pub struct StepStart<'a> {
 pub enum IntegrationError {
     /// No foot point: a body is far from the beam or the beam is wildly deformed.
     LostContact { contact: usize, x: f64 },
+    /// The implicit scheme's effective matrix for a step of `step` seconds
+    /// has no factor (a non-positive pivot met by rounding on a very fine
+    /// mesh).
+    Factorization { step: f64, reason: String },
 }
 
 /// Contact frames of every contact at the start of a run: each searched
@@ -255,11 +259,14 @@ pub enum Integrator {
 }
 
 impl Integrator {
-    /// Called once before the iterations of each step.
-    pub fn begin_step(&mut self) {
+    /// Called once before the iterations of each step of `dt`.
+    pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         match self {
-            Integrator::Rk4(rk4) => rk4.begin_step(),
-            Integrator::Hht(hht) => hht.begin_step(),
+            Integrator::Rk4(rk4) => {
+                rk4.begin_step();
+                Ok(())
+            }
+            Integrator::Hht(hht) => hht.begin_step(system, dt),
         }
     }
 
