@@ -32,6 +32,10 @@ use guideway::Simulation;
 use std::hint::black_box;
 use std::time::{Duration, Instant};
 
+#[path = "common/cpu_clock.rs"]
+mod cpu_clock;
+use cpu_clock::thread_cpu_time;
+
 /// Communication step: the scene's internal step.
 const H: f64 = 0.0025;
 /// Steps per crossing: to 2.25 s, before the wheel leaves the beam.
@@ -66,17 +70,6 @@ impl Clock {
             }
         }
     }
-}
-
-fn thread_cpu_time() -> Duration {
-    let mut t = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `t` is a valid timespec for the call to fill.
-    let status = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
-    assert_eq!(status, 0, "the thread's CPU clock is readable");
-    Duration::new(t.tv_sec as u64, t.tv_nsec as u32)
 }
 
 /// One crossing natively: advance, then every output.

@@ -1059,20 +1059,12 @@ mod tests {
     use super::*;
     use crate::assemble::assemble;
     use crate::integrate::{Integrator, Rk4};
-    use crate::scene::{BodyKind, Scene};
     use crate::system::TrackPart;
     use nalgebra::DVector;
 
     /// Two paper wheels on a four-element beam, in different elements.
     fn two_wheels() -> (System, Vec<ContactFrame>) {
-        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-        scene.beam.elements = 4;
-        scene.body.initial_position = 3.0;
-        let mut second = scene.body.clone();
-        second.name = "second".into();
-        second.initial_position = 15.5;
-        scene.vehicles = vec![second];
-        let assembly = assemble(&scene).unwrap();
+        let assembly = assemble(&crate::integrate::fixtures::two_paper_wheels()).unwrap();
         let system = assembly.system;
         let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).sin());
         let mut frames = Vec::new();

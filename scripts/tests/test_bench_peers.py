@@ -114,3 +114,11 @@ def test_a_round_alternates_and_runs_everything_once():
 def test_ratios_are_taken_round_by_round():
     assert bench_peers.ratios([2.0, 3.0], [1.0, 0.5]) == [2.0, 6.0]
     assert bench_peers.spread([3.0, 1.0, 2.0]) == (2.0, 1.0, 3.0)
+
+
+def test_a_timed_run_is_killed_at_its_bound_and_a_failure_is_an_error():
+    with pytest.raises(bench_peers.subprocess.TimeoutExpired):
+        bench_peers.run_bounded(["sleep", "5"], 0.2)
+    with pytest.raises(bench_peers.subprocess.CalledProcessError):
+        bench_peers.run_bounded(["false"], 5.0)
+    bench_peers.run_bounded(["true"], 5.0)

@@ -109,19 +109,11 @@ impl FrameMemo {
 mod tests {
     use super::*;
     use crate::assemble::assemble;
-    use crate::scene::{BodyKind, Scene};
 
     /// Two paper wheels on a four-element beam, and their frames searched
     /// from abscissae away from the foot points.
     fn searched() -> (System, DVector<f64>, Vec<BodyState>, Vec<ContactFrame>) {
-        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-        scene.beam.elements = 4;
-        scene.body.initial_position = 3.0;
-        let mut second = scene.body.clone();
-        second.name = "second".into();
-        second.initial_position = 15.5;
-        scene.vehicles = vec![second];
-        let assembly = assemble(&scene).unwrap();
+        let assembly = assemble(&crate::integrate::fixtures::two_paper_wheels()).unwrap();
         let system = assembly.system;
         let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * (i as f64).sin());
         let mut frames = Vec::new();

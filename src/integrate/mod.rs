@@ -331,3 +331,21 @@ impl Integrator {
         }
     }
 }
+
+#[cfg(test)]
+pub(crate) mod fixtures {
+    use crate::scene::{BodyKind, Scene};
+
+    /// Two paper wheels on a four-element beam, in different elements
+    /// (at 3 m and 15.5 m).
+    pub fn two_paper_wheels() -> Scene {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        scene.beam.elements = 4;
+        scene.body.initial_position = 3.0;
+        let mut second = scene.body.clone();
+        second.name = "second".into();
+        second.initial_position = 15.5;
+        scene.vehicles = vec![second];
+        scene
+    }
+}
