@@ -16,17 +16,13 @@ const BOGIE: f64 = 2400.0;
 const LC: f64 = 8.75;
 const LT: f64 = 1.25;
 
-/// A coach whose wheelsets weigh `wheelset_mass` (0: followers) on `spans`
-/// continuous 25 m spans, 10 elements per span, with rigid ground of 25 m
-/// before and after.
-fn coach(wheelset_mass: f64, spans: usize, position: f64, speed: f64, end_time: f64) -> Scene {
+/// The `[beam]` table of `spans` continuous 25 m spans of the Yang & Yau
+/// section, 10 elements per span.
+fn continuous_beam(spans: usize) -> String {
     let length = 25.0 * spans as f64;
     let intermediate: Vec<f64> = (1..spans).map(|i| 25.0 * i as f64).collect();
-    Scene::from_toml_str(&format!(
-        r#"
-name = "coach"
-gravity = {GRAVITY:?}
-[beam]
+    format!(
+        r#"[beam]
 length = {length:?}
 mass_per_length = 2303.0
 bending_stiffness = {EI:?}
@@ -34,7 +30,21 @@ surface_offset = 0.0
 elements = {}
 [beam.supports]
 intermediate = {intermediate:?}
-[track]
+"#,
+        10 * spans
+    )
+}
+
+/// A coach whose wheelsets weigh `wheelset_mass` (0: followers) on `spans`
+/// continuous 25 m spans, 10 elements per span, with rigid ground of 25 m
+/// before and after.
+fn coach(wheelset_mass: f64, spans: usize, position: f64, speed: f64, end_time: f64) -> Scene {
+    let beam = continuous_beam(spans);
+    Scene::from_toml_str(&format!(
+        r#"
+name = "coach"
+gravity = {GRAVITY:?}
+{beam}[track]
 approach = 25.0
 run_off = 25.0
 [body]
@@ -60,7 +70,6 @@ step = 5e-5
 start = "static"
 end_time = {end_time:?}
 "#,
-        10 * spans,
     ))
     .expect("valid scene")
 }
@@ -68,21 +77,12 @@ end_time = {end_time:?}
 /// A maglev car of 30 t over eight magnets 3 m apart weighing
 /// `magnet_mass` (0: followers), on `spans` continuous 25 m spans.
 fn maglev(magnet_mass: f64, spans: usize, position: f64, speed: f64, end_time: f64) -> Scene {
-    let length = 25.0 * spans as f64;
-    let intermediate: Vec<f64> = (1..spans).map(|i| 25.0 * i as f64).collect();
+    let beam = continuous_beam(spans);
     Scene::from_toml_str(&format!(
         r#"
 name = "maglev"
 gravity = {GRAVITY:?}
-[beam]
-length = {length:?}
-mass_per_length = 2303.0
-bending_stiffness = {EI:?}
-surface_offset = 0.0
-elements = {}
-[beam.supports]
-intermediate = {intermediate:?}
-[body]
+{beam}[body]
 name = "car"
 kind = "maglev_vehicle"
 mass = 30000.0
@@ -102,7 +102,6 @@ step = 5e-5
 start = "static"
 end_time = {end_time:?}
 "#,
-        10 * spans,
     ))
     .expect("valid scene")
 }

@@ -51,14 +51,20 @@ end_time = 1.6
 """
 
 
+def export_with_cross_check(d, stem, scene, reference):
+    """Export `scene` into `d` with its native cross-check run; the FMU's
+    path and the native reference's rows."""
+    (d / f"{stem}.toml").write_text(scene)
+    fmu, cc = d / f"{stem}.fmu", d / "cc"
+    subprocess.run([str(GUIDEWAY), "export", str(d / f"{stem}.toml"), "-o", str(fmu),
+                    "--cross-check", str(cc)], check=True, capture_output=True)
+    return str(fmu), read_csv(cc / reference)
+
+
 @pytest.fixture(scope="module")
 def exported(tmp_path_factory):
-    d = tmp_path_factory.mktemp("follower")
-    (d / "follower.toml").write_text(SCENE)
-    fmu, cc = d / "follower.fmu", d / "cc"
-    subprocess.run([str(GUIDEWAY), "export", str(d / "follower.toml"), "-o", str(fmu),
-                    "--cross-check", str(cc)], check=True, capture_output=True)
-    return str(fmu), read_csv(cc / "follower_fmu_ref.csv")
+    return export_with_cross_check(tmp_path_factory.mktemp("follower"), "follower", SCENE,
+                                   "follower_fmu_ref.csv")
 
 
 def test_the_follower_scene_exports_with_the_follower_variables(exported):
@@ -145,12 +151,8 @@ end_time = 1.0
 
 @pytest.fixture(scope="module")
 def exported_bogie(tmp_path_factory):
-    d = tmp_path_factory.mktemp("bogie_followers")
-    (d / "bogie.toml").write_text(BOGIE_SCENE)
-    fmu, cc = d / "bogie.fmu", d / "cc"
-    subprocess.run([str(GUIDEWAY), "export", str(d / "bogie.toml"), "-o", str(fmu),
-                    "--cross-check", str(cc)], check=True, capture_output=True)
-    return str(fmu), read_csv(cc / "bogie_followers_fmu_ref.csv")
+    return export_with_cross_check(tmp_path_factory.mktemp("bogie_followers"), "bogie",
+                                   BOGIE_SCENE, "bogie_followers_fmu_ref.csv")
 
 
 def test_a_bogie_vehicle_on_followers_exports_its_followers(exported_bogie):
