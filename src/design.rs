@@ -431,7 +431,7 @@ pub fn supports(beam: &Beam) -> Vec<Support> {
 
 mod envelope;
 mod probes;
-pub use envelope::{envelope_of_loads, static_envelope, StaticEnvelope};
+pub use envelope::{envelope_of_loads, static_envelope, static_shares, StaticEnvelope};
 pub use probes::{probes, DesignPeaks, Probe};
 
 #[cfg(test)]

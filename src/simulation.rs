@@ -359,6 +359,9 @@ fn extrapolate(history: &[ContactForce; 3], steps: &[f64; 2], dt: f64) -> Contac
 
 pub struct Simulation {
     system: System,
+    /// The static envelope's loads, taken before the static start moves
+    /// the bodies (`design::static_shares`).
+    envelope_loads: Vec<(f64, f64)>,
     /// Which integrator runs, and why (for `auto`).
     integrator_choice: String,
     sensors: Vec<f64>,
@@ -418,6 +421,7 @@ impl Simulation {
 
     fn build(scene: &Scene, open_ends: bool) -> Result<Simulation, String> {
         let mut assembly = assemble(scene)?;
+        let envelope_loads = crate::design::static_shares(&assembly);
         assembly.system.track.open_ends = open_ends;
         let step = scene.solver.step;
         let body_force = [scene.body.force_x, scene.body.force_y];
@@ -463,6 +467,7 @@ impl Simulation {
         let contacts = initial_contacts(&system, &dynamic, &parts, &assembly.open)?;
         let mut simulation = Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
+            envelope_loads,
             sections: scene.sections.iter().map(|s| s.position).collect(),
             step,
             stop_at_beam_exit: scene.solver.end_time.is_none(),
@@ -535,6 +540,16 @@ impl Simulation {
     }
 
     /// The assembled system (bodies, force elements, contacts, beam).
+    /// The static envelope of `scene` (the summary's amplification
+    /// reference) on this simulation's beam: assembling the scene again
+    /// would solve a modal beam's eigenproblem a second time.
+    pub fn static_envelope(&self, scene: &Scene) -> Result<crate::design::StaticEnvelope, String> {
+        if crate::moving_load::is_moving_force_scene(scene) {
+            return crate::design::static_envelope(scene);
+        }
+        crate::design::envelope_of_loads(scene, &self.system.beam, &self.envelope_loads)
+    }
+
     pub fn system(&self) -> &System {
         &self.system
     }

@@ -223,3 +223,27 @@ fn the_papers_crossing_amplifies_the_midspan_deflection_by_1_093() {
     let daf = summary(&scene).dynamic_amplification["sensor.midspan.deflection"];
     assert!((daf - 1.093).abs() < 2e-3, "DAF {daf}");
 }
+
+/// The summary takes the static envelope from the simulation (no second
+/// assembly): it must be the one the scene assembles to, also where the
+/// static start has moved the bodies (a train) and on a modal beam.
+#[test]
+fn the_simulations_static_envelope_is_the_scenes() {
+    let train = guideway::scene::builtin("train-2-coaches-2x40-100").expect("built-in");
+    let mut modal = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
+    modal.beam.elements = 32;
+    modal.solver.structure = guideway::scene::StructureKind::Modal;
+    modal.solver.modes = Some(8);
+    for scene in [
+        train,
+        with_design_outputs(paper_scene(BodyKind::Wheel, 10.0, 0.0025)),
+        modal,
+    ] {
+        let sim = Simulation::new(&scene).expect("scene builds");
+        let own = sim.static_envelope(&scene).expect("envelope");
+        let assembled = guideway::design::static_envelope(&scene).expect("envelope");
+        assert!(!own.peaks.is_empty(), "{}", scene.name);
+        assert_eq!(own.peaks, assembled.peaks, "{}", scene.name);
+        assert_eq!(own.positions, assembled.positions, "{}", scene.name);
+    }
+}

@@ -8,6 +8,7 @@
 
 use super::progress::Progress;
 use super::{interrupt, load_scene, Failure, RunArgs};
+use guideway::design::StaticEnvelope;
 use guideway::output_file::{check_distinct, Staged};
 use guideway::report::csv::CsvWriter;
 use guideway::report::nodes::{check_node_output, WithNodes};
@@ -88,7 +89,9 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
             let integrator = simulation.integrator_choice().to_string();
             let events = SummaryEvent::list(&simulation);
             let run = (integrator, events);
-            if let Some(summary) = finish(sink, outputs, &streamed, run, &scene, args.quiet)? {
+            let envelope = |scene: &Scene| simulation.static_envelope(scene).ok();
+            let finished = (&streamed, run, envelope);
+            if let Some(summary) = finish(sink, outputs, finished, &scene, args.quiet)? {
                 println!("{summary}");
             }
             Ok(())
@@ -122,8 +125,11 @@ fn drive_with_nodes(
 fn finish(
     mut sink: Sink,
     outputs: Outputs,
-    streamed: &Streamed,
-    (integrator, events): (String, Vec<SummaryEvent>),
+    (streamed, (integrator, events), envelope): (
+        &Streamed,
+        (String, Vec<SummaryEvent>),
+        impl FnOnce(&Scene) -> Option<StaticEnvelope>,
+    ),
     scene: &Scene,
     quiet: bool,
 ) -> Result<Option<RunSummary>, Failure> {
@@ -136,9 +142,11 @@ fn finish(
     }
     // Not built when nobody reads it (its static envelope is not free).
     let summary = (!quiet || outputs.summary.is_some()).then(|| {
-        let mut summary = sink
-            .summary
-            .finish(streamed.exit_time, streamed.solve_time.as_secs_f64());
+        let mut summary = sink.summary.finish_with(
+            streamed.exit_time,
+            streamed.solve_time.as_secs_f64(),
+            envelope,
+        );
         summary.integrator = Some(integrator);
         summary.events = events;
         summary

@@ -15,7 +15,7 @@ use nalgebra::DVector;
 
 use super::probes::{probes, Probe};
 use super::{BeamDynamics, PointLoad};
-use crate::assemble::assemble;
+use crate::assemble::{assemble, Assembly};
 use crate::beam::Beam;
 use crate::moving_load::{is_moving_force_scene, scene_axles};
 use crate::scene::Scene;
@@ -68,14 +68,20 @@ fn static_loads(scene: &Scene) -> Result<(Beam, Vec<(f64, f64)>), String> {
         return Ok((beam, loads));
     }
     let assembly = assemble(scene)?;
-    let loads = assembly
+    let loads = static_shares(&assembly);
+    Ok((assembly.system.beam, loads))
+}
+
+/// The envelope's loads of an assembled scene, before its static start:
+/// (abscissa, downward force) of each contact's static share.
+pub fn static_shares(assembly: &Assembly) -> Vec<(f64, f64)> {
+    assembly
         .system
         .contacts
         .iter()
         .zip(&assembly.forces)
         .map(|(c, f)| (assembly.bodies[c.body].position.x, f.normal))
-        .collect();
-    Ok((assembly.system.beam, loads))
+        .collect()
 }
 
 /// The static envelope of `loads` ((abscissa at the start, downward force))

@@ -2,6 +2,7 @@
 
 use super::output_names;
 use super::trace::Trace;
+use crate::design::StaticEnvelope;
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -223,13 +224,24 @@ impl SummaryBuilder {
     }
 
     pub fn finish(self, exit_time: Option<f64>, wall_time_s: f64) -> RunSummary {
+        self.finish_with(exit_time, wall_time_s, |scene| {
+            crate::design::static_envelope(scene).ok()
+        })
+    }
+
+    /// `finish` with the static envelope from `envelope_of` (e.g. the
+    /// simulation's, which needs no second assembly), asked for only when
+    /// a design output needs it.
+    pub fn finish_with(
+        self,
+        exit_time: Option<f64>,
+        wall_time_s: f64,
+        envelope_of: impl FnOnce(&Scene) -> Option<StaticEnvelope>,
+    ) -> RunSummary {
         let usable = |e: &f64| e.is_finite() && *e != 0.0;
         // The reference of the amplification factors: bounded work (see
         // `design::static_envelope`), none for a beam without one.
-        let envelope = self
-            .envelope_of
-            .as_ref()
-            .and_then(|scene| crate::design::static_envelope(scene).ok());
+        let envelope = self.envelope_of.as_ref().and_then(envelope_of);
         RunSummary {
             scene: self.scene,
             exit_time,
