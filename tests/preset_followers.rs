@@ -35,6 +35,21 @@ intermediate = {intermediate:?}
     )
 }
 
+/// The scenes' midspan sensor and solver: RK4 at 50 µs from the static
+/// start to `end_time`.
+fn static_start_solver(end_time: f64) -> String {
+    format!(
+        r#"[[sensors]]
+name = "midspan"
+position = 12.5
+[solver]
+step = 5e-5
+start = "static"
+end_time = {end_time:?}
+"#
+    )
+}
+
 /// A coach whose wheelsets weigh `wheelset_mass` (0: followers) on `spans`
 /// continuous 25 m spans, 10 elements per span, with rigid ground of 25 m
 /// before and after.
@@ -62,14 +77,8 @@ bogie_half_distance = {LC:?}
 axle_half_distance = {LT:?}
 primary_stiffness = 1.18e6
 secondary_stiffness = 5.3e5
-[[sensors]]
-name = "midspan"
-position = 12.5
-[solver]
-step = 5e-5
-start = "static"
-end_time = {end_time:?}
-"#,
+{}"#,
+        static_start_solver(end_time)
     ))
     .expect("valid scene")
 }
@@ -94,14 +103,8 @@ magnets = 8
 magnet_spacing = 3.0
 magnet_mass = {magnet_mass:?}
 stiffness = 8.0e5
-[[sensors]]
-name = "midspan"
-position = 12.5
-[solver]
-step = 5e-5
-start = "static"
-end_time = {end_time:?}
-"#,
+{}"#,
+        static_start_solver(end_time)
     ))
     .expect("valid scene")
 }

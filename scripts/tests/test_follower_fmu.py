@@ -12,18 +12,21 @@ from conftest import GUIDEWAY, native_reference, read_csv, set_in_toml
 
 M, G = 5750.0, 9.81
 
-# Yang & Yau's quarter car over their beam with HHT-α, from the approach
-# onto the run-off, where a 50 mm bump unloads the follower (contact open).
-SCENE = f"""
-name = "follower-fmu"
-gravity = {G}
-[beam]
+# Yang & Yau's 25 m beam, 10 elements: the beam of both scenes below.
+YANG_YAU_BEAM = """[beam]
 length = 25.0
 mass_per_length = 2303.0
 bending_stiffness = 8.5347e10
 surface_offset = 0.0
 elements = 10
-[track]
+"""
+
+# Yang & Yau's quarter car over their beam with HHT-α, from the approach
+# onto the run-off, where a 50 mm bump unloads the follower (contact open).
+SCENE = f"""
+name = "follower-fmu"
+gravity = {G}
+{YANG_YAU_BEAM}[track]
 approach = 10.0
 run_off = 40.0
 [[track.irregularities]]
@@ -112,13 +115,7 @@ def test_the_sprung_mass_start_value_sets_the_follower_preload(tmp_path, exporte
 BOGIE_SCENE = f"""
 name = "bogie-followers-fmu"
 gravity = {G}
-[beam]
-length = 25.0
-mass_per_length = 2303.0
-bending_stiffness = 8.5347e10
-surface_offset = 0.0
-elements = 10
-[track]
+{YANG_YAU_BEAM}[track]
 approach = 25.0
 run_off = 25.0
 [body]
