@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Instructions per step of the full and the modal structure, by callgrind.
 
-    python3 scripts/modal_cost.py [--elements 32 1024 8192] [--modes 8] [--no-full]
+    python3 scripts/modal_cost.py [--elements 32 1024 4096] [--modes 8] [--no-full]
 
 For each mesh, the paper's 10 m/s case under `auto` at 2.5 ms, with the
 full beam and with `--modes` modes: `guideway run -q` under
@@ -62,7 +62,7 @@ def per_step(guideway, tmp, elements, name, extra):
 
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--elements", type=int, nargs="+", default=[32, 1024, 8192])
+    parser.add_argument("--elements", type=int, nargs="+", default=[32, 1024, 4096])
     parser.add_argument("--modes", type=int, default=8)
     parser.add_argument("--no-full", action="store_true", help="measure the modal structure only")
     parser.add_argument("--guideway", default=str(ROOT / os.environ.get("CARGO_TARGET_DIR", "target") / "release" / "guideway"))

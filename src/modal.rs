@@ -18,31 +18,10 @@
 
 use std::sync::Arc;
 
-use nalgebra::{Cholesky, DMatrix, DVector, Dyn, SymmetricEigen};
+use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
-use crate::band::SymBand;
-use crate::beam::{Beam, MAX_MODE_DOFS};
+use crate::beam::{lowest_modes_by_subspace, Beam, Wanted, DENSE_MODE_DOFS};
 use crate::scene::{SolverSpec, StructureKind};
-
-/// Largest n·p² (free DOFs times the squared subspace size) the subspace
-/// iteration is run for: about a second of work per iteration.
-pub const MAX_SUBSPACE_WORK: f64 = 2e9;
-
-/// Up to this many free DOFs the modes come from the dense eigenproblem;
-/// beyond, when a quarter of them or fewer are wanted, from the subspace
-/// iteration.
-pub const DENSE_MODAL_DOFS: usize = 64;
-
-/// Largest n·p (free DOFs times subspace size) the subspace iteration
-/// holds: its four n×p matrices then take at most 128 MB.
-pub const MAX_SUBSPACE_ENTRIES: usize = 4_000_000;
-
-/// Most iterations of the subspace iteration.
-const MAX_SUBSPACE_ITERATIONS: usize = 300;
-
-/// Relative change of the wanted Ritz values between two iterations at
-/// which they count as settled.
-const SETTLED: f64 = 1e-10;
 
 /// Which modes a modal structure keeps.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -87,9 +66,9 @@ pub struct ModalBasis {
 }
 
 impl ModalBasis {
-    /// The modes of `beam` that `selection` keeps: a dense eigenproblem up
-    /// to `MAX_MODE_DOFS` free DOFs, a subspace iteration on the band
-    /// factor beyond. Undamped until `with_damping`.
+    /// The modes of `beam` that `selection` keeps (`Beam::modes` chooses
+    /// the dense eigenproblem or the subspace iteration). Undamped until
+    /// `with_damping`.
     pub fn new(beam: &Beam, selection: ModeSelection) -> Result<ModalBasis, String> {
         let n = beam.free_dofs();
         if let ModeSelection::Count(k) = selection {
@@ -99,17 +78,18 @@ impl ModalBasis {
                 ));
             }
         }
-        let few = match selection {
-            ModeSelection::Count(k) => 4 * k < n,
-            ModeSelection::UpTo(_) => true,
-        };
-        // The dense eigenproblem loses about ε ω_max² / ω² of a low mode's
-        // ω² on a fine mesh; the subspace iteration does not.
-        let (omega, shapes) = if n <= MAX_MODE_DOFS && !(few && n > DENSE_MODAL_DOFS) {
-            let modes = beam.modes(n)?;
-            (modes.omega, modes.shapes)
-        } else {
-            subspace_modes(beam, selection)?
+        let (omega, shapes) = match selection {
+            ModeSelection::Count(k) => {
+                let modes = beam.modes(k).map_err(|e| format!("solver.modes: {e}"))?;
+                (modes.omega, modes.shapes)
+            }
+            ModeSelection::UpTo(_) if n <= DENSE_MODE_DOFS => {
+                let modes = beam.modes(n)?;
+                (modes.omega, modes.shapes)
+            }
+            ModeSelection::UpTo(hz) => {
+                modes_up_to(beam, hz).map_err(|e| format!("solver.max_frequency: {e}"))?
+            }
         };
         let keep = match selection {
             ModeSelection::Count(k) => k,
@@ -298,35 +278,18 @@ impl ModalFactor {
     }
 }
 
-/// The lowest modes of a beam too large for the dense eigenproblem, by
-/// subspace iteration: p vectors repeatedly multiplied by (K + s M)⁻¹ M
-/// through the band LDLᵀ factor, then Rayleigh–Ritz on the p-dimensional
-/// subspace, until the wanted eigenvalues settle.
-///
-/// Hand-written: nalgebra's and faer's eigensolvers are dense (O(n³), an
-/// n×n matrix), and the sparse ones available as crates (Lanczos, LOBPCG)
-/// need a sparse-matrix type and a linear solver of their own, where the
-/// beam already has an O(n) band factor and band products.
-fn subspace_modes(
-    beam: &Beam,
-    selection: ModeSelection,
-) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+/// Every mode up to `hz` of a beam above `DENSE_MODE_DOFS` free DOFs: the
+/// subspace iteration for 8 modes, doubled until the highest found is
+/// above the cut-off.
+fn modes_up_to(beam: &Beam, hz: f64) -> Result<(Vec<f64>, DMatrix<f64>), String> {
     let n = beam.free_dofs();
-    let mut wanted = match selection {
-        ModeSelection::Count(k) => k,
-        ModeSelection::UpTo(_) => 8.min(n),
-    };
+    let mut wanted = 8.min(n);
     loop {
-        let (omega, shapes) = subspace_lowest(beam, wanted)?;
-        let more = match selection {
-            ModeSelection::UpTo(hz) => {
-                omega
-                    .last()
-                    .is_some_and(|&w| w <= std::f64::consts::TAU * hz)
-                    && wanted < n
-            }
-            ModeSelection::Count(_) => false,
-        };
+        let (omega, shapes) = lowest_modes_by_subspace(beam, wanted, Wanted::Modes)?;
+        let more = omega
+            .last()
+            .is_some_and(|&w| w <= std::f64::consts::TAU * hz)
+            && wanted < n;
         if !more {
             return Ok((omega, shapes));
         }
@@ -334,134 +297,10 @@ fn subspace_modes(
     }
 }
 
-/// The lowest `k` modes by subspace iteration (see `subspace_modes`).
-fn subspace_lowest(beam: &Beam, k: usize) -> Result<(Vec<f64>, DMatrix<f64>), String> {
-    let (mass, stiffness) = (beam.mass_band(), beam.stiffness_band());
-    let n = mass.size();
-    let p = (2 * k).max(k + 8).min(n);
-    let work = n as f64 * (p * p) as f64;
-    if n * p > MAX_SUBSPACE_ENTRIES {
-        return Err(format!(
-            "solver.modes: {k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
-             (n·p = {}); at most {MAX_SUBSPACE_ENTRIES} (fewer modes or elements)",
-            n * p
-        ));
-    }
-    if work > MAX_SUBSPACE_WORK {
-        return Err(format!(
-            "solver.modes: {k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
-             (n·p² = {work:.1e}); at most {MAX_SUBSPACE_WORK:.0e} (fewer modes or elements)"
-        ));
-    }
-    // K itself when the supports hold the beam; shifted by s M otherwise
-    // (the eigenvectors are the same, the Ritz values use K alone).
-    let (mut factor, mut shift) = match stiffness.ldlt() {
-        Some(f) => (f, 0.0),
-        None => {
-            let shift = 1e-6 * beam.max_element_frequency().powi(2);
-            let factor = mass
-                .combine(shift, stiffness, 1.0)
-                .ldlt()
-                .ok_or("beam stiffness K + s M is not positive definite")?;
-            (factor, shift)
-        }
-    };
-    let mut x = DMatrix::from_fn(n, p, start_value);
-    let mut previous = vec![f64::INFINITY; k];
-    let (mut y, mut mx) = (DMatrix::zeros(n, p), DMatrix::zeros(n, p));
-    let mut column = DVector::zeros(n);
-    let mut settled_at = None;
-    for iteration in 0..MAX_SUBSPACE_ITERATIONS {
-        for j in 0..p {
-            mass.mul_to(x.column(j).as_slice(), column.as_mut_slice());
-            mx.set_column(j, &column);
-            factor.solve_mut(&mut column);
-            y.set_column(j, &column);
-        }
-        let (lambda, ritz) = rayleigh_ritz(&y, &mx, mass, shift)?;
-        x = ritz;
-        // A shift far above the wanted eigenvalues slows the iteration to
-        // a crawl: once, move it down to the k-th Ritz value (an upper
-        // bound of λ_k, so K + s M stays positive definite).
-        if shift > 0.0 && iteration == 2 && lambda[k - 1] > 0.0 && lambda[k - 1] < shift {
-            if let Some(f) = mass.combine(lambda[k - 1], stiffness, 1.0).ldlt() {
-                (factor, shift) = (f, lambda[k - 1]);
-            }
-        }
-        // Rigid-body modes (ω = 0) are measured against the highest wanted.
-        let floor = 1e-6 * lambda[k - 1].abs().max(f64::MIN_POSITIVE);
-        let change = lambda[..k]
-            .iter()
-            .zip(&previous)
-            .map(|(l, p)| (l - p).abs() / l.abs().max(floor))
-            .fold(0.0, f64::max);
-        previous.copy_from_slice(&lambda[..k]);
-        // The Ritz values converge twice as fast as the vectors: once they
-        // settle, as many iterations again bring the vectors to the same
-        // accuracy.
-        match settled_at {
-            None if change <= SETTLED => settled_at = Some(iteration),
-            Some(at) if iteration > 2 * at => {
-                let omega = lambda[..k].iter().map(|l| l.max(0.0).sqrt()).collect();
-                return Ok((omega, x.columns(0, k).into_owned()));
-            }
-            _ => {}
-        }
-    }
-    Err(format!(
-        "solver.modes: the subspace iteration for {k} modes did not converge in \
-         {MAX_SUBSPACE_ITERATIONS} iterations (clustered frequencies; ask for fewer modes)"
-    ))
-}
-
-/// Rayleigh–Ritz on the columns of y = (K + s M)⁻¹ M x: the Ritz values,
-/// ascending, and the M-orthonormal Ritz vectors. K y is taken as
-/// M x − s M y, not multiplied out: on a fine mesh K y of a smooth y
-/// cancels terms some 1e8 times larger than the result.
-fn rayleigh_ritz(
-    y: &DMatrix<f64>,
-    mx: &DMatrix<f64>,
-    mass: &SymBand,
-    shift: f64,
-) -> Result<(Vec<f64>, DMatrix<f64>), String> {
-    let (n, p) = y.shape();
-    let mut my = DMatrix::zeros(n, p);
-    for j in 0..p {
-        let column = y.column(j);
-        mass.mul_to(column.as_slice(), my.column_mut(j).as_mut_slice());
-    }
-    let mr = y.tr_mul(&my);
-    let kr = y.tr_mul(mx) - shift * &mr;
-    let chol = (0.5 * (&mr + mr.transpose()))
-        .cholesky()
-        .ok_or("the subspace iteration lost rank (fewer modes or elements)")?;
-    let l_inv = chol
-        .l()
-        .try_inverse()
-        .ok_or("the subspace iteration lost rank")?;
-    let a = &l_inv * kr * l_inv.transpose();
-    let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
-    let mut order: Vec<usize> = (0..p).collect();
-    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-    let z = l_inv.transpose() * &eig.eigenvectors;
-    let columns: Vec<DVector<f64>> = order.iter().map(|&i| y * z.column(i)).collect();
-    let lambda = order.iter().map(|&i| eig.eigenvalues[i]).collect();
-    Ok((lambda, DMatrix::from_columns(&columns)))
-}
-
-/// A deterministic pseudo-random start vector entry in [−1, 1).
-fn start_value(i: usize, j: usize) -> f64 {
-    let mut h = (i as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
-        ^ (j as u64 + 1).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
-    h ^= h >> 31;
-    h = h.wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    h ^= h >> 29;
-    (h >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::beam::start_value;
     use crate::scene::{BeamSpec, EndSupport, SupportsSpec};
 
     fn beam(elements: usize, supports: SupportsSpec) -> Beam {
@@ -483,7 +322,7 @@ mod tests {
     /// to about ε |x|ᵀ|K||x| / xᵀKx ≈ 1e-7 (200 elements): both methods
     /// agree to that, not to ε.
     fn assert_matches_dense(beam: &Beam, k: usize) {
-        let (omega, shapes) = subspace_lowest(beam, k).expect("converges");
+        let (omega, shapes) = lowest_modes_by_subspace(beam, k, Wanted::Modes).expect("converges");
         let dense = beam.modes(k).expect("dense");
         let mut m_phi = DVector::zeros(beam.free_dofs());
         for (j, (&found, &w)) in omega.iter().zip(&dense.omega).enumerate() {

@@ -365,7 +365,7 @@ fn run_prints_the_natural_frequencies_or_why_not() {
         );
     }
 
-    // 400 elements: 800 free DOFs, beyond the dense eigensolver's 600.
+    // 400 elements: 800 free DOFs, beyond the 600 a run prints them for.
     let big = std::fs::read_to_string(&scene)
         .unwrap()
         .replace("elements = 20", "elements = 400")

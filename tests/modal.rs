@@ -252,6 +252,15 @@ fn the_modal_fields_are_validated_by_name() {
         error.contains("solver.modes: 500 modes") && error.contains("at most"),
         "{error}"
     );
+    // Beyond 4096 shortest elements per length the band stiffness cannot
+    // fix the low modes (mode 1 of 8192 elements came out 0.17 % high).
+    let mut scene = modal(paper_scene(BodyKind::Wheel, 10.0, 0.0025), 8);
+    scene.beam.elements = 8192;
+    let error = Simulation::new(&scene).err().expect("refused");
+    assert!(
+        error.contains("solver.modes: ") && error.contains("beyond 4096"),
+        "{error}"
+    );
 }
 
 #[test]
