@@ -50,7 +50,8 @@ impl<S> RollBack<S> {
     }
 
     /// The step completed and its state was copied (and checked) into the
-    /// storage `start` handed out: that copy is the next step's start.
+    /// second storage `start` handed out: that copy is the next step's
+    /// start.
     pub fn completed(&mut self) {
         self.start = 1 - self.start;
         self.current = true;
