@@ -2,9 +2,11 @@
 //! communication steps of one internal step (2.5 ms, where the overhead
 //! weighs most), every real output read after each step, three ways:
 //!
-//! - `native`: `Simulation::advance_to` and `output_values`, as
-//!   `guideway run` does;
-//! - `model`: the FMU's model layer (`Model::do_step` and `get`) in-process;
+//! - `native`: `Simulation::advance_to`, `output_values` and the check that
+//!   every output is finite, as `guideway run` does after every step
+//!   (`report::drive_into`);
+//! - `model`: the FMU's model layer (`Model::do_step` and `get_reals`)
+//!   in-process;
 //! - `fmu`: the exported FMU loaded by the `fmi` crate (an independent
 //!   importer), `fmi2DoStep` and `fmi2GetReal`.
 //!
@@ -26,6 +28,7 @@ use criterion::{criterion_group, Criterion};
 use fmi::fmi2::import::Fmi2Import;
 use fmi::fmi2::instance::{CoSimulation, Common, InstanceCS};
 use guideway::model::{Model, VarType};
+use guideway::report::non_finite_output;
 use guideway::scene::{BodyKind, Scene};
 use guideway::simulation::Steppable;
 use guideway::Simulation;
@@ -86,6 +89,8 @@ fn native_steps(sim: &mut Simulation, values: &mut [f64]) {
     for k in 1..=STEPS {
         sim.advance_to(k as f64 * H).expect("converges");
         sim.output_values(values);
+        let bad = non_finite_output(Steppable::outputs(sim), values);
+        assert!(bad.is_none(), "finite outputs");
         black_box(&values);
     }
 }
@@ -105,14 +110,16 @@ fn model_crossing(scene: &Scene, clock: Clock) -> Duration {
     let mut model = Model::<Simulation>::new(scene.clone()).expect("valid scene");
     let outputs = real_outputs(&model);
     model.initialize().expect("initializes");
-    clock.time(|| model_steps(&mut model, &outputs))
+    let mut values = vec![0.0; outputs.len()];
+    clock.time(|| model_steps(&mut model, &outputs, &mut values))
 }
 
 #[inline(never)]
-fn model_steps(model: &mut Model<Simulation>, outputs: &[u32]) {
+fn model_steps(model: &mut Model<Simulation>, outputs: &[u32], values: &mut [f64]) {
     for k in 0..STEPS {
         model.do_step(k as f64 * H, H).expect("steps");
-        black_box(model.get(VarType::Real, outputs).expect("outputs"));
+        model.get_reals(outputs, values).expect("outputs");
+        black_box(&values);
     }
 }
 

@@ -207,18 +207,8 @@ impl SimState {
     /// time on the state's own grid of `step`: what a state from outside (a
     /// serialized FMU state) must satisfy before anything is sized by it.
     pub fn check_values(&self, step: f64) -> Result<(), String> {
+        self.check_lengths()?;
         let d = &self.dynamic;
-        let n = d.beam_displacement.len();
-        let lengths = [
-            d.beam_velocity.len(),
-            d.beam_acceleration.len(),
-            d.beam_load.len(),
-        ];
-        if lengths.iter().any(|&m| m != n) {
-            return Err(format!(
-                "the state's beam vectors differ in length ({n}, {lengths:?})"
-            ));
-        }
         let scalars = [
             self.time,
             self.external_work,
@@ -300,6 +290,35 @@ impl SimState {
                 return Err(format!("the state holds a non-finite number ({x})"));
             }
         }
+        self.check_time(step)
+    }
+
+    /// `check_values` but the numbers' finiteness (`copy_checked_from`
+    /// sums them as it copies).
+    fn check_lengths_and_time(&self, step: f64) -> Result<(), String> {
+        self.check_lengths()?;
+        self.check_time(step)
+    }
+
+    /// The beam's vectors alike in length.
+    fn check_lengths(&self) -> Result<(), String> {
+        let d = &self.dynamic;
+        let n = d.beam_displacement.len();
+        let lengths = [
+            d.beam_velocity.len(),
+            d.beam_acceleration.len(),
+            d.beam_load.len(),
+        ];
+        if lengths.iter().any(|&m| m != n) {
+            return Err(format!(
+                "the state's beam vectors differ in length ({n}, {lengths:?})"
+            ));
+        }
+        Ok(())
+    }
+
+    /// The time on the state's own grid of `step`.
+    fn check_time(&self, step: f64) -> Result<(), String> {
         let grid = self.grid_step as f64 * step;
         let slack = 1e-6 * step;
         if !(self.time >= 0.0 && grid - slack <= self.time && self.time <= grid + step + slack) {

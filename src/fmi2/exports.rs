@@ -352,18 +352,12 @@ pub unsafe extern "C" fn fmi2GetReal(
     value: *mut fmi2Real,
 ) -> fmi2Status {
     unsafe {
-        get(
-            c,
-            "fmi2GetReal",
-            VarType::Real,
-            vr,
-            nvr,
-            value,
-            |v| match v {
-                Value::Real(x) => x,
-                _ => f64::NAN,
-            },
-        )
+        with_instance(c, "fmi2GetReal", |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let out = slice_mut(value, nvr, "value")?;
+            inst.get_reals(vrs, out)?;
+            Ok(OK)
+        })
     }
 }
 const _: fmi2GetRealTYPE = Some(fmi2GetReal);

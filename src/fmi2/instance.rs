@@ -224,6 +224,14 @@ impl<D: Dynamics> Instance<D> {
             .map_err(|e| format!("{function}: {e}"))
     }
 
+    /// fmi2GetReal: the values of `vrs` written into `out`.
+    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), String> {
+        self.require("fmi2GetReal", READABLE)?;
+        self.model
+            .get_reals(vrs, out)
+            .map_err(|e| format!("fmi2GetReal: {e}"))
+    }
+
     pub fn set(&mut self, function: &str, vrs: &[u32], values: &[Value]) -> Result<(), String> {
         // After a rolled-back solver failure (StepFailed, not terminated) the
         // master may change inputs and retry the step.

@@ -25,18 +25,19 @@ pub enum Stop {
 }
 
 /// Advance `sim` to `target`, reading the wall clock between chunks of whole
-/// internal steps of length `step`; past `budget` with the target not yet
-/// reached, stop.
+/// internal steps of length `step`; past `budget` seconds with the target
+/// not yet reached, stop.
 pub fn advance_within<D: Dynamics>(
     sim: &mut D,
     target: f64,
     step: f64,
-    budget: Duration,
+    budget: f64,
 ) -> Result<Advance, Stop> {
     // Within one internal step the clock could not stop the advance anyway.
     if chunk_end(sim.time(), step, 1.0) >= target - 1e-6 * step {
         return sim.advance_to(target).map_err(Stop::Solver);
     }
+    let budget = Duration::try_from_secs_f64(budget).unwrap_or(Duration::MAX);
     let started = Instant::now();
     // Chunk length in internal steps: doubled while a chunk takes under a
     // sixteenth of the budget, so that checks are rare on fast models and a

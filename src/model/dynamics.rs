@@ -49,6 +49,14 @@ pub trait Dynamics: Steppable + Sized {
     fn check_current(&self) -> Result<(), String> {
         self.check_state(&self.state())
     }
+    /// `check_current` and `save_into(into)` in one (where the dynamics can,
+    /// in one pass): each state a step reaches is checked and kept as the
+    /// next step's roll-back copy. On Err `into` is no copy of anything.
+    fn save_checked_into(&self, into: &mut Self::State) -> Result<(), String> {
+        self.check_current()?;
+        self.save_into(into);
+        Ok(())
+    }
 }
 
 impl Dynamics for Simulation {
@@ -99,6 +107,10 @@ impl Dynamics for Simulation {
     }
     fn check_current(&self) -> Result<(), String> {
         check_sim_state(self.current(), self.step_size())
+    }
+    fn save_checked_into(&self, into: &mut SimState) -> Result<(), String> {
+        // (The same rules as `check_sim_state`.)
+        into.copy_checked_from(self.current(), self.step_size())
     }
 }
 

@@ -12,6 +12,7 @@ pub mod experiment;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
 mod restore;
+mod rollback;
 pub mod snapshot;
 mod step;
 mod structure;
@@ -122,11 +123,22 @@ pub struct Model<D: Dynamics> {
     outputs_now: Option<Vec<f64>>,
     /// How many outputs the table has (fixed with the table).
     output_count: usize,
-    /// The state at the start of the last communication step, for its
-    /// roll-back: kept between steps so that taking the next one copies
-    /// into its storage instead of allocating a new state.
-    rollback: Option<D::State>,
+    /// The communication step's roll-back copies, kept between steps (no
+    /// allocation per step); out of date once anything changes the state
+    /// (`changing`).
+    rollback: rollback::RollBack<D::State>,
+    /// Per value reference, the index among the outputs of a Real output
+    /// (`NOT_A_REAL_OUTPUT` for every other variable): what the Real
+    /// getter reads after every step, without the general path.
+    real_slots: Vec<u32>,
+    /// The value references of the last Real read that asked for Real
+    /// outputs only, and their `real_slots`: an importer reads the same
+    /// list after every step, which then needs no look-up per variable.
+    last_reals: (Vec<u32>, Vec<u32>),
 }
+
+/// `real_slots` of a variable that is not a Real output.
+const NOT_A_REAL_OUTPUT: u32 = u32::MAX;
 
 /// What a step is determined by, besides the state: its time, size, inputs.
 #[derive(Debug, Clone, PartialEq)]
@@ -214,6 +226,16 @@ impl<D: Dynamics> Model<D> {
         sim.output_values(&mut start_values);
         table.set_output_nominals(&start_values);
         let output_count = table.outputs().count();
+        let real_slots = table
+            .variables()
+            .iter()
+            .map(|v| match v.role {
+                Role::Output(k) if v.ty == VarType::Real => {
+                    u32::try_from(k).unwrap_or(NOT_A_REAL_OUTPUT)
+                }
+                _ => NOT_A_REAL_OUTPUT,
+            })
+            .collect();
         Ok(Model {
             table,
             start_scene: scene.clone(),
@@ -228,7 +250,9 @@ impl<D: Dynamics> Model<D> {
             new_events: Vec::new(),
             outputs_now: None,
             output_count,
-            rollback: None,
+            rollback: rollback::RollBack::new(),
+            real_slots,
+            last_reals: (Vec::new(), Vec::new()),
         })
     }
 
@@ -236,6 +260,7 @@ impl<D: Dynamics> Model<D> {
     /// the parameters: the outputs kept for the getters are out of date.
     fn changing(&mut self) {
         self.outputs_now = None;
+        self.rollback.invalidate();
     }
 
     pub fn table(&self) -> &VariableTable {
@@ -411,6 +436,88 @@ impl<D: Dynamics> Model<D> {
             put(value);
         }
         Ok(())
+    }
+
+    /// `get` of Real variables into `out` (as long as `vrs`). The outputs,
+    /// which an importer reads after every step, are read through
+    /// `real_slots`. On an error some values may have been written already.
+    pub fn get_reals(&mut self, vrs: &[u32], out: &mut [f64]) -> Result<(), ModelError> {
+        if out.len() != vrs.len() {
+            return err(format!(
+                "{} value references but room for {} values",
+                vrs.len(),
+                out.len()
+            ));
+        }
+        if !vrs.is_empty() && vrs == self.last_reals.0 {
+            self.current_outputs()?;
+            let outputs = self.outputs_now.as_deref().expect("just computed");
+            for (o, &k) in out.iter_mut().zip(&self.last_reals.1) {
+                *o = outputs[k as usize];
+            }
+            return Ok(());
+        }
+        for (i, &vr) in vrs.iter().enumerate() {
+            if self.real_slot(vr) != NOT_A_REAL_OUTPUT {
+                // Computed once here; the rest is read without `&mut self`.
+                self.current_outputs()?;
+                let outputs = self.outputs_now.as_deref().expect("just computed");
+                self.reals_with_outputs(&vrs[i..], outputs, &mut out[i..])?;
+                if i == 0 {
+                    self.remember_reals(vrs);
+                }
+                return Ok(());
+            }
+            out[i] = self.real_value(vr, &[])?;
+        }
+        Ok(())
+    }
+
+    /// Keep `vrs` in `last_reals` if they are all Real outputs.
+    fn remember_reals(&mut self, vrs: &[u32]) {
+        let (last, slots) = &mut self.last_reals;
+        last.clear();
+        slots.clear();
+        for &vr in vrs {
+            let k = self.real_slots.get(vr as usize).copied();
+            match k.filter(|&k| k != NOT_A_REAL_OUTPUT) {
+                Some(k) => slots.push(k),
+                None => return slots.clear(),
+            }
+        }
+        last.extend_from_slice(vrs);
+    }
+
+    fn real_slot(&self, vr: u32) -> u32 {
+        self.real_slots
+            .get(vr as usize)
+            .copied()
+            .unwrap_or(NOT_A_REAL_OUTPUT)
+    }
+
+    /// `get_reals` once the outputs are known.
+    fn reals_with_outputs(
+        &self,
+        vrs: &[u32],
+        outputs: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), ModelError> {
+        for (&vr, o) in vrs.iter().zip(out) {
+            *o = match outputs.get(self.real_slot(vr) as usize) {
+                Some(&x) => x,
+                None => self.real_value(vr, outputs)?,
+            };
+        }
+        Ok(())
+    }
+
+    /// The value of Real variable `vr` by the general path.
+    fn real_value(&self, vr: u32, outputs: &[f64]) -> Result<f64, ModelError> {
+        let role = self.variable(vr, VarType::Real)?.role;
+        Ok(match self.value_of(role, VarType::Real, outputs) {
+            Value::Real(x) => x,
+            _ => f64::NAN,
+        })
     }
 
     /// The value of a variable of type `ty` and role `role`; `outputs`:

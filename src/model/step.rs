@@ -8,7 +8,6 @@ use super::{
 };
 use crate::report::non_finite_output;
 use crate::simulation::Advance;
-use std::time::Duration;
 
 impl<D: Dynamics> Model<D> {
     /// Refuse a run that would need more than `MAX_RUN_STEPS` internal steps:
@@ -105,13 +104,14 @@ impl<D: Dynamics> Model<D> {
                 });
             }
         }
-        // The outputs' storage is reused for the step's outputs.
+        // The outputs' storage is reused for the step's outputs. (Not
+        // `changing`: the roll-back copy is the step's own business.)
         let spare = self.outputs_now.take().unwrap_or_default();
-        self.changing();
         let events_before = self.sim.as_ref().map_or(0, |s| s.event_count());
         let outcome = self.advance(t + h, spare)?;
         self.new_events = match (&outcome, &self.sim) {
             (StepOutcome::Failed { .. }, _) | (_, None) => Vec::new(),
+            (_, Some(sim)) if sim.event_count() == events_before => Vec::new(),
             (_, Some(sim)) => sim.events_since(events_before),
         };
         self.discarded = match &outcome {
@@ -132,19 +132,13 @@ impl<D: Dynamics> Model<D> {
     /// for the outputs.
     fn advance(&mut self, to: f64, spare: Vec<f64>) -> Result<StepOutcome, ModelError> {
         let (now, t0, step) = (self.time(), self.start_time, self.scene.solver.step);
-        let budget = Duration::try_from_secs_f64(self.wall_time_budget).unwrap_or(Duration::MAX);
+        let budget = self.wall_time_budget;
         let probe = (to - now).min(step) / 1024.0;
         let sim = self.sim.as_mut().expect("running model has a simulation");
         if let Some(time) = sim.exit_time() {
             return Ok(StepOutcome::Exited { time: t0 + time });
         }
-        let saved = match &mut self.rollback {
-            Some(saved) => {
-                sim.save_into(saved);
-                saved
-            }
-            none => none.insert(sim.state()),
-        };
+        let (saved, next) = self.rollback.start(sim);
         let start = sim.time();
         let rolled_back = || format!("step rolled back to t = {now} s");
         let outcome = match advance::advance_within(sim, to - t0, step, budget) {
@@ -172,10 +166,13 @@ impl<D: Dynamics> Model<D> {
                 curable: true,
             },
         };
-        let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back, spare);
+        let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back, spare, next);
         if let StepOutcome::Failed { .. } = outcome {
             sim.restore(saved)
                 .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
+            self.rollback.restored();
+        } else {
+            self.rollback.completed();
         }
         // (Of the table's length: otherwise the getters' own check speaks.)
         let outputs_in_table = self.output_count;
@@ -186,25 +183,27 @@ impl<D: Dynamics> Model<D> {
 
 /// A step that ended with a non-finite output, or in a state that
 /// could not be restored, failed (no step size cures an overflow); one
-/// that did not hands back the outputs it checked, for the getters.
+/// that did not hands back the outputs it checked, for the getters, and
+/// its state is copied into `next` (the next step's roll-back copy).
 fn check_reached<D: Dynamics>(
     sim: &D,
     outcome: StepOutcome,
     t0: f64,
     rolled_back: impl Fn() -> String,
     mut values: Vec<f64>,
+    next: &mut D::State,
 ) -> (StepOutcome, Option<Vec<f64>>) {
     if let StepOutcome::Failed { .. } = outcome {
         return (outcome, None);
     }
     let at = t0 + sim.time();
-    values.clear();
+    // (`output_values` writes every value: no need to clear them first.)
     values.resize(sim.outputs().len(), 0.0);
     sim.output_values(&mut values);
     let problem = match non_finite_output(sim.outputs(), &values) {
         Some(bad) => Some(format!("{bad} at t = {at} s")),
         None => sim
-            .check_current()
+            .save_checked_into(next)
             .err()
             .map(|e| format!("the state at t = {at} s is unusable: {e}")),
     };

@@ -650,3 +650,108 @@ fn coupling_loads_add_to_the_applied_force_and_accelerations_follow_the_last_ste
     assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} vs {b}");
     assert_ne!(run(-6e5, -1e5)[1], whole[1], "the coupling load acts");
 }
+
+// ---- the per-step path: roll-back copies kept between steps, Real getters --------
+
+/// The state a failed step goes back to is the one the last completed step
+/// reached, also when the steps before it took no copy of their own (their
+/// copies come from the check of the step before).
+#[test]
+fn a_failed_step_after_completed_ones_rolls_back_to_the_last_of_them() {
+    let mut m = model(BodyKind::Glider);
+    m.initialize().unwrap();
+    let fy = vr(&m, "glider.force_y");
+    m.set(&[fy], &[Value::Real(2.0 * FINE_FORCE)]).unwrap();
+    let mut t = 0.0;
+    for _ in 0..3 {
+        assert_eq!(m.do_step(t, FINE_STEP).unwrap(), StepOutcome::Completed);
+        t += FINE_STEP;
+    }
+    let before = m.snapshot().sim.unwrap();
+    let x = real(&mut m, "glider.x");
+    let (_, curable) = failed(m.do_step(t, 0.1).unwrap());
+    assert!(curable);
+    assert_eq!(m.snapshot().sim.unwrap(), before);
+    assert_eq!(real(&mut m, "glider.x"), x);
+    // and on from there as if it had not failed
+    assert_eq!(m.do_step(t, FINE_STEP).unwrap(), StepOutcome::Completed);
+    let (_, curable) = failed(m.do_step(t + FINE_STEP, 0.1).unwrap());
+    assert!(curable);
+    assert!((m.time() - (t + FINE_STEP)).abs() < 1e-15);
+}
+
+/// The same with the real physics, whose copy for the next step is taken
+/// as the state a step reaches is checked (`SimState::copy_checked_from`).
+#[test]
+fn the_simulation_rolls_back_to_the_state_the_last_step_reached() {
+    use crate::simulation::Simulation;
+    let scene = Scene::lee1994(BodyKind::Glider, 30.0, 0.005);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    m.initialize().unwrap();
+    for k in 0..5 {
+        m.do_step(k as f64 * 0.1, 0.1).unwrap();
+    }
+    let reached = m.snapshot();
+    // Behind the model's back (so that it keeps the copy it took): a state
+    // whose next step overflows.
+    let sim = m.sim.as_mut().unwrap();
+    let mut state = sim.state();
+    state.dynamic.bodies[0].angle = f64::MAX;
+    state.dynamic.bodies[0].angular_velocity = f64::MAX;
+    sim.restore(&state).unwrap();
+    let (message, curable) = failed(m.do_step(0.5, 0.1).unwrap());
+    assert!(!curable && message.contains("unusable"), "{message}");
+    // Back to the copy taken when the last step was checked.
+    assert_eq!(m.snapshot().sim, reached.sim);
+    assert_eq!(m.do_step(0.5, 0.1).unwrap(), StepOutcome::Completed);
+}
+
+fn reals(m: &mut Model<FakeDynamics>, vrs: &[u32]) -> Result<Vec<f64>, ModelError> {
+    let mut out = vec![0.0; vrs.len()];
+    m.get_reals(vrs, &mut out).map(|()| out)
+}
+
+#[test]
+fn the_real_getter_reads_what_the_general_getter_does() {
+    let mut m = model(BodyKind::Wheel);
+    let names = [
+        "wheel.x",
+        "wheel.mass",
+        "wheel.force_y",
+        "wheel.vx",
+        "wheel.angular_velocity",
+        "solver.wall_time_budget",
+    ];
+    let all: Vec<u32> = names.iter().map(|n| vr(&m, n)).collect();
+    let outputs = [all[0], all[3], all[4]];
+    let general = |m: &mut Model<FakeDynamics>, vrs: &[u32]| -> Vec<f64> {
+        m.get(VarType::Real, vrs)
+            .unwrap()
+            .into_iter()
+            .map(|v| match v {
+                Value::Real(x) => x,
+                v => panic!("{v:?}"),
+            })
+            .collect()
+    };
+    m.initialize().unwrap();
+    for step in 0..3 {
+        m.do_step(step as f64 * 0.1, 0.1).unwrap();
+        // outputs only (remembered after the first read), then a mixed
+        // list, then the outputs reversed: each read as `get` reads it
+        for vrs in [
+            &outputs[..],
+            &outputs[..],
+            &all[..],
+            &[all[4], all[3], all[0]],
+        ] {
+            assert_eq!(reals(&mut m, vrs).unwrap(), general(&mut m, vrs), "{vrs:?}");
+        }
+    }
+    assert_eq!(reals(&mut m, &[]).unwrap(), Vec::<f64>::new());
+    let iterations = vr(&m, "solver.iterations");
+    for bad in [vec![all[0], 9999], vec![all[0], iterations]] {
+        assert!(reals(&mut m, &bad).is_err(), "{bad:?}");
+    }
+    assert!(m.get_reals(&outputs, &mut [0.0; 2]).is_err());
+}

@@ -583,3 +583,29 @@ fn deflection_is_scaled_by_the_static_peak_of_the_actual_structure() {
         (1e-3, "deflection (mm)".to_string())
     );
 }
+
+/// The branch-free sum (four sums side by side, then the rest) finds a
+/// non-finite value wherever it is, in lists of any length.
+#[test]
+fn a_non_finite_output_is_found_at_any_position() {
+    for n in 0..12 {
+        let outputs: Vec<crate::simulation::OutputInfo> = (0..n)
+            .map(|k| crate::simulation::OutputInfo {
+                name: format!("out{k}"),
+                unit: "",
+                description: String::new(),
+                kind: OutputKind::Real,
+            })
+            .collect();
+        let finite: Vec<f64> = (0..n).map(|k| k as f64 - 1e300).collect();
+        assert_eq!(non_finite_output(&outputs, &finite), None);
+        for k in 0..n {
+            for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut values = finite.clone();
+                values[k] = x;
+                let found = non_finite_output(&outputs, &values);
+                assert_eq!(found, Some(format!("output out{k} is {x}")), "{n} {k}");
+            }
+        }
+    }
+}
