@@ -151,12 +151,59 @@ pub fn add_element_forces(
     let mut rotations = Rotations::default();
     let mut dissipation = 0.0;
     for element in elements {
-        let f = element.forces_with(bodies, &mut rotations);
-        loads[element.body_a] += f.on_a;
-        loads[element.body_b] += f.on_b;
-        dissipation += f.dissipation;
+        dissipation += element.add_loads(bodies, &mut rotations, loads);
     }
     dissipation
+}
+
+impl ForceElement {
+    /// `forces_with` added to `loads`, returning the damper's power: the
+    /// same numbers, with the arithmetic of the element's one direction
+    /// only. `forces_with` multiplies the other component by 0 and adds the
+    /// zero, which the compiler may not drop (it would change a NaN or the
+    /// sign of a zero); in a train's sweeps over its suspensions that
+    /// arithmetic and the returned record were half of the elements' cost.
+    #[inline]
+    fn add_loads(
+        &self,
+        bodies: &[BodyState],
+        rotations: &mut Rotations,
+        loads: &mut [Vector3<f64>],
+    ) -> f64 {
+        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
+        let ra = rotations.offset_of(self.body_a, a, &self.point_a);
+        let rb = rotations.offset_of(self.body_b, b, &self.point_b);
+        // Along d: the component of the separation and of the relative
+        // velocity of the points (ω × r = ω (−r_y, r_x)).
+        let (separation, rate) = match self.direction {
+            Direction::Vertical => (
+                (a.position.y + ra.y) - (b.position.y + rb.y),
+                (a.velocity.y + a.angular_velocity * ra.x)
+                    - (b.velocity.y + b.angular_velocity * rb.x),
+            ),
+            Direction::Longitudinal => (
+                (a.position.x + ra.x) - (b.position.x + rb.x),
+                (a.velocity.x - a.angular_velocity * ra.y)
+                    - (b.velocity.x - b.angular_velocity * rb.y),
+            ),
+        };
+        let elongation = separation - self.rest;
+        let magnitude = self.preload - self.stiffness * elongation - self.damping * rate;
+        // The torque of f d about the centre: r × f d.
+        let (on_a, on_b) = match self.direction {
+            Direction::Vertical => (
+                Vector3::new(0.0, magnitude, ra.x * magnitude),
+                Vector3::new(0.0, -magnitude, -(rb.x * magnitude)),
+            ),
+            Direction::Longitudinal => (
+                Vector3::new(magnitude, 0.0, -(ra.y * magnitude)),
+                Vector3::new(-magnitude, 0.0, rb.y * magnitude),
+            ),
+        };
+        loads[self.body_a] += on_a;
+        loads[self.body_b] += on_b;
+        self.damping * rate * rate
+    }
 }
 
 /// Power the dampers dissipate (W).

@@ -74,6 +74,9 @@ pub struct Hht {
     base: Base,
     /// The dampers' power at the last integration's end configuration.
     end_dissipation: f64,
+    /// Whether the energy the step removes (dampers, structural and
+    /// numerical damping) is booked: off when no sink reads it.
+    books: bool,
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -118,6 +121,7 @@ impl Hht {
             start_internal: z(),
             start_dissipation: 0.0,
             end_dissipation: 0.0,
+            books: true,
             base: Base {
                 known: false,
                 dt: 0.0,
@@ -252,9 +256,21 @@ impl Hht {
             let beam = &system.beam;
             beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
         }
-        self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
-            + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
+        if self.books {
+            self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
+                + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
+        }
         self.start_known = true;
+    }
+
+    /// Book the energy each step removes (`finish_step`), or not: a run
+    /// that reads no energy output carries the start's totals unchanged.
+    pub fn keep_energy_books(&mut self, on: bool) {
+        self.books = on;
+    }
+
+    pub fn keeps_energy_books(&self) -> bool {
+        self.books
     }
 
     /// The energy bookkeeping of the step from `from` that ended in `end`
@@ -262,6 +278,12 @@ impl Hht {
     /// converged, instead of at every iterate.
     pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
         let (start, dt) = (from.state, from.dt);
+        if !self.books {
+            end.beam_dissipated = start.beam_dissipated;
+            end.dissipated = start.dissipated;
+            end.numerical_dissipation = start.numerical_dissipation;
+            return;
+        }
         // Structural damping: the power at the mean velocity, which for the
         // trapezoidal scheme (α = 0) is exactly the energy the step removes.
         self.work.copy_from(&start.beam_velocity);

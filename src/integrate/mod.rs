@@ -293,6 +293,22 @@ impl Integrator {
         }
     }
 
+    /// Book the energy the steps remove (dampers, structural and numerical
+    /// damping), or not (HHT-α; RK4 books it in its stages, always).
+    pub fn keep_energy_books(&mut self, on: bool) {
+        if let Integrator::Hht(hht) = self {
+            hht.keep_energy_books(on);
+        }
+    }
+
+    /// Whether the steps' energy is booked (see `keep_energy_books`).
+    pub fn keeps_energy_books(&self) -> bool {
+        match self {
+            Integrator::Rk4(_) => true,
+            Integrator::Hht(hht) => hht.keeps_energy_books(),
+        }
+    }
+
     /// HHT-α's lagged force laws: the force elements' loads on each body in
     /// the last integration and the bodies the next evaluates them at (see
     /// `Hht::body_predictions`); None for RK4, which evaluates them in its
