@@ -241,8 +241,15 @@ impl ContactFrame {
     ) -> Vector2<f64> {
         let (bt, bn) = self.body_rows(radius);
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
-        let (t_row, n_row) = self.beam_rows(beam.surface_offset);
-        let (vt, vn) = beam.dot_rows(&self.shape, (&t_row, &n_row), beam_velocity);
+        // On rigid ground (no DOFs) the rows are not built: `Shape::dot`
+        // would sum nothing, and the empty sum is taken for the same bits.
+        let (vt, vn) = if self.shape.dofs == [None; 4] && beam.modal().is_none() {
+            let nothing: f64 = std::iter::empty::<f64>().sum();
+            (nothing, nothing)
+        } else {
+            let (t_row, n_row) = self.beam_rows(beam.surface_offset);
+            beam.dot_rows(&self.shape, (&t_row, &n_row), beam_velocity)
+        };
         Vector2::new(bt.dot(&q) - vt, bn.dot(&q) - vn)
     }
 

@@ -69,6 +69,11 @@ pub struct Hht {
     start_known: bool,
     start_internal: DVector<f64>,
     start_dissipation: f64,
+    /// C v* + K u* at the step's predictors u*, v* (which depend on the
+    /// start and the step length `predictor_dt` alone): the same for every
+    /// full integration of the step.
+    predictor_dt: Option<f64>,
+    predictor_internal: DVector<f64>,
     /// The step's first integration, which later ones correct by the
     /// response to their change of load (`beam_step`).
     base: Base,
@@ -120,6 +125,8 @@ impl Hht {
             start_known: false,
             start_internal: z(),
             start_dissipation: 0.0,
+            predictor_dt: None,
+            predictor_internal: z(),
             end_dissipation: 0.0,
             books: true,
             base: Base {
@@ -138,6 +145,7 @@ impl Hht {
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
         self.start_known = false;
+        self.predictor_dt = None;
         self.base.known = false;
         self.prepare_factor(system, dt)
     }
@@ -378,10 +386,14 @@ impl Hht {
         let v1 = &mut end.beam_velocity;
         v1.copy_from(v0);
         v1.axpy(dt * (1.0 - gamma), a0, 1.0);
-        beam.internal_forces(u1, v1, &mut self.scratch, &mut self.work);
+        if self.predictor_dt != Some(dt) {
+            let internal = &mut self.predictor_internal;
+            beam.internal_forces(u1, v1, &mut self.scratch, internal);
+            self.predictor_dt = Some(dt);
+        }
         self.rhs.copy_from(&self.load);
         self.rhs.scale_mut(1.0 + alpha);
-        self.rhs.axpy(-(1.0 + alpha), &self.work, 1.0);
+        self.rhs.axpy(-(1.0 + alpha), &self.predictor_internal, 1.0);
         if alpha != 0.0 {
             self.rhs.axpy(alpha, &self.start_internal, 1.0);
             self.rhs.axpy(-alpha, &start.beam_load, 1.0);
