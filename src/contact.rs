@@ -232,6 +232,7 @@ impl ContactFrame {
     }
 
     /// Velocity error e = rim velocity − surface velocity, in the frame (m/s).
+    #[inline]
     pub fn velocity_error(
         &self,
         beam: &Beam,
@@ -243,7 +244,7 @@ impl ContactFrame {
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
         // On rigid ground (no DOFs) the rows are not built: `Shape::dot`
         // would sum nothing, and the empty sum is taken for the same bits.
-        let (vt, vn) = if self.shape.dofs == [None; 4] && beam.modal().is_none() {
+        let (vt, vn) = if self.shape.dofs.iter().all(Option::is_none) && beam.modal().is_none() {
             let nothing: f64 = std::iter::empty::<f64>().sum();
             (nothing, nothing)
         } else {

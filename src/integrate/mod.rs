@@ -119,8 +119,10 @@ pub fn contact_frames(
     // Each frame written in its slot: a frame returned and pushed was
     // copied twice, a sixth of the frames' cost on a train's ground.
     let n = system.contacts.len();
-    frames.truncate(n);
-    frames.resize(n, ContactFrame::on_ground(&Vector2::zeros()));
+    if frames.len() != n {
+        frames.clear();
+        frames.resize(n, ContactFrame::on_ground(&Vector2::zeros()));
+    }
     for (c, contact) in system.contacts.iter().enumerate() {
         let centre = &contact.point(&bodies[contact.body]).position;
         if system.on_flat_ground(centre, parts[c]) {
