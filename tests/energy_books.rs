@@ -124,7 +124,10 @@ fn rk4_books_always() {
         sim.advance_to(k as f64 * 0.1).unwrap();
     }
     sim.read_only(None);
-    let k = names(&sim).iter().position(|n| n == "energy.balance").unwrap();
+    let k = names(&sim)
+        .iter()
+        .position(|n| n == "energy.balance")
+        .unwrap();
     let mut values = vec![0.0; sim.outputs().len()];
     sim.output_values(&mut values);
     assert!(values[k].is_finite());
