@@ -520,6 +520,38 @@ mod tests {
     }
 
     #[test]
+    fn ground_velocity_error_is_the_general_rows_bit_for_bit() {
+        // Without DOFs the beam rows are skipped; they would give the same.
+        let (beam, _) = deformed_beam();
+        let (state, v) = moving_wheel(&beam);
+        for centre in [Vector2::new(-3.0, 0.4), Vector2::new(30.0, -0.0)] {
+            let frame = ContactFrame::on_ground(&centre);
+            let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
+            let (vt, vn) = beam.dot_rows(&frame.shape, (&t_row, &n_row), &v);
+            let (bt, bn) = frame.body_rows(RADIUS);
+            let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
+            let general = [bt.dot(&q) - vt, bn.dot(&q) - vn];
+            let e = frame.velocity_error(&beam, RADIUS, &state, &v);
+            assert_eq!(e.x.to_bits(), general[0].to_bits());
+            assert_eq!(e.y.to_bits(), general[1].to_bits());
+            // A body at rest: the signs of the zeros agree too.
+            let rest = BodyState {
+                velocity: Vector2::zeros(),
+                angular_velocity: 0.0,
+                ..state
+            };
+            let e = frame.velocity_error(&beam, 0.0, &rest, &v);
+            let (bt, bn) = frame.body_rows(0.0);
+            let general = [
+                bt.dot(&Vector3::zeros()) - vt,
+                bn.dot(&Vector3::zeros()) - vn,
+            ];
+            assert_eq!(e.x.to_bits(), general[0].to_bits());
+            assert_eq!(e.y.to_bits(), general[1].to_bits());
+        }
+    }
+
+    #[test]
     fn foot_point_is_perpendicular_and_crosses_elements() {
         let (beam, u) = deformed_beam();
         // Start the search two elements away from the answer.

@@ -286,6 +286,43 @@ mod tests {
     }
 
     #[test]
+    fn loads_of_one_direction_are_the_general_forces_bit_for_bit() {
+        // `add_element_forces` computes only the element's direction; the
+        // general `forces_with` must give the same bits, turned bodies and
+        // attachment points off the centre included.
+        let bodies = [
+            state(1.0, 2.0, 0.05, 0.7, 0.2),
+            state(1.4, 0.5, -0.02, -0.1, -0.3),
+            state(-7.0, 0.3, 0.0, 0.0, 0.0),
+        ];
+        let mut elements = Vec::new();
+        for direction in [Direction::Vertical, Direction::Longitudinal] {
+            let mut e = element();
+            e.direction = direction;
+            elements.push(e.clone());
+            e.point_b = Vector2::zeros();
+            e.body_b = 2;
+            elements.push(e.clone());
+            e.point_a = Vector2::new(-1.7, 0.0);
+            e.body_a = 1;
+            elements.push(e);
+        }
+        let mut loads = [Vector3::new(1.0, -2.0, 0.5); 3];
+        let power = add_element_forces(&elements, &bodies, &mut loads);
+        let mut expected = [Vector3::new(1.0, -2.0, 0.5); 3];
+        let mut expected_power = 0.0;
+        for e in &elements {
+            let f = e.forces(&bodies);
+            expected[e.body_a] += f.on_a;
+            expected[e.body_b] += f.on_b;
+            expected_power += f.dissipation;
+        }
+        let bits = |l: &[Vector3<f64>; 3]| l.map(|v| v.map(f64::to_bits));
+        assert_eq!(bits(&loads), bits(&expected));
+        assert_eq!(power.to_bits(), expected_power.to_bits());
+    }
+
+    #[test]
     fn damper_power_is_the_dissipation() {
         // The power of the element's forces on both bodies is −(dV/dt) − c δ̇².
         let e = element();
