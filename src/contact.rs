@@ -232,6 +232,7 @@ impl ContactFrame {
     }
 
     /// Velocity error e = rim velocity − surface velocity, in the frame (m/s).
+    #[inline]
     pub fn velocity_error(
         &self,
         beam: &Beam,
@@ -241,8 +242,15 @@ impl ContactFrame {
     ) -> Vector2<f64> {
         let (bt, bn) = self.body_rows(radius);
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
-        let (t_row, n_row) = self.beam_rows(beam.surface_offset);
-        let (vt, vn) = beam.dot_rows(&self.shape, (&t_row, &n_row), beam_velocity);
+        // On rigid ground (no DOFs) the rows are not built: `Shape::dot`
+        // would sum nothing, and the empty sum is taken for the same bits.
+        let (vt, vn) = if self.shape.dofs.iter().all(Option::is_none) && beam.modal().is_none() {
+            let nothing: f64 = std::iter::empty::<f64>().sum();
+            (nothing, nothing)
+        } else {
+            let (t_row, n_row) = self.beam_rows(beam.surface_offset);
+            beam.dot_rows(&self.shape, (&t_row, &n_row), beam_velocity)
+        };
         Vector2::new(bt.dot(&q) - vt, bn.dot(&q) - vn)
     }
 
@@ -509,6 +517,38 @@ mod tests {
         // A smooth, clearly non-trivial shape.
         let u = DVector::from_fn(n, |i, _| 0.05 * ((i as f64) * 1.3).sin());
         (beam, u)
+    }
+
+    #[test]
+    fn ground_velocity_error_is_the_general_rows_bit_for_bit() {
+        // Without DOFs the beam rows are skipped; they would give the same.
+        let (beam, _) = deformed_beam();
+        let (state, v) = moving_wheel(&beam);
+        for centre in [Vector2::new(-3.0, 0.4), Vector2::new(30.0, -0.0)] {
+            let frame = ContactFrame::on_ground(&centre);
+            let (t_row, n_row) = frame.beam_rows(beam.surface_offset);
+            let (vt, vn) = beam.dot_rows(&frame.shape, (&t_row, &n_row), &v);
+            let (bt, bn) = frame.body_rows(RADIUS);
+            let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
+            let general = [bt.dot(&q) - vt, bn.dot(&q) - vn];
+            let e = frame.velocity_error(&beam, RADIUS, &state, &v);
+            assert_eq!(e.x.to_bits(), general[0].to_bits());
+            assert_eq!(e.y.to_bits(), general[1].to_bits());
+            // A body at rest: the signs of the zeros agree too.
+            let rest = BodyState {
+                velocity: Vector2::zeros(),
+                angular_velocity: 0.0,
+                ..state
+            };
+            let e = frame.velocity_error(&beam, 0.0, &rest, &v);
+            let (bt, bn) = frame.body_rows(0.0);
+            let general = [
+                bt.dot(&Vector3::zeros()) - vt,
+                bn.dot(&Vector3::zeros()) - vn,
+            ];
+            assert_eq!(e.x.to_bits(), general[0].to_bits());
+            assert_eq!(e.y.to_bits(), general[1].to_bits());
+        }
     }
 
     #[test]

@@ -445,6 +445,11 @@ impl ContactIteration {
         &self.memo
     }
 
+    /// The time integrator (its energy bookkeeping is switched from outside).
+    pub fn integrator_mut(&mut self) -> &mut Integrator {
+        &mut self.integrator
+    }
+
     /// Which contacts are open in the next steps solved.
     pub fn set_open(&mut self, open: &[bool]) {
         self.open.clear();

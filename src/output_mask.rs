@@ -25,6 +25,20 @@ impl OutputMask {
         }
     }
 
+    /// Whether a read output needs the energy the steps remove (booked by
+    /// the integrator step by step, not computable at the end).
+    pub fn reads_energy_books(&self) -> bool {
+        self.quantities.iter().any(|q| {
+            matches!(
+                q,
+                Quantity::Dissipated
+                    | Quantity::BeamDamping
+                    | Quantity::NumericalDissipation
+                    | Quantity::Balance
+            )
+        })
+    }
+
     /// Every output of `sim` into `out`: the read ones computed, the others 0.
     pub fn values(&self, sim: &Simulation, out: &mut [f64]) {
         let read = self.columns.len();

@@ -406,6 +406,9 @@ pub struct Simulation {
     quantities: Vec<Quantity>,
     /// The outputs computed when a sink reads only some (`read_only`).
     read: Option<crate::output_mask::OutputMask>,
+    /// A step was solved without the energy bookkeeping (no sink read it):
+    /// the energy totals no longer hold, and are reported as NaN.
+    unbooked: bool,
     /// Per-step buffers: the force guesses and the constant body forces.
     guess: Vec<ContactForce>,
     applied: Vec<Vector3<f64>>,
@@ -532,6 +535,7 @@ impl Simulation {
             outputs,
             quantities,
             read: None,
+            unbooked: false,
             guess: Vec::new(),
             applied: Vec::new(),
             open: assembly.open.clone(),
@@ -583,8 +587,22 @@ impl Simulation {
 
     /// Compute only the outputs whose flag in `read` is set (those a sink
     /// reads); the others are reported as 0. `None`: all of them.
+    /// Where no read output needs the energy the steps remove (the
+    /// dissipated energies and the balance), it is not booked.
     pub fn read_only(&mut self, read: Option<&[bool]>) {
         self.read = read.map(|r| crate::output_mask::OutputMask::new(&self.quantities, r));
+        let books = self.read.as_ref().is_none_or(|m| m.reads_energy_books());
+        self.iteration.integrator_mut().keep_energy_books(books);
+    }
+
+    /// `total`, one of the energy totals the steps book, or NaN where a
+    /// step was solved without the bookkeeping (see `read_only`).
+    pub fn booked(&self, total: f64) -> f64 {
+        if self.unbooked {
+            f64::NAN
+        } else {
+            total
+        }
     }
 
     /// Potential energy of the force elements and of the followers'
@@ -612,7 +630,7 @@ impl Simulation {
     pub fn energy_balance_with(&self, spring_energy: f64) -> f64 {
         let d = &self.state.dynamic;
         let s = &self.system;
-        self.body_kinetic_energy()
+        let balance = self.body_kinetic_energy()
             + s.beam.kinetic_energy(&d.beam_velocity)
             + s.beam.strain_energy(&d.beam_displacement)
             + spring_energy
@@ -622,7 +640,8 @@ impl Simulation {
             + self.state.impact_loss
             - self.state.gravity_work
             - self.state.external_work
-            - d.tractive_work
+            - d.tractive_work;
+        self.booked(balance)
     }
 
     pub fn body_kinetic_energy(&self) -> f64 {
@@ -1358,6 +1377,7 @@ impl Simulation {
         applied: &[Vector3<f64>],
         dt: f64,
     ) -> Result<StepSolution, SolverError> {
+        self.unbooked |= !self.iteration.integrator_mut().keeps_energy_books();
         let s = &self.state;
         let solution = self
             .iteration

@@ -245,6 +245,21 @@ impl System {
         }
     }
 
+    /// Whether `contact_frame` of a contact on `part` centred at `centre`
+    /// is `ContactFrame::on_ground(centre)` (flat ground, no profile): the
+    /// frame a caller may build in place (most of a train's contacts are
+    /// on the approach or the run-off). The same cases as `contact_frame`.
+    #[inline]
+    pub fn on_flat_ground(&self, centre: &Vector2<f64>, part: TrackPart) -> bool {
+        self.profile.is_none()
+            && match part {
+                TrackPart::Approach => true,
+                TrackPart::RunOff => centre.x >= self.beam.length || centre.x.is_nan(),
+                TrackPart::Beyond => self.track.open_ends || self.ground_at(centre.x),
+                _ => false,
+            }
+    }
+
     /// The corner at the beam's end `x`, on the profile where there is one.
     fn end_corner(&self, x: f64, centre: &Vector2<f64>) -> Result<ContactFrame, FootPointError> {
         match self.profile.as_ref() {

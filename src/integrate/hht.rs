@@ -69,11 +69,19 @@ pub struct Hht {
     start_known: bool,
     start_internal: DVector<f64>,
     start_dissipation: f64,
+    /// C v* + K u* at the step's predictors u*, v* (which depend on the
+    /// start and the step length `predictor_dt` alone): the same for every
+    /// full integration of the step.
+    predictor_dt: Option<f64>,
+    predictor_internal: DVector<f64>,
     /// The step's first integration, which later ones correct by the
     /// response to their change of load (`beam_step`).
     base: Base,
     /// The dampers' power at the last integration's end configuration.
     end_dissipation: f64,
+    /// Whether the energy the step removes (dampers, structural and
+    /// numerical damping) is booked: off when no sink reads it.
+    books: bool,
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -117,7 +125,10 @@ impl Hht {
             start_known: false,
             start_internal: z(),
             start_dissipation: 0.0,
+            predictor_dt: None,
+            predictor_internal: z(),
             end_dissipation: 0.0,
+            books: true,
             base: Base {
                 known: false,
                 dt: 0.0,
@@ -134,6 +145,7 @@ impl Hht {
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
         self.start_known = false;
+        self.predictor_dt = None;
         self.base.known = false;
         self.prepare_factor(system, dt)
     }
@@ -252,9 +264,21 @@ impl Hht {
             let beam = &system.beam;
             beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
         }
-        self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
-            + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
+        if self.books {
+            self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
+                + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
+        }
         self.start_known = true;
+    }
+
+    /// Book the energy each step removes (`finish_step`), or not: a run
+    /// that reads no energy output carries the start's totals unchanged.
+    pub fn keep_energy_books(&mut self, on: bool) {
+        self.books = on;
+    }
+
+    pub fn keeps_energy_books(&self) -> bool {
+        self.books
     }
 
     /// The energy bookkeeping of the step from `from` that ended in `end`
@@ -262,6 +286,12 @@ impl Hht {
     /// converged, instead of at every iterate.
     pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
         let (start, dt) = (from.state, from.dt);
+        if !self.books {
+            end.beam_dissipated = start.beam_dissipated;
+            end.dissipated = start.dissipated;
+            end.numerical_dissipation = start.numerical_dissipation;
+            return;
+        }
         // Structural damping: the power at the mean velocity, which for the
         // trapezoidal scheme (α = 0) is exactly the energy the step removes.
         self.work.copy_from(&start.beam_velocity);
@@ -356,10 +386,14 @@ impl Hht {
         let v1 = &mut end.beam_velocity;
         v1.copy_from(v0);
         v1.axpy(dt * (1.0 - gamma), a0, 1.0);
-        beam.internal_forces(u1, v1, &mut self.scratch, &mut self.work);
+        if self.predictor_dt != Some(dt) {
+            let internal = &mut self.predictor_internal;
+            beam.internal_forces(u1, v1, &mut self.scratch, internal);
+            self.predictor_dt = Some(dt);
+        }
         self.rhs.copy_from(&self.load);
         self.rhs.scale_mut(1.0 + alpha);
-        self.rhs.axpy(-(1.0 + alpha), &self.work, 1.0);
+        self.rhs.axpy(-(1.0 + alpha), &self.predictor_internal, 1.0);
         if alpha != 0.0 {
             self.rhs.axpy(alpha, &self.start_internal, 1.0);
             self.rhs.axpy(-alpha, &start.beam_load, 1.0);

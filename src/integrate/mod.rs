@@ -10,7 +10,7 @@ mod memo;
 mod profile;
 mod rk4;
 
-use nalgebra::{DVector, Vector3};
+use nalgebra::{DVector, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::body::BodyState;
@@ -116,16 +116,29 @@ pub fn contact_frames(
     (guesses, parts): (&[f64], &[TrackPart]),
     frames: &mut Vec<ContactFrame>,
 ) -> Result<(), IntegrationError> {
-    frames.clear();
+    // Each frame written in its slot: a frame returned and pushed was
+    // copied twice, a sixth of the frames' cost on a train's ground.
+    let n = system.contacts.len();
+    if frames.len() != n {
+        frames.clear();
+        frames.resize(n, ContactFrame::on_ground(&Vector2::zeros()));
+    }
     for (c, contact) in system.contacts.iter().enumerate() {
         let centre = &contact.point(&bodies[contact.body]).position;
-        let frame = system
-            .contact_frame(u, centre, guesses[c], parts[c])
-            .map_err(|e| IntegrationError::LostContact {
-                contact: c,
-                x: e.last_x,
-            })?;
-        frames.push(frame);
+        if system.on_flat_ground(centre, parts[c]) {
+            frames[c] = ContactFrame::on_ground(centre);
+            continue;
+        }
+        match system.contact_frame(u, centre, guesses[c], parts[c]) {
+            Ok(frame) => frames[c] = frame,
+            Err(e) => {
+                frames.truncate(c);
+                return Err(IntegrationError::LostContact {
+                    contact: c,
+                    x: e.last_x,
+                });
+            }
+        }
     }
     Ok(())
 }
@@ -290,6 +303,22 @@ impl Integrator {
     pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
         if let Integrator::Hht(hht) = self {
             hht.finish_step(system, from, end);
+        }
+    }
+
+    /// Book the energy the steps remove (dampers, structural and numerical
+    /// damping), or not (HHT-α; RK4 books it in its stages, always).
+    pub fn keep_energy_books(&mut self, on: bool) {
+        if let Integrator::Hht(hht) = self {
+            hht.keep_energy_books(on);
+        }
+    }
+
+    /// Whether the steps' energy is booked (see `keep_energy_books`).
+    pub fn keeps_energy_books(&self) -> bool {
+        match self {
+            Integrator::Rk4(_) => true,
+            Integrator::Hht(hht) => hht.keeps_energy_books(),
         }
     }
 
