@@ -21,11 +21,12 @@ use crate::system::{System, TrackPart};
 const MAX_COORDINATES: usize = 1024;
 
 /// The frames of one configuration: the structure's state vector, the
-/// bodies' centres and each contact's part of the track.
+/// bodies' centres and angles (a follower hangs off its body's centre, so
+/// its frame turns with the body) and each contact's part of the track.
 #[derive(Debug, Clone, Default)]
 pub struct FrameMemo {
     displacement: DVector<f64>,
-    centres: Vec<Vector2<f64>>,
+    poses: Vec<(Vector2<f64>, f64)>,
     parts: Vec<TrackPart>,
     frames: Vec<ContactFrame>,
     kept: bool,
@@ -52,8 +53,8 @@ impl FrameMemo {
         } else {
             self.displacement = u.clone();
         }
-        self.centres.clear();
-        self.centres.extend(bodies.iter().map(|b| b.position));
+        self.poses.clear();
+        self.poses.extend(bodies.iter().map(|b| (b.position, b.angle)));
         self.parts.clear();
         self.parts.extend_from_slice(parts);
         self.frames.clear();
@@ -76,9 +77,10 @@ impl FrameMemo {
                 .iter()
                 .zip(u.iter())
                 .all(|(&a, &b)| bits(a, b))
-            && self.centres.len() == bodies.len()
-            && (self.centres.iter().zip(bodies))
-                .all(|(c, b)| bits(c.x, b.position.x) && bits(c.y, b.position.y))
+            && self.poses.len() == bodies.len()
+            && (self.poses.iter().zip(bodies)).all(|((c, angle), b)| {
+                bits(c.x, b.position.x) && bits(c.y, b.position.y) && bits(*angle, b.angle)
+            })
             && self.frames.len() == guesses.len()
             && self.frames.iter().zip(guesses).all(|(f, &g)| bits(f.x, g));
         same.then_some(self.frames.as_slice())
@@ -164,6 +166,10 @@ mod tests {
         assert!(memo
             .recall((&u, &moved_bodies), (&guesses, &parts))
             .is_none());
+        // A body turned about its centre moves the followers hung off it.
+        let mut turned = bodies.clone();
+        turned[0].angle += 1e-12;
+        assert!(memo.recall((&u, &turned), (&guesses, &parts)).is_none());
         let other_guesses = [guesses[0], guesses[1] + 1e-9];
         assert!(memo
             .recall((&u, &bodies), (&other_guesses, &parts))
