@@ -88,7 +88,12 @@ impl Simulation {
             if !near_corner(&self.system, part, start.position.x, end.position.x, reach) {
                 continue;
             }
-            let before = past_corner(&self.system, part, &self.state.dynamic.beam_displacement, start);
+            let before = past_corner(
+                &self.system,
+                part,
+                &self.state.dynamic.beam_displacement,
+                start,
+            );
             let after = past_corner(&self.system, part, &self.scratch.beam_displacement, end);
             let (Some(s0), Some(s1)) = (before, after) else {
                 continue;
@@ -180,7 +185,9 @@ fn past_corner(
         // Searched from just inside the piece, as its frames are.
         _ => {
             let inside = corner + 1e-9 * system.beam.length;
-            foot_point_on(&system.beam, system.profile.as_ref(), u, centre, inside).ok()?.x
+            foot_point_on(&system.beam, system.profile.as_ref(), u, centre, inside)
+                .ok()?
+                .x
         }
     };
     Some(foot - corner)
