@@ -98,7 +98,11 @@ impl Simulation {
             let (Some(s0), Some(s1)) = (before, after) else {
                 continue;
             };
-            if s0 < -tolerance && s1 > tolerance {
+            // The foot point moves with the attachment: a larger change is
+            // a jump (no instant to locate; a step shortened towards it
+            // would shrink without end), taken as the step found it.
+            let moved = (end.position - start.position).norm();
+            if s0 < -tolerance && s1 > tolerance && s1 - s0 <= 2.0 * moved + tolerance {
                 let fraction = s0 / (s0 - s1);
                 if first.is_none_or(|(f, _)| fraction < f) {
                     first = Some((fraction, c));
