@@ -13,13 +13,14 @@
 //! run-off's corner at the beam's end, a piece's start after a rail gap)
 //! it turns about the corner, its force's direction sweeping from one
 //! surface's normal to the other's, until its attachment is over the
-//! surface beyond: h sin φ of travel, well under a microsecond. Inside a
-//! step that sweep is a jump of the force's direction by the slope φ,
-//! which RK4 (its first stage before the jump: weight 1/6) and the
-//! trapezoidal rule of HHT-α (1/2) average wrongly: the energy balance
-//! gains P φ v Δt / 6 (or / 2) at each such corner, first order in the
-//! step. So the step ends where the follower leaves the corner, located
-//! like a track event, and each side of it is smooth.
+//! surface beyond: h sin φ of travel (1e-5 m, 0.4 µs for a coach's
+//! followers entering at 100 km/h). Inside a step that sweep is a jump of
+//! the force's direction by the slope φ, which RK4 (its first stage before
+//! the jump: weight 1/6) and the trapezoidal rule of HHT-α (1/2) average
+//! wrongly: the energy balance gains P φ v Δt / 6 (or / 2) at each such
+//! corner, first order in the step. So the step ends where the follower
+//! leaves the corner, located like a track event, and each side of it is
+//! smooth.
 
 use nalgebra::{DVector, Vector2};
 
