@@ -883,6 +883,18 @@ impl Simulation {
         let landing = self
             .first_landing()
             .filter(|&(f, _)| track.is_none_or(|(g, ..)| f < g));
+        // A follower leaving a corner of the track ends the step there
+        // (`follower.rs`).
+        let first = landing.map(|l| l.0).or(track.map(|t| t.0));
+        if let Some((_, c)) = self
+            .first_corner_departure()
+            .filter(|&(f, _)| first.is_none_or(|g| f < g))
+        {
+            let (solution, dt) = self.locate_corner_departure(c, &solution.forces, dt)?;
+            self.record_lift_offs();
+            self.accept(solution, dt);
+            return Ok(false);
+        }
         if let Some((fraction, contact)) = landing {
             if fraction == 0.0 {
                 // Back on the track within the step it bounced in: the

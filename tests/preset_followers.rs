@@ -475,20 +475,22 @@ fn the_energy_balance_holds_for_followers_under_a_bogie_and_a_maglev_vehicle() {
 
 #[test]
 fn a_bogie_vehicle_on_followers_runs_from_the_approach_onto_the_run_off() {
-    // Followers, unlike glider wheelsets, pass the beam's ends: their
-    // force is a function of the state, and a kink of the surface is a
-    // kink of it. Entering a beam already deflected by the wheelsets ahead,
-    // a follower leans on the beam's start (a corner) until its attachment
-    // is h sin φ past it, then on the sloped surface: its gap rate kinks
-    // by v φ inside a step, and the energy balance drifts there at first
-    // order in the step, as for wheels (`tests/bogie_vehicle.rs`).
-    // Asserted: four entries and four exits, and a drift that halves with
-    // the step.
+    // Followers, unlike glider wheelsets, pass the beam's ends. Entering a
+    // beam already deflected by the followers ahead, a follower leans on
+    // the beam's start (a corner) until its attachment is h sin φ past it,
+    // then on the sloped surface: its force turns by φ within a fraction
+    // of a microsecond. The step ends there (located like a track event),
+    // and likewise where it leaves the run-off's corner; inside a step
+    // that turn cost the balance P φ v Δt / 6 (RK4) or / 2 (HHT-α) per
+    // corner, first order in the step (1.7e-3 J at 50 µs).
+    // Asserted: four entries and four exits; under RK4 a drift at the
+    // balance's round-off (the step's own error lies below it), under
+    // HHT-α one that falls by four when the step is halved.
     let speed = 100.0 / 3.6;
     let reach = LC + LT;
     let start = -25.0 + reach + 1.0;
     let end_time = (25.0 + 25.0 - 1.0 - reach - start) / speed;
-    for (hht, step) in [(false, 5e-5), (true, 1e-4)] {
+    for (hht, step) in [(false, 5e-5), (true, 2e-4)] {
         let mut drifts = Vec::new();
         for step in [step, 0.5 * step] {
             let mut scene = coach(0.0, 1, start, speed, end_time);
@@ -513,14 +515,18 @@ fn a_bogie_vehicle_on_followers_runs_from_the_approach_onto_the_run_off() {
             );
             assert_eq!((count(EventKind::Entry), count(EventKind::Exit)), (4, 4));
             assert!(work > 100.0, "{work}");
-            assert!(drift < 1e-4 * work, "drift {drift} J of {work} J");
+            if !hht {
+                assert!(drift < 1e-8 * work, "drift {drift} J of {work} J");
+            }
             drifts.push(drift);
         }
-        let ratio = drifts[0] / drifts[1];
-        assert!(
-            (1.6..2.5).contains(&ratio),
-            "drift ratio {ratio} at half the step"
-        );
+        if hht {
+            let ratio = drifts[0] / drifts[1];
+            assert!(
+                (3.2..5.0).contains(&ratio),
+                "drift ratio {ratio} at half the step"
+            );
+        }
     }
 }
 

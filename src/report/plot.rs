@@ -158,10 +158,11 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             .collect(),
     };
 
-    let body = &scene.body.name;
-    let speed = trace
-        .column(&output_names::nominal_speed(body))
-        .map(|v| curve(format!("{body}.nominal_speed"), v, 1.0));
+    let (speed_title, speed_columns) = speed_columns(scene, trace);
+    let speeds = speed_columns
+        .iter()
+        .filter_map(|name| trace.column(name).map(|v| curve(name.clone(), v, 1.0)))
+        .collect();
 
     let (scale, y_label) = deflection_scale(scene);
     let deflections = scene
@@ -185,10 +186,10 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
 
     let mut panels = vec![
         Panel {
-            title: "Nominal speed".to_string(),
+            title: speed_title.to_string(),
             y_label: "V (m/s)".to_string(),
             y_decimals: Some(2),
-            curves: speed.into_iter().collect(),
+            curves: speeds,
             flights: Vec::new(),
         },
         Panel {
@@ -199,6 +200,10 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             flights: Vec::new(),
         },
     ];
+    // Nothing to show (moving forces have no body): no empty frame.
+    if speed_columns.is_empty() {
+        panels.remove(0);
+    }
     let flights = flights(trace, x);
     if has_vehicles(scene) || !flights.is_empty() {
         let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
@@ -250,6 +255,33 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         flights: Vec::new(),
     });
     panels
+}
+
+/// The speed panel's title and its columns, one per vehicle: the nominal
+/// speed (eq. 24) of a vehicle that is one rolling or gliding body (the
+/// paper's wheel, a sprung mass on a follower), else its main body's
+/// horizontal velocity `<name>.vx` (the car body of a bogie or maglev
+/// vehicle, the sprung body: their wheelsets, magnets and followers each
+/// have a nominal speed of their own, not one for the vehicle). Columns
+/// the trace lacks are left out.
+fn speed_columns(scene: &Scene, trace: &Trace) -> (&'static str, Vec<String>) {
+    let vehicles = std::iter::once(&scene.body).chain(&scene.vehicles);
+    let columns: Vec<String> = vehicles
+        .filter_map(|vehicle| {
+            let nominal = output_names::nominal_speed(&vehicle.name);
+            let vx = format!("{}.vx", vehicle.name);
+            [nominal, vx]
+                .into_iter()
+                .find(|name| trace.column(name).is_some())
+        })
+        .collect();
+    let nominal = columns.iter().all(|c| c.ends_with(".nominal_speed"));
+    let title = if nominal {
+        "Nominal speed"
+    } else {
+        "Speed of each vehicle"
+    };
+    (title, columns)
 }
 
 /// The spans of `x` in which any contact is open (its `.state` is 0).
@@ -444,4 +476,69 @@ fn padded_range(values: impl Iterator<Item = f64>) -> Range<f64> {
         return (low - pad)..(high + pad);
     }
     (low - 0.05 * span)..(high + 0.05 * span)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::builtin;
+    use crate::simulation::Simulation;
+
+    /// The trace of `steps` grid steps of a built-in scene, and its x axis.
+    fn run(name: &str, steps: usize) -> (Scene, Trace, Vec<f64>) {
+        let scene = builtin(name).expect(name);
+        let mut sim = Simulation::new(&scene).expect("builds");
+        let mut trace = Trace::for_outputs(sim.outputs());
+        let mut values = vec![0.0; trace.names.len()];
+        for k in 0..=steps {
+            sim.advance_to(k as f64 * scene.solver.step).expect("steps");
+            sim.output_values(&mut values);
+            trace.push(sim.time(), &values);
+        }
+        let (x, _) = normalised_time(&scene, &trace);
+        (scene, trace, x)
+    }
+
+    #[test]
+    fn bogie_vehicles_plot_each_vehicles_speed() {
+        let (scene, trace, x) = run("train-2-coaches-2x40-100", 4);
+        let panels = panels(&scene, &trace, &x);
+        let speed = &panels[0];
+        assert_eq!(speed.title, "Speed of each vehicle");
+        let labels: Vec<&str> = speed.curves.iter().map(|c| c.label.as_str()).collect();
+        assert_eq!(labels, ["coach1.vx", "coach2.vx"]);
+        for curve in &speed.curves {
+            assert_eq!(curve.points.len(), 5, "{}", curve.label);
+            for &(_, v) in &curve.points {
+                assert!((v - scene.body.initial_speed).abs() < 1e-3, "{v}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_paper_wheel_plots_its_nominal_speed() {
+        let (scene, trace, x) = run(crate::scene::DEFAULT_SCENE, 2);
+        let panels = panels(&scene, &trace, &x);
+        assert_eq!(panels[0].title, "Nominal speed");
+        assert_eq!(panels[0].curves.len(), 1);
+        assert_eq!(panels[0].curves[0].label, "wheel.nominal_speed");
+        assert_eq!(panels[0].curves[0].points.len(), 3);
+    }
+
+    #[test]
+    fn without_any_speed_output_there_is_no_speed_panel() {
+        let mut trace = Trace::with_names(["sensor.midspan.deflection", "energy.balance"]);
+        trace.push(0.0, &[0.0, 1.0]);
+        trace.push(0.01, &[-0.1, 1.0]);
+        let scene = builtin(crate::scene::DEFAULT_SCENE).unwrap();
+        let (x, _) = normalised_time(&scene, &trace);
+        let titles: Vec<String> = panels(&scene, &trace, &x)
+            .into_iter()
+            .map(|p| p.title)
+            .collect();
+        assert_eq!(
+            titles,
+            ["Sensor deflection", "Energy balance, relative drift"]
+        );
+    }
 }
