@@ -145,6 +145,9 @@ struct Delassus {
     /// The end frames the step's operators are measured in: those of the
     /// integration at which the first of them was built.
     frames: Vec<ContactFrame>,
+    /// Whether the steps solved share the operators built by the first of
+    /// them (`share_operator`).
+    shared: bool,
 }
 
 /// Which of the two operators.
@@ -424,6 +427,7 @@ impl ContactIteration {
                 built: false,
                 gap_built: false,
                 frames: Vec::new(),
+                shared: false,
             },
             measured_elements: Vec::new(),
             loaded_elements: Vec::new(),
@@ -461,6 +465,17 @@ impl ContactIteration {
     pub fn set_force_shapes(&mut self, shapes: &[ForceShape]) {
         self.shapes.clear();
         self.shapes.extend_from_slice(shapes);
+    }
+
+    /// From `share_operator(true)` to `share_operator(false)`, the steps
+    /// solved keep the operators the first of them built, for steps from
+    /// one state with one length and one open set (a restart's trial steps:
+    /// the caller's promise). Each step still converges to the tolerances;
+    /// only the way there changes.
+    pub fn share_operator(&mut self, shared: bool) {
+        self.delassus.shared = shared;
+        self.delassus.built = false;
+        self.delassus.gap_built = false;
     }
 
     /// Every contact's gap g at the end of the last step solved (m).
@@ -879,8 +894,10 @@ impl ContactIteration {
         end: &mut DynamicState,
     ) -> Result<StepSolution, StepError> {
         // Built once per step, on the first correction that needs it.
-        self.delassus.built = false;
-        self.delassus.gap_built = false;
+        if !self.delassus.shared {
+            self.delassus.built = false;
+            self.delassus.gap_built = false;
+        }
         self.previous_bodies.clear();
         let mut iterations = self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
