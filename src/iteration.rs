@@ -591,12 +591,23 @@ impl ContactIteration {
 
     /// Fill the cached responses of every (measured, loaded) pair of the
     /// given elements that is missing: four beam integrations per loaded
-    /// element, measured at all elements at once.
+    /// element, measured at all elements at once. Where every pair fits in
+    /// the cache, a loaded element's responses are kept at every element:
+    /// measured only where the contacts were, its four integrations were
+    /// repeated each time a contact entered another element.
     fn fill_element_responses(&mut self, system: &System, measured: &[usize], loaded: &[usize]) {
         if self.element_responses.len() > MAX_CACHED_PAIRS {
             self.element_responses.clear();
         }
         let beam = &system.beam;
+        let elements = beam.elements();
+        let every: Vec<usize>;
+        let measured = if elements * elements <= MAX_CACHED_PAIRS {
+            every = (0..elements).collect();
+            &every
+        } else {
+            measured
+        };
         self.reserve_responses(4);
         for &le in loaded {
             if measured
