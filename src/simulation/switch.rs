@@ -245,9 +245,10 @@ impl Simulation {
         let resolved = self.resolved_force(restarted, dt);
         let mut solved_from = forces.clone();
         let mut least = f64::INFINITY;
+        let mut guess = forces.clone();
         for _ in 0..RESTART_PASSES {
             self.restart_from(&forces, restarted)?;
-            let trial = self.solve(&forces, dt);
+            let trial = self.solve(&guess, dt);
             let Ok(trial) = trial else {
                 return Ok(solved_from);
             };
@@ -276,6 +277,12 @@ impl Simulation {
                 f64::INFINITY
             };
             least = change;
+            // The next trial step starts from this one's forces (the same
+            // state, p moved a little): one or two integrations, not five.
+            guess.clone_from(&trial.forces);
+            for c in (0..forces.len()).filter(|&c| restarted[c]) {
+                guess[c] = next[c];
+            }
             solved_from = std::mem::replace(&mut forces, next);
             if change <= RESTART_TOLERANCE * scale || left <= resolved {
                 break;
