@@ -984,14 +984,19 @@ impl ContactIteration {
             self.delassus.gap_built = false;
         }
         self.previous_bodies.clear();
-        let mut iterations = self.velocity_stage(system, from, settings, end)?;
+        let (mut iterations, mut velocity_error) =
+            self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
         self.integrator.finish_step(system, from, end);
         let configuration = (&end.beam_displacement, end.bodies.as_slice());
         self.memo
             .keep(system, configuration, from.parts, &self.end_frames);
-        let velocity_error = self.velocity_errors(system, end);
+        // The velocity stage measured the end state it converged at; the
+        // position stage integrates again (finishing the step moves nothing).
+        if position_iterations > 0 {
+            velocity_error = self.velocity_errors(system, end);
+        }
         let mut forces = self.forces.clone();
         crate::integrate::follower_forces(
             system,
@@ -1009,14 +1014,15 @@ impl ContactIteration {
         })
     }
 
-    /// Velocity stage (eq. 16); returns the integrations it took.
+    /// Velocity stage (eq. 16); returns the integrations it took and the
+    /// largest contact's |e| at its end.
     fn velocity_stage(
         &mut self,
         system: &System,
         from: &StepStart,
         settings: &IterationSettings,
         end: &mut DynamicState,
-    ) -> Result<u32, StepError> {
+    ) -> Result<(u32, f64), StepError> {
         let mut iterations = 0;
         let mut first_residual = None;
         loop {
@@ -1028,7 +1034,7 @@ impl ContactIteration {
             }
             if residual <= settings.velocity_tolerance {
                 if self.settled(system, end, settings.velocity_tolerance) {
-                    return Ok(iterations);
+                    return Ok((iterations, residual));
                 }
                 if iterations >= settings.max_iterations {
                     // The contacts converged; the force laws' fixed point
