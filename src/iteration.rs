@@ -1254,7 +1254,9 @@ mod tests {
         m[(17, 3)] = -0.4;
         let (singles, groups) = decoupled_blocks(&m);
         assert_eq!(singles.len(), n - 7);
-        assert!(singles.iter().all(|i| !big.contains(i) && !pair.contains(i)));
+        assert!(singles
+            .iter()
+            .all(|i| !big.contains(i) && !pair.contains(i)));
         assert_eq!(groups, vec![big.to_vec(), pair.to_vec()]);
         let b = DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() + 0.2);
         let expected = m.clone().lu().solve(&b).unwrap();
