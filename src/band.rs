@@ -293,24 +293,24 @@ impl BandLdlt {
     }
 
     /// Two columns c = 0, 1 of `A⁻¹ (f_c − K u_c)`, A the factored matrix
-    /// and K a band matrix of the same size, handed to `row` one row at a
-    /// time from the last: `row(i, [y₀(i), y₁(i)])`. The same operations in
-    /// the same order as `K.mul_to`, `f − K u` and `solve_in_place` column
-    /// by column (the same bits), but in two passes over the rows: the
-    /// products, right-hand sides and forward sweep in the first, the
-    /// backward sweep in the second. A sweep of one column waits at every
-    /// row on the row before (a multiply and a subtraction); the two
-    /// columns' chains are independent and run side by side, and the
-    /// products fill that wait.
+    /// and K a band matrix of the same size, into `out` (row i holds both
+    /// columns' entries). The same operations in the same order as
+    /// `K.mul_to`, `f − K u` and `solve_in_place` column by column (the
+    /// same bits), but in two passes over the rows: the products,
+    /// right-hand sides and forward sweep in the first, the backward sweep
+    /// in the second. A sweep of one column waits at every row on the row
+    /// before (a multiply and a subtraction); the two columns' chains are
+    /// independent and run side by side, and the products fill that wait.
     pub fn solve_residual_pair(
         &self,
         stiffness: &SymBand,
         (u, f): ([&[f64]; 2], [&[f64]; 2]),
-        scratch: &mut Vec<[f64; 2]>,
-        mut row: impl FnMut(usize, [f64; 2]),
+        out: &mut Vec<[f64; 2]>,
     ) {
         let n = self.size();
         assert!(stiffness.size() == n && u.iter().chain(&f).all(|x| x.len() == n));
+        out.clear();
+        out.resize(n, [0.0; 2]);
         if !self.dense_inverse.is_empty() {
             let mut columns = [[0.0; DENSE_LIMIT]; 2];
             for (c, column) in columns.iter_mut().enumerate() {
@@ -321,13 +321,11 @@ impl BandLdlt {
                 }
                 self.solve_in_place(g);
             }
-            for i in (0..n).rev() {
-                row(i, [columns[0][i], columns[1][i]]);
+            for (i, row) in out.iter_mut().enumerate() {
+                *row = [columns[0][i], columns[1][i]];
             }
             return;
         }
-        scratch.clear();
-        scratch.resize(n, [0.0; 2]);
         // z(i−3), z(i−2), z(i−1) of both columns.
         let mut z = [[0.0; 2]; 3];
         let forward = |z: &mut [[f64; 2]; 3], l: &[f64; 3], g: [f64; 2]| {
@@ -340,11 +338,11 @@ impl BandLdlt {
         };
         let edge = |i: usize| [0, 1].map(|c| f[c][i] - stiffness.row_times(i, u[c]));
         for i in 0..3 {
-            scratch[i] = forward(&mut z, &self.lower[i], edge(i));
+            out[i] = forward(&mut z, &self.lower[i], edge(i));
         }
         let rhs = f[0][3..n - 3].iter().zip(&f[1][3..n - 3]);
         let windows = u[0].windows(7).zip(u[1].windows(7));
-        let interior = scratch[3..n - 3]
+        let interior = out[3..n - 3]
             .iter_mut()
             .zip(&self.lower[3..n - 3])
             .zip(rhs.zip(windows))
@@ -354,17 +352,17 @@ impl BandLdlt {
             *zi = forward(&mut z, l, g);
         }
         for i in n - 3..n {
-            scratch[i] = forward(&mut z, &self.lower[i], edge(i));
+            out[i] = forward(&mut z, &self.lower[i], edge(i));
         }
         let (mut y3, mut y2, mut y1) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-        let rows = scratch.iter().zip(&self.below).zip(&self.inverse_pivot);
-        for (i, ((zi, b), d)) in rows.enumerate().rev() {
+        let rows = out.iter_mut().zip(&self.below).zip(&self.inverse_pivot);
+        for ((zi, b), d) in rows.rev() {
             let y = [0, 1].map(|c| {
                 let partial = zi[c] * d - b[2] * y3[c] - b[1] * y2[c];
                 partial - b[0] * y1[c]
             });
             (y3, y2, y1) = (y2, y1, y);
-            row(i, y);
+            *zi = y;
         }
     }
 
@@ -494,14 +492,13 @@ mod tests {
                 }
                 factor.solve_in_place(&mut expected[c]);
             }
-            let mut seen = Vec::new();
-            let mut scratch = Vec::new();
+            let mut out = vec![[f64::NAN; 2]; 3];
             let columns = ([&u[0][..], &u[1][..]], [&f[0][..], &f[1][..]]);
-            factor.solve_residual_pair(&stiffness, columns, &mut scratch, |i, y| {
-                seen.push(i);
-                assert_eq!(y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
-            });
-            assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
+            factor.solve_residual_pair(&stiffness, columns, &mut out);
+            assert_eq!(out.len(), n);
+            for (i, y) in out.iter().enumerate() {
+                assert_eq!(*y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
+            }
         }
     }
 
