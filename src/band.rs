@@ -223,6 +223,12 @@ fn stencil(rows: &[[f64; 4]], x: &[f64]) -> f64 {
     lower + rw[0][3] * x[3] + upper
 }
 
+/// `[f(0), f(1)]`: the two columns' entries (inlined, unlike `array::map`).
+#[inline(always)]
+fn both(f: impl Fn(usize) -> f64) -> [f64; 2] {
+    [f(0), f(1)]
+}
+
 /// `out = A x` for a row-major dense n×n `a`.
 fn dense_times(a: &[f64], x: &[f64], out: &mut [f64]) {
     // The 2-element beam (4 free DOFs) is the paper's mesh: unrolled.
@@ -293,24 +299,31 @@ impl BandLdlt {
     }
 
     /// Two columns c = 0, 1 of `A⁻¹ (f_c − K u_c)`, A the factored matrix
-    /// and K a band matrix of the same size, into `out` (row i holds both
-    /// columns' entries). The same operations in the same order as
-    /// `K.mul_to`, `f − K u` and `solve_in_place` column by column (the
-    /// same bits), but in two passes over the rows: the products,
+    /// and K a band matrix of the same size, handed row by row from the
+    /// last to `each` with that row's item of `rows` (one item per row):
+    /// `each([y₀(i), y₁(i)], item i)`. The same operations in the same
+    /// order as `K.mul_to`, `f − K u` and `solve_in_place` column by column
+    /// (the same bits), but in two passes over the rows: the products,
     /// right-hand sides and forward sweep in the first, the backward sweep
-    /// in the second. A sweep of one column waits at every row on the row
-    /// before (a multiply and a subtraction); the two columns' chains are
-    /// independent and run side by side, and the products fill that wait.
-    pub fn solve_residual_pair(
+    /// and the caller's use of each row in the second. A sweep of one
+    /// column waits at every row on the row before (a multiply and a
+    /// subtraction); the two columns' chains are independent and run side
+    /// by side, and the other work fills that wait. `scratch` holds the
+    /// forward sweep.
+    #[inline]
+    pub fn solve_residual_pair<R>(
         &self,
         stiffness: &SymBand,
         (u, f): ([&[f64]; 2], [&[f64]; 2]),
-        out: &mut Vec<[f64; 2]>,
+        scratch: &mut Vec<[f64; 2]>,
+        rows: impl DoubleEndedIterator<Item = R> + ExactSizeIterator,
+        mut each: impl FnMut([f64; 2], R),
     ) {
         let n = self.size();
         assert!(stiffness.size() == n && u.iter().chain(&f).all(|x| x.len() == n));
-        out.clear();
-        out.resize(n, [0.0; 2]);
+        assert_eq!(rows.len(), n);
+        // Every entry is written before it is read.
+        scratch.resize(n, [0.0; 2]);
         if !self.dense_inverse.is_empty() {
             let mut columns = [[0.0; DENSE_LIMIT]; 2];
             for (c, column) in columns.iter_mut().enumerate() {
@@ -321,48 +334,60 @@ impl BandLdlt {
                 }
                 self.solve_in_place(g);
             }
-            for (i, row) in out.iter_mut().enumerate() {
-                *row = [columns[0][i], columns[1][i]];
+            for (i, row) in rows.enumerate().rev() {
+                each([columns[0][i], columns[1][i]], row);
             }
             return;
         }
-        // z(i−3), z(i−2), z(i−1) of both columns.
-        let mut z = [[0.0; 2]; 3];
-        let forward = |z: &mut [[f64; 2]; 3], l: &[f64; 3], g: [f64; 2]| {
-            let next = [0, 1].map(|c| {
-                let partial = g[c] - l[0] * z[0][c] - l[1] * z[1][c];
-                partial - l[2] * z[2][c]
+        self.forward_residual_pair(stiffness, (u, f), scratch);
+        let (mut y3, mut y2, mut y1) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        let sweep = scratch.iter().zip(&self.below).zip(&self.inverse_pivot);
+        for (((zi, b), d), row) in sweep.zip(rows).rev() {
+            let y = both(|c| {
+                let partial = zi[c] * d - b[2] * y3[c] - b[1] * y2[c];
+                partial - b[0] * y1[c]
             });
-            *z = [z[1], z[2], next];
+            (y3, y2, y1) = (y2, y1, y);
+            each(y, row);
+        }
+    }
+
+    /// `z = L⁻¹ (f_c − K u_c)` for both columns (n > `DENSE_LIMIT`).
+    #[inline]
+    fn forward_residual_pair(
+        &self,
+        stiffness: &SymBand,
+        (u, f): ([&[f64]; 2], [&[f64]; 2]),
+        z: &mut [[f64; 2]],
+    ) {
+        let n = self.size();
+        // z(i−3), z(i−2), z(i−1) of both columns.
+        let mut last = [[0.0; 2]; 3];
+        let forward = |last: &mut [[f64; 2]; 3], l: &[f64; 3], g: [f64; 2]| {
+            let next = both(|c| {
+                let partial = g[c] - l[0] * last[0][c] - l[1] * last[1][c];
+                partial - l[2] * last[2][c]
+            });
+            *last = [last[1], last[2], next];
             next
         };
-        let edge = |i: usize| [0, 1].map(|c| f[c][i] - stiffness.row_times(i, u[c]));
+        let edge = |i: usize| both(|c| f[c][i] - stiffness.row_times(i, u[c]));
         for i in 0..3 {
-            out[i] = forward(&mut z, &self.lower[i], edge(i));
+            z[i] = forward(&mut last, &self.lower[i], edge(i));
         }
         let rhs = f[0][3..n - 3].iter().zip(&f[1][3..n - 3]);
         let windows = u[0].windows(7).zip(u[1].windows(7));
-        let interior = out[3..n - 3]
+        let interior = z[3..n - 3]
             .iter_mut()
             .zip(&self.lower[3..n - 3])
             .zip(rhs.zip(windows))
             .zip(stiffness.rows[3..].windows(4));
         for (((zi, l), ((f0, f1), (u0, u1))), k) in interior {
             let g = [f0 - stencil(k, u0), f1 - stencil(k, u1)];
-            *zi = forward(&mut z, l, g);
+            *zi = forward(&mut last, l, g);
         }
         for i in n - 3..n {
-            out[i] = forward(&mut z, &self.lower[i], edge(i));
-        }
-        let (mut y3, mut y2, mut y1) = ([0.0; 2], [0.0; 2], [0.0; 2]);
-        let rows = out.iter_mut().zip(&self.below).zip(&self.inverse_pivot);
-        for ((zi, b), d) in rows.rev() {
-            let y = [0, 1].map(|c| {
-                let partial = zi[c] * d - b[2] * y3[c] - b[1] * y2[c];
-                partial - b[0] * y1[c]
-            });
-            (y3, y2, y1) = (y2, y1, y);
-            *zi = y;
+            z[i] = forward(&mut last, &self.lower[i], edge(i));
         }
     }
 
@@ -492,13 +517,13 @@ mod tests {
                 }
                 factor.solve_in_place(&mut expected[c]);
             }
-            let mut out = vec![[f64::NAN; 2]; 3];
+            let mut seen = Vec::new();
             let columns = ([&u[0][..], &u[1][..]], [&f[0][..], &f[1][..]]);
-            factor.solve_residual_pair(&stiffness, columns, &mut out);
-            assert_eq!(out.len(), n);
-            for (i, y) in out.iter().enumerate() {
-                assert_eq!(*y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
-            }
+            factor.solve_residual_pair(&stiffness, columns, &mut Vec::new(), 0..n, |y, i| {
+                seen.push(i);
+                assert_eq!(y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
+            });
+            assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
         }
     }
 

@@ -9,9 +9,9 @@
 use nalgebra::{DVector, Vector3};
 
 use super::{contact_frames, loads, DynamicState, ForceShape, IntegrationError, StepStart};
+use crate::beam::VelocityFreeBand;
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
-use crate::beam::VelocityFreeBand;
 use crate::system::System;
 
 const STAGE_TIME: [f64; 3] = [0.5, 0.5, 1.0];
@@ -65,8 +65,8 @@ struct PairedStages {
     u: [DVector<f64>; 3],
     v: [DVector<f64>; 3],
     loads: [DVector<f64>; 4],
-    /// The accelerations of the pair of stages being solved.
-    accelerations: Vec<[f64; 2]>,
+    /// The forward sweep of the pair of stages being solved.
+    scratch: Vec<[f64; 2]>,
 }
 
 impl Rk4 {
@@ -157,7 +157,8 @@ impl Rk4 {
         self.sum_v.fill(0.0);
         let mut sums = PowerSums::default();
         for stage in 0..4 {
-            let frames = stages.frames(stage, &self.stage_u, &self.bodies, &mut self.frames, end)?;
+            let frames =
+                stages.frames(stage, &self.stage_u, &self.bodies, &mut self.frames, end)?;
             let at = (frames, &self.stage_v);
             stages.loads(stage, at, &mut self.bodies, &mut self.load, &mut sums);
             beam.accelerations((&self.stage_u, &self.stage_v), &self.load, &mut self.accel);
@@ -213,7 +214,7 @@ impl Rk4 {
             u: [u1, u2, u3],
             v: [v1, v2, v3],
             loads: [f0, f1, f2, f3],
-            accelerations,
+            scratch,
         } = &mut **paired;
         let bodies = &mut self.bodies;
         let mut sums = PowerSums::default();
@@ -227,50 +228,66 @@ impl Rk4 {
         let frames = stages.frames(1, u1, bodies, &mut self.frames, end)?;
         stages.loads(1, (frames, v0), bodies, f1, &mut sums);
         bodies.advance(&start.bodies, STAGE_TIME[1] * dt);
-        let columns = ([u0.as_slice(), u1.as_slice()], [f0.as_slice(), f1.as_slice()]);
-        band.mass_factor
-            .solve_residual_pair(band.stiffness, columns, accelerations);
+        let columns = (
+            [u0.as_slice(), u1.as_slice()],
+            [f0.as_slice(), f1.as_slice()],
+        );
+        let start_rows = u0.as_slice().iter().zip(v0.as_slice());
         let stage_u = u2.as_mut_slice().iter_mut().zip(u3.as_mut_slice());
         let stage_v = v1.as_mut_slice().iter_mut().zip(v2.as_mut_slice());
-        let sums_uv = self.sum_u.as_mut_slice().iter_mut().zip(self.sum_v.as_mut_slice());
-        let rows = accelerations.iter().zip(u0.as_slice().iter().zip(v0.as_slice()));
-        for ((((a, (&u0, &v0)), (u2, u3)), (v1, v2)), (sum_u, sum_v)) in
-            rows.zip(stage_u).zip(stage_v).zip(sums_uv)
-        {
-            let a0 = damped(a[0], alpha, v0);
-            *v1 = v0 + h1 * a0;
-            let a1 = damped(a[1], alpha, *v1);
-            *v2 = v0 + h1 * a1;
-            *sum_u = (0.0 + WEIGHT[0] * v0) + WEIGHT[1] * *v1;
-            *sum_v = (0.0 + WEIGHT[0] * a0) + WEIGHT[1] * a1;
-            *u2 = u0 + h1 * *v1;
-            *u3 = u0 + h * *v2;
-        }
+        let sums_uv = self
+            .sum_u
+            .as_mut_slice()
+            .iter_mut()
+            .zip(self.sum_v.as_mut_slice());
+        let rows = start_rows.zip(stage_u).zip(stage_v).zip(sums_uv);
+        band.mass_factor.solve_residual_pair(
+            band.stiffness,
+            columns,
+            scratch,
+            rows,
+            |a, ((((&u0, &v0), (u2, u3)), (v1, v2)), (sum_u, sum_v))| {
+                let a0 = damped(a[0], alpha, v0);
+                *v1 = v0 + h1 * a0;
+                let a1 = damped(a[1], alpha, *v1);
+                *v2 = v0 + h1 * a1;
+                *sum_u = (0.0 + WEIGHT[0] * v0) + WEIGHT[1] * *v1;
+                *sum_v = (0.0 + WEIGHT[0] * a0) + WEIGHT[1] * a1;
+                *u2 = u0 + h1 * *v1;
+                *u3 = u0 + h * *v2;
+            },
+        );
         let frames = stages.frames(2, u2, bodies, &mut self.frames, end)?;
         stages.loads(2, (frames, v0), bodies, f2, &mut sums);
         bodies.advance(&start.bodies, h);
         let frames = stages.frames(3, u3, bodies, &mut self.frames, end)?;
         stages.loads(3, (frames, v0), bodies, f3, &mut sums);
-        let columns = ([u2.as_slice(), u3.as_slice()], [f2.as_slice(), f3.as_slice()]);
-        band.mass_factor
-            .solve_residual_pair(band.stiffness, columns, accelerations);
+        let columns = (
+            [u2.as_slice(), u3.as_slice()],
+            [f2.as_slice(), f3.as_slice()],
+        );
         let w = dt / 6.0;
+        let start_rows = u0.as_slice().iter().zip(v0.as_slice());
         let stage_v = v2.as_slice().iter().zip(v3.as_mut_slice());
+        let sums_uv = self.sum_u.as_slice().iter().zip(self.sum_v.as_slice());
         let ends = end.beam_displacement.as_mut_slice().iter_mut();
         let ends = ends.zip(end.beam_velocity.as_mut_slice());
-        let sums_uv = self.sum_u.as_slice().iter().zip(self.sum_v.as_slice());
-        let rows = accelerations.iter().zip(u0.as_slice().iter().zip(v0.as_slice()));
-        for ((((a, (&u0, &v0)), (&v2, v3)), (sum_u, sum_v)), (end_u, end_v)) in
-            rows.zip(stage_v).zip(sums_uv).zip(ends)
-        {
-            let a2 = damped(a[0], alpha, v2);
-            *v3 = v0 + h * a2;
-            let a3 = damped(a[1], alpha, *v3);
-            let su = (sum_u + WEIGHT[2] * v2) + WEIGHT[3] * *v3;
-            let sv = (sum_v + WEIGHT[2] * a2) + WEIGHT[3] * a3;
-            *end_u = u0 + w * su;
-            *end_v = v0 + w * sv;
-        }
+        let rows = start_rows.zip(stage_v).zip(sums_uv).zip(ends);
+        band.mass_factor.solve_residual_pair(
+            band.stiffness,
+            columns,
+            scratch,
+            rows,
+            |a, ((((&u0, &v0), (&v2, v3)), (sum_u, sum_v)), (end_u, end_v))| {
+                let a2 = damped(a[0], alpha, v2);
+                *v3 = v0 + h * a2;
+                let a3 = damped(a[1], alpha, *v3);
+                let su = (sum_u + WEIGHT[2] * v2) + WEIGHT[3] * *v3;
+                let sv = (sum_v + WEIGHT[2] * a2) + WEIGHT[3] * a3;
+                *end_u = u0 + w * su;
+                *end_v = v0 + w * sv;
+            },
+        );
         let beam = &stages.system.beam;
         let velocities = [&*v0, &*v1, &*v2, &*v3];
         for ((weight, v), f) in WEIGHT.iter().zip(velocities).zip([&*f0, &*f1, &*f2, &*f3]) {
@@ -436,7 +453,7 @@ impl PairedStages {
             u: [z(), z(), z()],
             v: [z(), z(), z()],
             loads: [z(), z(), z(), z()],
-            accelerations: Vec::with_capacity(n),
+            scratch: Vec::with_capacity(n),
         }
     }
 }
