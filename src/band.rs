@@ -372,8 +372,8 @@ impl BandLdlt {
             next
         };
         let edge = |i: usize| both(|c| f[c][i] - stiffness.row_times(i, u[c]));
-        for i in 0..3 {
-            z[i] = forward(&mut last, &self.lower[i], edge(i));
+        for (i, (zi, l)) in z.iter_mut().zip(&self.lower).enumerate().take(3) {
+            *zi = forward(&mut last, l, edge(i));
         }
         let rhs = f[0][3..n - 3].iter().zip(&f[1][3..n - 3]);
         let windows = u[0].windows(7).zip(u[1].windows(7));
@@ -386,8 +386,8 @@ impl BandLdlt {
             let g = [f0 - stencil(k, u0), f1 - stencil(k, u1)];
             *zi = forward(&mut last, l, g);
         }
-        for i in n - 3..n {
-            z[i] = forward(&mut last, &self.lower[i], edge(i));
+        for (i, (zi, l)) in z.iter_mut().zip(&self.lower).enumerate().skip(n - 3) {
+            *zi = forward(&mut last, l, edge(i));
         }
     }
 

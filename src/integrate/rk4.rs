@@ -294,7 +294,7 @@ impl Rk4 {
             },
         );
         let beam = &stages.system.beam;
-        let velocities = [&*v0, &*v1, &*v2, &*v3];
+        let velocities = [v0, &*v1, &*v2, &*v3];
         for ((weight, v), f) in WEIGHT.iter().zip(velocities).zip([&*f0, &*f1, &*f2, &*f3]) {
             sums.beam_dissipation += weight * beam.damping_power(v);
             sums.beam_load += weight * f.dot(v);
