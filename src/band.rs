@@ -118,11 +118,7 @@ impl SymBand {
             .zip(x.windows(7))
             .zip(self.rows[3..].windows(4))
         {
-            let (xw, rw): (&[f64; 7], &[[f64; 4]; 4]) =
-                (xw.try_into().expect("7"), rw.try_into().expect("4"));
-            let lower = rw[0][0] * xw[0] + rw[0][1] * xw[1] + rw[0][2] * xw[2];
-            let upper = rw[1][2] * xw[4] + rw[2][1] * xw[5] + rw[3][0] * xw[6];
-            *o = lower + rw[0][3] * xw[3] + upper;
+            *o = stencil(rw, xw);
         }
     }
 
@@ -215,6 +211,24 @@ impl SymBand {
     }
 }
 
+/// Interior row i of A x: `rows` are A's rows i..i+3 (row i's own entries
+/// and, in rows i+1..i+3, the column i of the upper triangle), `x` is
+/// x(i−3..=i+3).
+#[inline(always)]
+fn stencil(rows: &[[f64; 4]], x: &[f64]) -> f64 {
+    let (x, rw): (&[f64; 7], &[[f64; 4]; 4]) =
+        (x.try_into().expect("7"), rows.try_into().expect("4"));
+    let lower = rw[0][0] * x[0] + rw[0][1] * x[1] + rw[0][2] * x[2];
+    let upper = rw[1][2] * x[4] + rw[2][1] * x[5] + rw[3][0] * x[6];
+    lower + rw[0][3] * x[3] + upper
+}
+
+/// `[f(0), f(1)]`: the two columns' entries (inlined, unlike `array::map`).
+#[inline(always)]
+fn both(f: impl Fn(usize) -> f64) -> [f64; 2] {
+    [f(0), f(1)]
+}
+
 /// `out = A x` for a row-major dense n×n `a`.
 fn dense_times(a: &[f64], x: &[f64], out: &mut [f64]) {
     // The 2-element beam (4 free DOFs) is the paper's mesh: unrolled.
@@ -281,6 +295,99 @@ impl BandLdlt {
             let y = partial - b[0] * y1;
             *xi = y;
             (y3, y2, y1) = (y2, y1, y);
+        }
+    }
+
+    /// Two columns c = 0, 1 of `A⁻¹ (f_c − K u_c)`, A the factored matrix
+    /// and K a band matrix of the same size, handed row by row from the
+    /// last to `each` with that row's item of `rows` (one item per row):
+    /// `each([y₀(i), y₁(i)], item i)`. The same operations in the same
+    /// order as `K.mul_to`, `f − K u` and `solve_in_place` column by column
+    /// (the same bits), but in two passes over the rows: the products,
+    /// right-hand sides and forward sweep in the first, the backward sweep
+    /// and the caller's use of each row in the second. A sweep of one
+    /// column waits at every row on the row before (a multiply and a
+    /// subtraction); the two columns' chains are independent and run side
+    /// by side, and the other work fills that wait. `scratch` holds the
+    /// forward sweep.
+    #[inline]
+    pub fn solve_residual_pair<R>(
+        &self,
+        stiffness: &SymBand,
+        (u, f): ([&[f64]; 2], [&[f64]; 2]),
+        scratch: &mut Vec<[f64; 2]>,
+        rows: impl DoubleEndedIterator<Item = R> + ExactSizeIterator,
+        mut each: impl FnMut([f64; 2], R),
+    ) {
+        let n = self.size();
+        assert!(stiffness.size() == n && u.iter().chain(&f).all(|x| x.len() == n));
+        assert_eq!(rows.len(), n);
+        // Every entry is written before it is read.
+        scratch.resize(n, [0.0; 2]);
+        if !self.dense_inverse.is_empty() {
+            let mut columns = [[0.0; DENSE_LIMIT]; 2];
+            for (c, column) in columns.iter_mut().enumerate() {
+                let g = &mut column[..n];
+                stiffness.mul_to(u[c], g);
+                for (g, f) in g.iter_mut().zip(f[c]) {
+                    *g = f - *g;
+                }
+                self.solve_in_place(g);
+            }
+            for (i, row) in rows.enumerate().rev() {
+                each([columns[0][i], columns[1][i]], row);
+            }
+            return;
+        }
+        self.forward_residual_pair(stiffness, (u, f), scratch);
+        let (mut y3, mut y2, mut y1) = ([0.0; 2], [0.0; 2], [0.0; 2]);
+        let sweep = scratch.iter().zip(&self.below).zip(&self.inverse_pivot);
+        for (((zi, b), d), row) in sweep.zip(rows).rev() {
+            let y = both(|c| {
+                let partial = zi[c] * d - b[2] * y3[c] - b[1] * y2[c];
+                partial - b[0] * y1[c]
+            });
+            (y3, y2, y1) = (y2, y1, y);
+            each(y, row);
+        }
+    }
+
+    /// `z = L⁻¹ (f_c − K u_c)` for both columns (n > `DENSE_LIMIT`).
+    #[inline]
+    fn forward_residual_pair(
+        &self,
+        stiffness: &SymBand,
+        (u, f): ([&[f64]; 2], [&[f64]; 2]),
+        z: &mut [[f64; 2]],
+    ) {
+        let n = self.size();
+        // z(i−3), z(i−2), z(i−1) of both columns.
+        let mut last = [[0.0; 2]; 3];
+        let forward = |last: &mut [[f64; 2]; 3], l: &[f64; 3], g: [f64; 2]| {
+            let next = both(|c| {
+                let partial = g[c] - l[0] * last[0][c] - l[1] * last[1][c];
+                partial - l[2] * last[2][c]
+            });
+            *last = [last[1], last[2], next];
+            next
+        };
+        let edge = |i: usize| both(|c| f[c][i] - stiffness.row_times(i, u[c]));
+        for (i, (zi, l)) in z.iter_mut().zip(&self.lower).enumerate().take(3) {
+            *zi = forward(&mut last, l, edge(i));
+        }
+        let rhs = f[0][3..n - 3].iter().zip(&f[1][3..n - 3]);
+        let windows = u[0].windows(7).zip(u[1].windows(7));
+        let interior = z[3..n - 3]
+            .iter_mut()
+            .zip(&self.lower[3..n - 3])
+            .zip(rhs.zip(windows))
+            .zip(stiffness.rows[3..].windows(4));
+        for (((zi, l), ((f0, f1), (u0, u1))), k) in interior {
+            let g = [f0 - stencil(k, u0), f1 - stencil(k, u1)];
+            *zi = forward(&mut last, l, g);
+        }
+        for (i, (zi, l)) in z.iter_mut().zip(&self.lower).enumerate().skip(n - 3) {
+            *zi = forward(&mut last, l, edge(i));
         }
     }
 
@@ -390,6 +497,33 @@ mod tests {
                 assert!((columns[i][1] - 2.0 * x[i]).abs() < 1e-12);
                 assert!((columns[i][2] + x[i]).abs() < 1e-12);
             }
+        }
+    }
+
+    #[test]
+    fn the_paired_residual_solve_gives_the_bits_of_product_then_solve() {
+        for n in [1usize, 2, 4, 7, 8, 9, 10, 13, 40] {
+            let (mass, stiffness) = (sample(n), sample(n).combine(0.3, &sample(n), -0.1));
+            let factor = mass.ldlt().expect("SPD");
+            let vector = |phase: f64| -> Vec<f64> {
+                (0..n).map(|i| (i as f64 * 0.7 + phase).sin()).collect()
+            };
+            let (u, f) = ([vector(0.1), vector(2.0)], [vector(0.5), vector(-1.0)]);
+            let mut expected = [vec![0.0; n], vec![0.0; n]];
+            for c in 0..2 {
+                stiffness.mul_to(&u[c], &mut expected[c]);
+                for (e, f) in expected[c].iter_mut().zip(&f[c]) {
+                    *e = f - *e;
+                }
+                factor.solve_in_place(&mut expected[c]);
+            }
+            let mut seen = Vec::new();
+            let columns = ([&u[0][..], &u[1][..]], [&f[0][..], &f[1][..]]);
+            factor.solve_residual_pair(&stiffness, columns, &mut Vec::new(), 0..n, |y, i| {
+                seen.push(i);
+                assert_eq!(y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
+            });
+            assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
         }
     }
 

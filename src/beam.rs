@@ -141,6 +141,16 @@ pub struct Beam {
     modal: Option<ModalBasis>,
 }
 
+/// The band operators of accelerations `M⁻¹ (f − K u) − α v`
+/// (`Beam::velocity_free_band`); `accelerations` gives the same bits.
+#[derive(Debug, Clone, Copy)]
+pub struct VelocityFreeBand<'a> {
+    pub stiffness: &'a SymBand,
+    pub mass_factor: &'a BandLdlt,
+    /// α of the Rayleigh damping α M + β K (β is zero here).
+    pub mass_damping: f64,
+}
+
 /// The inverse of an implicit scheme's effective matrix: the band factor,
 /// or on a modal structure the modal one (diagonal without support dampers).
 #[derive(Debug, Clone)]
@@ -937,6 +947,22 @@ impl Beam {
         c.mass * self.mass.quadratic_form(x)
             + c.stiffness * self.bending.quadratic_form(v)
             + supports
+    }
+
+    /// K, M's factor and α when the accelerations are
+    /// `M⁻¹ (f − K u) − α v` with K u from the band: the velocity enters
+    /// only after the mass solve (no stiffness-proportional damping, no
+    /// support dampers), so an explicit scheme may solve two stages whose
+    /// displacements are known at once (`BandLdlt::solve_residual_pair`).
+    /// `None` on a modal structure or where K u is taken element by element.
+    pub fn velocity_free_band(&self) -> Option<VelocityFreeBand<'_>> {
+        let free = self.modal.is_none() && !self.elementwise_products;
+        let velocity_free = self.damping.stiffness == 0.0 && self.dampers().next().is_none();
+        (free && velocity_free).then_some(VelocityFreeBand {
+            stiffness: &self.stiffness,
+            mass_factor: &self.mass_factor,
+            mass_damping: self.damping.mass,
+        })
     }
 
     /// `rhs ← M⁻¹ rhs` (the identity in modal coordinates).

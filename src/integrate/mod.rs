@@ -177,7 +177,7 @@ pub fn loads_but_laws(
     (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
     (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
 ) -> f64 {
-    beam_load.fill(0.0);
+    beam_load.as_mut_slice().fill(0.0); // a memset: DVector::fill goes entry by entry
     body_loads.copy_from_slice(applied);
     let mut dissipation = 0.0;
     for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
