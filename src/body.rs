@@ -83,6 +83,18 @@ pub struct BodyState {
 }
 
 impl BodyState {
+    /// Every number of the state, in field order (for the state checks).
+    pub fn numbers(&self) -> [f64; 6] {
+        [
+            self.position.x,
+            self.position.y,
+            self.velocity.x,
+            self.velocity.y,
+            self.angle,
+            self.angular_velocity,
+        ]
+    }
+
     /// (ẋ, ẏ, θ̇).
     pub fn generalized_velocity(&self) -> Vector3<f64> {
         Vector3::new(self.velocity.x, self.velocity.y, self.angular_velocity)

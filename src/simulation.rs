@@ -229,16 +229,6 @@ impl SimState {
             &d.beam_acceleration,
             &d.beam_load,
         ];
-        let body = |b: &crate::body::BodyState| {
-            [
-                b.position.x,
-                b.position.y,
-                b.velocity.x,
-                b.velocity.y,
-                b.angle,
-                b.angular_velocity,
-            ]
-        };
         // One branch-free sum over every number first (this runs after every
         // FMU step); the number is looked for only when there is one.
         let mut nan = not_finite(&scalars)
@@ -252,7 +242,7 @@ impl SimState {
             nan += not_finite(&[c.gap, c.impulse[0], c.impulse[1]]);
         }
         for b in &d.bodies {
-            nan += not_finite(&body(b));
+            nan += not_finite(&b.numbers());
         }
         for f in self.force_history.iter().flatten() {
             nan += not_finite(&[f.tangential, f.normal]);
@@ -282,7 +272,7 @@ impl SimState {
                         .iter()
                         .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
                 )
-                .chain(d.bodies.iter().flat_map(body))
+                .chain(d.bodies.iter().flat_map(crate::body::BodyState::numbers))
                 .chain(forces)
                 .chain(generalized.copied())
                 .chain(beam.into_iter().flatten().copied());

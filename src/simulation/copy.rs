@@ -166,14 +166,7 @@ fn copy_vector_summing(into: &mut DVector<f64>, from: &DVector<f64>) -> f64 {
 }
 
 fn body_numbers(b: &BodyState) -> f64 {
-    not_finite(&[
-        b.position.x,
-        b.position.y,
-        b.velocity.x,
-        b.velocity.y,
-        b.angle,
-        b.angular_velocity,
-    ])
+    not_finite(&b.numbers())
 }
 
 impl DynamicState {
