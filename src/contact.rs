@@ -463,70 +463,23 @@ pub fn foot_point_on(
             .max(height.abs())
             .max((centre.x - x).abs());
         let dx = step.clamp(-trust, trust);
-        let settled = 1e-14 * beam.length.max(1.0);
         // Converged: the remaining correction is at round-off level.
-        if dx.abs() <= settled {
-            return Ok(frame_at(beam, element, x, [w, slope, curvature]));
+        if dx.abs() <= 1e-14 * beam.length.max(1.0) {
+            let secant = (1.0 + slope * slope).sqrt();
+            return Ok(ContactFrame {
+                x,
+                shape: beam.shape(element, x),
+                deflection: w,
+                slope,
+                curvature,
+                cos: 1.0 / secant,
+                sin: slope / secant,
+                on_beam: true,
+            });
         }
-        let next = x + dx;
-        if profile.is_none() && dx == step && ratio.abs() < 0.5 {
-            let error = halley_error(newton, derivative, second, [slope, curvature, third]);
-            if error <= 0.1 * settled && beam.element_near(next, element) == element {
-                let axis = taylor(dx, [w, slope, curvature, third]);
-                return Ok(frame_at(beam, element, next, axis));
-            }
-        }
-        x = next;
+        x += dx;
     }
     Err(FootPointError { last_x: x })
-}
-
-/// The frame on the beam at `x` in `element` with the axis's height,
-/// slope and curvature there.
-fn frame_at(beam: &Beam, element: usize, x: f64, [w, slope, curvature]: [f64; 3]) -> ContactFrame {
-    let secant = (1.0 + slope * slope).sqrt();
-    ContactFrame {
-        x,
-        shape: beam.shape(element, x),
-        deflection: w,
-        slope,
-        curvature,
-        cos: 1.0 / secant,
-        sin: slope / secant,
-        on_beam: true,
-    }
-}
-
-/// How far from the root a Halley move of Newton correction `newton`
-/// lands: |f''²/(4f'²) − f'''/(6f')| |newton|³ (f' = `derivative`,
-/// f'' = `second`), or infinity where the series is not to be trusted
-/// (the move not small against the scales of f).
-fn halley_error(
-    newton: f64,
-    derivative: f64,
-    second: f64,
-    [slope, curvature, third]: [f64; 3],
-) -> f64 {
-    // f''' of f = (X − x) + (Y − w) w' on a cubic (w'''' = 0).
-    let third_f = -3.0 * curvature * curvature - 4.0 * slope * third;
-    let (a, b) = (second / derivative, third_f / derivative);
-    if (newton * a).abs() > 0.1 || (newton * newton * b).abs() > 0.1 {
-        return f64::INFINITY;
-    }
-    (0.25 * a * a - b / 6.0).abs() * newton.abs().powi(3)
-}
-
-/// The axis (w, w', w'') at `dx` from a point of the same cubic where it
-/// is `axis` (w, w', w'', w'''): its Taylor polynomial, exact up to
-/// round-off. A search whose last move lands within round-off of the
-/// root ends there without evaluating the axis again (a third of the
-/// foot points' work on a train's bridge).
-fn taylor(dx: f64, [w, slope, curvature, third]: [f64; 4]) -> [f64; 3] {
-    [
-        w + dx * (slope + dx * (0.5 * curvature + dx * third / 6.0)),
-        slope + dx * (curvature + 0.5 * dx * third),
-        curvature + dx * third,
-    ]
 }
 
 #[cfg(test)]

@@ -209,14 +209,8 @@ impl Hht {
                 }));
         }
         // Load frames and force elements: the predicted end configuration.
-        // Searched from the last integration's foot points within a step
-        // (a correction away, not a step's travel): their searches end
-        // after one move (`foot_point_on`), on the same roots to the
-        // search's tolerance.
         self.guesses.clear();
-        let near = self.has_prediction && self.frames.len() == from.frames.len();
-        let seeds = if near { &self.frames } else { from.frames };
-        self.guesses.extend(seeds.iter().map(|f| f.x));
+        self.guesses.extend(from.frames.iter().map(|f| f.x));
         contact_frames(
             system,
             &self.predicted_u,
