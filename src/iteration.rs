@@ -175,14 +175,26 @@ enum Inverted {
     Blocks(Blocks),
 }
 
-/// The decoupled blocks of an operator: single rows, and groups of rows
-/// inverted together (with room to gather and scatter them). The matrix
-/// they came from is kept to build the next operator in.
+/// The decoupled blocks of an operator, and the matrix they came from
+/// (kept to build the next operator in).
 struct Blocks {
+    layout: Layout,
+    matrix: DMatrix<f64>,
+}
+
+/// How an operator falls apart: single rows, and groups of rows inverted
+/// together (with room to gather and scatter them). Kept from one build to
+/// the next with its storage, and found again only when the operator's
+/// nonzero pattern changes (a vehicle enters or leaves a span, a contact
+/// opens): finding the blocks and allocating the groups every step was a
+/// third of the inversion.
+struct Layout {
     /// A row no entry couples to another, and its diagonal entry.
     singles: Vec<(usize, f64)>,
     groups: Vec<Group>,
-    matrix: DMatrix<f64>,
+    /// The nonzero pattern the blocks were found for, one bit per entry
+    /// in column-major order.
+    pattern: Vec<u64>,
 }
 
 /// Rows an operator's entries couple, inverted together.
@@ -191,6 +203,74 @@ struct Group {
     inverted: Inverted,
     gathered: DVector<f64>,
     solved: DVector<f64>,
+}
+
+/// Writes the nonzero pattern of `matrix` into `pattern` (one bit per
+/// entry, column-major); whether it differs from the one held before.
+fn update_pattern(matrix: &DMatrix<f64>, pattern: &mut Vec<u64>) -> bool {
+    let words = matrix.len().div_ceil(64);
+    let mut changed = pattern.len() != words;
+    pattern.resize(words, 0);
+    for (word, chunk) in pattern.iter_mut().zip(matrix.as_slice().chunks(64)) {
+        let bits = chunk
+            .iter()
+            .enumerate()
+            .fold(0u64, |bits, (k, &x)| bits | (u64::from(x != 0.0) << k));
+        changed |= *word != bits;
+        *word = bits;
+    }
+    changed
+}
+
+impl Layout {
+    fn new(singles: Vec<usize>, groups: Vec<Vec<usize>>, pattern: Vec<u64>) -> Layout {
+        let groups = groups
+            .into_iter()
+            .map(|rows| {
+                let n = rows.len();
+                Group {
+                    rows,
+                    inverted: Inverted::Inverse(DMatrix::zeros(n, n)),
+                    gathered: DVector::zeros(n),
+                    solved: DVector::zeros(n),
+                }
+            })
+            .collect();
+        Layout {
+            singles: singles.into_iter().map(|i| (i, 0.0)).collect(),
+            groups,
+            pattern,
+        }
+    }
+
+    /// Takes the single rows' diagonals and inverts the groups of
+    /// `matrix` (of this layout's pattern); None if any is singular.
+    fn invert(&mut self, matrix: &DMatrix<f64>) -> Option<()> {
+        let n = matrix.nrows();
+        let entries = matrix.as_slice();
+        for (i, d) in &mut self.singles {
+            let x = entries[*i * n + *i];
+            if x == 0.0 || !x.is_finite() {
+                return None;
+            }
+            *d = x;
+        }
+        for group in &mut self.groups {
+            let k = group.rows.len();
+            let (mut sub, _) = group.inverted.take_matrix(k);
+            // Column by column on the slices: nalgebra's indexing checked
+            // both indices of every entry gathered.
+            let gathered = sub.as_mut_slice().chunks_exact_mut(k);
+            for (to, &j) in gathered.zip(&group.rows) {
+                let column = &entries[j * n..(j + 1) * n];
+                for (x, &i) in to.iter_mut().zip(&group.rows) {
+                    *x = column[i];
+                }
+            }
+            group.inverted = Inverted::new(sub)?;
+        }
+        Some(())
+    }
 }
 
 /// The rows of `matrix` grouped by the blocks its nonzero entries couple
@@ -249,51 +329,47 @@ fn decoupled_blocks(matrix: &DMatrix<f64>) -> (Vec<usize>, Vec<Vec<usize>>) {
 
 impl Inverted {
     /// `matrix` inverted or factored; None if it is singular.
-    fn new(mut matrix: DMatrix<f64>) -> Option<Inverted> {
+    fn new(matrix: DMatrix<f64>) -> Option<Inverted> {
+        Inverted::with_layout(matrix, None)
+    }
+
+    /// `matrix` inverted or factored, reusing the blocks `previous` found
+    /// when its nonzero pattern is the same; None if it is singular.
+    fn with_layout(mut matrix: DMatrix<f64>, previous: Option<Layout>) -> Option<Inverted> {
         if matrix.nrows() <= EXPLICIT_INVERSE_ROWS {
             return matrix
                 .try_inverse_mut()
                 .then_some(Inverted::Inverse(matrix));
         }
-        let (singles, groups) = decoupled_blocks(&matrix);
-        if singles.is_empty() && groups.len() == 1 {
-            let lu = matrix.lu();
-            return lu.is_invertible().then_some(Inverted::Factors(lu));
-        }
-        let mut single_rows = Vec::with_capacity(singles.len());
-        for i in singles {
-            let d = matrix[(i, i)];
-            if d == 0.0 || !d.is_finite() {
-                return None;
+        let unchanged = previous.and_then(|mut layout| {
+            (!update_pattern(&matrix, &mut layout.pattern)).then_some(layout)
+        });
+        let mut layout = match unchanged {
+            Some(layout) => layout,
+            None => {
+                let mut pattern = Vec::new();
+                update_pattern(&matrix, &mut pattern);
+                let (singles, groups) = decoupled_blocks(&matrix);
+                if singles.is_empty() && groups.len() == 1 {
+                    let lu = matrix.lu();
+                    return lu.is_invertible().then_some(Inverted::Factors(lu));
+                }
+                Layout::new(singles, groups, pattern)
             }
-            single_rows.push((i, d));
-        }
-        let mut inverted = Vec::with_capacity(groups.len());
-        for rows in groups {
-            let n = rows.len();
-            let sub = DMatrix::from_fn(n, n, |a, b| matrix[(rows[a], rows[b])]);
-            inverted.push(Group {
-                rows,
-                inverted: Inverted::new(sub)?,
-                gathered: DVector::zeros(n),
-                solved: DVector::zeros(n),
-            });
-        }
-        Some(Inverted::Blocks(Blocks {
-            singles: single_rows,
-            groups: inverted,
-            matrix,
-        }))
+        };
+        layout.invert(&matrix)?;
+        Some(Inverted::Blocks(Blocks { layout, matrix }))
     }
 
     /// An n × n matrix to build the next operator in (this one's storage
-    /// when it is an explicit inverse or blocks of that size).
-    fn take_matrix(&mut self, n: usize) -> DMatrix<f64> {
+    /// when it is an explicit inverse or blocks of that size,, when it was blocks, their layout to reuse).
+    fn take_matrix(&mut self, n: usize) -> (DMatrix<f64>, Option<Layout>) {
         match std::mem::replace(self, Inverted::Inverse(DMatrix::zeros(0, 0))) {
-            Inverted::Inverse(m) | Inverted::Blocks(Blocks { matrix: m, .. }) if m.nrows() == n => {
-                m
+            Inverted::Blocks(Blocks { matrix, layout }) if matrix.nrows() == n => {
+                (matrix, Some(layout))
             }
-            _ => DMatrix::zeros(n, n),
+            Inverted::Inverse(m) if m.nrows() == n => (m, None),
+            _ => (DMatrix::zeros(n, n), None),
         }
     }
 
@@ -306,11 +382,11 @@ impl Inverted {
                 // Invertible by construction.
                 lu.solve_mut(out);
             }
-            Inverted::Blocks(blocks) => {
-                for &(i, d) in &blocks.singles {
+            Inverted::Blocks(Blocks { layout, .. }) => {
+                for &(i, d) in &layout.singles {
                     out[i] = b[i] / d;
                 }
-                for group in &mut blocks.groups {
+                for group in &mut layout.groups {
                     for (k, &i) in group.rows.iter().enumerate() {
                         group.gathered[k] = b[i];
                     }
@@ -825,7 +901,7 @@ impl ContactIteration {
         }
         let measured = std::mem::take(&mut self.delassus.frames);
         let frames = (measured.as_slice(), start_frames);
-        let mut matrix = match part {
+        let (mut matrix, layout) = match part {
             Part::Velocity => self.delassus.velocity.take_matrix(self.rows),
             Part::Gap => self.delassus.gap.take_matrix(system.contacts.len()),
         };
@@ -842,7 +918,9 @@ impl ContactIteration {
         self.mask_open(system, part, &mut matrix);
         self.delassus.frames = measured;
         let finite = matrix.as_slice().iter().all(|x| x.is_finite());
-        let inverted = finite.then(|| Inverted::new(matrix)).flatten();
+        let inverted = finite
+            .then(|| Inverted::with_layout(matrix, layout))
+            .flatten();
         let Some(inverted) = inverted else {
             return Err(StepError::NonFinite {
                 stage: match part {

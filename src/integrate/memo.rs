@@ -54,7 +54,8 @@ impl FrameMemo {
             self.displacement = u.clone();
         }
         self.poses.clear();
-        self.poses.extend(bodies.iter().map(|b| (b.position, b.angle)));
+        self.poses
+            .extend(bodies.iter().map(|b| (b.position, b.angle)));
         self.parts.clear();
         self.parts.extend_from_slice(parts);
         self.frames.clear();
