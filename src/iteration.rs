@@ -192,8 +192,7 @@ struct Layout {
     /// A row no entry couples to another, and its diagonal entry.
     singles: Vec<(usize, f64)>,
     groups: Vec<Group>,
-    /// The nonzero pattern the blocks were found for, one bit per entry
-    /// in column-major order.
+    /// The nonzero pattern the blocks were found for, column-major.
     pattern: Vec<u64>,
 }
 
@@ -205,21 +204,19 @@ struct Group {
     solved: DVector<f64>,
 }
 
-/// Writes the nonzero pattern of `matrix` into `pattern` (one bit per
+/// Writes the nonzero pattern of `matrix` into `pattern` (1 for a nonzero
 /// entry, column-major); whether it differs from the one held before.
+/// Branch-free and in 64-bit lanes, so that it vectorises: packing bits
+/// cost 7 instructions an entry, and flags of a byte 10.
 fn update_pattern(matrix: &DMatrix<f64>, pattern: &mut Vec<u64>) -> bool {
-    let words = matrix.len().div_ceil(64);
-    let mut changed = pattern.len() != words;
-    pattern.resize(words, 0);
-    for (word, chunk) in pattern.iter_mut().zip(matrix.as_slice().chunks(64)) {
-        let bits = chunk
-            .iter()
-            .enumerate()
-            .fold(0u64, |bits, (k, &x)| bits | (u64::from(x != 0.0) << k));
-        changed |= *word != bits;
-        *word = bits;
+    let mut changed = u64::from(pattern.len() != matrix.len());
+    pattern.resize(matrix.len(), 0);
+    for (flag, &x) in pattern.iter_mut().zip(matrix.as_slice()) {
+        let nonzero = u64::from(x != 0.0);
+        changed |= *flag ^ nonzero;
+        *flag = nonzero;
     }
-    changed
+    changed != 0
 }
 
 impl Layout {
