@@ -264,7 +264,12 @@ impl Layout {
                     *x = column[i];
                 }
             }
-            group.inverted = Inverted::new(sub)?;
+            group.inverted = if k > 4 {
+                let lu = sub.lu();
+                lu.is_invertible().then_some(Inverted::Factors(lu))?
+            } else {
+                Inverted::new(sub)?
+            };
         }
         Some(())
     }
