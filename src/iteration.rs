@@ -1361,4 +1361,58 @@ mod tests {
         singular[(5, 5)] = 0.0;
         assert!(Inverted::new(singular).is_none());
     }
+
+    #[test]
+    fn a_rebuilt_operator_reuses_its_blocks_only_while_its_pattern_holds() {
+        let n = 20;
+        let operator = |coupled: &[(usize, usize)], scale: f64| {
+            let mut m = DMatrix::<f64>::zeros(n, n);
+            for i in 0..n {
+                m[(i, i)] = scale * (3.0 + 0.1 * i as f64);
+            }
+            for &(i, j) in coupled {
+                m[(i, j)] = 0.5 * scale;
+                m[(j, i)] = -0.25 * scale;
+            }
+            m
+        };
+        let b = DVector::from_fn(n, |i, _| (i as f64 * 0.53).cos() - 0.1);
+        let check = |inverted: &mut Inverted, m: &DMatrix<f64>| {
+            let expected = m.clone().lu().solve(&b).unwrap();
+            let mut out = DVector::zeros(n);
+            inverted.apply(&b, &mut out);
+            assert!((&out - &expected).amax() < 1e-13, "{out} vs {expected}");
+        };
+        // Six rows coupled in a chain (factored), two in a pair.
+        let chain = [(2, 5), (5, 7), (7, 11), (11, 12), (12, 18), (0, 9)];
+        let first = operator(&chain, 1.0);
+        let mut inverted = Inverted::new(first.clone()).unwrap();
+        check(&mut inverted, &first);
+        // The same pattern, other values: the blocks are kept.
+        let (matrix, layout) = inverted.take_matrix(n);
+        assert!(layout.is_some());
+        let mut matrix = matrix;
+        matrix.copy_from(&operator(&chain, 2.0));
+        let mut inverted = Inverted::with_layout(matrix, layout).unwrap();
+        check(&mut inverted, &operator(&chain, 2.0));
+        // A new coupling joins the pair to the chain: found again.
+        let joined = [&chain[..], &[(9, 18)]].concat();
+        let (mut matrix, layout) = inverted.take_matrix(n);
+        matrix.copy_from(&operator(&joined, 1.5));
+        let mut inverted = Inverted::with_layout(matrix, layout).unwrap();
+        let Inverted::Blocks(Blocks { layout, .. }) = &inverted else {
+            panic!("blocks expected");
+        };
+        assert_eq!(layout.groups.len(), 1);
+        assert_eq!(layout.groups[0].rows, vec![0, 2, 5, 7, 9, 11, 12, 18]);
+        check(&mut inverted, &operator(&joined, 1.5));
+        // A group made singular (its first column zero) is refused.
+        let (mut matrix, layout) = inverted.take_matrix(n);
+        let mut singular = operator(&joined, 1.0);
+        for &i in &[0, 2, 5, 7, 9, 11, 12, 18] {
+            singular[(i, 0)] = 0.0;
+        }
+        matrix.copy_from(&singular);
+        assert!(Inverted::with_layout(matrix, layout).is_none());
+    }
 }
