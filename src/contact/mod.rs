@@ -19,6 +19,8 @@ use crate::beam::{Beam, Shape};
 use crate::body::BodyState;
 use crate::profile::Profile;
 
+pub mod impact;
+
 /// What touches the track.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ContactKind {

@@ -4,6 +4,8 @@
 
 use crate::system::System;
 
+pub mod mask;
+
 /// How an output is typed when exported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum OutputKind {

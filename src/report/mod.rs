@@ -4,6 +4,7 @@
 
 pub mod csv;
 pub mod nodes;
+pub mod output_file;
 pub mod plot;
 mod run;
 mod stream;

@@ -14,6 +14,8 @@ use crate::scene::{BeamSpec, DampingSpec};
 use crate::two_level::{CoarseMesh, Effective, FineMesh, TwoLevelFactor, PLAIN_FACTOR_ERROR};
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
 
+pub mod bending;
+pub mod mesh;
 mod subspace;
 #[cfg(test)]
 pub(crate) use subspace::start_value;

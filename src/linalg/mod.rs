@@ -1,0 +1,7 @@
+//! Linear algebra the physics solves with: the band LDLᵀ factor of a beam's
+//! matrices, the two-level solve on fine meshes and the small mixed linear
+//! complementarity problem of the contact impulses.
+
+pub mod band;
+pub mod complementarity;
+pub mod two_level;

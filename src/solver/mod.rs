@@ -1,0 +1,6 @@
+//! How the system is advanced in time: the integrators (RK4, HHT-α), the
+//! contact-force iteration of Lee (1994) over them, and the static start.
+
+pub mod integrate;
+pub mod iteration;
+pub mod static_start;
