@@ -576,3 +576,39 @@ fn every_field_of_the_shipped_scenes_has_a_note() {
         );
     }
 }
+
+/// The ```toml blocks of a page that are whole scenes (a name and a beam,
+/// nothing elided).
+fn scene_blocks(text: &str) -> Vec<String> {
+    let mut blocks = Vec::new();
+    let mut rest = text;
+    while let Some(open) = rest.find("```toml\n") {
+        let body = &rest[open + "```toml\n".len()..];
+        let end = body.find("```").unwrap_or(body.len());
+        let block = &body[..end];
+        let first_field = block
+            .lines()
+            .find(|l| !l.starts_with('#') && !l.trim().is_empty());
+        // A block that elides part of a scene (`# ... as in`) is an excerpt.
+        let whole = block.contains("\n[beam]") && !block.contains("# ...");
+        if whole && first_field.is_some_and(|l| l.starts_with("name = ")) {
+            blocks.push(block.to_string());
+        }
+        rest = &body[end..];
+    }
+    blocks
+}
+
+#[test]
+fn every_whole_scene_in_the_guide_is_valid() {
+    let mut checked = 0;
+    for page in guide_pages() {
+        for block in scene_blocks(&read(&page)) {
+            if let Err(error) = Scene::from_toml_str(&block) {
+                panic!("{page}: a scene of the guide is refused: {error}\n{block}");
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 3, "only {checked} whole scenes found");
+}
