@@ -51,8 +51,9 @@ enum Command {
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
-    /// Build the release of this version: the FMUs of every built-in scene,
-    /// cross-check files, release notes and checksums in `<out>/<version>/`.
+    /// Build the release of this version: the FMUs of the paper's built-in
+    /// scenes, cross-check files, release notes and checksums in
+    /// `<out>/<version>/`.
     Release(ReleaseArgs),
 }
 
