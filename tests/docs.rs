@@ -612,3 +612,33 @@ fn every_whole_scene_in_the_guide_is_valid() {
     }
     assert!(checked >= 3, "only {checked} whole scenes found");
 }
+
+/// Paths of tests and scripts the guide names in inline code
+/// (`tests/x.rs`, `scripts/tests/y.py`, `scripts/z.sh`).
+fn named_test_and_script_paths(text: &str) -> Vec<String> {
+    text.split('`')
+        .skip(1)
+        .step_by(2)
+        .flat_map(str::split_whitespace)
+        .filter(|word| word.starts_with("tests/") || word.starts_with("scripts/"))
+        .map(|word| word.trim_end_matches([',', ';', ':', ')']).to_string())
+        .filter(|path| [".rs", ".py", ".sh"].iter().any(|ext| path.ends_with(ext)))
+        .collect()
+}
+
+#[test]
+fn every_test_and_script_the_guide_names_exists() {
+    let mut missing = Vec::new();
+    for page in guide_pages() {
+        for path in named_test_and_script_paths(&read(&page)) {
+            if !root().join(&path).exists() {
+                missing.push(format!("{page}: {path}"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "named but missing:\n{}",
+        missing.join("\n")
+    );
+}
