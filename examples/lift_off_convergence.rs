@@ -1,7 +1,7 @@
 //! Mesh and step convergence of the lift-off and of the landing on the
 //! rigid run-off of the paper's wheel at 150 m/s (the last one: its largest),
 //! and of a glider's first landing on the beam, as Markdown tables for
-//! README's "Lift-off and landing": `cargo run --release --example
+//! docs/lift-off.md, "Lift-off and landing": `cargo run --release --example
 //! lift_off_convergence`.
 
 use guideway::scene::{BodyKind, IntegratorKind, Scene};

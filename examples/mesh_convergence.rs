@@ -1,4 +1,4 @@
-//! Mesh convergence of the paper's 10 m/s wheel case: prints the README table.
+//! Mesh convergence of the paper's 10 m/s wheel case: prints the table of docs/verification.md.
 //!
 //! `cargo run --release --example mesh_convergence`
 //!

@@ -1,4 +1,4 @@
-"""Figure of a lift-off and landing for README ("Lift-off and landing"):
+"""Figure of a lift-off and landing for docs/lift-off.md ("Lift-off and landing"):
 the paper's wheel at 150 m/s on a 16-element beam (Δt = 1e-4 s, `auto`
 picks RK4) leaves the beam's surface near its end, flies and lands on the
 rigid run-off. Runs `guideway run` and draws the wheel's height, the gap

@@ -1,4 +1,4 @@
-"""Figure of the Timoshenko paradox for README ("Prescribed speed and the
+"""Figure of the Timoshenko paradox for docs/vehicles.md ("Prescribed speed and the
 Timoshenko paradox"): the paper's glider (600 kN on 3000 kg) is held at
 30 m/s over the paper's beam and on along a rigid run-off. Runs `guideway
 run` and draws, against time, the work of the tractive force that holds

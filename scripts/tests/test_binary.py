@@ -1,5 +1,5 @@
 """The shipped FMU binary: stripped, the FMI 2.0 API as its only exports,
-and the glibc it needs no newer than the baseline README states."""
+and the glibc it needs no newer than the baseline docs/fmu-reference.md states."""
 
 import re
 import subprocess
@@ -9,7 +9,7 @@ import pytest
 
 from conftest import SCENES, fmu_path
 
-# README, "The FMU binary": the oldest glibc it runs on (scripts/build_portable.sh).
+# docs/fmu-reference.md, "The FMU binary": the oldest glibc it runs on (scripts/build_portable.sh).
 GLIBC_BASELINE = (2, 17)
 
 

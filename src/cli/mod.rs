@@ -25,7 +25,7 @@ use std::process::ExitCode;
 #[command(
     name = "guideway",
     version,
-    about = "Simulate a wheel or a maglev glider moving on a flexible beam (Lee 1994)"
+    about = "Simulate vehicles and moving forces crossing flexible bridges and guideways (Lee 1994); export them as FMUs"
 )]
 struct Cli {
     #[command(subcommand)]
@@ -34,7 +34,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Run a scene until the body leaves the beam; write CSV, summary, plot.
+    /// Run a scene until its last contact leaves the beam (or to
+    /// `solver.end_time`); write CSV, summary, plot.
     Run(RunArgs),
     /// List the built-in scenes, or print one as a TOML scene file.
     Scenes(ScenesArgs),
@@ -50,8 +51,9 @@ enum Command {
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
-    /// Build the release of this version: the FMUs of every built-in scene,
-    /// cross-check files, release notes and checksums in `<out>/<version>/`.
+    /// Build the release of this version: the FMUs of the paper's built-in
+    /// scenes, cross-check files, release notes and checksums in
+    /// `<out>/<version>/`.
     Release(ReleaseArgs),
 }
 
@@ -88,7 +90,9 @@ struct RunArgs {
     /// steps, iterations, wall time) to this JSON file.
     #[arg(long, value_name = "JSON")]
     summary: Option<PathBuf>,
-    /// Draw nominal speed, sensor deflection and energy drift to this PNG.
+    /// Draw the run to this PNG: nominal speed, sensor deflection, contact
+    /// forces and sprung accelerations (vehicles), track irregularity,
+    /// energy drift.
     #[arg(long, value_name = "PNG")]
     plot: Option<PathBuf>,
     /// Write every node's deflection and acceleration at every internal
@@ -194,7 +198,7 @@ struct ReleaseArgs {
     replace: bool,
 }
 
-/// How a command failed, deciding the exit code (README, "Exit codes").
+/// How a command failed, deciding the exit code (docs/cli.md, exit codes).
 enum Failure {
     /// The scene (or what it asks for) is wrong: exit code 2.
     Scene(String),

@@ -9,6 +9,7 @@ mod error;
 mod irregularity;
 mod validate;
 
+pub use annotate::field_notes_markdown;
 pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
 pub use error::{Problem, SceneError};
 pub use irregularity::{
@@ -56,8 +57,8 @@ pub struct Scene {
     pub solver: SolverSpec,
     /// Bodies (by name: `wheel`, `car_unsprung`, `train_bogie1`, ...) that
     /// are coupling points of the FMU: each gets inputs for an additional
-    /// force and moment and outputs of its motion (see README, "Coupling
-    /// guideway into your system").
+    /// force and moment and outputs of its motion (see
+    /// docs/coupling.md).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub couplings: Vec<String>,
 }
@@ -227,7 +228,7 @@ pub enum EndSupport {
     Free,
 }
 
-/// The moving body: a rolling wheel or a maglev glider.
+/// The vehicle (or moving force): its kind, mass, start and loads.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BodySpec {
