@@ -459,7 +459,8 @@ impl Simulation {
         };
         let system = assembly.system;
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
-        let restart_weight = matches!(integrator, crate::integrate::Integrator::Hht(_))
+        let restart_weight = integrator
+            .carries_step_end()
             .then(|| integrator.body_weights(1.0).0);
         let dynamic = initial_state(&system, u, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();

@@ -1202,8 +1202,7 @@ impl ContactIteration {
     /// prediction.
     fn settled(&mut self, system: &System, end: &DynamicState, tolerance: f64) -> bool {
         let laws = !system.force_elements.is_empty() || self.followers.contains(&true);
-        let predicted =
-            matches!(self.integrator, Integrator::Hht(_)) && laws && self.open.contains(&true);
+        let predicted = self.integrator.lags_force_laws() && laws && self.open.contains(&true);
         if !predicted {
             return true;
         }
