@@ -9,6 +9,8 @@ use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactForce, ContactKind, Follower};
 use crate::force_element::{Direction, ForceElement};
 use crate::scene::{BodyKind, BodySpec, BogieSpec, MaglevSpec, Scene, SuspensionSpec};
+use crate::solver::iteration::IterationSettings;
+use crate::solver::parameters::SolverParameters;
 use crate::system::{System, Track};
 
 mod followers;
@@ -556,4 +558,15 @@ pub fn constant_forces<'a>(
             None => weight,
         }
     })
+}
+
+/// The solver parameters of a scene: its step and iteration settings, the
+/// fixed tolerances and caps at their defaults.
+pub fn solver_parameters(solver: &crate::scene::SolverSpec) -> SolverParameters {
+    let iteration = IterationSettings {
+        velocity_tolerance: solver.velocity_tolerance,
+        gap_tolerance: solver.gap_tolerance,
+        max_iterations: solver.max_iterations,
+    };
+    SolverParameters::with_step(solver.step, iteration)
 }

@@ -519,17 +519,21 @@ impl StartKind {
     }
 }
 
+// The solver's defaults are `SolverParameters::DEFAULT`'s (one source).
+const SOLVER_DEFAULTS: crate::solver::parameters::SolverParameters =
+    crate::solver::parameters::SolverParameters::DEFAULT;
+
 fn default_step() -> f64 {
-    0.0025
+    SOLVER_DEFAULTS.step
 }
 fn default_velocity_tolerance() -> f64 {
-    1e-7
+    SOLVER_DEFAULTS.iteration.velocity_tolerance
 }
 fn default_gap_tolerance() -> f64 {
-    1e-5
+    SOLVER_DEFAULTS.iteration.gap_tolerance
 }
 fn default_max_iterations() -> u32 {
-    50
+    SOLVER_DEFAULTS.iteration.max_iterations
 }
 
 impl Default for SolverSpec {

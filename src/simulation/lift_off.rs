@@ -13,12 +13,6 @@ use super::{push_event, EventKind, Simulation, SolverError};
 use crate::contact::ContactForce;
 use crate::iteration::StepSolution;
 
-/// A lift-off is located when its end force is within this fraction of
-/// the force it starts from.
-const LIFT_OFF_TOLERANCE: f64 = 1e-6;
-/// The shortest step a lift-off is located in, as a fraction of the step.
-const LIFT_OFF_EARLIEST: f64 = 1e-3;
-
 impl Simulation {
     /// Under HHT-α, the closed contact that starts the step compressed and
     /// whose end force in `forces` pulls, with the earliest linear estimate
@@ -53,8 +47,8 @@ impl Simulation {
         forces: &[ContactForce],
         dt: f64,
     ) -> Option<(StepSolution, f64)> {
-        let tolerance = LIFT_OFF_TOLERANCE * self.state.force_history[c][0].normal;
-        let earliest = LIFT_OFF_EARLIEST * dt;
+        let tolerance = self.params.lift_off_tolerance * self.state.force_history[c][0].normal;
+        let earliest = self.params.lift_off_earliest * dt;
         let early = self.solve(forces, earliest).ok()?.forces[c].normal;
         if early < 0.0 {
             return None;

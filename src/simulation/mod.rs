@@ -11,9 +11,10 @@ use crate::integrate::{
     choose_integrator, contact_frames, contact_frames_at_bodies, force_shape, loads, DynamicState,
     ForceShape,
 };
-use crate::iteration::{ContactIteration, IterationSettings, StepSolution};
+use crate::iteration::{ContactIteration, StepSolution};
 use crate::outputs::{catalogue, Quantity};
 use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
+use crate::solver::parameters::SolverParameters;
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
@@ -125,7 +126,7 @@ pub struct ContactStatus {
 /// events per grid step, so a run takes at most (1 + 3 × contacts) steps
 /// per grid step plus its track events (and three start-up steps with a
 /// shaped force profile, `START_UP_DIVISIONS`).
-pub const RESTING_SPEED: f64 = 1e-2;
+pub const RESTING_SPEED: f64 = SolverParameters::DEFAULT.resting_speed;
 
 /// An event located inside a step (the step is shortened to its instant).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -135,12 +136,8 @@ pub struct ContactEvent {
     pub kind: EventKind,
 }
 
-/// The first steps of a run with a shaped force profile are the grid step
-/// divided by this (`Simulation::start_up_target`).
-const START_UP_DIVISIONS: f64 = 8.0;
-
 /// Events kept per run; later ones are counted, not kept.
-pub const MAX_EVENTS: usize = 10_000;
+pub const MAX_EVENTS: usize = SolverParameters::DEFAULT.max_events;
 
 /// A contact's impact on the far corner of a rail gap.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -335,7 +332,7 @@ fn not_finite(xs: &[f64]) -> f64 {
 /// next (an event located just after a grid point) it grows as dt² over
 /// the short step's length, and a guess of 1e11 N threw the bodies off
 /// the track before the first correction.
-const MAX_EXTRAPOLATION_GAIN: f64 = 50.0;
+const MAX_EXTRAPOLATION_GAIN: f64 = SolverParameters::DEFAULT.max_extrapolation_gain;
 
 /// Initial guess of the next step's contact force (procedure step 1):
 /// quadratic extrapolation of the last three converged forces, at times
@@ -376,7 +373,6 @@ pub struct Simulation {
     sensors: Vec<f64>,
     /// Abscissae of the sections whose moment and shear are outputs.
     sections: Vec<f64>,
-    step: f64,
     /// Without an end time the run ends when the last contact leaves the
     /// beam (the paper's exit); with one it goes on to it.
     stop_at_beam_exit: bool,
@@ -385,7 +381,8 @@ pub struct Simulation {
     vehicle_forces: Vec<(usize, [f64; 2])>,
     /// The bodies driven at a prescribed speed, and their speeds.
     drives: Vec<(usize, SpeedSpec)>,
-    settings: IterationSettings,
+    /// Every tolerance, cap and ratio of the run (`solver::parameters`).
+    params: SolverParameters,
     /// The contact force's shape within a step, and its per-step buffer.
     force_profile: ForceProfile,
     shapes: Vec<ForceShape>,
@@ -462,7 +459,8 @@ impl Simulation {
         };
         let system = assembly.system;
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
-        let restart_weight = matches!(integrator, crate::integrate::Integrator::Hht(_))
+        let restart_weight = integrator
+            .carries_step_end()
             .then(|| integrator.body_weights(1.0).0);
         let dynamic = initial_state(&system, u, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
@@ -481,15 +479,10 @@ impl Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
             envelope_loads,
             sections: scene.sections.iter().map(|s| s.position).collect(),
-            step,
             stop_at_beam_exit: scene.solver.end_time.is_none(),
             vehicle_forces,
             drives,
-            settings: IterationSettings {
-                velocity_tolerance: scene.solver.velocity_tolerance,
-                gap_tolerance: scene.solver.gap_tolerance,
-                max_iterations: scene.solver.max_iterations,
-            },
+            params: crate::build::solver_parameters(&scene.solver),
             iteration: ContactIteration::new(integrator, &system, step),
             force_profile: scene.solver.force_profile,
             shapes: Vec::new(),
@@ -666,7 +659,7 @@ impl Simulation {
 
     /// The fixed internal step (s).
     pub fn step_size(&self) -> f64 {
-        self.step
+        self.params.step
     }
 
     /// Steps taken and contact iterations spent so far.
@@ -799,7 +792,7 @@ impl Simulation {
     /// the last one shortened to land on `target`; steps are also shortened
     /// to land on events. Stops early when the run is over.
     pub fn advance_to(&mut self, target: f64) -> Result<Advance, SolverError> {
-        let tolerance = 1e-9 * self.step;
+        let tolerance = self.params.same_instant();
         loop {
             if let Some(time) = self.state.exit_time {
                 return Ok(Advance::Exited { time });
@@ -807,7 +800,7 @@ impl Simulation {
             if self.state.time >= target - tolerance {
                 return Ok(Advance::Reached);
             }
-            let next_grid = (self.state.grid_step + 1) as f64 * self.step;
+            let next_grid = (self.state.grid_step + 1) as f64 * self.params.step;
             let to = if next_grid <= target + tolerance {
                 next_grid
             } else {
@@ -841,11 +834,11 @@ impl Simulation {
             return to;
         }
         let next = if s.steps < 2 {
-            self.step / START_UP_DIVISIONS
+            self.params.step / self.params.start_up_divisions
         } else {
             2.0 * s.step_history[0]
         };
-        if s.time + next < to - 1e-9 * self.step {
+        if s.time + next < to - self.params.same_instant() {
             s.time + next
         } else {
             to
@@ -1247,7 +1240,7 @@ impl Simulation {
             if part != crate::impact::Part::Out {
                 status.impulse = [impact.impulses[d].x, impact.impulses[d].y];
             }
-            let leaves = impact.separation[d] >= RESTING_SPEED;
+            let leaves = impact.separation[d] >= self.params.resting_speed;
             match part {
                 crate::impact::Part::Landing(e) => {
                     let first = status.landed_in != Some(grid);
@@ -1267,7 +1260,7 @@ impl Simulation {
     /// `separation` (m/s) opens, with a lift-off event, if that is at least
     /// `RESTING_SPEED`; slower, it stays closed.
     fn leave_at_impact(&mut self, d: usize, separation: f64) {
-        if separation < RESTING_SPEED {
+        if separation < self.params.resting_speed {
             return;
         }
         let s = &mut self.state;
@@ -1306,7 +1299,7 @@ impl Simulation {
                     return Part::Out;
                 }
                 let again = status.landed_in == Some(grid);
-                if -approach < RESTING_SPEED || again || (plastic && d == c) {
+                if -approach < self.params.resting_speed || again || (plastic && d == c) {
                     Part::Landing(0.0)
                 } else {
                     Part::Landing(self.restitution[d])
@@ -1390,7 +1383,7 @@ impl Simulation {
                 guess,
                 applied,
                 dt,
-                &self.settings,
+                &self.params.iteration,
                 &mut self.scratch,
             )
             .map_err(|e| SolverError {

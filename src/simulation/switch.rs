@@ -21,16 +21,10 @@
 
 use nalgebra::Vector3;
 
-use super::{JointImpact, Simulation, SolverError, MAX_EVENTS};
+use super::{JointImpact, Simulation, SolverError};
 use crate::contact::ContactForce;
 use crate::integrate::{contact_frames, loads, DynamicState, IntegrationError};
 use crate::system::{System, TrackPart};
-
-/// Trial steps of a restart at most.
-const RESTART_PASSES: usize = 6;
-/// A restart is done when no force changes by more than this fraction of
-/// the largest.
-const RESTART_TOLERANCE: f64 = 1e-9;
 
 impl Simulation {
     /// After the track events of the step just taken (the contacts were on
@@ -67,7 +61,7 @@ impl Simulation {
             return Ok(false);
         }
         let approach = -self.normal_velocity_error(c)?;
-        Ok(approach > self.settings.velocity_tolerance)
+        Ok(approach > self.params.iteration.velocity_tolerance)
     }
 
     /// The velocity jump of a contact switching from one corner of a rail
@@ -112,7 +106,7 @@ impl Simulation {
         self.state.impact_loss += impact.loss;
         let impulse = impact.impulses[contact];
         self.state.contacts[contact].impulse = [impulse.x, impulse.y];
-        if self.joint_impacts.len() < MAX_EVENTS {
+        if self.joint_impacts.len() < self.params.max_events {
             self.joint_impacts.push(JointImpact {
                 time: self.state.time,
                 contact,
@@ -165,7 +159,7 @@ impl Simulation {
         if restarted.contains(&true) {
             forces = self.restart_fixed_point(forces, &restarted, weight, dt)?;
         }
-        if dt < self.step * (1.0 - 1e-9) {
+        if dt < self.params.step * (1.0 - 1e-9) {
             for &c in changed {
                 if !self.state.pending_restart.contains(&c) {
                     self.state.pending_restart.push(c);
@@ -182,18 +176,18 @@ impl Simulation {
         if pending.is_empty() {
             return Ok(());
         }
-        self.restart(&pending, self.step)
+        self.restart(&pending, self.params.step)
     }
 
     /// The time from now to the next grid point: the length of the step
     /// that follows an event (the grid step, from a grid point).
     pub(super) fn grid_remainder(&self) -> f64 {
-        let next = (self.state.grid_step + 1) as f64 * self.step;
+        let next = (self.state.grid_step + 1) as f64 * self.params.step;
         let remainder = next - self.state.time;
-        if remainder > 1e-9 * self.step {
-            remainder.min(self.step)
+        if remainder > self.params.same_instant() {
+            remainder.min(self.params.step)
         } else {
-            self.step
+            self.params.step
         }
     }
 
@@ -226,7 +220,7 @@ impl Simulation {
             .filter(|(_, &r)| r)
             .map(|(c, _)| self.system.bodies[c.body].mass)
             .fold(f64::INFINITY, f64::min);
-        self.settings.velocity_tolerance * lightest / dt
+        self.params.iteration.velocity_tolerance * lightest / dt
     }
 
     /// The passes of `restart_fixed_point`. The update converges linearly
@@ -246,7 +240,7 @@ impl Simulation {
         let mut solved_from = forces.clone();
         let mut least = f64::INFINITY;
         let mut guess = forces.clone();
-        for _ in 0..RESTART_PASSES {
+        for _ in 0..self.params.restart_passes {
             self.restart_from(&forces, restarted)?;
             let trial = self.solve(&guess, dt);
             let Ok(trial) = trial else {
@@ -284,7 +278,7 @@ impl Simulation {
                 guess[c] = next[c];
             }
             solved_from = std::mem::replace(&mut forces, next);
-            if change <= RESTART_TOLERANCE * scale || left <= resolved {
+            if change <= self.params.restart_tolerance * scale || left <= resolved {
                 break;
             }
         }

@@ -3,4 +3,5 @@
 
 pub mod integrate;
 pub mod iteration;
+pub mod parameters;
 pub mod static_start;

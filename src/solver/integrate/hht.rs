@@ -151,7 +151,7 @@ impl Hht {
     }
 
     fn is_nominal(&self, dt: f64) -> bool {
-        (dt - self.nominal.0).abs() <= 1e-9 * self.nominal.0
+        crate::solver::parameters::is_nominal_step(dt, self.nominal.0)
     }
 
     /// The factor of the effective matrix for a step of `dt`, kept until

@@ -297,6 +297,21 @@ impl Integrator {
         }
     }
 
+    /// Whether the scheme carries each step's end accelerations and contact
+    /// forces into the next step, so that it must restart where a contact
+    /// switches surfaces or meets an impact (HHT-α; RK4 starts each step
+    /// afresh).
+    pub fn carries_step_end(&self) -> bool {
+        matches!(self, Integrator::Hht(_))
+    }
+
+    /// Whether the force elements are evaluated at a predicted end
+    /// configuration that the iteration must refine (HHT-α), rather than
+    /// in the scheme's own stages (RK4).
+    pub fn lags_force_laws(&self) -> bool {
+        matches!(self, Integrator::Hht(_))
+    }
+
     /// Called once after the iterations of a step that converged, with its
     /// last integration in `end`: what only the accepted step needs (HHT-α's
     /// energy bookkeeping; RK4 keeps its own with every integration).

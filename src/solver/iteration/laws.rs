@@ -49,7 +49,7 @@ impl ContactIteration {
     /// Whether the integrator lags the force elements (HHT-α on a system
     /// with force elements).
     pub(super) fn lags_laws(&mut self, system: &System, dt: f64) -> bool {
-        let full_step = (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step;
+        let full_step = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
         !system.force_elements.is_empty()
             && full_step
             && !self

@@ -917,7 +917,7 @@ impl ContactIteration {
         // entry) made filling and checking a tenth of the building.
         matrix.as_mut_slice().fill(0.0);
         // Grid steps differ from the nominal step by round-off only.
-        if (dt - self.nominal_step).abs() <= 1e-9 * self.nominal_step {
+        if crate::solver::parameters::is_nominal_step(dt, self.nominal_step) {
             self.beam_compliance_cached(system, frames, part, &mut matrix);
         } else {
             self.beam_compliance_integrated(system, frames, (dt, part), &mut matrix);
@@ -1202,8 +1202,7 @@ impl ContactIteration {
     /// prediction.
     fn settled(&mut self, system: &System, end: &DynamicState, tolerance: f64) -> bool {
         let laws = !system.force_elements.is_empty() || self.followers.contains(&true);
-        let predicted =
-            matches!(self.integrator, Integrator::Hht(_)) && laws && self.open.contains(&true);
+        let predicted = self.integrator.lags_force_laws() && laws && self.open.contains(&true);
         if !predicted {
             return true;
         }
