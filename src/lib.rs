@@ -13,6 +13,7 @@ pub mod bending;
 pub mod body;
 pub mod complementarity;
 pub mod contact;
+pub mod contact_law;
 pub mod design;
 pub mod fmi2;
 pub mod fmu;
