@@ -247,3 +247,183 @@ end_time = 4.0
     // Never tensile.
     assert!(force.iter().all(|&f| f > 0.0));
 }
+
+/// The maglev car of the issue: 30 t over eight 600 kg magnets 3 m apart
+/// on 800 kN/m, at 100 m/s from the approach over a 24 m span (the
+/// Yang & Yau section) onto the run-off, each magnet on the `ems` preset.
+fn maglev_scene(elements: usize, step: f64) -> Scene {
+    Scene::from_toml_str(&format!(
+        r#"
+name = "maglev-ems"
+gravity = {GRAVITY:?}
+[beam]
+length = 24.0
+mass_per_length = 2303.0
+bending_stiffness = 8.5347e10
+surface_offset = 0.0
+elements = {elements}
+[track]
+approach = 30.0
+run_off = 60.0
+[body]
+name = "car"
+kind = "maglev_vehicle"
+mass = 30000.0
+initial_position = -12.0
+initial_speed = 100.0
+[body.contact_law]
+preset = "ems"
+[body.maglev]
+car_inertia = 1.5e6
+magnets = 8
+magnet_spacing = 3.0
+magnet_mass = 600.0
+stiffness = 8.0e5
+[[sensors]]
+name = "mid"
+position = 12.0
+[solver]
+integrator = "auto"
+step = {step:?}
+end_time = 0.55
+start = "static"
+"#
+    ))
+    .expect("valid scene")
+}
+
+/// Peak |value| over all the series.
+fn peak(series: &[Vec<f64>]) -> f64 {
+    series.iter().flatten().fold(0.0, |m, v| m.max(v.abs()))
+}
+
+#[test]
+fn ems_magnets_hold_their_gap_without_tension_and_converge_under_refinement() {
+    let magnets: Vec<String> = (1..=8).map(|i| format!("car_magnet{i}")).collect();
+    let mut names: Vec<String> = magnets
+        .iter()
+        .map(|m| format!("{m}.normal_force"))
+        .collect();
+    names.extend(magnets.iter().map(|m| format!("{m}.gap")));
+    names.push("sensor.mid.acceleration".into());
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    // Each magnet's static load F₀ = (M/8 + m) g; it saturates at 2 F₀.
+    let load = (30000.0 / 8.0 + 600.0) * GRAVITY;
+    let mut peaks = Vec::new();
+    for (elements, step) in [(16, 5.0e-4), (32, 2.5e-4)] {
+        let (_, h, events) = run(&maglev_scene(elements, step), &names);
+        assert!(
+            !events.contains(&EventKind::LiftOff),
+            "lost contact: {events:?}"
+        );
+        let forces = &h[..8];
+        let least = forces.iter().flatten().fold(f64::MAX, |m, &v| m.min(v));
+        let most = peak(forces);
+        // Compressive, never at zero nor at the saturation 2 F₀.
+        assert!(least > 0.5 * load && most < 2.0 * load, "{least} {most}");
+        // Within the band of the 10 mm nominal air gap.
+        let gap = peak(&h[8..16]);
+        assert!(gap < 0.01, "{gap}");
+        let deck = peak(&h[16..]);
+        println!("{elements} elements, {step} s: force {least:.1}..{most:.1} N, gap {gap:.3e} m, deck {deck:.4} m/s²");
+        peaks.push((most, deck));
+    }
+    let change = |a: f64, b: f64| (b / a - 1.0).abs();
+    assert!(change(peaks[0].0, peaks[1].0) < 0.02, "{peaks:?}");
+    assert!(change(peaks[0].1, peaks[1].1) < 0.02, "{peaks:?}");
+}
+
+/// The issue's eight coaches (bogie vehicles on 1400 kg glider wheelsets)
+/// at 300 km/h from the approach over a 20 m simply supported span
+/// (12 t/m, f₁ = 5.5 Hz, 1.5 % at modes 1 and 3) onto the run-off, every
+/// wheelset on the `wheel-rail` Hertz preset, on the bare deck.
+fn eight_coaches(elements: usize, step: f64) -> Scene {
+    let mut text = format!(
+        r#"
+name = "eight-coaches-hertz"
+gravity = {GRAVITY:?}
+[beam]
+length = 20.0
+mass_per_length = 12000.0
+bending_stiffness = 2.3539e10
+surface_offset = 0.0
+elements = {elements}
+[beam.damping]
+ratio = 0.015
+modes = [1, 3]
+[track]
+approach = 190.0
+run_off = 230.0
+[[sensors]]
+name = "mid"
+position = 10.0
+[solver]
+integrator = "auto"
+numerical_damping = 0.1
+step = {step:?}
+end_time = 2.6
+start = "static"
+"#
+    );
+    for i in 0..8 {
+        let (table, sub) = if i == 0 {
+            ("[body]", "body")
+        } else {
+            ("[[vehicles]]", "vehicles")
+        };
+        text += &format!(
+            r#"
+{table}
+name = "coach{n}"
+kind = "bogie_vehicle"
+mass = 38884.0
+initial_position = {x:?}
+initial_speed = 83.3333
+[{sub}.contact_law]
+preset = "wheel-rail"
+[{sub}.bogie]
+car_inertia = 1.95e6
+bogie_mass = 2400.0
+bogie_inertia = 3200.0
+wheelset_mass = 1400.0
+bogie_half_distance = 8.75
+axle_half_distance = 1.25
+primary_stiffness = 1.18e6
+primary_damping = 20000.0
+secondary_stiffness = 5.3e5
+secondary_damping = 45000.0
+"#,
+            n = i + 1,
+            x = -11.0 - 24.0 * i as f64
+        );
+    }
+    Scene::from_toml_str(&text).expect("valid scene")
+}
+
+#[test]
+fn eight_coaches_on_hertz_wheelsets_converge_in_step_and_mesh_without_lifting_off() {
+    let mut names: Vec<String> = (1..=8)
+        .flat_map(|c| (1..=4).map(move |w| format!("coach{c}_wheelset{w}.normal_force")))
+        .collect();
+    names.push("sensor.mid.acceleration".into());
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    let wheel_load = (38884.0 + 2.0 * 2400.0 + 4.0 * 1400.0) * GRAVITY / 4.0;
+    let mut peaks = Vec::new();
+    for (elements, step) in [(20, 5.0e-4), (20, 2.5e-4), (40, 5.0e-4)] {
+        let (_, h, events) = run(&eight_coaches(elements, step), &names);
+        assert!(!events.contains(&EventKind::LiftOff), "{events:?}");
+        let (force, deck) = (peak(&h[..32]), peak(&h[32..]));
+        let least = h[..32].iter().flatten().fold(f64::MAX, |m, &v| m.min(v));
+        println!(
+            "{elements} elements, {step} s: wheel force {least:.0}..{force:.0} N \
+             (static {wheel_load:.0}), midspan acceleration {deck:.4} m/s²"
+        );
+        assert!(least > 0.0 && force < 2.0 * wheel_load, "{least} {force}");
+        peaks.push((force, deck));
+    }
+    let change = |a: f64, b: f64| (b / a - 1.0).abs();
+    for refined in [peaks[1], peaks[2]] {
+        assert!(change(peaks[0].0, refined.0) < 0.02, "{peaks:?}");
+        assert!(change(peaks[0].1, refined.1) < 0.02, "{peaks:?}");
+    }
+}
