@@ -427,3 +427,31 @@ fn eight_coaches_on_hertz_wheelsets_converge_in_step_and_mesh_without_lifting_of
         assert!(change(peaks[0].1, refined.1) < 0.02, "{peaks:?}");
     }
 }
+
+#[test]
+fn rigid_massive_wheelsets_are_advised_the_well_posed_law_and_bad_laws_are_refused() {
+    let hertz = eight_coaches(20, 5.0e-4);
+    assert!(guideway::scene::advisories(&hertz).is_empty());
+    let mut rigid = hertz.clone();
+    for spec in std::iter::once(&mut rigid.body).chain(&mut rigid.vehicles) {
+        spec.contact_law = None;
+    }
+    let advice = guideway::scene::advisories(&rigid);
+    assert_eq!(advice.len(), 1, "{advice:?}");
+    assert!(advice[0].contains("coach8") && advice[0].contains("\"wheel-rail\""));
+    // A law's broken rule names the field, its value and the rule.
+    let text = toml_of(&hertz).replace(
+        "preset = \"wheel-rail\"",
+        "law = \"ems\"\nnominal_gap = 0.01\nproportional_gain = 50.0\nderivative_gain = 0.5",
+    );
+    let error = Scene::from_toml_str(&text).unwrap_err().to_string();
+    assert!(
+        error.contains("body.contact_law.proportional_gain")
+            && error.contains("negative stiffness"),
+        "{error}"
+    );
+}
+
+fn toml_of(scene: &Scene) -> String {
+    toml::to_string(scene).expect("serializes")
+}

@@ -3,6 +3,7 @@
 //! Read from TOML with serde. Every length is in metres, mass in kilograms,
 //! force in newtons, time in seconds.
 
+mod advice;
 mod annotate;
 mod builtin;
 mod contact_law;
@@ -10,6 +11,7 @@ mod error;
 mod irregularity;
 mod validate;
 
+pub use advice::advisories;
 pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
