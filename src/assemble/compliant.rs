@@ -30,7 +30,8 @@ pub(super) fn apply(vehicle: &mut Vehicle, law: ResolvedLaw, share: f64) -> Resu
                 max_force,
             } => {
                 let max_force = max_force.unwrap_or(2.0 * share);
-                if !(max_force > share) {
+                // NaN-safe: a cap that is not above the load is refused.
+                if max_force.partial_cmp(&share) != Some(std::cmp::Ordering::Greater) {
                     return Err(format!(
                         "contact_law.max_force = {max_force} N must exceed the magnet's static \
                          load {share} N"
