@@ -30,7 +30,7 @@ pub mod vehicle;
 // The modules' paths before the layout of issue 23, kept so that code
 // written against them (other branches, tests, examples) still compiles.
 pub use build as assemble;
-pub use contact::impact;
+pub use contact::{impact, law as contact_law};
 pub use linalg::{band, complementarity, two_level};
 pub use outputs::mask as output_mask;
 pub use report::output_file;

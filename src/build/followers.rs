@@ -26,6 +26,7 @@ pub(super) fn fold_contact_bodies(vehicle: &mut Vehicle) {
             preload: carrier.preload,
             rest: carrier.rest,
             attachment: carrier.point_a,
+            kind: Default::default(),
         });
         removed.push(contact.body);
         contact.body = carrier.body_a;

@@ -13,6 +13,7 @@ use crate::solver::iteration::IterationSettings;
 use crate::solver::parameters::SolverParameters;
 use crate::system::{System, Track};
 
+mod compliant;
 mod followers;
 
 /// The system a scene asks for, where everything starts, the static
@@ -171,6 +172,7 @@ fn sprung_mass_on_follower(
             preload: spec.mass * gravity,
             rest: SPRUNG_HEIGHT,
             attachment: Vector2::zeros(),
+            kind: Default::default(),
         }),
         ..contact
     };
@@ -481,6 +483,14 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         };
         if spec.massless_contacts() {
             followers::fold_contact_bodies(&mut vehicle);
+        }
+        if let Some(law) = &spec.contact_law {
+            let law = law
+                .resolve()
+                .map_err(|(field, value, rule)| format!("contact_law.{field} = {value}: {rule}"))?;
+            let weight: f64 = vehicle.bodies.iter().map(|b| b.mass * gravity).sum();
+            let share = (weight - spec.force_y) / vehicle.contacts.len() as f64;
+            compliant::apply(&mut vehicle, law, share)?;
         }
         // The first vehicle's contact keeps the name `contact` of the
         // single-body scenes; the others' are named after their vehicle.

@@ -63,6 +63,9 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
 
     if !args.quiet {
         println!("{}", frequencies_line(&simulation.system().beam));
+        for advice in guideway::scene::advisories(&scene) {
+            eprintln!("note: {advice}");
+        }
     }
     let mut sink = Sink::new(&scene, &simulation, &outputs)?;
     if outputs.csv.is_none() && outputs.plot.is_none() {

@@ -3,14 +3,18 @@
 //! Read from TOML with serde. Every length is in metres, mass in kilograms,
 //! force in newtons, time in seconds.
 
+mod advice;
 mod annotate;
 mod builtin;
+mod contact_law;
 mod error;
 mod irregularity;
 mod validate;
 
 pub use annotate::field_notes_markdown;
+pub use advice::advisories;
 pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
+pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
 pub use irregularity::{
     parse_table, read_table, track_extent, IrregularitySpec, MAX_IRREGULARITIES, MAX_TABLE_POINTS,
@@ -283,6 +287,10 @@ pub struct BodySpec {
     /// t = 0: its contacts start open and it falls (needs `start = "rest"`).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub initial_height: f64,
+    /// How the vehicle's contact bodies meet the track: Lee's rigid
+    /// contact when left out, or a compliant law (`contact_law`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_law: Option<ContactLawSpec>,
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -682,6 +690,7 @@ impl Scene {
                 maglev: None,
                 restitution: 0.0,
                 initial_height: 0.0,
+                contact_law: None,
             },
             track: TrackSpec::default(),
             vehicles: Vec::new(),

@@ -604,6 +604,34 @@ fn check_body(
     checks.finite(&path("force_x"), body.force_x);
     checks.finite(&path("force_y"), body.force_y);
     check_flight(checks, scene, prefix, body);
+    check_contact_law(checks, prefix, body);
+}
+
+/// A compliant contact law on contact bodies with mass: refused with
+/// massless followers (their suspension is already their law) and for a
+/// moving force (no contact).
+fn check_contact_law(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    let Some(law) = &body.contact_law else {
+        return;
+    };
+    let path = |field: &str| format!("{prefix}.contact_law.{field}");
+    match law.resolve() {
+        Err((field, value, rule)) => checks.fail(path(field), value, rule),
+        Ok(super::ResolvedLaw::Rigid) => {}
+        Ok(_) => {
+            let followers = body.massless_contacts()
+                || (body.kind == BodyKind::SprungMass
+                    && body.suspension.is_some_and(|s| s.unsprung_mass == 0.0));
+            if followers || body.kind == BodyKind::MovingForce {
+                checks.fail(
+                    path("law"),
+                    format!("{:?}", law.law.clone().unwrap_or_default()),
+                    "needs contact bodies with mass (a massless follower's law is its \
+                     suspension; a moving force has no contact)",
+                );
+            }
+        }
+    }
 }
 
 /// Restitution in [0, 1]; a start above the track is ≥ 0 and needs the

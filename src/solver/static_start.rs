@@ -18,6 +18,8 @@
 //! magnet station) does not move its body, which several of them hold:
 //! like a force element, its rest becomes its start gap, and its preload
 //! is set so that its vertical part is the load it was built to carry.
+//! A contact body with mass on a compliant law is set at its law's rest,
+//! and the law's preload becomes what the body's equilibrium needs.
 
 use nalgebra::{DVector, Vector3};
 
@@ -66,6 +68,7 @@ pub fn static_start(
             &mut beam_load,
             &mut body_loads,
         );
+        preload_compliant_contacts(system, &frames, &body_loads);
         carry_loads(system, &frames, &body_loads, forces);
         loads(
             system,
@@ -176,6 +179,28 @@ fn rest_attached_followers(
             follower.rest = gap;
             follower.preload = load / frame.normal().y;
         }
+    }
+}
+
+/// A contact body with mass on a compliant law (`contact_law`) carries
+/// what its body needs: its preload (the force at its rest gap, where
+/// `settle_on_surface` put it) corrected by the vertical load left on the
+/// body, over the normal's vertical part.
+fn preload_compliant_contacts(
+    system: &mut System,
+    frames: &[ContactFrame],
+    body_loads: &[Vector3<f64>],
+) {
+    for (contact, frame) in system.contacts.iter_mut().zip(frames) {
+        let body = contact.body;
+        let attached = contact.is_attached();
+        let Some(follower) = contact.follower.as_mut() else {
+            continue;
+        };
+        if attached || follower.kind == crate::contact_law::LawKind::Suspension {
+            continue;
+        }
+        follower.preload -= body_loads[body].y / frame.normal().y;
     }
 }
 
