@@ -110,10 +110,18 @@ pub fn envelope_of_loads(
     // A modal structure's static response is its modes' (Ω⁻² Φᵀ r).
     let stiffness = match beam.modal() {
         Some(_) => None,
-        None => Some(beam.stiffness_factor().ok_or(
-            "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
-             to move), so the loads have no static response",
-        )?),
+        None => Some(beam.stiffness_factor().ok_or_else(|| {
+            // The scene rules already refuse supports that leave the beam
+            // free: what is left is rounding on a fine mesh.
+            let n = scene.beam.elements as f64;
+            format!(
+                "beam.elements = {}: the stiffness matrix cannot be factorised in double \
+                 precision (its condition number grows as elements⁴, about {:.0e} here), so \
+                 the loads have no static response; use fewer elements",
+                scene.beam.elements,
+                n.powi(4)
+            )
+        })?),
     };
     let shifts = shifts(scene, beam, loads, (first, last));
     let at_rest = DVector::zeros(beam.coordinates());
