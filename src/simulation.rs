@@ -1403,7 +1403,13 @@ impl Simulation {
             )
             .map_err(|e| SolverError {
                 time: s.time,
-                message: e.to_string(),
+                message: match e {
+                    crate::iteration::StepError::LostContact { .. } => format!(
+                        "{e}: {}",
+                        heaviest_and_deflection(&self.system, &s.dynamic.beam_displacement)
+                    ),
+                    e => e.to_string(),
+                },
             })?;
         if !self.scratch.beam_displacement.iter().all(|x| x.is_finite()) {
             return Err(SolverError {
@@ -1542,6 +1548,17 @@ fn no_start_point(
         .contacts
         .get(contact)
         .map_or("?", |c| c.name.as_str());
+    format!(
+        "no contact point at the start for {name} (x = {}): {}",
+        fmt_number(x),
+        heaviest_and_deflection(system, u)
+    )
+}
+
+/// What most often loses a contact: the beam's largest displacement and
+/// the heaviest body, in words.
+fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
+    use crate::report::fmt_number;
     let deflection = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     let heaviest = system
         .bodies
@@ -1549,10 +1566,9 @@ fn no_start_point(
         .max_by(|a, b| a.mass.total_cmp(&b.mass));
     let (body, mass) = heaviest.map_or(("?", 0.0), |b| (b.name.as_str(), b.mass));
     format!(
-        "no contact point at the start for {name} (x = {}): the beam's displacements reach \
-         {} m under the bodies' weight, the heaviest being {body} with a mass of {} kg; \
-         lighter bodies or a stiffer beam put the contact back on the track",
-        fmt_number(x),
+        "the beam's displacements reach {} m under the bodies' weight, the heaviest being \
+         {body} with a mass of {} kg; lighter bodies or a stiffer beam keep the contacts on \
+         the track",
         fmt_number(deflection),
         fmt_number(mass)
     )

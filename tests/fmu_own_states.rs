@@ -174,3 +174,112 @@ fn a_train_starting_on_the_approach_takes_any_start_on_the_approach() {
         .unwrap_err();
     assert!(e.contains("-70.5") && e.contains("must be >= -70"), "{e}");
 }
+
+// ---- issue 30, defect 5: forged multi-body states are refused whole ---------------
+
+/// The payload of a serialized state as JSON, and its header up to the
+/// checksum.
+fn open_state(bytes: &[u8]) -> (Vec<u8>, serde_json::Value) {
+    let n = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let head = bytes[..16 + n].to_vec();
+    let payload = &bytes[16 + n + 40..];
+    (head, rmp_serde::from_slice(payload).unwrap())
+}
+
+/// Framed again with the right length and checksum.
+fn close_state(head: &[u8], value: &serde_json::Value) -> Vec<u8> {
+    use sha2::Digest;
+    let payload = rmp_serde::to_vec_named(value).unwrap();
+    let mut out = head.to_vec();
+    out.extend_from_slice(&sha2::Sha256::digest(&payload));
+    out.extend_from_slice(&(payload.len() as u64).to_le_bytes());
+    out.extend_from_slice(&payload);
+    out
+}
+
+#[test]
+fn forged_train_states_are_refused_at_deserialization() {
+    let scene = guideway::scene::builtin("train-3-coaches-2x25-5").unwrap();
+    let (mut fmu, _) = instance(&scene);
+    fmu.setup_experiment(0.0, None).unwrap();
+    fmu.enter_initialization_mode().unwrap();
+    fmu.exit_initialization_mode().unwrap();
+    fmu.do_step(0.0, 0.01).unwrap();
+    let key = fmu.get_state(0).unwrap();
+    let bytes = fmu.serialize_state(key).unwrap();
+    let (head, good) = open_state(&bytes);
+    assert!(
+        fmu.deserialize_state(&close_state(&head, &good)).is_ok(),
+        "re-framed own state"
+    );
+    let forge = |change: &dyn Fn(&mut serde_json::Value)| {
+        let mut v = good.clone();
+        change(&mut v);
+        close_state(&head, &v)
+    };
+    // The car body (body 0) and its first wheelset swapped: 1.5 m apart.
+    let swapped = forge(&|v| {
+        let bodies = v["sim"]["dynamic"]["bodies"].as_array_mut().unwrap();
+        bodies.swap(0, 3);
+    });
+    let e = fmu.deserialize_state(&swapped).unwrap_err();
+    assert!(e.contains("not where the contacts say"), "{e}");
+    let exit_before_start = forge(&|v| v["sim"]["exit_time"] = (-1.0).into());
+    let e = fmu.deserialize_state(&exit_before_start).unwrap_err();
+    assert!(e.contains("exit time -1 s lies outside"), "{e}");
+    let one_body_less = forge(&|v| {
+        v["sim"]["dynamic"]["bodies"].as_array_mut().unwrap().pop();
+    });
+    assert!(fmu
+        .deserialize_state(&one_body_less)
+        .unwrap_err()
+        .contains("bodies"));
+    // The instance is unchanged by the refusals and its own state restores.
+    fmu.set_state(key).unwrap();
+}
+
+// ---- issue 30, defect 6: the wall-time budget holds inside one internal step ------
+
+#[test]
+fn one_internal_step_past_the_budget_is_refused_not_finished() {
+    let scene = guideway::scene::builtin("train-3-coaches-2x25-5").unwrap();
+    let (mut fmu, _) = instance(&scene);
+    let budget = fmu
+        .model()
+        .table()
+        .by_name("solver.wall_time_budget")
+        .unwrap();
+    let vr = budget.value_reference;
+    fmu.set("fmi2SetReal", &[vr], &[Value::Real(1e-300)])
+        .unwrap();
+    fmu.setup_experiment(0.0, None).unwrap();
+    fmu.enter_initialization_mode().unwrap();
+    fmu.exit_initialization_mode().unwrap();
+    // One internal step: on 86becc7 it ran to its end and returned OK.
+    let e = fmu.do_step(0.0, scene.solver.step).unwrap_err();
+    assert!(
+        e.contains("one internal step") && e.contains("1e-300"),
+        "{e}"
+    );
+    assert!(e.len() < 600, "a short message: {e}");
+}
+
+#[test]
+fn a_subnormal_budget_is_printed_short() {
+    let scene = guideway::scene::builtin("lee1994-wheel-10").unwrap();
+    let (mut fmu, _) = instance(&scene);
+    let vr = fmu
+        .model()
+        .table()
+        .by_name("solver.wall_time_budget")
+        .unwrap()
+        .value_reference;
+    fmu.set("fmi2SetReal", &[vr], &[Value::Real(5e-324)])
+        .unwrap();
+    fmu.setup_experiment(0.0, None).unwrap();
+    fmu.enter_initialization_mode().unwrap();
+    fmu.exit_initialization_mode().unwrap();
+    let e = fmu.do_step(0.0, 100.0 * scene.solver.step).unwrap_err();
+    assert!(e.contains("= 5e-324 s"), "{e}");
+    assert!(e.len() < 600, "{} characters: {e}", e.len());
+}

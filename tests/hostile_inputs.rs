@@ -113,3 +113,263 @@ fn a_sprung_mass_and_a_glider_named_its_unsprung_mass_are_refused() {
         "{error}"
     );
 }
+
+// ---- the command line, run as a user would --------------------------------------
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+fn guideway(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .args(args)
+        .env("GUIDEWAY_CDYLIB", guideway::fmu::default_cdylib().unwrap())
+        .env_remove("GUIDEWAY_TABLE_PATHS")
+        .output()
+        .expect("the guideway binary runs")
+}
+
+/// `guideway args`, killed (and the test failed) after 30 s.
+fn guideway_within_30_s(args: &[&str]) -> Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .args(args)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if started.elapsed() > Duration::from_secs(30) {
+            child.kill().unwrap();
+            panic!("guideway {args:?} still running after 30 s");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+fn s(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// The default scene with a profile table `table` beside it, in `dir`.
+fn scene_with_table(dir: &Path, table: &str) -> PathBuf {
+    let text = builtin("lee1994-wheel-10").unwrap().to_toml_string();
+    let scene = dir.join("s.toml");
+    let with = format!("{text}\n[[track.irregularities]]\ntype = \"table\"\nfile = {table:?}\n");
+    std::fs::write(&scene, with).unwrap();
+    scene
+}
+
+/// Exit code 2, the message naming the input, the input unchanged.
+fn assert_refused_unchanged(output: &Output, input: &Path, before: &[u8]) {
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(output));
+    assert!(
+        stderr(output).contains("would be overwritten"),
+        "{}",
+        stderr(output)
+    );
+    assert_eq!(
+        std::fs::read(input).unwrap(),
+        before,
+        "{} changed",
+        input.display()
+    );
+}
+
+// ---- 2: no output of a command may be one of its inputs --------------------------
+
+#[test]
+fn sweep_and_modes_refuse_to_write_onto_their_scene() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("S.toml");
+    let text = std::fs::read(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/bridge25_hslm.toml"
+    ));
+    std::fs::write(&scene, text.unwrap()).unwrap();
+    let before = std::fs::read(&scene).unwrap();
+    let out = guideway(&["sweep", s(&scene), "--speeds", "100", "--out", s(&scene)]);
+    assert_refused_unchanged(&out, &scene, &before);
+    let out = guideway(&["modes", s(&scene), "--out", s(&scene)]);
+    assert_refused_unchanged(&out, &scene, &before);
+}
+
+#[test]
+fn run_refuses_to_write_onto_the_scene_s_table_file_even_through_a_link() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("t.csv");
+    std::fs::write(&table, "0,0\n10,0.001\n30,0\n").unwrap();
+    let scene = scene_with_table(dir.path(), "t.csv");
+    let before = std::fs::read(&table).unwrap();
+    let out = guideway(&["run", s(&scene), "--out", s(&table), "--quiet"]);
+    assert_refused_unchanged(&out, &table, &before);
+    assert!(stderr(&out).contains("table file"), "{}", stderr(&out));
+    let link = dir.path().join("other-name.csv");
+    std::fs::hard_link(&table, &link).unwrap();
+    let out = guideway(&["run", s(&scene), "--summary", s(&link), "--quiet"]);
+    assert_refused_unchanged(&out, &table, &before);
+}
+
+#[test]
+fn export_refuses_to_write_onto_the_vehicle_fmu() {
+    let dir = tempfile::tempdir().unwrap();
+    let vehicle = dir.path().join("V.fmu");
+    std::fs::write(&vehicle, "a vehicle FMU").unwrap();
+    let before = std::fs::read(&vehicle).unwrap();
+    let ssp = dir.path().join("s.ssp");
+    let out = guideway(&[
+        "export",
+        "-o",
+        s(&vehicle),
+        "--vehicle",
+        s(&vehicle),
+        "--ssp",
+        s(&ssp),
+    ]);
+    assert_refused_unchanged(&out, &vehicle, &before);
+    let fmu = dir.path().join("g.fmu");
+    let out = guideway(&[
+        "export",
+        "-o",
+        s(&fmu),
+        "--vehicle",
+        s(&vehicle),
+        "--ssp",
+        s(&vehicle),
+    ]);
+    assert_refused_unchanged(&out, &vehicle, &before);
+    assert!(!fmu.exists(), "nothing written");
+}
+
+#[test]
+fn release_refuses_a_changelog_inside_the_directory_it_replaces() {
+    let dir = tempfile::tempdir().unwrap();
+    let release = dir.path().join(guideway::fmu::release::VERSION);
+    std::fs::create_dir(&release).unwrap();
+    let changelog = release.join("CHANGELOG.md");
+    std::fs::write(&changelog, "# Changelog\n").unwrap();
+    let args = [
+        "release",
+        "--out",
+        s(dir.path()),
+        "--changelog",
+        s(&changelog),
+        "--replace",
+    ];
+    let out = guideway(&args);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("would be overwritten"),
+        "{}",
+        stderr(&out)
+    );
+    assert_eq!(
+        std::fs::read_to_string(&changelog).unwrap(),
+        "# Changelog\n"
+    );
+}
+
+// ---- 7 and 8: pipes, devices and endless files are refused, not read -------------
+
+fn fifo(path: &Path) {
+    let name = std::ffi::CString::new(s(path)).unwrap();
+    assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
+}
+
+#[test]
+fn a_named_pipe_as_scene_or_table_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let pipe = dir.path().join("pipe.toml");
+    fifo(&pipe);
+    let out = guideway_within_30_s(&["run", s(&pipe), "--quiet"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("not a regular file"),
+        "{}",
+        stderr(&out)
+    );
+    fifo(&dir.path().join("t.csv"));
+    let scene = scene_with_table(dir.path(), "t.csv");
+    let out = guideway_within_30_s(&["run", s(&scene), "--quiet"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("not a regular file"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn release_refuses_dev_zero_as_changelog_without_reading_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = guideway_within_30_s(&[
+        "release",
+        "--out",
+        s(dir.path()),
+        "--changelog",
+        "/dev/zero",
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{}", stderr(&out));
+    assert!(
+        stderr(&out).contains("not a regular file"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+// ---- 10: table files stay in the scene's folder; refusals echo no contents -------
+
+#[test]
+fn table_files_outside_the_scene_folder_are_refused_and_contents_never_echoed() {
+    let outer = tempfile::tempdir().unwrap();
+    let dir = outer.path().join("scene");
+    std::fs::create_dir(&dir).unwrap();
+    std::fs::write(outer.path().join("x.csv"), "0,0\n10,0.001\n").unwrap();
+    for path in ["../x.csv", "/etc/passwd", s(&outer.path().join("x.csv"))] {
+        let scene = scene_with_table(&dir, path);
+        let error = Scene::load(s(&scene)).unwrap_err().to_string();
+        assert!(
+            error.contains("must lie in the scene file's folder"),
+            "{path}: {error}"
+        );
+    }
+    // A link inside the folder that leads outside is the same file outside.
+    std::os::unix::fs::symlink("/etc/passwd", dir.join("p.csv")).unwrap();
+    let error = Scene::load(s(&scene_with_table(&dir, "p.csv")))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("must lie in the scene file's folder"),
+        "{error}"
+    );
+    assert!(!error.contains("root"), "{error}");
+    // A bad line of a table is named by number, never shown.
+    std::fs::write(dir.join("bad.csv"), "0,0\nsecret-token,1\n").unwrap();
+    let error = Scene::load(s(&scene_with_table(&dir, "bad.csv")))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.contains("line 2") && !error.contains("secret"),
+        "{error}"
+    );
+}
+
+// ---- 9: messages name the cause ---------------------------------------------------
+
+#[test]
+fn a_coach_too_heavy_for_a_contact_point_is_named_with_its_mass() {
+    // On 86becc7: "no foot point of contact 1 on the beam could be found".
+    let mut scene = builtin("train-8-coaches-3x25-300").unwrap();
+    scene.body.mass = 1e15;
+    let mut sim = guideway::Simulation::new(&scene).unwrap();
+    let error = sim.advance_to(0.1).unwrap_err().to_string();
+    assert!(
+        error.contains("coach1") && error.contains("1e15 kg"),
+        "{error}"
+    );
+}
