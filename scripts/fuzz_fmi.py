@@ -152,6 +152,13 @@ class Model:
         self.outputs = [vr for vr, c, _ in self.vars["Real"] if c == "output"]
         self.names = {vr: name for vs in self.vars.values() for vr, _, name in vs}
         self.all_vrs = sorted({vr for vs in self.vars.values() for vr, _, _ in vs})
+        # Bodies in the state's order (their `.x` outputs), and which of them
+        # carry a contact (a `.nominal_speed` output): a swap involving one
+        # puts a body away from where its contact says.
+        names = [n for _, c, n in self.vars["Real"] if c == "output"]
+        bodies = [n[:-2] for n in names if n.endswith(".x")]
+        self.contact_bodies = {k for k, b in enumerate(bodies)
+                               if f"{b}.nominal_speed" in names}
 
 
 # ---- logging -----------------------------------------------------------------
@@ -602,7 +609,8 @@ class Sequence:
         coupling loads, exit or event times outside the run): refused at
         fmi2DeSerializeFMUstate already, where it must be refused at all."""
         own = self.references[self.model.guid]["blobs"]
-        forged = fuzz_state.forge_physics(self.rng, self.rng.choice(own))
+        forged = fuzz_state.forge_physics(self.rng, self.rng.choice(own),
+                                          self.model.contact_bodies)
         if forged is None:
             return
         blob, what, must_refuse = forged

@@ -208,15 +208,18 @@ def _height(body):
     return p[1] if isinstance(p, list) and len(p) == 2 else None
 
 
-def forge_physics(rng, blob):
+def forge_physics(rng, blob, contact_bodies=frozenset()):
     """`blob` with one physically hostile change of a running multi-body
     state, framed again: two bodies swapped, a NaN in a body, a body vector
     or the coupling loads shortened or lengthened, a non-finite coupling
     load, an exit or event time outside [0, time]. Returns (blob, what,
     must_refuse): `must_refuse` is True where the FMU has to refuse it (a
-    swap only where the bodies' heights differ by more than 1 cm: then a
-    body no longer sits where its contact says). None if `blob` holds no
-    running state to change."""
+    swap only where one of the two bodies carries a contact, an index in
+    `contact_bodies`, and their heights differ by more than 1 cm: then a
+    body no longer sits where its contact says; a swap of two bodies
+    without contacts, such as a car body and a bogie, is not detectable
+    from contact geometry). None if `blob` holds no running state to
+    change."""
     head, payload = unframe(blob)
     value, end = unpack(payload)
     sim = _sim(value) if end == len(payload) else None
@@ -234,7 +237,8 @@ def forge_physics(rng, blob):
     if kind == "swap":
         i, j = rng.sample(range(len(bodies)), 2)
         yi, yj = _height(bodies[i]), _height(bodies[j])
-        must = yi is not None and yj is not None and abs(yi - yj) > 0.01
+        must = (yi is not None and yj is not None and abs(yi - yj) > 0.01
+                and bool({i, j} & set(contact_bodies)))
         bodies = list(bodies)
         bodies[i], bodies[j] = bodies[j], bodies[i]
         dyn = dict(dyn, bodies=bodies)
