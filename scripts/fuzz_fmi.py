@@ -152,6 +152,13 @@ class Model:
         self.outputs = [vr for vr, c, _ in self.vars["Real"] if c == "output"]
         self.names = {vr: name for vs in self.vars.values() for vr, _, name in vs}
         self.all_vrs = sorted({vr for vs in self.vars.values() for vr, _, _ in vs})
+        # Bodies in the state's order (their `.x` outputs), and which of them
+        # carry a contact (a `.nominal_speed` output): a swap involving one
+        # puts a body away from where its contact says.
+        names = [n for _, c, n in self.vars["Real"] if c == "output"]
+        bodies = [n[:-2] for n in names if n.endswith(".x")]
+        self.contact_bodies = {k for k, b in enumerate(bodies)
+                               if f"{b}.nominal_speed" in names}
 
 
 # ---- logging -----------------------------------------------------------------
@@ -320,7 +327,7 @@ class Sequence:
         actions = [
             (1, self.lifecycle), (6, self.get_values), (5, self.set_values),
             (8, self.do_step), (4, self.fmu_states), (3, self.serialization),
-            (3, self.forged_state),
+            (3, self.forged_state), (3, self.physics_forgery), (1, self.threaded_instances),
             (2, self.status), (1, self.debug_logging), (1, self.unsupported),
             (1, self.null_component), (1, self.platform),
         ]
@@ -595,6 +602,59 @@ class Sequence:
         if accepted:
             self.time = self.current_time()
             self.check_parameters_reachable(path)
+
+    def physics_forgery(self):
+        """A running state of this model made physically hostile (two bodies
+        swapped, NaN positions, wrong body or coupling counts, non-finite
+        coupling loads, exit or event times outside the run): refused at
+        fmi2DeSerializeFMUstate already, where it must be refused at all."""
+        own = self.references[self.model.guid]["blobs"]
+        forged = fuzz_state.forge_physics(self.rng, self.rng.choice(own),
+                                          self.model.contact_bodies)
+        if forged is None:
+            return
+        blob, what, must_refuse = forged
+        state = C.c_void_p()
+        buf = C.create_string_buffer(blob, len(blob))
+        self.keep.append(buf)
+        accepted = self.call("fmi2DeSerializeFMUstate", self.c, buf, len(blob),
+                             C.byref(state)) == OK
+        key = f"physics forgery {what} {'accepted' if accepted else 'refused'}"
+        self.tally[key] = self.tally.get(key, 0) + 1
+        if accepted and must_refuse:
+            self.fail(f"fmi2DeSerializeFMUstate accepted a forged state ({what})")
+        if accepted:
+            self.states.append(state.value)
+            if self.call("fmi2SetFMUstate", self.c, state) == OK:
+                self.time = self.current_time()
+
+    def threaded_instances(self):
+        """Two to four fresh instances of this model run the reference
+        sequence at once on threads (ctypes releases the GIL in the calls):
+        each must give the reference outputs bit for bit."""
+        reference = self.references[self.model.guid]["rows"]
+        results = []
+
+        def one():
+            cb = callbacks()
+            c = self.model.f["fmi2Instantiate"](b"thread", 1, self.model.guid,
+                                                self.model.resources, C.addressof(cb), 0, 0)
+            try:
+                results.append(run_reference_sequence(self.model, c) if c else "NULL")
+            finally:
+                if c:
+                    self.model.f["fmi2FreeInstance"](c)
+
+        threads = [threading.Thread(target=one) for _ in range(self.rng.randint(2, 4))]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        self.calls += len(threads) * (REFERENCE_STEPS * 2 + 5)
+        self.tally["threaded instances"] = self.tally.get("threaded instances", 0) + len(threads)
+        for r in results:
+            if r != reference and not (r is None and reference is None):
+                self.fail("an instance on a thread differs from the reference run")
 
     def check_parameters_reachable(self, path):
         """Each parameter of the instance, set on a fresh instance, is

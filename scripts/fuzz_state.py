@@ -193,3 +193,85 @@ def forge(rng, blob):
         raise ValueError("not a well-formed state (bytes after the payload)")
     path, old = rng.choice(list(places(value)))
     return frame(head, pack(replace(value, path, hostile(rng, old)))), path
+
+
+# ---- physical forgeries of multi-body states (issue 30) ---------------------------------
+
+def _sim(value):
+    sim = value.get("sim") if isinstance(value, dict) else None
+    return sim if isinstance(sim, dict) and isinstance(sim.get("dynamic"), dict) else None
+
+
+def _height(body):
+    """The vertical position of a decoded BodyState (position is [x, y])."""
+    p = body.get("position") if isinstance(body, dict) else None
+    return p[1] if isinstance(p, list) and len(p) == 2 else None
+
+
+def forge_physics(rng, blob, contact_bodies=frozenset()):
+    """`blob` with one physically hostile change of a running multi-body
+    state, framed again: two bodies swapped, a NaN in a body, a body vector
+    or the coupling loads shortened or lengthened, a non-finite coupling
+    load, an exit or event time outside [0, time]. Returns (blob, what,
+    must_refuse): `must_refuse` is True where the FMU has to refuse it (a
+    swap only where one of the two bodies carries a contact, an index in
+    `contact_bodies`, and their heights differ by more than 1 cm: then a
+    body no longer sits where its contact says; a swap of two bodies
+    without contacts, such as a car body and a bogie, is not detectable
+    from contact geometry). None if `blob` holds no running state to
+    change."""
+    head, payload = unframe(blob)
+    value, end = unpack(payload)
+    sim = _sim(value) if end == len(payload) else None
+    if sim is None:
+        return None
+    dyn = sim["dynamic"]
+    bodies = dyn.get("bodies") or []
+    time = sim.get("time", 0.0)
+    kinds = ["nan body", "body count", "coupling count", "coupling nan", "exit time",
+             "event time"]
+    if len(bodies) >= 2:
+        kinds += ["swap"] * 4
+    kind = rng.choice(kinds)
+    must = True
+    if kind == "swap":
+        i, j = rng.sample(range(len(bodies)), 2)
+        yi, yj = _height(bodies[i]), _height(bodies[j])
+        must = (yi is not None and yj is not None and abs(yi - yj) > 0.01
+                and bool({i, j} & set(contact_bodies)))
+        bodies = list(bodies)
+        bodies[i], bodies[j] = bodies[j], bodies[i]
+        dyn = dict(dyn, bodies=bodies)
+    elif kind == "nan body" and bodies:
+        k = rng.randrange(len(bodies))
+        body = dict(bodies[k])
+        body["position"] = [math.nan, _height(bodies[k]) or 0.0]
+        dyn = dict(dyn, bodies=bodies[:k] + [body] + bodies[k + 1:])
+    elif kind == "body count" and bodies:
+        dyn = dict(dyn, bodies=bodies[:-1] if rng.random() < 0.5 else bodies + bodies[-1:])
+    elif kind == "coupling count":
+        loads = sim.get("coupling_loads") or []
+        sim = dict(sim, coupling_loads=loads + [[0.0, 0.0, 0.0]] if rng.random() < 0.5 or
+                   not loads else loads[:-1])
+    elif kind == "coupling nan":
+        loads = sim.get("coupling_loads") or []
+        if not loads:
+            return None
+        k = rng.randrange(len(loads))
+        bad = rng.choice([math.nan, math.inf, -math.inf])
+        sim = dict(sim, coupling_loads=loads[:k] + [[bad, 0.0, 0.0]] + loads[k + 1:])
+    elif kind == "exit time":
+        sim = dict(sim, exit_time=rng.choice([-1.0, time + 1.0, 1e300, -5e-324]))
+    elif kind == "event time":
+        events = list(sim.get("events") or [])
+        if not events:
+            return None
+        k = rng.randrange(len(events))
+        events[k] = dict(events[k], time=rng.choice([-1.0, time + 1.0, 1e300]))
+        sim = dict(sim, events=events)
+    else:
+        return None
+    if kind in ("swap", "nan body", "body count"):
+        sim = dict(sim, dynamic=dyn)
+    value = dict(value, sim=sim)
+    return frame(head, pack(value)), kind, must

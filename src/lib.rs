@@ -11,10 +11,12 @@
 
 pub mod build;
 pub mod contact;
+
 pub mod design;
 pub mod fmi2;
 pub mod fmu;
 pub mod linalg;
+pub mod input_file;
 pub mod model;
 pub mod moving_load;
 pub mod outputs;
@@ -34,7 +36,7 @@ pub use contact::{impact, law as contact_law};
 pub use linalg::{band, complementarity, two_level};
 pub use outputs::mask as output_mask;
 pub use report::output_file;
-pub use solver::{integrate, iteration, static_start};
+pub use solver::{deadline, integrate, iteration, static_start};
 pub use structure::beam::{bending, mesh};
 pub use structure::{beam, modal, profile};
 pub use vehicle::{body, force_element};

@@ -1,14 +1,16 @@
 //! `guideway export SCENE -o NAME.fmu [--cross-check DIR]
 //! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
-use super::{load_scene, ExportArgs, Failure};
+use super::{check_outputs, load_scene_with_inputs, ExportArgs, Failure, Inputs};
 use guideway::fmu::{self, ExportError};
-use guideway::output_file::check_distinct;
 use std::path::{Path, PathBuf};
 
 pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene)?;
-    check_paths(&args, &scene.name)?;
+    let (scene, mut inputs) = load_scene_with_inputs(&args.scene)?;
+    if let Some(vehicle) = &args.vehicle {
+        inputs.push(("--vehicle FMU", vehicle.clone()));
+    }
+    check_paths(&args, &scene.name, &inputs)?;
     if args.cross_check.is_some() {
         fmu::cross_check::check_length(&scene).map_err(|m| {
             Failure::Scene(format!(
@@ -44,24 +46,21 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// Refuse an FMU or cross-check file that would overwrite the scene file or
-/// another output.
-fn check_paths(args: &ExportArgs, scene_name: &str) -> Result<(), Failure> {
-    let scene_file = Path::new(&args.scene);
-    let inputs: Vec<(&str, &Path)> = if scene_file.is_file() {
-        vec![("scene file", scene_file)]
-    } else {
-        Vec::new()
-    };
+/// Refuse an FMU, SSP or cross-check file that would overwrite an input
+/// (the scene, its tables, the vehicle FMU) or another output.
+fn check_paths(args: &ExportArgs, scene_name: &str, inputs: &Inputs) -> Result<(), Failure> {
     let cross_check: Vec<PathBuf> = match &args.cross_check {
         Some(dir) => fmu::cross_check_files(scene_name, dir),
         None => Vec::new(),
     };
     let mut outputs: Vec<(&str, &Path)> = vec![("-o", args.out.as_path())];
+    if let Some(ssp) = &args.ssp {
+        outputs.push(("--ssp", ssp.as_path()));
+    }
     outputs.extend(
         cross_check
             .iter()
             .map(|p| ("--cross-check file", p.as_path())),
     );
-    check_distinct(&inputs, &outputs).map_err(Failure::Usage)
+    check_outputs(inputs, &outputs)
 }

@@ -230,6 +230,37 @@ fn load_scene(file_or_builtin: &str) -> Result<Scene, Failure> {
     })
 }
 
+/// `load_scene`, and the files it read (the scene file, its table files),
+/// each named by what it is.
+fn load_scene_with_inputs(file_or_builtin: &str) -> Result<(Scene, Inputs), Failure> {
+    let (scene, files) = Scene::load_with_inputs(file_or_builtin).map_err(|error| match error {
+        SceneError::Parse { .. } | SceneError::Invalid { .. } | SceneError::TooLarge { .. } => {
+            Failure::Scene(format!("{file_or_builtin}: {error}"))
+        }
+        SceneError::Read { .. } | SceneError::NotFound { .. } => Failure::Scene(error.to_string()),
+    })?;
+    let inputs = files
+        .into_iter()
+        .enumerate()
+        .map(|(k, path)| (if k == 0 { "scene file" } else { "table file" }, path))
+        .collect();
+    Ok((scene, inputs))
+}
+
+/// The input files of a command, each with what it is.
+type Inputs = Vec<(&'static str, PathBuf)>;
+
+/// The one rule for every command: no output may be one of the command's
+/// input files (by file identity: device and inode, through links and
+/// other spellings), nor another output.
+fn check_outputs(inputs: &Inputs, outputs: &[(&str, &std::path::Path)]) -> Result<(), Failure> {
+    let inputs: Vec<(&str, &std::path::Path)> = inputs
+        .iter()
+        .map(|(what, p)| (*what, p.as_path()))
+        .collect();
+    guideway::output_file::check_distinct(&inputs, outputs).map_err(Failure::Usage)
+}
+
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {

@@ -3,11 +3,14 @@
 
 use std::fmt::Write as _;
 
-use super::{load_scene, Failure, ModesArgs};
+use super::{check_outputs, load_scene_with_inputs, Failure, ModesArgs};
 use guideway::beam::{Beam, Modes};
 
 pub(super) fn modes(args: ModesArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene)?;
+    let (scene, inputs) = load_scene_with_inputs(&args.scene)?;
+    if let Some(out) = &args.out {
+        check_outputs(&inputs, &[("--out", out.as_path())])?;
+    }
     let beam = Beam::new(&scene.beam).map_err(Failure::Scene)?;
     let modes = beam.modes(args.count).map_err(Failure::Scene)?;
     let damping = beam.damping();

@@ -2,6 +2,8 @@
 
 use super::{Failure, ReleaseArgs};
 use guideway::fmu::{self, release};
+use guideway::input_file::{read_text_bounded, MAX_CHANGELOG_BYTES};
+use std::path::Path;
 
 pub(super) fn release(args: ReleaseArgs) -> Result<(), Failure> {
     let dir = args.out.join(release::VERSION);
@@ -13,10 +15,10 @@ pub(super) fn release(args: ReleaseArgs) -> Result<(), Failure> {
             dir.display()
         )));
     }
-    let changelog = std::fs::read_to_string(&args.changelog).map_err(|e| {
+    refuse_changelog_inside(&args.changelog, &dir)?;
+    let changelog = read_text_bounded(&args.changelog, MAX_CHANGELOG_BYTES).map_err(|e| {
         Failure::Run(format!(
-            "cannot read the changelog {}: {e} (run from the repository root or pass --changelog)",
-            args.changelog.display()
+            "{e} (run from the repository root or pass --changelog)"
         ))
     })?;
     let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
@@ -30,5 +32,22 @@ pub(super) fn release(args: ReleaseArgs) -> Result<(), Failure> {
         release::VERSION,
         built.dir.display()
     );
+    Ok(())
+}
+
+/// The changelog is an input: refused inside the release directory, which
+/// `--replace` removes and rewrites (the rule of `check_outputs`).
+fn refuse_changelog_inside(changelog: &Path, dir: &Path) -> Result<(), Failure> {
+    let (Ok(file), Ok(dir)) = (changelog.canonicalize(), dir.canonicalize()) else {
+        return Ok(());
+    };
+    if file.starts_with(&dir) {
+        return Err(Failure::Usage(format!(
+            "--changelog {} lies inside the release directory {}, which the release \
+             replaces: it would be overwritten; choose another path",
+            changelog.display(),
+            dir.display()
+        )));
+    }
     Ok(())
 }

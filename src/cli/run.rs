@@ -7,9 +7,9 @@
 //! renamed onto it only when the run succeeded.
 
 use super::progress::Progress;
-use super::{interrupt, load_scene, Failure, RunArgs};
+use super::{check_outputs, interrupt, load_scene_with_inputs, Failure, Inputs, RunArgs};
 use guideway::design::StaticEnvelope;
-use guideway::output_file::{check_distinct, Staged};
+use guideway::output_file::Staged;
 use guideway::report::csv::CsvWriter;
 use guideway::report::nodes::{check_node_output, WithNodes};
 use guideway::report::{
@@ -37,8 +37,8 @@ struct Outputs {
 }
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
-    let scene = load_scene(&args.scene)?;
-    check_paths(&args)?;
+    let (scene, inputs) = load_scene_with_inputs(&args.scene)?;
+    check_paths(&args, &inputs)?;
     let interrupted = interrupt::install();
     let stage = |path: &Option<PathBuf>| {
         let staged = path.as_deref().map(Staged::new).transpose();
@@ -201,14 +201,8 @@ fn frequencies_line(beam: &guideway::beam::Beam) -> String {
     }
 }
 
-/// Refuse outputs that would overwrite the scene file or each other.
-fn check_paths(args: &RunArgs) -> Result<(), Failure> {
-    let scene_file = Path::new(&args.scene);
-    let inputs: Vec<(&str, &Path)> = if scene_file.is_file() {
-        vec![("scene file", scene_file)]
-    } else {
-        Vec::new()
-    };
+/// Refuse outputs that would overwrite an input file or each other.
+fn check_paths(args: &RunArgs, inputs: &Inputs) -> Result<(), Failure> {
     let outputs: Vec<(&str, &Path)> = [
         ("--out", &args.out),
         ("--summary", &args.summary),
@@ -218,7 +212,7 @@ fn check_paths(args: &RunArgs) -> Result<(), Failure> {
     .into_iter()
     .filter_map(|(what, path)| Some((what, path.as_deref()?)))
     .collect();
-    check_distinct(&inputs, &outputs).map_err(Failure::Usage)
+    check_outputs(inputs, &outputs)
 }
 
 /// The message and exit code of a run that did not finish; the CSV rows

@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use super::{load_scene, Failure, SweepArgs};
+use super::{check_outputs, load_scene_with_inputs, Failure, SweepArgs};
 use guideway::moving_load::{hslm, HSLM_TRAINS};
 use guideway::report::sweep_plot::{write_sweep_plot, Track};
 use guideway::study::sweep::{envelope_csv, parse_speeds, sweep, Loads, SpeedUnit};
@@ -16,7 +16,12 @@ pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
     let track = Track::parse(&args.track).map_err(Failure::Usage)?;
     let speeds = parse_speeds(&args.speeds).map_err(Failure::Usage)?;
     let loads = parse_trains(args.trains.as_deref()).map_err(Failure::Usage)?;
-    let scene = load_scene(&args.scene)?;
+    let (scene, inputs) = load_scene_with_inputs(&args.scene)?;
+    let mut outputs = vec![("--out", args.out.as_path())];
+    if let Some(plot) = &args.plot {
+        outputs.push(("--plot", plot.as_path()));
+    }
+    check_outputs(&inputs, &outputs)?;
     let threads = args.threads.unwrap_or_else(|| {
         std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get)
     });

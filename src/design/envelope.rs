@@ -110,12 +110,20 @@ pub fn envelope_of_loads(
     // A modal structure's static response is its modes' (Ω⁻² Φᵀ r).
     let stiffness = match beam.modal() {
         Some(_) => None,
-        None => Some(beam.stiffness_factor().ok_or(
-            "beam.supports: the stiffness matrix is singular (the supports leave the beam free \
-             to move), so the loads have no static response",
-        )?),
+        None => Some(beam.stiffness_factor().ok_or_else(|| {
+            // The scene rules already refuse supports that leave the beam
+            // free: what is left is rounding on a fine mesh.
+            let n = scene.beam.elements as f64;
+            format!(
+                "beam.elements = {}: the stiffness matrix cannot be factorised in double \
+                 precision (its condition number grows as elements⁴, about {:.0e} here), so \
+                 the loads have no static response; use fewer elements",
+                scene.beam.elements,
+                n.powi(4)
+            )
+        })?),
     };
-    let shifts = shifts(scene, beam, loads, (first, last));
+    let shifts = shifts(scene, beam, loads, (first, last), reads.len());
     let at_rest = DVector::zeros(beam.coordinates());
     let mut response = BeamDynamics::at_rest(beam, at_rest, Vec::new());
     for &shift in &shifts {
@@ -138,7 +146,13 @@ pub fn envelope_of_loads(
 /// Shifts of the load group: evenly spaced from the last load at x = 0 to
 /// the first at x = L, plus those that put a load exactly on a sensor or
 /// section (where a moment or shear peaks with a kink, between samples).
-fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64, f64)) -> Vec<f64> {
+fn shifts(
+    scene: &Scene,
+    beam: &Beam,
+    loads: &[(f64, f64)],
+    (first, last): (f64, f64),
+    reads: usize,
+) -> Vec<f64> {
     let (from, to) = (-last, beam.length - first);
     // And 16 per element along the whole travel: a train is longer than
     // the beam, and its group's peak lies between axle positions.
@@ -154,6 +168,12 @@ fn shifts(scene: &Scene, beam: &Beam, loads: &[(f64, f64)], (first, last): (f64,
     let points = scene.sensors.iter().map(|s| s.position);
     let points = points.chain(scene.sections.iter().map(|s| s.position));
     let exact = points.flat_map(|p| loads.iter().map(move |l| p - l.0));
-    shifts.extend(exact.take(MAX_POSITIONS));
+    // Each position costs a static solve and a reading of every output:
+    // with 10,000 sensors, sections and supports the exact positions
+    // (outputs × axles) made this grow as outputs² (minutes). Beyond the
+    // work bound only the evenly spaced positions are kept for the rest.
+    let per_position = beam.free_dofs() + reads;
+    let exact_cap = (MAX_WORK / per_position.max(1)).saturating_sub(even);
+    shifts.extend(exact.take(MAX_POSITIONS.min(exact_cap)));
     shifts
 }

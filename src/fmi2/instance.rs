@@ -85,8 +85,8 @@ pub fn resource_path(location: &str) -> Result<PathBuf, String> {
 
 pub fn read_scene(resources: &std::path::Path) -> Result<Scene, String> {
     let path = resources.join(SCENE_FILE);
-    let text = std::fs::read_to_string(&path)
-        .map_err(|e| format!("cannot read the scene {}: {e}", path.display()))?;
+    let text = crate::input_file::read_text_bounded(&path, crate::scene::MAX_SCENE_BYTES)
+        .map_err(|e| format!("the scene: {e}"))?;
     Scene::from_toml_str(&text).map_err(|e| format!("invalid scene {}: {e}", path.display()))
 }
 
@@ -383,7 +383,7 @@ impl<D: Dynamics> Instance<D> {
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<usize, String> {
         self.require("fmi2DeSerializeFMUstate", STATEFUL)?;
         let snap = Model::<D>::deserialize(bytes, &self.guid)
-            .and_then(|snap| self.model.check_snapshot(&snap).map(|()| snap))
+            .and_then(|snap| self.model.check_whole(&snap).map(|()| snap))
             .map_err(|e| format!("fmi2DeSerializeFMUstate: {e}"))?;
         Ok(self.keep(snap))
     }

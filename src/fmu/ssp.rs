@@ -162,7 +162,7 @@ pub fn write(
     connections: &[Connection],
     out: &Path,
 ) -> Result<(), String> {
-    let read = |p: &Path| std::fs::read(p).map_err(|e| format!("cannot read {}: {e}", p.display()));
+    let read = |p: &Path| crate::input_file::read_bounded(p, crate::input_file::MAX_FMU_BYTES);
     let fmus = [read(guideway)?, read(vehicle)?];
     let mut vars = HashMap::new();
     for (component, (fmu, path)) in COMPONENTS.iter().zip(fmus.iter().zip([guideway, vehicle])) {

@@ -33,12 +33,31 @@ pub fn advance_within<D: Dynamics>(
     step: f64,
     budget: f64,
 ) -> Result<Advance, Stop> {
-    // Within one internal step the clock could not stop the advance anyway.
+    let budget = Duration::try_from_secs_f64(budget).unwrap_or(Duration::MAX);
+    let started = Instant::now();
+    // Inside an internal step the contact iteration reads the deadline.
+    let deadline = started.checked_add(budget);
+    crate::deadline::within(deadline, || {
+        advance_chunks(sim, target, step, (started, budget)).map_err(|stop| match stop {
+            Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
+                reached: sim.time(),
+            },
+            stop => stop,
+        })
+    })
+}
+
+/// `advance_within`'s chunks, the clock read between them.
+fn advance_chunks<D: Dynamics>(
+    sim: &mut D,
+    target: f64,
+    step: f64,
+    (started, budget): (Instant, Duration),
+) -> Result<Advance, Stop> {
+    // Within one internal step the clock is read inside it only.
     if chunk_end(sim.time(), step, 1.0) >= target - 1e-6 * step {
         return sim.advance_to(target).map_err(Stop::Solver);
     }
-    let budget = Duration::try_from_secs_f64(budget).unwrap_or(Duration::MAX);
-    let started = Instant::now();
     // Chunk length in internal steps: doubled while a chunk takes under a
     // sixteenth of the budget, so that checks are rare on fast models and a
     // slow model overshoots the budget by little.

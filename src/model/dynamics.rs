@@ -44,6 +44,11 @@ pub trait Dynamics: Steppable + Sized {
     fn check_state(&self, _state: &Self::State) -> Result<(), String> {
         Ok(())
     }
+    /// Whether `restore` would accept `state`, without restoring it (a
+    /// deserialized state is checked as a whole before it is kept).
+    fn check_restorable(&self, state: &Self::State) -> Result<(), String> {
+        self.check_state(state)
+    }
     /// `check_state` of the current state (without copying it where the
     /// dynamics can lend it: this runs after every communication step).
     fn check_current(&self) -> Result<(), String> {
@@ -104,6 +109,10 @@ impl Dynamics for Simulation {
     }
     fn check_state(&self, state: &SimState) -> Result<(), String> {
         check_sim_state(state, self.step_size())
+    }
+    fn check_restorable(&self, state: &SimState) -> Result<(), String> {
+        check_sim_state(state, self.step_size())?;
+        Simulation::check_restorable(self, state)
     }
     fn check_current(&self) -> Result<(), String> {
         check_sim_state(self.current(), self.step_size())

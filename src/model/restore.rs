@@ -63,6 +63,25 @@ impl<D: Dynamics> Model<D> {
         Ok(())
     }
 
+    /// `check_snapshot` and the dynamics' state checked as a whole (shape,
+    /// numbers, the bodies where their contacts say), as `restore` would:
+    /// what `fmi2DeSerializeFMUstate` accepts, `fmi2SetFMUstate` restores.
+    pub fn check_whole(&self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
+        self.check_snapshot(snap)?;
+        let Some(state) = &snap.sim else {
+            return Ok(());
+        };
+        let refuse = |e: String| err(format!("the state does not fit this model: {e}"));
+        match &self.sim {
+            Some(sim) if self.scene == snap.scene => sim.check_restorable(state).or_else(refuse),
+            _ => {
+                let sim = D::build(&snap.scene)
+                    .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?;
+                sim.check_restorable(state).or_else(refuse)
+            }
+        }
+    }
+
     /// Restore `snap` (checked first); on any refusal the model is unchanged.
     pub fn restore(&mut self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
         self.changing();

@@ -180,7 +180,10 @@ pub struct VariableTable {
 impl VariableTable {
     /// Build the table of `scene`, whose simulation has `outputs`.
     pub fn new(scene: &Scene, outputs: &[OutputInfo]) -> VariableTable {
-        let mut b = Builder::default();
+        let mut b = Builder {
+            vars: Vec::new(),
+            scene,
+        };
         let body = &scene.body.name;
         let wheel = scene.body.kind == BodyKind::Wheel;
 
@@ -444,13 +447,18 @@ enum Rule {
     Finite,
     /// Integer in the inclusive range.
     Count(i32, i32),
+    /// Real, >= the bound (a start on the approach: -track.approach).
+    AtLeast(f64),
 }
 
-fn rule(p: Param) -> Rule {
+/// The rule of `p` in `scene` (some bounds come from fields that are no
+/// parameters, such as the approach's length).
+fn rule(p: Param, scene: &Scene) -> Rule {
     use Param::*;
     match p {
         BeamElements => Rule::Count(1, MAX_ELEMENTS),
-        BeamSurfaceOffset | BodyInitialPosition | SensorPosition(_) => Rule::NonNegative,
+        BodyInitialPosition => Rule::AtLeast(-scene.track.approach),
+        BeamSurfaceOffset | SensorPosition(_) => Rule::NonNegative,
         BodyInitialSpeed => Rule::Finite,
         BeamLength
         | BeamMassPerLength
@@ -474,6 +482,7 @@ impl Rule {
             Rule::Positive => real(MIN_MAGNITUDE),
             Rule::NonNegative => real(0.0),
             Rule::Finite => real(-MAX_MAGNITUDE),
+            Rule::AtLeast(lo) => real(lo.max(-MAX_MAGNITUDE)),
             Rule::Count(lo, hi) => (Some(Value::Integer(lo)), Some(Value::Integer(hi))),
         }
     }
@@ -489,6 +498,9 @@ impl Rule {
             (_, Value::Real(x)) if !x.is_finite() => Err("must be finite".into()),
             (Rule::Positive, Value::Real(x)) if x <= 0.0 => Err("must be > 0".into()),
             (Rule::NonNegative, Value::Real(x)) if x < 0.0 => Err("must be >= 0".into()),
+            (Rule::AtLeast(lo), Value::Real(x)) if x < lo => Err(format!(
+                "must be >= {lo} (-track.approach: the start of the track)"
+            )),
             (Rule::Positive, Value::Real(x)) if x < MIN_MAGNITUDE => Err(format!(
                 "must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"
             )),
@@ -501,12 +513,13 @@ impl Rule {
     }
 }
 
-#[derive(Default)]
-struct Builder {
+struct Builder<'a> {
     vars: Vec<Variable>,
+    /// The scene whose variables these are (some rules depend on it).
+    scene: &'a Scene,
 }
 
-impl Builder {
+impl Builder<'_> {
     fn push(&mut self, mut v: Variable) {
         v.value_reference = self.vars.len() as u32;
         self.vars.push(v);
@@ -517,7 +530,7 @@ impl Builder {
         } else {
             VarType::Real
         };
-        let (min, max) = rule(p).bounds();
+        let (min, max) = rule(p, self.scene).bounds();
         self.push(Variable {
             name: name.to_string(),
             value_reference: 0,
@@ -603,7 +616,7 @@ pub fn param_value(scene: &Scene, p: Param) -> Value {
 /// `scene`. On error the scene is unchanged and the message states the rule.
 pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String> {
     use Param::*;
-    let x = match rule(p).check(value)? {
+    let x = match rule(p, scene).check(value)? {
         Value::Integer(n) => {
             // Only `beam.elements` is an Integer, and its rule keeps n >= 1.
             scene.beam.elements = n as usize;

@@ -22,6 +22,17 @@ pub use stream::{
 pub use summary::{RunSummary, SummaryBuilder, SummaryEvent};
 pub use trace::{Decimated, Trace};
 
+/// A number for a message: plain between 1e-3 and 1e6, else in exponent
+/// form (shortest round-trip digits either way), so that 5e-324 is not
+/// printed with 325 digits.
+pub fn fmt_number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// Names of the simulation outputs the report reads.
 pub mod output_names {
     /// Nominal speed V (eq. 24) of the body.

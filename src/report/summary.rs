@@ -139,7 +139,15 @@ pub struct SummaryBuilder {
 impl SummaryBuilder {
     /// For rows of the outputs `names` of `scene`'s simulation.
     pub fn new(scene: &Scene, names: &[String]) -> SummaryBuilder {
-        let find = |name: &str| names.iter().position(|n| n == name);
+        // By a map: 10,000 sensors looked up among 30,000 outputs one by
+        // one were 3e8 comparisons.
+        let columns: std::collections::HashMap<&str, usize> = names
+            .iter()
+            .enumerate()
+            .rev()
+            .map(|(k, n)| (n.as_str(), k))
+            .collect();
+        let find = |name: &str| columns.get(name).copied();
         let sensors: Vec<(String, usize)> = scene
             .sensors
             .iter()

@@ -89,11 +89,21 @@ pub fn track_extent(scene: &Scene) -> (f64, f64) {
     (-t.approach, t.approach + scene.beam.length + t.run_off)
 }
 
+/// Set this environment variable to `anywhere` to let table files lie
+/// outside the scene file's folder (by default a scene from elsewhere
+/// cannot make guideway read, and embed in an FMU, any file it names).
+pub const TABLE_PATHS_VARIABLE: &str = "GUIDEWAY_TABLE_PATHS";
+
 /// Read every table `file` relative to `base` into its `points`; all the
-/// tables together hold at most `MAX_TABLE_POINTS` points.
-pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneError> {
+/// tables together hold at most `MAX_TABLE_POINTS` points. Returns the
+/// files read (inputs of the run: no output may overwrite them).
+pub(super) fn read_tables(
+    scene: &mut Scene,
+    base: &Path,
+) -> Result<Vec<std::path::PathBuf>, SceneError> {
     let mut problems = Vec::new();
     let mut total = 0;
+    let mut read_files = Vec::new();
     for (i, spec) in scene.track.irregularities.iter_mut().enumerate() {
         if let IrregularitySpec::Table { file, points } = spec {
             let Some(name) = file.clone() else { continue };
@@ -106,7 +116,8 @@ pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneErr
                 ));
                 continue;
             }
-            match read_table(&base.join(&name)) {
+            let file_path = base.join(&name);
+            match confined(base, &file_path).and_then(|()| read_table(&file_path)) {
                 Ok(read) if total + read.len() > MAX_TABLE_POINTS => {
                     problems.push(Problem::new(
                         path,
@@ -119,15 +130,40 @@ pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneErr
                     total += read.len();
                     *points = read;
                     *file = None;
+                    read_files.push(file_path);
                 }
                 Err(rule) => problems.push(Problem::new(path, format!("{name:?}"), rule)),
             }
         }
     }
     if problems.is_empty() {
-        Ok(())
+        Ok(read_files)
     } else {
         Err(SceneError::Invalid { problems })
+    }
+}
+
+/// Refuse a table file outside the scene's folder (after following every
+/// symbolic link), unless `TABLE_PATHS_VARIABLE` is `anywhere`.
+fn confined(base: &Path, file: &Path) -> Result<(), String> {
+    if std::env::var(TABLE_PATHS_VARIABLE).is_ok_and(|v| v == "anywhere") {
+        return Ok(());
+    }
+    let folder = if base.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        base
+    };
+    let (Ok(folder), Ok(real)) = (folder.canonicalize(), file.canonicalize()) else {
+        return Err("cannot be read: no such file".into());
+    };
+    if real.starts_with(&folder) {
+        Ok(())
+    } else {
+        Err(format!(
+            "must lie in the scene file's folder or below it (a scene may come from anyone; \
+             set {TABLE_PATHS_VARIABLE}=anywhere to read tables from elsewhere)"
+        ))
     }
 }
 
@@ -137,6 +173,7 @@ pub(super) fn read_tables(scene: &mut Scene, base: &Path) -> Result<(), SceneErr
 /// `MAX_TABLE_POINTS`; the first bad line is named.
 pub fn read_table(path: &Path) -> Result<Vec<[f64; 2]>, String> {
     use std::io::Read;
+    crate::input_file::check_regular(path).map_err(|e| format!("cannot be read: {e}"))?;
     let file = std::fs::File::open(path).map_err(|e| format!("cannot be read: {e}"))?;
     let mut bytes = Vec::new();
     file.take(MAX_SCENE_BYTES + 1)
@@ -164,25 +201,26 @@ pub fn parse_table(text: &str) -> Result<Vec<[f64; 2]>, String> {
         if header {
             continue;
         }
-        let shown: String = line.chars().take(60).collect();
+        // The line itself is not shown: a table path may name a file that
+        // is not the user's to see (a refusal must not echo it).
         let (x, r) = match (fields.len(), parsed.as_slice()) {
             (2, &[Some(x), Some(r)]) => (x, r),
             _ => {
                 return Err(format!(
-                    "line {number} ({shown:?}) must hold two numbers x, r separated by a comma"
+                    "line {number} must hold two numbers x, r separated by a comma (it holds {} field(s), {} of them numbers)", fields.len(), parsed.iter().flatten().count()
                 ))
             }
         };
         if !(x.is_finite() && r.is_finite() && x.abs() <= MAX_MAGNITUDE && r.abs() <= MAX_MAGNITUDE)
         {
             return Err(format!(
-                "line {number} ({shown:?}) must hold finite numbers within ±{MAX_MAGNITUDE:e}"
+                "line {number} must hold finite numbers within ±{MAX_MAGNITUDE:e}"
             ));
         }
         if let Some(last) = points.last() {
             if x <= last[0] {
                 return Err(format!(
-                    "line {number} ({shown:?}): x must increase from row to row (previous x = {})",
+                    "line {number}: x must increase from row to row (previous x = {})",
                     last[0]
                 ));
             }

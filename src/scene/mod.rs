@@ -9,6 +9,7 @@ mod builtin;
 mod contact_law;
 mod error;
 mod irregularity;
+mod limits;
 mod validate;
 
 pub use annotate::field_notes_markdown;
@@ -18,14 +19,16 @@ pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
 pub use irregularity::{
     parse_table, read_table, track_extent, IrregularitySpec, MAX_IRREGULARITIES, MAX_TABLE_POINTS,
+    TABLE_PATHS_VARIABLE,
 };
+pub use limits::{contact_rows, MAX_CONTACT_ROWS};
 pub use validate::{
     is_identifier, is_xml_char, MAX_DESCRIPTION_CHARS, MAX_ELEMENTS, MAX_INTERMEDIATE_SUPPORTS,
     MAX_ITERATIONS, MAX_MAGNITUDE, MAX_NAME_CHARS, MAX_SCENE_BYTES, MAX_SENSORS, MIN_MAGNITUDE,
 };
 
 use serde::{Deserialize, Serialize};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// A complete, self-contained description of one simulation.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -601,12 +604,13 @@ pub enum IntegratorKind {
 impl Scene {
     /// Parse a scene from TOML text and validate it.
     pub fn from_toml_str(text: &str) -> Result<Scene, SceneError> {
-        Scene::parse(text, None)
+        Scene::parse(text, None).map(|(scene, _)| scene)
     }
 
     /// Parse, read profile tables relative to `base` (the scene file's
     /// folder) when given, and validate.
-    fn parse(text: &str, base: Option<&Path>) -> Result<Scene, SceneError> {
+    /// Also returns the table files read.
+    fn parse(text: &str, base: Option<&Path>) -> Result<(Scene, Vec<PathBuf>), SceneError> {
         if text.len() as u64 > MAX_SCENE_BYTES {
             return Err(SceneError::TooLarge {
                 bytes: text.len() as u64,
@@ -614,11 +618,12 @@ impl Scene {
         }
         let mut scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
             .map_err(|e| error::from_toml_error(e, text))?;
-        if let Some(base) = base {
-            irregularity::read_tables(&mut scene, base)?;
-        }
+        let tables = match base {
+            Some(base) => irregularity::read_tables(&mut scene, base)?,
+            None => Vec::new(),
+        };
         scene.validate()?;
-        Ok(scene)
+        Ok((scene, tables))
     }
 
     /// Check every rule; the error lists every broken one with the field's
@@ -631,17 +636,27 @@ impl Scene {
     /// existing file wins over a built-in of the same name; anything ending
     /// in `.toml` or containing a path separator is taken as a file.
     pub fn load(file_or_builtin: &str) -> Result<Scene, SceneError> {
+        Scene::load_with_inputs(file_or_builtin).map(|(scene, _)| scene)
+    }
+
+    /// `load`, and the files it read: the scene file (none for a built-in)
+    /// and its table files, which no output of the run may overwrite.
+    pub fn load_with_inputs(file_or_builtin: &str) -> Result<(Scene, Vec<PathBuf>), SceneError> {
         let path = Path::new(file_or_builtin);
         let looks_like_file = file_or_builtin.ends_with(".toml")
             || file_or_builtin.contains(std::path::MAIN_SEPARATOR)
             || file_or_builtin.contains('/');
         if path.is_file() || looks_like_file {
             let base = path.parent().unwrap_or(Path::new(""));
-            return Scene::parse(&read_limited(path, file_or_builtin)?, Some(base));
+            let (scene, mut inputs) =
+                Scene::parse(&read_limited(path, file_or_builtin)?, Some(base))?;
+            inputs.insert(0, path.to_path_buf());
+            return Ok((scene, inputs));
         }
-        builtin(file_or_builtin).ok_or_else(|| SceneError::NotFound {
+        let scene = builtin(file_or_builtin).ok_or_else(|| SceneError::NotFound {
             name: file_or_builtin.to_string(),
-        })
+        })?;
+        Ok((scene, Vec::new()))
     }
 
     /// The scene as TOML that `from_toml_str` reads back to the same scene.
@@ -770,6 +785,10 @@ fn read_limited(path: &Path, shown: &str) -> Result<String, SceneError> {
         path: shown.to_string(),
         message: e.to_string(),
     };
+    crate::input_file::check_regular(path).map_err(|message| SceneError::Read {
+        path: shown.to_string(),
+        message,
+    })?;
     let file = std::fs::File::open(path).map_err(read_error)?;
     let mut bytes = Vec::new();
     file.take(MAX_SCENE_BYTES + 1)

@@ -64,6 +64,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     check_solver(&mut checks, scene);
     checks.problems.extend(super::irregularity::problems(scene));
     check_couplings(&mut checks, scene);
+    checks.problems.extend(super::limits::problems(scene));
     if checks.problems.is_empty() {
         Ok(())
     } else {

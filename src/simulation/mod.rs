@@ -18,6 +18,7 @@ use crate::solver::parameters::SolverParameters;
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
+mod consistency;
 mod copy;
 mod follower;
 mod lift_off;
@@ -707,10 +708,17 @@ impl Simulation {
     /// Restore a state from `state()`; refused unless it has this model's
     /// shape (beam DOFs, bodies, contacts).
     pub fn restore(&mut self, state: &SimState) -> Result<(), String> {
-        check_shape(&self.system, state)?;
+        self.check_restorable(state)?;
         self.state = state.clone();
         self.vehicle_forces[0].1 = state.body_force;
         Ok(())
+    }
+
+    /// Whether `restore` accepts `state` (which may be forged): its shape
+    /// this model's and the bodies where its contacts say they are.
+    pub fn check_restorable(&self, state: &SimState) -> Result<(), String> {
+        check_shape(&self.system, state)?;
+        self.check_consistent(state)
     }
 
     /// The constant generalized force on each body now.
@@ -1388,7 +1396,13 @@ impl Simulation {
             )
             .map_err(|e| SolverError {
                 time: s.time,
-                message: e.to_string(),
+                message: match e {
+                    crate::iteration::StepError::LostContact { .. } => format!(
+                        "{e}: {}",
+                        heaviest_and_deflection(&self.system, &s.dynamic.beam_displacement)
+                    ),
+                    e => e.to_string(),
+                },
             })?;
         if !self.scratch.beam_displacement.iter().all(|x| x.is_finite()) {
             return Err(SolverError {
@@ -1497,7 +1511,7 @@ fn initial_contacts(
         located,
         &mut frames,
     )
-    .map_err(|_| "no contact point at the start".to_string())?;
+    .map_err(|e| no_start_point(system, &d.beam_displacement, e))?;
     let statuses = system.contacts.iter().zip(&frames).zip(open);
     Ok(statuses
         .map(|((contact, frame), &open)| {
@@ -1509,6 +1523,48 @@ fn initial_contacts(
             }
         })
         .collect())
+}
+
+/// Why a contact has no point on the track at the start, naming what
+/// likely put it there: the heaviest body and the beam's largest static
+/// deflection (a coach of 1e15 kg deflects the beam past any foot point).
+fn no_start_point(
+    system: &System,
+    u: &DVector<f64>,
+    error: crate::integrate::IntegrationError,
+) -> String {
+    use crate::report::fmt_number;
+    let crate::integrate::IntegrationError::LostContact { contact, x } = error else {
+        return format!("{error:?}");
+    };
+    let name = system
+        .contacts
+        .get(contact)
+        .map_or("?", |c| c.name.as_str());
+    format!(
+        "no contact point at the start for {name} (x = {}): {}",
+        fmt_number(x),
+        heaviest_and_deflection(system, u)
+    )
+}
+
+/// What most often loses a contact: the beam's largest displacement and
+/// the heaviest body, in words.
+fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
+    use crate::report::fmt_number;
+    let deflection = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let heaviest = system
+        .bodies
+        .iter()
+        .max_by(|a, b| a.mass.total_cmp(&b.mass));
+    let (body, mass) = heaviest.map_or(("?", 0.0), |b| (b.name.as_str(), b.mass));
+    format!(
+        "the beam's displacements reach {} m under the bodies' weight, the heaviest being \
+         {body} with a mass of {} kg; lighter bodies or a stiffer beam keep the contacts on \
+         the track",
+        fmt_number(deflection),
+        fmt_number(mass)
+    )
 }
 
 /// The dynamic state at t = 0: at rest on the beam deflected by `u` (zero
@@ -1523,12 +1579,8 @@ fn initial_state(
 ) -> Result<DynamicState, String> {
     let n = system.beam.coordinates();
     let mut frames = Vec::new();
-    contact_frames_at_bodies(system, &u, bodies, &mut frames).map_err(|e| match e {
-        crate::integrate::IntegrationError::LostContact { x, .. } => {
-            format!("no contact point at the start (x = {x})")
-        }
-        other => format!("{other:?}"),
-    })?;
+    contact_frames_at_bodies(system, &u, bodies, &mut frames)
+        .map_err(|e| no_start_point(system, &u, e))?;
     let mut beam_load = DVector::zeros(n);
     let mut body_loads = vec![Vector3::zeros(); bodies.len()];
     loads(

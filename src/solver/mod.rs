@@ -5,3 +5,4 @@ pub mod integrate;
 pub mod iteration;
 pub mod parameters;
 pub mod static_start;
+pub mod deadline;

@@ -75,11 +75,14 @@ pub enum StepError {
         step: f64,
         reason: String,
     },
+    /// The step's wall-clock deadline passed (`crate::deadline`).
+    OverBudget,
 }
 
 impl std::fmt::Display for StepError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            StepError::OverBudget => write!(f, "the wall-time budget ran out inside the step"),
             StepError::NotConverged {
                 stage,
                 iterations,
@@ -774,7 +777,9 @@ impl ContactIteration {
             }),
         );
         for (j, apply) in start_frames.iter().enumerate() {
-            if !apply.on_beam {
+            // Four beam integrations per loaded element: on a huge beam
+            // the deadline passes here (`build_delassus` then gives up).
+            if !apply.on_beam || crate::deadline::passed() {
                 continue;
             }
             let kinds_j = row_kinds(system.contacts[j].rolls());
@@ -921,6 +926,10 @@ impl ContactIteration {
             self.beam_compliance_cached(system, frames, part, &mut matrix);
         } else {
             self.beam_compliance_integrated(system, frames, (dt, part), &mut matrix);
+        }
+        if crate::deadline::passed() {
+            self.delassus.frames = measured;
+            return Err(StepError::OverBudget);
         }
         self.add_body_compliance(system, frames, (dt, part), &mut matrix);
         self.mask_open(system, part, &mut matrix);
@@ -1123,6 +1132,9 @@ impl ContactIteration {
         let mut iterations = 0;
         let mut first_residual = None;
         loop {
+            if crate::deadline::passed() {
+                return Err(StepError::OverBudget);
+            }
             self.integrate_and_measure(system, from, end)?;
             iterations += 1;
             let residual = self.velocity_errors(system, end);

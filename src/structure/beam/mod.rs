@@ -862,10 +862,17 @@ impl Beam {
         if let Some(modal) = &self.modal {
             return modal.static_deflection(load);
         }
-        let factor = self.stiffness.ldlt().ok_or(
-            "beam.supports: the stiffness matrix is singular (the supports leave the beam \
-             free to move), so solver.start = \"static\" has no static deflection",
-        )?;
+        // The scene rules refuse supports that leave the beam free: what is
+        // left is rounding on a fine mesh (the condition grows as n⁴).
+        let factor = self.stiffness.ldlt().ok_or_else(|| {
+            let n = self.elements();
+            format!(
+                "beam.elements = {n}: the stiffness matrix cannot be factorised in double \
+                 precision (its condition number grows as elements⁴, about {:.0e} here), so \
+                 solver.start = \"static\" has no static deflection; use fewer elements",
+                (n as f64).powi(4)
+            )
+        })?;
         let mut u = load.clone();
         factor.solve_mut(&mut u);
         Ok(u)

@@ -100,7 +100,14 @@ pub(crate) fn lowest(
             factor.solve_mut(&mut column);
             y.set_column(j, &column);
         }
-        let (lambda, ritz) = rayleigh_ritz(&y, &mx, mass, shift)?;
+        // Columns of y shrink as 1/λ of the mode they converge to: with
+        // many modes their Gram matrix loses rank in rounding. Only then
+        // (results elsewhere stay bit for bit) each column is scaled to
+        // unit M-norm first, which spans the same space.
+        let (lambda, ritz) = rayleigh_ritz(&y, &mx, mass, shift).or_else(|_| {
+            scale_to_unit_mass_norm(&mut y, &mut mx, mass);
+            rayleigh_ritz(&y, &mx, mass, shift)
+        })?;
         x = ritz;
         // A shift far above the wanted eigenvalues slows the iteration to
         // a crawl: once, move it down to the k-th Ritz value (an upper
@@ -170,6 +177,20 @@ fn rayleigh_ritz(
     let columns: Vec<DVector<f64>> = order.iter().map(|&i| y * z.column(i)).collect();
     let lambda = order.iter().map(|&i| eig.eigenvalues[i]).collect();
     Ok((lambda, DMatrix::from_columns(&columns)))
+}
+
+/// Scale each column of `y` (and of `mx` alike, which `rayleigh_ritz`
+/// uses as K y) to unit M-norm; a zero column is left.
+fn scale_to_unit_mass_norm(y: &mut DMatrix<f64>, mx: &mut DMatrix<f64>, mass: &SymBand) {
+    let mut my = DVector::zeros(y.nrows());
+    for j in 0..y.ncols() {
+        mass.mul_to(y.column(j).as_slice(), my.as_mut_slice());
+        let norm = y.column(j).dot(&my).max(0.0).sqrt();
+        if norm > 0.0 && norm.is_finite() {
+            y.column_mut(j).scale_mut(1.0 / norm);
+            mx.column_mut(j).scale_mut(1.0 / norm);
+        }
+    }
 }
 
 /// A deterministic pseudo-random start vector entry in [−1, 1).

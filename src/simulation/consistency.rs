@@ -1,0 +1,80 @@
+//! Whether a state from outside (a forged or corrupted FMU state) is
+//! physically one of this model's: each body where its contacts say it is,
+//! and every event time within the run.
+//!
+//! `check_shape` and `SimState::check_values` already refuse wrong lengths
+//! and non-finite numbers; a state of the right shape with two bodies
+//! swapped (a wheelset 1.5 m above a "closed" contact) passed both and
+//! stepped on with an energy balance off by a factor of 300.
+
+use super::{SimState, Simulation};
+use crate::integrate::contact_frames;
+
+/// A recomputed gap may differ from the stored one by the foot point's own
+/// convergence and rounding: this much (m) beyond `solver.gap_tolerance`.
+const GAP_SLACK: f64 = 1e-6;
+
+/// A closed contact's gap stays within its tolerance; one this far (m)
+/// from the track is no drift but a body out of place.
+const CLOSED_GAP_LIMIT: f64 = 1e-3;
+
+impl Simulation {
+    /// Refuse a state (of the right shape, all numbers finite) whose bodies
+    /// do not sit where its contacts' gaps say, or whose event and exit
+    /// times lie outside [0, its time].
+    pub(super) fn check_consistent(&self, state: &SimState) -> Result<(), String> {
+        check_times(state)?;
+        let system = &self.system;
+        let d = &state.dynamic;
+        let mut frames = Vec::new();
+        let located = (d.contact_x.as_slice(), state.parts.as_slice());
+        contact_frames(
+            system,
+            &d.beam_displacement,
+            &d.bodies,
+            located,
+            &mut frames,
+        )
+        .map_err(|_| "the state's contact points do not lie on its track".to_string())?;
+        let slack = 10.0 * self.params.iteration.gap_tolerance + GAP_SLACK;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            if contact.follower.is_some() {
+                continue;
+            }
+            let centre = &contact.point(&d.bodies[contact.body]).position;
+            let gap = frames[c].gap(&system.beam, contact.radius(), centre);
+            let stored = state.contacts[c].gap;
+            let closed = !state.contacts[c].open;
+            if (gap - stored).abs() > slack + 1e-9 * stored.abs()
+                || (closed && gap.abs() > CLOSED_GAP_LIMIT + slack)
+            {
+                return Err(format!(
+                    "contact {} is {} with a gap of {stored:.3e} m, but its body {} is {gap:.3e} m \
+                     from the track: the bodies are not where the contacts say",
+                    contact.name,
+                    if closed { "closed" } else { "open" },
+                    system.bodies[contact.body].name
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Every event and the exit at or after 0 and at or before the state's time.
+fn check_times(state: &SimState) -> Result<(), String> {
+    let within = |t: f64| (0.0..=state.time).contains(&t);
+    if let Some(t) = state.exit_time.filter(|&t| !within(t)) {
+        return Err(format!(
+            "the state's exit time {t} s lies outside [0, {}] s (its time)",
+            state.time
+        ));
+    }
+    if let Some(e) = state.events.iter().find(|e| !within(e.time)) {
+        return Err(format!(
+            "the state's event at {} s lies outside [0, {}] s (its time)",
+            e.time, state.time
+        ));
+    }
+    Ok(())
+}
