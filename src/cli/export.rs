@@ -2,8 +2,10 @@
 //! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
 use super::{load_scene, ExportArgs, Failure};
+use guideway::fmu::ssp::{Experiment, System, SystemError};
 use guideway::fmu::{self, ExportError};
 use guideway::output_file::check_distinct;
+use guideway::scene::Scene;
 use std::path::{Path, PathBuf};
 
 pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
@@ -17,6 +19,11 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
             ))
         })?;
     }
+    // A bad --connect is a usage error found before anything is written.
+    let system = match (&args.ssp, &args.vehicle) {
+        (Some(_), Some(vehicle)) => Some(check_system(&args, &scene, vehicle)?),
+        _ => None,
+    };
     let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
     let exported = fmu::export(&scene, &args.out, &cdylib).map_err(|e| match e {
         // The same scene problem gives the same exit code as `run`.
@@ -36,12 +43,28 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
             println!("{}", path.display());
         }
     }
-    if let (Some(ssp), Some(vehicle)) = (&args.ssp, &args.vehicle) {
-        fmu::ssp::write(&scene.name, &args.out, vehicle, &args.connect, ssp)
-            .map_err(Failure::Run)?;
+    if let (Some(ssp), Some(system)) = (&args.ssp, system) {
+        system.write(&args.out, ssp).map_err(Failure::Run)?;
         println!("{}", ssp.display());
     }
     Ok(())
+}
+
+/// The `--ssp` system, its connections checked against the model
+/// description the FMU will have and the vehicle FMU.
+fn check_system(args: &ExportArgs, scene: &Scene, vehicle: &Path) -> Result<System, Failure> {
+    let xml = fmu::model_description(scene)
+        .map_err(|e| Failure::Scene(format!("scene `{}` cannot be exported: {e}", scene.name)))?;
+    let experiment = Experiment {
+        stop_time: guideway::model::experiment::default_stop_time(scene),
+        step_size: scene.solver.step,
+    };
+    fmu::ssp::check_connections(&scene.name, &xml, vehicle, &args.connect, experiment).map_err(
+        |e| match e {
+            SystemError::Connection(m) => Failure::Usage(m),
+            SystemError::Io(m) => Failure::Run(m),
+        },
+    )
 }
 
 /// Refuse an FMU or cross-check file that would overwrite the scene file or

@@ -18,7 +18,7 @@ pub mod release;
 pub mod ssp;
 
 use crate::fmi2::instance::SCENE_FILE;
-use crate::fmi2::{describe, Physics};
+use crate::fmi2::{describe, Description, Physics};
 use crate::output_file::Staged;
 use crate::scene::Scene;
 use std::fmt;
@@ -97,12 +97,7 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
 /// (`libguideway.so`). The archive is written beside `out` and renamed onto
 /// it when complete, so a failure leaves `out` as it was.
 pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, ExportError> {
-    // The FMU reads its scene back from TOML; describe the scene as it will
-    // read it, so the GUID it computes at instantiation is the same.
-    let scene_text = scene.to_toml_string();
-    let scene = Scene::from_toml_str(&scene_text).map_err(|e| ExportError::Scene(e.to_string()))?;
-    let d = describe::<Physics>(&scene).map_err(ExportError::Scene)?;
-    check_well_formed(&d.xml).map_err(ExportError::Scene)?;
+    let (scene_text, scene, d) = describe_as_packaged(scene)?;
     let binary = std::fs::read(cdylib).map_err(|e| {
         ExportError::Io(format!(
             "cannot read the FMU binary {}: {e}",
@@ -143,6 +138,24 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Expo
         model_identifier: d.model_identifier,
         guid: d.guid,
     })
+}
+
+/// The scene as the FMU will read it back (its TOML text, parsed), and the
+/// description of that scene, checked well-formed.
+fn describe_as_packaged(scene: &Scene) -> Result<(String, Scene, Description), ExportError> {
+    // The FMU reads its scene back from TOML; describe the scene as it will
+    // read it, so the GUID it computes at instantiation is the same.
+    let scene_text = scene.to_toml_string();
+    let scene = Scene::from_toml_str(&scene_text).map_err(|e| ExportError::Scene(e.to_string()))?;
+    let d = describe::<Physics>(&scene).map_err(ExportError::Scene)?;
+    check_well_formed(&d.xml).map_err(ExportError::Scene)?;
+    Ok((scene_text, scene, d))
+}
+
+/// The modelDescription.xml `export` would write for `scene` (to check an
+/// SSP's connections before anything is written).
+pub fn model_description(scene: &Scene) -> Result<String, ExportError> {
+    describe_as_packaged(scene).map(|(_, _, d)| d.xml)
 }
 
 fn write_zip(staged: &Staged, files: Vec<(String, &[u8], u32)>) -> Result<(), String> {
