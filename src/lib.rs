@@ -15,6 +15,7 @@ pub mod complementarity;
 pub mod contact;
 pub mod design;
 pub mod fmi2;
+pub mod fmi3;
 pub mod fmu;
 pub mod force_element;
 pub mod impact;

@@ -1,9 +1,9 @@
-//! `guideway export SCENE -o NAME.fmu [--cross-check DIR]
+//! `guideway export SCENE -o NAME.fmu [--fmi 2|3] [--cross-check DIR]
 //! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
 use super::{load_scene, ExportArgs, Failure};
 use guideway::fmu::ssp::{Experiment, System, SystemError};
-use guideway::fmu::{self, ExportError};
+use guideway::fmu::{self, ExportError, FmiVersion};
 use guideway::output_file::check_distinct;
 use guideway::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -19,13 +19,24 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
             ))
         })?;
     }
+    if args.ssp.is_some() && args.fmi != "2" {
+        return Err(Failure::Usage(
+            "--ssp writes an SSP 1.0 system, which holds FMI 2.0 FMUs: use --fmi 2 with --ssp"
+                .into(),
+        ));
+    }
     // A bad --connect is a usage error found before anything is written.
     let system = match (&args.ssp, &args.vehicle) {
         (Some(_), Some(vehicle)) => Some(check_system(&args, &scene, vehicle)?),
         _ => None,
     };
     let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
-    let exported = fmu::export(&scene, &args.out, &cdylib).map_err(|e| match e {
+    let fmi = if args.fmi == "3" {
+        FmiVersion::V3
+    } else {
+        FmiVersion::V2
+    };
+    let exported = fmu::export_as(&scene, &args.out, &cdylib, fmi).map_err(|e| match e {
         // The same scene problem gives the same exit code as `run`.
         ExportError::Scene(m) => {
             Failure::Scene(format!("scene `{}` cannot be exported: {m}", scene.name))
