@@ -114,7 +114,7 @@ unsafe fn instantiate(
     name: fmi3String,
     token: fmi3String,
     resource_path: fmi3String,
-    event_mode_used: bool,
+    (event_mode_used, early_return_allowed): (bool, bool),
     logger: Logger,
 ) -> Result<Inst, (Logger, String)> {
     let args = unsafe {
@@ -134,10 +134,12 @@ unsafe fn instantiate(
                    its events are logged and seen in <contact>.on_beam";
         return Err((logger, why.into()));
     }
-    match super::instance::read_scene(&resources) {
-        Ok(scene) => Inst::new(scene, &token, logger),
-        Err(e) => Err((logger, e)),
-    }
+    let mut inst = match super::instance::read_scene(&resources) {
+        Ok(scene) => Inst::new(scene, &token, logger)?,
+        Err(e) => return Err((logger, e)),
+    };
+    inst.allow_early_return(early_return_allowed);
+    Ok(inst)
 }
 
 /// # Safety
@@ -150,7 +152,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     _visible: fmi3Boolean,
     logging_on: fmi3Boolean,
     event_mode_used: fmi3Boolean,
-    _early_return_allowed: fmi3Boolean,
+    early_return_allowed: fmi3Boolean,
     _required_intermediate_variables: *const fmi3ValueReference,
     _n_required_intermediate_variables: usize,
     instance_environment: fmi3InstanceEnvironment,
@@ -164,7 +166,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 instance_name,
                 instantiation_token,
                 resource_path,
-                event_mode_used,
+                (event_mode_used, early_return_allowed),
                 logger,
             )
         }

@@ -7,7 +7,9 @@
 //! naming the function and the mode) and leaves the instance as it was.
 //! The FMU declares `hasEventMode="false"`: after initialization it is in
 //! Step Mode, and the end of the structure and the other simulation events
-//! are reported in the log (and `<contact>.on_beam`), as in FMI 2.0.
+//! are reported in the log (and `<contact>.on_beam`), as in FMI 2.0. Where
+//! the importer allows it (`earlyReturnAllowed`), fmi3DoStep returns early
+//! at the end of the internal step in which an event happened.
 
 use super::logging::Logger;
 use super::model_description::{self, time_value_reference};
@@ -54,6 +56,9 @@ pub struct Instance<D: Dynamics> {
     time_vr: u32,
     /// FMU states handed out, keyed by the handle the importer holds.
     states: HashMap<usize, Snapshot<D::State>>,
+    /// The importer allows fmi3DoStep to return early: it then ends at the
+    /// end of the internal step of a simulation event.
+    early_return_allowed: bool,
 }
 
 /// The next FMU state handle: tokens, never addresses, never reused within
@@ -98,7 +103,13 @@ impl<D: Dynamics> Instance<D> {
             token: own_token,
             time_vr,
             states: HashMap::new(),
+            early_return_allowed: false,
         })
+    }
+
+    /// `earlyReturnAllowed` of fmi3InstantiateCoSimulation.
+    pub fn allow_early_return(&mut self, allowed: bool) {
+        self.early_return_allowed = allowed;
     }
 
     pub fn mode(&self) -> Mode {
@@ -214,10 +225,13 @@ impl<D: Dynamics> Instance<D> {
                 self.model.time()
             ));
         }
-        let outcome = self
-            .model
-            .do_step(t, h)
-            .map_err(|e| format!("fmi3DoStep: {e}"))?;
+        let outcome = if self.early_return_allowed {
+            self.model.do_step_until_event(t, h)
+        } else {
+            self.model.do_step(t, h)
+        }
+        .map_err(|e| format!("fmi3DoStep: {e}"))?;
+        let early_return = self.model.ended_at_event();
         for event in self.model.take_events() {
             self.logger
                 .log(fmi3Status_fmi3OK, &format!("event: {event}"));
@@ -225,7 +239,7 @@ impl<D: Dynamics> Instance<D> {
         let report = |status, terminate| StepReport {
             status,
             terminate,
-            early_return: false,
+            early_return,
             last_successful_time: self.model.time(),
         };
         match outcome {

@@ -243,7 +243,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
             variable_step: true,
             has_event_mode: false,
             intermediate_update: false,
-            might_return_early: false,
+            might_return_early: true,
         },
         units: units(table),
         log_categories: log_categories(),

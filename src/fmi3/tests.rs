@@ -180,3 +180,57 @@ fn null_instances_and_arrays_are_refused() {
         fmi3FreeInstance(inst);
     }
 }
+
+#[test]
+fn an_allowed_early_return_ends_at_the_internal_step_of_the_exit() {
+    let scene = scene();
+    let step = scene.solver.step;
+    let table = crate::fmi2::describe::<Physics>(&scene).unwrap().table;
+    let on_beam = table.by_name("contact.on_beam").unwrap().value_reference;
+    let deflection = table
+        .by_name("sensor.midspan.deflection")
+        .unwrap()
+        .value_reference;
+    let start = |early: bool| {
+        let mut a = instance3(&scene);
+        a.allow_early_return(early);
+        a.enter_initialization_mode(0.0, None).unwrap();
+        a.exit_initialization_mode().unwrap();
+        a
+    };
+    let mut early = start(true);
+    let report = early.do_step(0.0, 3.0).unwrap();
+    assert!(report.early_return && report.status == fmi3Status_fmi3OK);
+    let t_event = report.last_successful_time;
+    assert!(t_event < 3.0);
+    let on = |a: &mut Instance<Physics>| {
+        let mut v = 0;
+        a.get_each("get", VarType::Integer, &[on_beam], |x| {
+            if let crate::model::Value::Integer(n) = x {
+                v = n
+            }
+        })
+        .unwrap();
+        v
+    };
+    assert_eq!(on(&mut early), 0, "the contact has left the beam");
+    // Reference: the same run in internal steps, without early return. The
+    // exit happens in the last of them, and the state there is the same.
+    let mut plain = start(false);
+    let k = (t_event / step).round() as usize;
+    assert!((t_event - k as f64 * step).abs() < 1e-9, "on the grid");
+    for i in 0..k - 1 {
+        let r = plain.do_step(i as f64 * step, step).unwrap();
+        assert!(!r.early_return);
+    }
+    assert_eq!(on(&mut plain), 1, "still on the beam one step before");
+    plain.do_step((k - 1) as f64 * step, step).unwrap();
+    assert_eq!(on(&mut plain), 0);
+    let (mut a, mut b) = ([0.0], [0.0]);
+    early.get_float64(&[deflection], &mut a).unwrap();
+    plain.get_float64(&[deflection], &mut b).unwrap();
+    assert_eq!(a[0].to_bits(), b[0].to_bits());
+    // Without the importer's leave, the same step runs through.
+    let report = start(false).do_step(0.0, 3.0).unwrap();
+    assert!(!report.early_return && report.last_successful_time == 3.0);
+}
