@@ -30,7 +30,7 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
         (Some(_), Some(vehicle)) => Some(check_system(&args, &scene, vehicle)?),
         _ => None,
     };
-    let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
+    let (cdylib, warning) = fmu::export_cdylib().map_err(Failure::Run)?;
     let fmi = if args.fmi == "3" {
         FmiVersion::V3
     } else {
@@ -43,6 +43,10 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
         }
         ExportError::Io(m) => Failure::Run(m),
     })?;
+    // Said once the FMU is written, so that it never hides a refusal.
+    if let Some(w) = warning {
+        eprintln!("warning: {w}");
+    }
     println!(
         "{} (model identifier {}, GUID {})",
         exported.path.display(),

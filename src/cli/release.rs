@@ -19,7 +19,7 @@ pub(super) fn release(args: ReleaseArgs) -> Result<(), Failure> {
             args.changelog.display()
         ))
     })?;
-    let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
+    let cdylib = fmu::release_cdylib().map_err(Failure::Run)?;
     let built =
         release::build(&args.out, &cdylib, &changelog, args.replace).map_err(Failure::Run)?;
     for fmu in &built.fmus {

@@ -147,6 +147,46 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
     ))
 }
 
+/// Where `scripts/build_portable.sh` puts the glibc 2.17 build of the FMU
+/// binary, for the executable in `target/<profile>/`.
+fn portable_cdylib() -> Option<PathBuf> {
+    let exe = std::env::current_exe().ok()?;
+    let target = exe.parent()?.parent()?;
+    let p = target.join("portable/x86_64-unknown-linux-gnu/release/libguideway.so");
+    p.is_file().then_some(p)
+}
+
+/// Why a native build is not shipped (README, "The FMU binary").
+const NOT_PORTABLE: &str = "the native build needs the glibc of the machine that built it (2.34 \
+     or later on Debian 12), not the 2.17 baseline; build the portable one with \
+     `bash scripts/build_portable.sh` or set GUIDEWAY_CDYLIB";
+
+/// The binary `guideway export` packages: `$GUIDEWAY_CDYLIB`, else the
+/// portable build if there is one, else the native one with a warning
+/// saying what it needs.
+pub fn export_cdylib() -> Result<(PathBuf, Option<String>), String> {
+    if std::env::var_os("GUIDEWAY_CDYLIB").is_some() {
+        return default_cdylib().map(|p| (p, None));
+    }
+    if let Some(p) = portable_cdylib() {
+        return Ok((p, None));
+    }
+    let native = default_cdylib()?;
+    let warning = format!("packaging {}: {NOT_PORTABLE}", native.display());
+    Ok((native, Some(warning)))
+}
+
+/// The binary `guideway release` ships: `$GUIDEWAY_CDYLIB`, else the
+/// portable build; a native build is refused.
+pub fn release_cdylib() -> Result<PathBuf, String> {
+    if std::env::var_os("GUIDEWAY_CDYLIB").is_some() {
+        return default_cdylib();
+    }
+    portable_cdylib().ok_or_else(|| {
+        format!("a release ships the portable FMU binary, which is not built: {NOT_PORTABLE}")
+    })
+}
+
 /// Export `scene` as an FMU at `out`, with the binary `cdylib`
 /// (`libguideway.so`). The archive is written beside `out` and renamed onto
 /// it when complete, so a failure leaves `out` as it was.
