@@ -14,6 +14,7 @@ pub mod contact;
 
 pub mod design;
 pub mod fmi2;
+pub mod fmi3;
 pub mod fmu;
 pub mod linalg;
 pub mod input_file;

@@ -77,13 +77,63 @@ def test_libcosim_runs_the_system_with_the_input_following_the_output(ssp):
 
 
 @pytest.mark.parametrize("wire, message", [
-    ("vehicle.glider.mass=guideway.wheel.force_x", "is a Real parameter"),
-    ("vehicle.glider.vx=guideway.wheel.nope", "guideway has no variable `wheel.nope`"),
+    ("vehicle.glider.mass=guideway.wheel.force_x",
+     "is a Real parameter; a connection goes from a Real output to a Real input; "
+     "the Real outputs of vehicle: contact.gap, "),
+    ("vehicle.glider.vx=guideway.wheel.nope",
+     "guideway has no variable `wheel.nope`; the Real inputs of guideway: wheel.force_x, wheel.force_y"),
     ("car.glider.vx=guideway.wheel.force_x", "COMPONENT one of"),
 ])
-def test_bad_connections_are_refused_naming_the_problem(tmp_path, wire, message):
+def test_bad_connections_are_refused_before_anything_is_written(tmp_path, wire, message):
+    """README "Exit codes": a usage error exits 2 and writes nothing (neither
+    the FMU nor the system)."""
     r = subprocess.run([str(GUIDEWAY), "export", WHEEL, "-o", str(tmp_path / "w.fmu"), "--ssp",
                         str(tmp_path / "s.ssp"), "--vehicle", str(fmu_path(GLIDER)), "--connect", wire],
                        capture_output=True, text=True)
-    assert r.returncode != 0 and message in r.stderr, r.stderr
-    assert not (tmp_path / "s.ssp").exists()
+    assert r.returncode == 2 and message in r.stderr, r.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_the_ssd_validates_and_carries_the_default_experiment(ssp):
+    """The SSP 1.0 schema (as shipped with fmpy) accepts the SSD; its
+    DefaultExperiment is the guideway FMU's, and OMSimulator's fixed-step
+    master annotation has the FMU's step."""
+    from lxml import etree
+    from fmpy.ssp import ssd as fmpy_ssd
+    import os
+
+    schema_dir = os.path.join(os.path.dirname(fmpy_ssd.__file__), "schema")
+    schema = etree.XMLSchema(file=os.path.join(schema_dir, "SystemStructureDescription.xsd"))
+    with zipfile.ZipFile(ssp) as z:
+        root = etree.fromstring(z.read("SystemStructure.ssd"))
+        with z.open("resources/guideway.fmu") as f:
+            guideway_md = read_model_description(f)
+    assert schema.validate(root), schema.error_log
+    ns = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
+          "oms": "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd"}
+    experiment = root.find("ssd:DefaultExperiment", ns)
+    fmu_experiment = guideway_md.defaultExperiment
+    assert float(experiment.get("startTime")) == 0.0
+    assert float(experiment.get("stopTime")) == float(fmu_experiment.stopTime)
+    master = root.find(".//oms:FixedStepMaster", ns)
+    assert float(master.get("stepSize")) == float(fmu_experiment.stepSize)
+
+
+def test_fmpy_simulate_ssp_stamps_each_row_with_the_step_start(ssp):
+    """fmpy's `simulate_ssp` records the values after the step from t to
+    t + H in the row it stamps t (fmpy/ssp/simulation.py: `row = [time]`
+    after `do_step(component, time, step_size)`): the shift is fmpy's, not
+    the FMUs'. Reference: the vehicle FMU alone in fmpy's `simulate_fmu`,
+    whose row at t + H holds the same value."""
+    from fmpy import simulate_fmu
+    from fmpy.ssp.simulation import simulate_ssp
+
+    h = 0.01
+    system = simulate_ssp(str(ssp), stop_time=STEPS * h, step_size=h)
+    alone = simulate_fmu(str(fmu_path(GLIDER)), stop_time=(STEPS + 2) * h, step_size=h,
+                         output_interval=h, output=["glider.vx"])
+    vx = next(n for n in system.dtype.names if n.endswith("glider.vx"))
+    n = len(system)
+    assert n >= STEPS
+    np.testing.assert_allclose(system["time"], alone["time"][:n], rtol=0, atol=1e-12)
+    np.testing.assert_array_equal(system[vx], alone["glider.vx"][1:n + 1])

@@ -1,8 +1,10 @@
-//! `guideway export SCENE -o NAME.fmu [--cross-check DIR]
+//! `guideway export SCENE -o NAME.fmu [--fmi 2|3] [--cross-check DIR]
 //! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
 use super::{check_outputs, load_scene_with_inputs, ExportArgs, Failure, Inputs};
-use guideway::fmu::{self, ExportError};
+use guideway::fmu::ssp::{Experiment, System, SystemError};
+use guideway::fmu::{self, ExportError, FmiVersion};
+use guideway::scene::Scene;
 use std::path::{Path, PathBuf};
 
 pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
@@ -19,14 +21,34 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
             ))
         })?;
     }
-    let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
-    let exported = fmu::export(&scene, &args.out, &cdylib).map_err(|e| match e {
+    if args.ssp.is_some() && args.fmi != "2" {
+        return Err(Failure::Usage(
+            "--ssp writes an SSP 1.0 system, which holds FMI 2.0 FMUs: use --fmi 2 with --ssp"
+                .into(),
+        ));
+    }
+    // A bad --connect is a usage error found before anything is written.
+    let system = match (&args.ssp, &args.vehicle) {
+        (Some(_), Some(vehicle)) => Some(check_system(&args, &scene, vehicle)?),
+        _ => None,
+    };
+    let (cdylib, warning) = fmu::export_cdylib().map_err(Failure::Run)?;
+    let fmi = if args.fmi == "3" {
+        FmiVersion::V3
+    } else {
+        FmiVersion::V2
+    };
+    let exported = fmu::export_as(&scene, &args.out, &cdylib, fmi).map_err(|e| match e {
         // The same scene problem gives the same exit code as `run`.
         ExportError::Scene(m) => {
             Failure::Scene(format!("scene `{}` cannot be exported: {m}", scene.name))
         }
         ExportError::Io(m) => Failure::Run(m),
     })?;
+    // Said once the FMU is written, so that it never hides a refusal.
+    if let Some(w) = warning {
+        eprintln!("warning: {w}");
+    }
     println!(
         "{} (model identifier {}, GUID {})",
         exported.path.display(),
@@ -38,12 +60,28 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
             println!("{}", path.display());
         }
     }
-    if let (Some(ssp), Some(vehicle)) = (&args.ssp, &args.vehicle) {
-        fmu::ssp::write(&scene.name, &args.out, vehicle, &args.connect, ssp)
-            .map_err(Failure::Run)?;
+    if let (Some(ssp), Some(system)) = (&args.ssp, system) {
+        system.write(&args.out, ssp).map_err(Failure::Run)?;
         println!("{}", ssp.display());
     }
     Ok(())
+}
+
+/// The `--ssp` system, its connections checked against the model
+/// description the FMU will have and the vehicle FMU.
+fn check_system(args: &ExportArgs, scene: &Scene, vehicle: &Path) -> Result<System, Failure> {
+    let xml = fmu::model_description(scene)
+        .map_err(|e| Failure::Scene(format!("scene `{}` cannot be exported: {e}", scene.name)))?;
+    let experiment = Experiment {
+        stop_time: guideway::model::experiment::default_stop_time(scene),
+        step_size: scene.solver.step,
+    };
+    fmu::ssp::check_connections(&scene.name, &xml, vehicle, &args.connect, experiment).map_err(
+        |e| match e {
+            SystemError::Connection(m) => Failure::Usage(m),
+            SystemError::Io(m) => Failure::Run(m),
+        },
+    )
 }
 
 /// Refuse an FMU, SSP or cross-check file that would overwrite an input

@@ -167,6 +167,10 @@ struct ExportArgs {
     /// The FMU to write, e.g. `lee1994_wheel_10.fmu`.
     #[arg(long, short, value_name = "FMU")]
     out: PathBuf,
+    /// The FMI standard the FMU follows: 2 (FMI 2.0) or 3 (FMI 3.0); both
+    /// co-simulation, from the same scene and variables.
+    #[arg(long, value_name = "VERSION", default_value = "2", value_parser = ["2", "3"])]
+    fmi: String,
     /// Also write the FMI cross-check reference files (`<model>_ref.csv`,
     /// `<model>_ref.opt`) into this directory.
     #[arg(long, value_name = "DIR")]

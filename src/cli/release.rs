@@ -21,7 +21,7 @@ pub(super) fn release(args: ReleaseArgs) -> Result<(), Failure> {
             "{e} (run from the repository root or pass --changelog)"
         ))
     })?;
-    let cdylib = fmu::default_cdylib().map_err(Failure::Run)?;
+    let cdylib = fmu::release_cdylib().map_err(Failure::Run)?;
     let built =
         release::build(&args.out, &cdylib, &changelog, args.replace).map_err(Failure::Run)?;
     for fmu in &built.fmus {

@@ -20,7 +20,7 @@ const OK: fmi2Status = fmi2Status_fmi2OK;
 const ERROR: fmi2Status = fmi2Status_fmi2Error;
 const FATAL: fmi2Status = fmi2Status_fmi2Fatal;
 
-fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
     if let Some(s) = payload.downcast_ref::<&str>() {
         (*s).to_string()
     } else if let Some(s) = payload.downcast_ref::<String>() {
@@ -88,7 +88,7 @@ fn check_len<T>(n: usize, what: &str) -> Result<(), String> {
 ///
 /// # Safety
 /// If not NULL, `p` points to `n` valid elements.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
     check_len::<T>(n, what)?;
     if n == 0 {
         Ok(&[])
@@ -102,7 +102,11 @@ unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Str
 
 /// # Safety
 /// If not NULL, `p` points to `n` writable elements.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], String> {
+pub(crate) unsafe fn slice_mut<'a, T>(
+    p: *mut T,
+    n: usize,
+    what: &str,
+) -> Result<&'a mut [T], String> {
     check_len::<T>(n, what)?;
     if n == 0 {
         Ok(&mut [])
@@ -116,7 +120,7 @@ unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T
 
 /// # Safety
 /// `p` is NULL or a NUL-terminated string.
-unsafe fn string(p: *const c_char, what: &str) -> Result<String, String> {
+pub(crate) unsafe fn string(p: *const c_char, what: &str) -> Result<String, String> {
     if p.is_null() {
         return Err(format!("{what} is NULL"));
     }

@@ -138,7 +138,7 @@ struct CoSimulation {
 }
 
 #[derive(Serialize)]
-struct Units {
+pub(crate) struct Units {
     #[serde(rename = "Unit")]
     units: Vec<Unit>,
 }
@@ -174,7 +174,7 @@ struct BaseUnit {
 }
 
 #[derive(Serialize)]
-struct LogCategories {
+pub(crate) struct LogCategories {
     #[serde(rename = "Category")]
     categories: Vec<Category>,
 }
@@ -188,7 +188,7 @@ struct Category {
 }
 
 #[derive(Serialize)]
-struct DefaultExperiment {
+pub(crate) struct DefaultExperiment {
     #[serde(rename = "@startTime")]
     start_time: f64,
     #[serde(rename = "@stopTime")]
@@ -382,7 +382,7 @@ fn structure(table: &VariableTable, with_initial_dependencies: bool) -> ModelStr
     }
 }
 
-fn units(table: &VariableTable) -> Units {
+pub(crate) fn units(table: &VariableTable) -> Units {
     Units {
         units: table
             .units()
@@ -400,6 +400,40 @@ fn units(table: &VariableTable) -> Units {
             })
             .collect(),
     }
+}
+
+/// The declared log categories.
+pub(crate) fn log_categories() -> LogCategories {
+    LogCategories {
+        categories: LOG_CATEGORIES
+            .iter()
+            .map(|&(name, description)| Category { name, description })
+            .collect(),
+    }
+}
+
+/// Stop time and step of `scene`'s default experiment (`model::experiment`).
+pub(crate) fn default_experiment(scene: &Scene) -> DefaultExperiment {
+    DefaultExperiment {
+        start_time: 0.0,
+        stop_time: default_stop_time(scene),
+        step_size: scene.solver.step,
+    }
+}
+
+/// A GUID (FMI 3.0: an instantiation token) from a description written
+/// without it: its SHA-256, formatted like a UUID.
+pub(crate) fn digest_guid(unsigned: &str) -> String {
+    let digest = Sha256::digest(unsigned.as_bytes());
+    let h: String = digest[..16].iter().map(|b| format!("{b:02x}")).collect();
+    format!(
+        "{{{}-{}-{}-{}-{}}}",
+        &h[0..8],
+        &h[8..12],
+        &h[12..16],
+        &h[16..20],
+        &h[20..32]
+    )
 }
 
 /// The modelDescription.xml of `scene` and its variable table, with its GUID.
@@ -427,33 +461,14 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
             directional_derivative: false,
         },
         units: units(table),
-        log_categories: LogCategories {
-            categories: LOG_CATEGORIES
-                .iter()
-                .map(|&(name, description)| Category { name, description })
-                .collect(),
-        },
-        default_experiment: DefaultExperiment {
-            start_time: 0.0,
-            stop_time: default_stop_time(scene),
-            step_size: scene.solver.step,
-        },
+        log_categories: log_categories(),
+        default_experiment: default_experiment(scene),
         variables: ModelVariables {
             variables: table.variables().iter().map(scalar_variable).collect(),
         },
         structure: structure(table, false),
     };
-    let unsigned = to_xml(&doc);
-    let digest = Sha256::digest(unsigned.as_bytes());
-    let h: String = digest[..16].iter().map(|b| format!("{b:02x}")).collect();
-    let guid = format!(
-        "{{{}-{}-{}-{}-{}}}",
-        &h[0..8],
-        &h[8..12],
-        &h[12..16],
-        &h[16..20],
-        &h[20..32]
-    );
+    let guid = digest_guid(&to_xml(&doc));
     doc.guid = guid.clone();
     doc.structure = structure(table, true);
     (to_xml(&doc), guid)

@@ -1,12 +1,14 @@
-//! Packaging: assemble an FMI 2.0 co-simulation FMU (a zip) from the static
-//! parts in `fmu_template/`, the generated modelDescription.xml and
-//! documentation page, the built cdylib and the scene.
+//! Packaging: assemble an FMI 2.0 or FMI 3.0 co-simulation FMU (a zip) from
+//! the static parts in `fmu_template/`, the generated modelDescription.xml
+//! and documentation page, the built cdylib (one binary serves both
+//! versions) and the scene.
 //!
 //! Layout of the archive:
 //!
 //! ```text
 //! modelDescription.xml
-//! binaries/linux64/<modelIdentifier>.so    copy of libguideway.so
+//! binaries/linux64/<modelIdentifier>.so    copy of libguideway.so (FMI 2.0;
+//!                                          FMI 3.0: binaries/x86_64-linux/)
 //! resources/scene.toml                     the scene the FMU simulates
 //! documentation/index.html                 generated from the variable table
 //! documentation/style.css, licenses/       from fmu_template/
@@ -18,7 +20,7 @@ pub mod release;
 pub mod ssp;
 
 use crate::fmi2::instance::SCENE_FILE;
-use crate::fmi2::{describe, Physics};
+use crate::fmi2::{describe, Description, Physics};
 use crate::output_file::Staged;
 use crate::scene::Scene;
 use std::fmt;
@@ -63,6 +65,58 @@ impl From<ExportError> for String {
     }
 }
 
+/// Which FMI standard an FMU follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FmiVersion {
+    #[default]
+    V2,
+    V3,
+}
+
+impl FmiVersion {
+    /// `2.0` or `3.0`.
+    pub fn label(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "2.0",
+            FmiVersion::V3 => "3.0",
+        }
+    }
+
+    /// The prefix of the standard's functions and status names.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "fmi2",
+            FmiVersion::V3 => "fmi3",
+        }
+    }
+
+    /// What the description's identity attribute is called.
+    pub fn token_name(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "GUID",
+            FmiVersion::V3 => "instantiation token",
+        }
+    }
+
+    /// The standard's name of a variable type.
+    pub fn type_name(self, ty: crate::model::VarType) -> &'static str {
+        match (self, ty) {
+            (FmiVersion::V2, ty) => ty.as_str(),
+            (FmiVersion::V3, crate::model::VarType::Real) => "Float64",
+            (FmiVersion::V3, crate::model::VarType::Integer) => "Int32",
+            (FmiVersion::V3, crate::model::VarType::Boolean) => "Boolean",
+        }
+    }
+
+    /// The folder of the Linux x86-64 binary inside the archive.
+    fn binary_dir(self) -> &'static str {
+        match self {
+            FmiVersion::V2 => "binaries/linux64",
+            FmiVersion::V3 => "binaries/x86_64-linux",
+        }
+    }
+}
+
 /// What `export` wrote.
 #[derive(Debug, Clone)]
 pub struct Exported {
@@ -93,28 +147,73 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
     ))
 }
 
+/// Where `scripts/build_portable.sh` puts the glibc 2.17 build of the FMU
+/// binary, for the executable in `target/<profile>/`.
+fn portable_cdylib() -> Option<PathBuf> {
+    let exe = std::env::current_exe().ok()?;
+    let target = exe.parent()?.parent()?;
+    let p = target.join("portable/x86_64-unknown-linux-gnu/release/libguideway.so");
+    p.is_file().then_some(p)
+}
+
+/// Why a native build is not shipped (README, "The FMU binary").
+const NOT_PORTABLE: &str = "the native build needs the glibc of the machine that built it (2.34 \
+     or later on Debian 12), not the 2.17 baseline; build the portable one with \
+     `bash scripts/build_portable.sh` or set GUIDEWAY_CDYLIB";
+
+/// The binary `guideway export` packages: `$GUIDEWAY_CDYLIB`, else the
+/// portable build if there is one, else the native one with a warning
+/// saying what it needs.
+pub fn export_cdylib() -> Result<(PathBuf, Option<String>), String> {
+    if std::env::var_os("GUIDEWAY_CDYLIB").is_some() {
+        return default_cdylib().map(|p| (p, None));
+    }
+    if let Some(p) = portable_cdylib() {
+        return Ok((p, None));
+    }
+    let native = default_cdylib()?;
+    let warning = format!("packaging {}: {NOT_PORTABLE}", native.display());
+    Ok((native, Some(warning)))
+}
+
+/// The binary `guideway release` ships: `$GUIDEWAY_CDYLIB`, else the
+/// portable build; a native build is refused.
+pub fn release_cdylib() -> Result<PathBuf, String> {
+    if std::env::var_os("GUIDEWAY_CDYLIB").is_some() {
+        return default_cdylib();
+    }
+    portable_cdylib().ok_or_else(|| {
+        format!("a release ships the portable FMU binary, which is not built: {NOT_PORTABLE}")
+    })
+}
+
 /// Export `scene` as an FMU at `out`, with the binary `cdylib`
 /// (`libguideway.so`). The archive is written beside `out` and renamed onto
 /// it when complete, so a failure leaves `out` as it was.
 pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, ExportError> {
-    // The FMU reads its scene back from TOML; describe the scene as it will
-    // read it, so the GUID it computes at instantiation is the same.
-    let scene_text = scene.to_toml_string();
-    let scene = Scene::from_toml_str(&scene_text).map_err(|e| ExportError::Scene(e.to_string()))?;
-    let d = describe::<Physics>(&scene).map_err(ExportError::Scene)?;
-    check_well_formed(&d.xml).map_err(ExportError::Scene)?;
+    export_as(scene, out, cdylib, FmiVersion::V2)
+}
+
+/// `export` following the standard `fmi`.
+pub fn export_as(
+    scene: &Scene,
+    out: &Path,
+    cdylib: &Path,
+    fmi: FmiVersion,
+) -> Result<Exported, ExportError> {
+    let (scene_text, scene, d) = describe_as_packaged(scene, fmi)?;
     let binary = std::fs::read(cdylib).map_err(|e| {
         ExportError::Io(format!(
             "cannot read the FMU binary {}: {e}",
             cdylib.display()
         ))
     })?;
-    let html = documentation::index_html(&scene, &d);
+    let html = documentation::index_html(&scene, &d, fmi);
 
     let mut files: Vec<(String, &[u8], u32)> = vec![
         ("modelDescription.xml".into(), d.xml.as_bytes(), 0o644),
         (
-            format!("binaries/linux64/{}.so", d.model_identifier),
+            format!("{}/{}.so", fmi.binary_dir(), d.model_identifier),
             &binary,
             0o755,
         ),
@@ -143,6 +242,31 @@ pub fn export(scene: &Scene, out: &Path, cdylib: &Path) -> Result<Exported, Expo
         model_identifier: d.model_identifier,
         guid: d.guid,
     })
+}
+
+/// The scene as the FMU will read it back (its TOML text, parsed), and the
+/// description of that scene, checked well-formed.
+fn describe_as_packaged(
+    scene: &Scene,
+    fmi: FmiVersion,
+) -> Result<(String, Scene, Description), ExportError> {
+    // The FMU reads its scene back from TOML; describe the scene as it will
+    // read it, so the GUID it computes at instantiation is the same.
+    let scene_text = scene.to_toml_string();
+    let scene = Scene::from_toml_str(&scene_text).map_err(|e| ExportError::Scene(e.to_string()))?;
+    let d = match fmi {
+        FmiVersion::V2 => describe::<Physics>(&scene),
+        FmiVersion::V3 => crate::fmi3::describe::<Physics>(&scene),
+    }
+    .map_err(ExportError::Scene)?;
+    check_well_formed(&d.xml).map_err(ExportError::Scene)?;
+    Ok((scene_text, scene, d))
+}
+
+/// The modelDescription.xml `export` would write for `scene` (to check an
+/// SSP's connections before anything is written).
+pub fn model_description(scene: &Scene) -> Result<String, ExportError> {
+    describe_as_packaged(scene, FmiVersion::V2).map(|(_, _, d)| d.xml)
 }
 
 fn write_zip(staged: &Staged, files: Vec<(String, &[u8], u32)>) -> Result<(), String> {

@@ -4,7 +4,10 @@
 //! Layout: `SystemStructure.ssd`, `resources/guideway.fmu`,
 //! `resources/vehicle.fmu`. Every connection is checked against the two
 //! model descriptions (the variables exist, an output feeds an input, both
-//! Real) before anything is written.
+//! Real) before anything is written (`check_connections`, run by `export`
+//! before the FMU itself is written). The SSD carries a DefaultExperiment
+//! and the fixed-step master settings OMSimulator needs to load a system
+//! (its `SimulationInformation` annotation; other masters ignore it).
 
 use std::collections::HashMap;
 use std::io::{Read, Write};
@@ -45,15 +48,23 @@ impl std::str::FromStr for Connection {
     }
 }
 
-/// Name → (causality, type) of the variables of an FMU's model description.
-fn variables(fmu: &[u8]) -> Result<HashMap<String, (String, String)>, String> {
+/// Name → (causality, type) of the variables of one FMU.
+type Variables = HashMap<String, (String, String)>;
+
+/// The model description inside an FMU archive.
+fn model_description(fmu: &[u8]) -> Result<String, String> {
     let mut zip = zip::ZipArchive::new(std::io::Cursor::new(fmu)).map_err(|e| e.to_string())?;
     let mut xml = String::new();
     zip.by_name("modelDescription.xml")
         .map_err(|e| format!("no modelDescription.xml: {e}"))?
         .read_to_string(&mut xml)
         .map_err(|e| e.to_string())?;
-    let mut reader = quick_xml::Reader::from_str(&xml);
+    Ok(xml)
+}
+
+/// The variables a model description declares.
+fn variables(xml: &str) -> Result<Variables, String> {
+    let mut reader = quick_xml::Reader::from_str(xml);
     let mut vars = HashMap::new();
     let mut current: Option<(String, String)> = None;
     loop {
@@ -94,30 +105,110 @@ fn variables(fmu: &[u8]) -> Result<HashMap<String, (String, String)>, String> {
     Ok(vars)
 }
 
-/// Check `c` against the variables of the two FMUs.
-fn check(
-    c: &Connection,
-    vars: &HashMap<&str, HashMap<String, (String, String)>>,
-) -> Result<(), String> {
+/// Check `c` against the variables of the two FMUs; a refusal lists the
+/// variables that would fit where the wrong one is.
+fn check(c: &Connection, vars: &HashMap<&str, Variables>) -> Result<(), String> {
     for ((component, name), want) in [(&c.from, "output"), (&c.to, "input")] {
+        let fitting = || fitting(component, &vars[component.as_str()], want);
         let Some((causality, ty)) = vars[component.as_str()].get(name) else {
-            return Err(format!("{component} has no variable `{name}`"));
+            return Err(format!(
+                "--connect {}: {component} has no variable `{name}`; {}",
+                c,
+                fitting()
+            ));
         };
         if causality != want || ty != "Real" {
             return Err(format!(
-                "{component}.{name} is a {ty} {causality}; a connection goes from a Real output to a Real input"
+                "--connect {c}: {component}.{name} is a {ty} {causality}; a connection goes from a Real output to a Real input; {}",
+                fitting()
             ));
         }
     }
     Ok(())
 }
 
-fn ssd(name: &str, connections: &[Connection]) -> String {
-    let esc = |s: &str| {
-        s.replace('&', "&amp;")
-            .replace('<', "&lt;")
-            .replace('"', "&quot;")
-    };
+/// "the Real outputs of vehicle: a, b, c" (sorted).
+fn fitting(component: &str, vars: &Variables, causality: &str) -> String {
+    let mut names: Vec<&str> = vars
+        .iter()
+        .filter(|(_, (c, ty))| c == causality && ty == "Real")
+        .map(|(n, _)| n.as_str())
+        .collect();
+    names.sort_unstable();
+    if names.is_empty() {
+        return format!("{component} has no Real {causality}");
+    }
+    format!("the Real {causality}s of {component}: {}", names.join(", "))
+}
+
+impl std::fmt::Display for Connection {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let (a, b) = (&self.from, &self.to);
+        write!(f, "{}.{}={}.{}", a.0, a.1, b.0, b.1)
+    }
+}
+
+/// What the SSD's DefaultExperiment and master settings say: the
+/// guideway FMU's stop time and communication step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Experiment {
+    pub stop_time: f64,
+    pub step_size: f64,
+}
+
+/// A checked system, ready to write once the guideway FMU exists.
+pub struct System {
+    name: String,
+    vehicle: Vec<u8>,
+    connections: Vec<Connection>,
+    experiment: Experiment,
+}
+
+/// Why a system was refused.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum SystemError {
+    /// A connection does not fit the two FMUs (a usage error).
+    Connection(String),
+    /// The vehicle FMU could not be read.
+    Io(String),
+}
+
+/// Check `connections` against the guideway FMU's model description
+/// `guideway_xml` (not yet written) and the vehicle FMU at `vehicle`.
+pub fn check_connections(
+    name: &str,
+    guideway_xml: &str,
+    vehicle: &Path,
+    connections: &[Connection],
+    experiment: Experiment,
+) -> Result<System, SystemError> {
+    let vehicle_bytes = crate::input_file::read_bounded(vehicle, crate::input_file::MAX_FMU_BYTES)
+        .map_err(SystemError::Io)?;
+    let vehicle_vars = model_description(&vehicle_bytes)
+        .and_then(|xml| variables(&xml))
+        .map_err(|e| SystemError::Connection(format!("{}: {e}", vehicle.display())))?;
+    let guideway_vars = variables(guideway_xml).map_err(SystemError::Connection)?;
+    let vars = HashMap::from([("guideway", guideway_vars), ("vehicle", vehicle_vars)]);
+    for c in connections {
+        check(c, &vars).map_err(SystemError::Connection)?;
+    }
+    Ok(System {
+        name: name.to_string(),
+        vehicle: vehicle_bytes,
+        connections: connections.to_vec(),
+        experiment,
+    })
+}
+
+/// Escape an attribute value.
+fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('"', "&quot;")
+}
+
+/// The components with the connectors their connections use.
+fn elements(connections: &[Connection]) -> String {
     let mut elements = String::new();
     for component in COMPONENTS {
         let mut connectors = String::new();
@@ -135,6 +226,18 @@ fn ssd(name: &str, connections: &[Connection]) -> String {
             "      <ssd:Component name=\"{component}\" type=\"application/x-fmu-sharedlibrary\" source=\"resources/{component}.fmu\">\n        <ssd:Connectors>\n{connectors}        </ssd:Connectors>\n      </ssd:Component>\n"
         );
     }
+    elements
+}
+
+/// OMSimulator refuses a system without its master settings ("[NewSystem]
+/// internal error"): a fixed-step master at the experiment's step.
+fn oms_master(step_size: f64) -> String {
+    format!(
+        "    <ssd:Annotations>\n      <ssc:Annotation type=\"org.openmodelica\">\n        <oms:Annotations>\n          <oms:SimulationInformation>\n            <oms:FixedStepMaster description=\"oms-ma\" stepSize=\"{step_size}\" absoluteTolerance=\"1e-4\" relativeTolerance=\"1e-4\"/>\n          </oms:SimulationInformation>\n        </oms:Annotations>\n      </ssc:Annotation>\n    </ssd:Annotations>\n"
+    )
+}
+
+fn ssd(name: &str, connections: &[Connection], experiment: Experiment) -> String {
     let wires: String = connections
         .iter()
         .map(|c| {
@@ -148,47 +251,40 @@ fn ssd(name: &str, connections: &[Connection]) -> String {
         })
         .collect();
     format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<ssd:SystemStructureDescription xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" version=\"1.0\" name=\"{n}\">\n  <ssd:System name=\"{n}\">\n    <ssd:Elements>\n{elements}    </ssd:Elements>\n    <ssd:Connections>\n{wires}    </ssd:Connections>\n  </ssd:System>\n</ssd:SystemStructureDescription>\n",
-        n = esc(name)
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<ssd:SystemStructureDescription xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:oms=\"https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd\" version=\"1.0\" name=\"{n}\">\n  <ssd:System name=\"{n}\">\n    <ssd:Elements>\n{elements}    </ssd:Elements>\n    <ssd:Connections>\n{wires}    </ssd:Connections>\n{master}  </ssd:System>\n  <ssd:DefaultExperiment startTime=\"0\" stopTime=\"{stop}\"/>\n</ssd:SystemStructureDescription>\n",
+        n = esc(name),
+        elements = elements(connections),
+        master = oms_master(experiment.step_size),
+        stop = experiment.stop_time,
     )
 }
 
-/// Write the system `name` of the FMUs `guideway` and `vehicle` with
-/// `connections` to `out`.
-pub fn write(
-    name: &str,
-    guideway: &Path,
-    vehicle: &Path,
-    connections: &[Connection],
-    out: &Path,
-) -> Result<(), String> {
-    let read = |p: &Path| crate::input_file::read_bounded(p, crate::input_file::MAX_FMU_BYTES);
-    let fmus = [read(guideway)?, read(vehicle)?];
-    let mut vars = HashMap::new();
-    for (component, (fmu, path)) in COMPONENTS.iter().zip(fmus.iter().zip([guideway, vehicle])) {
-        let v = variables(fmu).map_err(|e| format!("{}: {e}", path.display()))?;
-        vars.insert(*component, v);
-    }
-    for c in connections {
-        check(c, &vars)?;
-    }
-    let io = |e: std::io::Error| format!("cannot write {}: {e}", out.display());
-    let zerr = |e: zip::result::ZipError| format!("cannot write {}: {e}", out.display());
-    let mut zip = zip::ZipWriter::new(std::fs::File::create(out).map_err(io)?);
-    let options = SimpleFileOptions::default()
-        .compression_method(zip::CompressionMethod::Deflated)
-        .last_modified_time(zip::DateTime::default());
-    zip.start_file("SystemStructure.ssd", options)
-        .map_err(zerr)?;
-    zip.write_all(ssd(name, connections).as_bytes())
-        .map_err(io)?;
-    for (component, fmu) in COMPONENTS.iter().zip(&fmus) {
-        zip.start_file(format!("resources/{component}.fmu"), options)
+impl System {
+    /// Write the system to `out`, with the guideway FMU at `guideway`
+    /// (written after the system was checked). Reproducible: entries in a
+    /// fixed order, stamped with the zip epoch.
+    pub fn write(&self, guideway: &Path, out: &Path) -> Result<(), String> {
+        let guideway =
+            crate::input_file::read_bounded(guideway, crate::input_file::MAX_FMU_BYTES)?;
+        let io = |e: std::io::Error| format!("cannot write {}: {e}", out.display());
+        let zerr = |e: zip::result::ZipError| format!("cannot write {}: {e}", out.display());
+        let staged = crate::output_file::Staged::new(out)?;
+        let mut zip = zip::ZipWriter::new(staged.file()?);
+        let options = SimpleFileOptions::default()
+            .compression_method(zip::CompressionMethod::Deflated)
+            .last_modified_time(zip::DateTime::default());
+        zip.start_file("SystemStructure.ssd", options)
             .map_err(zerr)?;
-        zip.write_all(fmu).map_err(io)?;
+        let text = ssd(&self.name, &self.connections, self.experiment);
+        zip.write_all(text.as_bytes()).map_err(io)?;
+        for (component, fmu) in COMPONENTS.iter().zip([&guideway, &self.vehicle]) {
+            zip.start_file(format!("resources/{component}.fmu"), options)
+                .map_err(zerr)?;
+            zip.write_all(fmu).map_err(io)?;
+        }
+        zip.finish().map_err(zerr)?.sync_all().map_err(io)?;
+        staged.commit().map(drop)
     }
-    zip.finish().map_err(zerr)?;
-    Ok(())
 }
 
 #[cfg(test)]
@@ -214,7 +310,16 @@ mod tests {
     #[test]
     fn the_ssd_declares_the_connectors_it_wires() {
         let c: Connection = "vehicle.f=guideway.wheel.force_y".parse().unwrap();
-        let x = ssd("s&t", &[c]);
+        let x = ssd(
+            "s&t",
+            &[c],
+            Experiment {
+                stop_time: 3.5,
+                step_size: 1e-3,
+            },
+        );
+        assert!(x.contains("<ssd:DefaultExperiment startTime=\"0\" stopTime=\"3.5\"/>"));
+        assert!(x.contains("<oms:FixedStepMaster description=\"oms-ma\" stepSize=\"0.001\""));
         assert!(x.contains("name=\"s&amp;t\""));
         assert!(x.contains("<ssd:Connector name=\"wheel.force_y\" kind=\"input\">"));
         assert!(x.contains("<ssd:Connector name=\"f\" kind=\"output\">"));

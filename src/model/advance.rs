@@ -26,23 +26,28 @@ pub enum Stop {
 
 /// Advance `sim` to `target`, reading the wall clock between chunks of whole
 /// internal steps of length `step`; past `budget` seconds with the target
-/// not yet reached, stop.
+/// not yet reached, stop. With `until_event`, the chunks are single steps
+/// and the advance ends (`Reached`, short of `target`) after the one in
+/// which a simulation event happened; the flag returned says whether it did.
 pub fn advance_within<D: Dynamics>(
     sim: &mut D,
     target: f64,
     step: f64,
     budget: f64,
-) -> Result<Advance, Stop> {
+    until_event: bool,
+) -> Result<(Advance, bool), Stop> {
     let budget = Duration::try_from_secs_f64(budget).unwrap_or(Duration::MAX);
     let started = Instant::now();
     // Inside an internal step the contact iteration reads the deadline.
     let deadline = started.checked_add(budget);
     crate::deadline::within(deadline, || {
-        advance_chunks(sim, target, step, (started, budget)).map_err(|stop| match stop {
-            Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
-                reached: sim.time(),
-            },
-            stop => stop,
+        advance_chunks(sim, target, step, (started, budget), until_event).map_err(|stop| {
+            match stop {
+                Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
+                    reached: sim.time(),
+                },
+                stop => stop,
+            }
         })
     })
 }
@@ -53,11 +58,14 @@ fn advance_chunks<D: Dynamics>(
     target: f64,
     step: f64,
     (started, budget): (Instant, Duration),
-) -> Result<Advance, Stop> {
+    until_event: bool,
+) -> Result<(Advance, bool), Stop> {
+    let reach = |sim: &mut D| sim.advance_to(target).map(|a| (a, false));
     // Within one internal step the clock is read inside it only.
     if chunk_end(sim.time(), step, 1.0) >= target - 1e-6 * step {
-        return sim.advance_to(target).map_err(Stop::Solver);
+        return reach(sim).map_err(Stop::Solver);
     }
+    let events_before = sim.event_count();
     // Chunk length in internal steps: doubled while a chunk takes under a
     // sixteenth of the budget, so that checks are rare on fast models and a
     // slow model overshoots the budget by little.
@@ -65,22 +73,27 @@ fn advance_chunks<D: Dynamics>(
     loop {
         let end = chunk_end(sim.time(), step, chunk);
         if end >= target - 1e-6 * step {
-            return sim.advance_to(target).map_err(Stop::Solver);
+            return reach(sim).map_err(Stop::Solver);
         }
         let chunk_started = Instant::now();
         if let Advance::Exited { time } = sim.advance_to(end).map_err(Stop::Solver)? {
-            return Ok(Advance::Exited { time });
+            return Ok((Advance::Exited { time }, false));
+        }
+        if until_event && sim.event_count() > events_before {
+            return Ok((Advance::Reached, true));
         }
         if started.elapsed() > budget {
             return Err(Stop::OverBudget {
                 reached: sim.time(),
             });
         }
-        if chunk_started.elapsed() < budget / 16 {
-            chunk = (2.0 * chunk).min(65536.0);
+        chunk = if until_event {
+            1.0
+        } else if chunk_started.elapsed() < budget / 16 {
+            (2.0 * chunk).min(65536.0)
         } else {
-            chunk = (chunk / 2.0).max(1.0);
-        }
+            (chunk / 2.0).max(1.0)
+        };
     }
 }
 

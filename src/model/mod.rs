@@ -116,6 +116,8 @@ pub struct Model<D: Dynamics> {
     discarded: Option<(DiscardedStep, String)>,
     /// The simulation events of the last completed step, in words.
     new_events: Vec<String>,
+    /// The last step ended early, at an event (`do_step_until_event`).
+    ended_at_event: bool,
     /// The outputs of the current state, once computed (by the step's
     /// check or a getter), so that the getters after a step do not compute
     /// them again. Cleared by everything that changes the state, the
@@ -248,6 +250,7 @@ impl<D: Dynamics> Model<D> {
             wall_time_budget: DEFAULT_WALL_TIME_BUDGET,
             discarded: None,
             new_events: Vec::new(),
+            ended_at_event: false,
             outputs_now: None,
             output_count,
             rollback: rollback::RollBack::new(),

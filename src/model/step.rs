@@ -91,6 +91,26 @@ impl<D: Dynamics> Model<D> {
     /// One communication step from `t` (which must match the model's time up
     /// to accumulated rounding) to `t + h`.
     pub fn do_step(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
+        self.step_to(t, h, false)
+    }
+
+    /// `do_step`, but ending early at the end of the internal step in which
+    /// a simulation event (entry, exit, lift-off, landing, ...) happened:
+    /// then `ended_at_event()` and `time()` is below `t + h` (FMI 3.0's early
+    /// return). The internal steps are the ones `do_step` takes (it passes
+    /// the same grid points).
+    pub fn do_step_until_event(&mut self, t: f64, h: f64) -> Result<StepOutcome, ModelError> {
+        self.step_to(t, h, true)
+    }
+
+    /// Whether the last step ended early at an event
+    /// (`do_step_until_event`).
+    pub fn ended_at_event(&self) -> bool {
+        self.ended_at_event
+    }
+
+    fn step_to(&mut self, t: f64, h: f64, until_event: bool) -> Result<StepOutcome, ModelError> {
+        self.ended_at_event = false;
         self.check_step(t, h)?;
         if let Some((step, reason)) = &self.discarded {
             if step.t == t && step.h == h && step.inputs == self.inputs {
@@ -108,7 +128,7 @@ impl<D: Dynamics> Model<D> {
         // `changing`: the roll-back copy is the step's own business.)
         let spare = self.outputs_now.take().unwrap_or_default();
         let events_before = self.sim.as_ref().map_or(0, |s| s.event_count());
-        let outcome = self.advance(t + h, spare)?;
+        let outcome = self.advance(t + h, spare, until_event)?;
         self.new_events = match (&outcome, &self.sim) {
             (StepOutcome::Failed { .. }, _) | (_, None) => Vec::new(),
             (_, Some(sim)) if sim.event_count() == events_before => Vec::new(),
@@ -129,8 +149,14 @@ impl<D: Dynamics> Model<D> {
 
     /// Advance the dynamics to communication time `to` within the wall-time
     /// budget; a failure is rolled back and classified. `spare`: storage
-    /// for the outputs.
-    fn advance(&mut self, to: f64, spare: Vec<f64>) -> Result<StepOutcome, ModelError> {
+    /// for the outputs; `until_event`: stop after the internal step of an
+    /// event.
+    fn advance(
+        &mut self,
+        to: f64,
+        spare: Vec<f64>,
+        until_event: bool,
+    ) -> Result<StepOutcome, ModelError> {
         let (now, t0, step) = (self.time(), self.start_time, self.scene.solver.step);
         let budget = self.wall_time_budget;
         let probe = (to - now).min(step) / 1024.0;
@@ -141,9 +167,14 @@ impl<D: Dynamics> Model<D> {
         let (saved, next) = self.rollback.start(sim);
         let start = sim.time();
         let rolled_back = || format!("step rolled back to t = {now} s");
-        let outcome = match advance::advance_within(sim, to - t0, step, budget) {
-            Ok(Advance::Reached) => StepOutcome::Completed,
-            Ok(Advance::Exited { time }) => StepOutcome::Exited { time: t0 + time },
+        let advanced = advance::advance_within(sim, to - t0, step, budget, until_event);
+        let mut ended_at_event = false;
+        let outcome = match advanced {
+            Ok((Advance::Reached, at_event)) => {
+                ended_at_event = at_event;
+                StepOutcome::Completed
+            }
+            Ok((Advance::Exited { time }, _)) => StepOutcome::Exited { time: t0 + time },
             Err(advance::Stop::Solver(e)) => {
                 let (curable, cure) = match advance::curable(sim, start, saved, probe) {
                     Ok(m) => (true, m),
@@ -179,6 +210,7 @@ impl<D: Dynamics> Model<D> {
             },
         };
         let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back, spare, next);
+        self.ended_at_event = ended_at_event && outcome == StepOutcome::Completed;
         if let StepOutcome::Failed { .. } = outcome {
             sim.restore(saved)
                 .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
