@@ -11,6 +11,7 @@ pub mod band;
 pub mod beam;
 pub mod bending;
 pub mod body;
+pub mod check;
 pub mod complementarity;
 pub mod contact;
 pub mod design;

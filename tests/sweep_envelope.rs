@@ -96,11 +96,10 @@ fn single_run(scene: &Scene, train: &str, speed: f64) -> Vec<(String, f64)> {
     let fc = cut_off(omega[0] * to_hz, omega[2] * to_hz);
     for (record, s) in records.iter().zip(&scene.sensors) {
         let filtered = low_pass_zero_phase(record, scene.solver.step, fc).unwrap();
-        let peak =
-            filtered
-                .iter()
-                .copied()
-                .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
+        let peak = filtered
+            .iter()
+            .copied()
+            .fold(0.0, |m: f64, x| if x.abs() > m.abs() { x } else { m });
         peaks.push((format!("sensor.{}.acceleration_filtered", s.name), peak));
     }
     peaks
