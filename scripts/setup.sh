@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Set-up for building and testing guideway; idempotent, quick on re-run.
 #  - libclang (Debian libclang-dev): fmi-sys runs bindgen at build time.
+#  - chromium (Debian): tests/bridge_check.rs renders the check report
+#    headless and reads its PASS/FAIL table.
 #  - libtbb12 (Debian): the Ecos co-simulation engine (PyPI ecospy) links
 #    libtbb.so.12 and does not ship it.
 #  - .venv in the repository root with scripts/requirements.txt (fmpy,
@@ -31,6 +33,11 @@ fi
 if ! ldconfig -p | grep 'libtbb\.so\.12 ' >/dev/null; then
     echo "setup: installing libtbb12 (for ecospy)"
     apt_install libtbb12
+fi
+
+if ! command -v chromium >/dev/null; then
+    echo "setup: installing chromium (renders the bridge check report in tests)"
+    apt_install chromium
 fi
 
 if ! python3 -c "import venv, ensurepip" 2>/dev/null; then

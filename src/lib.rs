@@ -10,8 +10,8 @@
 //! sit above the physics.
 
 pub mod build;
+pub mod check;
 pub mod contact;
-
 pub mod design;
 pub mod fmi2;
 pub mod fmi3;

@@ -94,10 +94,11 @@ fn envelope(extra: &[&str]) -> Vec<Vec<String>> {
     assert_eq!(
         lines.next(),
         Some(
-            "train,speed_km_h,speed_m_s,peak_deflection_m,peak_acceleration_m_s2,daf,\
+            "train,speed_km_h,speed_m_s,peak_deflection_m,peak_acceleration_m_s2,\
+             peak_acceleration_filtered_m_s2,acceleration_cut_off_hz,daf,\
              sensor.midspan.deflection,sensor.midspan.deflection.daf,sensor.midspan.velocity,\
              sensor.midspan.acceleration,section.midspan.moment,section.midspan.moment.daf,\
-             section.midspan.shear,section.midspan.shear.daf"
+             section.midspan.shear,section.midspan.shear.daf,sensor.midspan.acceleration_filtered"
         )
     );
     lines
@@ -122,12 +123,14 @@ fn the_envelope_has_one_row_per_speed_and_train() {
         assert_eq!(speed, [150.0, 250.0, 350.0][i % 3]);
         let speed_m_s: f64 = row[2].parse().unwrap();
         assert!((speed_m_s - speed / 3.6).abs() < 1e-12);
-        let numbers: Vec<f64> = row[3..6].iter().map(|x| x.parse().unwrap()).collect();
+        let numbers: Vec<f64> = row[3..8].iter().map(|x| x.parse().unwrap()).collect();
         assert!(numbers.iter().all(|x| x.is_finite() && *x > 0.0), "{row:?}");
-        let design: Vec<f64> = row[6..].iter().map(|x| x.parse().unwrap()).collect();
+        let design: Vec<f64> = row[8..].iter().map(|x| x.parse().unwrap()).collect();
         assert!(design.iter().all(|x| x.is_finite()), "{row:?}");
         // Dynamic amplification of a crossing is at least about 1.
-        assert!(numbers[2] > 0.95, "{row:?}");
+        assert!(numbers[4] > 0.95, "{row:?}");
+        // f3 = 36 Hz on this bridge: the cut-off of EN 1991-2 6.4.6.5(4)
+        assert!((numbers[3] - 36.0).abs() < 0.1, "{row:?}");
     }
 }
 

@@ -4,6 +4,7 @@
 //! line or bad scene (every problem listed on stderr), 130 interrupted by
 //! Ctrl-C.
 
+mod check;
 mod export;
 mod interrupt;
 mod modes;
@@ -48,6 +49,10 @@ enum Command {
     /// range, in parallel; write the envelope (peak deck deflection and
     /// acceleration, DAF) as CSV and a plot.
     Sweep(SweepArgs),
+    /// Dynamic check of a railway bridge (EN 1991-2 §6.4, EN 1990 A2)
+    /// from a short description: every case run, a self-contained HTML
+    /// report with the PASS/FAIL table, CSVs and JSON.
+    Check(CheckArgs),
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
@@ -150,6 +155,19 @@ struct SweepArgs {
     /// Refuse, before running, a sweep of more steps than this in all.
     #[arg(long, value_name = "N", default_value_t = guideway::study::sweep::DEFAULT_MAX_SWEEP_STEPS)]
     max_steps: u64,
+}
+
+#[derive(Debug, clap::Args)]
+struct CheckArgs {
+    /// Bridge description (TOML), or `bridge20` for the built-in example.
+    bridge: String,
+    /// Directory for report.html, runs.csv, checks.csv, check.json and the
+    /// plots.
+    #[arg(long, short, value_name = "DIR", default_value = "check-report")]
+    out: PathBuf,
+    /// Threads (default: the machine's cores).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(usize))]
+    threads: Option<usize>,
 }
 
 #[derive(Debug, clap::Args)]
@@ -273,6 +291,7 @@ pub fn main() -> ExitCode {
         Command::Modes(args) => modes::modes(args),
         Command::Export(args) => export::export(args),
         Command::Sweep(args) => sweep::run_sweep(args),
+        Command::Check(args) => check::run_check(args),
         Command::WorkPrecision(args) => work_precision::work_precision(args),
         Command::Release(args) => release::release(args),
     };

@@ -151,6 +151,18 @@ impl<'a> Crossing<'a> {
         end: f64,
         max_steps: u64,
     ) -> Result<DesignPeaks, String> {
+        self.design_peaks_watching(probes, end, max_steps, |_, _| {})
+    }
+
+    /// `design_peaks`, calling `watch` with the crossing and its design
+    /// outputs' state after each step (to record time histories).
+    pub fn design_peaks_watching(
+        &mut self,
+        probes: &[Probe],
+        end: f64,
+        max_steps: u64,
+        mut watch: impl FnMut(&Crossing, &BeamDynamics),
+    ) -> Result<DesignPeaks, String> {
         let steps = self.steps_to(end, max_steps)?;
         let mut peaks = DesignPeaks::new(probes.len());
         let mut now = self.dynamics();
@@ -158,6 +170,7 @@ impl<'a> Crossing<'a> {
             self.step();
             now.update((&self.u, &self.v, &self.a), self.placed.iter().copied());
             peaks.record(probes, self.beam, &now);
+            watch(self, &now);
         }
         Ok(peaks)
     }

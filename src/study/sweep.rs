@@ -2,7 +2,8 @@
 //! run at every speed of a range, in parallel on the machine's cores; per
 //! run every design output's peak (at the sensors, sections and supports)
 //! and its dynamic amplification against the static envelope of the same
-//! forces on the same structure.
+//! forces on the same structure; the deck acceleration also as EN 1991-2
+//! §6.4.6.5(4) counts it (`deck_filter`).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -11,6 +12,7 @@ use crate::beam::Beam;
 use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, StaticEnvelope};
 use crate::moving_load::{exit_time, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain};
 use crate::scene::{Scene, SensorSpec};
+use crate::study::deck_filter::{cut_off, low_pass_zero_phase, peak_magnitude};
 
 /// Speeds per sweep.
 pub const MAX_SPEEDS: usize = 10_000;
@@ -19,6 +21,9 @@ pub const MAX_STEPS_PER_RUN: u64 = 10_000_000;
 /// Steps of a whole sweep by default (about a minute of CPU on a 20-element
 /// beam; the full HSLM sweep of README takes 5 million).
 pub const DEFAULT_MAX_SWEEP_STEPS: u64 = 200_000_000;
+/// Acceleration samples one run keeps for the filtered peak (steps ×
+/// sensors; 8 bytes each: 200 MB).
+pub const MAX_RECORDED_SAMPLES: u64 = 25_000_000;
 
 /// The unit the speeds of a sweep are given in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -115,6 +120,12 @@ pub struct EnvelopeRow {
     pub peak_deflection: f64,
     /// Largest |acceleration| at the sensors (m/s²).
     pub peak_acceleration: f64,
+    /// Largest |acceleration| at the sensors low-passed with zero phase at
+    /// `acceleration_cut_off` (EN 1991-2 §6.4.6.5(4)); the raw peak where
+    /// the step is too coarse to filter (m/s²).
+    pub peak_acceleration_filtered: f64,
+    /// The cut-off max(30 Hz, 1.5 f1, f3) of the filtered peak (Hz).
+    pub acceleration_cut_off: f64,
     /// Dynamic amplification: peak_deflection over the largest |static
     /// deflection| at the sensors under the same forces crawling across.
     pub daf: f64,
@@ -144,6 +155,10 @@ pub struct DesignPeak {
 pub enum Loads {
     Scene,
     Trains(Vec<HslmTrain>),
+    /// Named trains as axles: each one's distance behind the leading axle
+    /// (m) and vertical force (N, up positive), the leading axle starting
+    /// where the scene's `[body]` does.
+    Axles(Vec<(String, Vec<(f64, f64)>)>),
 }
 
 /// One load of the sweep, ready to run at any speed.
@@ -178,6 +193,22 @@ fn sweep_loads(scene: &Scene, beam: &Beam, loads: &Loads) -> Result<Vec<Load>, S
                 let mut spec = scene.body.clone();
                 spec.train = Some(t.name.to_string());
                 (t.name.to_string(), vehicle_axles(&spec, scene.gravity))
+            })
+            .collect(),
+        Loads::Axles(trains) => trains
+            .iter()
+            .map(|(name, offsets)| {
+                let start = scene.body.initial_position;
+                let speed = scene.body.initial_speed;
+                let axles = offsets
+                    .iter()
+                    .map(|&(offset, force)| Axle {
+                        position: start - offset,
+                        speed,
+                        force,
+                    })
+                    .collect();
+                (name.clone(), axles)
             })
             .collect(),
     };
@@ -215,6 +246,7 @@ pub fn sweep(
     let beam = Beam::new(&scene.beam)?;
     let probes = probes(scene, &beam);
     let loads = sweep_loads(scene, &beam, loads)?;
+    let deck = DeckRecord::new(scene, &beam)?;
     let jobs: Vec<(usize, f64)> = (0..loads.len())
         .flat_map(|l| speeds.iter().map(move |&v| (l, v)))
         .collect();
@@ -238,10 +270,86 @@ pub fn sweep(
         let load = &loads[l];
         let axles = at_speed(&load.axles, speed_m_s);
         let mut crossing = Crossing::new(&beam, &axles, scene.solver.step)?;
-        let peaks = crossing.design_peaks(&probes, end, MAX_STEPS_PER_RUN)?;
-        Ok(envelope_row(load, (speed, speed_m_s), &probes, &peaks))
+        let mut history = deck.history(&crossing, end)?;
+        let peaks = crossing.design_peaks_watching(&probes, end, MAX_STEPS_PER_RUN, |c, _| {
+            for (record, &x) in history.iter_mut().zip(&deck.sensors) {
+                record.push(c.acceleration(x));
+            }
+        })?;
+        let mut row = envelope_row(load, (speed, speed_m_s), &probes, &peaks);
+        deck.add_filtered(&mut row, &history, scene);
+        Ok(row)
     };
     in_parallel(&jobs, threads, run)
+}
+
+/// What the sweep records of the deck's acceleration for the filtered
+/// peak: the sensors, the step and the cut-off of EN 1991-2 §6.4.6.5(4).
+struct DeckRecord {
+    sensors: Vec<f64>,
+    step: f64,
+    cut_off: f64,
+}
+
+impl DeckRecord {
+    fn new(scene: &Scene, beam: &Beam) -> Result<DeckRecord, String> {
+        let to_hz = 0.5 / std::f64::consts::PI;
+        let f: Vec<f64> = beam.frequencies(3)?.iter().map(|w| w * to_hz).collect();
+        let third = f.get(2).or(f.last()).copied().unwrap_or(0.0);
+        Ok(DeckRecord {
+            sensors: scene.sensors.iter().map(|s| s.position).collect(),
+            step: scene.solver.step,
+            cut_off: cut_off(f.first().copied().unwrap_or(0.0), third),
+        })
+    }
+
+    /// Empty records for `crossing`'s run to `end`, refused when they
+    /// would hold more than `MAX_RECORDED_SAMPLES`.
+    fn history(&self, crossing: &Crossing, end: f64) -> Result<Vec<Vec<f64>>, String> {
+        let steps = (end.min(crossing.exit_time()) / self.step).ceil();
+        let samples = steps * self.sensors.len() as f64;
+        if samples.is_nan() || samples > MAX_RECORDED_SAMPLES as f64 {
+            return Err(format!(
+                "the filtered deck acceleration needs {samples:.0} samples ({steps:.0} steps × {} \
+                 sensors), more than the limit of {MAX_RECORDED_SAMPLES} (fewer sensors or a \
+                 shorter run)",
+                self.sensors.len()
+            ));
+        }
+        let capacity = steps as usize;
+        Ok(vec![Vec::with_capacity(capacity); self.sensors.len()])
+    }
+
+    /// The filtered peaks into `row`: per sensor as the design output
+    /// `sensor.<name>.acceleration_filtered`, and the largest.
+    fn add_filtered(&self, row: &mut EnvelopeRow, history: &[Vec<f64>], scene: &Scene) {
+        row.acceleration_cut_off = self.cut_off;
+        let mut largest: f64 = 0.0;
+        for (record, sensor) in history.iter().zip(&scene.sensors) {
+            let peak = match low_pass_zero_phase(record, self.step, self.cut_off) {
+                Some(filtered) => signed_peak(&filtered),
+                None => signed_peak(record),
+            };
+            largest = largest.max(peak.abs());
+            row.design.push(DesignPeak {
+                name: format!("sensor.{}.acceleration_filtered", sensor.name),
+                peak,
+                is_static: false,
+                daf: None,
+            });
+        }
+        row.peak_acceleration_filtered = largest;
+    }
+}
+
+/// The value of largest magnitude, sign kept.
+fn signed_peak(samples: &[f64]) -> f64 {
+    let peak = peak_magnitude(samples);
+    samples
+        .iter()
+        .copied()
+        .find(|x| x.abs() == peak)
+        .unwrap_or(0.0)
 }
 
 /// The row of one run: its design peaks, with the deck's summary.
@@ -282,6 +390,8 @@ fn envelope_row(
         speed_m_s,
         peak_deflection: deflection,
         peak_acceleration: largest(".acceleration"),
+        peak_acceleration_filtered: 0.0,
+        acceleration_cut_off: 0.0,
         daf: deflection / static_deflection,
         design,
     }
@@ -333,7 +443,8 @@ fn in_parallel<J: Copy + Sync, R: Send>(
 /// (`<name>.daf`).
 pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
     let mut text = format!(
-        "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,daf",
+        "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,\
+         peak_acceleration_filtered_m_s2,acceleration_cut_off_hz,daf",
         unit.label().replace('/', "_")
     );
     // Every row has the same outputs (one scene); a DAF column after each
@@ -349,8 +460,15 @@ pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
     text.push('\n');
     for r in rows {
         text.push_str(&format!(
-            "{},{},{},{},{},{}",
-            r.train, r.speed, r.speed_m_s, r.peak_deflection, r.peak_acceleration, r.daf
+            "{},{},{},{},{},{},{},{}",
+            r.train,
+            r.speed,
+            r.speed_m_s,
+            r.peak_deflection,
+            r.peak_acceleration,
+            r.peak_acceleration_filtered,
+            r.acceleration_cut_off,
+            r.daf
         ));
         for d in &r.design {
             text.push_str(&format!(",{}", d.peak));

@@ -1,0 +1,245 @@
+//! The bridge description a dynamic check reads (`guideway check
+//! BRIDGE.toml`): span and supports, mass per length with its bounds, f1
+//! or EI, bridge type, track and maximum line speed, and the National
+//! Annex settings with the recommended values as defaults; validated as
+//! untrusted input.
+
+use serde::{Deserialize, Serialize};
+
+use super::rules::{BridgeType, BALLASTED_ACCELERATION_LIMIT, DIRECT_FASTENED_ACCELERATION_LIMIT};
+
+/// The built-in example: the 20 m bridge of issue 28 (12 t/m, f1 = 5.5 Hz,
+/// reinforced concrete, ballasted, 350 km/h).
+pub const EXAMPLE_NAME: &str = "bridge20";
+pub const EXAMPLE: &str = include_str!("../../scenes/bridge20_check.toml");
+
+/// The track on the deck (EN 1990 A2.4.4.2.1(4)).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TrackKind {
+    Ballasted,
+    DirectFastened,
+}
+
+/// One bridge to check.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BridgeSpec {
+    pub name: String,
+    /// Span L (m).
+    pub span: f64,
+    /// Only `simply_supported` is coded.
+    #[serde(default = "simply_supported")]
+    pub supports: String,
+    /// Mass per length (kg/m): the nominal value f1 belongs to.
+    pub mass_per_length: f64,
+    /// Lower and upper bounds of the mass per length (kg/m), EN 1991-2
+    /// §6.4.6.3.2; the nominal value when absent.
+    #[serde(default)]
+    pub mass_lower: Option<f64>,
+    #[serde(default)]
+    pub mass_upper: Option<f64>,
+    /// First natural frequency (Hz) at the nominal mass, or EI.
+    #[serde(default)]
+    pub first_frequency: Option<f64>,
+    #[serde(default)]
+    pub bending_stiffness: Option<f64>,
+    pub bridge_type: BridgeType,
+    pub track: TrackKind,
+    /// Maximum line speed at the site (km/h).
+    pub line_speed: f64,
+    #[serde(default)]
+    pub settings: Settings,
+}
+
+fn simply_supported() -> String {
+    "simply_supported".into()
+}
+
+/// National Annex choices (recommended values by default) and the
+/// numerical settings of the runs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct Settings {
+    /// EN 1990 A2.4.4.2.1(4)P γ_bt, γ_df (m/s²).
+    pub acceleration_limit_ballasted: f64,
+    pub acceleration_limit_direct_fastened: f64,
+    /// EN 1991-2 §6.3.2(3) classification factor α of LM71.
+    pub classification_factor: f64,
+    /// EN 1991-2 §6.4.5.2(3): carefully maintained track (Φ2, φ″/2) or
+    /// standard maintenance (Φ3, φ″).
+    pub carefully_maintained: bool,
+    /// Speed steps (km/h) away from and near resonance, and the band
+    /// (fraction of the resonant speed) of the fine steps.
+    pub speed_step: f64,
+    pub fine_speed_step: f64,
+    pub resonance_band: f64,
+    /// Finite elements of the span and time step (s).
+    pub elements: usize,
+    pub step: f64,
+    /// HSLM-B (EN 1991-2 Annex E, Figure E.8) for spans under 7 m: the
+    /// number N of 170 kN forces and their spacing d (m) read off the
+    /// figure for this span.
+    pub hslm_b: Option<HslmB>,
+}
+
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HslmB {
+    pub forces: usize,
+    pub spacing: f64,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            acceleration_limit_ballasted: BALLASTED_ACCELERATION_LIMIT,
+            acceleration_limit_direct_fastened: DIRECT_FASTENED_ACCELERATION_LIMIT,
+            classification_factor: 1.0,
+            carefully_maintained: true,
+            speed_step: 5.0,
+            fine_speed_step: 1.0,
+            resonance_band: 0.03,
+            elements: 20,
+            step: 0.001,
+            hslm_b: None,
+        }
+    }
+}
+
+/// Check that `value` (named `field`) is finite and within `low ..= high`.
+fn within(field: &str, value: f64, low: f64, high: f64, unit: &str) -> Result<(), String> {
+    if value.is_finite() && (low..=high).contains(&value) {
+        Ok(())
+    } else {
+        Err(format!(
+            "{field} = {value}: must be a number from {low} to {high} {unit}"
+        ))
+    }
+}
+
+impl BridgeSpec {
+    /// Parse and validate a bridge description.
+    pub fn from_toml_str(text: &str) -> Result<BridgeSpec, String> {
+        if text.len() > 1 << 20 {
+            return Err("the bridge file is over 1 MiB".into());
+        }
+        let spec: BridgeSpec = toml::from_str(text).map_err(|e| e.to_string())?;
+        spec.validate()?;
+        Ok(spec)
+    }
+
+    /// Every field within its bounds; one of f1 and EI.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.supports != "simply_supported" {
+            return Err(format!(
+                "supports = {:?}: only \"simply_supported\" (one span) is coded",
+                self.supports
+            ));
+        }
+        within("span", self.span, 1.0, 200.0, "m")?;
+        within("mass_per_length", self.mass_per_length, 100.0, 1e6, "kg/m")?;
+        let lower = self.mass_lower.unwrap_or(self.mass_per_length);
+        let upper = self.mass_upper.unwrap_or(self.mass_per_length);
+        within(
+            "mass_lower",
+            lower,
+            100.0,
+            self.mass_per_length,
+            "kg/m (not above mass_per_length)",
+        )?;
+        within(
+            "mass_upper",
+            upper,
+            self.mass_per_length,
+            1e6,
+            "kg/m (not below mass_per_length)",
+        )?;
+        match (self.first_frequency, self.bending_stiffness) {
+            (Some(f), None) => within("first_frequency", f, 0.1, 100.0, "Hz")?,
+            (None, Some(ei)) => within("bending_stiffness", ei, 1e3, 1e15, "N m²")?,
+            _ => {
+                return Err("give one of first_frequency (Hz) and bending_stiffness (N m²)".into())
+            }
+        }
+        within("line_speed", self.line_speed, 10.0, 600.0, "km/h")?;
+        self.settings.validate(self.span)
+    }
+}
+
+impl Settings {
+    fn validate(&self, span: f64) -> Result<(), String> {
+        let s = "settings.";
+        within(
+            &format!("{s}acceleration_limit_ballasted"),
+            self.acceleration_limit_ballasted,
+            0.1,
+            50.0,
+            "m/s²",
+        )?;
+        within(
+            &format!("{s}acceleration_limit_direct_fastened"),
+            self.acceleration_limit_direct_fastened,
+            0.1,
+            50.0,
+            "m/s²",
+        )?;
+        within(
+            &format!("{s}classification_factor"),
+            self.classification_factor,
+            0.5,
+            2.0,
+            "",
+        )?;
+        within(
+            &format!("{s}speed_step"),
+            self.speed_step,
+            0.5,
+            100.0,
+            "km/h",
+        )?;
+        within(
+            &format!("{s}fine_speed_step"),
+            self.fine_speed_step,
+            0.1,
+            self.speed_step,
+            "km/h (not above speed_step)",
+        )?;
+        within(
+            &format!("{s}resonance_band"),
+            self.resonance_band,
+            0.0,
+            0.5,
+            "",
+        )?;
+        within(
+            &format!("{s}elements"),
+            self.elements as f64,
+            4.0,
+            400.0,
+            "",
+        )?;
+        within(&format!("{s}step"), self.step, 1e-5, 0.01, "s")?;
+        match self.hslm_b {
+            Some(b) => {
+                within(
+                    &format!("{s}hslm_b.forces"),
+                    b.forces as f64,
+                    1.0,
+                    100.0,
+                    "",
+                )?;
+                within(&format!("{s}hslm_b.spacing"), b.spacing, 1.0, 10.0, "m")?;
+            }
+            None if span < 7.0 => {
+                return Err(format!(
+                    "span = {span} m < 7 m: EN 1991-2 Annex E asks for HSLM-B; give \
+                     settings.hslm_b = {{ forces = N, spacing = d }} read off Figure E.8 \
+                     for this span"
+                ))
+            }
+            None => {}
+        }
+        Ok(())
+    }
+}

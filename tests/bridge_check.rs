@@ -1,0 +1,194 @@
+//! `guideway check` (issue 28): the built-in 20 m bridge's check, its
+//! verdicts against the runs and the code's formulas written out here, bad
+//! descriptions refused naming the field, and the report rendered headless
+//! in Chromium with its PASS/FAIL table.
+
+use guideway::check::report::{input_hash, write_report};
+use guideway::check::spec::EXAMPLE;
+use guideway::check::{run_check, BridgeSpec};
+use std::f64::consts::PI;
+use std::process::Command;
+
+/// A quick variant of the example: coarse speeds, two mass bounds.
+const QUICK: &str = r#"
+name = "quick"
+span = 20.0
+mass_per_length = 12000.0
+mass_lower = 10800.0
+mass_upper = 13200.0
+first_frequency = 5.5
+bridge_type = "reinforced_concrete"
+track = "ballasted"
+line_speed = 300.0
+[settings]
+speed_step = 20.0
+fine_speed_step = 10.0
+"#;
+
+#[test]
+fn the_built_in_bridge_is_checked_by_the_code_rules() {
+    let spec = BridgeSpec::from_toml_str(EXAMPLE).unwrap();
+    let r = run_check(&spec, 2).unwrap();
+    // EI from f1 = 5.5 Hz at 12 t/m: 12000 (2 × 400 × 5.5 / π)²
+    let ei = 12000.0 * (4400.0 / PI).powi(2);
+    assert!((r.bending_stiffness - ei).abs() < 1e-9 * ei);
+    // Table 6.6 (RC, L = 20 m) 1.5 % + eq. (6.13) 0.118 / 0.398 %
+    assert!((r.damping_percent - (1.5 + 0.118 / 0.398)).abs() < 1e-12);
+    // §6.4.6.2: to 1.2 × 350 km/h, from 40 m/s
+    let top = r.runs.iter().map(|x| x.speed_kmh).fold(0.0, f64::max);
+    let bottom = r
+        .runs
+        .iter()
+        .map(|x| x.speed_kmh)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!((bottom, top), (144.0, 420.0));
+    // the cut-off max(30, 1.5 × 5.5, 9 × 5.5) = 49.5 Hz
+    assert!((r.mass_cases[0].cut_off - 49.5).abs() < 1e-9);
+    // the acceleration verdict is the largest filtered peak, against 3.5
+    let worst = r
+        .runs
+        .iter()
+        .map(|x| x.acceleration_filtered)
+        .fold(0.0, f64::max);
+    let acc = r
+        .verdicts
+        .iter()
+        .find(|v| v.clause.starts_with("EN 1990 A2.4.4.2.1"))
+        .unwrap();
+    assert!(
+        acc.value.starts_with(&format!("{worst:.3} m/s²")),
+        "{}",
+        acc.value
+    );
+    assert_eq!(acc.status, if worst <= 3.5 { "PASS" } else { "FAIL" });
+    // HSLM-A1's first resonance f1 D = 5.5 × 18 × 3.6 = 356.4 km/h is run
+    // in the fine steps, and its DAF there is a resonance peak
+    let a1 = |v: f64| {
+        r.runs
+            .iter()
+            .find(|x| x.train == "HSLM-A1" && (x.speed_kmh - v).abs() < 1e-6)
+    };
+    let near = r
+        .runs
+        .iter()
+        .filter(|x| x.train == "HSLM-A1" && (x.speed_kmh - 356.4).abs() < 10.7);
+    // ±3 % of 356.4 = ±10.69 km/h in 1 km/h steps: 21 speeds, and the coarse ones
+    assert!(near.count() >= 20, "fine steps around 356.4 km/h");
+    assert!(a1(356.4).unwrap().daf_deflection > 2.0 * a1(299.0).unwrap().daf_deflection);
+    // the deflection verdict: Φ2 α LM71 against L/600 (hand values in
+    // check::lm71 and check::rules)
+    let defl = r
+        .verdicts
+        .iter()
+        .find(|v| v.clause == "EN 1990 A2.4.4.2.3(3)")
+        .unwrap();
+    assert_eq!(defl.status, "PASS");
+}
+
+#[test]
+fn mass_bounds_give_two_cases_with_their_frequencies() {
+    let spec = BridgeSpec::from_toml_str(QUICK).unwrap();
+    let r = run_check(&spec, 2).unwrap();
+    let names: Vec<&str> = r.mass_cases.iter().map(|c| c.name.as_str()).collect();
+    assert_eq!(names, ["lower", "upper"]);
+    // EI held: f1 ∝ 1/√m
+    assert!((r.mass_cases[0].f1 - 5.5 * (12000.0f64 / 10800.0).sqrt()).abs() < 1e-9);
+    assert!((r.mass_cases[1].f1 - 5.5 * (12000.0f64 / 13200.0).sqrt()).abs() < 1e-9);
+    assert!(r.runs.iter().any(|x| x.mass_case == "upper"));
+    // the acceleration verdict reads the lower bound (§6.4.6.3.2)
+    let acc = r
+        .verdicts
+        .iter()
+        .find(|v| v.clause.starts_with("EN 1990 A2.4.4.2.1"))
+        .unwrap();
+    assert!(acc.value.contains("lower mass"), "{}", acc.value);
+}
+
+#[test]
+fn bad_descriptions_are_refused_naming_the_field() {
+    let cases = [
+        ("span = 20.0", "span = -1.0", "span = -1"),
+        (
+            "line_speed = 300.0",
+            "line_speed = 1e9",
+            "line_speed = 1000000000",
+        ),
+        (
+            "mass_lower = 10800.0",
+            "mass_lower = 20000.0",
+            "mass_lower = 20000",
+        ),
+        (
+            "first_frequency = 5.5",
+            "first_frequency = nan",
+            "first_frequency = NaN",
+        ),
+        (
+            "speed_step = 20.0",
+            "speed_step = 0.0",
+            "settings.speed_step = 0",
+        ),
+        ("span = 20.0", "span = 5.0", "HSLM-B"),
+    ];
+    for (from, to, needle) in cases {
+        let text = QUICK.replace(from, to);
+        let error = BridgeSpec::from_toml_str(&text).unwrap_err();
+        assert!(error.contains(needle), "{to}: {error}");
+    }
+    let both = QUICK.replace(
+        "first_frequency = 5.5",
+        "first_frequency = 5.5\nbending_stiffness = 1e10",
+    );
+    assert!(BridgeSpec::from_toml_str(&both)
+        .unwrap_err()
+        .contains("one of first_frequency"));
+    let unknown = QUICK.replace("track =", "colour = \"red\"\ntrack =");
+    assert!(BridgeSpec::from_toml_str(&unknown)
+        .unwrap_err()
+        .contains("colour"));
+}
+
+/// The report opens with no network (only data: images) and Chromium
+/// renders its PASS/FAIL table.
+#[test]
+fn the_report_renders_headless_with_its_verdicts() {
+    let spec = BridgeSpec::from_toml_str(QUICK).unwrap();
+    let r = run_check(&spec, 2).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let files = write_report(&r, QUICK, dir.path()).unwrap();
+    let html_path = &files[0];
+    assert!(html_path.ends_with("report.html"));
+    let html = std::fs::read_to_string(html_path).unwrap();
+    assert!(
+        !html.contains("http://") && !html.contains("https://"),
+        "self-contained"
+    );
+    assert_eq!(html.matches("data:image/png;base64,").count(), 3);
+    assert!(html.contains(&input_hash(QUICK)));
+    for name in ["runs.csv", "checks.csv", "check.json", "worst_history.csv"] {
+        assert!(dir.path().join(name).exists(), "{name}");
+    }
+    let chromium = ["chromium", "chromium-browser"]
+        .into_iter()
+        .find(|c| Command::new(c).arg("--version").output().is_ok())
+        .expect("Chromium is needed for this test: bash scripts/setup.sh installs it");
+    let out = Command::new(chromium)
+        .args(["--headless", "--no-sandbox", "--disable-gpu", "--dump-dom"])
+        .arg(format!("file://{}", html_path.display()))
+        .output()
+        .unwrap();
+    let dom = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        dom.contains("<table id=\"verdicts\">"),
+        "rendered DOM: {}",
+        &dom[..dom.len().min(500)]
+    );
+    let statuses = dom.matches("<td class=\"PASS\">PASS</td>").count()
+        + dom.matches("<td class=\"FAIL\">FAIL</td>").count();
+    assert_eq!(
+        statuses,
+        r.verdicts.iter().filter(|v| v.status != "INFO").count()
+    );
+    assert!(statuses >= 2);
+    assert!(dom.contains("id=\"overall\""));
+}
