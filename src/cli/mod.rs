@@ -4,6 +4,7 @@
 //! line or bad scene (every problem listed on stderr), 130 interrupted by
 //! Ctrl-C.
 
+mod error;
 mod export;
 mod interrupt;
 mod modes;
@@ -102,6 +103,16 @@ struct RunArgs {
     /// No progress bar, no summary on the terminal; errors only.
     #[arg(long, short)]
     quiet: bool,
+    /// Estimate the discretisation error of every summary figure by
+    /// companion runs at twice and half the step (`time`, the default) or
+    /// half and twice the elements (`mesh`); printed as value ± error and
+    /// written to the --summary JSON (docs/error-estimates.md).
+    #[arg(long, value_name = "time|mesh", num_args = 0..=1, default_missing_value = "time")]
+    error: Option<guideway::study::refine::Refinement>,
+    /// Choose the step so that the estimated error of every summary figure
+    /// is within this relative tolerance (overrides solver.tolerance).
+    #[arg(long, value_name = "RTOL")]
+    rtol: Option<f64>,
 }
 
 #[derive(Debug, clap::Args)]

@@ -5,7 +5,7 @@ use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
 /// Comment after each field: unit, meaning, rule.
-const FIELD_NOTES: [(&str, &str); 45] = [
+const FIELD_NOTES: [(&str, &str); 46] = [
     ("name", "letters, digits, - _ . ; the FMU's model name"),
     ("description", "one line"),
     (
@@ -91,6 +91,10 @@ const FIELD_NOTES: [(&str, &str); 45] = [
         "m/s, on the velocity error |e|",
     ),
     ("solver.gap_tolerance", "m, on the gap error |g|"),
+    (
+        "solver.tolerance",
+        "relative error of the summary figures; chooses the step",
+    ),
     ("solver.max_iterations", "per stage and step"),
     (
         "solver.integrator",

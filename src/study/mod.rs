@@ -1,6 +1,8 @@
 //! Studies over many runs: error against run time (work-precision), speed
-//! sweeps of moving forces.
+//! sweeps of moving forces, error estimates of any scene's figures.
 
+pub mod convergence;
 pub mod local_error;
+pub mod refine;
 pub mod sweep;
 pub mod work_precision;
