@@ -7,6 +7,7 @@
 use guideway::beam::Beam;
 use guideway::moving_load::{Axle, Crossing};
 use guideway::scene::{builtin, BeamSpec, Scene, SupportsSpec};
+use guideway::study::converge::converge;
 use guideway::study::convergence::{estimate, figures, Estimate, Figure, Level};
 use guideway::study::refine::{choose_step, error_study, summarise, Refinement};
 use std::f64::consts::PI;
@@ -264,5 +265,34 @@ fn rtol_on_a_train_meets_the_tolerance_against_a_converged_reference() {
     assert!(
         choice.stopped.is_some(),
         "the bound stopped the loop, and says so"
+    );
+}
+
+/// `guideway converge`'s ladder on the paper's wheel: the held force's
+/// energy drift falls at second order (README, "Error against run time"),
+/// and the error it gives the finest run's exit speed is that against a
+/// reference 16 times finer still, within a factor of 3.
+#[test]
+fn converge_ladder_shows_second_order_and_its_errors_hold() {
+    let scene = builtin("lee1994-wheel-10").expect("built-in");
+    let ladder = converge(&scene, Refinement::Time, 4, 1_000_000, 2).expect("ladder runs");
+    let of = |name: &str| -> Vec<&guideway::study::converge::Point> {
+        ladder.points.iter().filter(|p| p.figure == name).collect()
+    };
+    let drift = of("max_energy_drift");
+    let order = drift.last().and_then(|p| p.order).expect("an order");
+    assert!((1.8..2.2).contains(&order), "drift order {order}");
+    let speed = of("exit_nominal_speed");
+    let finest = speed.last().expect("points");
+    let mut reference = scene.clone();
+    reference.solver.step = finest.step / 16.0;
+    reference.solver.velocity_tolerance = 1e-11;
+    let reference = summarise(&reference, u64::MAX).expect("reference runs");
+    let truth = (finest.value - reference.exit_nominal_speed.expect("exits")).abs();
+    let ratio = finest.error / truth;
+    assert!(
+        (1.0 / 3.0..=3.0).contains(&ratio),
+        "{} against {truth}",
+        finest.error
     );
 }

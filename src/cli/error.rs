@@ -47,7 +47,7 @@ pub(super) fn choose(
             "tolerance          rtol = {rtol:e}: step {:e} s chosen (scene: {:e} s; {} runs, {:.3} s of solve)",
             choice.step,
             scene.solver.step,
-            choice.study.levels.len(),
+            choice.runs,
             choice.cost_s
         );
         if let Some(why) = &choice.stopped {

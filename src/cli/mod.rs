@@ -4,6 +4,7 @@
 //! line or bad scene (every problem listed on stderr), 130 interrupted by
 //! Ctrl-C.
 
+mod converge;
 mod error;
 mod export;
 mod interrupt;
@@ -51,6 +52,10 @@ enum Command {
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
+    /// A scene's summary figures at a ladder of halved steps (or doubled
+    /// elements): observed orders, errors against the extrapolated values,
+    /// the cost of each run; a table, a CSV and a plot.
+    Converge(ConvergeArgs),
     /// Build the release of this version: the FMUs of every built-in scene,
     /// cross-check files, release notes and checksums in `<out>/<version>/`.
     Release(ReleaseArgs),
@@ -113,6 +118,30 @@ struct RunArgs {
     /// is within this relative tolerance (overrides solver.tolerance).
     #[arg(long, value_name = "RTOL")]
     rtol: Option<f64>,
+}
+
+#[derive(Debug, clap::Args)]
+struct ConvergeArgs {
+    /// Scene file (TOML) or name of a built-in scene.
+    scene: String,
+    /// Runs of the ladder: the scene's step, then halved each time.
+    #[arg(long, default_value_t = 5)]
+    rungs: usize,
+    /// Double the elements in place of halving the step.
+    #[arg(long)]
+    mesh: bool,
+    /// Every figure at every run.
+    #[arg(long, short, value_name = "CSV", default_value = "converge.csv")]
+    out: PathBuf,
+    /// Error against step (and solve time) to this PNG.
+    #[arg(long, value_name = "PNG")]
+    plot: Option<PathBuf>,
+    /// Threads (default: the machine's cores).
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
+    /// Refuse, before running, a ladder whose finest run needs more steps.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 #[derive(Debug, clap::Args)]
@@ -247,6 +276,7 @@ pub fn main() -> ExitCode {
         Command::Sweep(args) => sweep::run_sweep(args),
         Command::WorkPrecision(args) => work_precision::work_precision(args),
         Command::Release(args) => release::release(args),
+        Command::Converge(args) => converge::run_converge(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

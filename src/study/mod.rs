@@ -1,6 +1,7 @@
 //! Studies over many runs: error against run time (work-precision), speed
 //! sweeps of moving forces, error estimates of any scene's figures.
 
+pub mod converge;
 pub mod convergence;
 pub mod local_error;
 pub mod refine;

@@ -247,6 +247,8 @@ pub struct StepChoice {
     pub stopped: Option<String>,
     /// Solve time of every run the loop made (s).
     pub cost_s: f64,
+    /// Runs the loop made.
+    pub runs: usize,
 }
 
 /// Halve the step of `scene` until the estimated error of every summary
@@ -285,40 +287,36 @@ pub fn choose_step(
                 })
         };
         if needed == 0 || stopped.is_some() {
-            let cost_s = runs
-                .iter()
-                .filter_map(|(_, r)| r.as_ref().ok())
-                .map(|l| l.cost_s)
-                .sum();
-            return Ok(StepChoice {
-                rtol,
-                step: study.levels[study.base].step,
-                study,
-                unmet,
-                stopped,
-                cost_s,
-            });
+            return Ok(step_choice(rtol, study, unmet, stopped, &runs));
         }
         halvings = next;
     }
     let study = study_at(&pinned, halvings, &mut runs, max_steps, threads)?;
     let (_, unmet) = needed_halvings(&study, rtol);
-    let cost_s = runs
-        .iter()
-        .filter_map(|(_, r)| r.as_ref().ok())
-        .map(|l| l.cost_s)
-        .sum();
     let stopped = Some(format!(
         "{MAX_TOLERANCE_ROUNDS} rounds of refinement did not bring every figure within it"
     ));
-    Ok(StepChoice {
+    Ok(step_choice(rtol, study, unmet, stopped, &runs))
+}
+
+/// The choice at `study`'s base, with the cost of every run made.
+fn step_choice(
+    rtol: f64,
+    study: Study,
+    unmet: Vec<(String, String)>,
+    stopped: Option<String>,
+    runs: &[(i32, Result<Level, String>)],
+) -> StepChoice {
+    let made = runs.iter().filter_map(|(_, r)| r.as_ref().ok());
+    StepChoice {
         rtol,
         step: study.levels[study.base].step,
         study,
         unmet,
         stopped,
-        cost_s,
-    })
+        cost_s: made.map(|l| l.cost_s).sum(),
+        runs: runs.len(),
+    }
 }
 
 /// The halvings the figures of `study` need at their observed orders, and
