@@ -4,13 +4,14 @@
 
 use super::Failure;
 use guideway::report::RunSummary;
-use guideway::study::convergence::Level;
-use guideway::study::refine::{companions, cores, level_of, study, Refinement, StepChoice, Study};
+use guideway::study::refine::{
+    companions, cores, level_of, study, CompanionRuns, Refinement, StepChoice, Study,
+};
 use guideway::Scene;
 use serde_json::{json, Value};
 use std::thread::JoinHandle;
 
-type Companions = Result<(Vec<(Level, i32)>, Option<String>, f64), String>;
+type Companions = Result<CompanionRuns, String>;
 
 /// What the base run waits for: companion runs under way, or the study the
 /// tolerance loop made already (its base the run at the chosen step).

@@ -235,7 +235,7 @@ fn richardson(estimate: &mut Estimate, v: &[f64], base: usize) {
     let ratio = coarse / fine;
     let order = ratio.log2();
     let erratic = |why: String| Some(format!("erratic observed order: {why}"));
-    estimate.not_converged = if !(ratio > 0.0) {
+    estimate.not_converged = if ratio.is_nan() || ratio <= 0.0 {
         erratic(format!(
             "the differences between successive runs change sign ({coarse:.3e}, then {fine:.3e})"
         ))

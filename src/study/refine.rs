@@ -133,6 +133,10 @@ pub struct Study {
     pub companions_wall_s: f64,
 }
 
+/// Companion runs (each with its halvings), why they are not the coarser
+/// and finer ones if not, and their wall time (s).
+pub type CompanionRuns = (Vec<(Level, i32)>, Option<String>, f64);
+
 /// The companion runs of `scene` (whose base run chose `integrator_choice`):
 /// once coarser and once finer, in parallel on `threads` threads; if the
 /// coarser run fails (beyond RK4's stability limit, say), twice finer.
@@ -142,7 +146,7 @@ pub fn companions(
     integrator_choice: &str,
     max_steps: u64,
     threads: usize,
-) -> Result<(Vec<(Level, i32)>, Option<String>, f64), String> {
+) -> Result<CompanionRuns, String> {
     let started = Instant::now();
     let mut pinned = scene.clone();
     if refinement == Refinement::Time {
