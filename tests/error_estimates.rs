@@ -296,3 +296,45 @@ fn converge_ladder_shows_second_order_and_its_errors_hold() {
         finest.error
     );
 }
+
+/// The command line: `--error` leaves the summary's own entries as they
+/// were and adds `error_estimate`; a bad `--rtol` is refused naming it.
+#[test]
+fn run_with_error_writes_the_estimates_into_the_summary_json() {
+    let dir = std::env::temp_dir().join(format!("guideway-error-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (plain, with) = (dir.join("plain.json"), dir.join("error.json"));
+    let run = |extra: &[&str], summary: &std::path::Path| {
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_guideway"))
+            .args(["run", "lee1994-wheel-10", "-q", "--summary"])
+            .arg(summary)
+            .args(extra)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let text = std::fs::read_to_string(summary).unwrap();
+        serde_json::from_str::<serde_json::Value>(&text).unwrap()
+    };
+    let (mut a, mut b) = (run(&[], &plain), run(&["--error"], &with));
+    let estimate = b["error_estimate"].take();
+    assert_eq!(estimate["runs"].as_array().unwrap().len(), 3);
+    assert!(
+        estimate["figures"]["exit_nominal_speed"]["error"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    for summary in [&mut a, &mut b] {
+        let map = summary.as_object_mut().unwrap();
+        map.remove("wall_time_s");
+        map.remove("error_estimate");
+    }
+    assert_eq!(a, b, "the summary's own entries change with --error");
+    let refused = std::process::Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .args(["run", "lee1994-wheel-10", "-q", "--rtol", "2"])
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("--rtol 2"));
+    std::fs::remove_dir_all(&dir).ok();
+}
