@@ -40,14 +40,7 @@ struct Outputs {
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let mut scene = load_scene(&args.scene)?;
     check_paths(&args)?;
-    let choice = match tolerance(&args, &scene)? {
-        Some(rtol) => {
-            let choice = super::error::choose(&scene, rtol, args.max_steps, args.quiet)?;
-            scene.solver.step = choice.step;
-            Some(error::Pending::Chosen(Box::new(choice)))
-        }
-        None => None,
-    };
+    let choice = choose_step(&args, &mut scene)?;
     let interrupted = interrupt::install();
     let stage = |path: &Option<PathBuf>| {
         let staged = path.as_deref().map(Staged::new).transpose();
@@ -211,6 +204,16 @@ fn summary_json(summary: &RunSummary, study: Option<&(Study, Option<StepChoice>)
     let mut json = serde_json::to_value(summary).expect("a summary always serialises to JSON");
     json["error_estimate"] = error::to_json(study, choice.as_ref());
     serde_json::to_string_pretty(&json).expect("JSON values serialise")
+}
+
+/// With a tolerance, the step chosen for it (set in `scene`) and its study.
+fn choose_step(args: &RunArgs, scene: &mut Scene) -> Result<Option<error::Pending>, Failure> {
+    let Some(rtol) = tolerance(args, scene)? else {
+        return Ok(None);
+    };
+    let choice = error::choose(scene, rtol, args.max_steps, args.quiet)?;
+    scene.solver.step = choice.step;
+    Ok(Some(error::Pending::Chosen(Box::new(choice))))
 }
 
 /// The relative tolerance asked for: --rtol, else solver.tolerance;
