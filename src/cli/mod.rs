@@ -5,6 +5,8 @@
 //! Ctrl-C.
 
 mod check;
+mod converge;
+mod error;
 mod export;
 mod interrupt;
 mod modes;
@@ -56,6 +58,10 @@ enum Command {
     /// Error against run time of every integrator on the paper's cases
     /// (CSV for `scripts/work_precision.py`).
     WorkPrecision(WorkPrecisionArgs),
+    /// A scene's summary figures at a ladder of halved steps (or doubled
+    /// elements): observed orders, errors against the extrapolated values,
+    /// the cost of each run; a table, a CSV and a plot.
+    Converge(ConvergeArgs),
     /// Build the release of this version: the FMUs of the paper's built-in
     /// scenes, cross-check files, release notes and checksums in
     /// `<out>/<version>/`.
@@ -111,6 +117,40 @@ struct RunArgs {
     /// No progress bar, no summary on the terminal; errors only.
     #[arg(long, short)]
     quiet: bool,
+    /// Estimate the discretisation error of every summary figure by
+    /// companion runs at twice and half the step (`time`, the default) or
+    /// half and twice the elements (`mesh`); printed as value ± error and
+    /// written to the --summary JSON (docs/error-estimates.md).
+    #[arg(long, value_name = "time|mesh", num_args = 0..=1, default_missing_value = "time")]
+    error: Option<guideway::study::refine::Refinement>,
+    /// Choose the step so that the estimated error of every summary figure
+    /// is within this relative tolerance (overrides solver.tolerance).
+    #[arg(long, value_name = "RTOL")]
+    rtol: Option<f64>,
+}
+
+#[derive(Debug, clap::Args)]
+struct ConvergeArgs {
+    /// Scene file (TOML) or name of a built-in scene.
+    scene: String,
+    /// Runs of the ladder: the scene's step, then halved each time.
+    #[arg(long, default_value_t = 5)]
+    rungs: usize,
+    /// Double the elements in place of halving the step.
+    #[arg(long)]
+    mesh: bool,
+    /// Every figure at every run.
+    #[arg(long, short, value_name = "CSV", default_value = "converge.csv")]
+    out: PathBuf,
+    /// Error against step (and solve time) to this PNG.
+    #[arg(long, value_name = "PNG")]
+    plot: Option<PathBuf>,
+    /// Threads (default: the machine's cores).
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
+    /// Refuse, before running, a ladder whose finest run needs more steps.
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_STEPS)]
+    max_steps: u64,
 }
 
 #[derive(Debug, clap::Args)]
@@ -294,6 +334,7 @@ pub fn main() -> ExitCode {
         Command::Check(args) => check::run_check(args),
         Command::WorkPrecision(args) => work_precision::work_precision(args),
         Command::Release(args) => release::release(args),
+        Command::Converge(args) => converge::run_converge(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

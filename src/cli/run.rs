@@ -7,7 +7,7 @@
 //! renamed onto it only when the run succeeded.
 
 use super::progress::Progress;
-use super::{check_outputs, interrupt, load_scene_with_inputs, Failure, Inputs, RunArgs};
+use super::{check_outputs, error, interrupt, load_scene_with_inputs, Failure, Inputs, RunArgs};
 use guideway::design::StaticEnvelope;
 use guideway::output_file::Staged;
 use guideway::report::csv::CsvWriter;
@@ -17,6 +17,7 @@ use guideway::report::{
     Streamed, SummaryBuilder, SummaryEvent, Trace,
 };
 use guideway::simulation::Simulation;
+use guideway::study::refine::{StepChoice, Study};
 use guideway::Scene;
 use std::fs::File;
 use std::ops::ControlFlow;
@@ -37,8 +38,9 @@ struct Outputs {
 }
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
-    let (scene, inputs) = load_scene_with_inputs(&args.scene)?;
+    let (mut scene, inputs) = load_scene_with_inputs(&args.scene)?;
     check_paths(&args, &inputs)?;
+    let choice = choose_step(&args, &mut scene)?;
     let interrupted = interrupt::install();
     let stage = |path: &Option<PathBuf>| {
         let staged = path.as_deref().map(Staged::new).transpose();
@@ -67,9 +69,14 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
             eprintln!("note: {advice}");
         }
     }
+    let pending = choice.or_else(|| {
+        let choice = simulation.integrator_choice();
+        let start = |r| error::start(&scene, r, choice, args.max_steps);
+        args.error.map(start)
+    });
     let mut sink = Sink::new(&scene, &simulation, &outputs)?;
     if outputs.csv.is_none() && outputs.plot.is_none() {
-        let summary = !args.quiet || outputs.summary.is_some();
+        let summary = !args.quiet || outputs.summary.is_some() || pending.is_some();
         let read = read_columns(&sink, simulation.outputs(), &scene, summary);
         simulation.read_only(Some(&read));
     }
@@ -94,8 +101,15 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
             let run = (integrator, events);
             let envelope = |scene: &Scene| simulation.static_envelope(scene).ok();
             let finished = (&streamed, run, envelope);
-            if let Some(summary) = finish(sink, outputs, finished, &scene, args.quiet)? {
-                println!("{summary}");
+            let quiet = args.quiet;
+            if let Some((summary, study)) = finish(sink, outputs, finished, &scene, quiet, pending)?
+            {
+                if !quiet {
+                    println!("{summary}");
+                    if let Some((study, choice)) = &study {
+                        error::print(study, choice.as_ref());
+                    }
+                }
             }
             Ok(())
         }
@@ -135,7 +149,8 @@ fn finish(
     ),
     scene: &Scene,
     quiet: bool,
-) -> Result<Option<RunSummary>, Failure> {
+    pending: Option<error::Pending>,
+) -> Result<Option<Finished>, Failure> {
     if let Some(csv) = outputs.csv {
         sink.finish_csv()?;
         csv.commit().map_err(Failure::Run)?;
@@ -144,7 +159,7 @@ fn finish(
         nodes.commit().map_err(Failure::Run)?;
     }
     // Not built when nobody reads it (its static envelope is not free).
-    let summary = (!quiet || outputs.summary.is_some()).then(|| {
+    let summary = (!quiet || outputs.summary.is_some() || pending.is_some()).then(|| {
         let mut summary = sink.summary.finish_with(
             streamed.exit_time,
             streamed.solve_time.as_secs_f64(),
@@ -154,9 +169,16 @@ fn finish(
         summary.events = events;
         summary
     });
+    let study = match (pending, &summary) {
+        (Some(pending), Some(summary)) => Some(error::finish(pending, scene, summary)?),
+        _ => None,
+    };
     if let (Some(staged), Some(summary)) = (outputs.summary, &summary) {
-        std::fs::write(staged.temp_path(), summary.to_json() + "\n")
-            .map_err(|e| Failure::Run(format!("cannot write {}: {e}", staged.path().display())))?;
+        std::fs::write(
+            staged.temp_path(),
+            summary_json(summary, study.as_ref()) + "\n",
+        )
+        .map_err(|e| Failure::Run(format!("cannot write {}: {e}", staged.path().display())))?;
         staged.commit().map_err(Failure::Run)?;
     }
     if let (Some(staged), Some(trace)) = (outputs.plot, sink.plot.map(Decimated::finish)) {
@@ -170,7 +192,43 @@ fn finish(
         plot::write_plot(scene, &trace, staged.temp_path()).map_err(Failure::Run)?;
         staged.commit().map_err(Failure::Run)?;
     }
-    Ok(summary.filter(|_| !quiet))
+    Ok(summary.map(|summary| (summary, study)))
+}
+
+/// The summary and, when estimated, its errors.
+type Finished = (RunSummary, Option<(Study, Option<StepChoice>)>);
+
+/// The summary JSON, with `error_estimate` when the error was estimated
+/// (added after the summary's own entries, which stay as they were).
+fn summary_json(summary: &RunSummary, study: Option<&(Study, Option<StepChoice>)>) -> String {
+    let Some((study, choice)) = study else {
+        return summary.to_json();
+    };
+    let mut json = serde_json::to_value(summary).expect("a summary always serialises to JSON");
+    json["error_estimate"] = error::to_json(study, choice.as_ref());
+    serde_json::to_string_pretty(&json).expect("JSON values serialise")
+}
+
+/// With a tolerance, the step chosen for it (set in `scene`) and its study.
+fn choose_step(args: &RunArgs, scene: &mut Scene) -> Result<Option<error::Pending>, Failure> {
+    let Some(rtol) = tolerance(args, scene)? else {
+        return Ok(None);
+    };
+    let choice = error::choose(scene, rtol, args.max_steps, args.quiet)?;
+    scene.solver.step = choice.step;
+    Ok(Some(error::Pending::Chosen(Box::new(choice))))
+}
+
+/// The relative tolerance asked for: --rtol, else solver.tolerance;
+/// refused unless in (0, 1).
+fn tolerance(args: &RunArgs, scene: &Scene) -> Result<Option<f64>, Failure> {
+    match args.rtol {
+        Some(rtol) if !(rtol > 0.0 && rtol < 1.0) => Err(Failure::Usage(format!(
+            "--rtol {rtol}: must be a relative error in (0, 1)"
+        ))),
+        Some(rtol) => Ok(Some(rtol)),
+        None => Ok(scene.solver.tolerance),
+    }
 }
 
 /// Natural frequencies printed before a run.

@@ -2,6 +2,7 @@
 //! figures of merit (`RunSummary`), CSV and PNG writers. Shared by the
 //! command line, the tests and the FMU cross-check.
 
+pub mod converge_plot;
 pub mod csv;
 pub mod nodes;
 pub mod output_file;

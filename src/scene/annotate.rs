@@ -208,6 +208,10 @@ const FIELD_NOTES: &[(&str, &str)] = &[
         "m/s, on the velocity error |e|",
     ),
     ("solver.gap_tolerance", "m, on the gap error |g|"),
+    (
+        "solver.tolerance",
+        "relative error of the summary figures; chooses the step",
+    ),
     ("solver.max_iterations", "per stage and step"),
     (
         "solver.integrator",

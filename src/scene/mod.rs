@@ -498,6 +498,10 @@ pub struct SolverSpec {
     /// With `structure = "modal"`: keep the modes up to this frequency (Hz).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_frequency: Option<f64>,
+    /// Relative error the summary figures must meet: `guideway run` then
+    /// chooses the step (as with `--rtol`; docs/error-estimates.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -562,6 +566,7 @@ impl Default for SolverSpec {
             structure: StructureKind::Full,
             modes: None,
             max_frequency: None,
+            tolerance: None,
         }
     }
 }

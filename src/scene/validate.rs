@@ -1105,6 +1105,15 @@ fn check_solver(checks: &mut Checks, scene: &Scene) {
     checks.positive("solver.step", solver.step);
     checks.positive("solver.velocity_tolerance", solver.velocity_tolerance);
     checks.positive("solver.gap_tolerance", solver.gap_tolerance);
+    if let Some(rtol) = solver.tolerance {
+        if checks.positive("solver.tolerance", rtol) && rtol >= 1.0 {
+            checks.fail(
+                "solver.tolerance",
+                fmt_f64(rtol),
+                "must be < 1 (a relative error)",
+            );
+        }
+    }
     if !(1..=MAX_ITERATIONS).contains(&solver.max_iterations) {
         checks.fail(
             "solver.max_iterations",

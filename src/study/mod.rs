@@ -1,7 +1,11 @@
 //! Studies over many runs: error against run time (work-precision), speed
-//! sweeps of moving forces, the deck acceleration as EN 1991-2 counts it.
+//! sweeps of moving forces, the deck acceleration as EN 1991-2 counts it,
+//! error estimates of any scene's figures.
 
+pub mod converge;
+pub mod convergence;
 pub mod deck_filter;
 pub mod local_error;
+pub mod refine;
 pub mod sweep;
 pub mod work_precision;

@@ -410,7 +410,7 @@ fn at_speed(axles: &[Axle], speed: f64) -> Vec<Axle> {
 
 /// `run` over every job on `threads` scoped threads taking the next job
 /// as they finish one; results in the jobs' order, the first error wins.
-fn in_parallel<J: Copy + Sync, R: Send>(
+pub(crate) fn in_parallel<J: Copy + Sync, R: Send>(
     jobs: &[J],
     threads: usize,
     run: impl Fn(J) -> Result<R, String> + Sync,
