@@ -516,3 +516,17 @@ fn a_wheel_rolls_over_a_sine_from_the_approach_onto_the_beam_and_off_keeping_the
     assert_eq!(parts, vec![0.0, 1.0, 0.0]);
     assert!(drift < 2.9e-5, "drift {drift}");
 }
+
+#[test]
+fn an_irregularity_under_moving_forces_is_refused_saying_what_to_use() {
+    let mut scene = sine_scene();
+    scene.body.kind = BodyKind::MovingForce;
+    scene.body.inertia = None;
+    scene.body.radius = None;
+    let message = scene.validate().unwrap_err().to_string();
+    for needed in ["track.irregularities", "sprung_mass", "1 + φ''"] {
+        assert!(message.contains(needed), "{needed}: {message}");
+    }
+    scene.track.irregularities.clear();
+    scene.validate().expect("valid without the irregularity");
+}

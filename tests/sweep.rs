@@ -174,3 +174,42 @@ fn a_sweep_beyond_its_step_limit_is_refused_before_running() {
         "{message}"
     );
 }
+
+#[test]
+fn every_envelope_column_is_named_once_in_either_unit() {
+    for unit in ["m/s", "km/h"] {
+        let dir = tempfile::tempdir().expect("temp dir");
+        let out = dir.path().join("sweep.csv");
+        let output = guideway(&[
+            "sweep",
+            SCENE,
+            "--speeds",
+            "60:70:10",
+            "--unit",
+            unit,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let text = std::fs::read_to_string(&out).unwrap();
+        let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+        let mut unique = header.clone();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), header.len(), "--unit {unit}: {header:?}");
+        // Both speed columns hold the same speed.
+        let row: Vec<f64> = text
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split(',')
+            .skip(1)
+            .take(2)
+            .map(|x| x.parse().unwrap())
+            .collect();
+        assert!(
+            (row[0] - 3.6 * row[1]).abs() < 1e-9,
+            "--unit {unit}: {row:?}"
+        );
+    }
+}

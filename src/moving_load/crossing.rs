@@ -141,8 +141,9 @@ impl<'a> Crossing<'a> {
         BeamDynamics::with_acceleration(self.beam, state, self.placed.clone())
     }
 
-    /// Step until `end` (s) or the last force has left the beam, whichever
-    /// is earlier, recording the design outputs `probes` after each step
+    /// Step until the last force has left the beam, and on to `end` (s)
+    /// if that is later (`run_end`), recording the design outputs `probes`
+    /// after each step
     /// (the state at rest at t = 0 is zero); refused when that is more
     /// than `max_steps` steps.
     pub fn design_peaks(
@@ -175,9 +176,9 @@ impl<'a> Crossing<'a> {
         Ok(peaks)
     }
 
-    /// Steps to `end` or the exit, refused beyond `max_steps`.
+    /// Steps to `run_end(end, exit)`, refused beyond `max_steps`.
     fn steps_to(&self, end: f64, max_steps: u64) -> Result<u64, String> {
-        let end = end.min(self.exit_time());
+        let end = run_end(end, self.exit_time());
         let steps = (end / self.step).ceil();
         if steps.is_nan() || steps > max_steps as f64 {
             return Err(format!(
@@ -193,8 +194,9 @@ impl<'a> Crossing<'a> {
         self.beam.kinetic_energy(&self.v) + self.beam.strain_energy(&self.u)
     }
 
-    /// Step until `end` (s) or the last force has left the beam, whichever
-    /// is earlier, and return the peaks at each of `sensors` (abscissae);
+    /// Step until the last force has left the beam, and on to `end` (s)
+    /// if that is later (`run_end`), and return the peaks at each of
+    /// `sensors` (abscissae);
     /// refused when that is more than `max_steps` steps.
     pub fn peaks(
         &mut self,
@@ -246,6 +248,18 @@ pub fn static_peak(beam: &Beam, axles: &[Axle], sensor: f64) -> Result<f64, Stri
         peak = peak.max(w.abs());
     }
     Ok(peak)
+}
+
+/// When a crossing whose last force leaves at `exit` (s) ends: at `end`
+/// (`solver.end_time`, infinite when not set) if that is later, the beam
+/// vibrating freely after the exit; never before the exit, so that every
+/// run of a speed sweep sees the whole passage.
+pub fn run_end(end: f64, exit: f64) -> f64 {
+    if end.is_finite() {
+        end.max(exit)
+    } else {
+        exit
+    }
 }
 
 /// When the last of `axles` has left a beam of `length` (s); infinite if

@@ -10,7 +10,7 @@
 mod crossing;
 mod hslm;
 
-pub use crossing::{exit_time, static_peak, Crossing, Peaks};
+pub use crossing::{exit_time, run_end, static_peak, Crossing, Peaks};
 pub use hslm::{hslm, HslmTrain, HSLM_TRAINS};
 
 use crate::scene::{BodyKind, BodySpec, Scene};

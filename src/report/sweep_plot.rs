@@ -138,6 +138,7 @@ fn panel(
         mesh.x_desc(format!("speed ({})", unit.label()))
             .y_desc(label)
             .label_style((FONT, 16))
+            .x_label_formatter(&|x| speed_tick(*x))
             .x_labels(10);
     } else {
         mesh.disable_x_axis().disable_y_axis();
@@ -191,4 +192,30 @@ fn panel(
             .map_err(err)?;
     }
     Ok(())
+}
+
+/// A speed tick as a person writes it: `150`, not `150.0`; a fraction only
+/// where the tick has one (`62.5`).
+pub fn speed_tick(x: f64) -> String {
+    let rounded = x.round();
+    if (x - rounded).abs() <= 1e-9 * x.abs().max(1.0) {
+        format!("{rounded:.0}")
+    } else {
+        let text = format!("{x:.3}");
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    }
+}
+
+#[cfg(test)]
+mod tick_tests {
+    use super::speed_tick;
+
+    #[test]
+    fn speed_ticks_are_whole_numbers_where_they_are_whole() {
+        assert_eq!(speed_tick(150.0), "150");
+        assert_eq!(speed_tick(149.999_999_999_99), "150");
+        assert_eq!(speed_tick(0.0), "0");
+        assert_eq!(speed_tick(62.5), "62.5");
+        assert_eq!(speed_tick(27.777_777), "27.778");
+    }
 }

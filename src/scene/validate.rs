@@ -742,9 +742,21 @@ fn check_train(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
     }
 }
 
-/// Moving forces run without bodies: a scene has only moving forces or none.
+/// Moving forces run without bodies: a scene has only moving forces or
+/// none, and no irregularity (a force of fixed magnitude cannot feel one).
 fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
     let moving = scene.body.kind == BodyKind::MovingForce;
+    if moving && !scene.track.irregularities.is_empty() {
+        checks.fail(
+            "track.irregularities",
+            format!("{} irregularities", scene.track.irregularities.len()),
+            "would be ignored with body.kind = \"moving_force\" (a moving force keeps its \
+             magnitude whatever the track's shape): run a vehicle that feels them \
+             (kind = \"sprung_mass\", \"bogie_vehicle\" or \"maglev_vehicle\"), or leave them \
+             out and scale the moving forces' results by EN 1991-2's allowance for track \
+             irregularities (1 + φ'')",
+        );
+    }
     for (i, vehicle) in scene.vehicles.iter().enumerate() {
         if (vehicle.kind == BodyKind::MovingForce) != moving {
             checks.fail(

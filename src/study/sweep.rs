@@ -10,7 +10,9 @@ use std::sync::Mutex;
 
 use crate::beam::Beam;
 use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, StaticEnvelope};
-use crate::moving_load::{exit_time, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain};
+use crate::moving_load::{
+    exit_time, run_end, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain,
+};
 use crate::scene::{Scene, SensorSpec};
 use crate::study::deck_filter::{cut_off, low_pass_zero_phase, peak_magnitude};
 
@@ -255,7 +257,7 @@ pub fn sweep(
         .iter()
         .map(|&(l, v)| {
             let axles = at_speed(&loads[l].axles, v * unit.in_metres_per_second());
-            (end.min(exit_time(beam.length, &axles)) / scene.solver.step).ceil()
+            (run_end(end, exit_time(beam.length, &axles)) / scene.solver.step).ceil()
         })
         .sum();
     if total.is_nan() || total > max_steps as f64 {
@@ -438,15 +440,15 @@ pub(crate) fn in_parallel<J: Copy + Sync, R: Send>(
         .collect()
 }
 
-/// The envelope as CSV: one row per train and speed; after the deck's
+/// The envelope as CSV: one row per train and speed, the speed in km/h and
+/// in m/s whatever the unit given (each column unique, the same columns
+/// for either unit; the unit given is written as given); after the deck's
 /// summary, every design output's peak and, where it has one, its DAF
 /// (`<name>.daf`).
 pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
-    let mut text = format!(
-        "train,speed_{},speed_m_s,peak_deflection_m,peak_acceleration_m_s2,\
-         peak_acceleration_filtered_m_s2,acceleration_cut_off_hz,daf",
-        unit.label().replace('/', "_")
-    );
+    let mut text = "train,speed_km_h,speed_m_s,peak_deflection_m,peak_acceleration_m_s2,\
+         peak_acceleration_filtered_m_s2,acceleration_cut_off_hz,daf"
+        .to_string();
     // Every row has the same outputs (one scene); a DAF column after each
     // one with a static counterpart, empty where its static response is 0.
     if let Some(first) = rows.first() {
@@ -462,7 +464,7 @@ pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
         text.push_str(&format!(
             "{},{},{},{},{},{},{},{}",
             r.train,
-            r.speed,
+            speed_km_h(r, unit),
             r.speed_m_s,
             r.peak_deflection,
             r.peak_acceleration,
@@ -482,4 +484,12 @@ pub fn envelope_csv(rows: &[EnvelopeRow], unit: SpeedUnit) -> String {
         text.push('\n');
     }
     text
+}
+
+/// The row's speed in km/h: as given, or converted from m/s.
+fn speed_km_h(row: &EnvelopeRow, unit: SpeedUnit) -> f64 {
+    match unit {
+        SpeedUnit::KilometresPerHour => row.speed,
+        SpeedUnit::MetresPerSecond => row.speed_m_s * 3.6,
+    }
 }
