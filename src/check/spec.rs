@@ -11,7 +11,7 @@ use super::rules::{BridgeType, BALLASTED_ACCELERATION_LIMIT, DIRECT_FASTENED_ACC
 /// The built-in example: the 20 m bridge of issue 28 (12 t/m, f1 = 5.5 Hz,
 /// reinforced concrete, ballasted, 350 km/h).
 pub const EXAMPLE_NAME: &str = "bridge20";
-pub const EXAMPLE: &str = include_str!("../../scenes/bridge20_check.toml");
+pub const EXAMPLE: &str = include_str!("../../bridges/bridge20.toml");
 
 /// The track on the deck (EN 1990 A2.4.4.2.1(4)).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -264,8 +264,7 @@ impl System {
     /// (written after the system was checked). Reproducible: entries in a
     /// fixed order, stamped with the zip epoch.
     pub fn write(&self, guideway: &Path, out: &Path) -> Result<(), String> {
-        let guideway =
-            crate::input_file::read_bounded(guideway, crate::input_file::MAX_FMU_BYTES)?;
+        let guideway = crate::input_file::read_bounded(guideway, crate::input_file::MAX_FMU_BYTES)?;
         let io = |e: std::io::Error| format!("cannot write {}: {e}", out.display());
         let zerr = |e: zip::result::ZipError| format!("cannot write {}: {e}", out.display());
         let staged = crate::output_file::Staged::new(out)?;

@@ -41,13 +41,12 @@ pub fn advance_within<D: Dynamics>(
     // Inside an internal step the contact iteration reads the deadline.
     let deadline = started.checked_add(budget);
     crate::deadline::within(deadline, || {
-        advance_chunks(sim, target, step, (started, budget), until_event).map_err(|stop| {
-            match stop {
-                Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
-                    reached: sim.time(),
-                },
-                stop => stop,
-            }
+        advance_chunks(sim, target, step, (started, budget), until_event).map_err(|stop| match stop
+        {
+            Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
+                reached: sim.time(),
+            },
+            stop => stop,
         })
     })
 }

@@ -116,6 +116,44 @@ const FIELD_NOTES: &[(&str, &str)] = &[
         "body.maglev.damping",
         "N s/m, c >= 0, one magnet's suspension",
     ),
+    (
+        "body.contact_law.law",
+        "rigid (Lee's constraint, the default), hertz or ems (docs/contact-laws.md)",
+    ),
+    (
+        "body.contact_law.preset",
+        "wheel-rail (Hertz, 0.46 m wheel on a 0.3 m rail head) or ems (10 mm gap, PD control)",
+    ),
+    (
+        "body.contact_law.coefficient",
+        "N/m^1.5, Hertz C_H > 0, or from the radii",
+    ),
+    (
+        "body.contact_law.wheel_radius",
+        "m, > 0, Hertz: rolling radius",
+    ),
+    (
+        "body.contact_law.rail_radius",
+        "m, > 0, Hertz: rail head transverse radius",
+    ),
+    (
+        "body.contact_law.elastic_modulus",
+        "Pa, > 0, Hertz: steel if left out",
+    ),
+    (
+        "body.contact_law.poisson_ratio",
+        "in [0, 0.5), Hertz: steel if left out",
+    ),
+    (
+        "body.contact_law.nominal_gap",
+        "m, > 0, EMS: the air gap held",
+    ),
+    ("body.contact_law.proportional_gain", "1/m, EMS: K_p / i0"),
+    ("body.contact_law.derivative_gain", "s/m, EMS: K_d / i0"),
+    (
+        "body.contact_law.max_force",
+        "N, > 0, EMS: saturation; twice the static load if left out",
+    ),
     ("beam.length", "m, L"),
     ("beam.mass_per_length", "kg/m"),
     ("beam.bending_stiffness", "N m^2, EI > 0"),

@@ -12,8 +12,8 @@ mod irregularity;
 mod limits;
 mod validate;
 
-pub use annotate::field_notes_markdown;
 pub use advice::advisories;
+pub use annotate::field_notes_markdown;
 pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
