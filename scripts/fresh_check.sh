@@ -26,7 +26,7 @@ done
 
 # Packages scripts/setup.sh may install, beyond a fresh machine's set.
 setup_packages=(libclang-dev libclang-14-dev libclang1-14 libclang-common-14-dev libclang-rt-14-dev
-    libtbb12 libtbbbind-2-5 libtbbmalloc2)
+    libtbb12 libtbbbind-2-5 libtbbmalloc2 chromium chromium-common)
 if [ "$purge" = 1 ]; then
     if [ "$(id -u)" != 0 ]; then
         echo "fresh_check: --purge needs root" >&2
