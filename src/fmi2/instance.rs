@@ -382,8 +382,9 @@ impl<D: Dynamics> Instance<D> {
 
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<usize, String> {
         self.require("fmi2DeSerializeFMUstate", STATEFUL)?;
-        let snap = Model::<D>::deserialize(bytes, &self.guid)
-            .and_then(|snap| self.model.check_whole(&snap).map(|()| snap))
+        let snap = self
+            .model
+            .deserialize_checked(bytes, &self.guid)
             .map_err(|e| format!("fmi2DeSerializeFMUstate: {e}"))?;
         Ok(self.keep(snap))
     }

@@ -328,8 +328,9 @@ impl<D: Dynamics> Instance<D> {
 
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<usize, String> {
         self.require("fmi3DeserializeFMUState", STATEFUL)?;
-        let snap = Model::<D>::deserialize(bytes, &self.token)
-            .and_then(|snap| self.model.check_snapshot(&snap).map(|()| snap))
+        let snap = self
+            .model
+            .deserialize_checked(bytes, &self.token)
             .map_err(|e| format!("fmi3DeserializeFMUState: {e}"))?;
         Ok(self.keep(snap))
     }

@@ -629,6 +629,19 @@ impl<D: Dynamics> Model<D> {
         snapshot::decode(guid, bytes).map_err(ModelError)
     }
 
+    /// The snapshot in `bytes`, refused unless it is a whole state of this
+    /// model (`check_whole`): what every FMI front end's deserialize calls,
+    /// so that none can take a forged state the setter would refuse.
+    pub fn deserialize_checked(
+        &self,
+        bytes: &[u8],
+        guid: &str,
+    ) -> Result<Snapshot<D::State>, ModelError> {
+        let snap = Self::deserialize(bytes, guid)?;
+        self.check_whole(&snap)?;
+        Ok(snap)
+    }
+
     /// The simulation events (entries onto and exits from the structure,
     /// ...) of the last step, in words; each is handed out once.
     pub fn take_events(&mut self) -> Vec<String> {

@@ -503,6 +503,9 @@ fn a_forged_physics_state_is_refused_and_the_model_left_as_it_was() {
     ];
     for (forge, named) in cases {
         let snap = forged(&m, forge);
+        let bytes = Model::<Simulation>::serialize(&snap, "guid").unwrap();
+        let e = m.deserialize_checked(&bytes, "guid").unwrap_err().0;
+        assert!(e.contains(named), "deserialize, {named}: {e}");
         let e = m.restore(&snap).unwrap_err().0;
         assert!(e.contains(named), "{named}: {e}");
         assert_eq!(m.get(VarType::Real, &[vr]).unwrap(), x, "{named}");
