@@ -1,5 +1,6 @@
 //! The figures of merit of one run, as JSON and as a short human summary.
 
+use super::deck_acceleration::DeckRecord;
 use super::output_names;
 use super::trace::Trace;
 use crate::design::StaticEnvelope;
@@ -49,6 +50,17 @@ pub struct RunSummary {
     /// (`design::static_envelope`).
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub dynamic_amplification: BTreeMap<String, f64>,
+    /// Per contact force output (`<contact>.normal_force`,
+    /// `<contact>.tangential_force`), the value of largest magnitude over
+    /// the run, sign kept (N).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub peak_contact_force: BTreeMap<String, f64>,
+    /// The cut-off (Hz) of the deck accelerations EN 1991-2 §6.4.6.5(4)
+    /// counts, max(30 Hz, 1.5 f1, f3): `peak_design` holds, beside each
+    /// `sensor.<name>.acceleration`, its peak low-passed there with zero
+    /// phase, `sensor.<name>.acceleration_filtered`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub acceleration_cut_off_hz: Option<f64>,
 }
 
 /// One event of a run: which contact, what, when.
@@ -134,6 +146,10 @@ pub struct SummaryBuilder {
     /// in `finish`, not before the run: at 1,000 elements its thousands of
     /// static solves take longer than the whole start-up otherwise.
     envelope_of: Option<Scene>,
+    /// Contact forces: name, column and the value of largest magnitude.
+    contact_forces: Vec<(String, usize, Option<f64>)>,
+    /// The sensors' accelerations, for the filtered peaks.
+    deck: Option<DeckRecord>,
 }
 
 impl SummaryBuilder {
@@ -157,7 +173,15 @@ impl SummaryBuilder {
             })
             .collect();
         let design = design_columns(names);
+        let contact_forces = names
+            .iter()
+            .enumerate()
+            .filter(|(_, n)| n.ends_with(".normal_force") || n.ends_with(".tangential_force"))
+            .map(|(k, n)| (n.clone(), k, None))
+            .collect();
         SummaryBuilder {
+            contact_forces,
+            deck: DeckRecord::new(names, scene.solver.step),
             envelope_of: (!design.is_empty()).then(|| scene.clone()),
             scene: scene.name.clone(),
             speed: find(&output_names::nominal_speed(&scene.body.name)),
@@ -179,17 +203,19 @@ impl SummaryBuilder {
     pub fn columns(&self) -> Vec<usize> {
         let sensors = self.sensors.iter().map(|(_, k)| *k);
         let design = self.design.iter().map(|(_, k, _)| *k);
+        let forces = self.contact_forces.iter().map(|(_, k, _)| *k);
         let single = [self.speed, self.energy, self.iterations_column];
         single
             .into_iter()
             .flatten()
             .chain(sensors)
             .chain(design)
+            .chain(forces)
             .collect()
     }
 
     /// The next row (the first is the initial state).
-    pub fn push(&mut self, _time: f64, values: &[f64]) {
+    pub fn push(&mut self, time: f64, values: &[f64]) {
         if let Some(v) = self.speed.map(|k| values[k]) {
             self.last_speed = Some(v);
             self.peak_speed = finite_extreme(self.peak_speed, v, f64::max);
@@ -197,11 +223,14 @@ impl SummaryBuilder {
         for ((_, column), peak) in self.sensors.iter().zip(&mut self.peak_deflection) {
             *peak = finite_extreme(*peak, values[*column], f64::min);
         }
-        for (_, column, peak) in &mut self.design {
+        for (_, column, peak) in self.design.iter_mut().chain(&mut self.contact_forces) {
             let v = values[*column];
             if v.is_finite() && peak.is_none_or(|p| v.abs() > p.abs()) {
                 *peak = Some(v);
             }
+        }
+        if let Some(deck) = &mut self.deck {
+            deck.push(time, values);
         }
         if let Some(e) = self.energy.map(|k| values[k]) {
             self.push_energy(e);
@@ -250,6 +279,18 @@ impl SummaryBuilder {
         // The reference of the amplification factors: bounded work (see
         // `design::static_envelope`), none for a beam without one.
         let envelope = self.envelope_of.as_ref().and_then(envelope_of);
+        let filtered = self
+            .deck
+            .zip(self.envelope_of.as_ref())
+            .and_then(|(deck, scene)| deck.finish(scene));
+        let mut peak_design: BTreeMap<String, f64> = self
+            .design
+            .iter()
+            .filter_map(|(name, _, peak)| Some((name.clone(), (*peak)?)))
+            .collect();
+        for (sensor, peak) in filtered.iter().flat_map(|f| &f.peaks) {
+            peak_design.insert(format!("sensor.{sensor}.acceleration_filtered"), *peak);
+        }
         RunSummary {
             scene: self.scene,
             exit_time,
@@ -275,11 +316,13 @@ impl SummaryBuilder {
                     Some((name.clone(), envelope.amplification(name, (*peak)?)?))
                 })
                 .collect(),
-            peak_design: self
-                .design
+            peak_design,
+            peak_contact_force: self
+                .contact_forces
                 .into_iter()
                 .filter_map(|(name, _, peak)| Some((name, peak?)))
                 .collect(),
+            acceleration_cut_off_hz: filtered.map(|f| f.cut_off_hz),
         }
     }
 }
@@ -351,15 +394,51 @@ impl RunSummary {
                 "deflection" => continue,
                 "velocity" => format!("{peak:.6} m/s"),
                 "acceleration" => format!("{peak:.6} m/s²"),
+                "acceleration_filtered" => {
+                    let cut = self.acceleration_cut_off_hz.unwrap_or(f64::NAN);
+                    let line = format!("{peak:.6} m/s² at {place} (EN 1991-2 below {cut:.1} Hz)");
+                    writeln!(f, "filtered accel.    {line}")?;
+                    continue;
+                }
                 "moment" => format!("{peak:.6e} N m"),
                 _ => format!("{peak:.6e} N"),
             };
             let label = format!("peak {quantity}");
             writeln!(f, "{label:<18} {value} at {place}")?;
         }
+        self.fmt_contact_forces(f)?;
         for (name, daf) in &self.dynamic_amplification {
             let (place, quantity) = split_design_name(name).unwrap_or((name.clone(), ""));
             writeln!(f, "DAF                {daf:.4} ({quantity} at {place})")?;
+        }
+        Ok(())
+    }
+}
+
+impl RunSummary {
+    /// The largest normal and tangential contact force over the contacts,
+    /// one line each (the JSON has every contact's).
+    fn fmt_contact_forces(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (quantity, label) in [
+            ("normal_force", "contact normal"),
+            ("tangential_force", "contact tangent."),
+        ] {
+            let of_kind = self
+                .peak_contact_force
+                .iter()
+                .filter_map(|(name, force)| Some((name.strip_suffix(quantity)?, *force)));
+            let count = of_kind.clone().count();
+            let Some((contact, force)) = of_kind.max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+            else {
+                continue;
+            };
+            let contact = contact.trim_end_matches('.');
+            let of = if count > 1 {
+                format!(" (largest of {count} contacts)")
+            } else {
+                String::new()
+            };
+            writeln!(f, "{label:<18} {force:.6e} N at {contact}{of}")?;
         }
         Ok(())
     }
