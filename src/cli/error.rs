@@ -34,22 +34,35 @@ pub(super) fn start(
     Pending::Companions(refinement, handle)
 }
 
-/// Choose the step for `rtol` before the base run (printing the choice).
+/// Choose the step (or with `Refinement::Mesh` the elements) for `rtol`
+/// before the base run (printing the choice).
 pub(super) fn choose(
     scene: &Scene,
+    refinement: Refinement,
     rtol: f64,
     max_steps: u64,
     quiet: bool,
 ) -> Result<StepChoice, Failure> {
-    let choice = guideway::study::refine::choose_step(scene, rtol, max_steps, cores())
-        .map_err(|e| Failure::Run(format!("cannot choose the step for rtol = {rtol:e}: {e}")))?;
+    let what = match refinement {
+        Refinement::Time => "step",
+        Refinement::Mesh => "mesh",
+    };
+    let choice = guideway::study::refine::choose(scene, refinement, rtol, max_steps, cores())
+        .map_err(|e| Failure::Run(format!("cannot choose the {what} for rtol = {rtol:e}: {e}")))?;
     if !quiet {
+        let chosen = match refinement {
+            Refinement::Time => format!(
+                "step {:e} s chosen (scene: {:e} s",
+                choice.step, scene.solver.step
+            ),
+            Refinement::Mesh => format!(
+                "{} elements chosen (scene: {}",
+                choice.elements, scene.beam.elements
+            ),
+        };
         println!(
-            "tolerance          rtol = {rtol:e}: step {:e} s chosen (scene: {:e} s; {} runs, {:.3} s of solve)",
-            choice.step,
-            scene.solver.step,
-            choice.runs,
-            choice.cost_s
+            "tolerance          rtol = {rtol:e}: {chosen}; {} runs, {:.3} s of solve)",
+            choice.runs, choice.cost_s
         );
         if let Some(why) = &choice.stopped {
             println!("tolerance          stopped: {why}");
@@ -135,7 +148,8 @@ pub(super) fn to_json(study: &Study, choice: Option<&StepChoice>) -> Value {
             .map(|(f, why)| json!({"figure": f, "why": why}))
             .collect();
         out["tolerance"] = json!({
-            "rtol": choice.rtol, "chosen_step": choice.step, "unmet": unmet,
+            "rtol": choice.rtol, "chosen_step": choice.step,
+            "chosen_elements": choice.elements, "unmet": unmet,
             "stopped": choice.stopped, "solve_time_s": choice.cost_s,
         });
     }

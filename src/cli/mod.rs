@@ -123,8 +123,9 @@ struct RunArgs {
     /// written to the --summary JSON (docs/error-estimates.md).
     #[arg(long, value_name = "time|mesh", num_args = 0..=1, default_missing_value = "time")]
     error: Option<guideway::study::refine::Refinement>,
-    /// Choose the step so that the estimated error of every summary figure
-    /// is within this relative tolerance (overrides solver.tolerance).
+    /// Choose the step (with --error mesh: the elements) so that the
+    /// estimated error of every summary figure is within this relative
+    /// tolerance (overrides solver.tolerance).
     #[arg(long, value_name = "RTOL")]
     rtol: Option<f64>,
 }

@@ -17,7 +17,7 @@ use guideway::report::{
     Streamed, SummaryBuilder, SummaryEvent, Trace,
 };
 use guideway::simulation::Simulation;
-use guideway::study::refine::{StepChoice, Study};
+use guideway::study::refine::{Refinement, StepChoice, Study};
 use guideway::Scene;
 use std::fs::File;
 use std::ops::ControlFlow;
@@ -209,13 +209,16 @@ fn summary_json(summary: &RunSummary, study: Option<&(Study, Option<StepChoice>)
     serde_json::to_string_pretty(&json).expect("JSON values serialise")
 }
 
-/// With a tolerance, the step chosen for it (set in `scene`) and its study.
+/// With a tolerance, the step (with `--error mesh` the elements) chosen for
+/// it (set in `scene`) and its study.
 fn choose_step(args: &RunArgs, scene: &mut Scene) -> Result<Option<error::Pending>, Failure> {
     let Some(rtol) = tolerance(args, scene)? else {
         return Ok(None);
     };
-    let choice = error::choose(scene, rtol, args.max_steps, args.quiet)?;
+    let refinement = args.error.unwrap_or(Refinement::Time);
+    let choice = error::choose(scene, refinement, rtol, args.max_steps, args.quiet)?;
     scene.solver.step = choice.step;
+    scene.beam.elements = choice.elements;
     Ok(Some(error::Pending::Chosen(Box::new(choice))))
 }
 

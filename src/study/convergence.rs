@@ -21,8 +21,9 @@ pub struct Figure {
 }
 
 /// Summary entries that are not figures of the physics: bookkeeping of the
-/// run itself.
-const NOT_FIGURES: [&str; 6] = [
+/// run itself, and the filter's cut-off (a property of the beam).
+const NOT_FIGURES: [&str; 7] = [
+    "acceleration_cut_off_hz",
     "scene",
     "steps",
     "iterations",
@@ -271,8 +272,12 @@ pub fn is_error_measure(name: &str) -> bool {
 }
 
 /// Whether `estimate` meets the relative tolerance `rtol`, and if not, why.
-/// A figure of erratic order meets it when its conservative error (the
-/// first-order bound) does; a changing event count never does.
+/// A figure of erratic order meets it only when its conservative error
+/// (the first-order bound) and the spread of its three runs do: where the
+/// runs do not bear an extrapolation out, a small finer difference may be
+/// a chance cancellation (a train's raw deck acceleration on 128, 256, 512
+/// elements: 0.06036, 0.06246, 0.06245, and 0.06162 on 1,024). A changing
+/// event count never meets it.
 pub fn check_tolerance(estimate: &Estimate, rtol: f64) -> Result<(), String> {
     let flagged = || {
         let reason = estimate.not_converged.as_deref().unwrap_or_default();
@@ -281,7 +286,11 @@ pub fn check_tolerance(estimate: &Estimate, rtol: f64) -> Result<(), String> {
     if estimate.count && estimate.not_converged.is_some() {
         return Err(flagged());
     }
-    let error = estimate.error.ok_or_else(flagged)?;
+    let mut error = estimate.error.ok_or_else(flagged)?;
+    if estimate.not_converged.is_some() {
+        let runs: Option<Vec<f64>> = estimate.values.iter().copied().collect();
+        error = error.max(runs.as_deref().map_or(f64::INFINITY, spread));
+    }
     let allowed = tolerance_scale(estimate) * rtol;
     if error <= allowed {
         return Ok(());

@@ -238,12 +238,17 @@ pub fn cores() -> usize {
 /// observed orders ask for, so more rounds mean the orders are not holding.
 pub const MAX_TOLERANCE_ROUNDS: usize = 5;
 
-/// The step chosen for a relative tolerance, and what could not meet it.
+/// The step (or mesh) chosen for a relative tolerance, and what could not
+/// meet it.
 #[derive(Debug, Clone)]
 pub struct StepChoice {
     pub rtol: f64,
+    /// What the loop refined: the step, or the elements.
+    pub refinement: Refinement,
     /// The chosen step (s): the base of `study`.
     pub step: f64,
+    /// The chosen number of elements: the base of `study`.
+    pub elements: usize,
     pub study: Study,
     /// Figures above the tolerance at the chosen step, with why.
     pub unmet: Vec<(String, String)>,
@@ -265,42 +270,74 @@ pub fn choose_step(
     max_steps: u64,
     threads: usize,
 ) -> Result<StepChoice, String> {
+    choose(scene, Refinement::Time, rtol, max_steps, threads)
+}
+
+/// Refine `scene` in time (halving the step) or in space (doubling the
+/// elements) until the estimated error of every summary figure is within
+/// `rtol`, as `choose_step` describes, within `max_steps` per run and the
+/// elements' limit.
+pub fn choose(
+    scene: &Scene,
+    refinement: Refinement,
+    rtol: f64,
+    max_steps: u64,
+    threads: usize,
+) -> Result<StepChoice, String> {
     let base_summary = summarise(scene, max_steps)?;
     let choice = base_summary.integrator.clone().unwrap_or_default();
     let mut pinned = scene.clone();
-    pin_integrator(&mut pinned, &choice);
+    // A finer mesh may need the other scheme (RK4's stability limit): only
+    // the time refinement keeps the base run's.
+    if refinement == Refinement::Time {
+        pin_integrator(&mut pinned, &choice);
+    }
     let mut runs: Vec<(i32, Result<Level, String>)> = vec![(0, Ok(level_of(scene, &base_summary)))];
     let mut halvings = 0;
+    let at = (refinement, max_steps, threads);
     for _ in 0..MAX_TOLERANCE_ROUNDS {
-        let study = study_at(&pinned, halvings, &mut runs, max_steps, threads)?;
+        let study = study_at(&pinned, halvings, &mut runs, at)?;
         let (needed, unmet) = needed_halvings(&study, rtol);
         let next = halvings + needed as i32;
         let stopped = if needed == 0 {
             None
         } else {
-            refined(&pinned, Refinement::Time, next + 1)
-                .and_then(|s| {
-                    check_run_length(&s, max_steps, " (--max-steps N raises it)").map(|_| ())
-                })
-                .err()
-                .map(|why| {
-                    format!(
-                        "the next step, {:e} s, is out of bounds: {why}",
-                        scene.solver.step / 2f64.powi(next)
-                    )
-                })
+            out_of_bounds(&pinned, refinement, next, max_steps)
         };
         if needed == 0 || stopped.is_some() {
             return Ok(step_choice(rtol, study, unmet, stopped, &runs));
         }
         halvings = next;
     }
-    let study = study_at(&pinned, halvings, &mut runs, max_steps, threads)?;
+    let study = study_at(&pinned, halvings, &mut runs, at)?;
     let (_, unmet) = needed_halvings(&study, rtol);
     let stopped = Some(format!(
         "{MAX_TOLERANCE_ROUNDS} rounds of refinement did not bring every figure within it"
     ));
     Ok(step_choice(rtol, study, unmet, stopped, &runs))
+}
+
+/// Why the run `next` halvings refined (and its finer companion) cannot be
+/// made within the bounds, if it cannot.
+fn out_of_bounds(
+    scene: &Scene,
+    refinement: Refinement,
+    next: i32,
+    max_steps: u64,
+) -> Option<String> {
+    let why = refined(scene, refinement, next + 1)
+        .and_then(|s| check_run_length(&s, max_steps, " (--max-steps N raises it)").map(|_| ()))
+        .err()?;
+    Some(match refinement {
+        Refinement::Time => format!(
+            "the next step, {:e} s, is out of bounds: {why}",
+            scene.solver.step / 2f64.powi(next)
+        ),
+        Refinement::Mesh => format!(
+            "the next mesh, {} elements, is out of bounds: {why}",
+            scene.beam.elements as f64 * 2f64.powi(next)
+        ),
+    })
 }
 
 /// The choice at `study`'s base, with the cost of every run made.
@@ -314,7 +351,9 @@ fn step_choice(
     let made = runs.iter().filter_map(|(_, r)| r.as_ref().ok());
     StepChoice {
         rtol,
+        refinement: study.refinement,
         step: study.levels[study.base].step,
+        elements: study.levels[study.base].elements,
         study,
         unmet,
         stopped,
@@ -339,22 +378,19 @@ fn needed_halvings(study: &Study, rtol: f64) -> (u32, Vec<(String, String)>) {
     (needed, unmet)
 }
 
+/// How the tolerance loop's runs are made: what is refined, the steps'
+/// bound per run, the threads.
+type RunsAt = (Refinement, u64, usize);
+
 /// The study of the run `halvings` times refined, reusing the runs made
 /// (`runs`, by halvings) and making the missing ones in parallel.
 fn study_at(
     scene: &Scene,
     halvings: i32,
     runs: &mut Vec<(i32, Result<Level, String>)>,
-    max_steps: u64,
-    threads: usize,
+    at: RunsAt,
 ) -> Result<Study, String> {
-    make_runs(
-        scene,
-        &[halvings - 1, halvings, halvings + 1],
-        runs,
-        max_steps,
-        threads,
-    )?;
+    make_runs(scene, &[halvings - 1, halvings, halvings + 1], runs, at)?;
     let base = run_of(runs, halvings)
         .map_err(|e| format!("the run at {halvings} halvings failed: {e}"))?;
     let finer =
@@ -362,7 +398,7 @@ fn study_at(
     let (companions, note) = match run_of(runs, halvings - 1) {
         Ok(coarser) => (vec![(coarser, -1), (finer, 1)], None),
         Err(why) => {
-            make_runs(scene, &[halvings + 2], runs, max_steps, threads)?;
+            make_runs(scene, &[halvings + 2], runs, at)?;
             let finest = run_of(runs, halvings + 2)
                 .map_err(|e| format!("the twice refined companion run failed: {e}"))?;
             let note = format!(
@@ -371,7 +407,7 @@ fn study_at(
             (vec![(finer, 1), (finest, 2)], Some(note))
         }
     };
-    Ok(study(Refinement::Time, base, companions, note, 0.0))
+    Ok(study(at.0, base, companions, note, 0.0))
 }
 
 /// The runs of `wanted` (halvings) not yet in `runs`, made in parallel.
@@ -379,8 +415,7 @@ fn make_runs(
     scene: &Scene,
     wanted: &[i32],
     runs: &mut Vec<(i32, Result<Level, String>)>,
-    max_steps: u64,
-    threads: usize,
+    (refinement, max_steps, threads): RunsAt,
 ) -> Result<(), String> {
     let missing: Vec<i32> = wanted
         .iter()
@@ -388,7 +423,7 @@ fn make_runs(
         .filter(|h| runs.iter().all(|(k, _)| k != h))
         .collect();
     let made = in_parallel(&missing, threads, |h| {
-        let scene = refined(scene, Refinement::Time, h);
+        let scene = refined(scene, refinement, h);
         Ok(scene.and_then(|s| Ok(level_of(&s, &summarise(&s, max_steps)?))))
     })?;
     runs.extend(missing.into_iter().zip(made));
