@@ -108,7 +108,7 @@ fn reference_peaks(substeps: usize) -> [f64; 3] {
         .collect();
     let at_mid = |v: &[f64]| mid.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
     let mut peaks = [0.0f64; 3];
-    let mut keep = |peaks: &mut [f64; 3], t: f64, y: &[f64], deflection: f64| {
+    let keep = |peaks: &mut [f64; 3], t: f64, y: &[f64], deflection: f64| {
         let r = rates(t, y);
         let values = [deflection, at_mid(&y[m..2 * m]), at_mid(&r[m..2 * m])];
         peaks[0] = peaks[0].min(values[0]);
