@@ -401,3 +401,47 @@ fn rtol_on_the_mesh_meets_the_tolerance_against_a_finer_mesh() {
         assert!(!why.is_empty(), "{name} is said why");
     }
 }
+
+/// The command line of `--rtol --error mesh`: the elements are chosen and
+/// said (terminal and JSON), the step is the scene's, and a loop that ends
+/// with every figure met does not say it stopped short.
+#[test]
+fn rtol_with_error_mesh_says_the_elements_it_chose() {
+    let dir = std::env::temp_dir().join(format!("guideway-rtol-mesh-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut scene = builtin("lee1994-wheel-10").expect("built-in");
+    scene.solver.integrator = guideway::scene::IntegratorKind::Hht;
+    let path = dir.join("wheel.toml");
+    std::fs::write(&path, scene.to_toml_string()).unwrap();
+    let summary = dir.join("summary.json");
+    let output = std::process::Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .arg("run")
+        .arg(&path)
+        .args(["--rtol", "1e-2", "--error", "mesh", "--summary"])
+        .arg(&summary)
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{output:?}");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("tolerance") && l.contains("elements chosen"))
+        .unwrap_or_else(|| panic!("no choice said in:\n{stdout}"));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    let tolerance = &json["error_estimate"]["tolerance"];
+    let elements = tolerance["chosen_elements"]
+        .as_u64()
+        .expect("chosen_elements");
+    assert!(
+        line.contains(&format!("{elements} elements chosen (scene: 2")),
+        "{line}"
+    );
+    assert!(elements > 2, "refined from the scene's 2 elements");
+    assert_eq!(tolerance["chosen_step"].as_f64(), Some(scene.solver.step));
+    assert_eq!(json["error_estimate"]["refinement"], "mesh");
+    if tolerance["unmet"].as_array().unwrap().is_empty() {
+        assert!(tolerance["stopped"].is_null(), "{tolerance}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -311,9 +311,10 @@ pub fn choose(
     }
     let study = study_at(&pinned, halvings, &mut runs, at)?;
     let (_, unmet) = needed_halvings(&study, rtol);
-    let stopped = Some(format!(
-        "{MAX_TOLERANCE_ROUNDS} rounds of refinement did not bring every figure within it"
-    ));
+    // The last round's refinement may have been enough.
+    let stopped = (!unmet.is_empty()).then(|| {
+        format!("{MAX_TOLERANCE_ROUNDS} rounds of refinement did not bring every figure within it")
+    });
     Ok(step_choice(rtol, study, unmet, stopped, &runs))
 }
 
