@@ -25,6 +25,7 @@ pub mod report;
 pub mod scene;
 pub mod simulation;
 pub mod solver;
+pub mod state;
 pub mod structure;
 pub mod study;
 pub mod system;
