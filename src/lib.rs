@@ -13,6 +13,7 @@ pub mod build;
 pub mod check;
 pub mod contact;
 pub mod design;
+pub mod energy;
 pub mod fmi2;
 pub mod fmi3;
 pub mod fmu;

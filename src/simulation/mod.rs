@@ -11,7 +11,7 @@ use crate::integrate::{
     ForceShape,
 };
 use crate::iteration::{ContactIteration, StepSolution};
-use crate::outputs::{catalogue, Quantity};
+use crate::outputs::{catalogue, derived, evaluate, Probes, Quantity};
 use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
 use crate::solver::parameters::SolverParameters;
 use crate::static_start::{place_on_profile, static_start};
@@ -339,9 +339,10 @@ impl Simulation {
 
     /// Current output values, in the order of `outputs()`.
     pub fn output_values(&self, values: &mut [f64]) {
+        let probes = self.probes();
         match &self.read {
-            None => crate::outputs::values(self, &self.quantities, values),
-            Some(mask) => mask.values(self, values),
+            None => evaluate(&self.system, &self.state, &probes, &self.quantities, values),
+            Some(mask) => mask.values(&self.system, &self.state, &probes, values),
         }
     }
 
@@ -368,14 +369,7 @@ impl Simulation {
     /// Potential energy of the force elements and of the followers'
     /// suspensions (at their gaps at the end of the last step) (J).
     pub fn spring_energy(&self) -> f64 {
-        let followers: f64 = self
-            .system
-            .contacts
-            .iter()
-            .zip(&self.state.contacts)
-            .filter_map(|(c, status)| c.follower.map(|f| f.potential_energy(status.gap)))
-            .sum();
-        self.system.spring_energy(&self.state.dynamic.bodies) + followers
+        crate::energy::spring(&self.system, &self.state)
     }
 
     /// Kinetic + strain + spring energy + energy dissipated (dampers,
@@ -388,30 +382,15 @@ impl Simulation {
     /// `energy_balance` with `spring_energy` already known (the outputs
     /// report both: one sweep over the force elements, not two).
     pub fn energy_balance_with(&self, spring_energy: f64) -> f64 {
-        let d = &self.state.dynamic;
-        let s = &self.system;
-        let balance = self.body_kinetic_energy()
-            + s.beam.kinetic_energy(&d.beam_velocity)
-            + s.beam.strain_energy(&d.beam_displacement)
-            + spring_energy
-            + d.dissipated
-            + d.beam_dissipated
-            + d.numerical_dissipation
-            + self.state.impact_loss
-            - self.state.gravity_work
-            - self.state.external_work
-            - d.tractive_work;
-        self.booked(balance)
+        self.booked(crate::energy::balance_with(
+            &self.system,
+            &self.state,
+            spring_energy,
+        ))
     }
 
     pub fn body_kinetic_energy(&self) -> f64 {
-        let d = &self.state.dynamic;
-        self.system
-            .bodies
-            .iter()
-            .zip(&d.bodies)
-            .map(|(body, state)| body.kinetic_energy(state))
-            .sum()
+        crate::energy::body_kinetic(&self.system, &self.state)
     }
 
     /// Total energy at t = 0 (J), the reference of relative energy drift.
@@ -468,17 +447,9 @@ impl Simulation {
         self.state.clone()
     }
 
-    /// The current state (for the output catalogue).
+    /// The current state, borrowed.
     pub(crate) fn current(&self) -> &SimState {
         &self.state
-    }
-
-    pub(crate) fn sensor_positions(&self) -> &[f64] {
-        &self.sensors
-    }
-
-    pub(crate) fn section_positions(&self) -> &[f64] {
-        &self.sections
     }
 
     /// Restore a state from `state()`; refused unless it has this model's
@@ -516,60 +487,30 @@ impl Simulation {
             })
     }
 
+    /// What the outputs read beside the system and the state.
+    fn probes(&self) -> Probes<'_> {
+        Probes {
+            sensors: &self.sensors,
+            sections: &self.sections,
+            frames: self.iteration.frame_memo(),
+            booked: !self.unbooked,
+            start_applied: match self.state.last_applied.len() {
+                0 => self.constant_forces(),
+                _ => Vec::new(),
+            },
+        }
+    }
+
     /// Each body's (ẍ, ÿ, θ̈) in the current state under the last forces.
     pub fn body_accelerations(&self) -> Vec<Vector3<f64>> {
-        let d = &self.state.dynamic;
-        let mut frames = Vec::new();
-        let mut beam_load = DVector::zeros(d.beam_displacement.len());
-        let mut body_loads = vec![Vector3::zeros(); self.system.bodies.len()];
-        let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
-        let applied = match self.state.last_applied.len() {
-            0 => self.constant_forces(),
-            _ => self.state.last_applied.clone(),
-        };
-        let ok = self.iteration.frame_memo().contact_frames(
-            &self.system,
-            &d.beam_displacement,
-            &d.bodies,
-            (&d.contact_x, &self.state.parts),
-            &mut frames,
-        );
-        if ok.is_err() {
-            return vec![Vector3::repeat(f64::NAN); self.system.bodies.len()];
-        }
-        let (s, bodies) = (&self.system, &d.bodies);
-        loads(
-            s,
-            &frames,
-            &forces,
-            &applied,
-            bodies,
-            &d.beam_velocity,
-            &mut beam_load,
-            &mut body_loads,
-        );
-        s.bodies
-            .iter()
-            .zip(&body_loads)
-            .map(|(body, load)| body.acceleration(load))
-            .collect()
+        derived::body_accelerations(&self.system, &self.state, &self.probes())
     }
 
     /// The beam now under the contact forces of the last step, with the
     /// acceleration they give (design outputs); `None` when a contact
     /// point cannot be located.
     pub fn beam_dynamics(&self) -> Option<crate::design::BeamDynamics> {
-        let d = &self.state.dynamic;
-        let frames = self.frames_now().ok()?;
-        let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
-        let beam = &self.system.beam;
-        let loads = crate::design::contact_loads(beam, &frames, &forces);
-        Some(crate::design::BeamDynamics::new(
-            beam,
-            d.beam_displacement.clone(),
-            d.beam_velocity.clone(),
-            loads,
-        ))
+        derived::beam_dynamics(&self.system, &self.state, self.iteration.frame_memo())
     }
 
     /// Advance to `target` with internal steps on the grid k·`solver.step`,
@@ -964,7 +905,7 @@ impl Simulation {
     /// The contact frames of the current state (each contact on the part
     /// of the track it is on now); `None` when one cannot be located.
     pub fn contact_frames_now(&self) -> Option<Vec<crate::contact::ContactFrame>> {
-        self.frames_of(&self.state.dynamic).ok()
+        derived::frames_now(&self.system, &self.state, self.iteration.frame_memo()).ok()
     }
 
     /// The contact frames of the current state.
