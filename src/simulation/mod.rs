@@ -19,6 +19,7 @@ use crate::system::{System, TrackPart};
 
 mod follower;
 mod lift_off;
+pub mod run_end;
 mod switch;
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
