@@ -555,8 +555,8 @@ impl Simulation {
     /// three steps to a run.
     fn start_up_target(&self, to: f64) -> f64 {
         let s = &self.state;
-        let rk4 = self.restart_weight.is_none();
-        if self.force_profile == ForceProfile::Held || !rk4 || s.grid_step != 0 {
+        let fits = self.iteration.integrator().fits_force_shape();
+        if self.force_profile == ForceProfile::Held || !fits || s.grid_step != 0 {
             return to;
         }
         let next = if s.steps < 2 {
