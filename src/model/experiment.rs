@@ -2,7 +2,8 @@
 //! last exit from the structure plus a time of free vibration (or the
 //! scene's `solver.end_time`), in steps of the solver's.
 
-use crate::scene::{BodyKind, BodySpec, Scene};
+use crate::scene::Scene;
+use crate::simulation::run_end::{exit_time, run_end, RunEnd};
 
 /// Free vibration after the last exit, in periods of the fundamental mode
 /// of the longest span.
@@ -14,37 +15,13 @@ pub const FREE_VIBRATION_PERIODS: f64 = 3.0;
 /// mode (simply supported: T₁ = 2 L² / π · √(m / EI)); 1 s where no vehicle
 /// moves.
 pub fn default_stop_time(scene: &Scene) -> f64 {
-    if let Some(t) = scene.solver.end_time {
-        return t;
+    match run_end(scene) {
+        RunEnd::EndTime(t) => t,
+        RunEnd::LastExit { distance, speed } => {
+            exit_time((distance, speed)) + FREE_VIBRATION_PERIODS * fundamental_period(scene)
+        }
+        RunEnd::NoExit => 1.0,
     }
-    let exits = std::iter::once(&scene.body)
-        .chain(&scene.vehicles)
-        .filter_map(|v| exit_time(v, scene.beam.length));
-    match exits.reduce(f64::max) {
-        Some(t) => t + FREE_VIBRATION_PERIODS * fundamental_period(scene),
-        None => 1.0,
-    }
-}
-
-/// When the last contact of vehicle `v` leaves the beam [0, L] at its
-/// initial speed (an estimate: forces change the speed); `None` at rest.
-fn exit_time(v: &BodySpec, length: f64) -> Option<f64> {
-    let speed = v.initial_speed;
-    // The contacts' spread about `initial_position` (a bogie vehicle's
-    // wheelsets lie ±(l_c + l_t) about its centre).
-    let reach = match (v.kind, v.bogie) {
-        (BodyKind::BogieVehicle, Some(b)) => b.bogie_half_distance + b.axle_half_distance,
-        _ => 0.0,
-    };
-    let x = v.initial_position;
-    let t = if speed > 0.0 {
-        (length - (x - reach)) / speed
-    } else if speed < 0.0 {
-        (x + reach) / -speed
-    } else {
-        return None;
-    };
-    Some(t.max(0.0))
 }
 
 /// Fundamental period (s) of the longest span between supports, taken as
@@ -62,6 +39,7 @@ pub fn fundamental_period(scene: &Scene) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::BodyKind;
 
     #[test]
     fn the_default_scene_stops_three_periods_after_its_exit() {

@@ -2,8 +2,9 @@
 //! to no file needs only the summary's few columns, and the others (body
 //! accelerations, section forces, energies) were a sixth of a train's run.
 
-use crate::outputs::{values, Quantity};
-use crate::simulation::Simulation;
+use crate::outputs::{evaluate, Probes, Quantity};
+use crate::state::SimState;
+use crate::system::System;
 
 /// The outputs a sink reads, in column order.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,10 +40,11 @@ impl OutputMask {
         })
     }
 
-    /// Every output of `sim` into `out`: the read ones computed, the others 0.
-    pub fn values(&self, sim: &Simulation, out: &mut [f64]) {
+    /// Every output in `state` into `out`: the read ones computed, the
+    /// others 0.
+    pub fn values(&self, system: &System, state: &SimState, probes: &Probes, out: &mut [f64]) {
         let read = self.columns.len();
-        values(sim, &self.quantities, &mut out[..read]);
+        evaluate(system, state, probes, &self.quantities, &mut out[..read]);
         spread(&self.columns, out);
     }
 }
@@ -65,6 +67,7 @@ fn spread(columns: &[usize], out: &mut [f64]) {
 mod tests {
     use super::*;
     use crate::scene::builtin;
+    use crate::Simulation;
 
     #[test]
     fn spread_moves_each_value_to_its_column_and_zeroes_the_rest() {

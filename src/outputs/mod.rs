@@ -2,9 +2,15 @@
 //! reported quantity, generated from the system. CSV headers, plots, the
 //! summary and the FMU variable table are all read from it.
 
+use crate::energy;
+use crate::state::SimState;
 use crate::system::System;
+use derived::{beam_dynamics, body_accelerations, frames_now};
 
+pub mod derived;
 pub mod mask;
+
+pub use derived::Probes;
 
 /// How an output is typed when exported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -473,27 +479,33 @@ pub fn catalogue(
     c.entries
 }
 
-/// The current value of each quantity of `quantities` into `values`.
-pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f64]) {
-    let system = sim.system();
-    let state = sim.current();
+/// The value in `state` of each quantity of `quantities` into `values`.
+pub fn evaluate(
+    system: &System,
+    state: &SimState,
+    probes: &Probes,
+    quantities: &[Quantity],
+    values: &mut [f64],
+) {
     let d = &state.dynamic;
     let beam = &system.beam;
     let needs_frames = quantities
         .iter()
         .any(|q| matches!(q, Quantity::NominalSpeed(_)));
-    let frames = needs_frames.then(|| sim.contact_frames_now());
+    let frames = needs_frames.then(|| frames_now(system, state, probes.frames).ok());
     let needs_beam = quantities.iter().any(needs_beam_dynamics);
-    let beam_dynamics = needs_beam.then(|| sim.beam_dynamics()).flatten();
+    let beam_dynamics = needs_beam
+        .then(|| beam_dynamics(system, state, probes.frames))
+        .flatten();
     let needs_accelerations = quantities.iter().any(|q| {
         matches!(
             q,
             Quantity::Ax(_) | Quantity::Ay(_) | Quantity::AngularAcceleration(_)
         )
     });
-    let accelerations = needs_accelerations.then(|| sim.body_accelerations());
+    let accelerations = needs_accelerations.then(|| body_accelerations(system, state, probes));
     let mut spring_energy = None;
-    let mut spring_energy = || *spring_energy.get_or_insert_with(|| sim.spring_energy());
+    let mut spring_energy = || *spring_energy.get_or_insert_with(|| energy::spring(system, state));
     for (value, quantity) in values.iter_mut().zip(quantities) {
         *value = match *quantity {
             Quantity::X(b) => d.bodies[b].position.x,
@@ -525,18 +537,16 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
                 .profile
                 .as_ref()
                 .map_or(0.0, |p| p.at(d.contact_x[c])[0]),
-            Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, sim.sensor_positions()[i]),
-            Quantity::SensorVelocity(i) => {
-                beam.deflection(&d.beam_velocity, sim.sensor_positions()[i])
-            }
-            Quantity::SensorAcceleration(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
-                b.acceleration_at(beam, sim.sensor_positions()[i])
-            }),
+            Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, probes.sensors[i]),
+            Quantity::SensorVelocity(i) => beam.deflection(&d.beam_velocity, probes.sensors[i]),
+            Quantity::SensorAcceleration(i) => beam_dynamics
+                .as_ref()
+                .map_or(f64::NAN, |b| b.acceleration_at(beam, probes.sensors[i])),
             Quantity::SectionMoment(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
-                b.section_forces(beam, sim.section_positions()[i]).moment
+                b.section_forces(beam, probes.sections[i]).moment
             }),
             Quantity::SectionShear(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
-                b.section_forces(beam, sim.section_positions()[i]).shear
+                b.section_forces(beam, probes.sections[i]).shear
             }),
             Quantity::Reaction(node) => beam_dynamics
                 .as_ref()
@@ -544,18 +554,20 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
             Quantity::ReactionMoment(node) => beam_dynamics
                 .as_ref()
                 .map_or(f64::NAN, |b| b.reaction(beam, node)[1]),
-            Quantity::BodyKinetic => sim.body_kinetic_energy(),
+            Quantity::BodyKinetic => energy::body_kinetic(system, state),
             Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
             Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
             Quantity::SpringEnergy => spring_energy(),
-            Quantity::Dissipated => sim.booked(d.dissipated),
-            Quantity::BeamDamping => sim.booked(d.beam_dissipated),
+            Quantity::Dissipated => probes.booked(d.dissipated),
+            Quantity::BeamDamping => probes.booked(d.beam_dissipated),
             Quantity::GravityWork => state.gravity_work,
             Quantity::ExternalWork => state.external_work,
             Quantity::TractiveWork => d.tractive_work,
             Quantity::ImpactLoss => state.impact_loss,
-            Quantity::NumericalDissipation => sim.booked(d.numerical_dissipation),
-            Quantity::Balance => sim.energy_balance_with(spring_energy()),
+            Quantity::NumericalDissipation => probes.booked(d.numerical_dissipation),
+            Quantity::Balance => {
+                probes.booked(energy::balance_with(system, state, spring_energy()))
+            }
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,
             Quantity::Iterations => state.last_iterations as f64,
@@ -565,7 +577,7 @@ pub fn values(sim: &crate::Simulation, quantities: &[Quantity], values: &mut [f6
 }
 
 /// Whether `quantity` is read from the beam's accelerations and loads
-/// (`Simulation::beam_dynamics`, one mass solve per row).
+/// (`derived::beam_dynamics`, one mass solve per row).
 fn needs_beam_dynamics(quantity: &Quantity) -> bool {
     matches!(
         quantity,

@@ -4,13 +4,14 @@ use super::stream::{check_run_length, drive_into, StreamError};
 use super::summary::RunSummary;
 use super::trace::Trace;
 use crate::scene::Scene;
+use crate::simulation::run_end::{run_end, RunEnd};
 use crate::simulation::{Simulation, SolverError};
 use std::fmt;
 use std::ops::ControlFlow;
 use std::time::Duration;
 
 /// When a run without `solver.end_time` gives up waiting for the exit: this
-/// many times the rigid-beam travel time (L − x0) / V0.
+/// many times the rigid-beam travel time of the last vehicle to leave.
 pub const DEFAULT_END_TIME_FACTOR: f64 = 10.0;
 
 /// A finished (or, inside `RunError::Solver`, interrupted) run.
@@ -68,22 +69,19 @@ impl fmt::Display for RunError {
 
 impl std::error::Error for RunError {}
 
-/// The time at which a run stops if the body has not left the beam:
-/// `solver.end_time`, or `DEFAULT_END_TIME_FACTOR` × (L − x0) / V0. Without
-/// an end time the body must start moving towards the exit.
+/// The time at which a run stops if the last contact has not left the
+/// beam (`simulation::run_end`, the one rule): `solver.end_time`, or
+/// `DEFAULT_END_TIME_FACTOR` × the last exit at the vehicles' initial
+/// speeds. Without an end time a vehicle must start moving.
 pub fn stop_time(scene: &Scene) -> Result<f64, String> {
-    if let Some(end) = scene.solver.end_time {
-        return Ok(end);
-    }
-    let speed = scene.body.initial_speed;
-    if speed > 0.0 {
-        let travel = scene.beam.length - scene.body.initial_position;
-        Ok(DEFAULT_END_TIME_FACTOR * travel / speed)
-    } else {
-        Err(format!(
-            "body.initial_speed = {speed:?}: must be > 0 for a run without solver.end_time \
-             (the run ends when the body leaves the beam at x = L)"
-        ))
+    match run_end(scene) {
+        RunEnd::EndTime(end) => Ok(end),
+        RunEnd::LastExit { distance, speed } => Ok(DEFAULT_END_TIME_FACTOR * distance / speed),
+        RunEnd::NoExit => Err(format!(
+            "body.initial_speed = {:?} and no vehicle moves: a run without solver.end_time \
+             ends when the last contact leaves the beam, so a vehicle must start moving",
+            scene.body.initial_speed
+        )),
     }
 }
 

@@ -24,10 +24,11 @@
 
 use nalgebra::{DVector, Vector2};
 
-use super::{ContactEvent, EventKind, SimState, Simulation, SolverError, MAX_EVENTS};
+use super::{EventKind, Simulation, SolverError};
 use crate::contact::{foot_point_on, ContactForce, ContactFrame};
 use crate::integrate::{follower_gap, DynamicState};
 use crate::iteration::StepSolution;
+use crate::state::push_event_at;
 use crate::system::{System, TrackPart};
 
 impl Simulation {
@@ -196,18 +197,4 @@ fn past_corner(
         }
     };
     Some(foot - corner)
-}
-
-/// Record an event of contact `c` at `time` (counted, not kept, beyond
-/// `MAX_EVENTS`).
-fn push_event_at(s: &mut SimState, c: usize, kind: EventKind, time: f64) {
-    if s.events.len() < MAX_EVENTS {
-        s.events.push(ContactEvent {
-            contact: c,
-            time,
-            kind,
-        });
-    } else {
-        s.events_dropped += 1;
-    }
 }

@@ -3,7 +3,6 @@
 //! the output values.
 
 use nalgebra::{DVector, Vector2, Vector3};
-use serde::{Deserialize, Serialize};
 
 use crate::assemble::{assemble, constant_forces};
 use crate::contact::ContactForce;
@@ -12,20 +11,21 @@ use crate::integrate::{
     ForceShape,
 };
 use crate::iteration::{ContactIteration, StepSolution};
-use crate::outputs::{catalogue, Quantity};
+use crate::outputs::{catalogue, derived, evaluate, Probes, Quantity};
 use crate::scene::{ForceProfile, Scene, SpeedSpec, StartKind};
 use crate::solver::parameters::SolverParameters;
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
 
-mod consistency;
-mod copy;
 mod follower;
 mod lift_off;
+pub mod run_end;
 mod switch;
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};
 pub use crate::outputs::{OutputInfo, OutputKind};
+use crate::state::{check_shape, push_event};
+pub use crate::state::{ContactEvent, ContactStatus, EventKind, SimState, MAX_EVENTS};
 
 /// Result of `advance_to`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -82,42 +82,6 @@ impl Steppable for Simulation {
     }
 }
 
-/// What happened to a contact.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum EventKind {
-    /// The contact point rolled onto the beam.
-    Entry,
-    /// The contact point left the beam (onto rigid ground, or off the track).
-    Exit,
-    /// The contact point left the track: the run ends.
-    LeftTrack,
-    /// The contact opened: its normal force would have turned tensile in
-    /// the step from this instant.
-    LiftOff,
-    /// An open contact's gap closed: an impact (which may bounce); a
-    /// massless follower's law turned compressive again: no impact.
-    Landing,
-}
-
-/// Whether a contact is closed (the paper's rows) or open (in flight), its
-/// gap, and its last impact.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-pub struct ContactStatus {
-    pub open: bool,
-    /// Gap g to the track at the current time (m): zero to the gap
-    /// tolerance while closed.
-    pub gap: f64,
-    /// The impulse of the last impact on the body (N s): tangential, normal.
-    pub impulse: [f64; 2],
-    /// The grid step in which it last opened: a contact opens at most once
-    /// per grid step (see `Simulation::solve_active_set`).
-    pub opened_in: Option<u64>,
-    /// The grid step in which it last landed: a second landing in the same
-    /// grid step is plastic (see `Simulation::land`).
-    #[serde(default)]
-    pub landed_in: Option<u64>,
-}
-
 /// Impacts slower than this (m/s) are plastic whatever the restitution: a
 /// bouncing contact comes to rest after finitely many bounces (e^k v₀ <
 /// `RESTING_SPEED`) instead of an endless sequence of ever shorter flights.
@@ -129,17 +93,6 @@ pub struct ContactStatus {
 /// shaped force profile, `START_UP_DIVISIONS`).
 pub const RESTING_SPEED: f64 = SolverParameters::DEFAULT.resting_speed;
 
-/// An event located inside a step (the step is shortened to its instant).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct ContactEvent {
-    pub contact: usize,
-    pub time: f64,
-    pub kind: EventKind,
-}
-
-/// Events kept per run; later ones are counted, not kept.
-pub const MAX_EVENTS: usize = SolverParameters::DEFAULT.max_events;
-
 /// A contact's impact on the far corner of a rail gap.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct JointImpact {
@@ -149,182 +102,6 @@ pub struct JointImpact {
     /// Tangential and normal impulse on the body in the new corner's
     /// frame (N s).
     pub impulse: Vector2<f64>,
-}
-
-/// Everything needed to continue a run bit-identically.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct SimState {
-    pub time: f64,
-    /// Index of the last grid point k·Δt reached (the grid of `solver.step`).
-    pub grid_step: u64,
-    pub dynamic: DynamicState,
-    /// Per contact: the converged force of the last steps, newest first.
-    /// With `step_history` (the lengths of the steps between them) the
-    /// history the next step's initial guess is extrapolated from.
-    pub force_history: Vec<[ContactForce; 3]>,
-    pub step_history: [f64; 2],
-    /// The applied force on the driven body (the FMU's inputs).
-    pub body_force: [f64; 2],
-    pub external_work: f64,
-    pub gravity_work: f64,
-    pub initial_energy: f64,
-    pub last_iterations: u32,
-    pub last_position_iterations: u32,
-    pub last_velocity_error: f64,
-    pub last_gap_error: f64,
-    pub steps: u64,
-    pub total_iterations: u64,
-    /// Where each contact is along the track.
-    pub parts: Vec<TrackPart>,
-    pub events: Vec<ContactEvent>,
-    pub events_dropped: u64,
-    /// When the run ended (see `Advance::Exited`).
-    pub exit_time: Option<f64>,
-    /// Per contact: closed or open, gap, last impact.
-    pub contacts: Vec<ContactStatus>,
-    /// Kinetic energy removed by impacts since t = 0 (J).
-    pub impact_loss: f64,
-    /// The additional load (fx, fy, moment) on each coupling point
-    /// (`System::couplings`), held until changed (the FMU's inputs).
-    #[serde(default)]
-    pub coupling_loads: Vec<[f64; 3]>,
-    /// The constant generalized force on each body over the last step
-    /// taken (empty before the first): the accelerations reported at its
-    /// end are those of the loads that acted, whatever was set since.
-    #[serde(default)]
-    pub last_applied: Vec<Vector3<f64>>,
-    /// Contacts whose HHT-α restart fitted a step shorter than the grid
-    /// step (after an event inside it): restarted again at the next grid
-    /// point, for the full steps that follow.
-    #[serde(default)]
-    pub pending_restart: Vec<usize>,
-}
-
-impl SimState {
-    /// Every number finite, the beam's vectors alike in length, and the
-    /// time on the state's own grid of `step`: what a state from outside (a
-    /// serialized FMU state) must satisfy before anything is sized by it.
-    pub fn check_values(&self, step: f64) -> Result<(), String> {
-        self.check_lengths()?;
-        let d = &self.dynamic;
-        let scalars = [
-            self.time,
-            self.external_work,
-            self.gravity_work,
-            self.initial_energy,
-            self.last_velocity_error,
-            self.last_gap_error,
-            self.exit_time.unwrap_or(0.0),
-            d.dissipated,
-            d.beam_dissipated,
-            d.tractive_work,
-            d.numerical_dissipation,
-            self.impact_loss,
-        ];
-        let beam = [
-            &d.beam_displacement,
-            &d.beam_velocity,
-            &d.beam_acceleration,
-            &d.beam_load,
-        ];
-        // One branch-free sum over every number first (this runs after every
-        // FMU step); the number is looked for only when there is one.
-        let mut nan = not_finite(&scalars)
-            + not_finite(&self.step_history)
-            + not_finite(&self.body_force)
-            + not_finite(&d.contact_x);
-        for e in &self.events {
-            nan += not_finite(&[e.time]);
-        }
-        for c in &self.contacts {
-            nan += not_finite(&[c.gap, c.impulse[0], c.impulse[1]]);
-        }
-        for b in &d.bodies {
-            nan += not_finite(&b.numbers());
-        }
-        for f in self.force_history.iter().flatten() {
-            nan += not_finite(&[f.tangential, f.normal]);
-        }
-        for v in d.body_accelerations.iter().chain(&d.body_loads) {
-            nan += not_finite(v.as_slice());
-        }
-        for v in beam {
-            nan += not_finite(v.as_slice());
-        }
-        let finite = nan == 0.0;
-        if !finite {
-            let forces = self
-                .force_history
-                .iter()
-                .flatten()
-                .flat_map(|f| [f.tangential, f.normal]);
-            let generalized = d.body_accelerations.iter().chain(&d.body_loads).flatten();
-            let mut all = scalars
-                .into_iter()
-                .chain(self.step_history)
-                .chain(self.body_force)
-                .chain(d.contact_x.iter().copied())
-                .chain(self.events.iter().map(|e| e.time))
-                .chain(
-                    self.contacts
-                        .iter()
-                        .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
-                )
-                .chain(d.bodies.iter().flat_map(crate::body::BodyState::numbers))
-                .chain(forces)
-                .chain(generalized.copied())
-                .chain(beam.into_iter().flatten().copied());
-            if let Some(x) = all.find(|x| !x.is_finite()) {
-                return Err(format!("the state holds a non-finite number ({x})"));
-            }
-        }
-        self.check_time(step)
-    }
-
-    /// `check_values` but the numbers' finiteness (`copy_checked_from`
-    /// sums them as it copies).
-    fn check_lengths_and_time(&self, step: f64) -> Result<(), String> {
-        self.check_lengths()?;
-        self.check_time(step)
-    }
-
-    /// The beam's vectors alike in length.
-    fn check_lengths(&self) -> Result<(), String> {
-        let d = &self.dynamic;
-        let n = d.beam_displacement.len();
-        let lengths = [
-            d.beam_velocity.len(),
-            d.beam_acceleration.len(),
-            d.beam_load.len(),
-        ];
-        if lengths.iter().any(|&m| m != n) {
-            return Err(format!(
-                "the state's beam vectors differ in length ({n}, {lengths:?})"
-            ));
-        }
-        Ok(())
-    }
-
-    /// The time on the state's own grid of `step`.
-    fn check_time(&self, step: f64) -> Result<(), String> {
-        let grid = self.grid_step as f64 * step;
-        let slack = 1e-6 * step;
-        if !(self.time >= 0.0 && grid - slack <= self.time && self.time <= grid + step + slack) {
-            return Err(format!(
-                "the state's time {} s is not in its step {} of solver.step = {step} s",
-                self.time, self.grid_step
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// 0 when every number of `xs` is finite, NaN otherwise: x − x is 0 for a
-/// finite x and NaN for an infinite or NaN one, so the sum needs no branch
-/// per number.
-#[allow(clippy::eq_op)] // x − x is the point: 0 or NaN
-fn not_finite(xs: &[f64]) -> f64 {
-    xs.iter().fold(0.0, |sum, &x| sum + (x - x))
 }
 
 /// Largest sum of |weights| an extrapolation of the force history may
@@ -563,9 +340,10 @@ impl Simulation {
 
     /// Current output values, in the order of `outputs()`.
     pub fn output_values(&self, values: &mut [f64]) {
+        let probes = self.probes();
         match &self.read {
-            None => crate::outputs::values(self, &self.quantities, values),
-            Some(mask) => mask.values(self, values),
+            None => evaluate(&self.system, &self.state, &probes, &self.quantities, values),
+            Some(mask) => mask.values(&self.system, &self.state, &probes, values),
         }
     }
 
@@ -592,14 +370,7 @@ impl Simulation {
     /// Potential energy of the force elements and of the followers'
     /// suspensions (at their gaps at the end of the last step) (J).
     pub fn spring_energy(&self) -> f64 {
-        let followers: f64 = self
-            .system
-            .contacts
-            .iter()
-            .zip(&self.state.contacts)
-            .filter_map(|(c, status)| c.follower.map(|f| f.potential_energy(status.gap)))
-            .sum();
-        self.system.spring_energy(&self.state.dynamic.bodies) + followers
+        crate::energy::spring(&self.system, &self.state)
     }
 
     /// Kinetic + strain + spring energy + energy dissipated (dampers,
@@ -612,30 +383,15 @@ impl Simulation {
     /// `energy_balance` with `spring_energy` already known (the outputs
     /// report both: one sweep over the force elements, not two).
     pub fn energy_balance_with(&self, spring_energy: f64) -> f64 {
-        let d = &self.state.dynamic;
-        let s = &self.system;
-        let balance = self.body_kinetic_energy()
-            + s.beam.kinetic_energy(&d.beam_velocity)
-            + s.beam.strain_energy(&d.beam_displacement)
-            + spring_energy
-            + d.dissipated
-            + d.beam_dissipated
-            + d.numerical_dissipation
-            + self.state.impact_loss
-            - self.state.gravity_work
-            - self.state.external_work
-            - d.tractive_work;
-        self.booked(balance)
+        self.booked(crate::energy::balance_with(
+            &self.system,
+            &self.state,
+            spring_energy,
+        ))
     }
 
     pub fn body_kinetic_energy(&self) -> f64 {
-        let d = &self.state.dynamic;
-        self.system
-            .bodies
-            .iter()
-            .zip(&d.bodies)
-            .map(|(body, state)| body.kinetic_energy(state))
-            .sum()
+        crate::energy::body_kinetic(&self.system, &self.state)
     }
 
     /// Total energy at t = 0 (J), the reference of relative energy drift.
@@ -692,17 +448,9 @@ impl Simulation {
         self.state.clone()
     }
 
-    /// The current state (for the output catalogue).
+    /// The current state, borrowed.
     pub(crate) fn current(&self) -> &SimState {
         &self.state
-    }
-
-    pub(crate) fn sensor_positions(&self) -> &[f64] {
-        &self.sensors
-    }
-
-    pub(crate) fn section_positions(&self) -> &[f64] {
-        &self.sections
     }
 
     /// Restore a state from `state()`; refused unless it has this model's
@@ -718,7 +466,7 @@ impl Simulation {
     /// this model's and the bodies where its contacts say they are.
     pub fn check_restorable(&self, state: &SimState) -> Result<(), String> {
         check_shape(&self.system, state)?;
-        self.check_consistent(state)
+        state.check_consistent(&self.system, self.params.iteration.gap_tolerance)
     }
 
     /// The constant generalized force on each body now.
@@ -740,60 +488,30 @@ impl Simulation {
             })
     }
 
+    /// What the outputs read beside the system and the state.
+    fn probes(&self) -> Probes<'_> {
+        Probes {
+            sensors: &self.sensors,
+            sections: &self.sections,
+            frames: self.iteration.frame_memo(),
+            booked: !self.unbooked,
+            start_applied: match self.state.last_applied.len() {
+                0 => self.constant_forces(),
+                _ => Vec::new(),
+            },
+        }
+    }
+
     /// Each body's (ẍ, ÿ, θ̈) in the current state under the last forces.
     pub fn body_accelerations(&self) -> Vec<Vector3<f64>> {
-        let d = &self.state.dynamic;
-        let mut frames = Vec::new();
-        let mut beam_load = DVector::zeros(d.beam_displacement.len());
-        let mut body_loads = vec![Vector3::zeros(); self.system.bodies.len()];
-        let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
-        let applied = match self.state.last_applied.len() {
-            0 => self.constant_forces(),
-            _ => self.state.last_applied.clone(),
-        };
-        let ok = self.iteration.frame_memo().contact_frames(
-            &self.system,
-            &d.beam_displacement,
-            &d.bodies,
-            (&d.contact_x, &self.state.parts),
-            &mut frames,
-        );
-        if ok.is_err() {
-            return vec![Vector3::repeat(f64::NAN); self.system.bodies.len()];
-        }
-        let (s, bodies) = (&self.system, &d.bodies);
-        loads(
-            s,
-            &frames,
-            &forces,
-            &applied,
-            bodies,
-            &d.beam_velocity,
-            &mut beam_load,
-            &mut body_loads,
-        );
-        s.bodies
-            .iter()
-            .zip(&body_loads)
-            .map(|(body, load)| body.acceleration(load))
-            .collect()
+        derived::body_accelerations(&self.system, &self.state, &self.probes())
     }
 
     /// The beam now under the contact forces of the last step, with the
     /// acceleration they give (design outputs); `None` when a contact
     /// point cannot be located.
     pub fn beam_dynamics(&self) -> Option<crate::design::BeamDynamics> {
-        let d = &self.state.dynamic;
-        let frames = self.frames_now().ok()?;
-        let forces: Vec<ContactForce> = self.state.force_history.iter().map(|h| h[0]).collect();
-        let beam = &self.system.beam;
-        let loads = crate::design::contact_loads(beam, &frames, &forces);
-        Some(crate::design::BeamDynamics::new(
-            beam,
-            d.beam_displacement.clone(),
-            d.beam_velocity.clone(),
-            loads,
-        ))
+        derived::beam_dynamics(&self.system, &self.state, self.iteration.frame_memo())
     }
 
     /// Advance to `target` with internal steps on the grid k·`solver.step`,
@@ -837,8 +555,8 @@ impl Simulation {
     /// three steps to a run.
     fn start_up_target(&self, to: f64) -> f64 {
         let s = &self.state;
-        let rk4 = self.restart_weight.is_none();
-        if self.force_profile == ForceProfile::Held || !rk4 || s.grid_step != 0 {
+        let fits = self.iteration.integrator().fits_force_shape();
+        if self.force_profile == ForceProfile::Held || !fits || s.grid_step != 0 {
             return to;
         }
         let next = if s.steps < 2 {
@@ -1188,7 +906,7 @@ impl Simulation {
     /// The contact frames of the current state (each contact on the part
     /// of the track it is on now); `None` when one cannot be located.
     pub fn contact_frames_now(&self) -> Option<Vec<crate::contact::ContactFrame>> {
-        self.frames_of(&self.state.dynamic).ok()
+        derived::frames_now(&self.system, &self.state, self.iteration.frame_memo()).ok()
     }
 
     /// The contact frames of the current state.
@@ -1480,20 +1198,6 @@ impl Simulation {
 /// Gaps within which a landing counts as located (m).
 const LANDING_GAP: f64 = 1e-12;
 
-/// Record an event of contact `c` at the state's time (counted, not kept,
-/// beyond `MAX_EVENTS`).
-fn push_event(s: &mut SimState, c: usize, kind: EventKind) {
-    if s.events.len() < MAX_EVENTS {
-        s.events.push(ContactEvent {
-            contact: c,
-            time: s.time,
-            kind,
-        });
-    } else {
-        s.events_dropped += 1;
-    }
-}
-
 /// Each contact's status at t = 0: open where its vehicle starts above the
 /// track, with its gap.
 fn initial_contacts(
@@ -1619,66 +1323,6 @@ fn initial_state(
         tractive_work: 0.0,
         numerical_dissipation: 0.0,
     })
-}
-
-/// Refuse a state whose vectors do not fit `system` (a state is untrusted
-/// input: it may come from another model or be corrupted).
-fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
-    let d = &state.dynamic;
-    let n = system.beam.coordinates();
-    let (bodies, contacts) = (system.bodies.len(), system.contacts.len());
-    let checks = [
-        ("beam DOFs (displacement)", d.beam_displacement.len(), n),
-        ("beam DOFs (velocity)", d.beam_velocity.len(), n),
-        ("beam DOFs (acceleration)", d.beam_acceleration.len(), n),
-        ("beam DOFs (load)", d.beam_load.len(), n),
-        ("bodies", d.bodies.len(), bodies),
-        ("body accelerations", d.body_accelerations.len(), bodies),
-        ("body loads", d.body_loads.len(), bodies),
-        ("contact positions", d.contact_x.len(), contacts),
-        (
-            "contact force histories",
-            state.force_history.len(),
-            contacts,
-        ),
-        ("contact track parts", state.parts.len(), contacts),
-        ("contact states", state.contacts.len(), contacts),
-        (
-            "coupling loads",
-            state.coupling_loads.len(),
-            system.couplings.len(),
-        ),
-    ];
-    if !(state.last_applied.is_empty() || state.last_applied.len() == bodies) {
-        return Err(format!(
-            "the state has {} last applied forces but this model has {bodies} bodies",
-            state.last_applied.len()
-        ));
-    }
-    let loads = state.coupling_loads.iter().flatten();
-    let applied = state.last_applied.iter().flat_map(|v| v.iter());
-    if !loads.chain(applied).all(|x| x.is_finite()) {
-        return Err("the state has a load that is not finite".into());
-    }
-    for (what, found, expected) in checks {
-        if found != expected {
-            return Err(format!(
-                "the state has {found} {what} but this model has {expected}"
-            ));
-        }
-    }
-    if !state.parts.iter().all(|&p| system.has_part(p)) {
-        return Err(
-            "the state names a piece or joint of the track this model does not have".into(),
-        );
-    }
-    if state.pending_restart.iter().any(|&c| c >= contacts) {
-        return Err("the state's pending restarts name a contact this model does not have".into());
-    }
-    if state.events.len() > MAX_EVENTS || state.events.iter().any(|e| e.contact >= contacts) {
-        return Err("the state's event list does not fit this model".into());
-    }
-    Ok(())
 }
 
 #[cfg(test)]

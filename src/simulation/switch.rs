@@ -57,7 +57,8 @@ impl Simulation {
     /// which carries that force into the next step, would make it
     /// alternate (and pull, for α = 0) ever after.
     fn kink_impact(&self, c: usize) -> Result<bool, SolverError> {
-        if self.restart_weight.is_none() || self.state.contacts[c].open {
+        let carries = self.iteration.integrator().carries_step_end();
+        if !carries || self.state.contacts[c].open {
             return Ok(false);
         }
         let approach = -self.normal_velocity_error(c)?;

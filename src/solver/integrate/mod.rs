@@ -305,6 +305,14 @@ impl Integrator {
         matches!(self, Integrator::Hht(_))
     }
 
+    /// Whether the scheme takes the contact force's shape within a step
+    /// from the converged means of the last steps (RK4's stages sample it;
+    /// HHT-α, which sees only a step's ends, holds it), so that a shaped
+    /// profile needs start-up steps.
+    pub fn fits_force_shape(&self) -> bool {
+        matches!(self, Integrator::Rk4(_))
+    }
+
     /// Whether the force elements are evaluated at a predicted end
     /// configuration that the iteration must refine (HHT-α), rather than
     /// in the scheme's own stages (RK4).

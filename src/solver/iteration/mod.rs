@@ -610,6 +610,11 @@ impl ContactIteration {
         &self.memo
     }
 
+    /// The time integrator, for its capabilities.
+    pub fn integrator(&self) -> &Integrator {
+        &self.integrator
+    }
+
     /// The time integrator (its energy bookkeeping is switched from outside).
     pub fn integrator_mut(&mut self) -> &mut Integrator {
         &mut self.integrator

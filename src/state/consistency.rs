@@ -7,8 +7,9 @@
 //! swapped (a wheelset 1.5 m above a "closed" contact) passed both and
 //! stepped on with an energy balance off by a factor of 300.
 
-use super::{SimState, Simulation};
+use super::SimState;
 use crate::integrate::contact_frames;
+use crate::system::System;
 
 /// A recomputed gap may differ from the stored one by the foot point's own
 /// convergence and rounding: this much (m) beyond `solver.gap_tolerance`.
@@ -18,13 +19,14 @@ const GAP_SLACK: f64 = 1e-6;
 /// from the track is no drift but a body out of place.
 const CLOSED_GAP_LIMIT: f64 = 1e-3;
 
-impl Simulation {
+impl SimState {
     /// Refuse a state (of the right shape, all numbers finite) whose bodies
     /// do not sit where its contacts' gaps say, or whose event and exit
-    /// times lie outside [0, its time].
-    pub(super) fn check_consistent(&self, state: &SimState) -> Result<(), String> {
+    /// times lie outside [0, its time]; `gap_tolerance` is the run's
+    /// (`solver.gap_tolerance`).
+    pub fn check_consistent(&self, system: &System, gap_tolerance: f64) -> Result<(), String> {
+        let state = self;
         check_times(state)?;
-        let system = &self.system;
         let d = &state.dynamic;
         let mut frames = Vec::new();
         let located = (d.contact_x.as_slice(), state.parts.as_slice());
@@ -36,7 +38,7 @@ impl Simulation {
             &mut frames,
         )
         .map_err(|_| "the state's contact points do not lie on its track".to_string())?;
-        let slack = 10.0 * self.params.iteration.gap_tolerance + GAP_SLACK;
+        let slack = 10.0 * gap_tolerance + GAP_SLACK;
         for (c, contact) in system.contacts.iter().enumerate() {
             if contact.follower.is_some() {
                 continue;

@@ -1,0 +1,47 @@
+//! The energy balance of a run, term by term: kinetic, strain and spring
+//! energy of the current state plus the energy the steps booked (dampers,
+//! structural damping, impacts, HHT-α's numerical damping) minus the work
+//! of gravity, of the applied forces and of the drives.
+
+use crate::state::SimState;
+use crate::system::System;
+
+/// Kinetic energy of the bodies (J).
+pub fn body_kinetic(system: &System, state: &SimState) -> f64 {
+    system
+        .bodies
+        .iter()
+        .zip(&state.dynamic.bodies)
+        .map(|(body, body_state)| body.kinetic_energy(body_state))
+        .sum()
+}
+
+/// Potential energy of the force elements and of the followers'
+/// suspensions (at their gaps at the end of the last step) (J).
+pub fn spring(system: &System, state: &SimState) -> f64 {
+    let followers: f64 = system
+        .contacts
+        .iter()
+        .zip(&state.contacts)
+        .filter_map(|(c, status)| c.follower.map(|f| f.potential_energy(status.gap)))
+        .sum();
+    system.spring_energy(&state.dynamic.bodies) + followers
+}
+
+/// Kinetic + strain + spring energy + energy dissipated − work done on
+/// the system (J), with `spring` (the spring energy) already known: zero
+/// to round-off less the initial energy when the books are kept.
+pub fn balance_with(system: &System, state: &SimState, spring: f64) -> f64 {
+    let d = &state.dynamic;
+    body_kinetic(system, state)
+        + system.beam.kinetic_energy(&d.beam_velocity)
+        + system.beam.strain_energy(&d.beam_displacement)
+        + spring
+        + d.dissipated
+        + d.beam_dissipated
+        + d.numerical_dissipation
+        + state.impact_loss
+        - state.gravity_work
+        - state.external_work
+        - d.tractive_work
+}

@@ -1,0 +1,118 @@
+//! The quantities of a state that the outputs read but the state does not
+//! hold: the contact frames now, the bodies' accelerations under the last
+//! forces, the beam's dynamics under the last contact forces, and what the
+//! outputs need beside the system and the state to compute them (`Probes`).
+
+use nalgebra::{DVector, Vector3};
+
+use crate::contact::{ContactForce, ContactFrame};
+use crate::integrate::{loads, FrameMemo};
+use crate::state::SimState;
+use crate::system::System;
+
+/// What the outputs read beside the system and the state: where the
+/// sensors and sections are, the frames of the last step (recalled, not
+/// searched again), whether the energy books were kept, and the constant
+/// forces before the first step (after it the state holds them).
+pub struct Probes<'a> {
+    /// Abscissae of the deflection sensors (m).
+    pub sensors: &'a [f64],
+    /// Abscissae of the sections whose moment and shear are outputs (m).
+    pub sections: &'a [f64],
+    pub frames: &'a FrameMemo,
+    /// False where a step was solved without the energy bookkeeping: the
+    /// energy totals no longer hold, and are reported as NaN.
+    pub booked: bool,
+    /// The constant generalized force on each body, used while the state
+    /// has no step's forces (`SimState::last_applied` empty); else empty.
+    pub start_applied: Vec<Vector3<f64>>,
+}
+
+impl Probes<'_> {
+    /// `total`, one of the energy totals the steps book, or NaN where the
+    /// books were not kept.
+    pub fn booked(&self, total: f64) -> f64 {
+        if self.booked {
+            total
+        } else {
+            f64::NAN
+        }
+    }
+}
+
+/// The contact frames of `state` (each contact on the part of the track it
+/// is on), from `memo` where they are the last step's.
+pub fn frames_now(
+    system: &System,
+    state: &SimState,
+    memo: &FrameMemo,
+) -> Result<Vec<ContactFrame>, crate::integrate::IntegrationError> {
+    let d = &state.dynamic;
+    let mut frames = Vec::new();
+    let located = (d.contact_x.as_slice(), state.parts.as_slice());
+    memo.contact_frames(
+        system,
+        &d.beam_displacement,
+        &d.bodies,
+        located,
+        &mut frames,
+    )?;
+    Ok(frames)
+}
+
+/// The contact forces of the last step.
+fn last_forces(state: &SimState) -> Vec<ContactForce> {
+    state.force_history.iter().map(|h| h[0]).collect()
+}
+
+/// Each body's (ẍ, ÿ, θ̈) in `state` under the last forces; NaN where a
+/// contact point cannot be located.
+pub fn body_accelerations(system: &System, state: &SimState, probes: &Probes) -> Vec<Vector3<f64>> {
+    let d = &state.dynamic;
+    let mut beam_load = DVector::zeros(d.beam_displacement.len());
+    let mut body_loads = vec![Vector3::zeros(); system.bodies.len()];
+    let forces = last_forces(state);
+    let applied = match state.last_applied.len() {
+        0 => &probes.start_applied,
+        _ => &state.last_applied,
+    };
+    let Ok(frames) = frames_now(system, state, probes.frames) else {
+        return vec![Vector3::repeat(f64::NAN); system.bodies.len()];
+    };
+    loads(
+        system,
+        &frames,
+        &forces,
+        applied,
+        &d.bodies,
+        &d.beam_velocity,
+        &mut beam_load,
+        &mut body_loads,
+    );
+    system
+        .bodies
+        .iter()
+        .zip(&body_loads)
+        .map(|(body, load)| body.acceleration(load))
+        .collect()
+}
+
+/// The beam in `state` under the contact forces of the last step, with
+/// the acceleration they give (design outputs); `None` when a contact
+/// point cannot be located.
+pub fn beam_dynamics(
+    system: &System,
+    state: &SimState,
+    memo: &FrameMemo,
+) -> Option<crate::design::BeamDynamics> {
+    let d = &state.dynamic;
+    let frames = frames_now(system, state, memo).ok()?;
+    let beam = &system.beam;
+    let loads = crate::design::contact_loads(beam, &frames, &last_forces(state));
+    Some(crate::design::BeamDynamics::new(
+        beam,
+        d.beam_displacement.clone(),
+        d.beam_velocity.clone(),
+        loads,
+    ))
+}

@@ -1,0 +1,118 @@
+//! One rule for when a run ends, read by the CLI's run loop
+//! (`report::stop_time`) and by the FMU's default experiment
+//! (`model::experiment`): at `solver.end_time` where the scene sets one;
+//! else when the last contact leaves the structure, which at the vehicles'
+//! initial speeds happens at `RunEnd::LastExit`.
+
+use crate::scene::{BodyKind, BodySpec, Scene};
+
+/// When a scene's run ends.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum RunEnd {
+    /// At `solver.end_time` (s).
+    EndTime(f64),
+    /// When the last contact leaves the beam [0, L]: that of the vehicle
+    /// whose last contact, at its initial speed, leaves last, after
+    /// `distance` (m) at `speed` (m/s, > 0) (an estimate: forces change
+    /// the speeds).
+    LastExit { distance: f64, speed: f64 },
+    /// No end time and no vehicle moves: nothing ends the run.
+    NoExit,
+}
+
+/// The rule: `solver.end_time`, else the last vehicle's exit.
+pub fn run_end(scene: &Scene) -> RunEnd {
+    if let Some(t) = scene.solver.end_time {
+        return RunEnd::EndTime(t);
+    }
+    let exits = std::iter::once(&scene.body)
+        .chain(&scene.vehicles)
+        .filter_map(|v| travel_to_exit(v, scene.beam.length));
+    let last = exits.reduce(|a, b| if exit_time(b) > exit_time(a) { b } else { a });
+    match last {
+        Some((distance, speed)) => RunEnd::LastExit { distance, speed },
+        None => RunEnd::NoExit,
+    }
+}
+
+/// When a vehicle that travels `distance` at `speed` leaves (s, not
+/// before the start).
+pub fn exit_time((distance, speed): (f64, f64)) -> f64 {
+    (distance / speed).max(0.0)
+}
+
+/// How far the last contact of vehicle `v` travels to leave the beam
+/// [0, L], and at what speed (its initial speed's magnitude); `None` at rest.
+fn travel_to_exit(v: &BodySpec, length: f64) -> Option<(f64, f64)> {
+    let speed = v.initial_speed;
+    // The contacts' spread about `initial_position` (a bogie vehicle's
+    // wheelsets lie ±(l_c + l_t) about its centre).
+    let reach = match (v.kind, v.bogie) {
+        (BodyKind::BogieVehicle, Some(b)) => b.bogie_half_distance + b.axle_half_distance,
+        _ => 0.0,
+    };
+    let x = v.initial_position;
+    if speed > 0.0 {
+        Some((length - (x - reach), speed))
+    } else if speed < 0.0 {
+        Some((x + reach, -speed))
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::BodyKind;
+
+    /// The paper's wheel on its 24 m beam at 10 m/s, and a second wheel
+    /// 6 m behind it: the run ends when the second one has travelled
+    /// 24 + 6 m (closed form (L − x₀) / V of the rear wheel).
+    #[test]
+    fn the_last_vehicle_to_leave_ends_the_run() {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        assert_eq!(scene.body.initial_position, 0.0);
+        let mut rear = scene.body.clone();
+        rear.initial_position = -6.0;
+        scene.vehicles.push(rear);
+        let end = run_end(&scene);
+        assert_eq!(
+            end,
+            RunEnd::LastExit {
+                distance: 30.0,
+                speed: 10.0
+            }
+        );
+        assert_eq!(exit_time((30.0, 10.0)), 3.0);
+        // Both callers read it: the CLI's cap and the FMU's experiment.
+        assert_eq!(crate::report::stop_time(&scene), Ok(10.0 * 30.0 / 10.0));
+        let vibration = crate::model::experiment::FREE_VIBRATION_PERIODS
+            * crate::model::experiment::fundamental_period(&scene);
+        assert_eq!(
+            crate::model::experiment::default_stop_time(&scene),
+            3.0 + vibration
+        );
+        scene.solver.end_time = Some(0.5);
+        assert_eq!(run_end(&scene), RunEnd::EndTime(0.5));
+    }
+
+    /// A vehicle running towards x = 0 leaves after x₀ / |V|; at rest none
+    /// leaves.
+    #[test]
+    fn a_vehicle_running_back_leaves_at_the_start_and_one_at_rest_never() {
+        let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        scene.body.initial_position = 12.0;
+        scene.body.initial_speed = -4.0;
+        assert_eq!(
+            run_end(&scene),
+            RunEnd::LastExit {
+                distance: 12.0,
+                speed: 4.0
+            }
+        );
+        scene.body.initial_speed = 0.0;
+        assert_eq!(run_end(&scene), RunEnd::NoExit);
+        assert!(crate::report::stop_time(&scene).is_err());
+    }
+}
