@@ -283,3 +283,35 @@ fn a_subnormal_budget_is_printed_short() {
     assert!(e.contains("= 5e-324 s"), "{e}");
     assert!(e.len() < 600, "{} characters: {e}", e.len());
 }
+
+/// A step whose contact operator needs more beam integrations than can fit
+/// in the budget, by a lower bound from counts (400 magnets in distinct
+/// elements: 1,600 integrations of 50,000 elements, at least 1.6 s), is
+/// refused before they start, and the refusal says so; on main at
+/// 0f0edf8 it ran to the deadline.
+#[test]
+fn a_step_known_to_outlast_the_budget_is_refused_up_front() {
+    let text = "name = \"fleet\"\ngravity = 9.81\n[beam]\nlength = 100.0\n\
+        mass_per_length = 2303.0\nbending_stiffness = 8.5e10\nsurface_offset = 0.0\n\
+        elements = 50000\n[solver]\nstep = 5e-4\nintegrator = \"hht\"\n\
+        [body]\nname = \"car\"\nkind = \"maglev_vehicle\"\nmass = 30000.0\n\
+        initial_position = 60.0\ninitial_speed = 10.0\n[body.maglev]\ncar_inertia = 1.5e6\n\
+        magnets = 400\nmagnet_spacing = 0.01\nmagnet_mass = 600.0\nstiffness = 8.0e5\n";
+    let scene = guideway::Scene::from_toml_str(text).unwrap();
+    let (mut fmu, _) = instance(&scene);
+    let vr = fmu
+        .model()
+        .table()
+        .by_name("solver.wall_time_budget")
+        .unwrap()
+        .value_reference;
+    fmu.set("fmi2SetReal", &[vr], &[Value::Real(1.0)]).unwrap();
+    fmu.setup_experiment(0.0, None).unwrap();
+    fmu.enter_initialization_mode().unwrap();
+    fmu.exit_initialization_mode().unwrap();
+    let e = fmu.do_step(0.0, scene.solver.step).unwrap_err();
+    assert!(
+        e.contains("refused up front") && e.contains("elements"),
+        "{e}"
+    );
+}

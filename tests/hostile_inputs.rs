@@ -44,6 +44,12 @@ fn a_fleet_whose_contacts_would_need_gigabytes_is_refused_naming_the_bound() {
         error.contains(&format!("at most {MAX_CONTACT_ROWS} rows")),
         "{error}"
     );
+    // The memory the rows would take, and what the bound allows: 24 bytes
+    // (three dense operators of 8-byte entries) × rows².
+    assert!(
+        error.contains("240 GB for 100000 rows (96 MB at the bound)"),
+        "{error}"
+    );
     // 10 × 1,000 (2.4 GB and 296 s before the first step) likewise.
     assert!(Scene::from_toml_str(&maglev_fleet(10, 1000)).is_err());
 }
@@ -371,5 +377,55 @@ fn a_coach_too_heavy_for_a_contact_point_is_named_with_its_mass() {
     assert!(
         error.contains("coach1") && error.contains("1e15 kg"),
         "{error}"
+    );
+}
+
+/// `guideway modes --count 60` on 4,096 elements failed with "the
+/// subspace iteration lost rank" (issue 30): from random start vectors
+/// every column of K⁻¹ M X is mode 1 to within λ₁/λ₁₂₀ ≈ 1e-8, and the
+/// Gram matrix of the Rayleigh–Ritz step squares that below ε; then, once
+/// M-orthonormalized, the Ritz values never settled to 1e-10 because mode
+/// 2 jitters at 1e-9 from the rounding of the 120 × 120 eigenproblem.
+#[test]
+fn sixty_modes_of_a_4096_element_simply_supported_beam_match_the_closed_form() {
+    let mut scene = Scene::lee1994(guideway::scene::BodyKind::Wheel, 10.0, 0.0025);
+    scene.beam.elements = 4096;
+    let beam = guideway::beam::Beam::new(&scene.beam).expect("beam");
+    let modes = beam.modes(60).expect("60 modes");
+    assert_eq!(modes.omega.len(), 60);
+    let (l, ei, m) = (
+        scene.beam.length,
+        scene.beam.bending_stiffness,
+        scene.beam.mass_per_length,
+    );
+    let pi = std::f64::consts::PI;
+    // Closed form of the pinned–pinned Euler–Bernoulli beam: ω_n = (nπ/L)² √(EI/m).
+    let exact = |n: f64| (n * pi / l).powi(2) * (ei / m).sqrt();
+    for (i, &omega) in modes.omega.iter().enumerate() {
+        let n = (i + 1) as f64;
+        // Hermite cubics with a consistent mass are high by the leading term
+        // (kh)⁴/1440 of their error (k = nπ/L; the dense eigenproblem on 8
+        // to 32 elements stays within 0.1 % of it below kh = 0.4).
+        let kh = n * pi / 4096.0;
+        let finite_element = kh.powi(4) / 1440.0;
+        // ω² also carries an absolute rounding error from the band
+        // stiffness's conditioning, about 1e-4 λ₁ at 4,096 elements per
+        // length (mode 1 high by 1.7e-5, docs/structures.md); allowed
+        // 4e-4 λ₁, which is 2e-4 of ω₁ and 1.5e-11 of ω₆₀.
+        let rounding = 0.5 * 4e-4 * (exact(1.0) / exact(n)).powi(2);
+        let error = omega / exact(n) - 1.0;
+        assert!(
+            (error - finite_element).abs() <= rounding,
+            "mode {n}: ω = {omega}, closed form {}, relative error {error:e}, \
+             finite-element term {finite_element:e}, rounding allowed {rounding:e}",
+            exact(n)
+        );
+    }
+    // Where rounding is small, the finite-element term is what is seen.
+    let error_60 = modes.omega[59] / exact(60.0) - 1.0;
+    let term_60 = (60.0 * pi / 4096.0).powi(4) / 1440.0;
+    assert!(
+        (error_60 / term_60 - 1.0).abs() < 0.01,
+        "{error_60:e} against {term_60:e}"
     );
 }

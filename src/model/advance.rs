@@ -18,9 +18,11 @@ use std::time::{Duration, Instant};
 #[derive(Debug)]
 pub enum Stop {
     Solver(SolverError),
-    /// The budget ran out at `reached` (dynamics time).
+    /// The budget ran out at `reached` (dynamics time), or an internal step
+    /// was refused up front: `foreseen` says what it would have needed.
     OverBudget {
         reached: f64,
+        foreseen: Option<String>,
     },
 }
 
@@ -45,6 +47,7 @@ pub fn advance_within<D: Dynamics>(
         {
             Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
                 reached: sim.time(),
+                foreseen: crate::deadline::foreseen(),
             },
             stop => stop,
         })
@@ -84,6 +87,7 @@ fn advance_chunks<D: Dynamics>(
         if started.elapsed() > budget {
             return Err(Stop::OverBudget {
                 reached: sim.time(),
+                foreseen: None,
             });
         }
         chunk = if until_event {

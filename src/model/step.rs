@@ -187,17 +187,23 @@ impl<D: Dynamics> Model<D> {
             }
             // Not one internal step done: a shorter communication step
             // cannot help, only a larger budget or a smaller model.
-            Err(advance::Stop::OverBudget { reached }) if reached <= start => StepOutcome::Failed {
-                message: format!(
-                    "one internal step (solver.step = {step:e} s) takes longer than \
-                         solver.wall_time_budget = {} s; {}; raise the budget, or make the \
-                         model smaller (beam.elements, contacts)",
-                    crate::report::fmt_number(self.wall_time_budget),
-                    rolled_back(),
-                ),
-                curable: false,
-            },
-            Err(advance::Stop::OverBudget { reached }) => StepOutcome::Failed {
+            Err(advance::Stop::OverBudget { reached, foreseen }) if reached <= start => {
+                let why = match foreseen {
+                    Some(why) => format!(" (refused up front: {why})"),
+                    None => String::new(),
+                };
+                StepOutcome::Failed {
+                    message: format!(
+                        "one internal step (solver.step = {step:e} s) takes longer than \
+                         solver.wall_time_budget = {} s{why}; {}; raise the budget, or make \
+                         the model smaller (beam.elements, contacts)",
+                        crate::report::fmt_number(self.wall_time_budget),
+                        rolled_back(),
+                    ),
+                    curable: false,
+                }
+            }
+            Err(advance::Stop::OverBudget { reached, .. }) => StepOutcome::Failed {
                 message: format!(
                     "the step took longer than solver.wall_time_budget = {} s (it had reached \
                      t = {:e} s of {to:e} s); {}; use shorter communication steps or \

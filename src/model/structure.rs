@@ -25,7 +25,7 @@ pub fn initial_dependencies<D: Dynamics>(scene: &Scene) -> Result<Vec<Vec<u32>>,
             continue;
         }
         let Some(start) = v.start else { continue };
-        let changed = moved_outputs(&base, v.value_reference, start, &reference);
+        let changed = moved_outputs(&mut base, v.value_reference, start, &reference);
         for (k, d) in deps.iter_mut().enumerate() {
             if changed.as_ref().is_none_or(|c| c[k]) {
                 d.push(v.value_reference);
@@ -59,23 +59,29 @@ fn output_refs(table: &VariableTable) -> Vec<(u32, VarType)> {
 }
 
 /// Which outputs change when variable `vr` moves off `start`; `None` if the
-/// model accepts no move of it.
+/// model accepts no move of it. Each move starts from `model` reset to its
+/// start values, the state a new model of the same scene is in: a new model
+/// per move rebuilt the variable table of every vehicle each time, which
+/// made `export` grow as (variables)² × vehicles (issue 30).
 fn moved_outputs<D: Dynamics>(
-    base: &Model<D>,
+    model: &mut Model<D>,
     vr: u32,
     start: Value,
     reference: &[Value],
 ) -> Option<Vec<bool>> {
+    let mut changed = None;
     for value in moves(start) {
-        let mut model = Model::<D>::new(base.scene().clone()).ok()?;
+        model.reset();
         if model.set(&[vr], &[value]).is_err() {
             continue;
         }
-        if let Ok(values) = outputs_at_start(&mut model) {
-            return Some(values.iter().zip(reference).map(|(a, b)| a != b).collect());
+        if let Ok(values) = outputs_at_start(model) {
+            changed = Some(values.iter().zip(reference).map(|(a, b)| a != b).collect());
+            break;
         }
     }
-    None
+    model.reset();
+    changed
 }
 
 /// Values off `start`, up then down: by 10 % and a little more, so that a
@@ -170,5 +176,48 @@ mod tests {
             }
         }
         assert!(checked > 100, "only {checked} pairs checked");
+    }
+
+    /// One model reset between moves gives what a new model per move gave
+    /// (the analysis before issue 30's fix, written out here as the
+    /// reference), on a train with coupling ports on every body of a coach.
+    #[test]
+    fn a_reset_model_finds_what_a_new_model_per_move_found() {
+        let mut scene = crate::scene::builtin("train-3-coaches-2x25-5").unwrap();
+        scene.couplings = ["coach1", "coach1_bogie2", "coach2_wheelset3"]
+            .map(String::from)
+            .to_vec();
+        let deps = initial_dependencies::<Simulation>(&scene).unwrap();
+        let mut base = Model::<Simulation>::new(scene.clone()).unwrap();
+        let reference = outputs_at_start(&mut base).unwrap();
+        let mut expected = vec![Vec::new(); reference.len()];
+        for v in base.table().variables() {
+            let probed = matches!(
+                v.role,
+                Role::Parameter(_) | Role::Setting(_) | Role::Input(_)
+            );
+            let Some(start) = v.start.filter(|_| probed) else {
+                continue;
+            };
+            let changed = moves(start).into_iter().find_map(|value| {
+                let mut model = Model::<Simulation>::new(scene.clone()).ok()?;
+                model.set(&[v.value_reference], &[value]).ok()?;
+                let values = outputs_at_start(&mut model).ok()?;
+                Some(
+                    values
+                        .iter()
+                        .zip(&reference)
+                        .map(|(a, b)| a != b)
+                        .collect::<Vec<_>>(),
+                )
+            });
+            for (k, e) in expected.iter_mut().enumerate() {
+                if changed.as_ref().is_none_or(|c| c[k]) {
+                    e.push(v.value_reference);
+                }
+            }
+        }
+        assert_eq!(deps, expected);
+        assert!(deps.iter().any(|d| !d.is_empty()));
     }
 }

@@ -490,6 +490,14 @@ impl PairEntry<'_> {
 /// Cached element pairs beyond which the cache is emptied (about 16 MB).
 const MAX_CACHED_PAIRS: usize = 1 << 16;
 
+/// A lower bound of the wall time one beam integration takes per element,
+/// for refusing a step up front (`deadline::foresee`): measured at about
+/// 4e-7 s (20,000 elements, 21 magnets, HHT: two steps of some 170
+/// integrations in 1.38 s, 2026-11-26 19:39 UTC, load 14) and 2e-6 s (200
+/// magnets on 100,000 elements, 166 s, issue 30); taken 10 to 100 times
+/// lower, so that only a step that cannot fit on a fast machine is refused.
+const MIN_SECONDS_PER_ELEMENT_INTEGRATION: f64 = 2e-8;
+
 /// The kinds of rows a contact has: 0 tangential, 1 normal.
 fn row_kinds(rolls: bool) -> &'static [usize] {
     if rolls {
@@ -927,7 +935,15 @@ impl ContactIteration {
         // entry) made filling and checking a tenth of the building.
         matrix.as_mut_slice().fill(0.0);
         // Grid steps differ from the nominal step by round-off only.
-        if crate::solver::parameters::is_nominal_step(dt, self.nominal_step) {
+        let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
+        if crate::deadline::is_set() {
+            self.foresee_beam_integrations(system, frames, nominal);
+        }
+        if crate::deadline::passed() {
+            self.delassus.frames = measured;
+            return Err(StepError::OverBudget);
+        }
+        if nominal {
             self.beam_compliance_cached(system, frames, part, &mut matrix);
         } else {
             self.beam_compliance_integrated(system, frames, (dt, part), &mut matrix);
@@ -956,6 +972,53 @@ impl ContactIteration {
             Part::Gap => (self.delassus.gap, self.delassus.gap_built) = (inverted, true),
         }
         Ok(())
+    }
+
+    /// Refuse the operator up front (`deadline::foresee`) when the beam
+    /// integrations it needs, at `MIN_SECONDS_PER_ELEMENT_INTEGRATION` for
+    /// each element, cannot end before the step's deadline: four per loaded
+    /// element missing from the cache on grid steps, one per row applied on
+    /// the beam on other steps.
+    fn foresee_beam_integrations(
+        &self,
+        system: &System,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        nominal: bool,
+    ) {
+        let elements_of = |frames: &[ContactFrame]| {
+            let mut e: Vec<usize> = frames
+                .iter()
+                .filter(|f| f.on_beam)
+                .map(|f| f.shape.element)
+                .collect();
+            e.sort_unstable();
+            e.dedup();
+            e
+        };
+        let integrations = if nominal {
+            let measured = elements_of(measure_frames);
+            let missing = elements_of(start_frames)
+                .into_iter()
+                .filter(|&le| {
+                    (measured.iter()).any(|&me| !self.element_responses.contains_key(&(me, le)))
+                })
+                .count();
+            4 * missing
+        } else {
+            (start_frames.iter().zip(&system.contacts))
+                .filter(|(f, _)| f.on_beam)
+                .map(|(_, c)| row_kinds(c.rolls()).len())
+                .sum()
+        };
+        let elements = system.beam.elements();
+        let seconds = (integrations * elements) as f64 * MIN_SECONDS_PER_ELEMENT_INTEGRATION;
+        crate::deadline::foresee(seconds, || {
+            format!(
+                "its contact operator needs {integrations} integrations of the beam's \
+                 {elements} elements, at least {} s",
+                crate::report::fmt_number(seconds)
+            )
+        });
     }
 
     fn integrate_and_measure(
