@@ -1054,7 +1054,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::Finite,
         note: "m/s, positive to the right",
         doc: "initial travel speed, positive to the right (a constant prescribed_speed follows it)",
-        access: Access::Vehicle(|b| Some(b.initial_speed), |b, x| set_initial_speed(b, x)),
+        access: Access::Vehicle(|b| Some(b.initial_speed), set_initial_speed),
     },
     Field {
         path: "body.prescribed_speed",
