@@ -1299,11 +1299,9 @@ pub fn field_notes_markdown() -> String {
          the rules of plain numbers and the FMU's parameters; do not edit by hand: \
          `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites it. \
          The rules in full are in [Scenes, every field](scenes.md#every-field). \
-         A train's `[[vehicles]]` take the fields of `[body]`; an FMU exports \
-         each vehicle's numeric fields as parameters named `<vehicle>.<field>` \
-         (`axle2.initial_speed`, `coach3.bogie.primary_stiffness`), and \
-         `train.initial_speed` sets every vehicle's initial speed at once \
-         ([The FMU](fmu.md)).\n\n\
+         A train's `[[vehicles]]` take the fields of `[body]`; the FMU \
+         parameter column names the fields an FMU exports today (of `[body]` \
+         only, [The FMU](fmu.md)).\n\n\
          | table | what it holds |\n|---|---|\n",
     );
     for (path, note) in super::annotate::TABLE_NOTES {
@@ -1328,6 +1326,15 @@ pub fn field_notes_markdown() -> String {
     page
 }
 
+/// The `[body]` fields today's FMU exports (`model/variables.rs`).
+const FMU_BODY_FIELDS: [&str; 5] = [
+    "mass",
+    "inertia",
+    "radius",
+    "initial_position",
+    "initial_speed",
+];
+
 /// How the FMU names the parameter of `f`, with `<vehicle>` and `<sensor>`
 /// for the names the scene gives; empty for no parameter.
 fn fmu_name_pattern(f: &Field) -> String {
@@ -1335,7 +1342,12 @@ fn fmu_name_pattern(f: &Field) -> String {
     match f.access {
         Access::None => String::new(),
         Access::Scene(..) => format!("`{}`", f.path),
-        Access::Vehicle(..) => format!("`<vehicle>.{}`", rest("body.")),
+        // Today's FMU exports these of the first vehicle only (issue 27
+        // item 2: every vehicle's numeric fields, by this table's access).
+        Access::Vehicle(..) if FMU_BODY_FIELDS.contains(&rest("body.")) => {
+            format!("`<body>.{}`", rest("body."))
+        }
+        Access::Vehicle(..) => String::new(),
         Access::Sensor(..) => format!("`sensor.<sensor>.{}`", rest("sensors.")),
     }
 }
