@@ -8,15 +8,16 @@ mod annotate;
 mod builtin;
 mod contact_law;
 mod error;
+pub mod fields;
 mod irregularity;
 mod limits;
 mod validate;
 
 pub use advice::advisories;
-pub use annotate::field_notes_markdown;
 pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
+pub use fields::field_notes_markdown;
 pub use irregularity::{
     parse_table, read_table, track_extent, IrregularitySpec, MAX_IRREGULARITIES, MAX_TABLE_POINTS,
     TABLE_PATHS_VARIABLE,

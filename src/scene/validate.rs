@@ -3,6 +3,7 @@
 //! Every rule is checked and every broken one reported, so that a person can
 //! fix a scene file in one pass.
 
+use super::fields::Rule;
 use super::{
     BodyKind, DampingSpec, EndSupport, ForceProfile, IntegratorKind, JointKind, Scene, SceneError,
 };
@@ -1254,43 +1255,26 @@ impl Checks {
         self.problems.push(Problem::new(path, value, rule));
     }
 
-    /// Finite and within ±`MAX_MAGNITUDE`; reports and returns false
-    /// otherwise.
-    fn finite(&mut self, path: &str, x: f64) -> bool {
-        if !x.is_finite() {
-            self.fail(path, fmt_f64(x), "must be a finite number");
-            false
-        } else if x.abs() > MAX_MAGNITUDE {
-            self.fail(
-                path,
-                fmt_f64(x),
-                format!("must lie within ±{MAX_MAGNITUDE:e} (the magnitude limit)"),
-            );
-            false
-        } else {
-            true
+    /// Check `x` against `rule` of the field table (whose words the
+    /// message takes); reports and returns false when it breaks it.
+    fn rule(&mut self, path: &str, x: f64, rule: Rule) -> bool {
+        match rule.problem(x, 0.0) {
+            Some(words) => {
+                self.fail(path, fmt_f64(x), words);
+                false
+            }
+            None => true,
         }
     }
 
-    /// Finite, > 0 and within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`]; reports
-    /// and returns false otherwise.
+    /// Finite and within ±`MAX_MAGNITUDE`.
+    fn finite(&mut self, path: &str, x: f64) -> bool {
+        self.rule(path, x, Rule::Finite)
+    }
+
+    /// Finite, > 0 and within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`].
     fn positive(&mut self, path: &str, x: f64) -> bool {
-        if !self.finite(path, x) {
-            return false;
-        }
-        if x <= 0.0 {
-            self.fail(path, fmt_f64(x), "must be > 0");
-            return false;
-        }
-        if x < MIN_MAGNITUDE {
-            self.fail(
-                path,
-                fmt_f64(x),
-                format!("must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"),
-            );
-            return false;
-        }
-        true
+        self.rule(path, x, Rule::Positive)
     }
 
     /// At most `MAX_NAME_CHARS` characters.
@@ -1307,9 +1291,7 @@ impl Checks {
 
     /// Finite and >= 0.
     fn non_negative(&mut self, path: &str, x: f64) {
-        if self.finite(path, x) && x < 0.0 {
-            self.fail(path, fmt_f64(x), "must be >= 0");
-        }
+        self.rule(path, x, Rule::NonNegative);
     }
 
     fn required_positive(&mut self, path: &str, x: Option<f64>, who: &str) {

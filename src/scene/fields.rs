@@ -1,0 +1,1466 @@
+//! The scene's field table: every field of a scene file once, with its unit,
+//! default, rule, note and (for the numbers an FMU may set) how to read and
+//! write it.
+//!
+//! One table drives the validation's rules for plain numbers, the notes of
+//! the annotated scene (`guideway scenes --show`), the generated reference
+//! page `docs/scene-fields.md` and the FMU's parameters (by path, for every
+//! vehicle). A new field is one row here (plus its serde field in
+//! `scene/mod.rs` and any rule that ties it to other fields in
+//! `validate.rs`).
+
+use super::{BodySpec, Scene, SensorSpec, SpeedSpec, MAX_ELEMENTS, MAX_MAGNITUDE, MIN_MAGNITUDE};
+
+/// One field of a scene file.
+#[derive(Debug, Clone, Copy)]
+pub struct Field {
+    /// Dotted path in the file; `body.*` fields are those of every vehicle
+    /// (`[body]` and each `[[vehicles]]`), `sensors.*` of each sensor.
+    pub path: &'static str,
+    /// SI unit as FMI writes it (`N.m2`), empty for none.
+    pub unit: &'static str,
+    /// The value a scene that leaves the field out gets.
+    pub default: Default,
+    /// The rule the value must satisfy on its own (rules tying fields to
+    /// each other are `validate.rs`'s).
+    pub rule: Rule,
+    /// Unit, meaning, rule in a few words: the comment beside the field in
+    /// an annotated scene.
+    pub note: &'static str,
+    /// What the field means, as an FMU parameter's description (empty:
+    /// not an FMU parameter).
+    pub doc: &'static str,
+    /// How an FMU reads and writes it; `Access::None`: not a parameter.
+    pub access: Access,
+}
+
+/// The value of a field a scene leaves out.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Default {
+    /// The scene must give it (where its table or kind is present).
+    Required,
+    /// Left out: absent (off, or derived from other fields).
+    Absent,
+    /// Left out: this value.
+    Value(&'static str),
+}
+
+/// The rule of one value on its own.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rule {
+    /// A finite number within ±`MAX_MAGNITUDE`.
+    Finite,
+    /// Finite and > 0 (and >= `MIN_MAGNITUDE`).
+    Positive,
+    /// Finite and >= 0.
+    NonNegative,
+    /// Finite, in [0, 1].
+    UnitInterval,
+    /// An integer in 1..=`MAX_ELEMENTS`.
+    Elements,
+    /// Finite and >= -track.approach (a start on the approach or the
+    /// beam; `validate.rs` adds the beam's end and the rail gaps).
+    OnTrack,
+    /// Not a plain number: the note states the rule, `validate.rs` checks
+    /// it.
+    Words,
+}
+
+/// How an FMU reads and writes a numeric field (`None` from the getter:
+/// absent in this scene, so no parameter).
+#[derive(Debug, Clone, Copy)]
+pub enum Access {
+    None,
+    /// A field of the scene itself.
+    Scene(fn(&Scene) -> Option<f64>, fn(&mut Scene, f64)),
+    /// A field of each vehicle.
+    Vehicle(fn(&BodySpec) -> Option<f64>, fn(&mut BodySpec, f64)),
+    /// A field of each sensor.
+    Sensor(fn(&SensorSpec) -> Option<f64>, fn(&mut SensorSpec, f64)),
+}
+
+impl Rule {
+    /// What is wrong with `x` under this rule, in the words of a scene
+    /// error; `approach` is `track.approach` (for `OnTrack`).
+    pub fn problem(self, x: f64, approach: f64) -> Option<String> {
+        if !x.is_finite() {
+            return Some("must be a finite number".into());
+        }
+        if x.abs() > MAX_MAGNITUDE {
+            return Some(format!(
+                "must lie within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
+            ));
+        }
+        match self {
+            Rule::Positive if x <= 0.0 => Some("must be > 0".into()),
+            Rule::Positive if x < MIN_MAGNITUDE => Some(format!(
+                "must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"
+            )),
+            Rule::NonNegative if x < 0.0 => Some("must be >= 0".into()),
+            Rule::UnitInterval if !(0.0..=1.0).contains(&x) => Some("must lie in [0, 1]".into()),
+            Rule::Elements if x < 1.0 => Some("must be >= 1".into()),
+            Rule::Elements if x > MAX_ELEMENTS as f64 => Some(format!("must be <= {MAX_ELEMENTS}")),
+            Rule::Elements if x.fract() != 0.0 => Some("must be an integer".into()),
+            Rule::OnTrack if x < -approach => Some(format!(
+                "must be >= {} (-track.approach: the start of the track)",
+                -approach
+            )),
+            _ => None,
+        }
+    }
+
+    /// The inclusive range of values this rule accepts, as declared bounds
+    /// (every value within them passes `problem`).
+    pub fn bounds(self, approach: f64) -> (f64, f64) {
+        match self {
+            Rule::Positive => (MIN_MAGNITUDE, MAX_MAGNITUDE),
+            Rule::NonNegative => (0.0, MAX_MAGNITUDE),
+            Rule::UnitInterval => (0.0, 1.0),
+            Rule::Elements => (1.0, MAX_ELEMENTS as f64),
+            Rule::OnTrack => ((-approach).max(-MAX_MAGNITUDE), MAX_MAGNITUDE),
+            Rule::Finite | Rule::Words => (-MAX_MAGNITUDE, MAX_MAGNITUDE),
+        }
+    }
+}
+
+/// The row of `path` (`vehicles.*` read as `body.*`).
+pub fn field(path: &str) -> Option<&'static Field> {
+    let body_path;
+    let path = match path.strip_prefix("vehicles.") {
+        Some(rest) => {
+            body_path = format!("body.{rest}");
+            body_path.as_str()
+        }
+        None => path,
+    };
+    FIELDS.iter().find(|f| f.path == path)
+}
+
+/// A vehicle's initial speed; a constant prescribed speed follows it (the
+/// scene's rule: the prescribed speed starts at the initial speed).
+fn set_initial_speed(body: &mut BodySpec, x: f64) {
+    body.initial_speed = x;
+    if let Some(SpeedSpec::Constant(v)) = body.prescribed_speed.as_mut() {
+        *v = x;
+    }
+}
+
+/// Every field of a scene file, in the order of the reference page.
+pub const FIELDS: &[Field] = &[
+    Field {
+        path: "name",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "letters, digits, - _ . ; the FMU's model name",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "description",
+        unit: "",
+        default: Default::Value("\"\""),
+        rule: Rule::Words,
+        note: "one line",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "gravity",
+        unit: "m/s^2",
+        default: Default::Value("9.81"),
+        rule: Rule::NonNegative,
+        note: "m/s^2, downward on every body; 0 in the paper's scenes",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.approach",
+        unit: "m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "m, rigid ground before the beam (x < 0)",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.run_off",
+        unit: "m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "m, rigid ground after the beam (x > L)",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.type",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "step | ramp | cosine_dip | sine | table | random; only its fields",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.position",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, centre of a step or a cosine dip",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.height",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, rise of a step or a ramp",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.smoothing",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0, rounding of a step or a ramp",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.start",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, where a ramp begins",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.length",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0, length of a ramp",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.wavelength",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0, of a cosine dip or a sine",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.depth",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, of a cosine dip",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.amplitude",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, of a sine",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.phase",
+        unit: "rad",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "rad, of a sine",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.points",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "[[x, r], ...] in m, x increasing, 2 to 100 000",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.file",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "CSV of rows x, r (m), relative to the scene file",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.spectrum",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "iso8608 | fra | german_low | german_high",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.class",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "A ... H (iso8608), 1 ... 6 (fra)",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.seed",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "0 to 4294967295",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.shortest_wavelength",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.longest_wavelength",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > shortest_wavelength",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "track.irregularities.spacing",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, <= shortest / 4; default shortest / 10",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.suspension.stiffness",
+        unit: "N/m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "N/m, vertical spring, > 0",
+        doc: "vertical spring of the suspension",
+        access: Access::Vehicle(
+            |b| b.suspension.as_ref().map(|s| s.stiffness),
+            |b, x| {
+                if let Some(s) = b.suspension.as_mut() {
+                    s.stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.suspension.damping",
+        unit: "N.s/m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, vertical damper, >= 0",
+        doc: "vertical damper of the suspension",
+        access: Access::Vehicle(
+            |b| b.suspension.as_ref().map(|s| s.damping),
+            |b, x| {
+                if let Some(s) = b.suspension.as_mut() {
+                    s.damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.suspension.unsprung_mass",
+        unit: "kg",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "kg, the glider under the spring, >= 0 (0: the massless follower)",
+        doc: "mass of the glider under the spring",
+        access: Access::Vehicle(
+            |b| b.suspension.as_ref().map(|s| s.unsprung_mass),
+            |b, x| {
+                if let Some(s) = b.suspension.as_mut() {
+                    s.unsprung_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.car_inertia",
+        unit: "kg.m2",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, car body pitch inertia",
+        doc: "car body pitch inertia",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.car_inertia),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.car_inertia = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.bogie_mass",
+        unit: "kg",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "kg, > 0, one bogie",
+        doc: "mass of one bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.bogie_mass),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.bogie_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.bogie_inertia",
+        unit: "kg.m2",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, one bogie",
+        doc: "pitch inertia of one bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.bogie_inertia),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.bogie_inertia = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.wheelset_mass",
+        unit: "kg",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "kg, > 0, or 0: massless followers under the axles",
+        doc: "mass of one wheelset (0: massless followers)",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.wheelset_mass),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.wheelset_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.bogie_half_distance",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "m, l_c > l_t: half the distance of the bogie centres",
+        doc: "half the distance of the bogie centres",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.bogie_half_distance),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.bogie_half_distance = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.axle_half_distance",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "m, l_t > 0: half a bogie's axle distance",
+        doc: "half a bogie's axle distance",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.axle_half_distance),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.axle_half_distance = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.primary_stiffness",
+        unit: "N/m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "N/m, k1 > 0, per axle",
+        doc: "primary suspension stiffness per axle",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.primary_stiffness),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.primary_stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.primary_damping",
+        unit: "N.s/m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, c1 >= 0, per axle",
+        doc: "primary suspension damping per axle",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.primary_damping),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.primary_damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.secondary_stiffness",
+        unit: "N/m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "N/m, k2 > 0, per bogie",
+        doc: "secondary suspension stiffness per bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.secondary_stiffness),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.secondary_stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.secondary_damping",
+        unit: "N.s/m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, c2 >= 0, per bogie",
+        doc: "secondary suspension damping per bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.secondary_damping),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.secondary_damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.wheel_radius",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Positive,
+        note: "m, > 0, with wheelset_inertia: rolling wheelsets",
+        doc: "rolling radius of the wheelsets",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().and_then(|g| g.wheel_radius),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.wheel_radius = Some(x)
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.wheelset_inertia",
+        unit: "kg.m2",
+        default: Default::Absent,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, with wheel_radius",
+        doc: "rolling inertia of one wheelset",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().and_then(|g| g.wheelset_inertia),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.wheelset_inertia = Some(x)
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.car_inertia",
+        unit: "kg.m2",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, car body pitch inertia",
+        doc: "car body pitch inertia",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.car_inertia),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.car_inertia = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.magnets",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "1 to 1000, centred on the car body",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.maglev.magnet_spacing",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "m, > 0",
+        doc: "distance between neighbouring magnets",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.magnet_spacing),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.magnet_spacing = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.magnet_mass",
+        unit: "kg",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "kg, > 0, or 0: massless followers under the magnets' stations",
+        doc: "mass of one magnet (0: massless followers)",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.magnet_mass),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.magnet_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.stiffness",
+        unit: "N/m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "N/m, k > 0, one magnet's suspension",
+        doc: "stiffness of one magnet's suspension",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.stiffness),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.damping",
+        unit: "N.s/m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, c >= 0, one magnet's suspension",
+        doc: "damping of one magnet's suspension",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.damping),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.contact_law.law",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "rigid (Lee's constraint, the default), hertz or ems (docs/contact-laws.md)",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.preset",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note:
+            "wheel-rail (Hertz, 0.46 m wheel on a 0.3 m rail head) or ems (10 mm gap, PD control)",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.coefficient",
+        unit: "N/m^1.5",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "N/m^1.5, Hertz C_H > 0, or from the radii",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.wheel_radius",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0, Hertz: rolling radius",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.rail_radius",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0, Hertz: rail head transverse radius",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.elastic_modulus",
+        unit: "Pa",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "Pa, > 0, Hertz: steel if left out",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.poisson_ratio",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "in [0, 0.5), Hertz: steel if left out",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.nominal_gap",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m, > 0, EMS: the air gap held",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.proportional_gain",
+        unit: "1/m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "1/m, EMS: K_p / i0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.derivative_gain",
+        unit: "s/m",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "s/m, EMS: K_d / i0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.contact_law.max_force",
+        unit: "N",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "N, > 0, EMS: saturation; twice the static load if left out",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.length",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "m, L",
+        doc: "length of the beam",
+        access: Access::Scene(|s| Some(s.beam.length), |s, x| s.beam.length = x),
+    },
+    Field {
+        path: "beam.mass_per_length",
+        unit: "kg/m",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "kg/m",
+        doc: "mass per unit length",
+        access: Access::Scene(
+            |s| Some(s.beam.mass_per_length),
+            |s, x| s.beam.mass_per_length = x,
+        ),
+    },
+    Field {
+        path: "beam.bending_stiffness",
+        unit: "N.m2",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "N m^2, EI > 0",
+        doc: "bending stiffness EI",
+        access: Access::Scene(
+            |s| Some(s.beam.bending_stiffness),
+            |s, x| s.beam.bending_stiffness = x,
+        ),
+    },
+    Field {
+        path: "beam.surface_offset",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "m, h: neutral axis to top surface, >= 0",
+        doc: "distance from the neutral axis to the top surface",
+        access: Access::Scene(
+            |s| Some(s.beam.surface_offset),
+            |s, x| s.beam.surface_offset = x,
+        ),
+    },
+    Field {
+        path: "beam.elements",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Elements,
+        note: "Hermite cubic elements, >= 1",
+        doc: "number of Hermite cubic beam elements",
+        access: Access::Scene(
+            |s| Some(s.beam.elements as f64),
+            |s, x| s.beam.elements = x as usize,
+        ),
+    },
+    Field {
+        path: "beam.supports.left",
+        unit: "",
+        default: Default::Value("pinned"),
+        rule: Rule::Words,
+        note: "pinned | clamped | free",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.right",
+        unit: "",
+        default: Default::Value("pinned"),
+        rule: Rule::Words,
+        note: "pinned | clamped | free",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.intermediate",
+        unit: "m",
+        default: Default::Value("[]"),
+        rule: Rule::Words,
+        note: "m, pinned supports strictly inside, increasing",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.springs.at",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "m, 0 <= at <= L: an elastic support",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.springs.vertical",
+        unit: "N/m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N/m, >= 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.springs.rotational",
+        unit: "N.m/rad",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N m/rad, >= 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.springs.vertical_damping",
+        unit: "N.s/m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, >= 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.supports.springs.rotational_damping",
+        unit: "N.m.s/rad",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N m s/rad, >= 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.joints.at",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "m, 0 < at, at + gap < L, increasing",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.joints.kind",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "continuous | hinge | separate",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.joints.gap",
+        unit: "m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "m, rail gap >= 0, separate joints only",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.damping.alpha",
+        unit: "1/s",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "1/s, Rayleigh C = alpha M + beta K, >= 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.damping.beta",
+        unit: "s",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "s, Rayleigh stiffness coefficient, >= 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.damping.ratio",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "damping ratio at both `modes`, 0 <= ratio < 1",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.damping.modes",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "two different bending modes, from 1",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.damping.ratios",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "damping ratios at `frequencies`, [0, 1)",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "beam.damping.frequencies",
+        unit: "Hz",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "Hz, two different, > 0",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.name",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "identifier; outputs are <name>.x, ...",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.kind",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "wheel | glider | sprung_mass | bogie_vehicle | maglev_vehicle | moving_force",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.mass",
+        unit: "kg",
+        default: Default::Required,
+        rule: Rule::Positive,
+        note: "kg, > 0",
+        doc: "mass of the body",
+        access: Access::Vehicle(|b| Some(b.mass), |b, x| b.mass = x),
+    },
+    Field {
+        path: "body.inertia",
+        unit: "kg.m2",
+        default: Default::Absent,
+        rule: Rule::Positive,
+        note: "kg m^2, centroidal J; wheel only",
+        doc: "centroidal moment of inertia of the wheel",
+        access: Access::Vehicle(|b| b.inertia, |b, x| b.inertia = Some(x)),
+    },
+    Field {
+        path: "body.radius",
+        unit: "m",
+        default: Default::Absent,
+        rule: Rule::Positive,
+        note: "m, r; wheel only",
+        doc: "radius of the wheel",
+        access: Access::Vehicle(|b| b.radius, |b, x| b.radius = Some(x)),
+    },
+    Field {
+        path: "body.initial_position",
+        unit: "m",
+        default: Default::Value("0"),
+        rule: Rule::OnTrack,
+        note: "m, contact abscissa at t = 0, -approach <= x < L",
+        doc: "abscissa of the contact point at t = 0",
+        access: Access::Vehicle(|b| Some(b.initial_position), |b, x| b.initial_position = x),
+    },
+    Field {
+        path: "body.initial_speed",
+        unit: "m/s",
+        default: Default::Required,
+        rule: Rule::Finite,
+        note: "m/s, positive to the right",
+        doc: "initial travel speed, positive to the right (a constant prescribed_speed follows it)",
+        access: Access::Vehicle(|b| Some(b.initial_speed), set_initial_speed),
+    },
+    Field {
+        path: "body.prescribed_speed",
+        unit: "m/s",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "m/s, or [[t, v], ...]: held by a tractive force",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.train",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "HSLM-A1 ... HSLM-A10; moving_force only",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.force_x",
+        unit: "N",
+        default: Default::Value("0"),
+        rule: Rule::Finite,
+        note: "N, constant force on the body's centre",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.force_y",
+        unit: "N",
+        default: Default::Value("0"),
+        rule: Rule::Finite,
+        note: "N, y up: the paper's load is -600 kN",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.restitution",
+        unit: "",
+        default: Default::Value("0"),
+        rule: Rule::UnitInterval,
+        note: "0 (plastic) to 1 (elastic), at a landing",
+        doc: "coefficient of restitution at a landing",
+        access: Access::Vehicle(|b| Some(b.restitution), |b, x| b.restitution = x),
+    },
+    Field {
+        path: "body.initial_height",
+        unit: "m",
+        default: Default::Value("0"),
+        rule: Rule::NonNegative,
+        note: "m, >= 0, above its place on the track",
+        doc: "height above its place on the track at t = 0",
+        access: Access::Vehicle(|b| Some(b.initial_height), |b, x| b.initial_height = x),
+    },
+    Field {
+        path: "reactions",
+        unit: "",
+        default: Default::Value("false"),
+        rule: Rule::Words,
+        note: "true: support.<name>.reaction outputs",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "sensors.name",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "identifier; output sensor.<name>.deflection",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "sensors.position",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "m, 0 <= x <= L",
+        doc: "abscissa of the sensor along the beam",
+        access: Access::Sensor(|e| Some(e.position), |e, x| e.position = x),
+    },
+    Field {
+        path: "sections.name",
+        unit: "",
+        default: Default::Required,
+        rule: Rule::Words,
+        note: "identifier; outputs section.<name>.moment, .shear",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "sections.position",
+        unit: "m",
+        default: Default::Required,
+        rule: Rule::NonNegative,
+        note: "m, 0 <= x <= L",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "couplings",
+        unit: "",
+        default: Default::Value("[]"),
+        rule: Rule::Words,
+        note: "bodies that are the FMU's coupling points",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.step",
+        unit: "s",
+        default: Default::Value("2.5e-3"),
+        rule: Rule::Positive,
+        note: "s, fixed internal time step",
+        doc: "fixed internal time step",
+        access: Access::Scene(|s| Some(s.solver.step), |s, x| s.solver.step = x),
+    },
+    Field {
+        path: "solver.velocity_tolerance",
+        unit: "m/s",
+        default: Default::Value("1e-7"),
+        rule: Rule::Positive,
+        note: "m/s, on the velocity error |e|",
+        doc: "tolerance on the velocity error |e|",
+        access: Access::Scene(
+            |s| Some(s.solver.velocity_tolerance),
+            |s, x| s.solver.velocity_tolerance = x,
+        ),
+    },
+    Field {
+        path: "solver.gap_tolerance",
+        unit: "m",
+        default: Default::Value("1e-5"),
+        rule: Rule::Positive,
+        note: "m, on the gap error |g|",
+        doc: "tolerance on the gap error |g|",
+        access: Access::Scene(
+            |s| Some(s.solver.gap_tolerance),
+            |s, x| s.solver.gap_tolerance = x,
+        ),
+    },
+    Field {
+        path: "solver.tolerance",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "relative error of the summary figures; chooses the step",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.max_iterations",
+        unit: "",
+        default: Default::Value("50"),
+        rule: Rule::Words,
+        note: "per stage and step",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.integrator",
+        unit: "",
+        default: Default::Value("rk4"),
+        rule: Rule::Words,
+        note: "rk4 (the paper's, explicit) | hht (implicit) | auto",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.numerical_damping",
+        unit: "",
+        default: Default::Value("0"),
+        rule: Rule::Words,
+        note: "HHT's -alpha in [0, 1/3]; 0 conserves energy",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.force_profile",
+        unit: "",
+        default: Default::Value("held"),
+        rule: Rule::Words,
+        note: "held (the paper's) | linear | quadratic: RK4's force in the step",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.end_time",
+        unit: "s",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "s, run to here, past the exit, unless a contact leaves the track",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.start",
+        unit: "",
+        default: Default::Value("rest"),
+        rule: Rule::Words,
+        note: "rest | static: deflected under the vehicles' weight",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.structure",
+        unit: "",
+        default: Default::Value("full"),
+        rule: Rule::Words,
+        note: "full | modal: the beam's lowest modes",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.modes",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "modal: how many of the lowest modes",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "solver.max_frequency",
+        unit: "Hz",
+        default: Default::Absent,
+        rule: Rule::Words,
+        note: "Hz, modal: every mode up to this",
+        doc: "",
+        access: Access::None,
+    },
+];
+
+/// The reference page of every field, `docs/scene-fields.md` (the docs test
+/// checks that the committed page is this).
+pub fn field_notes_markdown() -> String {
+    let mut page = String::from(
+        "# Scene fields\n\n\
+         Generated from the scene's field table (`src/scene/fields.rs`), which \
+         also gives the notes `guideway scenes --show` writes beside each field, \
+         the rules of plain numbers and the FMU's parameters; do not edit by hand: \
+         `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites it. \
+         The rules in full are in [Scenes, every field](scenes.md#every-field). \
+         A train's `[[vehicles]]` take the fields of `[body]`; the FMU \
+         parameter column names the fields an FMU exports today (of `[body]` \
+         only, [The FMU](fmu.md)).\n\n\
+         | table | what it holds |\n|---|---|\n",
+    );
+    for (path, note) in super::annotate::TABLE_NOTES {
+        page += &format!("| `[{path}]` | {note} |\n");
+    }
+    page += "\n| field | unit | default | FMU parameter | unit, meaning, rule |\n\
+             |---|---|---|---|---|\n";
+    for f in FIELDS {
+        let default = match f.default {
+            Default::Required => "required".to_string(),
+            Default::Absent => "absent".to_string(),
+            Default::Value(v) => format!("`{v}`"),
+        };
+        page += &format!(
+            "| `{}` | {} | {default} | {} | {} |\n",
+            f.path,
+            f.unit,
+            fmu_name_pattern(f),
+            f.note.replace('|', "\\|")
+        );
+    }
+    page
+}
+
+/// The `[body]` fields today's FMU exports (`model/variables.rs`).
+const FMU_BODY_FIELDS: [&str; 5] = [
+    "mass",
+    "inertia",
+    "radius",
+    "initial_position",
+    "initial_speed",
+];
+
+/// How the FMU names the parameter of `f`, with `<vehicle>` and `<sensor>`
+/// for the names the scene gives; empty for no parameter.
+fn fmu_name_pattern(f: &Field) -> String {
+    let rest = |prefix: &str| f.path.strip_prefix(prefix).unwrap_or(f.path);
+    match f.access {
+        Access::None => String::new(),
+        Access::Scene(..) => format!("`{}`", f.path),
+        // Today's FMU exports these of the first vehicle only (issue 27
+        // item 2: every vehicle's numeric fields, by this table's access).
+        Access::Vehicle(..) if FMU_BODY_FIELDS.contains(&rest("body.")) => {
+            format!("`<body>.{}`", rest("body."))
+        }
+        Access::Vehicle(..) => String::new(),
+        Access::Sensor(..) => format!("`sensor.<sensor>.{}`", rest("sensors.")),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A scene with every table present and every optional field left out.
+    const MINIMAL: &str = r#"
+        name = "m"
+        [beam]
+        length = 20.0
+        mass_per_length = 1000.0
+        bending_stiffness = 1e9
+        surface_offset = 0.0
+        elements = 4
+        [body]
+        name = "car"
+        kind = "sprung_mass"
+        mass = 1000.0
+        initial_speed = 10.0
+        [body.suspension]
+        stiffness = 1e5
+        unsprung_mass = 100.0
+    "#;
+
+    #[test]
+    fn paths_are_unique() {
+        for (i, f) in FIELDS.iter().enumerate() {
+            assert!(FIELDS[..i].iter().all(|g| g.path != f.path), "{}", f.path);
+        }
+    }
+
+    /// The table's numeric defaults are serde's (the independent source:
+    /// the parser fills a field a scene leaves out).
+    #[test]
+    fn numeric_defaults_are_what_the_parser_fills_in() {
+        let scene: Scene = toml::from_str(MINIMAL).unwrap();
+        let mut checked = 0;
+        for f in FIELDS {
+            let Default::Value(text) = f.default else {
+                continue;
+            };
+            let Ok(expected) = text.parse::<f64>() else {
+                continue;
+            };
+            let got = match f.access {
+                Access::Scene(get, _) => get(&scene),
+                Access::Vehicle(get, _) => get(&scene.body),
+                _ => continue,
+            };
+            // None: the field's table (bogie, maglev) is not in MINIMAL.
+            let Some(got) = got else { continue };
+            assert_eq!(got, expected, "{}", f.path);
+            checked += 1;
+        }
+        assert!(checked >= 6, "only {checked} defaults checked");
+    }
+
+    /// A setter writes what its getter reads, and only there.
+    #[test]
+    fn setters_and_getters_agree() {
+        let scene: Scene = toml::from_str(MINIMAL).unwrap();
+        for f in FIELDS {
+            let mut changed = scene.clone();
+            let (before, after) = match f.access {
+                Access::Scene(get, set) => {
+                    set(&mut changed, 7.0);
+                    (get(&scene), get(&changed))
+                }
+                Access::Vehicle(get, set) => {
+                    set(&mut changed.body, 7.0);
+                    (get(&scene.body), get(&changed.body))
+                }
+                _ => continue,
+            };
+            if before.is_some() {
+                assert_eq!(after, Some(7.0), "{}", f.path);
+                assert_ne!(changed, scene, "{}", f.path);
+            }
+        }
+    }
+
+    #[test]
+    fn every_field_is_on_the_reference_page() {
+        let page = field_notes_markdown();
+        for f in FIELDS {
+            assert!(page.contains(&format!("| `{}` |", f.path)), "{}", f.path);
+        }
+    }
+
+    /// Each rule's declared bounds are accepted, the next value beyond
+    /// refused, with the rule in words.
+    #[test]
+    fn bounds_are_the_rule() {
+        for rule in [
+            Rule::Positive,
+            Rule::NonNegative,
+            Rule::UnitInterval,
+            Rule::Elements,
+            Rule::OnTrack,
+            Rule::Finite,
+        ] {
+            let (lo, hi) = rule.bounds(5.0);
+            assert_eq!(rule.problem(lo, 5.0), None, "{rule:?}");
+            assert_eq!(rule.problem(hi, 5.0), None, "{rule:?}");
+            assert!(rule.problem(lo.next_down(), 5.0).is_some(), "{rule:?}");
+            assert!(rule.problem(hi.next_up(), 5.0).is_some(), "{rule:?}");
+        }
+        assert_eq!(
+            Rule::Positive.problem(-1.0, 0.0).as_deref(),
+            Some("must be > 0")
+        );
+    }
+}
