@@ -119,6 +119,11 @@ fn within(field: &str, value: f64, low: f64, high: f64, unit: &str) -> Result<()
 }
 
 impl BridgeSpec {
+    /// The spans as the report states them.
+    pub fn span_description(&self) -> String {
+        format!("{} m, simply supported", self.span)
+    }
+
     /// Parse and validate a bridge description.
     pub fn from_toml_str(text: &str) -> Result<BridgeSpec, String> {
         if text.len() > 1 << 20 {

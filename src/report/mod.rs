@@ -7,6 +7,7 @@ pub mod csv;
 pub mod nodes;
 pub mod output_file;
 pub mod plot;
+pub mod plot_style;
 mod run;
 mod stream;
 mod summary;
