@@ -8,8 +8,9 @@ use plotters::prelude::*;
 
 use super::plot::FONT;
 
-/// Distinct colours for up to ten trains (then they repeat).
-pub const COLOURS: [RGBColor; 10] = [
+/// Distinct colours for up to twelve trains (then they repeat): ten
+/// HSLM-A trains and two real ones each get their own.
+pub const COLOURS: [RGBColor; 12] = [
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
     RGBColor(44, 160, 44),
@@ -20,6 +21,8 @@ pub const COLOURS: [RGBColor; 10] = [
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),
     RGBColor(23, 190, 207),
+    RGBColor(0, 90, 60),
+    RGBColor(120, 60, 0),
 ];
 
 /// The colour of the `i`-th train.
