@@ -10,7 +10,7 @@ pub mod spec;
 
 use serde::Serialize;
 
-use crate::moving_load::{Axle, Crossing, HSLM_TRAINS};
+use crate::moving_load::{Axle, Crossing, RealTrain, HSLM_TRAINS};
 use crate::scene::{Scene, SectionSpec, SensorSpec};
 use crate::study::deck_filter::{cut_off, low_pass_zero_phase};
 use crate::study::sweep::{sweep, EnvelopeRow, Loads, SpeedUnit, DEFAULT_MAX_SWEEP_STEPS};
@@ -88,10 +88,11 @@ pub struct CheckResult {
 type Train = (String, Vec<(f64, f64)>, f64);
 
 /// The trains of the check: HSLM-A1 … A10 from 7 m, HSLM-B below
-/// (EN 1991-2 Annex E, E.1(2)), as (name, axle offsets and forces, the
-/// regular spacing that sets its resonances).
+/// (EN 1991-2 Annex E, E.1(2)), and the shipped real trains unless turned
+/// off, as (name, axle offsets and forces, the regular spacing that sets
+/// its resonances).
 fn trains(spec: &BridgeSpec) -> Vec<Train> {
-    match spec.settings.hslm_b {
+    let mut out: Vec<Train> = match spec.settings.hslm_b {
         Some(b) if spec.span < 7.0 => {
             let axles = (0..b.forces)
                 .map(|i| (i as f64 * b.spacing, -170e3))
@@ -102,7 +103,15 @@ fn trains(spec: &BridgeSpec) -> Vec<Train> {
             .iter()
             .map(|t| (t.name.to_string(), t.axles(), t.coach_length))
             .collect(),
+    };
+    if spec.settings.real_trains {
+        out.extend(
+            RealTrain::shipped()
+                .into_iter()
+                .map(|t| (t.name.clone(), t.forces(), t.regular_spacing)),
+        );
     }
+    out
 }
 
 /// The moving-force scene of one mass case: stations as sensors and
@@ -423,7 +432,41 @@ fn load_effect_verdicts(r: &CheckResult) -> Vec<Verdict> {
             format!("≤ L/600 = {:.2} mm", deflection_limit(l) * 1e3),
             pass(phi * w71 <= deflection_limit(l)),
         ),
+        comfort_verdict(r, phi),
     ]
+}
+
+/// EN 1990 A2.4.4.3.2: the midspan deflection under LM71 × Φ with α = 1
+/// against the passenger-comfort limit, when Figure A2.3's L/δ is given.
+fn comfort_verdict(r: &CheckResult, phi: f64) -> Verdict {
+    let s = &r.spec.settings;
+    let l = r.spec.span;
+    let clause = "EN 1990 A2.4.4.3.2, Figure A2.3";
+    let check = "passenger comfort: midspan deflection under Φ × LM71 (α = 1)";
+    let (_, w71) = lm71::lm71_midspan(l, r.bending_stiffness, 1.0);
+    let delta = phi * w71;
+    let Some(ratio) = s.comfort_span_to_deflection else {
+        return verdict(
+            clause,
+            check,
+            format!("{:.2} mm", delta * 1e3),
+            "not checked: give settings.comfort_span_to_deflection (L/δ read off Figure A2.3)"
+                .into(),
+            "INFO",
+        );
+    };
+    let b_v = s.comfort_acceleration;
+    let limit = comfort_deflection_limit(l, ratio, b_v, SpanArrangement::OneOrTwo);
+    verdict(
+        clause,
+        check,
+        format!("{:.2} mm", delta * 1e3),
+        format!(
+            "≤ L / ({ratio} × 0.7 / {b_v}) = {:.2} mm (one span, b_v = {b_v} m/s²)",
+            limit * 1e3
+        ),
+        pass(delta <= limit),
+    )
 }
 
 /// Every assumption the report states.
@@ -466,9 +509,18 @@ fn assumptions(r: &CheckResult) -> Vec<String> {
         ),
         "Determinant length LΦ = L (simply supported span); φ″ at the maximum line speed."
             .into(),
-        "Not coded: real trains (no axle-load table with a precise source is shipped yet), the \
-         passenger-comfort deflection limits of EN 1990 A2.4.4.3 (given as Figure A2.3), the \
-         flow chart's torsion and Annex F conditions, deck twist."
+        format!(
+            "Real trains {}: ICE 2 and Talgo AV as moving forces, axle loads of IAPF-07 Annex C \
+             (src/moving_load/trains/*.toml name the source).",
+            if s.real_trains { "run" } else { "turned off (settings.real_trains = false)" }
+        ),
+        "Passenger comfort (EN 1990 A2.4.4.3.2): L/δ of Figure A2.3 is an input \
+         (settings.comfort_span_to_deflection), read off the figure by the engineer; × 0.7 for one \
+         span, ÷ b_v."
+            .into(),
+        "Not coded: continuous spans, modal damping of every mode (Rayleigh damping is used), the \
+         flow chart's torsion and Annex F conditions, deck twist, the car-body acceleration of \
+         vehicles."
             .into(),
     ];
     if r.spec.span < 7.0 {

@@ -11,21 +11,10 @@ use plotters::prelude::*;
 use sha2::{Digest, Sha256};
 
 use super::{CheckResult, STATIONS};
-use crate::report::plot::load_font;
-
-const FONT: &str = "sans-serif";
-const COLOURS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
+use crate::report::plot::{load_font, FONT};
+use crate::report::plot_style::{
+    colour, err, labelled_chart, labelled_mesh, legend, legend_line, limit_line, Area,
+};
 
 /// The files written into `dir`, the HTML first.
 pub fn write_report(result: &CheckResult, input: &str, dir: &Path) -> Result<Vec<PathBuf>, String> {
@@ -148,15 +137,27 @@ fn esc(text: &str) -> String {
 }
 
 fn html(r: &CheckResult, input: &str, images: &[String]) -> String {
-    let spec = &r.spec;
+    let mut h = html_head(r, input);
+    h.push_str(&bridge_table(r));
+    h.push_str(&checks_table(r));
+    h.push_str("<h2>Assumptions</h2>\n<ul>\n");
+    for a in &r.assumptions {
+        let _ = writeln!(h, "<li>{}</li>", esc(a));
+    }
+    h.push_str("</ul>\n");
+    h.push_str(&figures(r, images));
+    let _ = writeln!(h, "<h2>Input</h2>\n<pre>{}</pre>\n<p>Files beside this page: runs.csv ({} runs), checks.csv, worst_history.csv, check.json.</p>\n</body></html>", esc(input), r.runs.len());
+    h
+}
+
+/// The page's head, title, overall verdict, version and input hash.
+fn html_head(r: &CheckResult, input: &str) -> String {
     let overall = if r.verdicts.iter().any(|v| v.status == "FAIL") {
         "FAIL"
     } else {
         "PASS"
     };
-    let mut h = String::new();
-    let _ = write!(
-        h,
+    format!(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>Dynamic check: {name}</title>\
          <style>body{{font-family:sans-serif;max-width:60em;margin:2em auto}}table{{border-collapse:collapse}}\
          td,th{{border:1px solid #999;padding:.3em .6em;text-align:left}}.PASS{{background:#cfc}}.FAIL{{background:#fcc}}\
@@ -164,13 +165,18 @@ fn html(r: &CheckResult, input: &str, images: &[String]) -> String {
          <h1>Dynamic check of railway bridge “{name}”</h1>\n\
          <p>EN 1991-2:2003 §6.4 and EN 1990:2002 Annex A2. Overall: <b id=\"overall\" class=\"{overall}\">{overall}</b></p>\n\
          <p>Software: {ver}. Input SHA-256: <code>{hash}</code>.</p>\n",
-        name = esc(&spec.name),
+        name = esc(&r.spec.name),
         ver = version(),
         hash = input_hash(input),
-    );
-    h.push_str("<h2>Bridge</h2>\n<table>\n");
-    let rows = [
-        ("span L", format!("{} m, simply supported", spec.span)),
+    )
+}
+
+/// The bridge's description and its mass cases.
+fn bridge_table(r: &CheckResult) -> String {
+    let spec = &r.spec;
+    let mut h = String::from("<h2>Bridge</h2>\n<table>\n");
+    let rows: [(&str, String); 6] = [
+        ("spans", spec.span_description()),
         (
             "mass per length",
             format!(
@@ -201,7 +207,13 @@ fn html(r: &CheckResult, input: &str, images: &[String]) -> String {
             esc(&c.name), c.mass_per_length, c.f1, c.f3, c.cut_off
         );
     }
-    h.push_str("</table>\n<h2>Checks</h2>\n<table id=\"verdicts\">\n<tr><th>clause</th><th>check</th><th>value</th><th>limit</th><th>status</th></tr>\n");
+    h.push_str("</table>\n");
+    h
+}
+
+/// The PASS/FAIL table.
+fn checks_table(r: &CheckResult) -> String {
+    let mut h = String::from("<h2>Checks</h2>\n<table id=\"verdicts\">\n<tr><th>clause</th><th>check</th><th>value</th><th>limit</th><th>status</th></tr>\n");
     for v in &r.verdicts {
         let _ = writeln!(
             h,
@@ -213,15 +225,17 @@ fn html(r: &CheckResult, input: &str, images: &[String]) -> String {
             s = esc(&v.status)
         );
     }
-    h.push_str("</table>\n<h2>Assumptions</h2>\n<ul>\n");
-    for a in &r.assumptions {
-        let _ = writeln!(h, "<li>{}</li>", esc(a));
-    }
-    h.push_str("</ul>\n<h2>Plots</h2>\n");
+    h.push_str("</table>\n");
+    h
+}
+
+/// The three plots with their captions, and the worst run.
+fn figures(r: &CheckResult, images: &[String]) -> String {
+    let mut h = String::from("<h2>Plots</h2>\n");
     let captions = [
         "Peak deck acceleration (filtered: solid; raw: thin) and DAF of the midspan deflection against speed, per train; the limit dashed, per train the highest resonant speed f1·D/i (i = 1, 2, 3) in the range as a tick.",
         "Midspan acceleration of the worst run against time, raw and low-passed.",
-        "Envelopes of |deflection| and |moment| along the span over every run.",
+        "Envelopes of |deflection| and |moment| along the bridge over every run.",
     ];
     for (img, caption) in images.iter().zip(captions) {
         let _ = writeln!(h, "<figure><img alt=\"{c}\" src=\"data:image/png;base64,{img}\"><figcaption>{c}</figcaption></figure>", c = esc(caption));
@@ -237,14 +251,7 @@ fn html(r: &CheckResult, input: &str, images: &[String]) -> String {
             w.acceleration
         );
     }
-    let _ = writeln!(h, "<h2>Input</h2>\n<pre>{}</pre>\n<p>Files beside this page: runs.csv ({} runs), checks.csv, worst_history.csv, check.json.</p>\n</body></html>", esc(input), r.runs.len());
     h
-}
-
-type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
-
-fn err<E: std::fmt::Display>(e: E) -> String {
-    e.to_string()
 }
 
 /// Peak acceleration and DAF against speed per train (first mass case).
@@ -254,6 +261,20 @@ fn plot_speeds(r: &CheckResult, path: &Path) -> Result<(), String> {
     let areas = root.split_evenly((2, 1));
     let case = &r.mass_cases[0].name;
     let runs: Vec<&super::Run> = r.runs.iter().filter(|x| &x.mass_case == case).collect();
+    speed_panel(r, &runs, &areas[0], true)?;
+    speed_panel(r, &runs, &areas[1], false)?;
+    root.present().map_err(err)
+}
+
+/// One panel against speed: the peak deck acceleration (filtered solid,
+/// raw thin, the limit dashed) when `acceleration`, else the DAF; the
+/// highest resonant speed of each train in the range as a tick.
+fn speed_panel(
+    r: &CheckResult,
+    runs: &[&super::Run],
+    area: &Area,
+    acceleration: bool,
+) -> Result<(), String> {
     let low = runs
         .iter()
         .map(|x| x.speed_kmh)
@@ -263,97 +284,61 @@ fn plot_speeds(r: &CheckResult, path: &Path) -> Result<(), String> {
         .map(|x| x.speed_kmh)
         .fold(0.0, f64::max)
         .max(low + 1.0);
-    let top_a = runs
-        .iter()
-        .map(|x| x.acceleration.max(x.acceleration_filtered))
-        .fold(r.acceleration_limit, f64::max)
-        * 1.1;
-    let top_d = runs.iter().map(|x| x.daf_deflection).fold(1.0, f64::max) * 1.1;
+    let (label, top) = if acceleration {
+        let top = runs
+            .iter()
+            .map(|x| x.acceleration.max(x.acceleration_filtered))
+            .fold(r.acceleration_limit, f64::max);
+        ("peak deck acceleration (m/s²)", 1.1 * top)
+    } else {
+        let top = runs.iter().map(|x| x.daf_deflection).fold(1.0, f64::max);
+        ("DAF, midspan deflection", 1.1 * top)
+    };
+    let mut chart = labelled_chart(area, low..high, 0.0..top)?;
+    labelled_mesh(&mut chart, "speed (km/h)", label)?;
     let mut trains: Vec<&str> = runs.iter().map(|x| x.train.as_str()).collect();
     trains.dedup();
-    for (area, (label, top)) in areas.iter().zip([
-        ("peak deck acceleration (m/s²)", top_a),
-        ("DAF, midspan deflection", top_d),
-    ]) {
-        let is_acc = top == top_a;
-        let mut chart = ChartBuilder::on(area)
-            .margin(15)
-            .x_label_area_size(45)
-            .y_label_area_size(70)
-            .build_cartesian_2d(low..high, 0.0..top)
-            .map_err(err)?;
+    for (i, train) in trains.iter().enumerate() {
+        let of = |f: &dyn Fn(&super::Run) -> f64| -> Vec<(f64, f64)> {
+            runs.iter()
+                .filter(|x| x.train == *train)
+                .map(|x| (x.speed_kmh, f(x)))
+                .collect()
+        };
+        let style = colour(i).stroke_width(2);
+        let main = if acceleration {
+            of(&|x| x.acceleration_filtered)
+        } else {
+            of(&|x| x.daf_deflection)
+        };
         chart
-            .configure_mesh()
-            .x_desc("speed (km/h)")
-            .y_desc(label)
-            .label_style((FONT, 16))
-            .draw()
-            .map_err(err)?;
-        for (i, train) in trains.iter().enumerate() {
-            let colour = COLOURS[i % COLOURS.len()];
-            let of = |f: &dyn Fn(&super::Run) -> f64| -> Vec<(f64, f64)> {
-                runs.iter()
-                    .filter(|x| x.train == *train)
-                    .map(|x| (x.speed_kmh, f(x)))
-                    .collect()
-            };
-            let main = if is_acc {
-                of(&|x| x.acceleration_filtered)
-            } else {
-                of(&|x| x.daf_deflection)
-            };
-            chart
-                .draw_series(LineSeries::new(main, colour.stroke_width(2)))
-                .map_err(err)?
-                .label(*train)
-                .legend(move |(x, y)| {
-                    PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
-            if is_acc {
-                chart
-                    .draw_series(LineSeries::new(
-                        of(&|x| x.acceleration),
-                        colour.mix(0.5).stroke_width(1),
-                    ))
-                    .map_err(err)?;
-            }
-            for &(_, v) in r
-                .resonances
-                .iter()
-                .filter(|(n, v)| n == train && *v >= low && *v <= high)
-                .take(1)
-            {
-                chart
-                    .draw_series(LineSeries::new(
-                        [(v, 0.0), (v, 0.04 * top)],
-                        colour.stroke_width(3),
-                    ))
-                    .map_err(err)?;
-            }
+            .draw_series(LineSeries::new(main, style))
+            .map_err(err)?
+            .label(*train)
+            .legend(legend_line(style));
+        if acceleration {
+            let raw = of(&|x| x.acceleration);
+            let thin = colour(i).mix(0.5).stroke_width(1);
+            chart.draw_series(LineSeries::new(raw, thin)).map_err(err)?;
         }
-        if is_acc {
-            let limit = r.acceleration_limit;
+        let tick = r
+            .resonances
+            .iter()
+            .find(|(n, v)| n == train && *v >= low && *v <= high);
+        if let Some(&(_, v)) = tick {
+            let line = [(v, 0.0), (v, 0.04 * top)];
+            let style = colour(i).stroke_width(3);
             chart
-                .draw_series(DashedLineSeries::new(
-                    [(low, limit), (high, limit)],
-                    8,
-                    6,
-                    BLACK.stroke_width(2),
-                ))
-                .map_err(err)?
-                .label(format!("EN 1990 A2 limit {limit} m/s²"))
-                .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLACK.stroke_width(2)));
+                .draw_series(LineSeries::new(line, style))
+                .map_err(err)?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font((FONT, 13))
-            .draw()
-            .map_err(err)?;
     }
-    root.present().map_err(err)
+    if acceleration {
+        let limit = r.acceleration_limit;
+        let name = format!("EN 1990 A2 limit {limit} m/s²");
+        limit_line(&mut chart, (low, high), limit, Some(name))?;
+    }
+    legend(&mut chart, SeriesLabelPosition::UpperLeft)
 }
 
 /// The worst run's midspan acceleration, raw and filtered.
@@ -370,55 +355,31 @@ fn plot_history(r: &CheckResult, path: &Path) -> Result<(), String> {
     let title = r.worst.as_ref().map_or(String::new(), |w| {
         format!("{} at {:.1} km/h, midspan", w.train, w.speed_kmh)
     });
-    let mut chart = ChartBuilder::on(&root)
-        .caption(title, (FONT, 18))
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..end, -top..top)
-        .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("time (s)")
-        .y_desc("deck acceleration (m/s²)")
-        .label_style((FONT, 16))
-        .draw()
-        .map_err(err)?;
-    let raw = RGBColor(170, 170, 170);
+    let titled = root.titled(&title, (FONT, 18)).map_err(err)?;
+    let mut chart = labelled_chart(&titled, 0.0..end, -top..top)?;
+    labelled_mesh(&mut chart, "time (s)", "deck acceleration (m/s²)")?;
+    let raw = RGBColor(170, 170, 170).stroke_width(1);
     chart
         .draw_series(LineSeries::new(
             r.worst_history.iter().map(|p| (p.0, p.1)),
-            raw.stroke_width(1),
+            raw,
         ))
         .map_err(err)?
         .label("raw")
-        .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], raw.stroke_width(2)));
+        .legend(legend_line(raw));
+    let filtered = colour(0).stroke_width(2);
     chart
         .draw_series(LineSeries::new(
             r.worst_history.iter().map(|p| (p.0, p.2)),
-            COLOURS[0].stroke_width(2),
+            filtered,
         ))
         .map_err(err)?
         .label("low-passed (§6.4.6.5(4))")
-        .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], COLOURS[0].stroke_width(2)));
+        .legend(legend_line(filtered));
     for limit in [r.acceleration_limit, -r.acceleration_limit] {
-        chart
-            .draw_series(DashedLineSeries::new(
-                [(0.0, limit), (end, limit)],
-                8,
-                6,
-                BLACK.stroke_width(2),
-            ))
-            .map_err(err)?;
+        limit_line(&mut chart, (0.0, end), limit, None)?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font((FONT, 13))
-        .draw()
-        .map_err(err)?;
+    legend(&mut chart, SeriesLabelPosition::UpperRight)?;
     root.present().map_err(err)
 }
 
@@ -449,30 +410,17 @@ fn plot_envelopes(r: &CheckResult, path: &Path) -> Result<(), String> {
 
 fn draw_envelope(area: &Area, label: &str, points: &[(f64, f64)], l: f64) -> Result<(), String> {
     let top = points.iter().map(|p| p.1).fold(0.0, f64::max).max(1e-9) * 1.1;
-    let mut chart = ChartBuilder::on(area)
-        .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(0.0..l, 0.0..top)
-        .map_err(err)?;
+    let mut chart = labelled_chart(area, 0.0..l, 0.0..top)?;
+    labelled_mesh(&mut chart, "x along the bridge (m)", label)?;
+    let style = colour(0).stroke_width(2);
     chart
-        .configure_mesh()
-        .x_desc("x along the span (m)")
-        .y_desc(label)
-        .label_style((FONT, 16))
-        .draw()
-        .map_err(err)?;
-    chart
-        .draw_series(LineSeries::new(
-            points.iter().copied(),
-            COLOURS[0].stroke_width(2),
-        ))
+        .draw_series(LineSeries::new(points.iter().copied(), style))
         .map_err(err)?;
     chart
         .draw_series(
             points
                 .iter()
-                .map(|&p| Circle::new(p, 4, COLOURS[0].filled())),
+                .map(|&p| Circle::new(p, 4, colour(0).filled())),
         )
         .map_err(err)?;
     Ok(())

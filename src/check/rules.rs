@@ -216,9 +216,62 @@ pub fn deflection_limit(l: f64) -> f64 {
     l / 600.0
 }
 
+/// How the spans of a bridge are arranged, for EN 1990 A2.4.4.3.2(5).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpanArrangement {
+    /// One span, or two simply supported spans, or two continuous spans.
+    OneOrTwo,
+    /// Three or more simply supported spans in succession (Figure A2.3's
+    /// own case).
+    SimplySupportedThreeOrMore,
+    /// A continuous beam of three or more spans.
+    ContinuousThreeOrMore,
+}
+
+/// EN 1990 A2.4.4.3.2, passenger comfort: the largest vertical deflection
+/// δ (m) of a span `l` (m) under LM71 × Φ (α = 1), given `figure_ratio`,
+/// the L/δ read off Figure A2.3 for this span and the maximum line speed
+/// (the figure's curves are for b_v = 1 m/s² and three or more simply
+/// supported spans). (4): for another comfort level b_v (m/s²) L/δ is
+/// divided by b_v; (5): multiplied by 0.7 for one span or two spans and
+/// by 0.9 for a continuous beam of three or more spans.
+pub fn comfort_deflection_limit(
+    l: f64,
+    figure_ratio: f64,
+    comfort_acceleration: f64,
+    spans: SpanArrangement,
+) -> f64 {
+    let factor = match spans {
+        SpanArrangement::OneOrTwo => 0.7,
+        SpanArrangement::SimplySupportedThreeOrMore => 1.0,
+        SpanArrangement::ContinuousThreeOrMore => 0.9,
+    };
+    l / (figure_ratio * factor / comfort_acceleration)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// EN 1990 A2.4.4.3.2 by hand, for L = 20 m and an L/δ of 1600 read
+    /// off Figure A2.3: one span, b_v = 1: L/δ = 0.7 × 1600 = 1120, δ =
+    /// 20/1120 = 17.857 mm; b_v = 1.3 (A2.4.4.3.1(2) "good"): 1120/1.3 =
+    /// 861.54, δ = 23.214 mm; three continuous spans: 0.9 × 1600 = 1440,
+    /// δ = 13.889 mm; three simply supported spans: 1600, δ = 12.5 mm.
+    #[test]
+    fn comfort_deflection_limits_of_a2_4_4_3_2() {
+        use SpanArrangement::*;
+        let cases = [
+            (1.0, OneOrTwo, 0.017857142857),
+            (1.3, OneOrTwo, 0.023214285714),
+            (1.0, ContinuousThreeOrMore, 0.013888888889),
+            (1.0, SimplySupportedThreeOrMore, 0.0125),
+        ];
+        for (bv, spans, expected) in cases {
+            let got = comfort_deflection_limit(20.0, 1600.0, bv, spans);
+            assert!(close(got, expected, 1e-9), "{spans:?} b_v {bv}: {got}");
+        }
+    }
 
     fn close(a: f64, b: f64, tolerance: f64) -> bool {
         (a - b).abs() <= tolerance * b.abs().max(1e-12)

@@ -81,6 +81,15 @@ pub struct Settings {
     /// number N of 170 kN forces and their spacing d (m) read off the
     /// figure for this span.
     pub hslm_b: Option<HslmB>,
+    /// Run the shipped real trains (src/moving_load/trains/) beside HSLM.
+    pub real_trains: bool,
+    /// EN 1990 A2.4.4.3.2: the L/δ read off Figure A2.3 for this span and
+    /// the maximum line speed (the figure gives curves, so the check does
+    /// not guess it); the comfort check is skipped without it.
+    pub comfort_span_to_deflection: Option<f64>,
+    /// EN 1990 A2.4.4.3.1(2) b_v (m/s²): 1.0 "very good" (recommended,
+    /// National Annex), 1.3 "good", 2.0 "acceptable".
+    pub comfort_acceleration: f64,
 }
 
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
@@ -103,6 +112,9 @@ impl Default for Settings {
             elements: 20,
             step: 0.001,
             hslm_b: None,
+            real_trains: true,
+            comfort_span_to_deflection: None,
+            comfort_acceleration: 1.0,
         }
     }
 }
@@ -119,6 +131,11 @@ fn within(field: &str, value: f64, low: f64, high: f64, unit: &str) -> Result<()
 }
 
 impl BridgeSpec {
+    /// The spans as the report states them.
+    pub fn span_description(&self) -> String {
+        format!("{} m, simply supported", self.span)
+    }
+
     /// Parse and validate a bridge description.
     pub fn from_toml_str(text: &str) -> Result<BridgeSpec, String> {
         if text.len() > 1 << 20 {
@@ -220,6 +237,22 @@ impl Settings {
             "",
         )?;
         within(&format!("{s}step"), self.step, 1e-5, 0.01, "s")?;
+        within(
+            &format!("{s}comfort_acceleration"),
+            self.comfort_acceleration,
+            0.1,
+            10.0,
+            "m/s²",
+        )?;
+        if let Some(ratio) = self.comfort_span_to_deflection {
+            within(
+                &format!("{s}comfort_span_to_deflection"),
+                ratio,
+                100.0,
+                10_000.0,
+                "(L/δ of EN 1990 Figure A2.3)",
+            )?;
+        }
         match self.hslm_b {
             Some(b) => {
                 within(

@@ -9,9 +9,11 @@
 
 mod crossing;
 mod hslm;
+mod trains;
 
 pub use crossing::{exit_time, run_end, static_peak, Crossing, Peaks};
 pub use hslm::{hslm, HslmTrain, HSLM_TRAINS};
+pub use trains::RealTrain;
 
 use crate::scene::{BodyKind, BodySpec, Scene};
 

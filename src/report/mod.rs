@@ -8,6 +8,7 @@ mod deck_acceleration;
 pub mod nodes;
 pub mod output_file;
 pub mod plot;
+pub mod plot_style;
 mod run;
 mod stream;
 mod summary;

@@ -4,6 +4,7 @@
 //! deck: 3.5 m/s² on ballasted track, 5 m/s² on slab track.
 
 use super::plot::{load_font, Text, FONT};
+use super::plot_style::{colour, legend, legend_line, limit_line};
 use crate::study::sweep::{EnvelopeRow, SpeedUnit};
 use plotters::prelude::*;
 use std::path::Path;
@@ -46,20 +47,6 @@ impl Track {
 }
 
 const SIZE: (u32, u32) = (1000, 900);
-
-/// Distinct colours for up to ten trains (then they repeat).
-const COLOURS: [RGBColor; 10] = [
-    RGBColor(31, 119, 180),
-    RGBColor(214, 39, 40),
-    RGBColor(44, 160, 44),
-    RGBColor(148, 103, 189),
-    RGBColor(255, 127, 14),
-    RGBColor(140, 86, 75),
-    RGBColor(227, 119, 194),
-    RGBColor(127, 127, 127),
-    RGBColor(188, 189, 34),
-    RGBColor(23, 190, 207),
-];
 
 /// Write the envelope plot to `path`, with the deck acceleration limit of
 /// `track`.
@@ -147,7 +134,7 @@ fn panel(
     let mut trains: Vec<&str> = rows.iter().map(|r| r.train.as_str()).collect();
     trains.dedup();
     for (i, train) in trains.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
+        let colour = colour(i);
         let points: Vec<(f64, f64)> = rows
             .iter()
             .filter(|r| r.train == *train)
@@ -158,38 +145,19 @@ fn panel(
             .draw_series(LineSeries::new(points, colour.stroke_width(2)))
             .map_err(err)?;
         if text == Text::Labelled {
-            series.label(*train).legend(move |(x, y)| {
-                PathElement::new([(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
+            series
+                .label(*train)
+                .legend(legend_line(colour.stroke_width(2)));
         }
     }
     if let Some(track) = limit {
         let limit = track.limit();
-        let style = BLACK.stroke_width(2);
-        let series = chart
-            .draw_series(DashedLineSeries::new(
-                [(low, limit), (high, limit)],
-                8,
-                6,
-                style,
-            ))
-            .map_err(err)?;
-        if text == Text::Labelled {
-            let name = format!("EN 1990 A2 limit, {} {limit} m/s²", track.label());
-            series
-                .label(name)
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 20, y)], style));
-        }
+        let name = (text == Text::Labelled)
+            .then(|| format!("EN 1990 A2 limit, {} {limit} m/s²", track.label()));
+        limit_line(&mut chart, (low, high), limit, name)?;
     }
     if text == Text::Labelled {
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font((FONT, 13))
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::UpperLeft)?;
     }
     Ok(())
 }
