@@ -4,6 +4,7 @@
 
 pub mod converge_plot;
 pub mod csv;
+pub mod exits;
 pub mod nodes;
 pub mod output_file;
 pub mod plot;
