@@ -11,6 +11,7 @@ use super::{check_outputs, error, interrupt, load_scene_with_inputs, Failure, In
 use guideway::design::StaticEnvelope;
 use guideway::output_file::Staged;
 use guideway::report::csv::CsvWriter;
+use guideway::report::exits::{self, ExitWatch, VehicleExit};
 use guideway::report::nodes::{check_node_output, WithNodes};
 use guideway::report::{
     check_run_length, drive_into, output_names, plot, Decimated, RowSink, RunSummary, StreamError,
@@ -75,9 +76,13 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         args.error.map(start)
     });
     let mut sink = Sink::new(&scene, &simulation, &outputs)?;
+    let vehicles = exits::vehicle_names(&scene);
     if outputs.csv.is_none() && outputs.plot.is_none() {
         let summary = !args.quiet || outputs.summary.is_some() || pending.is_some();
-        let read = read_columns(&sink, simulation.outputs(), &scene, summary);
+        let mut read = read_columns(&sink, simulation.outputs(), &scene, summary);
+        for k in exits::exit_columns(&simulation, &vehicles) {
+            read[k] = true;
+        }
         simulation.read_only(Some(&read));
     }
     let mut progress = Progress::new(args.quiet);
@@ -89,8 +94,12 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
             ControlFlow::Continue(())
         }
     };
-    let result = match &outputs.nodes {
-        None => drive_into(&scene, &mut simulation, &mut sink, on_step),
+    let (result, exits) = match &outputs.nodes {
+        None => {
+            let mut watch = ExitWatch::new(&mut simulation, &vehicles);
+            let result = drive_into(&scene, &mut watch, &mut sink, on_step);
+            (result, watch.finish())
+        }
         Some(staged) => drive_with_nodes(&scene, &mut simulation, &mut sink, staged, on_step)?,
     };
     progress.finish();
@@ -98,7 +107,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         Ok(streamed) => {
             let integrator = simulation.integrator_choice().to_string();
             let events = SummaryEvent::list(&simulation);
-            let run = (integrator, events);
+            let run = (integrator, events, exits);
             let envelope = |scene: &Scene| simulation.static_envelope(scene).ok();
             let finished = (&streamed, run, envelope);
             let quiet = args.quiet;
@@ -125,16 +134,18 @@ fn drive_with_nodes(
     sink: &mut Sink,
     staged: &Staged,
     on_step: impl FnMut(guideway::report::StepProgress) -> ControlFlow<()>,
-) -> Result<Result<Streamed, StreamError>, Failure> {
+) -> Result<(Result<Streamed, StreamError>, Vec<VehicleExit>), Failure> {
     let cannot = |e: &dyn std::fmt::Display| {
         Failure::Run(format!("cannot write {}: {e}", staged.path().display()))
     };
     let file = staged.file().map_err(Failure::Run)?;
     let mut with_nodes = WithNodes::new(simulation, file).map_err(|e| cannot(&e))?;
-    let result = drive_into(scene, &mut with_nodes, sink, on_step);
+    let mut watch = ExitWatch::new(&mut with_nodes, &exits::vehicle_names(scene));
+    let result = drive_into(scene, &mut watch, sink, on_step);
+    let exits = watch.finish();
     let file = with_nodes.finish().map_err(|e| cannot(&e))?;
     file.sync_all().map_err(|e| cannot(&e))?;
-    Ok(result)
+    Ok((result, exits))
 }
 
 /// Write what a finished run produced and move each file onto its path;
@@ -142,9 +153,9 @@ fn drive_with_nodes(
 fn finish(
     mut sink: Sink,
     outputs: Outputs,
-    (streamed, (integrator, events), envelope): (
+    (streamed, (integrator, events, exits), envelope): (
         &Streamed,
-        (String, Vec<SummaryEvent>),
+        (String, Vec<SummaryEvent>, Vec<VehicleExit>),
         impl FnOnce(&Scene) -> Option<StaticEnvelope>,
     ),
     scene: &Scene,
@@ -167,6 +178,7 @@ fn finish(
         );
         summary.integrator = Some(integrator);
         summary.events = events;
+        summary.set_vehicles(exits);
         summary
     });
     let study = match (pending, &summary) {

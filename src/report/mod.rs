@@ -5,6 +5,7 @@
 pub mod converge_plot;
 pub mod csv;
 mod deck_acceleration;
+pub mod exits;
 pub mod nodes;
 pub mod output_file;
 pub mod plot;

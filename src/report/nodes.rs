@@ -96,6 +96,12 @@ impl<'s, W: Write> WithNodes<'s, W> {
     }
 }
 
+impl<W: Write> super::exits::Watched for WithNodes<'_, W> {
+    fn simulation(&self) -> &Simulation {
+        self.simulation
+    }
+}
+
 impl<W: Write> Steppable for WithNodes<'_, W> {
     fn time(&self) -> f64 {
         self.simulation.time()

@@ -1,6 +1,7 @@
 //! The figures of merit of one run, as JSON and as a short human summary.
 
 use super::deck_acceleration::DeckRecord;
+use super::exits::VehicleExit;
 use super::output_names;
 use super::trace::Trace;
 use crate::design::StaticEnvelope;
@@ -63,6 +64,10 @@ pub struct RunSummary {
     /// phase, `sensor.<name>.acceleration_filtered`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub acceleration_cut_off_hz: Option<f64>,
+    /// Per vehicle, when its first and last contact left the beam and its
+    /// speed then, whether or not the run went on to `solver.end_time`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub vehicles: Vec<VehicleExit>,
 }
 
 /// One event of a run: which contact, what, when.
@@ -310,6 +315,7 @@ impl SummaryBuilder {
             wall_time_s,
             integrator: None,
             events: Vec::new(),
+            vehicles: Vec::new(),
             dynamic_amplification: self
                 .design
                 .iter()
@@ -376,6 +382,7 @@ impl fmt::Display for RunSummary {
                 e.kind, e.contact, e.time
             )?;
         }
+        self.fmt_vehicles(f)?;
         if self.events.len() > EVENTS_SHOWN {
             let more = self.events.len() - EVENTS_SHOWN;
             writeln!(f, "event              ... {more} more (all in --summary)")?;
@@ -385,6 +392,43 @@ impl fmt::Display for RunSummary {
 }
 
 impl RunSummary {
+    /// Set the vehicles' exits; when the run did not end at the exit (it
+    /// went on to `solver.end_time`), the exit time and speed are those of
+    /// the first vehicle's last contact.
+    pub fn set_vehicles(&mut self, vehicles: Vec<VehicleExit>) {
+        if self.exit_time.is_none() {
+            if let Some(first) = vehicles.first() {
+                self.exit_time = first.last_exit_time;
+                self.exit_nominal_speed = first.last_exit_time.and(first.last_exit_speed);
+            }
+        }
+        self.vehicles = vehicles;
+    }
+
+    /// One line per vehicle (of a train: per coach): first and last
+    /// contact off the beam, time and speed.
+    fn fmt_vehicles(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let at = |time: Option<f64>, speed: Option<f64>| match (time, speed) {
+            (Some(t), Some(v)) => format!("{t:.6} s, {v:.4} m/s"),
+            (Some(t), None) => format!("{t:.6} s"),
+            _ => "-".to_string(),
+        };
+        for v in self.vehicles.iter().take(EVENTS_SHOWN) {
+            writeln!(
+                f,
+                "vehicle exit       {}: first contact {}; last {}",
+                v.vehicle,
+                at(v.first_exit_time, v.first_exit_speed),
+                at(v.last_exit_time, v.last_exit_speed)
+            )?;
+        }
+        if self.vehicles.len() > EVENTS_SHOWN {
+            let more = self.vehicles.len() - EVENTS_SHOWN;
+            writeln!(f, "vehicle exit       ... {more} more (all in --summary)")?;
+        }
+        Ok(())
+    }
+
     /// The design peaks and amplification factors, one line each, leaving
     /// out what the peak-deflection lines already say.
     fn fmt_design(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
