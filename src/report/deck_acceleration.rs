@@ -6,7 +6,7 @@
 
 use crate::beam::Beam;
 use crate::scene::Scene;
-use crate::study::deck_filter::{cut_off, low_pass_zero_phase, peak_magnitude};
+use crate::study::deck_filter::{cut_off, low_pass_zero_phase, signed_peak};
 use crate::study::sweep::MAX_RECORDED_SAMPLES;
 
 /// The sensors' acceleration records of a run on its step grid.
@@ -98,14 +98,4 @@ impl DeckRecord {
             .collect();
         Some(FilteredPeaks { cut_off_hz, peaks })
     }
-}
-
-/// The value of largest magnitude, sign kept.
-fn signed_peak(samples: &[f64]) -> f64 {
-    let peak = peak_magnitude(samples);
-    samples
-        .iter()
-        .copied()
-        .find(|x| x.abs() == peak)
-        .unwrap_or(0.0)
 }

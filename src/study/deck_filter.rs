@@ -119,6 +119,16 @@ pub fn peak_magnitude(samples: &[f64]) -> f64 {
     samples.iter().fold(0.0, |m, x| m.max(x.abs()))
 }
 
+/// The value of largest magnitude, sign kept.
+pub fn signed_peak(samples: &[f64]) -> f64 {
+    let peak = peak_magnitude(samples);
+    samples
+        .iter()
+        .copied()
+        .find(|x| x.abs() == peak)
+        .unwrap_or(0.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

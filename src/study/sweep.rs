@@ -14,7 +14,7 @@ use crate::moving_load::{
     exit_time, run_end, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain,
 };
 use crate::scene::{Scene, SensorSpec};
-use crate::study::deck_filter::{cut_off, low_pass_zero_phase, peak_magnitude};
+use crate::study::deck_filter::{cut_off, low_pass_zero_phase, signed_peak};
 
 /// Speeds per sweep.
 pub const MAX_SPEEDS: usize = 10_000;
@@ -342,16 +342,6 @@ impl DeckRecord {
         }
         row.peak_acceleration_filtered = largest;
     }
-}
-
-/// The value of largest magnitude, sign kept.
-fn signed_peak(samples: &[f64]) -> f64 {
-    let peak = peak_magnitude(samples);
-    samples
-        .iter()
-        .copied()
-        .find(|x| x.abs() == peak)
-        .unwrap_or(0.0)
 }
 
 /// The row of one run: its design peaks, with the deck's summary.
