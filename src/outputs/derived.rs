@@ -6,9 +6,9 @@
 use nalgebra::{DVector, Vector3};
 
 use crate::contact::{ContactForce, ContactFrame};
-use crate::integrate::{loads, FrameMemo};
+use crate::integrate::{loads, DynamicState, FrameMemo};
 use crate::state::SimState;
-use crate::system::System;
+use crate::system::{System, TrackPart};
 
 /// What the outputs read beside the system and the state: where the
 /// sensors and sections are, the frames of the last step (recalled, not
@@ -47,9 +47,19 @@ pub fn frames_now(
     state: &SimState,
     memo: &FrameMemo,
 ) -> Result<Vec<ContactFrame>, crate::integrate::IntegrationError> {
-    let d = &state.dynamic;
+    frames_of(system, &state.dynamic, &state.parts, memo)
+}
+
+/// The contact frames of the dynamic state `d`, each contact on its part
+/// `parts` of the track, from `memo` where they are the last step's.
+pub fn frames_of(
+    system: &System,
+    d: &DynamicState,
+    parts: &[TrackPart],
+    memo: &FrameMemo,
+) -> Result<Vec<ContactFrame>, crate::integrate::IntegrationError> {
     let mut frames = Vec::new();
-    let located = (d.contact_x.as_slice(), state.parts.as_slice());
+    let located = (d.contact_x.as_slice(), parts);
     memo.contact_frames(
         system,
         &d.beam_displacement,

@@ -891,16 +891,8 @@ impl Simulation {
         &self,
         d: &DynamicState,
     ) -> Result<Vec<crate::contact::ContactFrame>, crate::integrate::IntegrationError> {
-        let mut frames = Vec::new();
-        let located = (d.contact_x.as_slice(), self.state.parts.as_slice());
-        self.iteration.frame_memo().contact_frames(
-            &self.system,
-            &d.beam_displacement,
-            &d.bodies,
-            located,
-            &mut frames,
-        )?;
-        Ok(frames)
+        let memo = self.iteration.frame_memo();
+        crate::outputs::derived::frames_of(&self.system, d, &self.state.parts, memo)
     }
 
     /// The contact frames of the current state (each contact on the part
