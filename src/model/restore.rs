@@ -49,6 +49,9 @@ impl<D: Dynamics> Model<D> {
         if !(snap.inputs.iter().all(|x| x.is_finite()) && snap.start_time.is_finite()) {
             return refuse("an input or the start time is not finite".into());
         }
+        if let Some(history) = &snap.input_history {
+            history.check(self.inputs.len()).or_else(refuse)?;
+        }
         if (snap.phase == Phase::Running) != snap.sim.is_some() {
             return refuse(format!(
                 "phase {:?} with the dynamics' state {}",
@@ -96,6 +99,9 @@ impl<D: Dynamics> Model<D> {
         self.phase = snap.phase;
         self.sim = sim;
         self.discarded = None;
+        self.input_history = snap.input_history.clone();
+        self.input_derivatives.clear();
+        self.loads_ramped = false;
         Ok(())
     }
 
