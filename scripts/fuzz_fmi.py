@@ -329,7 +329,7 @@ class Sequence:
             (8, self.do_step), (4, self.fmu_states), (3, self.serialization),
             (3, self.forged_state), (3, self.physics_forgery), (1, self.threaded_instances),
             (2, self.status), (1, self.debug_logging), (1, self.unsupported),
-            (1, self.null_component), (1, self.platform),
+            (1, self.null_component), (1, self.platform), (1, self.push_hard),
         ]
         total = sum(w for w, _ in actions)
         r = self.rng.uniform(0, total)
@@ -446,6 +446,24 @@ class Sequence:
                 self.fail(f"after fmi2DoStep OK the outputs are {out}")
         elif status in (DISCARD, ERROR):
             self.check_state_survives_failed_step()
+
+    def push_hard(self):
+        """An input set to a large allowed magnitude, then long steps until
+        one fails (or the body's exit, or 40 steps): the failing-step paths
+        (fmi2Discard, the roll-back), which random short steps seldom reach,
+        are searched too."""
+        inputs = [vr for vr, c, _ in self.model.vars.get("Real", []) if c == "input"]
+        if inputs:
+            value = self.rng.choice([1e15, -1e15, 1e12, -1e12, 1e9, -1e9])
+            self.call("fmi2SetReal", self.c, (C.c_uint * 1)(self.rng.choice(inputs)), 1,
+                      (C.c_double * 1)(value))
+        for _ in range(40):
+            status = self.call("fmi2DoStep", self.c, self.time, 0.25, 1)
+            if status != OK:
+                if status in (DISCARD, ERROR):
+                    self.check_state_survives_failed_step()
+                return
+            self.time += 0.25
 
     def check_state_survives_failed_step(self):
         """fmi2GetFMUstate works after a refused step; the state restored in a
@@ -657,12 +675,13 @@ class Sequence:
                 self.fail("an instance on a thread differs from the reference run")
 
     def check_parameters_reachable(self, path):
-        """Each parameter of the instance, set on a fresh instance, is
-        accepted (unless the instance is in a mode where they cannot be read)."""
+        """Each parameter and input of the instance, set on a fresh instance,
+        is accepted (unless the instance is in a mode where they cannot be
+        read): a state carries in nothing the setters refuse."""
         values = []
         for kind, ctype in (("Real", C.c_double), ("Integer", C.c_int)):
             for vr, causality, name in self.model.vars.get(kind, []):
-                if causality != "parameter":
+                if causality not in ("parameter", "input"):
                     continue
                 out = (ctype * 1)()
                 if self.model.f[f"fmi2Get{kind}"](self.c, (C.c_uint * 1)(vr), 1, out) != OK:

@@ -2,6 +2,8 @@
 //! state: checked to be a state of this model before anything is built from
 //! it, and all or nothing.
 
+use crate::scene::MAX_MAGNITUDE;
+
 use super::{
     apply_inputs, err, first_non_finite, param_value, set_param, validate, Dynamics, Model,
     ModelError, Phase, Role, Snapshot,
@@ -46,8 +48,17 @@ impl<D: Dynamics> Model<D> {
                 self.inputs.len()
             ));
         }
-        if !(snap.inputs.iter().all(|x| x.is_finite()) && snap.start_time.is_finite()) {
-            return refuse("an input or the start time is not finite".into());
+        if !snap.start_time.is_finite() {
+            return refuse("its start time is not finite".into());
+        }
+        // The rule fmi2SetReal applies to an input: a state must not carry
+        // in what the setter refuses.
+        if let Some((i, x)) = (snap.inputs.iter().enumerate())
+            .find(|(_, x)| !(x.is_finite() && x.abs() <= MAX_MAGNITUDE))
+        {
+            return refuse(format!(
+                "its input {i} = {x:e} is not finite or not within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
+            ));
         }
         if let Some(history) = &snap.input_history {
             history.check(self.inputs.len()).or_else(refuse)?;

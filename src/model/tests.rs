@@ -434,7 +434,7 @@ fn a_restored_state_must_be_a_state_of_this_model() {
     m.do_step(0.0, 0.1).unwrap();
     let x = real(&mut m, "wheel.x");
     type Forge = fn(&mut Snapshot<super::fake::FakeState>);
-    let cases: [(Forge, &str); 9] = [
+    let cases: [(Forge, &str); 10] = [
         (|s| s.scene.beam.elements = 10_000_000, "beam.elements"),
         (|s| s.scene.beam.elements = usize::MAX, "beam.elements"),
         (|s| s.scene.body.mass = -3000.0, "wheel.mass"),
@@ -452,6 +452,8 @@ fn a_restored_state_must_be_a_state_of_this_model() {
             "more than parameters",
         ),
         (|s| s.inputs[1] = f64::NAN, "not finite"),
+        // what fmi2SetReal refuses (found by the FMI fuzzer: 2^53 + 1 N)
+        (|s| s.inputs[1] = 9007199254740993.0, "magnitude limit"),
         (|s| s.sim = None, "missing"),
     ];
     for (forge, named) in cases {
