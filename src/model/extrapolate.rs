@@ -32,8 +32,13 @@ impl InputHistory {
                 self.values.len()
             ));
         }
-        if !(self.time.is_finite() && self.values.iter().all(|x| x.is_finite())) {
-            return Err("its input history is not finite".into());
+        // (the rule fmi2SetReal applies to the inputs themselves)
+        let allowed = |x: &f64| x.is_finite() && x.abs() <= MAX_MAGNITUDE;
+        if !(self.time.is_finite() && self.values.iter().all(allowed)) {
+            return Err(format!(
+                "its input history is not finite or not within ±{MAX_MAGNITUDE:e} \
+                 (the magnitude limit)"
+            ));
         }
         Ok(())
     }
