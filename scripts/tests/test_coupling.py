@@ -5,8 +5,9 @@ hangs on the glider that the guideway scene names in `couplings`.
 
 The same system exists inside guideway as the built-in `sprung_mass`
 vehicle (one model, no co-simulation). The coupled run must match it to
-within the coupling error of a co-simulation whose inputs are held over a
-communication step (first order: halving the step halves the error), and
+within the coupling error of a co-simulation in which the quarter car holds
+its inputs over a communication step (first order: halving the step halves
+the error; guideway's own extrapolation is in test_coupling_order2.py), and
 the three masters, which all exchange values at the communication points
 (Jacobi), must agree with one another to 1e-9.
 """
@@ -115,7 +116,7 @@ def variable_refs(path):
     return {v.name: v.valueReference for v in read_model_description(path).modelVariables}
 
 
-def run_fmpy(paths, h):
+def run_fmpy(paths, h, starts=STARTS, observed=OBSERVED):
     """Jacobi by hand: read every output at t, set every input, step both."""
     slaves, vrs = {}, {}
     for name, path in paths.items():
@@ -126,8 +127,11 @@ def run_fmpy(paths, h):
         s.instantiate()
         s.setupExperiment(startTime=0.0)
         slaves[name] = s
-    for (name, var), value in STARTS.items():
-        slaves[name].setReal([vrs[name][var]], [value])
+    for (name, var), value in starts.items():
+        if isinstance(value, int):
+            slaves[name].setInteger([vrs[name][var]], [value])
+        else:
+            slaves[name].setReal([vrs[name][var]], [value])
     for s in slaves.values():
         s.enterInitializationMode()
         s.exitInitializationMode()
@@ -143,14 +147,14 @@ def run_fmpy(paths, h):
             slaves[b].setReal([vrs[b][y]], [value])
         for s in slaves.values():
             s.doStep(k * h, h)  # fmpy raises unless fmi2OK
-        rows.append([get(a, x) for a, x in OBSERVED])
+        rows.append([get(a, x) for a, x in observed])
     for s in slaves.values():
         s.terminate()
         s.freeInstance()
     return np.array(rows)
 
 
-def run_libcosim(paths, h):
+def run_libcosim(paths, h, starts=STARTS, observed=OBSERVED):
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimObserver import CosimObserver
     from libcosimpy.CosimSlave import CosimLocalSlave
@@ -164,16 +168,19 @@ def run_libcosim(paths, h):
         vrs[name] = variable_refs(path)
     for a, x, b, y in CONNECTIONS:
         execution.connect_real_variables(index[a], vrs[a][x], index[b], vrs[b][y])
-    for (name, var), value in STARTS.items():
-        execution.real_initial_value(index[name], vrs[name][var], value)
+    for (name, var), value in starts.items():
+        if isinstance(value, int):
+            execution.integer_initial_value(index[name], vrs[name][var], value)
+        else:
+            execution.real_initial_value(index[name], vrs[name][var], value)
     rows = []
     for k in range(int(round(STOP / h))):
         assert execution.step(), f"libcosim step {k} failed"
-        rows.append([observer.last_real_values(index[a], [vrs[a][x]])[0] for a, x in OBSERVED])
+        rows.append([observer.last_real_values(index[a], [vrs[a][x]])[0] for a, x in observed])
     return np.array(rows)
 
 
-def run_ecos(paths, h):
+def run_ecos(paths, h, starts=STARTS, observed=OBSERVED):
     from ecospy import EcosSimulation
     from ecospy.EcosSimulationStructure import EcosSimulationStructure
 
@@ -182,13 +189,13 @@ def run_ecos(paths, h):
         structure.add_model(name, path)
     for a, x, b, y in CONNECTIONS:
         structure.make_real_connection(f"{a}::{x}", f"{b}::{y}")
-    structure.add_parameter_set("start", {f"{a}::{x}": v for (a, x), v in STARTS.items()})
+    structure.add_parameter_set("start", {f"{a}::{x}": v for (a, x), v in starts.items()})
     rows = []
     with EcosSimulation(structure=structure, step_size=h) as sim:
         assert sim.init(parameter_set="start"), "Ecos could not initialize"
         for _ in range(int(round(STOP / h))):
             sim.step()
-            rows.append([sim.get_real(f"{a}::{x}") for a, x in OBSERVED])
+            rows.append([sim.get_real(f"{a}::{x}") for a, x in observed])
         np.testing.assert_allclose(sim.get_time(), STOP, rtol=1e-9)
         sim.terminate()
     return np.array(rows)
@@ -203,16 +210,16 @@ def runs(fmus):
     return {(m, h): RUNNERS[m](paths, h) for m in MASTERS for h in STEPS}
 
 
-def errors(fmus, runs, master):
+def errors(fmus, runs, master, steps=STEPS, columns=BUILTIN_COLUMNS):
     """Per communication step: the largest difference from the built-in
     run of each observed quantity, over its peak change."""
     _, (names, data) = fmus
     out = []
-    for h in STEPS:
+    for h in steps:
         r = runs[(master, h)]
         t = h * np.arange(1, len(r) + 1)
         errs = []
-        for j, col in enumerate(BUILTIN_COLUMNS):
+        for j, col in enumerate(columns):
             ref = np.interp(t, data[:, 0], data[:, names.index(col)])
             swing = np.max(np.abs(ref - ref[0]))
             errs.append(np.max(np.abs(r[:, j] - ref)) / swing)

@@ -617,6 +617,27 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 }
 const _: fmi2DeSerializeFMUstateTYPE = Some(fmi2DeSerializeFMUstate);
 
+/// # Safety
+/// Standard FMI 2.0 contract for this function.
+#[no_mangle]
+pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+    c: fmi2Component,
+    vr: *const fmi2ValueReference,
+    nvr: usize,
+    order: *const fmi2Integer,
+    value: *const fmi2Real,
+) -> fmi2Status {
+    unsafe {
+        with_instance(c, "fmi2SetRealInputDerivatives", |inst| {
+            let vrs = slice(vr, nvr, "vr")?;
+            let orders = slice(order, nvr, "order")?;
+            let values = slice(value, nvr, "value")?;
+            inst.set_input_derivatives(vrs, orders, values).map(|()| OK)
+        })
+    }
+}
+const _: fmi2SetRealInputDerivativesTYPE = Some(fmi2SetRealInputDerivatives);
+
 // ---- not provided (declared so in modelDescription.xml) ---------------------
 
 /// # Safety
@@ -638,24 +659,6 @@ pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
     }
 }
 const _: fmi2GetDirectionalDerivativeTYPE = Some(fmi2GetDirectionalDerivative);
-
-/// # Safety
-/// Standard FMI 2.0 contract for this function.
-#[no_mangle]
-pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
-    c: fmi2Component,
-    _vr: *const fmi2ValueReference,
-    _nvr: usize,
-    _order: *const fmi2Integer,
-    _value: *const fmi2Real,
-) -> fmi2Status {
-    unsafe {
-        with_instance(c, "fmi2SetRealInputDerivatives", |_| {
-            Err("not provided (canInterpolateInputs=\"false\")".into())
-        })
-    }
-}
-const _: fmi2SetRealInputDerivativesTYPE = Some(fmi2SetRealInputDerivatives);
 
 /// # Safety
 /// Standard FMI 2.0 contract for this function.

@@ -243,6 +243,23 @@ impl<D: Dynamics> Instance<D> {
             .map_err(|e| format!("{function}: {e}"))
     }
 
+    /// fmi2SetRealInputDerivatives: derivatives of inputs for the next
+    /// step (allowed where inputs may be set).
+    pub fn set_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), String> {
+        let function = "fmi2SetRealInputDerivatives";
+        if self.mode != StepFailed || self.terminated() {
+            self.require(function, &[Instantiated, InitializationMode, StepComplete])?;
+        }
+        self.model
+            .set_input_derivatives(vrs, orders, values)
+            .map_err(|e| format!("{function}: {e}"))
+    }
+
     fn terminated(&self) -> bool {
         self.model.exit_time().is_some()
     }

@@ -451,7 +451,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
             model_identifier: model_identifier(&scene.name),
             needs_execution_tool: false,
             variable_step: true,
-            interpolate_inputs: false,
+            interpolate_inputs: true,
             max_output_derivative_order: 0,
             asynchronous: false,
             once_per_process: false,

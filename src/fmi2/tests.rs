@@ -189,3 +189,21 @@ fn another_instances_state_handle_is_refused() {
     a.free_state(sa).unwrap();
     b.free_state(sb).unwrap();
 }
+
+#[test]
+fn input_derivatives_are_taken_while_inputs_may_be_set_and_refused_after_terminate() {
+    let mut i = instance();
+    let fx = vr(&i, "wheel.force_x");
+    i.set_input_derivatives(&[fx], &[1], &[10.0]).unwrap();
+    i.enter_initialization_mode().unwrap();
+    i.exit_initialization_mode().unwrap();
+    i.set_input_derivatives(&[fx], &[2], &[1.0]).unwrap();
+    let e = i.set_input_derivatives(&[fx], &[0], &[1.0]).unwrap_err();
+    assert!(
+        e.contains("fmi2SetRealInputDerivatives") && e.contains("1 or 2"),
+        "{e}"
+    );
+    i.terminate().unwrap();
+    let e = i.set_input_derivatives(&[fx], &[1], &[1.0]).unwrap_err();
+    assert!(e.contains("Terminated"), "{e}");
+}

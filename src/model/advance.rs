@@ -9,7 +9,8 @@
 //! is where an uninterrupted advance passes anyway: chunking changes no
 //! result, only lets the clock be read.
 
-use super::Dynamics;
+use super::extrapolate::Ramp;
+use super::{apply_inputs, Dynamics};
 use crate::simulation::{Advance, SolverError};
 use std::time::{Duration, Instant};
 
@@ -31,25 +32,28 @@ pub enum Stop {
 /// not yet reached, stop. With `until_event`, the chunks are single steps
 /// and the advance ends (`Reached`, short of `target`) after the one in
 /// which a simulation event happened; the flag returned says whether it did.
+/// With a `ramp`, the chunks are single internal steps, each under the
+/// ramp's mean inputs over it.
 pub fn advance_within<D: Dynamics>(
     sim: &mut D,
     target: f64,
     step: f64,
     budget: f64,
-    until_event: bool,
+    (until_event, ramp): (bool, Option<&Ramp>),
 ) -> Result<(Advance, bool), Stop> {
     let budget = Duration::try_from_secs_f64(budget).unwrap_or(Duration::MAX);
     let started = Instant::now();
     // Inside an internal step the contact iteration reads the deadline.
     let deadline = started.checked_add(budget);
     crate::deadline::within(deadline, || {
-        advance_chunks(sim, target, step, (started, budget), until_event).map_err(|stop| match stop
-        {
-            Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
-                reached: sim.time(),
-                foreseen: crate::deadline::foreseen(),
-            },
-            stop => stop,
+        advance_chunks(sim, target, step, (started, budget), (until_event, ramp)).map_err(|stop| {
+            match stop {
+                Stop::Solver(_) if crate::deadline::passed() => Stop::OverBudget {
+                    reached: sim.time(),
+                    foreseen: crate::deadline::foreseen(),
+                },
+                stop => stop,
+            }
         })
     })
 }
@@ -60,12 +64,19 @@ fn advance_chunks<D: Dynamics>(
     target: f64,
     step: f64,
     (started, budget): (Instant, Duration),
-    until_event: bool,
+    (until_event, ramp): (bool, Option<&Ramp>),
 ) -> Result<(Advance, bool), Stop> {
-    let reach = |sim: &mut D| sim.advance_to(target).map(|a| (a, false));
+    let mut loads = Vec::new();
+    let mut to = |sim: &mut D, end: f64| {
+        if let Some(ramp) = ramp {
+            ramp.mean_over(sim.time(), end, &mut loads);
+            apply_inputs(sim, &loads);
+        }
+        sim.advance_to(end)
+    };
     // Within one internal step the clock is read inside it only.
     if chunk_end(sim.time(), step, 1.0) >= target - 1e-6 * step {
-        return reach(sim).map_err(Stop::Solver);
+        return to(sim, target).map(|a| (a, false)).map_err(Stop::Solver);
     }
     let events_before = sim.event_count();
     // Chunk length in internal steps: doubled while a chunk takes under a
@@ -75,10 +86,10 @@ fn advance_chunks<D: Dynamics>(
     loop {
         let end = chunk_end(sim.time(), step, chunk);
         if end >= target - 1e-6 * step {
-            return reach(sim).map_err(Stop::Solver);
+            return to(sim, target).map(|a| (a, false)).map_err(Stop::Solver);
         }
         let chunk_started = Instant::now();
-        if let Advance::Exited { time } = sim.advance_to(end).map_err(Stop::Solver)? {
+        if let Advance::Exited { time } = to(sim, end).map_err(Stop::Solver)? {
             return Ok((Advance::Exited { time }, false));
         }
         if until_event && sim.event_count() > events_before {
@@ -90,7 +101,7 @@ fn advance_chunks<D: Dynamics>(
                 foreseen: None,
             });
         }
-        chunk = if until_event {
+        chunk = if until_event || ramp.is_some() {
             1.0
         } else if chunk_started.elapsed() < budget / 16 {
             (2.0 * chunk).min(65536.0)

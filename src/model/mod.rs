@@ -9,6 +9,7 @@
 mod advance;
 mod dynamics;
 pub mod experiment;
+mod extrapolate;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
 mod restore;
@@ -93,6 +94,11 @@ pub struct Snapshot<S> {
     start_time: f64,
     phase: Phase,
     sim: Option<S>,
+    /// The inputs at the start of the last completed step (the line the
+    /// next step's inputs are extrapolated along). Absent in states saved
+    /// before second-order coupling: the next step then holds its inputs.
+    #[serde(default)]
+    input_history: Option<extrapolate::InputHistory>,
 }
 
 pub struct Model<D: Dynamics> {
@@ -137,6 +143,17 @@ pub struct Model<D: Dynamics> {
     /// outputs only, and their `real_slots`: an importer reads the same
     /// list after every step, which then needs no look-up per variable.
     last_reals: (Vec<u32>, Vec<u32>),
+    /// The inputs at the start of the last completed step.
+    input_history: Option<extrapolate::InputHistory>,
+    /// Input derivatives (first, second) the master set for the next step
+    /// (fmi2SetRealInputDerivatives), per input; cleared by each completed
+    /// step.
+    input_derivatives: Vec<Option<[f64; 2]>>,
+    /// The dynamics hold the loads of a ramp, not `inputs`.
+    loads_ramped: bool,
+    /// The first communication step's size: later steps within a few ulp
+    /// of it are taken as it (`snapped_target`).
+    nominal_step: Option<f64>,
 }
 
 /// `real_slots` of a variable that is not a Real output.
@@ -256,6 +273,10 @@ impl<D: Dynamics> Model<D> {
             rollback: rollback::RollBack::new(),
             real_slots,
             last_reals: (Vec::new(), Vec::new()),
+            input_history: None,
+            input_derivatives: Vec::new(),
+            loads_ramped: false,
+            nominal_step: None,
         })
     }
 
@@ -290,6 +311,9 @@ impl<D: Dynamics> Model<D> {
         self.stop_time = None;
         self.wall_time_budget = DEFAULT_WALL_TIME_BUDGET;
         self.discarded = None;
+        self.input_history = None;
+        self.input_derivatives.clear();
+        self.nominal_step = None;
     }
 
     /// fmi2SetupExperiment's times: all or nothing. A stop time bounds the
@@ -593,7 +617,45 @@ impl<D: Dynamics> Model<D> {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
             apply_inputs(sim, &self.inputs);
+            self.loads_ramped = false;
         }
+        Ok(())
+    }
+
+    /// Set the `orders[k]`-th time derivative of input `vrs[k]` for the
+    /// next communication step (fmi2SetRealInputDerivatives): all or
+    /// nothing. Orders 1 and 2 are used; a step without them extrapolates
+    /// the inputs from their last two communication points.
+    pub fn set_input_derivatives(
+        &mut self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), ModelError> {
+        self.changing();
+        let mut given = self.input_derivatives.clone();
+        given.resize(self.inputs.len(), None);
+        for ((&vr, &order), &value) in vrs.iter().zip(orders).zip(values) {
+            let v = self.variable(vr, VarType::Real)?;
+            let refuse = |rule: &str| {
+                err(format!(
+                    "cannot set derivative {order} of {} = {value:?}: {rule}",
+                    v.name
+                ))
+            };
+            let Role::Input(i) = v.role else {
+                return refuse("it is not an input");
+            };
+            if !(order == 1 || order == 2) {
+                return refuse("the order must be 1 or 2");
+            }
+            if !(value.is_finite() && value.abs() <= MAX_MAGNITUDE) {
+                return refuse(&format!("must be finite and within ±{MAX_MAGNITUDE:e}"));
+            }
+            let d = given[i.index()].get_or_insert([0.0, 0.0]);
+            d[(order - 1) as usize] = value;
+        }
+        self.input_derivatives = given;
         Ok(())
     }
 
@@ -617,6 +679,7 @@ impl<D: Dynamics> Model<D> {
                 Phase::Running => self.sim.as_ref().map(|s| s.state()),
                 Phase::Configuring => None,
             },
+            input_history: self.input_history.clone(),
         }
     }
 

@@ -60,6 +60,9 @@ impl<D: Dynamics> Model<D> {
                 "its input {i} = {x:e} is not finite or not within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
             ));
         }
+        if let Some(history) = &snap.input_history {
+            history.check(self.inputs.len()).or_else(refuse)?;
+        }
         if (snap.phase == Phase::Running) != snap.sim.is_some() {
             return refuse(format!(
                 "phase {:?} with the dynamics' state {}",
@@ -107,6 +110,9 @@ impl<D: Dynamics> Model<D> {
         self.phase = snap.phase;
         self.sim = sim;
         self.discarded = None;
+        self.input_history = snap.input_history.clone();
+        self.input_derivatives.clear();
+        self.loads_ramped = false;
         Ok(())
     }
 

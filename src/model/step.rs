@@ -2,8 +2,9 @@
 //! before anything runs, the advance under the wall-time budget, roll-back
 //! and the classification of failures (see `advance`).
 
+use super::extrapolate::{InputHistory, Ramp};
 use super::{
-    advance, err, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
+    advance, apply_inputs, err, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
     MAX_INTERNAL_STEPS_PER_CALL, MAX_RUN_STEPS,
 };
 use crate::report::non_finite_output;
@@ -128,7 +129,8 @@ impl<D: Dynamics> Model<D> {
         // `changing`: the roll-back copy is the step's own business.)
         let spare = self.outputs_now.take().unwrap_or_default();
         let events_before = self.sim.as_ref().map_or(0, |s| s.event_count());
-        let outcome = self.advance(t + h, spare, until_event)?;
+        let to = self.snapped_target(t, h);
+        let outcome = self.advance(to, spare, until_event)?;
         self.new_events = match (&outcome, &self.sim) {
             (StepOutcome::Failed { .. }, _) | (_, None) => Vec::new(),
             (_, Some(sim)) if sim.event_count() == events_before => Vec::new(),
@@ -145,6 +147,27 @@ impl<D: Dynamics> Model<D> {
             _ => None,
         };
         Ok(outcome)
+    }
+
+    /// Where a step from `t` of `h` ends, free of the ulp-level noise of
+    /// masters that count time in integers (libcosim passes t[k+1] - t[k],
+    /// off by ulps of t): a step within a few ulp of the first step's size
+    /// is that size, and a `t` within a few ulp of the model's time is the
+    /// model's time.
+    fn snapped_target(&mut self, t: f64, h: f64) -> f64 {
+        let now = self.time();
+        let ulp = f64::EPSILON * (now.abs() + h);
+        let nominal = *self.nominal_step.get_or_insert(h);
+        let h = if (h - nominal).abs() <= 8.0 * ulp {
+            nominal
+        } else {
+            h
+        };
+        if (t - now).abs() <= 8.0 * ulp {
+            now + h
+        } else {
+            t + h
+        }
     }
 
     /// Advance the dynamics to communication time `to` within the wall-time
@@ -164,10 +187,24 @@ impl<D: Dynamics> Model<D> {
         if let Some(time) = sim.exit_time() {
             return Ok(StepOutcome::Exited { time: t0 + time });
         }
-        let (saved, next) = self.rollback.start(sim);
         let start = sim.time();
+        let ramp = Ramp::new(
+            start,
+            now,
+            &self.inputs,
+            &self.input_derivatives,
+            self.input_history.as_ref(),
+        );
+        if ramp.is_none() && self.loads_ramped {
+            // The last step left a ramp's loads: back to the held inputs.
+            apply_inputs(sim, &self.inputs);
+            self.rollback.invalidate();
+        }
+        let (saved, next) = self.rollback.start(sim);
         let rolled_back = || format!("step rolled back to t = {now} s");
-        let advanced = advance::advance_within(sim, to - t0, step, budget, until_event);
+        let target = snap_to_grid(to - t0, step);
+        let advanced =
+            advance::advance_within(sim, target, step, budget, (until_event, ramp.as_ref()));
         let mut ended_at_event = false;
         let outcome = match advanced {
             Ok((Advance::Reached, at_event)) => {
@@ -223,11 +260,31 @@ impl<D: Dynamics> Model<D> {
             self.rollback.restored();
         } else {
             self.rollback.completed();
+            self.loads_ramped = ramp.is_some();
+            self.input_history = Some(InputHistory {
+                time: now,
+                values: self.inputs.clone(),
+            });
+            self.input_derivatives.clear();
         }
         // (Of the table's length: otherwise the getters' own check speaks.)
         let outputs_in_table = self.output_count;
         self.outputs_now = outputs.filter(|v| v.len() == outputs_in_table);
         Ok(outcome)
+    }
+}
+
+/// A target within a few ulp of a grid point of the internal steps is that
+/// grid point: masters that count time in integers (libcosim: nanoseconds)
+/// pass communication points off by an ulp, and the inputs' ramp over the
+/// last internal step must not depend on it.
+fn snap_to_grid(target: f64, step: f64) -> f64 {
+    // (the grid point as the dynamics compute theirs: a count times the step)
+    let grid = (target / step).round() * step;
+    if (target - grid).abs() <= 4.0 * f64::EPSILON * grid.abs().max(step) {
+        grid
+    } else {
+        target
     }
 }
 

@@ -349,7 +349,9 @@ fn a_failure_a_smaller_step_cures_is_discarded_once_then_refused_if_retried_unch
     assert_eq!(m.do_step(0.0, FINE_STEP).unwrap(), StepOutcome::Completed);
     let (_, curable) = failed(m.do_step(FINE_STEP, 0.1).unwrap());
     assert!(curable);
+    // (held: otherwise the line from 2e8 down to 0 is extrapolated on)
     m.set(&[fy], &[Value::Real(0.0)]).unwrap();
+    m.set_input_derivatives(&[fy], &[1], &[0.0]).unwrap();
     assert_eq!(m.do_step(FINE_STEP, 0.1).unwrap(), StepOutcome::Completed);
 }
 
@@ -759,4 +761,96 @@ fn the_real_getter_reads_what_the_general_getter_does() {
         assert!(reals(&mut m, &bad).is_err(), "{bad:?}");
     }
     assert!(m.get_reals(&outputs, &mut [0.0; 2]).is_err());
+}
+
+/// The fake glider's velocity gain after `n` communication steps of `h`
+/// with force_x = `rate` · t set at each communication point, the
+/// derivative `rate` also sent when `with_derivative`.
+fn velocity_gain_under_a_force_ramp(rate: f64, h: f64, n: usize, with_derivative: bool) -> f64 {
+    let mut m = model(BodyKind::Glider);
+    m.initialize().unwrap();
+    let fx = vr(&m, "glider.force_x");
+    let v0 = real(&mut m, "glider.vx");
+    for k in 0..n {
+        let t = k as f64 * h;
+        m.set(&[fx], &[Value::Real(rate * t)]).unwrap();
+        if with_derivative {
+            m.set_input_derivatives(&[fx], &[1], &[rate]).unwrap();
+        }
+        assert_eq!(m.do_step(t, h).unwrap(), StepOutcome::Completed);
+    }
+    real(&mut m, "glider.vx") - v0
+}
+
+#[test]
+fn inputs_are_extrapolated_along_their_last_two_communication_points() {
+    // Under F = a t the impulse up to T is a T²/2 (closed form). Held
+    // inputs give the left Riemann sum a T (T - H)/2; the line through the
+    // last two points is exact for a line, except over the first step,
+    // which has no history and holds F(0) = 0: a (T² - H²)/2.
+    let (a, h, n) = (1000.0, 0.05, 8);
+    let t_end = h * n as f64;
+    let mass = match model(BodyKind::Glider).scene().body.mass {
+        m if m > 0.0 => m,
+        m => panic!("mass {m}"),
+    };
+    let gained = velocity_gain_under_a_force_ramp(a, h, n, false);
+    let expected = a * (t_end * t_end - h * h) / 2.0 / mass;
+    assert!(
+        (gained - expected).abs() < 1e-12 * expected,
+        "{gained} vs {expected}"
+    );
+    let held = a * t_end * (t_end - h) / 2.0 / mass;
+    assert!((gained - held).abs() > 1e-3 * expected);
+}
+
+#[test]
+fn input_derivatives_sent_by_the_master_make_the_first_step_exact_too() {
+    let (a, h, n) = (1000.0, 0.05, 8);
+    let t_end = h * n as f64;
+    let mass = model(BodyKind::Glider).scene().body.mass;
+    let gained = velocity_gain_under_a_force_ramp(a, h, n, true);
+    let expected = a * t_end * t_end / 2.0 / mass;
+    assert!(
+        (gained - expected).abs() < 1e-12 * expected,
+        "{gained} vs {expected}"
+    );
+}
+
+#[test]
+fn bad_input_derivatives_are_refused_naming_variable_order_and_rule() {
+    let mut m = model(BodyKind::Glider);
+    let fx = vr(&m, "glider.force_x");
+    let x = vr(&m, "glider.x");
+    let e = m.set_input_derivatives(&[fx], &[3], &[1.0]).unwrap_err().0;
+    assert!(e.contains("glider.force_x") && e.contains("1 or 2"), "{e}");
+    let e = m.set_input_derivatives(&[x], &[1], &[1.0]).unwrap_err().0;
+    assert!(e.contains("not an input"), "{e}");
+    let e = m
+        .set_input_derivatives(&[fx], &[1], &[f64::NAN])
+        .unwrap_err()
+        .0;
+    assert!(e.contains("finite"), "{e}");
+}
+
+#[test]
+fn a_restored_state_continues_its_extrapolation_identically() {
+    let mut m = model(BodyKind::Glider);
+    m.initialize().unwrap();
+    let fx = vr(&m, "glider.force_x");
+    let h = 0.05;
+    for k in 0..3 {
+        m.set(&[fx], &[Value::Real(100.0 * k as f64)]).unwrap();
+        m.do_step(k as f64 * h, h).unwrap();
+    }
+    let bytes = Model::<FakeDynamics>::serialize(&m.snapshot(), "g").unwrap();
+    let mut continue_once = |m: &mut Model<FakeDynamics>| {
+        m.set(&[fx], &[Value::Real(300.0)]).unwrap();
+        m.do_step(3.0 * h, h).unwrap();
+        real(m, "glider.vx")
+    };
+    let first = continue_once(&mut m);
+    let snap = m.deserialize_checked(&bytes, "g").unwrap();
+    m.restore(&snap).unwrap();
+    assert_eq!(continue_once(&mut m).to_bits(), first.to_bits());
 }
