@@ -438,7 +438,7 @@ pub const MOVING_FORCE_REFUSAL: &str =
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let mut beam = Beam::new(&scene.beam)?;
     if let Some(selection) = crate::modal::ModeSelection::of(&scene.solver) {
-        beam.reduce_to_modes(selection)?;
+        beam = beam.reduce_to_modes(selection)?;
     }
     let spec = &scene.body;
     let gravity = scene.gravity;

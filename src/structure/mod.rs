@@ -1,7 +1,11 @@
-//! The flexible structure the vehicles cross: the Hermite beam (its mesh,
-//! supports and bending operator), its modal reduction, and the track's
-//! irregularity profile.
+//! The flexible structure the vehicles cross: the seam (`Structure`) with
+//! its implementations (the Hermite beam, its modal reduction), and the
+//! track's irregularity profile.
 
 pub mod beam;
 pub mod modal;
 pub mod profile;
+pub mod reduced;
+pub mod seam;
+
+pub use seam::Structure;

@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
 
-use crate::beam::{lowest_modes_by_subspace, Beam, Wanted, DENSE_MODE_DOFS};
+use crate::beam::{lowest_modes_by_subspace, HermiteBeam, Wanted, DENSE_MODE_DOFS};
 use crate::scene::{SolverSpec, StructureKind};
 
 /// Which modes a modal structure keeps.
@@ -69,7 +69,7 @@ impl ModalBasis {
     /// The modes of `beam` that `selection` keeps (`Beam::modes` chooses
     /// the dense eigenproblem or the subspace iteration). Undamped until
     /// `with_damping`.
-    pub fn new(beam: &Beam, selection: ModeSelection) -> Result<ModalBasis, String> {
+    pub fn new(beam: &HermiteBeam, selection: ModeSelection) -> Result<ModalBasis, String> {
         let n = beam.free_dofs();
         if let ModeSelection::Count(k) = selection {
             if k > n {
@@ -281,7 +281,7 @@ impl ModalFactor {
 /// Every mode up to `hz` of a beam above `DENSE_MODE_DOFS` free DOFs: the
 /// subspace iteration for 8 modes, doubled until the highest found is
 /// above the cut-off.
-fn modes_up_to(beam: &Beam, hz: f64) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+fn modes_up_to(beam: &HermiteBeam, hz: f64) -> Result<(Vec<f64>, DMatrix<f64>), String> {
     let n = beam.free_dofs();
     let mut wanted = 8.min(n);
     loop {
@@ -303,8 +303,8 @@ mod tests {
     use crate::beam::start_value;
     use crate::scene::{BeamSpec, EndSupport, SupportsSpec};
 
-    fn beam(elements: usize, supports: SupportsSpec) -> Beam {
-        Beam::new(&BeamSpec {
+    fn beam(elements: usize, supports: SupportsSpec) -> HermiteBeam {
+        HermiteBeam::new(&BeamSpec {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
@@ -321,7 +321,7 @@ mod tests {
     /// On a fine mesh the entries of K, rounded, fix a low mode's ω² only
     /// to about ε |x|ᵀ|K||x| / xᵀKx ≈ 1e-7 (200 elements): both methods
     /// agree to that, not to ε.
-    fn assert_matches_dense(beam: &Beam, k: usize) {
+    fn assert_matches_dense(beam: &HermiteBeam, k: usize) {
         let (omega, shapes) = lowest_modes_by_subspace(beam, k, Wanted::Modes).expect("converges");
         let dense = beam.modes(k).expect("dense");
         let mut m_phi = DVector::zeros(beam.free_dofs());
@@ -398,7 +398,7 @@ mod tests {
     fn modal_operations_are_the_nodal_ones_in_modal_coordinates() {
         // On every mode: energies and damping power of q equal those of
         // the nodal field Φ q under Rayleigh damping.
-        let spec_beam = Beam::new(&BeamSpec {
+        let spec_beam = HermiteBeam::new(&BeamSpec {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,

@@ -9,7 +9,7 @@
 use crate::band::{BandLdlt, SymBand};
 use crate::bending::Bending;
 use crate::mesh::{GroundSpring, Mesh, Segment};
-use crate::modal::{ModalBasis, ModalFactor, ModeSelection};
+use crate::modal::ModalFactor;
 use crate::scene::{BeamSpec, DampingSpec};
 use crate::two_level::{CoarseMesh, Effective, FineMesh, TwoLevelFactor, PLAIN_FACTOR_ERROR};
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
@@ -21,6 +21,9 @@ mod subspace;
 pub(crate) use subspace::start_value;
 pub(crate) use subspace::{lowest as lowest_modes_by_subspace, Wanted};
 pub use subspace::{DENSE_MODE_DOFS, MAX_SUBSPACE_ENTRIES, MAX_SUBSPACE_WORK};
+
+/// The callers' name of the structure seam (`crate::structure::Structure`).
+pub type Beam = crate::structure::Structure;
 
 /// Beyond this ratio of track length to shortest element, K u is
 /// computed element by element (`Beam::stiffness_times`).
@@ -106,7 +109,9 @@ impl Shape {
     }
 }
 
-pub struct Beam {
+/// The full-mesh implementation of the structure seam
+/// (`crate::structure::Structure`): every free DOF is a state entry.
+pub struct HermiteBeam {
     pub length: f64,
     pub surface_offset: f64,
     pub mass_per_length: f64,
@@ -139,8 +144,6 @@ pub struct Beam {
     elementwise_products: bool,
     mass_factor: BandLdlt,
     damping: Rayleigh,
-    /// The kept modes when the structure is modal (`crate::modal`).
-    modal: Option<ModalBasis>,
 }
 
 /// The band operators of accelerations `M⁻¹ (f − K u) − α v`
@@ -225,9 +228,9 @@ fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
     ) * c
 }
 
-impl Beam {
+impl HermiteBeam {
     /// Assemble the beam of a (validated) spec.
-    pub fn new(spec: &BeamSpec) -> Result<Beam, String> {
+    pub fn new(spec: &BeamSpec) -> Result<HermiteBeam, String> {
         let mesh = Mesh::new(spec)?;
         let free_dofs = mesh.free_dofs;
         let mut mass = SymBand::zeros(free_dofs);
@@ -272,7 +275,7 @@ impl Beam {
             segment_ends[segment.elements.end - 1].1 = true;
         }
         let min_element_length = element_length.iter().copied().fold(f64::INFINITY, f64::min);
-        let mut beam = Beam {
+        let mut beam = HermiteBeam {
             length: spec.length,
             surface_offset: spec.surface_offset,
             mass_per_length: spec.mass_per_length,
@@ -293,7 +296,6 @@ impl Beam {
             elementwise_products: false,
             mass_factor,
             damping: Rayleigh::default(),
-            modal: None,
         };
         beam.damping = beam.rayleigh(spec.damping.as_ref())?;
         // The band's K u of a smooth field is off by about ε (L/h)⁴ of
@@ -552,20 +554,6 @@ impl Beam {
         }
     }
 
-    /// w and its first three derivatives along the deformed axis at `x` in
-    /// `element`, from the element's cubic in power form (about 25 flops,
-    /// no shape rows built): what the foot-point search evaluates at each
-    /// of its iterates.
-    pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
-        self.axis_of_field(element, x, &self.element_field(element, u))
-    }
-
-    /// The field of state vector `u` on the four DOFs of `element` (0
-    /// where held): what `axis_of_field` reads.
-    pub fn element_field(&self, element: usize, u: &DVector<f64>) -> [f64; 4] {
-        self.gather(&self.element_dofs[element], u)
-    }
-
     /// `axis` from the element's field `element_field(element, u)`: the
     /// foot-point search gathers it once per element, not at each iterate
     /// (on a modal structure a gather is a product with the kept modes).
@@ -592,130 +580,95 @@ impl Beam {
         [w, dw, ddw, dddw]
     }
 
-    /// Transverse deflection w at `x` (m).
-    pub fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
-        let shape = self.shape(self.element_at(x), x);
-        self.dot(&shape, &shape.n, u)
-    }
-
-    /// Entries of a state vector of the structure (displacements,
-    /// velocities, loads): the free DOFs, or the kept modes on a modal
-    /// structure.
-    pub fn coordinates(&self) -> usize {
-        self.modal
-            .as_ref()
-            .map_or(self.free_dofs, ModalBasis::modes)
+    /// Entries of a state vector of the full mesh: its free DOFs.
+    pub(in crate::structure) fn coordinates(&self) -> usize {
+        self.free_dofs
     }
 
     /// Value on free DOF `dof` of the field a state vector `u` describes.
-    pub fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
-        match &self.modal {
-            None => u[dof],
-            Some(modal) => modal.value(dof, u),
-        }
+    pub(in crate::structure) fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
+        u[dof]
     }
 
     /// `out += scale` × a unit load on free DOF `dof`, in the structure's
     /// coordinates.
-    pub fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
-        match &self.modal {
-            None => out[dof] += scale,
-            Some(modal) => modal.add_load(dof, scale, out),
-        }
+    pub(in crate::structure) fn add_dof_load(
+        &self,
+        dof: usize,
+        scale: f64,
+        out: &mut DVector<f64>,
+    ) {
+        out[dof] += scale;
     }
 
     /// The field of state vector `u` on the four DOFs `dofs` of an element
     /// (0 where held).
-    pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
-        // The nodal case reads `u` directly: the foot-point search gathers
-        // at every iterate, and a match per entry doubled its cost.
+    pub(in crate::structure) fn gather(
+        &self,
+        dofs: &[Option<usize>; 4],
+        u: &DVector<f64>,
+    ) -> [f64; 4] {
+        // Reads `u` directly: the foot-point search gathers at every
+        // iterate, and a match per entry doubled its cost.
         let mut local = [0.0; 4];
-        match &self.modal {
-            None => {
-                for (value, dof) in local.iter_mut().zip(dofs) {
-                    if let Some(i) = *dof {
-                        *value = u[i];
-                    }
-                }
+        for (value, dof) in local.iter_mut().zip(dofs) {
+            if let Some(i) = *dof {
+                *value = u[i];
             }
-            Some(_) => local = dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u))),
         }
         local
     }
 
     /// Dot a row of `shape`'s values with the field of state vector `u`.
-    pub fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
-        if self.modal.is_none() {
-            return shape.dot(row, u);
-        }
-        let local = self.gather(&shape.dofs, u);
-        local.iter().zip(row).map(|(a, b)| a * b).sum()
+    pub(in crate::structure) fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
+        shape.dot(row, u)
     }
 
-    /// `dot` of two rows of `shape` with the same `u`: on a modal
-    /// structure the element's field is gathered once for both.
-    pub fn dot_rows(
+    /// `dot` of two rows of `shape` with the same `u`.
+    pub(in crate::structure) fn dot_rows(
         &self,
         shape: &Shape,
         (first, second): (&[f64; 4], &[f64; 4]),
         u: &DVector<f64>,
     ) -> (f64, f64) {
-        if self.modal.is_none() {
-            return (shape.dot(first, u), shape.dot(second, u));
-        }
-        let local = self.gather(&shape.dofs, u);
-        let dot = |row: &[f64; 4]| local.iter().zip(row).map(|(a, b)| a * b).sum();
-        (dot(first), dot(second))
+        (shape.dot(first, u), shape.dot(second, u))
     }
 
-    /// `scatter` of two loads at `shape`, `scale_1 row_1 + scale_2 row_2`:
-    /// on a modal structure one product with the kept modes per DOF, not
-    /// two.
-    pub fn scatter_rows(
+    /// `scatter` of two loads at `shape`, `scale_1 row_1 + scale_2 row_2`.
+    pub(in crate::structure) fn scatter_rows(
         &self,
         shape: &Shape,
         (first, scale_1): (&[f64; 4], f64),
         (second, scale_2): (&[f64; 4], f64),
         out: &mut DVector<f64>,
     ) {
-        if self.modal.is_none() {
-            shape.scatter(first, scale_1, out);
-            return shape.scatter(second, scale_2, out);
-        }
-        for (k, dof) in shape.dofs.iter().enumerate() {
-            if let Some(i) = *dof {
-                self.add_dof_load(i, scale_1 * first[k] + scale_2 * second[k], out);
-            }
-        }
+        shape.scatter(first, scale_1, out);
+        shape.scatter(second, scale_2, out);
     }
 
     /// Add the load `scale * row` at `shape` into state vector `out`.
-    pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
-        if self.modal.is_none() {
-            return shape.scatter(row, scale, out);
-        }
-        for (dof, r) in shape.dofs.iter().zip(row) {
-            if let Some(i) = *dof {
-                self.add_dof_load(i, scale * r, out);
-            }
-        }
+    pub(in crate::structure) fn scatter(
+        &self,
+        shape: &Shape,
+        row: &[f64; 4],
+        scale: f64,
+        out: &mut DVector<f64>,
+    ) {
+        shape.scatter(row, scale, out);
     }
 
     /// `out = K u`.
-    pub fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
-        match &self.modal {
-            Some(modal) => modal.stiffness_times(u, out),
-            None if self.elementwise_products => self.bending.times(u, out),
-            None => self.stiffness.mul_to(u.as_slice(), out.as_mut_slice()),
+    pub(in crate::structure) fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
+        if self.elementwise_products {
+            self.bending.times(u, out)
+        } else {
+            self.stiffness.mul_to(u.as_slice(), out.as_mut_slice())
         }
     }
 
     /// `out = M v`.
-    pub fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
-        match &self.modal {
-            None => self.mass.mul_to(v.as_slice(), out.as_mut_slice()),
-            Some(_) => out.copy_from(v),
-        }
+    pub(in crate::structure) fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        self.mass.mul_to(v.as_slice(), out.as_mut_slice())
     }
 
     /// LDLᵀ factor of M + `damping_weight` C + `stiffness_weight` K, the
@@ -743,20 +696,14 @@ impl Beam {
     }
 
     /// The inverse of M + `damping_weight` C + `stiffness_weight` K: the
-    /// band factor, or on a modal structure the modal one.
-    pub fn effective_factor(
+    /// band factor (with the coarse correction on fine meshes).
+    pub(in crate::structure) fn effective_factor(
         &self,
         damping_weight: f64,
         stiffness_weight: f64,
     ) -> Result<EffectiveFactor, String> {
-        let Some(modal) = &self.modal else {
-            let band = self.factor_effective(damping_weight, stiffness_weight)?;
-            return Ok(self.accurate_factor(band, damping_weight, stiffness_weight));
-        };
-        let factor = modal.effective_factor(damping_weight, stiffness_weight);
-        factor.map(EffectiveFactor::Modal).ok_or_else(|| {
-            "the implicit scheme's effective matrix on the modes is not positive definite".into()
-        })
+        let band = self.factor_effective(damping_weight, stiffness_weight)?;
+        Ok(self.accurate_factor(band, damping_weight, stiffness_weight))
     }
 
     /// The band factor of M + `damping_weight` C + `stiffness_weight` K,
@@ -831,19 +778,12 @@ impl Beam {
         EffectiveFactor::TwoLevel(Box::new(two_level))
     }
 
-    /// Represent the beam by the modes `selection` keeps (`crate::modal`):
-    /// from here on its state vectors are modal coordinates.
-    pub fn reduce_to_modes(&mut self, selection: ModeSelection) -> Result<(), String> {
-        let rayleigh = (self.damping.mass, self.damping.stiffness);
-        let dampers = self.dampers().map(|s| (s.dof, s.damping));
-        let basis = ModalBasis::new(self, selection)?.with_damping(rayleigh, dampers);
-        self.modal = Some(basis);
-        Ok(())
-    }
-
-    /// The kept modes when the structure is modal.
-    pub fn modal(&self) -> Option<&ModalBasis> {
-        self.modal.as_ref()
+    /// The support dampers as (free DOF, coefficient): what a modal
+    /// reduction projects onto its modes.
+    pub(in crate::structure) fn damper_coefficients(
+        &self,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
+        self.dampers().map(|s| (s.dof, s.damping))
     }
 
     /// The mass and stiffness band matrices (the modal eigensolver's input).
@@ -857,11 +797,10 @@ impl Beam {
 
     /// The static deflection u with K u = `load`, through the band LDLᵀ
     /// factor of K (refused when the supports leave a rigid-body motion).
-    /// On a modal structure, load and deflection are modal coordinates.
-    pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
-        if let Some(modal) = &self.modal {
-            return modal.static_deflection(load);
-        }
+    pub(in crate::structure) fn static_deflection(
+        &self,
+        load: &DVector<f64>,
+    ) -> Result<DVector<f64>, String> {
         // The scene rules refuse supports that leave the beam free: what is
         // left is rounding on a fine mesh (the condition grows as n⁴).
         let factor = self.stiffness.ldlt().ok_or_else(|| {
@@ -880,16 +819,13 @@ impl Beam {
 
     /// `out = K u + C v`: the beam's elastic and damping forces, using
     /// `scratch` for u + β v.
-    pub fn internal_forces(
+    pub(in crate::structure) fn internal_forces(
         &self,
         u: &DVector<f64>,
         v: &DVector<f64>,
         scratch: &mut DVector<f64>,
         out: &mut DVector<f64>,
     ) {
-        if let Some(modal) = &self.modal {
-            return modal.internal_forces(u, v, out);
-        }
         let c = self.damping;
         if c.is_zero() {
             self.stiffness_times(u, out);
@@ -925,17 +861,14 @@ impl Beam {
 
     /// Σ c (M⁻¹)ᵢᵢ over the support dampers (1/s): at least the decay rate
     /// of any mode they damp (the explicit scheme's stability limit).
-    pub fn damper_rate_bound(&self) -> f64 {
+    pub(in crate::structure) fn damper_rate_bound(&self) -> f64 {
         self.dampers()
             .map(|s| s.damping * self.inverse_mass_diagonal(s.dof))
             .sum()
     }
 
-    /// (M⁻¹)ᵢᵢ, by one band solve ((Φ Φᵀ)ᵢᵢ on a modal structure).
+    /// (M⁻¹)ᵢᵢ, by one band solve.
     fn inverse_mass_diagonal(&self, i: usize) -> f64 {
-        if let Some(modal) = &self.modal {
-            return modal.inverse_mass_diagonal(i);
-        }
         let mut e = DVector::zeros(self.free_dofs);
         e[i] = 1.0;
         self.solve_mass(&mut e);
@@ -943,10 +876,7 @@ impl Beam {
     }
 
     /// Power dissipated by the structural damping, vᵀ C v (W).
-    pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
-        if let Some(modal) = &self.modal {
-            return modal.damping_power(v);
-        }
+    pub(in crate::structure) fn damping_power(&self, v: &DVector<f64>) -> f64 {
         let c = self.damping;
         let supports = self.damper_power(v);
         if c.is_zero() {
@@ -963,9 +893,9 @@ impl Beam {
     /// only after the mass solve (no stiffness-proportional damping, no
     /// support dampers), so an explicit scheme may solve two stages whose
     /// displacements are known at once (`BandLdlt::solve_residual_pair`).
-    /// `None` on a modal structure or where K u is taken element by element.
-    pub fn velocity_free_band(&self) -> Option<VelocityFreeBand<'_>> {
-        let free = self.modal.is_none() && !self.elementwise_products;
+    /// `None` where K u is taken element by element.
+    pub(in crate::structure) fn velocity_free_band(&self) -> Option<VelocityFreeBand<'_>> {
+        let free = !self.elementwise_products;
         let velocity_free = self.damping.stiffness == 0.0 && self.dampers().next().is_none();
         (free && velocity_free).then_some(VelocityFreeBand {
             stiffness: &self.stiffness,
@@ -974,23 +904,18 @@ impl Beam {
         })
     }
 
-    /// `rhs ← M⁻¹ rhs` (the identity in modal coordinates).
-    pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
-        if self.modal.is_none() {
-            self.mass_factor.solve_mut(rhs);
-        }
+    /// `rhs ← M⁻¹ rhs`.
+    pub(in crate::structure) fn solve_mass(&self, rhs: &mut DVector<f64>) {
+        self.mass_factor.solve_mut(rhs);
     }
 
     /// Nodal accelerations `M⁻¹ (load − K u − C v)`.
-    pub fn accelerations(
+    pub(in crate::structure) fn accelerations(
         &self,
         (u, v): (&DVector<f64>, &DVector<f64>),
         load: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
-        if let Some(modal) = &self.modal {
-            return modal.accelerations((u, v), load, out);
-        }
         let c = self.damping;
         // M⁻¹ (f − K (u + β v)) − α v: one mass solve, no product with M;
         // K (u + β v) = K u + β K v, accumulated in `out` without scratch.
@@ -1014,19 +939,13 @@ impl Beam {
     }
 
     /// ½ vᵀ M v.
-    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
-        match &self.modal {
-            None => 0.5 * self.mass.quadratic_form(v.as_slice()),
-            Some(modal) => modal.kinetic_energy(v),
-        }
+    pub(in crate::structure) fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        0.5 * self.mass.quadratic_form(v.as_slice())
     }
 
     /// ½ uᵀ K u.
-    pub fn strain_energy(&self, u: &DVector<f64>) -> f64 {
-        match &self.modal {
-            None => 0.5 * self.bending.quadratic_form(u),
-            Some(modal) => modal.strain_energy(u),
-        }
+    pub(in crate::structure) fn strain_energy(&self, u: &DVector<f64>) -> f64 {
+        0.5 * self.bending.quadratic_form(u)
     }
 
     /// Highest natural circular frequency of the assembled beam (rad/s),
@@ -1043,12 +962,8 @@ impl Beam {
     /// passed (or the element bound), so the result is an upper bound of
     /// ω_max: a step limit from it is safe. Each test costs one band
     /// factorization, O(elements).
-    pub fn highest_frequency(&self) -> f64 {
+    pub(in crate::structure) fn highest_frequency(&self) -> f64 {
         const RELATIVE_WIDTH: f64 = 1e-4;
-        // The kept modes are exact eigenpairs: the highest is known.
-        if let Some(modal) = &self.modal {
-            return modal.omega().last().copied().unwrap_or(0.0);
-        }
         // Support springs add to K: Rayleigh quotients add, and a spring k
         // on DOF i alone reaches at most k (M⁻¹)ᵢᵢ.
         let springs: f64 = self
@@ -1194,22 +1109,25 @@ impl Beam {
         self.element_dofs[element][local].is_none()
     }
 
-    /// Element `element`'s end forces K_e q(`u`) + M_e q(`a`) on its DOFs
-    /// (w_i, ψ_i, w_j, ψ_j), held DOFs taken as zero: what its nodes exert
-    /// on it, before the loads on the element itself.
-    pub fn element_end_forces(
+    /// Element `element`'s end forces K_e `u` + M_e `a` from its local
+    /// fields (w_i, ψ_i, w_j, ψ_j) of displacement and acceleration, held
+    /// DOFs taken as zero: what its nodes exert on it, before the loads on
+    /// the element itself.
+    pub(in crate::structure) fn element_end_forces_of(
         &self,
         element: usize,
-        u: &DVector<f64>,
-        a: &DVector<f64>,
+        (u, a): ([f64; 4], [f64; 4]),
     ) -> [f64; 4] {
         let len = self.element_length[element];
         let ke = element_stiffness(len, self.bending_stiffness);
         let me = element_mass(len, self.mass_per_length);
-        let local =
-            |v: &DVector<f64>| nalgebra::Vector4::from(self.gather(&self.element_dofs[element], v));
-        let f = ke * local(u) + me * local(a);
+        let f = ke * nalgebra::Vector4::from(u) + me * nalgebra::Vector4::from(a);
         [f[0], f[1], f[2], f[3]]
+    }
+
+    /// Free-DOF index of `element`'s four DOFs, `None` where held.
+    pub fn element_dofs(&self, element: usize) -> &[Option<usize>; 4] {
+        &self.element_dofs[element]
     }
 }
 

@@ -11,7 +11,7 @@
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
-use super::{Beam, ELEMENTWISE_RATIO};
+use super::{HermiteBeam, ELEMENTWISE_RATIO};
 use crate::band::SymBand;
 
 /// Largest n·p² (free DOFs times the squared subspace size) the subspace
@@ -46,7 +46,7 @@ pub(crate) enum Wanted {
 /// The lowest `k` modes by subspace iteration (with `Wanted::Frequencies`,
 /// an n × 0 matrix for the shapes).
 pub(crate) fn lowest(
-    beam: &Beam,
+    beam: &HermiteBeam,
     k: usize,
     wanted: Wanted,
 ) -> Result<(Vec<f64>, DMatrix<f64>), String> {

@@ -1,0 +1,281 @@
+//! The structure seam: the one type the system, the contacts and the
+//! integrators see, with its implementations (the full Hermite mesh, its
+//! modal reduction) behind an enum: static dispatch, one `match` per
+//! call, no `dyn` in the step.
+//!
+//! Geometry (node abscissae, elements, shapes, supports, segments) is the
+//! mesh's whatever the implementation, so `Structure` dereferences to the
+//! `HermiteBeam` for it. Every operation whose meaning depends on the
+//! state's coordinates (gathers, loads, products, factors, energies) is
+//! defined here; the mesh's own versions are private to `structure`, so a
+//! caller cannot reach the full-mesh operation on a reduced structure.
+
+use std::ops::Deref;
+
+use nalgebra::DVector;
+
+use crate::beam::{EffectiveFactor, HermiteBeam, Shape, VelocityFreeBand};
+use crate::modal::{ModalBasis, ModeSelection};
+use crate::scene::BeamSpec;
+use crate::structure::reduced::ModalBeam;
+
+/// The flexible structure under the vehicles.
+pub enum Structure {
+    /// Every free DOF of the Hermite mesh is a state entry.
+    Hermite(HermiteBeam),
+    /// The state is the kept modes' coordinates.
+    Modal(ModalBeam),
+}
+
+/// One expression per implementation: `each!(self, b => b.f(..))`.
+macro_rules! each {
+    ($self:expr, $b:ident => $e:expr) => {
+        match $self {
+            Structure::Hermite($b) => $e,
+            Structure::Modal($b) => $e,
+        }
+    };
+}
+
+impl Deref for Structure {
+    type Target = HermiteBeam;
+
+    /// The mesh: geometry shared by every implementation.
+    fn deref(&self) -> &HermiteBeam {
+        match self {
+            Structure::Hermite(mesh) => mesh,
+            Structure::Modal(modal) => &modal.mesh,
+        }
+    }
+}
+
+impl Structure {
+    /// The full-mesh structure of a (validated) spec.
+    pub fn new(spec: &BeamSpec) -> Result<Structure, String> {
+        HermiteBeam::new(spec).map(Structure::Hermite)
+    }
+
+    /// The structure reduced to the modes `selection` keeps: from here on
+    /// its state vectors are modal coordinates. A reduced structure is
+    /// reduced again from its mesh.
+    pub fn reduce_to_modes(self, selection: ModeSelection) -> Result<Structure, String> {
+        let mesh = match self {
+            Structure::Hermite(mesh) => mesh,
+            Structure::Modal(modal) => modal.mesh,
+        };
+        ModalBeam::new(mesh, selection).map(Structure::Modal)
+    }
+
+    /// The kept modes when the structure is modal.
+    pub fn modal(&self) -> Option<&ModalBasis> {
+        match self {
+            Structure::Hermite(_) => None,
+            Structure::Modal(modal) => Some(modal.basis()),
+        }
+    }
+
+    /// Entries of a state vector (displacements, velocities, loads): the
+    /// free DOFs, or the kept modes.
+    pub fn coordinates(&self) -> usize {
+        each!(self, b => b.coordinates())
+    }
+
+    /// Value on free DOF `dof` of the field a state vector `u` describes.
+    pub fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
+        each!(self, b => b.dof_value(dof, u))
+    }
+
+    /// `out += scale` × a unit load on free DOF `dof`, in the structure's
+    /// coordinates.
+    pub fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        each!(self, b => b.add_dof_load(dof, scale, out))
+    }
+
+    /// The field of state vector `u` on the four DOFs `dofs` of an element
+    /// (0 where held).
+    pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
+        each!(self, b => b.gather(dofs, u))
+    }
+
+    /// Dot a row of `shape`'s values with the field of state vector `u`.
+    pub fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
+        each!(self, b => b.dot(shape, row, u))
+    }
+
+    /// `dot` of two rows of `shape` with the same `u`.
+    pub fn dot_rows(
+        &self,
+        shape: &Shape,
+        rows: (&[f64; 4], &[f64; 4]),
+        u: &DVector<f64>,
+    ) -> (f64, f64) {
+        each!(self, b => b.dot_rows(shape, rows, u))
+    }
+
+    /// `scatter` of two loads at `shape`, `scale_1 row_1 + scale_2 row_2`.
+    pub fn scatter_rows(
+        &self,
+        shape: &Shape,
+        first: (&[f64; 4], f64),
+        second: (&[f64; 4], f64),
+        out: &mut DVector<f64>,
+    ) {
+        each!(self, b => b.scatter_rows(shape, first, second, out))
+    }
+
+    /// Add the load `scale * row` at `shape` into state vector `out`.
+    pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
+        each!(self, b => b.scatter(shape, row, scale, out))
+    }
+
+    /// The field of state vector `u` on the four DOFs of `element` (0
+    /// where held): what `axis_of_field` reads.
+    pub fn element_field(&self, element: usize, u: &DVector<f64>) -> [f64; 4] {
+        self.gather(self.element_dofs(element), u)
+    }
+
+    /// w and its first three derivatives along the deformed axis at `x` in
+    /// `element` (`HermiteBeam::axis_of_field`).
+    pub fn axis(&self, element: usize, x: f64, u: &DVector<f64>) -> [f64; 4] {
+        self.axis_of_field(element, x, &self.element_field(element, u))
+    }
+
+    /// Transverse deflection w at `x` (m).
+    pub fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        let shape = self.shape(self.element_at(x), x);
+        self.dot(&shape, &shape.n, u)
+    }
+
+    /// Element `element`'s end forces K_e q(`u`) + M_e q(`a`) on its DOFs
+    /// (w_i, ψ_i, w_j, ψ_j), held DOFs taken as zero: what its nodes exert
+    /// on it, before the loads on the element itself.
+    pub fn element_end_forces(
+        &self,
+        element: usize,
+        u: &DVector<f64>,
+        a: &DVector<f64>,
+    ) -> [f64; 4] {
+        let local = (
+            self.element_field(element, u),
+            self.element_field(element, a),
+        );
+        self.element_end_forces_of(element, local)
+    }
+}
+
+/// The dynamics: products, factors, energies in the state's coordinates.
+impl Structure {
+    /// `out = K u`.
+    pub fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
+        match self {
+            Structure::Hermite(mesh) => mesh.stiffness_times(u, out),
+            Structure::Modal(modal) => modal.basis().stiffness_times(u, out),
+        }
+    }
+
+    /// `out = M v` (the identity in modal coordinates).
+    pub fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        match self {
+            Structure::Hermite(mesh) => mesh.mass_times(v, out),
+            Structure::Modal(_) => out.copy_from(v),
+        }
+    }
+
+    /// `rhs ← M⁻¹ rhs` (the identity in modal coordinates).
+    pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
+        if let Structure::Hermite(mesh) = self {
+            mesh.solve_mass(rhs);
+        }
+    }
+
+    /// The inverse of M + `damping_weight` C + `stiffness_weight` K, the
+    /// effective matrix of implicit schemes.
+    pub fn effective_factor(
+        &self,
+        damping_weight: f64,
+        stiffness_weight: f64,
+    ) -> Result<EffectiveFactor, String> {
+        each!(self, b => b.effective_factor(damping_weight, stiffness_weight))
+    }
+
+    /// The static deflection u with K u = `load` (modal coordinates on a
+    /// modal structure).
+    pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
+        match self {
+            Structure::Hermite(mesh) => mesh.static_deflection(load),
+            Structure::Modal(modal) => modal.basis().static_deflection(load),
+        }
+    }
+
+    /// `out = K u + C v`: the elastic and damping forces, using `scratch`.
+    pub fn internal_forces(
+        &self,
+        u: &DVector<f64>,
+        v: &DVector<f64>,
+        scratch: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        match self {
+            Structure::Hermite(mesh) => mesh.internal_forces(u, v, scratch, out),
+            Structure::Modal(modal) => modal.basis().internal_forces(u, v, out),
+        }
+    }
+
+    /// Accelerations `M⁻¹ (load − K u − C v)`.
+    pub fn accelerations(
+        &self,
+        state: (&DVector<f64>, &DVector<f64>),
+        load: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        match self {
+            Structure::Hermite(mesh) => mesh.accelerations(state, load, out),
+            Structure::Modal(modal) => modal.basis().accelerations(state, load, out),
+        }
+    }
+
+    /// K, M's factor and α when the accelerations are `M⁻¹ (f − K u) − α v`
+    /// (`HermiteBeam::velocity_free_band`); `None` on a modal structure.
+    pub fn velocity_free_band(&self) -> Option<VelocityFreeBand<'_>> {
+        match self {
+            Structure::Hermite(mesh) => mesh.velocity_free_band(),
+            Structure::Modal(_) => None,
+        }
+    }
+
+    /// ½ vᵀ M v.
+    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        match self {
+            Structure::Hermite(mesh) => mesh.kinetic_energy(v),
+            Structure::Modal(modal) => modal.basis().kinetic_energy(v),
+        }
+    }
+
+    /// ½ uᵀ K u.
+    pub fn strain_energy(&self, u: &DVector<f64>) -> f64 {
+        match self {
+            Structure::Hermite(mesh) => mesh.strain_energy(u),
+            Structure::Modal(modal) => modal.basis().strain_energy(u),
+        }
+    }
+
+    /// Power dissipated by the structural damping, vᵀ C v (W).
+    pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
+        match self {
+            Structure::Hermite(mesh) => mesh.damping_power(v),
+            Structure::Modal(modal) => modal.basis().damping_power(v),
+        }
+    }
+
+    /// Σ c (M⁻¹)ᵢᵢ over the support dampers (1/s): at least the decay rate
+    /// of any mode they damp (the explicit scheme's stability limit).
+    pub fn damper_rate_bound(&self) -> f64 {
+        each!(self, b => b.damper_rate_bound())
+    }
+
+    /// Highest natural circular frequency (rad/s), never below the true
+    /// one: the explicit schemes' step limit.
+    pub fn highest_frequency(&self) -> f64 {
+        each!(self, b => b.highest_frequency())
+    }
+}
