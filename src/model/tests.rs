@@ -844,7 +844,7 @@ fn a_restored_state_continues_its_extrapolation_identically() {
         m.do_step(k as f64 * h, h).unwrap();
     }
     let bytes = Model::<FakeDynamics>::serialize(&m.snapshot(), "g").unwrap();
-    let mut continue_once = |m: &mut Model<FakeDynamics>| {
+    let continue_once = |m: &mut Model<FakeDynamics>| {
         m.set(&[fx], &[Value::Real(300.0)]).unwrap();
         m.do_step(3.0 * h, h).unwrap();
         real(m, "glider.vx")
