@@ -90,7 +90,10 @@ def test_no_output_depends_directly_on_an_input(scene):
 def test_start_contact_force_depends_on_the_load_input():
     md = read_model_description(str(fmu_path(WHEEL)))
     deps = {u.variable.name: [d.name for d in u.dependencies] for u in md.initialUnknowns}
-    assert deps["contact.normal_force"] == ["wheel.force_y"]
+    # (a wheel started above the track carries no contact force: since every
+    # vehicle field became a parameter, wheel.initial_height is one, and the
+    # export's measurement finds that dependency too)
+    assert sorted(deps["contact.normal_force"]) == ["wheel.force_y", "wheel.initial_height"]
     assert deps["wheel.x"] == ["wheel.initial_position"]
     assert deps["sensor.midspan.deflection"] == []
 

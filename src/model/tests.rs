@@ -854,3 +854,33 @@ fn a_restored_state_continues_its_extrapolation_identically() {
     m.restore(&snap).unwrap();
     assert_eq!(continue_once(&mut m).to_bits(), first.to_bits());
 }
+
+/// Issue 27 item 2: before, only the first vehicle's speed was a
+/// parameter (setting it left the others at the scene's speed, and
+/// `coach2.initial_speed` was refused). The train's speed, and then one
+/// vehicle's own, are what each vehicle runs at.
+#[test]
+fn a_train_speed_and_each_vehicle_s_own_reach_the_dynamics() {
+    use crate::simulation::Simulation;
+    let scene = Scene::load("train-3-coaches-2x25-5").unwrap();
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    let set = |m: &mut Model<Simulation>, name: &str, x: f64| {
+        let vr = m.table().by_name(name).unwrap().value_reference;
+        m.set(&[vr], &[Value::Real(x)]).unwrap();
+    };
+    set(&mut m, "train.initial_speed", 4.0);
+    set(&mut m, "coach3.initial_speed", 3.0);
+    m.initialize().unwrap();
+    m.do_step(0.0, 0.01).unwrap();
+    for (name, speed) in [("coach1.vx", 4.0), ("coach2.vx", 4.0), ("coach3.vx", 3.0)] {
+        let vr = m.table().by_name(name).unwrap().value_reference;
+        let Value::Real(vx) = m.get(VarType::Real, &[vr]).unwrap()[0] else {
+            panic!("{name} is a Real")
+        };
+        // on the approach, 10 ms after the start at rest on the track
+        assert!(
+            (vx - speed).abs() < 1e-3 * speed,
+            "{name}: {vx} m/s, set {speed}"
+        );
+    }
+}

@@ -5,7 +5,8 @@
 //! One table feeds modelDescription.xml, the getters and setters and the
 //! FMU's documentation page, so they cannot disagree.
 
-use crate::scene::{BodyKind, Scene, MAX_MAGNITUDE, MIN_MAGNITUDE};
+use crate::scene::fields::{self, Access, FIELDS};
+use crate::scene::{BodySpec, Scene, MAX_MAGNITUDE, MIN_MAGNITUDE};
 use crate::simulation::{OutputInfo, OutputKind};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -67,11 +68,14 @@ pub enum Param {
     BeamBendingStiffness,
     BeamSurfaceOffset,
     BeamElements,
-    BodyMass,
-    BodyInertia,
-    BodyRadius,
-    BodyInitialPosition,
-    BodyInitialSpeed,
+    /// Row `field` of the scene's field table (`scene::fields::FIELDS`, a
+    /// `body.*` row) of vehicle `vehicle` (0: `[body]`, k: `vehicles[k-1]`).
+    Vehicle {
+        vehicle: usize,
+        field: usize,
+    },
+    /// The initial speed of every vehicle at once (a train's speed).
+    TrainSpeed,
     SensorPosition(usize),
     SolverStep,
     SolverVelocityTolerance,
@@ -185,7 +189,6 @@ impl VariableTable {
             scene,
         };
         let body = &scene.body.name;
-        let wheel = scene.body.kind == BodyKind::Wheel;
 
         use Param::*;
         b.param("beam.length", BeamLength, "m", "length of the beam");
@@ -213,33 +216,10 @@ impl VariableTable {
             "",
             "number of Hermite cubic beam elements",
         );
-        b.param(&format!("{body}.mass"), BodyMass, "kg", "mass of the body");
-        if wheel {
-            b.param(
-                &format!("{body}.inertia"),
-                BodyInertia,
-                "kg.m2",
-                "centroidal moment of inertia of the wheel",
-            );
-            b.param(
-                &format!("{body}.radius"),
-                BodyRadius,
-                "m",
-                "radius of the wheel",
-            );
-        }
-        b.param(
-            &format!("{body}.initial_position"),
-            BodyInitialPosition,
-            "m",
-            "abscissa of the contact point at t = 0",
-        );
-        b.param(
-            &format!("{body}.initial_speed"),
-            BodyInitialSpeed,
-            "m/s",
-            "initial travel speed, positive to the right",
-        );
+        // The first vehicle's basic fields keep their place (and value
+        // references); every other numeric field of every vehicle follows
+        // the solver's parameters.
+        b.vehicle_params(0, |path| FMU_FIRST_FIELDS.contains(&path));
         for (i, s) in scene.sensors.iter().enumerate() {
             b.param(
                 &format!("sensor.{}.position", s.name),
@@ -261,6 +241,21 @@ impl VariableTable {
             "m",
             "tolerance on the gap error |g|",
         );
+
+        if !scene.vehicles.is_empty() {
+            b.param(
+                "train.initial_speed",
+                TrainSpeed,
+                "m/s",
+                "initial travel speed of every vehicle at once (each vehicle's own \
+                 initial_speed, set after it, overrides it)",
+            );
+        }
+        for vehicle in 0..=scene.vehicles.len() {
+            b.vehicle_params(vehicle, |path| {
+                vehicle > 0 || !FMU_FIRST_FIELDS.contains(&path)
+            });
+        }
 
         b.input(
             &format!("{body}.force_x"),
@@ -449,6 +444,8 @@ enum Rule {
     Count(i32, i32),
     /// Real, >= the bound (a start on the approach: -track.approach).
     AtLeast(f64),
+    /// Real, within the inclusive range.
+    Between(f64, f64),
 }
 
 /// The rule of `p` in `scene` (some bounds come from fields that are no
@@ -457,18 +454,27 @@ fn rule(p: Param, scene: &Scene) -> Rule {
     use Param::*;
     match p {
         BeamElements => Rule::Count(1, MAX_ELEMENTS),
-        BodyInitialPosition => Rule::AtLeast(-scene.track.approach),
+        Vehicle { field, .. } => table_rule(FIELDS[field].rule, scene),
         BeamSurfaceOffset | SensorPosition(_) => Rule::NonNegative,
-        BodyInitialSpeed => Rule::Finite,
+        TrainSpeed => Rule::Finite,
         BeamLength
         | BeamMassPerLength
         | BeamBendingStiffness
-        | BodyMass
-        | BodyInertia
-        | BodyRadius
         | SolverStep
         | SolverVelocityTolerance
         | SolverGapTolerance => Rule::Positive,
+    }
+}
+
+/// The FMU's rule for a field-table rule (`Words` and `Elements` rows are
+/// no vehicle parameters).
+fn table_rule(rule: fields::Rule, scene: &Scene) -> Rule {
+    match rule {
+        fields::Rule::Positive => Rule::Positive,
+        fields::Rule::NonNegative => Rule::NonNegative,
+        fields::Rule::UnitInterval => Rule::Between(0.0, 1.0),
+        fields::Rule::OnTrack => Rule::AtLeast(-scene.track.approach),
+        fields::Rule::Finite | fields::Rule::Words | fields::Rule::Elements => Rule::Finite,
     }
 }
 
@@ -483,6 +489,7 @@ impl Rule {
             Rule::NonNegative => real(0.0),
             Rule::Finite => real(-MAX_MAGNITUDE),
             Rule::AtLeast(lo) => real(lo.max(-MAX_MAGNITUDE)),
+            Rule::Between(lo, hi) => (Some(Value::Real(lo)), Some(Value::Real(hi))),
             Rule::Count(lo, hi) => (Some(Value::Integer(lo)), Some(Value::Integer(hi))),
         }
     }
@@ -501,6 +508,9 @@ impl Rule {
             (Rule::AtLeast(lo), Value::Real(x)) if x < lo => Err(format!(
                 "must be >= {lo} (-track.approach: the start of the track)"
             )),
+            (Rule::Between(lo, hi), Value::Real(x)) if !(lo..=hi).contains(&x) => {
+                Err(format!("must lie in [{lo}, {hi}]"))
+            }
             (Rule::Positive, Value::Real(x)) if x < MIN_MAGNITUDE => Err(format!(
                 "must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"
             )),
@@ -548,6 +558,30 @@ impl Builder<'_> {
             dependencies: None,
             initial_dependencies: None,
         });
+    }
+    /// Vehicle `k`'s numeric fields of the field table (those it has, with
+    /// an FMU description) whose path after `body.` passes `which`: in the
+    /// order of `FMU_FIRST_FIELDS` first, then the table's.
+    fn vehicle_params(&mut self, k: usize, which: impl Fn(&str) -> bool) {
+        let Some(spec) = vehicle_spec(self.scene, k) else {
+            return;
+        };
+        let rows = FIELDS.iter().enumerate().filter_map(|(i, f)| {
+            let rest = f.path.strip_prefix("body.")?;
+            let Access::Vehicle(get, _) = f.access else {
+                return None;
+            };
+            (!f.doc.is_empty() && get(spec).is_some() && which(rest)).then_some((i, rest))
+        });
+        let mut rows: Vec<(usize, &str)> = rows.collect();
+        let first = |rest: &str| FMU_FIRST_FIELDS.iter().position(|&p| p == rest);
+        rows.sort_by_key(|&(i, rest)| (first(rest).unwrap_or(usize::MAX), i));
+        let name = spec.name.clone();
+        for (field, rest) in rows {
+            let f = &FIELDS[field];
+            let p = Param::Vehicle { vehicle: k, field };
+            self.param(&format!("{name}.{rest}"), p, f.unit, f.doc);
+        }
     }
     /// The coupling port's inputs on body `name`: the force, and the
     /// moment on a body that turns.
@@ -599,11 +633,11 @@ pub fn param_value(scene: &Scene, p: Param) -> Value {
         BeamBendingStiffness => scene.beam.bending_stiffness,
         BeamSurfaceOffset => scene.beam.surface_offset,
         BeamElements => return Value::Integer(scene.beam.elements.min(i32::MAX as usize) as i32),
-        BodyMass => scene.body.mass,
-        BodyInertia => scene.body.inertia.unwrap_or(0.0),
-        BodyRadius => scene.body.radius.unwrap_or(0.0),
-        BodyInitialPosition => scene.body.initial_position,
-        BodyInitialSpeed => scene.body.initial_speed,
+        Vehicle { vehicle, field } => match (FIELDS[field].access, vehicle_spec(scene, vehicle)) {
+            (Access::Vehicle(get, _), Some(spec)) => get(spec).unwrap_or(0.0),
+            _ => 0.0,
+        },
+        TrainSpeed => scene.body.initial_speed,
         SensorPosition(i) => scene.sensors[i].position,
         SolverStep => scene.solver.step,
         SolverVelocityTolerance => scene.solver.velocity_tolerance,
@@ -630,11 +664,18 @@ pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String
         BeamMassPerLength => scene.beam.mass_per_length = x,
         BeamBendingStiffness => scene.beam.bending_stiffness = x,
         BeamSurfaceOffset => scene.beam.surface_offset = x,
-        BodyMass => scene.body.mass = x,
-        BodyInertia => scene.body.inertia = Some(x),
-        BodyRadius => scene.body.radius = Some(x),
-        BodyInitialPosition => scene.body.initial_position = x,
-        BodyInitialSpeed => scene.body.initial_speed = x,
+        Vehicle { vehicle, field } => {
+            let spec = vehicle_spec_mut(scene, vehicle);
+            match (FIELDS[field].access, spec) {
+                (Access::Vehicle(_, set), Some(spec)) => set(spec, x),
+                _ => return Err("is not a field of this scene's vehicles".into()),
+            }
+        }
+        TrainSpeed => {
+            let set = fields::initial_speed_setter();
+            set(&mut scene.body, x);
+            scene.vehicles.iter_mut().for_each(|v| set(v, x));
+        }
         SensorPosition(i) => scene.sensors[i].position = x,
         SolverStep => scene.solver.step = x,
         SolverVelocityTolerance => scene.solver.velocity_tolerance = x,
@@ -643,6 +684,31 @@ pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String
     }
     Ok(())
 }
+
+/// Vehicle `k` of `scene` (0: `[body]`, k: `vehicles[k-1]`).
+fn vehicle_spec(scene: &Scene, k: usize) -> Option<&BodySpec> {
+    match k {
+        0 => Some(&scene.body),
+        k => scene.vehicles.get(k - 1),
+    }
+}
+
+fn vehicle_spec_mut(scene: &mut Scene, k: usize) -> Option<&mut BodySpec> {
+    match k {
+        0 => Some(&mut scene.body),
+        k => scene.vehicles.get_mut(k - 1),
+    }
+}
+
+/// The first vehicle's fields that come first among the parameters, in
+/// this order (their value references predate the field table).
+const FMU_FIRST_FIELDS: [&str; 5] = [
+    "mass",
+    "inertia",
+    "radius",
+    "initial_position",
+    "initial_speed",
+];
 
 /// Upper bound on `beam.elements`: the scene's rule.
 const MAX_ELEMENTS: i32 = crate::scene::MAX_ELEMENTS as i32;
@@ -656,6 +722,7 @@ mod tests {
     use super::*;
     use crate::model::fake::FakeDynamics;
     use crate::model::Dynamics;
+    use crate::scene::BodyKind;
     use crate::simulation::Steppable;
 
     fn table(kind: BodyKind) -> VariableTable {
@@ -781,7 +848,11 @@ mod tests {
     fn bad_values_are_refused_and_leave_the_scene_alone() {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
         let before = scene.clone();
-        assert!(set_param(&mut scene, Param::BodyMass, Value::Real(-1.0))
+        let mass = table(BodyKind::Wheel).by_name("wheel.mass").unwrap().role;
+        let Role::Parameter(mass) = mass else {
+            panic!("wheel.mass is a parameter")
+        };
+        assert!(set_param(&mut scene, mass, Value::Real(-1.0))
             .unwrap_err()
             .contains("> 0"));
         assert!(set_param(&mut scene, Param::BeamLength, Value::Real(f64::NAN)).is_err());
@@ -789,5 +860,53 @@ mod tests {
         assert_eq!(scene, before);
         set_param(&mut scene, Param::BeamElements, Value::Integer(8)).unwrap();
         assert_eq!(scene.beam.elements, 8);
+    }
+
+    fn param_of(t: &VariableTable, name: &str) -> Param {
+        match t.by_name(name).map(|v| v.role) {
+            Some(Role::Parameter(p)) => p,
+            other => panic!("{name}: {other:?}"),
+        }
+    }
+
+    /// Issue 27 item 2: every vehicle's numeric fields are parameters, each
+    /// writing its own vehicle only; a train's speed moves every vehicle.
+    #[test]
+    fn every_vehicle_has_its_parameters_and_a_train_one_speed() {
+        let scene = Scene::load("train-3-coaches-2x25-5").unwrap();
+        let t = VariableTable::new(&scene, &[]);
+        let stiffness = param_of(&t, "coach2.bogie.primary_stiffness");
+        let mut changed = scene.clone();
+        set_param(&mut changed, stiffness, Value::Real(2.5e6)).unwrap();
+        let bogie = |s: &Scene, k: usize| s.vehicles[k].bogie.clone().unwrap();
+        assert_eq!(bogie(&changed, 0).primary_stiffness, 2.5e6);
+        assert_eq!(bogie(&changed, 1), bogie(&scene, 1));
+        assert_eq!(changed.body, scene.body);
+        // refused by its rule, the scene left alone
+        let before = changed.clone();
+        assert!(set_param(&mut changed, stiffness, Value::Real(-1.0)).is_err());
+        assert_eq!(changed, before);
+        // the train's speed, then one vehicle's own
+        set_param(
+            &mut changed,
+            param_of(&t, "train.initial_speed"),
+            Value::Real(7.0),
+        )
+        .unwrap();
+        set_param(
+            &mut changed,
+            param_of(&t, "coach3.initial_speed"),
+            Value::Real(6.0),
+        )
+        .unwrap();
+        let speeds: Vec<f64> = std::iter::once(&changed.body)
+            .chain(&changed.vehicles)
+            .map(|v| v.initial_speed)
+            .collect();
+        assert_eq!(speeds, [7.0, 7.0, 6.0]);
+        let names: Vec<&str> = t.variables().iter().map(|v| v.name.as_str()).collect();
+        for (i, n) in names.iter().enumerate() {
+            assert!(!names[..i].contains(n), "{n} twice");
+        }
     }
 }

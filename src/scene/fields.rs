@@ -138,6 +138,12 @@ pub fn field(path: &str) -> Option<&'static Field> {
 
 /// A vehicle's initial speed; a constant prescribed speed follows it (the
 /// scene's rule: the prescribed speed starts at the initial speed).
+/// The setter of `body.initial_speed` (for a train's speed, which sets it
+/// on every vehicle).
+pub fn initial_speed_setter() -> fn(&mut BodySpec, f64) {
+    set_initial_speed
+}
+
 fn set_initial_speed(body: &mut BodySpec, x: f64) {
     body.initial_speed = x;
     if let Some(SpeedSpec::Constant(v)) = body.prescribed_speed.as_mut() {
@@ -1326,15 +1332,6 @@ pub fn field_notes_markdown() -> String {
     page
 }
 
-/// The `[body]` fields today's FMU exports (`model/variables.rs`).
-const FMU_BODY_FIELDS: [&str; 5] = [
-    "mass",
-    "inertia",
-    "radius",
-    "initial_position",
-    "initial_speed",
-];
-
 /// How the FMU names the parameter of `f`, with `<vehicle>` and `<sensor>`
 /// for the names the scene gives; empty for no parameter.
 fn fmu_name_pattern(f: &Field) -> String {
@@ -1342,11 +1339,8 @@ fn fmu_name_pattern(f: &Field) -> String {
     match f.access {
         Access::None => String::new(),
         Access::Scene(..) => format!("`{}`", f.path),
-        // Today's FMU exports these of the first vehicle only (issue 27
-        // item 2: every vehicle's numeric fields, by this table's access).
-        Access::Vehicle(..) if FMU_BODY_FIELDS.contains(&rest("body.")) => {
-            format!("`<body>.{}`", rest("body."))
-        }
+        // every vehicle's, where it has the field (src/model/variables.rs)
+        Access::Vehicle(..) if !f.doc.is_empty() => format!("`<vehicle>.{}`", rest("body.")),
         Access::Vehicle(..) => String::new(),
         Access::Sensor(..) => format!("`sensor.<sensor>.{}`", rest("sensors.")),
     }
