@@ -878,7 +878,7 @@ mod tests {
         let stiffness = param_of(&t, "coach2.bogie.primary_stiffness");
         let mut changed = scene.clone();
         set_param(&mut changed, stiffness, Value::Real(2.5e6)).unwrap();
-        let bogie = |s: &Scene, k: usize| s.vehicles[k].bogie.clone().unwrap();
+        let bogie = |s: &Scene, k: usize| s.vehicles[k].bogie.unwrap();
         assert_eq!(bogie(&changed, 0).primary_stiffness, 2.5e6);
         assert_eq!(bogie(&changed, 1), bogie(&scene, 1));
         assert_eq!(changed.body, scene.body);
