@@ -4,6 +4,7 @@
 #  2. cargo test (unit, integration, FMU import with the `fmi` crate)
 #  3. the shipped FMU binary, built against glibc 2.17
 #     (scripts/build_portable.sh)
+#     and the `pip install guideway` wheel (scripts/build_wheel.sh)
 #  4. export the FMUs of the built-in scenes (+ cross-check files) with it
 #  5. `guideway release` into out/dist (all built-in scenes)
 #  6. pytest scripts/tests: fmpy, fmutool, libcosimpy, Ecos against those
@@ -21,6 +22,9 @@ cargo build --release --all-targets
 cargo test --release --all-targets
 GUIDEWAY_CDYLIB=$(bash scripts/build_portable.sh)
 export GUIDEWAY_CDYLIB
+# The `pip install guideway` wheel (maturin), for scripts/tests/test_wheel.py.
+GUIDEWAY_WHEEL=$(bash scripts/build_wheel.sh)
+export GUIDEWAY_WHEEL
 # cargo builds into $CARGO_TARGET_DIR when it is set.
 bin="${CARGO_TARGET_DIR:-target}/release/guideway"
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"

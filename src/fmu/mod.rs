@@ -147,13 +147,21 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
     ))
 }
 
-/// Where `scripts/build_portable.sh` puts the glibc 2.17 build of the FMU
-/// binary, for the executable in `target/<profile>/`.
+/// The glibc 2.17 build of the FMU binary: where the wheel installs it
+/// (`pip install guideway`: `<prefix>/bin/guideway` beside
+/// `<prefix>/lib/guideway/libguideway.so`, scripts/build_wheel.sh), or where
+/// `scripts/build_portable.sh` puts it for the executable in
+/// `target/<profile>/`.
 fn portable_cdylib() -> Option<PathBuf> {
     let exe = std::env::current_exe().ok()?;
-    let target = exe.parent()?.parent()?;
-    let p = target.join("portable/x86_64-unknown-linux-gnu/release/libguideway.so");
-    p.is_file().then_some(p)
+    let above = exe.parent()?.parent()?;
+    [
+        "lib/guideway/libguideway.so",
+        "portable/x86_64-unknown-linux-gnu/release/libguideway.so",
+    ]
+    .into_iter()
+    .map(|p| above.join(p))
+    .find(|p| p.is_file())
 }
 
 /// Why a native build is not shipped (README, "The FMU binary").
