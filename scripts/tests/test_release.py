@@ -29,6 +29,8 @@ def model_dir(model):
 
 def test_the_release_has_one_fmu_per_builtin_scene_and_nothing_else():
     assert sorted(p.stem for p in RELEASE.glob("*.fmu")) == sorted(MODELS)
+    coupled = sorted(p.stem for p in (RELEASE / "coupling").glob("*.fmu"))
+    assert coupled == sorted(f"{m}_coupling" for m in MODELS)
     models = model_dir(MODELS[0]).parent
     assert sorted(p.name for p in models.iterdir()) == sorted(MODELS)
 
@@ -80,3 +82,22 @@ def test_release_notes_are_this_versions_changelog_section():
     section = changelog.split(f"## [{VERSION}]", 1)[1].split("\n## ", 1)[0]
     assert section.strip().splitlines()[-1] in notes
     assert "[Unreleased]" not in notes
+
+
+@pytest.mark.parametrize("model", ["lee1994_wheel_10", "lee1994_glider_30"])
+def test_a_coupling_fmu_is_its_model_with_coupling_ports(model):
+    """Issue 27 item 3: coupling-ready FMUs in the release. With nothing
+    connected (coupling forces 0, their start) it is the plain model, to
+    the bit; a coupling force acts on the body."""
+    coupled = RELEASE / "coupling" / f"{model}_coupling.fmu"
+    md = read_model_description(str(coupled))
+    body = "wheel" if "wheel" in model else "glider"
+    inputs = {v.name for v in md.modelVariables if v.causality == "input"}
+    assert {f"{body}.coupling_force_x", f"{body}.coupling_force_y"} <= inputs, inputs
+    plain = simulate_fmu(str(RELEASE / f"{model}.fmu"), stop_time=0.3, output_interval=0.01)
+    same = simulate_fmu(str(coupled), stop_time=0.3, output_interval=0.01)
+    y = f"{body}.y"
+    assert np.array_equal(plain[y], same[y])
+    pushed = simulate_fmu(str(coupled), stop_time=0.3, output_interval=0.01,
+                          start_values={f"{body}.coupling_force_y": -1e5})
+    assert pushed[y][-1] < plain[y][-1]

@@ -101,11 +101,34 @@ pub fn build(out: &Path, cdylib: &Path, changelog: &str, replace: bool) -> Resul
         copy(&fmu, &model_dir.join(format!("{id}.fmu")))?;
         write(&model_dir.join("ReadMe.txt"), &cross_check_readme(scene))?;
         fmus.push(fmu);
+        if let Some(coupled) = coupling_variant(scene) {
+            let id = model_identifier(&coupled.name);
+            let fmu = dir.join("coupling").join(format!("{id}.fmu"));
+            std::fs::create_dir_all(dir.join("coupling"))
+                .map_err(|e| format!("cannot create {}/coupling: {e}", dir.display()))?;
+            super::export(&coupled, &fmu, cdylib)?;
+            fmus.push(fmu);
+        }
     }
     write(&dir.join("README.md"), &readme(&scenes))?;
     write(&dir.join("RELEASE_NOTES.md"), &notes)?;
     write(&dir.join("SHA256SUMS"), &sha256sums(&dir)?)?;
     Ok(Release { dir, fmus })
+}
+
+/// The coupling-ready FMU of a one-body scene (issue 27 item 3): the same
+/// scene with its body as a coupling point (`couplings`, docs/coupling.md),
+/// so that a vehicle model of the user's own can ride on it. None for
+/// scenes of several vehicles or with couplings already.
+pub fn coupling_variant(scene: &Scene) -> Option<Scene> {
+    let one_body = scene.vehicles.is_empty() && scene.couplings.is_empty();
+    let kind = matches!(scene.body.kind, BodyKind::Wheel | BodyKind::Glider);
+    (one_body && kind).then(|| {
+        let mut coupled = scene.clone();
+        coupled.name = format!("{}-coupling", scene.name);
+        coupled.couplings = vec![scene.body.name.clone()];
+        coupled
+    })
 }
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
@@ -219,6 +242,10 @@ fn readme(scenes: &[Scene]) -> String {
           for the mesh is refused at initialization, naming the limit.\n\
           - Inputs `<body>.force_x` and `<body>.force_y` (N) may change between \
           communication steps.\n\n\
+          `coupling/` holds, for each of them, the same model with its body as a \
+          coupling point (`<body>.coupling_force_x`, `.coupling_force_y` and, on a \
+          wheel, `.coupling_moment` inputs; its motion as outputs) for a vehicle \
+          model of your own to ride on (see the documentation's coupling page).\n\n\
           Other files: `cross-check/` holds the FMI cross-check tree \
           (`fmus/2.0/cs/linux64/guideway/<version>/<model>/` with the FMU, \
           `_ref.csv`, `_ref.opt`, `ReadMe.txt`), `RELEASE_NOTES.md` the changes \
@@ -254,6 +281,20 @@ mod tests {
     fn the_changelog_has_notes_for_this_version() {
         let changelog = include_str!("../../CHANGELOG.md");
         assert!(release_notes(changelog, VERSION).is_ok());
+    }
+
+    #[test]
+    fn every_released_one_body_scene_has_a_valid_coupling_variant() {
+        for (name, _) in fmu_builtins() {
+            let scene = builtin(name).unwrap();
+            let coupled = coupling_variant(&scene).expect("a wheel or glider scene");
+            coupled.validate().unwrap();
+            assert_eq!(coupled.couplings, [scene.body.name.clone()]);
+            assert_ne!(
+                model_identifier(&coupled.name),
+                model_identifier(&scene.name)
+            );
+        }
     }
 
     #[test]
