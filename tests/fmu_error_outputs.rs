@@ -221,3 +221,11 @@ fn the_estimates_drop_by_two_to_the_order_when_the_step_halves() {
         &deflection,
     );
 }
+
+#[test]
+fn the_halved_companion_holds_where_the_step_is_below_two_internal_steps() {
+    // H = Δt: no 2Δt companion fits, the Δt/2 one runs.
+    let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let comparisons = estimates_and_true_errors(&scene, 0.0025, 40);
+    assert_estimates_hold("wheel, H = dt", &comparisons, 1);
+}
