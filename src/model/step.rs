@@ -255,7 +255,9 @@ impl<D: Dynamics> Model<D> {
         };
         let outcome = match (outcome, self.estimator.as_mut()) {
             (StepOutcome::Completed, Some(estimator)) => {
-                let left = budget - started.elapsed().as_secs_f64();
+                // (what the main run left of the budget; none left is 0,
+                // not the unbounded budget a negative one would read as)
+                let left = (budget - started.elapsed().as_secs_f64()).max(0.0);
                 let span = (sim.time(), step, left);
                 match estimator.estimate(&self.scene, sim, saved, span, start) {
                     Ok(()) => StepOutcome::Completed,
