@@ -211,7 +211,7 @@ fn the_estimates_drop_by_two_to_the_order_when_the_step_halves() {
     let wheel = |dt: f64| Scene::lee1994(BodyKind::Wheel, 10.0, dt);
     let both = [".deflection", ".acceleration"];
     assert_estimates_follow_order("wheel", &wheel, (0.00125, 0.1, 8), 2.0, &both);
-    // (HHT-α's acceleration: see docs/error-estimates.md, "In the FMU".)
+    // (HHT-α's acceleration: see docs/error-estimates.md, "The running error estimate in the FMU".)
     let deflection = [".deflection"];
     assert_estimates_follow_order(
         "sprung mass",
