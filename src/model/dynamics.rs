@@ -62,6 +62,22 @@ pub trait Dynamics: Steppable + Sized {
         self.save_into(into);
         Ok(())
     }
+    /// `state` (taken on these dynamics' grid of `step`) as a state of a
+    /// companion run of the same scene at `step · ratio` (the error
+    /// estimate's step doubling), or `None` where it is not on that grid or
+    /// the dynamics have no companions.
+    fn regridded(_state: &Self::State, _ratio: f64) -> Option<Self::State> {
+        None
+    }
+    /// Whether `companion` (built from this scene at another step) runs the
+    /// same integration scheme.
+    fn same_scheme(&self, _companion: &Self) -> bool {
+        false
+    }
+    /// The order in time of the integration scheme (2 unless known higher).
+    fn order_in_time(&self) -> f64 {
+        2.0
+    }
 }
 
 impl Dynamics for Simulation {
@@ -120,6 +136,34 @@ impl Dynamics for Simulation {
     fn save_checked_into(&self, into: &mut SimState) -> Result<(), String> {
         // (The same rules as `check_sim_state`.)
         into.copy_checked_from(self.current(), self.step_size())
+    }
+    fn regridded(state: &SimState, ratio: f64) -> Option<SimState> {
+        let grid = |k: u64| -> Option<u64> {
+            let scaled = k as f64 / ratio;
+            (scaled.fract() == 0.0 && scaled <= u64::MAX as f64 / 4.0).then_some(scaled as u64)
+        };
+        let mut regridded = state.clone();
+        regridded.grid_step = grid(state.grid_step)?;
+        regridded.steps = grid(state.steps).unwrap_or(regridded.grid_step);
+        for contact in &mut regridded.contacts {
+            // (the companion's grid step that holds the opening)
+            contact.opened_in = contact.opened_in.map(|k| (k as f64 / ratio).floor() as u64);
+        }
+        Some(regridded)
+    }
+    fn same_scheme(&self, companion: &Self) -> bool {
+        let scheme = |s: &Simulation| s.integrator_choice().split(';').next().map(str::to_owned);
+        scheme(self) == scheme(companion)
+    }
+    /// RK4 with the quadratic force profile is fourth order; the held and
+    /// linear profiles and HHT-α second (docs/error-estimates.md).
+    fn order_in_time(&self) -> f64 {
+        let rk4 = self.integrator_choice().starts_with("rk4");
+        if rk4 && self.force_profile() == crate::scene::ForceProfile::Quadratic {
+            4.0
+        } else {
+            2.0
+        }
     }
 }
 

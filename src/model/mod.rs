@@ -8,6 +8,7 @@
 
 mod advance;
 mod dynamics;
+mod estimate;
 pub mod experiment;
 mod extrapolate;
 #[cfg(any(test, feature = "fake-physics"))]
@@ -154,6 +155,9 @@ pub struct Model<D: Dynamics> {
     /// The first communication step's size: later steps within a few ulp
     /// of it are taken as it (`snapped_target`).
     nominal_step: Option<f64>,
+    /// The running error estimate's companions and values, where the scene
+    /// asks for them (`error_estimate`).
+    estimator: Option<estimate::Estimator<D>>,
 }
 
 /// `real_slots` of a variable that is not a Real output.
@@ -240,9 +244,15 @@ impl<D: Dynamics> Model<D> {
         validate(&scene).map_err(ModelError)?;
         let sim =
             D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
-        let mut table = VariableTable::new(&scene, sim.outputs());
-        let mut start_values = vec![0.0; sim.outputs().len()];
-        sim.output_values(&mut start_values);
+        let mut outputs = sim.outputs().to_vec();
+        let estimator = scene.error_estimate.then(|| {
+            let (estimator, errors) = estimate::Estimator::new(&outputs);
+            outputs.extend(errors);
+            estimator
+        });
+        let mut table = VariableTable::new(&scene, &outputs);
+        let mut start_values = vec![0.0; outputs.len()];
+        sim.output_values(&mut start_values[..sim.outputs().len()]);
         table.set_output_nominals(&start_values);
         let output_count = table.outputs().count();
         let real_slots = table
@@ -277,6 +287,7 @@ impl<D: Dynamics> Model<D> {
             input_derivatives: Vec::new(),
             loads_ramped: false,
             nominal_step: None,
+            estimator,
         })
     }
 
@@ -314,6 +325,9 @@ impl<D: Dynamics> Model<D> {
         self.input_history = None;
         self.input_derivatives.clear();
         self.nominal_step = None;
+        if let Some(e) = &mut self.estimator {
+            e.clear();
+        }
     }
 
     /// fmi2SetupExperiment's times: all or nothing. A stop time bounds the
@@ -385,17 +399,20 @@ impl<D: Dynamics> Model<D> {
         let sim = self.ensure_sim()?;
         let mut values = vec![0.0; sim.outputs().len()];
         sim.output_values(&mut values);
-        if values.len() != n {
-            return err(format!(
-                "the model has {} outputs, its variable table {n}",
-                values.len()
-            ));
-        }
         // Parameters can be finite and valid one by one and still overflow
         // an output (a huge speed squared): refuse rather than hand out inf.
         if let Some(bad) = non_finite_output(sim.outputs(), &values) {
             return err(format!(
                 "{bad} with these parameters; choose smaller values"
+            ));
+        }
+        if let Some(e) = &self.estimator {
+            values.extend_from_slice(e.values());
+        }
+        if values.len() != n {
+            return err(format!(
+                "the model has {} outputs, its variable table {n}",
+                values.len()
             ));
         }
         Ok(values)

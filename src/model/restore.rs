@@ -113,6 +113,9 @@ impl<D: Dynamics> Model<D> {
         self.input_history = snap.input_history.clone();
         self.input_derivatives.clear();
         self.loads_ramped = false;
+        if let Some(e) = &mut self.estimator {
+            e.clear();
+        }
         Ok(())
     }
 

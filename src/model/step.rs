@@ -203,6 +203,7 @@ impl<D: Dynamics> Model<D> {
         let (saved, next) = self.rollback.start(sim);
         let rolled_back = || format!("step rolled back to t = {now} s");
         let target = snap_to_grid(to - t0, step);
+        let started = std::time::Instant::now();
         let advanced =
             advance::advance_within(sim, target, step, budget, (until_event, ramp.as_ref()));
         let mut ended_at_event = false;
@@ -252,7 +253,30 @@ impl<D: Dynamics> Model<D> {
                 curable: true,
             },
         };
+        let outcome = match (outcome, self.estimator.as_mut()) {
+            (StepOutcome::Completed, Some(estimator)) => {
+                // (what the main run left of the budget; none left is 0,
+                // not the unbounded budget a negative one would read as)
+                let left = (budget - started.elapsed().as_secs_f64()).max(0.0);
+                let span = (sim.time(), step, left);
+                match estimator.estimate(&self.scene, sim, saved, span, start) {
+                    Ok(()) => StepOutcome::Completed,
+                    Err(problem) => StepOutcome::Failed {
+                        message: format!("{problem}; {}", rolled_back()),
+                        curable: true,
+                    },
+                }
+            }
+            (outcome, _) => outcome,
+        };
         let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back, spare, next);
+        let outputs = match (outputs, &self.estimator) {
+            (Some(mut values), Some(estimator)) => {
+                values.extend_from_slice(estimator.values());
+                Some(values)
+            }
+            (outputs, _) => outputs,
+        };
         self.ended_at_event = ended_at_event && outcome == StepOutcome::Completed;
         if let StepOutcome::Failed { .. } = outcome {
             sim.restore(saved)

@@ -1117,6 +1117,15 @@ pub const FIELDS: &[Field] = &[
         access: Access::Vehicle(|b| Some(b.initial_height), |b, x| b.initial_height = x),
     },
     Field {
+        path: "error_estimate",
+        unit: "",
+        default: Default::Value("false"),
+        rule: Rule::Words,
+        note: "true: FMU outputs sensor.<name>.deflection_error, .acceleration_error",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
         path: "reactions",
         unit: "",
         default: Default::Value("false"),

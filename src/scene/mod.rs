@@ -61,6 +61,10 @@ pub struct Scene {
     /// Report every support's reaction (and a clamp's moment).
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub reactions: bool,
+    /// FMU outputs with the running error estimate in time of each
+    /// sensor's deflection and acceleration (docs/error-estimates.md).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub error_estimate: bool,
     #[serde(default)]
     pub solver: SolverSpec,
     /// Bodies (by name: `wheel`, `car_unsprung`, `train_bogie1`, ...) that
@@ -721,6 +725,7 @@ impl Scene {
             }],
             sections: Vec::new(),
             reactions: false,
+            error_estimate: false,
             solver: SolverSpec {
                 step,
                 ..SolverSpec::default()

@@ -314,6 +314,11 @@ impl Simulation {
     }
 
     /// The integrator that runs, in words (`auto` says what it picked and why).
+    /// The contact force's shape within a step.
+    pub fn force_profile(&self) -> ForceProfile {
+        self.force_profile
+    }
+
     pub fn integrator_choice(&self) -> &str {
         &self.integrator_choice
     }
