@@ -343,6 +343,10 @@ def classify_accepted(blob, forged, path, contact_bodies):
             _as_read(new)):
         return "input history dropped (inputs held over the next step, as after a restart)"
     if path and path[0] in ("scene", "inputs", "input_history", "start_time"):
+        # Parameters are numbers: a scene whose names, kinds, flags or list
+        # lengths changed is not the FMU's scene with parameters moved.
+        if _shape(_as_read(old.get(path[0]))) != _shape(_as_read(new.get(path[0]))):
+            return None
         return "parameter or input, reachable through fmi2Set*"
     if len(path) < 2 or path[0] != "sim":
         return None
