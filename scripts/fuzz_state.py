@@ -338,7 +338,7 @@ def classify_accepted(blob, forged, path, contact_bodies):
     if pack(old) == pack(new):
         return "unchanged value"
     if pack(_as_read(old)) == pack(_as_read(new)):
-        return "unchanged as read (unknown field ignored, absent option is None)"
+        return "unchanged as read (unknown field ignored, absent field its default)"
     if "input_history" in old and pack(_as_read(dict(old, input_history=None))) == pack(
             _as_read(new)):
         return "input history dropped (inputs held over the next step, as after a restart)"
@@ -387,15 +387,24 @@ def _lifts_closed_contact(old, new, contact_bodies):
     return False
 
 
-def _as_read(v):
+# TrackPart's unit variants in declaration order (src/system.rs): the
+# decoder reads a variant index as the variant.
+TRACK_PARTS = ["Approach", "Beam", "RunOff", "Beyond"]
+
+
+def _as_read(v, key=None):
     """`v` as serde reads it: unknown fields (`unknown`, a renamed `k_x`)
-    ignored, an absent or None option the same, bytes a list of integers."""
+    ignored, an absent field the same as its default (none, empty, zero),
+    bytes a list of integers, a track part's variant index its name."""
     if isinstance(v, bytes) and not isinstance(v, Raw):
         return list(v)
+    if key == "parts" and isinstance(v, list):
+        return [TRACK_PARTS[x] if isinstance(x, int) and not isinstance(x, bool)
+                and 0 <= x < len(TRACK_PARTS) else _as_read(x) for x in v]
     if isinstance(v, list):
         return [_as_read(x) for x in v]
     if isinstance(v, dict):
-        return {k: _as_read(x) for k, x in v.items()
-                if x is not None and k != "unknown"
-                and not (k.endswith("_x") and k[:-2] not in v and k[:-2])}
+        return {k: _as_read(x, k) for k, x in v.items()
+                if x is not None and x != [] and not (type(x) in (int, float) and x == 0)
+                and k != "unknown" and not (k.endswith("_x") and k[:-2] not in v and k[:-2])}
     return v

@@ -41,6 +41,17 @@ def test_benign_forgeries_are_named_by_their_reason():
     assert why(("sim", "contacts", 0), {"open": False, "gap": 0.0, "impulse": [0.0, 0.0],
                                         "landed_in_x": None}).startswith("unchanged as read")
     assert why(("input_history",), None).startswith("input history dropped")
+    sim = {k: x for k, x in STATE["sim"].items() if k != "steps"}
+    # A renamed field whose value was not its default is missing, not unchanged.
+    assert why(("sim",), dict(sim, steps_x=200)) is None
+    dynamic = {k: x for k, x in STATE["sim"]["dynamic"].items() if k != "dissipated"}
+    assert why(("sim", "dynamic"), dict(dynamic, dissipated_x=0.0)).startswith("unchanged as")
+    assert why(("sim",), dict(sim, parts=[1])) is None  # a field the state lacks
+    parts = dict(STATE, sim=dict(STATE["sim"], parts=["Beam"]))
+    blob = fs.frame(HEAD, fs.pack(parts))
+    by_index = fs.frame(HEAD, fs.pack(fs.replace(parts, ("sim", "parts"), [1])))
+    assert fs.classify_accepted(blob, by_index, ("sim", "parts"), CONTACT_BODIES).startswith(
+        "unchanged as read")
     assert why(("scene", "body", "mass"), 2000.0).startswith("parameter or input")
     assert why(("sim", "steps"), 7) == "run integral or diagnostic"
     assert why(("sim", "dynamic", "dissipated"), 1e9) == "run integral or diagnostic"
