@@ -339,6 +339,8 @@ def classify_accepted(blob, forged, path, contact_bodies):
         return "unchanged value"
     if pack(_as_read(old)) == pack(_as_read(new)):
         return "unchanged as read (unknown field ignored, absent field its default)"
+    if pack(_as_read(_without_integrals(old))) == pack(_as_read(_without_integrals(new))):
+        return "run integral or diagnostic"  # one dropped: it reads as 0
     if "input_history" in old and pack(_as_read(dict(old, input_history=None))) == pack(
             _as_read(new)):
         return "input history dropped (inputs held over the next step, as after a restart)"
@@ -407,4 +409,14 @@ def _as_read(v, key=None):
         return {k: _as_read(x, k) for k, x in v.items()
                 if x is not None and x != [] and not (type(x) in (int, float) and x == 0)
                 and k != "unknown" and not (k.endswith("_x") and k[:-2] not in v and k[:-2])}
+    return v
+
+
+def _without_integrals(v):
+    """`v` without the run integrals and diagnostics anywhere in it."""
+    if isinstance(v, dict):
+        return {k: _without_integrals(x) for k, x in v.items()
+                if k not in RUN_INTEGRALS and k.removesuffix("_x") not in RUN_INTEGRALS}
+    if isinstance(v, list):
+        return [_without_integrals(x) for x in v]
     return v
