@@ -347,7 +347,7 @@ def classify_accepted(blob, forged, path, contact_bodies):
     if path and path[0] in ("scene", "inputs", "input_history", "start_time"):
         # Parameters are numbers: a scene whose names, kinds, flags or list
         # lengths changed is not the FMU's scene with parameters moved.
-        if _shape(_as_read(old.get(path[0]))) != _shape(_as_read(new.get(path[0]))):
+        if _text_leaves(_as_read(old.get(path[0]))) != _text_leaves(_as_read(new.get(path[0]))):
             return None
         return "parameter or input, reachable through fmi2Set*"
     if len(path) < 2 or path[0] != "sim":
@@ -420,3 +420,14 @@ def _without_integrals(v):
     if isinstance(v, list):
         return [_without_integrals(x) for x in v]
     return v
+
+
+def _text_leaves(v, path=()):
+    """The (path, value) of every leaf of `v` that is not a number."""
+    if isinstance(v, dict):
+        return set().union(*(_text_leaves(x, path + (k,)) for k, x in v.items()))
+    if isinstance(v, list):
+        return set().union(*(_text_leaves(x, path + (k,)) for k, x in enumerate(v)))
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return set()
+    return {(path, repr(v))}

@@ -76,3 +76,8 @@ def test_forgeries_without_a_benign_reason_get_none():
     assert why(("sim", "exit_time"), 0.1) is None
     assert why(("sim", "contacts", 0, "open"), None) is None
     assert why(("sim", "dynamic", "beam_displacement"), [0.0]) is None
+
+
+def test_a_parameter_moved_to_zero_or_the_input_time_moved_is_a_parameter_move():
+    assert why(("scene", "body", "mass"), 0.0).startswith("parameter or input")
+    assert why(("input_history", "time"), 0.0).startswith("parameter or input")
