@@ -275,3 +275,159 @@ def forge_physics(rng, blob, contact_bodies=frozenset()):
         sim = dict(sim, dynamic=dyn)
     value = dict(value, sim=sim)
     return frame(head, pack(value)), kind, must
+
+
+# ---- why an accepted forgery is acceptable (issue 30) -------------------------------
+
+# Run integrals and solver diagnostics: sums over the path the run took, not
+# functions of the state, so no check of the state can tell a forged value
+# from a true one; they feed only the energy books and diagnostics outputs.
+RUN_INTEGRALS = {"dissipated", "beam_dissipated", "tractive_work", "numerical_dissipation",
+                 "external_work", "gravity_work", "initial_energy", "impact_loss", "steps",
+                 "total_iterations", "last_iterations", "last_position_iterations",
+                 "last_velocity_error", "last_gap_error", "events_dropped"}
+# Histories the next step extrapolates from (loads, step sizes, impulses):
+# any finite values are a possible past of some run.
+HISTORIES = {"force_history", "step_history", "last_applied", "pending_restart",
+             "body_force", "coupling_loads"}
+# The phase-space point of beam and bodies: any finite values are a
+# possible initial condition, except a body height that leaves a closed
+# contact (checked below).
+PHASE = {"beam_displacement", "beam_velocity", "beam_acceleration", "body_accelerations",
+         "beam_load", "body_loads", "bodies", "contact_x"}
+CONTACT_HISTORY = {"impulse", "gap"}
+
+
+def _finite_numbers(v):
+    """True if `v` is a number or nested lists/dicts of finite numbers only."""
+    if isinstance(v, bool):
+        return False
+    if isinstance(v, (int, float)):
+        return math.isfinite(v)
+    if isinstance(v, list):
+        return all(_finite_numbers(x) for x in v)
+    if isinstance(v, dict):
+        return all(_finite_numbers(x) for x in v.values())
+    return False
+
+
+def _at(v, path):
+    for p in path:
+        v = v[p]
+    return v
+
+
+def _shape(v):
+    """The lengths and keys of `v` without its numbers."""
+    if isinstance(v, list):
+        return [_shape(x) for x in v]
+    if isinstance(v, dict):
+        return {k: _shape(x) for k, x in v.items()}
+    return "number" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
+
+
+def classify_accepted(blob, forged, path, contact_bodies):
+    """Why the FMU may accept `forged` (`blob` with a change at `path`), or
+    None if no benign reason holds (then accepting it is a fuzzer failure).
+    Reasons: the payload decodes to the same values; a parameter or input
+    (the caller checks it reachable through fmi2Set*); a run integral or
+    diagnostic; a history or phase-space value moved to another finite value
+    of the same shape, not lifting a body out of a closed contact."""
+    old, _ = unpack(unframe(blob)[1])
+    new, end = unpack(unframe(forged)[1])
+    if pack(old) == pack(new):
+        return "unchanged value"
+    if pack(_as_read(old)) == pack(_as_read(new)):
+        return "unchanged as read (unknown field ignored, absent field its default)"
+    if pack(_as_read(_without_integrals(old))) == pack(_as_read(_without_integrals(new))):
+        return "run integral or diagnostic"  # one dropped: it reads as 0
+    if "input_history" in old and pack(_as_read(dict(old, input_history=None))) == pack(
+            _as_read(new)):
+        return "input history dropped (inputs held over the next step, as after a restart)"
+    if path and path[0] in ("scene", "inputs", "input_history", "start_time"):
+        # Parameters are numbers: a scene whose names, kinds, flags or list
+        # lengths changed is not the FMU's scene with parameters moved.
+        if _text_leaves(_as_read(old.get(path[0]))) != _text_leaves(_as_read(new.get(path[0]))):
+            return None
+        return "parameter or input, reachable through fmi2Set*"
+    if len(path) < 2 or path[0] != "sim":
+        return None
+    try:
+        before, after = _at(old, path), _at(new, path)
+    except (KeyError, IndexError, TypeError):
+        return None
+    if path[1] == "contacts" and path[-1] == "open" and after is True:
+        return "contact marked open (a lift-off state; the next step closes it again)"
+    after = _as_read(after)
+    if path[1] in HISTORIES and _finite_numbers(after):
+        return "history, finite"  # a shorter or longer history: another past
+    if not _finite_numbers(after) or _shape(before) != _shape(after):
+        return None
+    field = path[2] if path[1] == "dynamic" and len(path) > 2 else path[1]
+    if field in RUN_INTEGRALS:
+        return "run integral or diagnostic"
+    if path[1] != "dynamic" and field in HISTORIES:
+        return "history, finite"
+    if path[1] == "contacts" and len(path) > 3 and path[3] in CONTACT_HISTORY:
+        return "contact history, finite"
+    if path[1] == "dynamic" and field in PHASE:
+        if field == "bodies" and _lifts_closed_contact(old, new, contact_bodies):
+            return None
+        return "phase-space point, finite"
+    return None
+
+
+def _lifts_closed_contact(old, new, contact_bodies):
+    """True if a body with a closed contact moved up or down by > 1 cm."""
+    contacts = old["sim"].get("contacts") or []
+    bodies_old, bodies_new = old["sim"]["dynamic"]["bodies"], new["sim"]["dynamic"]["bodies"]
+    for c, k in enumerate(sorted(contact_bodies)):
+        closed = c < len(contacts) and not contacts[c].get("open", True)
+        yo, yn = _height(bodies_old[k]), _height(bodies_new[k])
+        if closed and yo is not None and yn is not None and abs(yo - yn) > 0.01:
+            return True
+    return False
+
+
+# TrackPart's unit variants in declaration order (src/system.rs): the
+# decoder reads a variant index as the variant.
+TRACK_PARTS = ["Approach", "Beam", "RunOff", "Beyond"]
+
+
+def _as_read(v, key=None):
+    """`v` as serde reads it: unknown fields (`unknown`, a renamed `k_x`)
+    ignored, an absent field the same as its default (none, empty, zero),
+    bytes a list of integers, a track part's variant index its name."""
+    if isinstance(v, bytes) and not isinstance(v, Raw):
+        return list(v)
+    if key == "parts" and isinstance(v, list):
+        return [TRACK_PARTS[x] if isinstance(x, int) and not isinstance(x, bool)
+                and 0 <= x < len(TRACK_PARTS) else _as_read(x) for x in v]
+    if isinstance(v, list):
+        return [_as_read(x) for x in v]
+    if isinstance(v, dict):
+        return {k: _as_read(x, k) for k, x in v.items()
+                if x is not None and x != [] and not (type(x) in (int, float) and x == 0)
+                and k != "unknown" and not (k.endswith("_x") and k[:-2] not in v and k[:-2])}
+    return v
+
+
+def _without_integrals(v):
+    """`v` without the run integrals and diagnostics anywhere in it."""
+    if isinstance(v, dict):
+        return {k: _without_integrals(x) for k, x in v.items()
+                if k not in RUN_INTEGRALS and k.removesuffix("_x") not in RUN_INTEGRALS}
+    if isinstance(v, list):
+        return [_without_integrals(x) for x in v]
+    return v
+
+
+def _text_leaves(v, path=()):
+    """The (path, value) of every leaf of `v` that is not a number."""
+    if isinstance(v, dict):
+        return set().union(*(_text_leaves(x, path + (k,)) for k, x in v.items()))
+    if isinstance(v, list):
+        return set().union(*(_text_leaves(x, path + (k,)) for k, x in enumerate(v)))
+    if isinstance(v, (int, float)) and not isinstance(v, bool):
+        return set()
+    return {(path, repr(v))}

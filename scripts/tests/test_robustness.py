@@ -37,7 +37,8 @@ def test_short_fuzz_run_finds_no_crash_hang_or_broken_rule():
     for key in ("fmi2DoStep OK", "fmi2DoStep Discard", "fmi2DoStep Error",
                 "fmi2DeSerializeFMUstate OK", "fmi2DeSerializeFMUstate Error",
                 "forged state accepted", "forged state refused"):
-        assert s["tally"].get(key, 0) > 0, key
+        # Accepted forged states are counted by their benign reason.
+        assert sum(v for k, v in s["tally"].items() if k.startswith(key)) > 0, key
 
 
 def test_fuzz_driver_names_the_seed_of_a_crash_and_of_a_hang(monkeypatch):
