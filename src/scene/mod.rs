@@ -9,6 +9,7 @@ mod builtin;
 mod contact_law;
 mod error;
 pub mod fields;
+mod frequency;
 mod irregularity;
 mod limits;
 mod validate;
@@ -78,8 +79,14 @@ pub struct BeamSpec {
     pub length: f64,
     /// Mass per unit length (kg/m).
     pub mass_per_length: f64,
-    /// Bending stiffness EI (N m^2).
+    /// Bending stiffness EI (N m^2); left out when `frequency` gives it.
+    #[serde(default = "frequency::stiffness_not_given")]
     pub bending_stiffness: f64,
+    /// First natural frequency f1 (Hz), instead of `bending_stiffness`:
+    /// reading the scene sets EI so that the model's first mode has f1,
+    /// then clears this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
     /// Distance h from the neutral axis to the top surface (m).
     pub surface_offset: f64,
     /// Number of Hermite cubic elements.
@@ -624,6 +631,7 @@ impl Scene {
         }
         let mut scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
             .map_err(|e| error::from_toml_error(e, text))?;
+        frequency::resolve(&mut scene, text)?;
         let tables = match base {
             Some(base) => irregularity::read_tables(&mut scene, base)?,
             None => Vec::new(),
@@ -688,6 +696,7 @@ impl Scene {
                 length: 24.0,
                 mass_per_length: 1250.0,
                 bending_stiffness: 1e9,
+                frequency: None,
                 surface_offset: 0.6,
                 elements: 2,
                 supports: SupportsSpec::default(),
