@@ -530,24 +530,3 @@ fn an_irregularity_under_moving_forces_is_refused_saying_what_to_use() {
     scene.track.irregularities.clear();
     scene.validate().expect("valid without the irregularity");
 }
-
-/// Issue 26 item 6: an irregularity under moving forces, which would
-/// ignore it, is refused with what to use instead.
-#[test]
-fn an_irregularity_on_moving_forces_is_refused_naming_the_alternative() {
-    let text = std::fs::read_to_string(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/scenes/bridge25_hslm.toml"
-    ))
-    .expect("shipped scene")
-        + "\n[[track.irregularities]]\ntype = \"cosine_dip\"\nposition = 10.0\nwavelength = 2.0\ndepth = 0.002\n";
-    let error = guideway::scene::Scene::from_toml_str(&text)
-        .unwrap_err()
-        .to_string();
-    assert!(
-        error.contains("track.irregularities")
-            && error.contains("moving_force")
-            && error.contains("sprung_mass"),
-        "{error}"
-    );
-}

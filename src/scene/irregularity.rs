@@ -6,7 +6,7 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 use super::error::Problem;
-use super::{BodyKind, Scene, SceneError, MAX_MAGNITUDE, MAX_SCENE_BYTES};
+use super::{Scene, SceneError, MAX_MAGNITUDE, MAX_SCENE_BYTES};
 use crate::profile::spectrum::{Grid, Spectrum, MAX_SAMPLES};
 
 /// Most irregularities in a scene (the scene's list limit).
@@ -245,18 +245,6 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
             "track.irregularities",
             format!("{} irregularities", list.len()),
             format!("must hold at most {MAX_IRREGULARITIES}"),
-        ));
-        return problems;
-    }
-    if !list.is_empty() && scene.body.kind == BodyKind::MovingForce {
-        // A moving force is a given load: it would ignore the profile.
-        problems.push(Problem::new(
-            "track.irregularities",
-            format!("{} irregularities", list.len()),
-            "are not felt by moving forces (body.kind = \"moving_force\" has no mass or \
-             contact that follows the track): run a vehicle instead (a sprung_mass, or a \
-             bogie_vehicle on massless followers, bogie.wheelset_mass = 0) to see the track's \
-             roughness, or remove track.irregularities",
         ));
         return problems;
     }
