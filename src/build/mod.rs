@@ -454,7 +454,10 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         force_elements: Vec::new(),
         contacts: Vec::new(),
         gravity,
-        profile: crate::profile::Profile::new(&scene.track.irregularities)?,
+        profile: {
+            let (start, length) = crate::scene::track_extent(scene);
+            crate::profile::Profile::new(&scene.track.irregularities, start, length)?
+        },
         couplings: Vec::new(),
     };
     let mut bodies = Vec::new();
