@@ -69,6 +69,7 @@ fn moving_force_level(alpha: f64, steps: usize) -> Level {
         length: LENGTH,
         mass_per_length: MASS,
         bending_stiffness: EI,
+        frequency: None,
         surface_offset: 0.0,
         elements: 40,
         supports: SupportsSpec::default(),

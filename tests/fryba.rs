@@ -29,6 +29,7 @@ fn beam() -> Beam {
         length: LENGTH,
         mass_per_length: MASS,
         bending_stiffness: EI,
+        frequency: None,
         surface_offset: 0.0,
         elements: ELEMENTS,
         supports: SupportsSpec::default(),

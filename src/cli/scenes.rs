@@ -2,7 +2,7 @@
 
 use super::{load_scene, Failure, ScenesArgs};
 use guideway::moving_load::HSLM_TRAINS;
-use guideway::scene::{builtins, DEFAULT_SCENE};
+use guideway::scene::{builtins, templates, DEFAULT_SCENE};
 
 pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
     match args.show {
@@ -13,10 +13,17 @@ pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
         None => {
             let width = builtins()
                 .iter()
+                .copied()
+                .chain(templates())
                 .map(|(name, _)| name.len())
                 .max()
                 .unwrap_or(0);
             for (name, description) in builtins() {
+                println!("{name:width$}  {description}");
+            }
+            println!();
+            println!("Bridge templates (`guideway scenes --show NAME > my.toml`):");
+            for (name, description) in templates() {
                 println!("{name:width$}  {description}");
             }
             let trains: Vec<&str> = HSLM_TRAINS.iter().map(|t| t.name).collect();

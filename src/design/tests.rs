@@ -11,6 +11,7 @@ fn beam(elements: usize, left: EndSupport, right: EndSupport) -> Beam {
         length: L,
         mass_per_length: MU,
         bending_stiffness: EI,
+        frequency: None,
         surface_offset: 0.6,
         elements,
         supports: SupportsSpec {
@@ -121,6 +122,7 @@ fn continuous_beam_reactions() {
         length: L,
         mass_per_length: MU,
         bending_stiffness: EI,
+        frequency: None,
         surface_offset: 0.6,
         elements: 6,
         supports: SupportsSpec::default(),

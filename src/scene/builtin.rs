@@ -1,5 +1,7 @@
-//! Scenes that ship with guideway: the examples of Lee (1994), and trains
-//! of bogie vehicles on multi-span bridges (TOML files in `trains/`).
+//! Scenes that ship with guideway: the examples of Lee (1994), trains of
+//! bogie vehicles on multi-span bridges (TOML files in `trains/`), and the
+//! bridge templates a bridge engineer starts from (the repository's
+//! `scenes/` files, so that a user with only the binary has them).
 
 use super::{BodyKind, Scene};
 
@@ -53,6 +55,30 @@ const TRAINS: [(&str, &str); 3] = [
     ),
 ];
 
+/// Bridge templates: the shipped scene files, as TOML. Listed apart from
+/// `builtins()` (whose every scene runs with `guideway run` and is
+/// guarded bit for bit): `bridge25_hslm` is a moving-force scene for
+/// `guideway sweep`.
+const TEMPLATES: [(&str, &str, &str); 2] = [
+    (
+        "bridge25_hslm",
+        "25 m simply supported bridge, f1 = 4.0 Hz, 2 % damping, HSLM-A trains as moving forces (`guideway sweep bridge25_hslm --speeds 100:400:5 --unit km/h --trains hslm`)",
+        include_str!("../../scenes/bridge25_hslm.toml"),
+    ),
+    (
+        "train-8-coaches-20m-300-hertz",
+        "eight coaches on Hertz wheel-rail contacts at 300 km/h over a 20 m span (12 t/m, f1 = 5.5 Hz, 1.5 %)",
+        include_str!("../../scenes/train-8-coaches-20m-300-hertz.toml"),
+    ),
+];
+
+/// Names and one-line descriptions of the bridge templates.
+pub fn templates() -> impl Iterator<Item = (&'static str, &'static str)> {
+    TEMPLATES
+        .iter()
+        .map(|&(name, description, _)| (name, description))
+}
+
 /// Names and one-line descriptions of the built-in scenes.
 pub fn builtins() -> &'static [(&'static str, &'static str)] {
     &BUILTINS
@@ -72,6 +98,9 @@ pub fn fmu_builtins() -> impl Iterator<Item = &'static (&'static str, &'static s
 pub fn builtin(name: &str) -> Option<Scene> {
     if let Some((_, text)) = TRAINS.iter().find(|(known, _)| *known == name) {
         return Some(Scene::from_toml_str(text).expect("a built-in train scene is valid"));
+    }
+    if let Some((_, _, text)) = TEMPLATES.iter().find(|(known, _, _)| *known == name) {
+        return Some(Scene::from_toml_str(text).expect("a bridge template is valid"));
     }
     let (kind, initial_speed, step) = match name {
         "lee1994-wheel-1" => (BodyKind::Wheel, 1.0, 0.005),

@@ -86,7 +86,8 @@ impl fmt::Display for SceneError {
                 write!(f, "cannot read scene file `{path}`: {message}")
             }
             SceneError::NotFound { name } => {
-                let names: Vec<&str> = super::builtins().iter().map(|(n, _)| *n).collect();
+                let builtins = super::builtins().iter().map(|(n, _)| *n);
+                let names: Vec<&str> = builtins.chain(super::templates().map(|(n, _)| n)).collect();
                 write!(
                     f,
                     "`{name}` is neither a scene file nor a built-in scene (built-ins: {})",

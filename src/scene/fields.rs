@@ -813,14 +813,23 @@ pub const FIELDS: &[Field] = &[
     Field {
         path: "beam.bending_stiffness",
         unit: "N.m2",
-        default: Default::Required,
+        default: Default::Absent,
         rule: Rule::Positive,
-        note: "N m^2, EI > 0",
+        note: "N m^2, EI > 0; this or frequency",
         doc: "bending stiffness EI",
         access: Access::Scene(
             |s| Some(s.beam.bending_stiffness),
             |s, x| s.beam.bending_stiffness = x,
         ),
+    },
+    Field {
+        path: "beam.frequency",
+        unit: "Hz",
+        default: Default::Absent,
+        rule: Rule::Positive,
+        note: "Hz, first natural frequency f1 > 0 instead of bending_stiffness: EI is set so the model's first mode has f1",
+        doc: "",
+        access: Access::None,
     },
     Field {
         path: "beam.surface_offset",

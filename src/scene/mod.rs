@@ -9,12 +9,13 @@ mod builtin;
 mod contact_law;
 mod error;
 pub mod fields;
+mod frequency;
 mod irregularity;
 mod limits;
 mod validate;
 
 pub use advice::advisories;
-pub use builtin::{builtin, builtins, fmu_builtins, DEFAULT_SCENE};
+pub use builtin::{builtin, builtins, fmu_builtins, templates, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
 pub use fields::field_notes_markdown;
@@ -82,8 +83,14 @@ pub struct BeamSpec {
     pub length: f64,
     /// Mass per unit length (kg/m).
     pub mass_per_length: f64,
-    /// Bending stiffness EI (N m^2).
+    /// Bending stiffness EI (N m^2); left out when `frequency` gives it.
+    #[serde(default = "frequency::stiffness_not_given")]
     pub bending_stiffness: f64,
+    /// First natural frequency f1 (Hz), instead of `bending_stiffness`:
+    /// reading the scene sets EI so that the model's first mode has f1,
+    /// then clears this field.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub frequency: Option<f64>,
     /// Distance h from the neutral axis to the top surface (m).
     pub surface_offset: f64,
     /// Number of Hermite cubic elements.
@@ -628,6 +635,7 @@ impl Scene {
         }
         let mut scene: Scene = serde_path_to_error::deserialize(toml::Deserializer::new(text))
             .map_err(|e| error::from_toml_error(e, text))?;
+        frequency::resolve(&mut scene, text)?;
         let tables = match base {
             Some(base) => irregularity::read_tables(&mut scene, base)?,
             None => Vec::new(),
@@ -692,6 +700,7 @@ impl Scene {
                 length: 24.0,
                 mass_per_length: 1250.0,
                 bending_stiffness: 1e9,
+                frequency: None,
                 surface_offset: 0.6,
                 elements: 2,
                 supports: SupportsSpec::default(),

@@ -191,6 +191,14 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
     let length_ok = checks.positive("beam.length", beam.length);
     checks.positive("beam.mass_per_length", beam.mass_per_length);
     checks.positive("beam.bending_stiffness", beam.bending_stiffness);
+    if let Some(f1) = beam.frequency {
+        // Reading a scene turns f1 into EI; a scene built in code gives EI.
+        checks.fail(
+            "beam.frequency",
+            fmt_f64(f1),
+            "is read from a scene file only; give beam.bending_stiffness here",
+        );
+    }
     checks.non_negative("beam.surface_offset", beam.surface_offset);
     if beam.elements < 1 {
         checks.fail("beam.elements", beam.elements.to_string(), "must be >= 1");

@@ -1142,6 +1142,7 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
+            frequency: None,
             surface_offset: 0.6,
             elements,
             supports: SupportsSpec::default(),

@@ -1,0 +1,84 @@
+//! The bridge templates (issue 26 item 8): the shipped `scenes/` files a
+//! bridge engineer starts from are built-ins, listed by `guideway scenes`,
+//! shown by `--show`, and they run (the sweep template with `sweep`).
+
+use guideway::scene::{builtin, templates, Scene};
+use std::process::{Command, Output};
+
+fn guideway(args: &[&str]) -> Output {
+    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
+        .args(args)
+        .output()
+        .expect("guideway runs");
+    assert!(
+        output.status.success(),
+        "guideway {args:?}: {}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    output
+}
+
+#[test]
+fn each_template_is_the_shipped_file_and_is_listed() {
+    let listing = String::from_utf8(guideway(&["scenes"]).stdout).expect("UTF-8");
+    let mut count = 0;
+    for (name, _) in templates() {
+        let file = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
+        let shipped = Scene::load(&file).expect("shipped scene loads");
+        assert_eq!(builtin(name), Some(shipped), "{name}");
+        assert!(
+            listing.lines().any(|l| l.starts_with(name)),
+            "{name} listed"
+        );
+        let shown = String::from_utf8(guideway(&["scenes", "--show", name]).stdout).unwrap();
+        assert_eq!(
+            Scene::from_toml_str(&shown).expect("shown scene reads"),
+            builtin(name).unwrap()
+        );
+        count += 1;
+    }
+    assert!(count >= 2);
+}
+
+#[test]
+fn the_hslm_template_sweeps_by_name() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("sweep.csv");
+    let out = out.to_str().unwrap();
+    guideway(&[
+        "sweep",
+        "bridge25_hslm",
+        "--speeds",
+        "50:60:10",
+        "--out",
+        out,
+    ]);
+    let rows = std::fs::read_to_string(out).expect("CSV").lines().count();
+    assert_eq!(rows, 3, "a header and one row per speed");
+}
+
+#[test]
+fn the_train_template_runs_by_name_past_the_span() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let summary = dir.path().join("summary.json");
+    let summary = summary.to_str().unwrap();
+    let csv = dir.path().join("run.csv");
+    let name = "train-8-coaches-20m-300-hertz";
+    guideway(&[
+        "run",
+        name,
+        "-q",
+        "--summary",
+        summary,
+        "--out",
+        csv.to_str().unwrap(),
+    ]);
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(summary).unwrap()).unwrap();
+    // The last wheelset leaves the 20 m span no sooner than the span's
+    // length at the nominal 300 km/h after the start.
+    let exit = json["exit_time"]
+        .as_f64()
+        .expect("the train leaves the span");
+    assert!(exit >= 20.0 / (300.0 / 3.6), "exit at {exit} s");
+}
