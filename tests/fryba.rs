@@ -34,6 +34,7 @@ fn beam() -> Beam {
         supports: SupportsSpec::default(),
         damping: None,
         joints: Vec::new(),
+        foundation: None,
     })
     .expect("beam builds")
 }

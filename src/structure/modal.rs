@@ -312,6 +312,7 @@ mod tests {
             elements,
             supports,
             joints: Vec::new(),
+            foundation: None,
             damping: None,
         })
         .expect("beam")
@@ -406,6 +407,7 @@ mod tests {
             elements: 4,
             supports: SupportsSpec::default(),
             joints: Vec::new(),
+            foundation: None,
             damping: Some(crate::scene::DampingSpec::Coefficients {
                 alpha: 0.3,
                 beta: 2e-4,

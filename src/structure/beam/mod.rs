@@ -144,6 +144,9 @@ pub struct HermiteBeam {
     elementwise_products: bool,
     mass_factor: BandLdlt,
     damping: Rayleigh,
+    /// k / μ of the Winkler foundation (1/s², 0 without): its matrix is
+    /// (k / μ) M, so it shifts every ω² by this much.
+    foundation_rate: f64,
 }
 
 /// The band operators of accelerations `M⁻¹ (f − K u) − α v`
@@ -235,9 +238,14 @@ impl HermiteBeam {
         let free_dofs = mesh.free_dofs;
         let mut mass = SymBand::zeros(free_dofs);
         let mut stiffness = SymBand::zeros(free_dofs);
+        let foundation = spec.foundation.map_or(0.0, |f| f.stiffness());
         for (&len, dofs) in mesh.element_length.iter().zip(&mesh.element_dofs) {
             let me = element_mass(len, spec.mass_per_length);
-            let ke = element_stiffness(len, spec.bending_stiffness);
+            let mut ke = element_stiffness(len, spec.bending_stiffness);
+            if foundation > 0.0 {
+                // The Winkler foundation's consistent matrix k ∫ NᵀN dx.
+                ke += element_mass(len, foundation);
+            }
             for a in 0..4 {
                 for b in 0..=a {
                     if let (Some(i), Some(j)) = (dofs[a], dofs[b]) {
@@ -266,7 +274,8 @@ impl HermiteBeam {
             &mesh.element_dofs,
             spec.bending_stiffness,
             mesh.springs.iter().map(|s| (s.dof, s.stiffness)).collect(),
-        );
+        )
+        .with_foundation(foundation);
         let mut node_x = mesh.element_start;
         node_x.extend(mesh.element_end.last());
         let mut segment_ends = vec![(false, false); element_length.len()];
@@ -296,8 +305,14 @@ impl HermiteBeam {
             elementwise_products: false,
             mass_factor,
             damping: Rayleigh::default(),
+            foundation_rate: foundation / spec.mass_per_length,
         };
         beam.damping = beam.rayleigh(spec.damping.as_ref())?;
+        if let Some(damping) = spec.foundation.map(|f| f.damping()) {
+            // With a uniform mass per length, c ∫ NᵀN dx is exactly
+            // (c / μ) M: the foundation's damper is mass-proportional.
+            beam.damping.mass += damping / spec.mass_per_length;
+        }
         // The band's K u of a smooth field is off by about ε (L/h)⁴ of
         // itself: harmless up to a few thousand elements (the dynamics
         // then stay bit for bit as before), not beyond (at 100,000 it gave
@@ -971,7 +986,7 @@ impl HermiteBeam {
             .iter()
             .map(|s| s.stiffness * self.inverse_mass_diagonal(s.dof))
             .sum();
-        let bound = self.max_element_frequency().powi(2) + springs;
+        let bound = self.max_element_frequency().powi(2) + springs + self.foundation_rate;
         let mut upper = bound * (1.0 + 1e-12);
         // f64::max drops a NaN: a failed quotient leaves the bracket at 0.
         let mut lower = self.rayleigh_lower_bound().min(upper).max(0.0);
@@ -1146,6 +1161,7 @@ mod tests {
             elements,
             supports: SupportsSpec::default(),
             joints: Vec::new(),
+            foundation: None,
             damping: None,
         }
     }
