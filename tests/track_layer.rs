@@ -227,3 +227,55 @@ fn a_foundation_without_modulus_and_a_free_rail_without_foundation_are_refused()
     let message = scene.validate().expect_err("free-free").to_string();
     assert!(message.contains("beam.supports"), "{message}");
 }
+
+/// A wheel rolling slowly along the rail: quasi-static, so at the sensor
+/// the foundation carries, as the wheel passes, the static P β / 2 per
+/// metre of the infinite beam (k w(0) with w(0) = P β / 2k) and the rail
+/// deflects P β / 2k; the contact (Hertz: the rigid contact of a wheel of
+/// mass on a fine rail mesh chatters, issue 24 item 3) runs on the rail as
+/// on a deck.
+#[test]
+fn a_wheel_rolling_slowly_on_the_rail_loads_the_foundation_as_the_static_closed_form() {
+    let mut scene = rail_scene(0.0, 1e-4, 0.0);
+    scene.beam.foundation = Some(guideway::scene::FoundationSpec {
+        preset: None,
+        stiffness: Some(K),
+        // ζ = 0.3 at √(k/μ): the wheel's bounce from its start dies early.
+        damping: Some(2.0 * 0.3 * (K * MU).sqrt()),
+    });
+    let toml = format!(
+        r#"
+name = "wheel"
+kind = "wheel"
+mass = 500.0
+radius = 0.46
+inertia = 50.0
+force_y = {force}
+initial_position = 36.0
+initial_speed = 5.0
+contact_law = {{ preset = "wheel-rail" }}
+"#,
+        force = -P
+    );
+    scene.body = toml::from_str(&toml).expect("wheel body");
+    scene.validate().expect("valid scene");
+    let mut sim = guideway::Simulation::new(&scene).expect("simulation");
+    let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
+    let at = |n: &str| names.iter().position(|x| x == n).expect(n);
+    let (load, deflection) = (
+        at("sensor.middle.foundation_load"),
+        at("sensor.middle.deflection"),
+    );
+    let mut values = vec![0.0; names.len()];
+    let (mut peak_load, mut peak_deflection) = (0.0_f64, 0.0_f64);
+    let step = sim.step_size();
+    for k in 1..=(1.4 / step).round() as u64 {
+        sim.advance_to(k as f64 * step).expect("no solver error");
+        sim.output_values(&mut values);
+        peak_load = peak_load.max(values[load]);
+        peak_deflection = peak_deflection.min(values[deflection]);
+    }
+    let b = beta();
+    assert_within(peak_load, P * b / 2.0, 5e-3, "peak foundation load");
+    assert_within(-peak_deflection, P * b / (2.0 * K), 5e-3, "peak deflection");
+}

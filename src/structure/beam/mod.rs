@@ -147,6 +147,16 @@ pub struct HermiteBeam {
     /// k / μ of the Winkler foundation (1/s², 0 without): its matrix is
     /// (k / μ) M, so it shifts every ω² by this much.
     foundation_rate: f64,
+    foundation: Option<Foundation>,
+}
+
+/// A Winkler foundation's modulus and damping per metre of beam.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Foundation {
+    /// k (N/m²).
+    pub stiffness: f64,
+    /// c (N s/m²).
+    pub damping: f64,
 }
 
 /// The band operators of accelerations `M⁻¹ (f − K u) − α v`
@@ -306,6 +316,10 @@ impl HermiteBeam {
             mass_factor,
             damping: Rayleigh::default(),
             foundation_rate: foundation / spec.mass_per_length,
+            foundation: spec.foundation.map(|f| Foundation {
+                stiffness: f.stiffness(),
+                damping: f.damping(),
+            }),
         };
         beam.damping = beam.rayleigh(spec.damping.as_ref())?;
         if let Some(damping) = spec.foundation.map(|f| f.damping()) {
@@ -353,6 +367,11 @@ impl HermiteBeam {
                 Rayleigh::from_ratios([omega[modes[0] - 1], omega[modes[1] - 1]], [ratio; 2])
             }
         })
+    }
+
+    /// The Winkler foundation under the beam, if any.
+    pub fn foundation(&self) -> Option<Foundation> {
+        self.foundation
     }
 
     /// Rayleigh damping coefficients of the beam (zero when undamped).
