@@ -195,7 +195,7 @@ impl EffectiveFactor {
     }
 }
 
-fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
+pub(crate) fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
     let l = len;
     let c = ei / (l * l * l);
     Matrix4::new(
@@ -218,7 +218,7 @@ fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
     ) * c
 }
 
-fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
+pub(crate) fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
     let l = len;
     let c = mu * l / 420.0;
     Matrix4::new(
