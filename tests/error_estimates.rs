@@ -75,6 +75,7 @@ fn moving_force_level(alpha: f64, steps: usize) -> Level {
         supports: SupportsSpec::default(),
         damping: None,
         joints: Vec::new(),
+        foundation: None,
     })
     .expect("beam builds");
     let speed = alpha * omega1() * LENGTH / PI;

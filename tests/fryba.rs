@@ -35,6 +35,7 @@ fn beam() -> Beam {
         supports: SupportsSpec::default(),
         damping: None,
         joints: Vec::new(),
+        foundation: None,
     })
     .expect("beam builds")
 }

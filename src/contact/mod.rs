@@ -556,6 +556,7 @@ mod tests {
             elements: 3,
             supports: SupportsSpec::default(),
             joints: Vec::new(),
+            foundation: None,
             damping: None,
         })
         .unwrap();
@@ -624,6 +625,7 @@ mod tests {
             elements: 65_536,
             supports: SupportsSpec::default(),
             joints: Vec::new(),
+            foundation: None,
             damping: None,
         })
         .unwrap();
@@ -733,6 +735,7 @@ mod profile_tests {
             supports: SupportsSpec::default(),
             damping: None,
             joints: Vec::new(),
+            foundation: None,
         })
         .unwrap();
         let u = DVector::from_fn(beam.free_dofs(), |i, _| 0.05 * ((i as f64) * 1.3).sin());

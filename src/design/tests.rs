@@ -22,6 +22,7 @@ fn beam(elements: usize, left: EndSupport, right: EndSupport) -> Beam {
         },
         damping: None,
         joints: Vec::new(),
+        foundation: None,
     })
     .unwrap()
 }
@@ -128,6 +129,7 @@ fn continuous_beam_reactions() {
         supports: SupportsSpec::default(),
         damping: None,
         joints: Vec::new(),
+        foundation: None,
     };
     spec.supports.intermediate = vec![L / 2.0];
     let beam = Beam::new(&spec).unwrap();

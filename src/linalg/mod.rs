@@ -5,3 +5,4 @@
 pub mod band;
 pub mod complementarity;
 pub mod two_level;
+pub mod wide_band;

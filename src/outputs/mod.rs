@@ -53,6 +53,8 @@ pub enum Quantity {
     Irregularity(usize),
     Sensor(usize),
     SensorVelocity(usize),
+    /// Load per metre on the Winkler foundation at sensor i.
+    SensorFoundationLoad(usize),
     SensorAcceleration(usize),
     SectionMoment(usize),
     SectionShear(usize),
@@ -463,6 +465,15 @@ pub fn catalogue(
              and the contact forces of the last step: M^-1 (r - K u - C v)",
             Quantity::SensorAcceleration(i),
         );
+        if system.beam.foundation().is_some() {
+            c.real(
+                format!("sensor.{name}.foundation_load"),
+                "N/m",
+                "load per metre of beam on its Winkler foundation at the sensor, -(k w + c v), \
+                 compression positive: the rail-seat load per metre of a rail",
+                Quantity::SensorFoundationLoad(i),
+            );
+        }
     }
     c.design(system, sections, reactions);
     c.energy(system);
@@ -539,6 +550,11 @@ pub fn evaluate(
                 .map_or(0.0, |p| p.at(d.contact_x[c])[0]),
             Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, probes.sensors[i]),
             Quantity::SensorVelocity(i) => beam.deflection(&d.beam_velocity, probes.sensors[i]),
+            Quantity::SensorFoundationLoad(i) => beam.foundation().map_or(f64::NAN, |f| {
+                let x = probes.sensors[i];
+                let w = beam.deflection(&d.beam_displacement, x);
+                -(f.stiffness * w + f.damping * beam.deflection(&d.beam_velocity, x))
+            }),
             Quantity::SensorAcceleration(i) => beam_dynamics
                 .as_ref()
                 .map_or(f64::NAN, |b| b.acceleration_at(beam, probes.sensors[i])),

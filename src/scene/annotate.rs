@@ -35,6 +35,10 @@ pub(super) const TABLE_NOTES: &[(&str, &str)] = &[
     ),
     ("beam.joints", "Where one span ends and the next begins"),
     (
+        "beam.foundation",
+        "A Winkler foundation under the whole beam (a rail on its track bed)",
+    ),
+    (
         "body.bogie",
         "bogie_vehicle: car body on two bogies on four wheelsets",
     ),

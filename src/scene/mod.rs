@@ -104,6 +104,66 @@ pub struct BeamSpec {
     /// increasing abscissa; none: one beam.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joints: Vec<JointSpec>,
+    /// A Winkler foundation under the whole beam (a rail on its track bed);
+    /// none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub foundation: Option<FoundationSpec>,
+}
+
+/// A continuous (Winkler) elastic foundation: a distributed spring and
+/// damper to the ground under every point of the beam, per metre of beam.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FoundationSpec {
+    /// Typical values to start from (docs/structures.md gives their
+    /// sources); `stiffness` and `damping` override them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub preset: Option<FoundationPreset>,
+    /// Foundation modulus k (N/m per metre of beam, N/m²).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness: Option<f64>,
+    /// Foundation damping c (N s/m per metre of beam, N s/m²).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<f64>,
+}
+
+/// Track beds with typical foundation values per rail.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum FoundationPreset {
+    /// Rail on pads, sleepers and ballast.
+    Ballasted,
+    /// Rail on elastic fastenings on a concrete slab.
+    Slab,
+}
+
+impl FoundationPreset {
+    /// (stiffness N/m², damping N s/m²) per rail: docs/structures.md
+    /// derives them from their sources.
+    pub fn values(self) -> (f64, f64) {
+        match self {
+            FoundationPreset::Ballasted => (3.3e7, 4.5e4),
+            FoundationPreset::Slab => (9.2e7, 7.3e4),
+        }
+    }
+}
+
+impl FoundationSpec {
+    /// The foundation modulus k (N/m²): the given one, else the preset's,
+    /// else 0 (refused by validation).
+    pub fn stiffness(&self) -> f64 {
+        self.stiffness
+            .or(self.preset.map(|p| p.values().0))
+            .unwrap_or(0.0)
+    }
+
+    /// The foundation damping c (N s/m²): the given one, else the
+    /// preset's, else 0.
+    pub fn damping(&self) -> f64 {
+        self.damping
+            .or(self.preset.map(|p| p.values().1))
+            .unwrap_or(0.0)
+    }
 }
 
 /// Where one beam of the track meets the next.
@@ -706,6 +766,7 @@ impl Scene {
                 supports: SupportsSpec::default(),
                 damping: None,
                 joints: Vec::new(),
+                foundation: None,
             },
             body: BodySpec {
                 name: name.to_string(),

@@ -5,7 +5,8 @@
 
 use super::fields::Rule;
 use super::{
-    BodyKind, DampingSpec, EndSupport, ForceProfile, IntegratorKind, JointKind, Scene, SceneError,
+    BodyKind, DampingSpec, EndSupport, ForceProfile, FoundationSpec, IntegratorKind, JointKind,
+    Scene, SceneError,
 };
 use crate::scene::error::Problem;
 use std::collections::HashSet;
@@ -200,6 +201,9 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
         );
     }
     checks.non_negative("beam.surface_offset", beam.surface_offset);
+    if let Some(foundation) = &beam.foundation {
+        check_foundation(checks, foundation);
+    }
     if beam.elements < 1 {
         checks.fail("beam.elements", beam.elements.to_string(), "must be >= 1");
     } else if beam.elements > MAX_ELEMENTS {
@@ -287,7 +291,8 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
         + springs
         + joints)
         .saturating_sub(hinges);
-    if constraints < 2 {
+    // A foundation holds every rigid motion by itself.
+    if constraints < 2 && beam.foundation.is_none() {
         checks.fail(
             "beam.supports",
             format!(
@@ -301,6 +306,25 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
         );
     }
     length_ok
+}
+
+/// A Winkler foundation: a positive modulus (given or from the preset), a
+/// non-negative damping.
+fn check_foundation(checks: &mut Checks, foundation: &FoundationSpec) {
+    match foundation.stiffness {
+        Some(k) => {
+            checks.positive("beam.foundation.stiffness", k);
+        }
+        None if foundation.preset.is_none() => checks.fail(
+            "beam.foundation.stiffness",
+            "missing",
+            "a foundation needs a modulus > 0 (N/m²) or a preset (\"ballasted\" or \"slab\")",
+        ),
+        None => {}
+    }
+    if let Some(c) = foundation.damping {
+        checks.non_negative("beam.foundation.damping", c);
+    }
 }
 
 /// Elastic supports: on the track, finite non-negative springs and dampers.

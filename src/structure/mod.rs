@@ -5,6 +5,7 @@
 pub mod beam;
 pub mod modal;
 pub mod profile;
+pub mod rail_on_deck;
 pub mod reduced;
 pub mod seam;
 

@@ -313,6 +313,7 @@ mod tests {
             elements,
             supports,
             joints: Vec::new(),
+            foundation: None,
             damping: None,
         })
         .expect("beam")
@@ -408,6 +409,7 @@ mod tests {
             elements: 4,
             supports: SupportsSpec::default(),
             joints: Vec::new(),
+            foundation: None,
             damping: Some(crate::scene::DampingSpec::Coefficients {
                 alpha: 0.3,
                 beta: 2e-4,

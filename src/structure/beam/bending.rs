@@ -18,20 +18,24 @@ use nalgebra::DVector;
 const HELD: usize = usize::MAX;
 
 /// One element: its four free-DOF indices (w₁, ψ₁, w₂, ψ₂; `HELD` where a
-/// support holds one), 1/h and EI/h.
+/// support holds one), 1/h, EI/h and h.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Element {
     dofs: [usize; 4],
     inverse_length: f64,
     rotational_stiffness: f64,
+    length: f64,
 }
 
-/// K as a sum of element terms plus the ground springs' diagonal.
+/// K as a sum of element terms plus the ground springs' diagonal and the
+/// Winkler foundation's consistent matrix.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bending {
     elements: Vec<Element>,
     /// (free DOF, stiffness) of each elastic support.
     springs: Vec<(usize, f64)>,
+    /// Foundation modulus k (N/m²), 0 without a foundation.
+    foundation: f64,
 }
 
 impl Bending {
@@ -50,9 +54,63 @@ impl Bending {
                 dofs: d.map(|dof| dof.unwrap_or(HELD)),
                 inverse_length: 1.0 / h,
                 rotational_stiffness: bending_stiffness / h,
+                length: h,
             })
             .collect();
-        Bending { elements, springs }
+        Bending {
+            elements,
+            springs,
+            foundation: 0.0,
+        }
+    }
+
+    /// The same operator on a Winkler foundation of modulus `stiffness`
+    /// (N/m²) under every element.
+    pub fn with_foundation(self, stiffness: f64) -> Bending {
+        Bending {
+            foundation: stiffness,
+            ..self
+        }
+    }
+
+    /// The element's foundation matrix (k h / 420) × the consistent
+    /// mass pattern, its entries in (w₁, ψ₁, w₂, ψ₂) order.
+    fn foundation_matrix(&self, e: &Element) -> [[f64; 4]; 4] {
+        let (h, c) = (e.length, self.foundation * e.length / 420.0);
+        [
+            [156.0, 22.0 * h, 54.0, -13.0 * h],
+            [22.0 * h, 4.0 * h * h, 13.0 * h, -3.0 * h * h],
+            [54.0, 13.0 * h, 156.0, -22.0 * h],
+            [-13.0 * h, -3.0 * h * h, -22.0 * h, 4.0 * h * h],
+        ]
+        .map(|row| row.map(|v| c * v))
+    }
+
+    /// `out += scale · K_f u`, the foundation's part, element by element.
+    fn add_foundation_times(&self, scale: f64, u: &[f64], out: &mut [f64]) {
+        for e in &self.elements {
+            let q = e.dofs.map(|i| if i == HELD { 0.0 } else { u[i] });
+            let k = self.foundation_matrix(e);
+            for (&i, row) in e.dofs.iter().zip(&k) {
+                if i != HELD {
+                    out[i] += scale * row.iter().zip(&q).map(|(a, b)| a * b).sum::<f64>();
+                }
+            }
+        }
+    }
+
+    /// uᵀ K_f u of the foundation: Σ over elements of qᵀ k_e q ≥ 0.
+    fn foundation_form(&self, u: &[f64]) -> f64 {
+        self.elements
+            .iter()
+            .map(|e| {
+                let q = e.dofs.map(|i| if i == HELD { 0.0 } else { u[i] });
+                let k = self.foundation_matrix(e);
+                (0..4)
+                    .map(|a| q[a] * (0..4).map(|b| k[a][b] * q[b]).sum::<f64>())
+                    .sum::<f64>()
+            })
+            .sum()
     }
 
     /// The element's chord rotations (θ₁, θ₂) under `u`.
@@ -103,6 +161,9 @@ impl Bending {
         for &(i, k) in &self.springs {
             out[i] += scale * k * u[i];
         }
+        if self.foundation != 0.0 {
+            self.add_foundation_times(scale, u, out);
+        }
     }
 
     /// `scale` times the element's nodal forces for its DOF values `q`.
@@ -131,6 +192,9 @@ impl Bending {
             })
             .sum();
         let springs: f64 = self.springs.iter().map(|&(i, k)| k * u[i] * u[i]).sum();
+        if self.foundation != 0.0 {
+            return elements + springs + self.foundation_form(u);
+        }
         elements + springs
     }
 }

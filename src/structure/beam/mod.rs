@@ -144,6 +144,19 @@ pub struct HermiteBeam {
     elementwise_products: bool,
     mass_factor: BandLdlt,
     damping: Rayleigh,
+    /// k / μ of the Winkler foundation (1/s², 0 without): its matrix is
+    /// (k / μ) M, so it shifts every ω² by this much.
+    foundation_rate: f64,
+    foundation: Option<Foundation>,
+}
+
+/// A Winkler foundation's modulus and damping per metre of beam.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Foundation {
+    /// k (N/m²).
+    pub stiffness: f64,
+    /// c (N s/m²).
+    pub damping: f64,
 }
 
 /// The band operators of accelerations `M⁻¹ (f − K u) − α v`
@@ -182,7 +195,7 @@ impl EffectiveFactor {
     }
 }
 
-fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
+pub(crate) fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
     let l = len;
     let c = ei / (l * l * l);
     Matrix4::new(
@@ -205,7 +218,7 @@ fn element_stiffness(len: f64, ei: f64) -> Matrix4<f64> {
     ) * c
 }
 
-fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
+pub(crate) fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
     let l = len;
     let c = mu * l / 420.0;
     Matrix4::new(
@@ -235,9 +248,14 @@ impl HermiteBeam {
         let free_dofs = mesh.free_dofs;
         let mut mass = SymBand::zeros(free_dofs);
         let mut stiffness = SymBand::zeros(free_dofs);
+        let foundation = spec.foundation.map_or(0.0, |f| f.stiffness());
         for (&len, dofs) in mesh.element_length.iter().zip(&mesh.element_dofs) {
             let me = element_mass(len, spec.mass_per_length);
-            let ke = element_stiffness(len, spec.bending_stiffness);
+            let mut ke = element_stiffness(len, spec.bending_stiffness);
+            if foundation > 0.0 {
+                // The Winkler foundation's consistent matrix k ∫ NᵀN dx.
+                ke += element_mass(len, foundation);
+            }
             for a in 0..4 {
                 for b in 0..=a {
                     if let (Some(i), Some(j)) = (dofs[a], dofs[b]) {
@@ -266,7 +284,8 @@ impl HermiteBeam {
             &mesh.element_dofs,
             spec.bending_stiffness,
             mesh.springs.iter().map(|s| (s.dof, s.stiffness)).collect(),
-        );
+        )
+        .with_foundation(foundation);
         let mut node_x = mesh.element_start;
         node_x.extend(mesh.element_end.last());
         let mut segment_ends = vec![(false, false); element_length.len()];
@@ -296,8 +315,18 @@ impl HermiteBeam {
             elementwise_products: false,
             mass_factor,
             damping: Rayleigh::default(),
+            foundation_rate: foundation / spec.mass_per_length,
+            foundation: spec.foundation.map(|f| Foundation {
+                stiffness: f.stiffness(),
+                damping: f.damping(),
+            }),
         };
         beam.damping = beam.rayleigh(spec.damping.as_ref())?;
+        if let Some(damping) = spec.foundation.map(|f| f.damping()) {
+            // With a uniform mass per length, c ∫ NᵀN dx is exactly
+            // (c / μ) M: the foundation's damper is mass-proportional.
+            beam.damping.mass += damping / spec.mass_per_length;
+        }
         // The band's K u of a smooth field is off by about ε (L/h)⁴ of
         // itself: harmless up to a few thousand elements (the dynamics
         // then stay bit for bit as before), not beyond (at 100,000 it gave
@@ -338,6 +367,11 @@ impl HermiteBeam {
                 Rayleigh::from_ratios([omega[modes[0] - 1], omega[modes[1] - 1]], [ratio; 2])
             }
         })
+    }
+
+    /// The Winkler foundation under the beam, if any.
+    pub fn foundation(&self) -> Option<Foundation> {
+        self.foundation
     }
 
     /// Rayleigh damping coefficients of the beam (zero when undamped).
@@ -971,7 +1005,7 @@ impl HermiteBeam {
             .iter()
             .map(|s| s.stiffness * self.inverse_mass_diagonal(s.dof))
             .sum();
-        let bound = self.max_element_frequency().powi(2) + springs;
+        let bound = self.max_element_frequency().powi(2) + springs + self.foundation_rate;
         let mut upper = bound * (1.0 + 1e-12);
         // f64::max drops a NaN: a failed quotient leaves the bracket at 0.
         let mut lower = self.rayleigh_lower_bound().min(upper).max(0.0);
@@ -1147,6 +1181,7 @@ mod tests {
             elements,
             supports: SupportsSpec::default(),
             joints: Vec::new(),
+            foundation: None,
             damping: None,
         }
     }
