@@ -8,6 +8,10 @@ use std::path::Path;
 /// Constants that tune an algorithm and bound no input, memory or time.
 const TUNING: &[(&str, &str)] = &[
     (
+        "MAX_SECANT_STEPS",
+        "secant steps of beam.frequency's EI search on springs; past them the scene is refused naming the field",
+    ),
+    (
         "MAX_COORDINATES",
         "the foot-point memo keeps nothing above it: a speed choice",
     ),

@@ -133,7 +133,11 @@ mod tests {
         assert_eq!(named(t, &deps, "wheel.x"), ["wheel.initial_position"]);
         assert_eq!(
             named(t, &deps, "wheel.y"),
-            ["beam.surface_offset", "wheel.radius", "wheel.initial_height"]
+            [
+                "beam.surface_offset",
+                "wheel.radius",
+                "wheel.initial_height"
+            ]
         );
         assert_eq!(named(t, &deps, "wheel.vx"), ["wheel.initial_speed"]);
         assert!(named(t, &deps, "sensor.midspan.deflection").is_empty());

@@ -12,7 +12,7 @@ use crate::structure::beam::HermiteBeam;
 use std::f64::consts::TAU;
 
 /// Secant steps before giving up.
-const MAX_STEPS: usize = 40;
+const MAX_SECANT_STEPS: usize = 40;
 /// Relative agreement of ω₁² with the target that ends the iteration.
 const TOLERANCE: f64 = 1e-12;
 /// Relative disagreement accepted when the iteration stalls at round-off.
@@ -87,7 +87,7 @@ fn stiffness_for(scene: &Scene, f1: f64) -> Result<f64, String> {
     }
     let mut ei_b = target / w_a;
     let mut w_b = squared(ei_b)?;
-    for _ in 0..MAX_STEPS {
+    for _ in 0..MAX_SECANT_STEPS {
         if (w_b - target).abs() <= TOLERANCE * target {
             return Ok(ei_b);
         }
