@@ -624,13 +624,15 @@ impl<D: Dynamics> Model<D> {
                 },
             }
         }
-        let inputs_changed = inputs != self.inputs;
+        // Only the body forces (inputs 0 and 1) go into the build of the
+        // state at t = 0 (`ensure_sim`); coupling loads are applied to it.
+        let build_inputs_changed = inputs[..2] != self.inputs[..2];
         self.scene = scene;
         self.inputs = inputs;
         self.wall_time_budget = budget;
         // Before initialization is left the state at t = 0 follows the
-        // parameters and the inputs: rebuild it on demand.
-        if params_changed || (inputs_changed && self.phase == Phase::Configuring) {
+        // parameters and the body forces: rebuild it on demand.
+        if params_changed || (build_inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
             apply_inputs(sim, &self.inputs);
