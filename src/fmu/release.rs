@@ -289,7 +289,7 @@ mod tests {
             let scene = builtin(name).unwrap();
             let coupled = coupling_variant(&scene).expect("a wheel or glider scene");
             coupled.validate().unwrap();
-            assert_eq!(coupled.couplings, [scene.body.name.clone()]);
+            assert_eq!(coupled.couplings, std::slice::from_ref(&scene.body.name));
             assert_ne!(
                 model_identifier(&coupled.name),
                 model_identifier(&scene.name)
