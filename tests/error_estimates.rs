@@ -447,3 +447,37 @@ fn rtol_with_error_mesh_says_the_elements_it_chose() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The companion runs record each vehicle's exits as the base run does:
+/// before, every `vehicles.*` figure was "absent from" both companions and
+/// flagged not converged (and the contact count read 0 → 1 → 0). In every
+/// run the one wheel's first exit is the run's exit, recorded by another
+/// path (the exit event that ends the run).
+#[test]
+fn every_vehicle_figure_is_in_every_companion_run() {
+    let scene = builtin("lee1994-wheel-10").expect("built-in");
+    let study = error_study(&scene, Refinement::Time, 1_000_000, 2).expect("study runs");
+    let vehicle: Vec<&Estimate> = study
+        .estimates
+        .iter()
+        .filter(|e| e.name.starts_with("vehicles."))
+        .collect();
+    assert!(vehicle.len() >= 5, "{} vehicle figures", vehicle.len());
+    for e in &vehicle {
+        assert!(
+            e.values.iter().all(|v| v.is_some()),
+            "{}: {:?}",
+            e.name,
+            e.values
+        );
+        assert!(
+            e.not_converged.is_none(),
+            "{}: {:?}",
+            e.name,
+            e.not_converged
+        );
+    }
+    let own = estimate_of(&study.estimates, "exit_time");
+    let first = estimate_of(&study.estimates, "vehicles.0.first_exit_time");
+    assert_eq!(first.values, own.values);
+}

@@ -4,6 +4,7 @@
 //! estimator (`convergence`) with the base run.
 
 use super::convergence::{estimate, figures, Estimate, Level};
+use crate::report::exits::{self, ExitWatch};
 use crate::report::{
     check_run_length, drive_into, RowSink, RunSummary, SummaryBuilder, SummaryEvent, Trace,
 };
@@ -90,14 +91,18 @@ pub fn summarise(scene: &Scene, max_steps: u64) -> Result<RunSummary, String> {
     let trace = Trace::for_outputs(simulation.outputs());
     let mut sink = SummaryOnly(SummaryBuilder::new(scene, &trace.names));
     let mut read = vec![false; trace.names.len()];
-    for k in sink.0.columns() {
+    // Each vehicle's exits, as `guideway run` records them, so that the
+    // companions' summaries hold the same figures as the base run's.
+    let vehicles = exits::vehicle_names(scene);
+    let exit_columns = exits::exit_columns(&simulation, &vehicles);
+    for k in sink.0.columns().into_iter().chain(exit_columns) {
         read[k] = true;
     }
     simulation.read_only(Some(&read));
-    let streamed = drive_into(scene, &mut simulation, &mut sink, |_| {
-        ControlFlow::Continue(())
-    })
-    .map_err(stream_error_message)?;
+    let mut watch = ExitWatch::new(&mut simulation, &vehicles);
+    let streamed = drive_into(scene, &mut watch, &mut sink, |_| ControlFlow::Continue(()))
+        .map_err(stream_error_message)?;
+    let vehicle_exits = watch.finish();
     let envelope = |s: &Scene| simulation.static_envelope(s).ok();
     let mut summary = sink.0.finish_with(
         streamed.exit_time,
@@ -106,6 +111,7 @@ pub fn summarise(scene: &Scene, max_steps: u64) -> Result<RunSummary, String> {
     );
     summary.integrator = Some(simulation.integrator_choice().to_string());
     summary.events = SummaryEvent::list(&simulation);
+    summary.set_vehicles(vehicle_exits);
     Ok(summary)
 }
 
