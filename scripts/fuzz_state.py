@@ -326,6 +326,13 @@ def _shape(v):
     return "number" if isinstance(v, (int, float)) and not isinstance(v, bool) else repr(v)
 
 
+def payload(blob):
+    """The decoded payload of a serialized state, packed again: equal for
+    two states that hold the same values."""
+    value, _ = unpack(unframe(blob)[1])
+    return pack(value)
+
+
 def classify_accepted(blob, forged, path, contact_bodies):
     """Why the FMU may accept `forged` (`blob` with a change at `path`), or
     None if no benign reason holds (then accepting it is a fuzzer failure).
