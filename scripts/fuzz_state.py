@@ -366,6 +366,8 @@ def classify_accepted(blob, forged, path, contact_bodies):
     if path[1] == "contacts" and path[-1] == "open" and after is True:
         return "contact marked open (a lift-off state; the next step closes it again)"
     after = _as_read(after)
+    if path[1] == "events" and _event_log(after, len(old["sim"].get("contacts") or [])):
+        return "event log, another past (reported, never stepped on)"
     if path[1] in HISTORIES and _finite_numbers(after):
         return "history, finite"  # a shorter or longer history: another past
     if not _finite_numbers(after) or _shape(before) != _shape(after):
@@ -382,6 +384,15 @@ def classify_accepted(blob, forged, path, contact_bodies):
             return None
         return "phase-space point, finite"
     return None
+
+
+def _event_log(events, contacts):
+    """A list of events (as read: a zero field absent), each of a known
+    contact at a finite time."""
+    return isinstance(events, list) and all(
+        isinstance(e, dict) and type(e.get("contact", 0)) is int
+        and 0 <= e.get("contact", 0) < contacts and _finite_numbers(e.get("time", 0.0))
+        for e in events)
 
 
 def _lifts_closed_contact(old, new, contact_bodies):

@@ -23,6 +23,7 @@ STATE = {
                     "beam_displacement": [0.0, 0.0], "dissipated": 0.0},
         "contacts": [{"open": False, "gap": 0.0, "impulse": [0.0, 0.0], "landed_in": None}],
         "step_history": [0.001, 0.001],
+        "events": [{"contact": 0, "time": 0.05, "kind": "Entry"}],
         "steps": 200,
         "exit_time": None,
     },
@@ -64,6 +65,8 @@ def test_benign_forgeries_are_named_by_their_reason():
     assert why(("sim", "dynamic", "bodies", 0, "position", 1), 9.0).startswith("phase-space")
     # The wheelset by less than 1 cm too.
     assert why(("sim", "dynamic", "bodies", 1, "position", 1), 0.505).startswith("phase-space")
+    # An event dropped from the log (found by seed 700112): another past.
+    assert why(("sim", "events"), []).startswith("event log")
 
 
 def test_forgeries_without_a_benign_reason_get_none():
@@ -76,6 +79,9 @@ def test_forgeries_without_a_benign_reason_get_none():
     assert why(("sim", "exit_time"), 0.1) is None
     assert why(("sim", "contacts", 0, "open"), None) is None
     assert why(("sim", "dynamic", "beam_displacement"), [0.0]) is None
+    # An event of a contact the model does not have, or at no finite time.
+    assert why(("sim", "events"), [{"contact": 3, "time": 0.05, "kind": "Entry"}]) is None
+    assert why(("sim", "events"), [{"contact": 0, "time": float("inf"), "kind": "Exit"}]) is None
 
 
 def test_a_parameter_moved_to_zero_or_the_input_time_moved_is_a_parameter_move():
