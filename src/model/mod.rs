@@ -213,6 +213,13 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
 
 /// Hand the input values (`Input::index` order) to the dynamics: the
 /// applied force on `[body]`, then the coupling ports' loads.
+#[cfg(test)]
+thread_local! {
+    /// Start states built on this thread (`ensure_sim`): the export's
+    /// dependency analysis is tested to build none per coupling input.
+    pub(crate) static BUILDS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
     sim.set_body_force(inputs[0], inputs[1]);
     let loads: Vec<[f64; 3]> = inputs[2..]
@@ -380,6 +387,8 @@ impl<D: Dynamics> Model<D> {
 
     fn ensure_sim(&mut self) -> Result<&mut D, ModelError> {
         if self.sim.is_none() {
+            #[cfg(test)]
+            BUILDS.with(|b| b.set(b.get() + 1));
             validate(&self.scene).map_err(ModelError)?;
             // Built with the inputs as the scene's forces, so that the
             // state at t = 0 (the contact force) balances them.

@@ -123,6 +123,35 @@ mod tests {
     use crate::scene::BodyKind;
     use crate::Simulation;
 
+    /// Issue 30, defect 8: export grew with coupling bodies because every
+    /// coupling input's move rebuilt the start state. The analysis of a
+    /// scene with a coupling on every body builds as many start states as
+    /// that of the same scene with one coupling.
+    #[test]
+    fn coupling_inputs_cost_the_dependency_analysis_no_builds() {
+        let builds = |couplings: &[&str]| {
+            let mut scene = Scene::load("train-3-coaches-2x25-5").unwrap();
+            scene.couplings = couplings.iter().map(|c| c.to_string()).collect();
+            let before = crate::model::BUILDS.with(|b| b.get());
+            initial_dependencies::<Simulation>(&scene).unwrap();
+            crate::model::BUILDS.with(|b| b.get()) - before
+        };
+        let one = builds(&["coach1"]);
+        let all = [
+            "coach1",
+            "coach1_bogie1",
+            "coach1_bogie2",
+            "coach1_wheelset1",
+        ];
+        let every: Vec<&str> = all
+            .iter()
+            .copied()
+            .chain(["coach2", "coach2_wheelset1", "coach3", "coach3_wheelset4"])
+            .collect();
+        assert_eq!(builds(&every), one, "builds with 8 couplings against 1");
+        assert!(one > 0);
+    }
+
     /// A coupling load set on a start state already built (no rebuild, as
     /// the export's analysis now does) gives the start outputs of a model
     /// built with it, bit for bit; and taken off again, the outputs before.
