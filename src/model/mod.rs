@@ -211,8 +211,6 @@ pub fn validate(scene: &Scene) -> Result<(), String> {
     })
 }
 
-/// Hand the input values (`Input::index` order) to the dynamics: the
-/// applied force on `[body]`, then the coupling ports' loads.
 #[cfg(test)]
 thread_local! {
     /// Start states built on this thread (`ensure_sim`): the export's
@@ -220,6 +218,8 @@ thread_local! {
     pub(crate) static BUILDS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
 }
 
+/// Hand the input values (`Input::index` order) to the dynamics: the
+/// applied force on `[body]`, then the coupling ports' loads.
 fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
     sim.set_body_force(inputs[0], inputs[1]);
     let loads: Vec<[f64; 3]> = inputs[2..]
