@@ -366,7 +366,9 @@ def classify_accepted(blob, forged, path, contact_bodies):
     if path[1] == "contacts" and path[-1] == "open" and after is True:
         return "contact marked open (a lift-off state; the next step closes it again)"
     after = _as_read(after)
-    if path[1] == "events" and _event_log(after, len(old["sim"].get("contacts") or [])):
+    events = _as_read(new["sim"].get("events")) if path[1] == "events" else None
+    contacts, now = len(old["sim"].get("contacts") or []), new["sim"].get("time", 0.0)
+    if events is not None and _event_log(events, contacts, now):
         return "event log, another past (reported, never stepped on)"
     if path[1] in HISTORIES and _finite_numbers(after):
         return "history, finite"  # a shorter or longer history: another past
@@ -386,13 +388,13 @@ def classify_accepted(blob, forged, path, contact_bodies):
     return None
 
 
-def _event_log(events, contacts):
+def _event_log(events, contacts, now):
     """A list of events (as read: a zero field absent), each of a known
-    contact at a finite time."""
+    contact at a finite time no later than the state's `now`."""
     return isinstance(events, list) and all(
         isinstance(e, dict) and type(e.get("contact", 0)) is int
         and 0 <= e.get("contact", 0) < contacts and _finite_numbers(e.get("time", 0.0))
-        for e in events)
+        and e.get("time", 0.0) <= now for e in events)
 
 
 def _lifts_closed_contact(old, new, contact_bodies):

@@ -67,6 +67,8 @@ def test_benign_forgeries_are_named_by_their_reason():
     assert why(("sim", "dynamic", "bodies", 1, "position", 1), 0.505).startswith("phase-space")
     # An event dropped from the log (found by seed 700112): another past.
     assert why(("sim", "events"), []).startswith("event log")
+    # An event's time moved within the run (seed 703628).
+    assert why(("sim", "events", 0, "time"), 0.0).startswith("event log")
 
 
 def test_forgeries_without_a_benign_reason_get_none():
@@ -82,6 +84,8 @@ def test_forgeries_without_a_benign_reason_get_none():
     # An event of a contact the model does not have, or at no finite time.
     assert why(("sim", "events"), [{"contact": 3, "time": 0.05, "kind": "Entry"}]) is None
     assert why(("sim", "events"), [{"contact": 0, "time": float("inf"), "kind": "Exit"}]) is None
+    assert why(("sim", "events", 0, "contact"), 5) is None
+    assert why(("sim", "events", 0, "time"), 0.3) is None  # after the state's time
 
 
 def test_a_parameter_moved_to_zero_or_the_input_time_moved_is_a_parameter_move():
