@@ -65,6 +65,9 @@ def test_benign_forgeries_are_named_by_their_reason():
     assert why(("sim", "dynamic", "bodies", 0, "position", 1), 9.0).startswith("phase-space")
     # The wheelset by less than 1 cm too.
     assert why(("sim", "dynamic", "bodies", 1, "position", 1), 0.505).startswith("phase-space")
+    # A history renamed, so read as absent (seed 802313): a restart's past.
+    renamed = {k: x for k, x in STATE["sim"].items() if k != "step_history"}
+    assert why(("sim",), dict(renamed, step_history_x=[0.001])) == "history, finite"
     # An event dropped from the log (found by seed 700112): another past.
     assert why(("sim", "events"), []).startswith("event log")
     # An event's time moved within the run (seed 703628).
