@@ -617,7 +617,12 @@ impl Simulation {
                 self.land(contact, true)?;
                 return Ok(false);
             }
-            let (solution, dt) = self.locate_landing(contact, &solution.forces, dt)?;
+            let Some((solution, dt, contact)) =
+                self.locate_landing(contact, &solution.forces, dt)?
+            else {
+                self.land(contact, true)?;
+                return Ok(false);
+            };
             self.record_lift_offs();
             self.accept(solution, dt);
             self.record_events(None);
@@ -870,24 +875,119 @@ impl Simulation {
     }
 
     /// Shorten the step so that open contact `contact`'s gap closes at its
-    /// end. Leaves the state at that instant in `scratch`.
+    /// end, or, where another landing contact is then below the track (its
+    /// gap crossed zero first, though a straight line through its gaps at
+    /// the step's ends put `contact` first: a contact that has just bounced
+    /// comes down again late in the step), so that the first of them
+    /// closes. Leaves the state at that instant in `scratch`; returns the
+    /// contact that lands.
     fn locate_landing(
         &mut self,
         contact: usize,
         forces: &[ContactForce],
         dt: f64,
-    ) -> Result<(StepSolution, f64), SolverError> {
+    ) -> Result<Option<(StepSolution, f64, usize)>, SolverError> {
+        let candidates = self.landing_candidates();
+        let end_gaps = self.iteration.contact_gaps().to_vec();
         let start = self.state.contacts[contact].gap;
         let gap = |sim: &Simulation, _: &StepSolution| sim.iteration.contact_gaps()[contact];
-        let end = self.iteration.contact_gaps()[contact];
-        self.locate(forces, dt, ((0.0, start), end), LANDING_GAP, gap)?
+        let ends = (start, end_gaps[contact]);
+        let Some(bracket) = self.landing_bracket(forces, dt, ends, gap)? else {
+            return Ok(None);
+        };
+        let located = self.locate(
+            forces,
+            bracket.1 .0,
+            (bracket.0, bracket.1 .1),
+            LANDING_GAP,
+            gap,
+        )?;
+        let below = |sim: &Simulation| {
+            let gaps = sim.iteration.contact_gaps();
+            candidates.iter().any(|&d| gaps[d] < -LANDING_GAP)
+        };
+        if let Some((solution, tau)) = located.filter(|_| !below(self)) {
+            return Ok(Some((solution, tau, contact)));
+        }
+        let lowest = |gaps: &[f64]| {
+            (candidates.iter().map(|&d| (gaps[d], d))).fold((f64::INFINITY, contact), |a, b| {
+                if b.0 < a.0 {
+                    b
+                } else {
+                    a
+                }
+            })
+        };
+        let start = candidates.iter().map(|&d| self.state.contacts[d].gap);
+        let ends = (start.fold(f64::INFINITY, f64::min), lowest(&end_gaps).0);
+        let miss = |sim: &Simulation, _: &StepSolution| lowest(sim.iteration.contact_gaps()).0;
+        let Some(bracket) = self.landing_bracket(forces, dt, ends, miss)? else {
+            return Ok(None);
+        };
+        let (solution, tau) = self
+            .locate(
+                forces,
+                bracket.1 .0,
+                (bracket.0, bracket.1 .1),
+                LANDING_GAP,
+                miss,
+            )?
             .ok_or_else(|| SolverError {
                 time: self.state.time,
                 message: format!(
                     "the instant {} lands could not be located",
                     self.system.contacts[contact].name
                 ),
+            })?;
+        let first = lowest(self.iteration.contact_gaps()).1;
+        Ok(Some((solution, tau, first)))
+    }
+
+    /// The bracket ((lo, gap), (hi, gap)) of the step in which `gap`
+    /// closes: the whole step where it starts above `LANDING_GAP`. One that
+    /// starts on the track (a contact that has just bounced) first rises:
+    /// the locator would take the start itself for the landing and leave a
+    /// sliver of a step whose closed contacts' forces explode; its bracket
+    /// starts at the largest dt/2^k at which it is above. None where it is
+    /// above nowhere down to dt/2^`BOUNCE_HALVINGS`: the bounce is lost in
+    /// the step, and the contact lands now.
+    #[allow(clippy::type_complexity)]
+    fn landing_bracket(
+        &mut self,
+        forces: &[ContactForce],
+        dt: f64,
+        (start, end): (f64, f64),
+        gap: impl Fn(&Simulation, &StepSolution) -> f64,
+    ) -> Result<Option<((f64, f64), (f64, f64))>, SolverError> {
+        let mut hi = (dt, end);
+        if start > LANDING_GAP {
+            return Ok(Some(((0.0, start), hi)));
+        }
+        for k in 1..=BOUNCE_HALVINGS {
+            let tau = dt * 0.5f64.powi(k);
+            let solution = self.solve(forces, tau)?;
+            let g = gap(self, &solution);
+            if g > LANDING_GAP {
+                return Ok(Some(((tau, g), hi)));
+            }
+            if g < 0.0 {
+                hi = (tau, g);
+            }
+        }
+        Ok(None)
+    }
+
+    /// The open contacts whose gap closes in the step just solved (those
+    /// `first_landing` weighs).
+    fn landing_candidates(&self) -> Vec<usize> {
+        let end = self.iteration.contact_gaps();
+        (self.state.contacts.iter().enumerate())
+            .filter(|&(c, status)| {
+                let follower = self.system.contacts[c].follower.is_some();
+                status.open && !self.opened[c] && !follower && end[c] < 0.0
             })
+            .map(|(c, _)| c)
+            .collect()
     }
 
     /// The contact frames of state `d`, each contact on the part of the
@@ -957,6 +1057,7 @@ impl Simulation {
             })?;
         let grid = self.state.grid_step;
         self.state.impact_loss += impact.loss;
+        let mut relanded = Vec::new();
         for (d, &part) in parts.iter().enumerate() {
             let s = &mut self.state;
             let status = &mut s.contacts[d];
@@ -969,6 +1070,9 @@ impl Simulation {
                     let first = status.landed_in != Some(grid);
                     status.open = e > 0.0 || (leaves && first);
                     status.landed_in = Some(grid);
+                    if !first && !status.open {
+                        relanded.push(d);
+                    }
                     s.force_history[d] = [ContactForce::default(); 3];
                     push_event(s, d, EventKind::Landing);
                 }
@@ -976,7 +1080,7 @@ impl Simulation {
                 _ => {}
             }
         }
-        Ok(())
+        self.restart(&relanded, self.grid_remainder())
     }
 
     /// A closed contact that an impact sends away from the track at
@@ -1194,6 +1298,10 @@ impl Simulation {
 
 /// Gaps within which a landing counts as located (m).
 const LANDING_GAP: f64 = 1e-12;
+
+/// How far (dt/2^k) the landing locator looks for a just-bounced contact
+/// above the track before it counts the bounce as lost in the step.
+const BOUNCE_HALVINGS: i32 = 30;
 
 /// Each contact's status at t = 0: open where its vehicle starts above the
 /// track, with its gap.
