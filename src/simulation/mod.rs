@@ -895,13 +895,8 @@ impl Simulation {
         let Some(bracket) = self.landing_bracket(forces, dt, ends, gap)? else {
             return Ok(None);
         };
-        let located = self.locate(
-            forces,
-            bracket.1 .0,
-            (bracket.0, bracket.1 .1),
-            LANDING_GAP,
-            gap,
-        )?;
+        let (low, (high, at_high)) = bracket;
+        let located = self.locate(forces, high, (low, at_high), LANDING_GAP, gap)?;
         let below = |sim: &Simulation| {
             let gaps = sim.iteration.contact_gaps();
             candidates.iter().any(|&d| gaps[d] < -LANDING_GAP)
@@ -924,14 +919,9 @@ impl Simulation {
         let Some(bracket) = self.landing_bracket(forces, dt, ends, miss)? else {
             return Ok(None);
         };
+        let (low, (high, at_high)) = bracket;
         let (solution, tau) = self
-            .locate(
-                forces,
-                bracket.1 .0,
-                (bracket.0, bracket.1 .1),
-                LANDING_GAP,
-                miss,
-            )?
+            .locate(forces, high, (low, at_high), LANDING_GAP, miss)?
             .ok_or_else(|| SolverError {
                 time: self.state.time,
                 message: format!(
@@ -951,14 +941,13 @@ impl Simulation {
     /// starts at the largest dt/2^k at which it is above. None where it is
     /// above nowhere down to dt/2^`BOUNCE_HALVINGS`: the bounce is lost in
     /// the step, and the contact lands now.
-    #[allow(clippy::type_complexity)]
     fn landing_bracket(
         &mut self,
         forces: &[ContactForce],
         dt: f64,
         (start, end): (f64, f64),
         gap: impl Fn(&Simulation, &StepSolution) -> f64,
-    ) -> Result<Option<((f64, f64), (f64, f64))>, SolverError> {
+    ) -> Result<Option<Bracket>, SolverError> {
         let mut hi = (dt, end);
         if start > LANDING_GAP {
             return Ok(Some(((0.0, start), hi)));
@@ -1298,6 +1287,9 @@ impl Simulation {
 
 /// Gaps within which a landing counts as located (m).
 const LANDING_GAP: f64 = 1e-12;
+
+/// Two instants of a step with a signed distance at each: (τ, miss).
+type Bracket = ((f64, f64), (f64, f64));
 
 /// How far (dt/2^k) the landing locator looks for a just-bounced contact
 /// above the track before it counts the bounce as lost in the step.
