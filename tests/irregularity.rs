@@ -35,9 +35,7 @@ fn sine_scene() -> Scene {
 #[test]
 fn glider_follows_a_sine_profile_with_the_normal_force_of_its_path() {
     let scene = sine_scene();
-    let profile = Profile::new(&scene.track.irregularities, -200.0, 224.0)
-        .unwrap()
-        .unwrap();
+    let profile = Profile::new(&scene.track.irregularities).unwrap().unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
     let at = |n: &str| names.iter().position(|x| x == n).expect(n);
@@ -92,7 +90,7 @@ fn random(spectrum: &str, class: Option<&str>, seed: u32) -> IrregularitySpec {
     }
 }
 
-/// 13 km of track: the grid has 2¹⁸ samples 5 cm apart.
+/// 13 km of track: the grid has 2¹⁸ samples 5 cm apart (its period).
 const TRACK: (f64, f64) = (-100.0, 13_000.0);
 const SPACING: f64 = 0.05;
 const SAMPLES: usize = 1 << 18;
@@ -106,7 +104,7 @@ fn samples(profile: &Profile) -> Vec<f64> {
 #[test]
 fn a_random_profile_regenerates_bit_for_bit_from_its_seed() {
     let make = |seed| {
-        Profile::new(&[random("iso8608", Some("C"), seed)], TRACK.0, TRACK.1)
+        Profile::new(&[random("iso8608", Some("C"), seed)])
             .unwrap()
             .unwrap()
     };
@@ -166,7 +164,7 @@ fn welch(x: &[f64], dx: f64, len: usize) -> Vec<(f64, f64)> {
 /// edges, where the window's leakage across the cut-offs is felt): the
 /// largest relative difference.
 fn spectrum_error(spec: IrregularitySpec, target: impl Fn(f64) -> f64) -> f64 {
-    let profile = Profile::new(&[spec], TRACK.0, TRACK.1).unwrap().unwrap();
+    let profile = Profile::new(&[spec]).unwrap().unwrap();
     let len = 1 << 12;
     let estimate = welch(&samples(&profile), SPACING, len);
     let bin = 1.0 / (len as f64 * SPACING);
@@ -515,6 +513,50 @@ fn a_wheel_rolls_over_a_sine_from_the_approach_onto_the_beam_and_off_keeping_the
     // (9e-6 measured, as without the profile).
     assert_eq!(parts, vec![0.0, 1.0, 0.0]);
     assert!(drift < 2.9e-5, "drift {drift}");
+}
+
+/// The sine scene with an ISO 8608 class C profile and `run_off` metres
+/// of track after the beam.
+fn random_scene(run_off: f64) -> Scene {
+    let mut scene = sine_scene();
+    scene.track.irregularities = vec![random("iso8608", Some("C"), 3)];
+    scene.track.run_off = run_off;
+    scene.validate().expect("valid");
+    scene
+}
+
+#[test]
+fn a_random_profile_depends_on_its_seed_and_the_position_only() {
+    // Issue 26 item 6. A speed sweep lengthens the run-off with the speed: the profile under
+    // the vehicle must stay the same bits (it was resampled over the
+    // track's extent before).
+    let profile = |run_off| {
+        let sim = Simulation::new(&random_scene(run_off)).unwrap();
+        sim.system().profile.clone().expect("a profile")
+    };
+    let (short, long) = (profile(600.0), profile(700.0));
+    let mut nonzero = 0;
+    for k in 0..50_000 {
+        let x = -200.0 + 0.01731 * k as f64;
+        let (a, b) = (short.at(x), long.at(x));
+        for i in 0..4 {
+            assert_eq!(a[i].to_bits(), b[i].to_bits(), "x {x}, derivative {i}");
+        }
+        nonzero += usize::from(a[0] != 0.0);
+    }
+    assert!(nonzero > 49_000, "the profile is there ({nonzero} nonzero)");
+}
+
+#[test]
+fn a_track_longer_than_a_random_profiles_period_is_refused() {
+    // Spacing 0.05 m: 2¹⁸ samples, a period of 13 107.2 m.
+    let mut scene = random_scene(0.0);
+    scene.track.run_off = 13_000.0;
+    let message = scene.validate().unwrap_err().to_string();
+    assert!(
+        message.contains("spacing") && message.contains("13107.2"),
+        "{message}"
+    );
 }
 
 #[test]

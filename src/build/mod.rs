@@ -454,10 +454,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         force_elements: Vec::new(),
         contacts: Vec::new(),
         gravity,
-        profile: {
-            let (start, length) = crate::scene::track_extent(scene);
-            crate::profile::Profile::new(&scene.track.irregularities, start, length)?
-        },
+        profile: crate::profile::Profile::new(&scene.track.irregularities)?,
         couplings: Vec::new(),
     };
     let mut bodies = Vec::new();

@@ -718,7 +718,7 @@ mod profile_tests {
             wavelength: 3.0,
             phase: 0.2,
         };
-        Profile::new(&[spec], 0.0, 24.0).unwrap().unwrap()
+        Profile::new(&[spec]).unwrap().unwrap()
     }
 
     #[test]

@@ -259,10 +259,9 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
                 spacing,
                 ..
             } => {
-                let (start, length) = track_extent(scene);
                 let spacing = IrregularitySpec::random_spacing(*shortest_wavelength, *spacing);
                 let band = (*shortest_wavelength, *longest_wavelength);
-                samples += Grid::covering(start, length, spacing, band).map_or(0, |g| g.samples);
+                samples += Grid::of_band(spacing, band).map_or(0, |g| g.samples);
             }
             _ => {}
         }
@@ -460,16 +459,29 @@ impl Rules<'_> {
             );
             return;
         }
-        let (start, length) = track_extent(scene);
-        if length.is_finite()
-            && Grid::covering(start, length, spacing, (shortest, longest)).is_none()
-        {
+        let (_, length) = track_extent(scene);
+        let Some(grid) = Grid::of_band(spacing, (shortest, longest)) else {
             self.fail(
                 "spacing",
                 format!("{spacing:?}"),
                 format!(
-                    "gives more than {MAX_SAMPLES} samples over the track ({length:?} m) or \
-                     two longest wavelengths: raise spacing or shortest_wavelength"
+                    "gives more than {MAX_SAMPLES} samples over two longest wavelengths: raise \
+                     spacing or shortest_wavelength"
+                ),
+            );
+            return;
+        };
+        // The profile repeats after its period: a longer track would see
+        // the same stretch twice.
+        if length > grid.period() {
+            self.fail(
+                "spacing",
+                format!("{spacing:?}"),
+                format!(
+                    "gives a profile repeating every {} m, shorter than the track \
+                     (track.approach + beam.length + track.run_off = {length:?} m): raise \
+                     spacing or shortest_wavelength, or shorten the track",
+                    grid.period()
                 ),
             );
         }

@@ -53,21 +53,15 @@ enum Shape {
 }
 
 impl Profile {
-    /// The profile of `specs` (validated) on a track from `start` over
-    /// `length` metres (where random profiles are sampled); None without
-    /// irregularities.
-    pub fn new(
-        specs: &[IrregularitySpec],
-        start: f64,
-        length: f64,
-    ) -> Result<Option<Profile>, String> {
+    /// The profile of `specs` (validated); None without irregularities.
+    /// It depends on the specs alone, not on the track's extent: a random
+    /// profile is sampled from x = 0 over its own period
+    /// (`spectrum::Grid::of_band`).
+    pub fn new(specs: &[IrregularitySpec]) -> Result<Option<Profile>, String> {
         if specs.is_empty() {
             return Ok(None);
         }
-        let shapes = specs
-            .iter()
-            .map(|spec| Shape::new(spec, start, length))
-            .collect::<Result<_, _>>()?;
+        let shapes = specs.iter().map(Shape::new).collect::<Result<_, _>>()?;
         Ok(Some(Profile { shapes }))
     }
 
@@ -85,7 +79,7 @@ impl Profile {
 }
 
 impl Shape {
-    fn new(spec: &IrregularitySpec, start: f64, length: f64) -> Result<Shape, String> {
+    fn new(spec: &IrregularitySpec) -> Result<Shape, String> {
         Ok(match *spec {
             IrregularitySpec::Step {
                 position,
@@ -142,8 +136,8 @@ impl Shape {
                 let spectrum = Spectrum::from_name(spectrum, class.as_deref())?;
                 let spacing = IrregularitySpec::random_spacing(shortest_wavelength, spacing);
                 let band = (shortest_wavelength, longest_wavelength);
-                let grid = Grid::covering(start, length, spacing, band)
-                    .ok_or("a random profile has too many samples")?;
+                let grid =
+                    Grid::of_band(spacing, band).ok_or("a random profile has too many samples")?;
                 Shape::Random(spectrum::generate(&spectrum, &grid, u64::from(seed)))
             }
         })
@@ -240,7 +234,7 @@ mod tests {
     use super::*;
 
     fn profile(spec: IrregularitySpec) -> Profile {
-        Profile::new(&[spec], -10.0, 50.0).unwrap().unwrap()
+        Profile::new(&[spec]).unwrap().unwrap()
     }
 
     /// r' and r'' are the derivatives of r and r' (central differences).
@@ -330,11 +324,11 @@ mod tests {
                 depth: 0.004,
             },
         ];
-        let both = Profile::new(&specs, 0.0, 10.0).unwrap().unwrap();
+        let both = Profile::new(&specs).unwrap().unwrap();
         let (a, b) = (profile(specs[0].clone()), profile(specs[1].clone()));
         for x in [2.5, 3.1] {
             assert_eq!(both.at(x)[0], a.at(x)[0] + b.at(x)[0]);
         }
-        assert_eq!(Profile::new(&[], 0.0, 10.0).unwrap(), None);
+        assert_eq!(Profile::new(&[]).unwrap(), None);
     }
 }

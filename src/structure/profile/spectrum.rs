@@ -9,8 +9,8 @@
 //! periodic C² cubic spline. The FFT makes N = 2²¹ samples cost a
 //! fraction of a second where a direct sum of N/2 cosines at N points would
 //! cost N²/2; its scalar planner is used so that the result does not depend
-//! on the SIMD instructions of the machine: the same seed, band, spacing
-//! and extent give the same bits.
+//! on the SIMD instructions of the machine: the same seed, band and
+//! spacing give the same bits, whatever the track (see `MIN_PERIOD`).
 
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 use rand_chacha::ChaCha20Rng;
@@ -139,6 +139,13 @@ impl Spectrum {
     }
 }
 
+/// The period (m) a random profile has at least where its spacing allows
+/// (`MAX_SAMPLES` samples): its grid starts at x = 0 and repeats after its
+/// period whatever the track's extent, so that a seed gives the same
+/// profile at the same abscissa on any track (a speed sweep lengthens the
+/// run-off with the speed).
+pub const MIN_PERIOD: f64 = 10_000.0;
+
 /// Where and how finely a random profile is sampled, and its band.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Grid {
@@ -151,19 +158,32 @@ pub struct Grid {
 }
 
 impl Grid {
-    /// The grid covering `length` metres from `start`, and at least two
-    /// longest wavelengths, at `spacing`; None beyond `MAX_SAMPLES`.
-    pub fn covering(start: f64, length: f64, spacing: f64, band: (f64, f64)) -> Option<Grid> {
-        let needed = (length.max(2.0 * band.1) / spacing).ceil();
+    /// The grid of a random profile at `spacing` in `band`: from x = 0,
+    /// over `MIN_PERIOD` (or `MAX_SAMPLES` samples if fewer) and at least
+    /// two longest wavelengths, a power of two samples; None when two
+    /// longest wavelengths need more than `MAX_SAMPLES`. It depends on the
+    /// spacing and the band only, never on the track.
+    pub fn of_band(spacing: f64, band: (f64, f64)) -> Option<Grid> {
+        let period = (MIN_PERIOD / spacing).min(MAX_SAMPLES as f64);
+        let needed = (2.0 * band.1 / spacing).max(period).ceil();
         if !(needed.is_finite() && needed <= MAX_SAMPLES as f64) {
             return None;
         }
+        let samples = (needed as usize).max(4).next_power_of_two();
+        if samples > MAX_SAMPLES {
+            return None;
+        }
         Some(Grid {
-            start,
+            start: 0.0,
             spacing,
-            samples: (needed as usize).max(4).next_power_of_two(),
+            samples,
             band,
         })
+    }
+
+    /// The period (m) after which the profile repeats.
+    pub fn period(&self) -> f64 {
+        self.samples as f64 * self.spacing
     }
 }
 
@@ -261,7 +281,7 @@ mod tests {
 
     #[test]
     fn the_spline_passes_through_the_samples_with_their_curvature() {
-        let grid = Grid::covering(-5.0, 60.0, 0.1, (1.0, 20.0)).unwrap();
+        let grid = Grid::of_band(0.1, (1.0, 20.0)).unwrap();
         let spline = generate(
             &Spectrum::from_name("iso8608", Some("D")).unwrap(),
             &grid,

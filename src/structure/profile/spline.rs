@@ -102,14 +102,19 @@ pub struct PeriodicSpline {
 impl PeriodicSpline {
     pub fn at(&self, x: f64) -> [f64; 4] {
         let n = self.y.len();
-        let u = ((x - self.start) / self.spacing).rem_euclid(n as f64);
+        let u = (x - self.start) / self.spacing;
         if !u.is_finite() {
             return [f64::NAN; 4];
         }
+        // The cell is wrapped into the period, not the abscissa: wrapping
+        // x < start to x + period left t with the round-off of the period
+        // (3e-12 m at 13 km), enough to stall the foot-point search on the
+        // approach at its 1e-14 |x| tolerance.
+        let cell = u.floor();
+        let t = (u - cell).clamp(0.0, 1.0);
         // rem_euclid may round up to n itself.
-        let i = (u.floor() as usize).min(n - 1);
+        let i = (cell.rem_euclid(n as f64) as usize).min(n - 1);
         let j = (i + 1) % n;
-        let t = (u - i as f64).clamp(0.0, 1.0);
         cubic(
             t,
             self.spacing,
