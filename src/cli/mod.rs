@@ -13,6 +13,7 @@ mod modes;
 mod progress;
 mod release;
 mod run;
+mod run_forces;
 mod scenes;
 mod sweep;
 mod work_precision;
