@@ -432,8 +432,8 @@ struct Vehicle {
 /// Why a scene of moving forces has no system of bodies and contacts.
 pub const MOVING_FORCE_REFUSAL: &str =
     "body.kind = \"moving_force\": a moving force has no body for the contact \
-     iteration to move; run it with `guideway sweep SCENE --speeds V:V:1` \
-     (or the library's moving_load::Crossing)";
+     iteration to move; `guideway run SCENE` and `guideway sweep SCENE` run it as a \
+     crossing of prescribed forces (the library's moving_load::ForceRun and Crossing)";
 
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let mut beam = Beam::new(&scene.beam)?;

@@ -13,6 +13,7 @@ mod modes;
 mod progress;
 mod release;
 mod run;
+mod run_forces;
 mod scenes;
 mod sweep;
 mod work_precision;
@@ -37,8 +38,8 @@ struct Cli {
 
 #[derive(Debug, Subcommand)]
 enum Command {
-    /// Run a scene until its last contact leaves the beam (or to
-    /// `solver.end_time`); write CSV, summary, plot.
+    /// Run a scene until its last contact (or moving force) leaves the
+    /// beam (or to `solver.end_time`); write CSV, summary, plot.
     Run(RunArgs),
     /// List the built-in scenes, or print one as a TOML scene file.
     Scenes(ScenesArgs),
@@ -103,7 +104,8 @@ struct RunArgs {
     summary: Option<PathBuf>,
     /// Draw the run to this PNG: nominal speed, sensor deflection, contact
     /// forces and sprung accelerations (vehicles), track irregularity,
-    /// energy drift.
+    /// energy drift; for moving forces deflection, acceleration and
+    /// section moments against time.
     #[arg(long, value_name = "PNG")]
     plot: Option<PathBuf>,
     /// Write every node's deflection and acceleration at every internal

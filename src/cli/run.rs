@@ -31,28 +31,38 @@ use std::sync::atomic::Ordering;
 const PLOT_VALUES: usize = 1_000_000;
 
 /// The staged output files of a run, created before it starts.
-struct Outputs {
-    csv: Option<Staged>,
-    summary: Option<Staged>,
-    plot: Option<Staged>,
-    nodes: Option<Staged>,
+pub(super) struct Outputs {
+    pub csv: Option<Staged>,
+    pub summary: Option<Staged>,
+    pub plot: Option<Staged>,
+    pub nodes: Option<Staged>,
+}
+
+impl Outputs {
+    /// Each output file asked for, staged beside its path.
+    pub fn stage(args: &RunArgs) -> Result<Outputs, Failure> {
+        let stage = |path: &Option<PathBuf>| {
+            let staged = path.as_deref().map(Staged::new).transpose();
+            staged.map_err(Failure::Run)
+        };
+        Ok(Outputs {
+            csv: stage(&args.out)?,
+            summary: stage(&args.summary)?,
+            plot: stage(&args.plot)?,
+            nodes: stage(&args.nodes)?,
+        })
+    }
 }
 
 pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let (mut scene, inputs) = load_scene_with_inputs(&args.scene)?;
     check_paths(&args, &inputs)?;
+    if guideway::moving_load::is_moving_force_scene(&scene) {
+        return super::run_forces::run(&args, &scene);
+    }
     let choice = choose_step(&args, &mut scene)?;
     let interrupted = interrupt::install();
-    let stage = |path: &Option<PathBuf>| {
-        let staged = path.as_deref().map(Staged::new).transpose();
-        staged.map_err(Failure::Run)
-    };
-    let outputs = Outputs {
-        csv: stage(&args.out)?,
-        summary: stage(&args.summary)?,
-        plot: stage(&args.plot)?,
-        nodes: stage(&args.nodes)?,
-    };
+    let outputs = Outputs::stage(&args)?;
 
     let cannot_simulate =
         |m: String| Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name));
@@ -75,7 +85,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         let start = |r| error::start(&scene, r, choice, args.max_steps);
         args.error.map(start)
     });
-    let mut sink = Sink::new(&scene, &simulation, &outputs)?;
+    let mut sink = Sink::new(&scene, simulation.outputs(), &outputs)?;
     let vehicles = exits::vehicle_names(&scene);
     if outputs.csv.is_none() && outputs.plot.is_none() {
         let summary = !args.quiet || outputs.summary.is_some() || pending.is_some();
@@ -150,7 +160,7 @@ fn drive_with_nodes(
 
 /// Write what a finished run produced and move each file onto its path;
 /// the summary to print, unless quiet.
-fn finish(
+pub(super) fn finish(
     mut sink: Sink,
     outputs: Outputs,
     (streamed, (integrator, events, exits), envelope): (
@@ -208,7 +218,7 @@ fn finish(
 }
 
 /// The summary and, when estimated, its errors.
-type Finished = (RunSummary, Option<(Study, Option<StepChoice>)>);
+pub(super) type Finished = (RunSummary, Option<(Study, Option<StepChoice>)>);
 
 /// The summary JSON, with `error_estimate` when the error was estimated
 /// (added after the summary's own entries, which stay as they were).
@@ -252,7 +262,7 @@ const FREQUENCIES_SHOWN: usize = 5;
 /// The beam's first natural frequencies in one line, or where to get them:
 /// beyond `MAX_MODE_DOFS` free DOFs the subspace iteration would add a
 /// noticeable wait before every run.
-fn frequencies_line(beam: &guideway::beam::Beam) -> String {
+pub(super) fn frequencies_line(beam: &guideway::beam::Beam) -> String {
     let shown = if beam.free_dofs() <= guideway::beam::MAX_MODE_DOFS {
         beam.modes(FREQUENCIES_SHOWN)
     } else {
@@ -290,7 +300,12 @@ fn check_paths(args: &RunArgs, inputs: &Inputs) -> Result<(), Failure> {
 
 /// The message and exit code of a run that did not finish; the CSV rows
 /// written so far are kept as `<out>.incomplete`.
-fn failed(error: StreamError, mut sink: Sink, csv: Option<Staged>, scene: &Scene) -> Failure {
+pub(super) fn failed(
+    error: StreamError,
+    mut sink: Sink,
+    csv: Option<Staged>,
+    scene: &Scene,
+) -> Failure {
     type Exit = fn(String) -> Failure;
     let (mut message, steps, exit): (String, u64, Exit) = match error {
         StreamError::Refused(m) => {
@@ -356,15 +371,19 @@ fn read_columns(
 
 /// Every row goes to the CSV (if asked), the summary and the plot's
 /// thinned copy (if asked).
-struct Sink {
+pub(super) struct Sink {
     csv: Option<(CsvWriter<File>, PathBuf)>,
     summary: SummaryBuilder,
     plot: Option<Decimated>,
 }
 
 impl Sink {
-    fn new(scene: &Scene, simulation: &Simulation, outputs: &Outputs) -> Result<Sink, Failure> {
-        let trace = Trace::for_outputs(simulation.outputs());
+    pub fn new(
+        scene: &Scene,
+        names: &[guideway::simulation::OutputInfo],
+        outputs: &Outputs,
+    ) -> Result<Sink, Failure> {
+        let trace = Trace::for_outputs(names);
         let csv = match &outputs.csv {
             None => None,
             Some(staged) => {

@@ -2,6 +2,9 @@
 //! acceleration (β = 1/4, γ = 1/2): M a + C v + K u = f(t), the forces
 //! placed at their positions at each step's end.
 
+use std::borrow::Cow;
+use std::ops::Deref;
+
 use nalgebra::DVector;
 
 use super::Axle;
@@ -12,10 +15,27 @@ use crate::design::{BeamDynamics, DesignPeaks, PointLoad, Probe};
 const BETA: f64 = 0.25;
 const GAMMA: f64 = 0.5;
 
+/// The beam a crossing steps: borrowed (a sweep's runs share one) or its
+/// own (a run that outlives the scope it was built in: `guideway run`).
+enum Held<'a> {
+    Borrowed(&'a Beam),
+    Owned(Box<Beam>),
+}
+
+impl Deref for Held<'_> {
+    type Target = Beam;
+    fn deref(&self) -> &Beam {
+        match self {
+            Held::Borrowed(beam) => beam,
+            Held::Owned(beam) => beam,
+        }
+    }
+}
+
 /// Steps a crossing of `axles` over `beam` with a fixed step.
 pub struct Crossing<'a> {
-    beam: &'a Beam,
-    axles: &'a [Axle],
+    beam: Held<'a>,
+    axles: Cow<'a, [Axle]>,
     step: f64,
     /// Factor of M + γ Δt C + β Δt² K.
     factor: BandLdlt,
@@ -42,6 +62,10 @@ pub struct Peaks {
 impl<'a> Crossing<'a> {
     /// The beam at rest and undeformed at t = 0 under the forces there.
     pub fn new(beam: &'a Beam, axles: &'a [Axle], step: f64) -> Result<Crossing<'a>, String> {
+        Crossing::holding(Held::Borrowed(beam), Cow::Borrowed(axles), step)
+    }
+
+    fn holding(beam: Held<'a>, axles: Cow<'a, [Axle]>, step: f64) -> Result<Crossing<'a>, String> {
         if !(step > 0.0 && step.is_finite()) {
             return Err(format!("the step must be > 0 (got {step})"));
         }
@@ -64,8 +88,23 @@ impl<'a> Crossing<'a> {
         };
         crossing.place_loads(0.0);
         crossing.a.copy_from(&crossing.load);
-        beam.solve_mass(&mut crossing.a);
+        crossing.beam.solve_mass(&mut crossing.a);
         Ok(crossing)
+    }
+
+    /// `new` on a beam and axles of its own.
+    pub fn owning(beam: Beam, axles: Vec<Axle>, step: f64) -> Result<Crossing<'static>, String> {
+        Crossing::holding(Held::Owned(Box::new(beam)), Cow::Owned(axles), step)
+    }
+
+    /// The beam the forces cross.
+    pub fn beam(&self) -> &Beam {
+        &self.beam
+    }
+
+    /// The fixed step (s).
+    pub fn step_size(&self) -> f64 {
+        self.step
     }
 
     pub fn time(&self) -> f64 {
@@ -74,7 +113,7 @@ impl<'a> Crossing<'a> {
 
     /// When the last force has left the beam (s).
     pub fn exit_time(&self) -> f64 {
-        exit_time(self.beam.length, self.axles)
+        exit_time(self.beam.length, &self.axles)
     }
 
     /// The load vector of the forces at time `t` (those on the beam).
@@ -82,7 +121,7 @@ impl<'a> Crossing<'a> {
         self.load.fill(0.0);
         self.placed.clear();
         let length = self.beam.length;
-        for axle in self.axles {
+        for axle in self.axles.iter() {
             let x = axle.at(t);
             if (0.0..=length).contains(&x) {
                 let shape = self.beam.shape(self.beam.element_at(x), x);
@@ -138,7 +177,7 @@ impl<'a> Crossing<'a> {
     /// satisfies the equation of motion at the step's end.
     pub fn dynamics(&self) -> BeamDynamics {
         let state = (self.u.clone(), self.v.clone(), self.a.clone());
-        BeamDynamics::with_acceleration(self.beam, state, self.placed.clone())
+        BeamDynamics::with_acceleration(&self.beam, state, self.placed.clone())
     }
 
     /// Step until the last force has left the beam, and on to `end` (s)
@@ -170,7 +209,7 @@ impl<'a> Crossing<'a> {
         for _ in 0..steps {
             self.step();
             now.update((&self.u, &self.v, &self.a), self.placed.iter().copied());
-            peaks.record(probes, self.beam, &now);
+            peaks.record(probes, &self.beam, &now);
             watch(self, &now);
         }
         Ok(peaks)

@@ -4,6 +4,7 @@
 
 use crate::energy;
 use crate::state::SimState;
+use crate::structure::beam::Beam;
 use crate::system::System;
 use derived::{beam_dynamics, body_accelerations, frames_now};
 
@@ -278,14 +279,8 @@ impl Catalogue {
         );
     }
 
-    fn energy(&mut self, system: &System) {
+    fn beam_energy(&mut self) {
         let e = |s: &str| format!("energy.{s}");
-        self.real(
-            e("body_kinetic"),
-            "J",
-            "kinetic energy of the bodies",
-            Quantity::BodyKinetic,
-        );
         self.real(
             e("beam_kinetic"),
             "J",
@@ -298,6 +293,17 @@ impl Catalogue {
             "strain energy of the beam",
             Quantity::BeamStrain,
         );
+    }
+
+    fn energy(&mut self, system: &System) {
+        let e = |s: &str| format!("energy.{s}");
+        self.real(
+            e("body_kinetic"),
+            "J",
+            "kinetic energy of the bodies",
+            Quantity::BodyKinetic,
+        );
+        self.beam_energy();
         let followers = system.contacts.iter().any(|c| c.follower.is_some());
         if !system.force_elements.is_empty() || followers {
             self.real(
@@ -367,7 +373,43 @@ impl Catalogue {
         );
     }
 
-    fn design(&mut self, system: &System, sections: &[String], reactions: bool) {
+    /// The structure's outputs: each sensor's, then the sections' and
+    /// the supports' (design outputs).
+    fn structure(&mut self, beam: &Beam, sensors: &[String], sections: &[String], reactions: bool) {
+        for (i, name) in sensors.iter().enumerate() {
+            self.real(
+                format!("sensor.{name}.deflection"),
+                "m",
+                "beam deflection at the sensor (up positive)",
+                Quantity::Sensor(i),
+            );
+            self.real(
+                format!("sensor.{name}.velocity"),
+                "m/s",
+                "beam vertical velocity at the sensor (up positive)",
+                Quantity::SensorVelocity(i),
+            );
+            self.real(
+                format!("sensor.{name}.acceleration"),
+                "m/s2",
+                "beam vertical acceleration at the sensor (up positive), from the current state \
+                 and the contact forces of the last step: M^-1 (r - K u - C v)",
+                Quantity::SensorAcceleration(i),
+            );
+            if beam.foundation().is_some() {
+                self.real(
+                    format!("sensor.{name}.foundation_load"),
+                    "N/m",
+                    "load per metre of beam on its Winkler foundation at the sensor, -(k w + c v), \
+                     compression positive: the rail-seat load per metre of a rail",
+                    Quantity::SensorFoundationLoad(i),
+                );
+            }
+        }
+        self.design(beam, sections, reactions);
+    }
+
+    fn design(&mut self, beam: &Beam, sections: &[String], reactions: bool) {
         for (i, name) in sections.iter().enumerate() {
             self.real(
                 format!("section.{name}.moment"),
@@ -386,7 +428,7 @@ impl Catalogue {
         if !reactions {
             return;
         }
-        for support in crate::design::supports(&system.beam) {
+        for support in crate::design::supports(beam) {
             let name = &support.name;
             self.real(
                 format!("support.{name}.reaction"),
@@ -445,37 +487,7 @@ pub fn catalogue(
     for k in 0..system.contacts.len() {
         c.contact(system, k);
     }
-    for (i, name) in sensors.iter().enumerate() {
-        c.real(
-            format!("sensor.{name}.deflection"),
-            "m",
-            "beam deflection at the sensor (up positive)",
-            Quantity::Sensor(i),
-        );
-        c.real(
-            format!("sensor.{name}.velocity"),
-            "m/s",
-            "beam vertical velocity at the sensor (up positive)",
-            Quantity::SensorVelocity(i),
-        );
-        c.real(
-            format!("sensor.{name}.acceleration"),
-            "m/s2",
-            "beam vertical acceleration at the sensor (up positive), from the current state \
-             and the contact forces of the last step: M^-1 (r - K u - C v)",
-            Quantity::SensorAcceleration(i),
-        );
-        if system.beam.foundation().is_some() {
-            c.real(
-                format!("sensor.{name}.foundation_load"),
-                "N/m",
-                "load per metre of beam on its Winkler foundation at the sensor, -(k w + c v), \
-                 compression positive: the rail-seat load per metre of a rail",
-                Quantity::SensorFoundationLoad(i),
-            );
-        }
-    }
-    c.design(system, sections, reactions);
+    c.structure(&system.beam, sensors, sections, reactions);
     c.energy(system);
     c.solver();
     if system.contacts.len() > 1 {
@@ -488,6 +500,66 @@ pub fn catalogue(
         );
     }
     c.entries
+}
+
+/// The structure's outputs alone (sensors, sections, supports), as in
+/// `catalogue`, and its kinetic and strain energy: the outputs of moving
+/// forces, which have no bodies or contacts.
+pub fn structure_catalogue(
+    beam: &Beam,
+    sensors: &[String],
+    sections: &[String],
+    reactions: bool,
+) -> Vec<(OutputInfo, Quantity)> {
+    let mut c = Catalogue {
+        entries: Vec::new(),
+    };
+    c.structure(beam, sensors, sections, reactions);
+    c.beam_energy();
+    c.entries
+}
+
+/// The beam's state that the structure's outputs read: displacement,
+/// velocity and, where known, its dynamics (acceleration, loads).
+pub struct BeamNow<'a> {
+    pub displacement: &'a nalgebra::DVector<f64>,
+    pub velocity: &'a nalgebra::DVector<f64>,
+    pub dynamics: Option<&'a crate::design::BeamDynamics>,
+}
+
+/// The value of a structure's `quantity` (sensors, sections, supports,
+/// beam energies) for the beam `now` with `probes`' abscissae; `None` for
+/// the other quantities.
+pub fn structure_value(
+    beam: &Beam,
+    now: &BeamNow,
+    probes: (&[f64], &[f64]),
+    quantity: Quantity,
+) -> Option<f64> {
+    let (sensors, sections) = probes;
+    let (u, v, dynamics) = (now.displacement, now.velocity, now.dynamics);
+    Some(match quantity {
+        Quantity::Sensor(i) => beam.deflection(u, sensors[i]),
+        Quantity::SensorVelocity(i) => beam.deflection(v, sensors[i]),
+        Quantity::SensorFoundationLoad(i) => beam.foundation().map_or(f64::NAN, |f| {
+            let x = sensors[i];
+            -(f.stiffness * beam.deflection(u, x) + f.damping * beam.deflection(v, x))
+        }),
+        Quantity::SensorAcceleration(i) => {
+            dynamics.map_or(f64::NAN, |b| b.acceleration_at(beam, sensors[i]))
+        }
+        Quantity::SectionMoment(i) => {
+            dynamics.map_or(f64::NAN, |b| b.section_forces(beam, sections[i]).moment)
+        }
+        Quantity::SectionShear(i) => {
+            dynamics.map_or(f64::NAN, |b| b.section_forces(beam, sections[i]).shear)
+        }
+        Quantity::Reaction(node) => dynamics.map_or(f64::NAN, |b| b.reaction(beam, node)[0]),
+        Quantity::ReactionMoment(node) => dynamics.map_or(f64::NAN, |b| b.reaction(beam, node)[1]),
+        Quantity::BeamKinetic => beam.kinetic_energy(v),
+        Quantity::BeamStrain => beam.strain_energy(u),
+        _ => return None,
+    })
 }
 
 /// The value in `state` of each quantity of `quantities` into `values`.
@@ -548,31 +620,25 @@ pub fn evaluate(
                 .profile
                 .as_ref()
                 .map_or(0.0, |p| p.at(d.contact_x[c])[0]),
-            Quantity::Sensor(i) => beam.deflection(&d.beam_displacement, probes.sensors[i]),
-            Quantity::SensorVelocity(i) => beam.deflection(&d.beam_velocity, probes.sensors[i]),
-            Quantity::SensorFoundationLoad(i) => beam.foundation().map_or(f64::NAN, |f| {
-                let x = probes.sensors[i];
-                let w = beam.deflection(&d.beam_displacement, x);
-                -(f.stiffness * w + f.damping * beam.deflection(&d.beam_velocity, x))
-            }),
-            Quantity::SensorAcceleration(i) => beam_dynamics
-                .as_ref()
-                .map_or(f64::NAN, |b| b.acceleration_at(beam, probes.sensors[i])),
-            Quantity::SectionMoment(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
-                b.section_forces(beam, probes.sections[i]).moment
-            }),
-            Quantity::SectionShear(i) => beam_dynamics.as_ref().map_or(f64::NAN, |b| {
-                b.section_forces(beam, probes.sections[i]).shear
-            }),
-            Quantity::Reaction(node) => beam_dynamics
-                .as_ref()
-                .map_or(f64::NAN, |b| b.reaction(beam, node)[0]),
-            Quantity::ReactionMoment(node) => beam_dynamics
-                .as_ref()
-                .map_or(f64::NAN, |b| b.reaction(beam, node)[1]),
+            q @ (Quantity::Sensor(_)
+            | Quantity::SensorVelocity(_)
+            | Quantity::SensorFoundationLoad(_)
+            | Quantity::SensorAcceleration(_)
+            | Quantity::SectionMoment(_)
+            | Quantity::SectionShear(_)
+            | Quantity::Reaction(_)
+            | Quantity::ReactionMoment(_)
+            | Quantity::BeamKinetic
+            | Quantity::BeamStrain) => {
+                let now = BeamNow {
+                    displacement: &d.beam_displacement,
+                    velocity: &d.beam_velocity,
+                    dynamics: beam_dynamics.as_ref(),
+                };
+                let probes = (probes.sensors, probes.sections);
+                structure_value(beam, &now, probes, q).unwrap_or(f64::NAN)
+            }
             Quantity::BodyKinetic => energy::body_kinetic(system, state),
-            Quantity::BeamKinetic => beam.kinetic_energy(&d.beam_velocity),
-            Quantity::BeamStrain => beam.strain_energy(&d.beam_displacement),
             Quantity::SpringEnergy => spring_energy(),
             Quantity::Dissipated => probes.booked(d.dissipated),
             Quantity::BeamDamping => probes.booked(d.beam_dissipated),

@@ -103,7 +103,9 @@ pub fn draw(scene: &Scene, trace: &Trace, path: &Path, text: Text) -> Result<(),
 /// t·V0/L when the body starts moving, t otherwise; and the axis label.
 fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
     let speed = scene.body.initial_speed;
-    if speed > 0.0 {
+    // A train's passage is read in seconds (its length, not the span's,
+    // sets the time scale).
+    if speed > 0.0 && !crate::moving_load::is_moving_force_scene(scene) {
         let scale = speed / scene.beam.length;
         (
             trace.time.iter().map(|t| t * scale).collect(),
@@ -158,6 +160,9 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             .collect(),
     };
 
+    if crate::moving_load::is_moving_force_scene(scene) {
+        return force_panels(scene, trace, &curve);
+    }
     let (speed_title, speed_columns) = speed_columns(scene, trace);
     let speeds = speed_columns
         .iter()
@@ -311,6 +316,48 @@ fn flights(trace: &Trace, x: &[f64]) -> Vec<(f64, f64)> {
 
 /// Whether the scene has more than the paper's one body: then the plot
 /// shows every contact's force and the sprung bodies' accelerations.
+/// Moving forces have no body, contact or energy balance to draw: the
+/// deck's deflection, acceleration and section moments.
+fn force_panels(
+    scene: &Scene,
+    trace: &Trace,
+    curve: &dyn Fn(String, &[f64], f64) -> Curve,
+) -> Vec<Panel> {
+    let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
+        trace
+            .names
+            .iter()
+            .filter(|n| n.ends_with(suffix))
+            .filter_map(|n| trace.column(n).map(|v| curve(n.clone(), v, scale)))
+            .collect()
+    };
+    let (scale, y_label) = deflection_scale(scene);
+    let panel = |title: &str, y_label: String, curves: Vec<Curve>| Panel {
+        title: title.to_string(),
+        y_label,
+        y_decimals: Some(2),
+        curves,
+        flights: Vec::new(),
+    };
+    let mut panels = vec![
+        panel("Sensor deflection", y_label, columns(".deflection", scale)),
+        panel(
+            "Sensor acceleration",
+            "acceleration (m/s^2)".into(),
+            columns(".acceleration", 1.0),
+        ),
+    ];
+    let moments = columns(".moment", 1e3);
+    if !moments.is_empty() {
+        panels.push(panel(
+            "Section bending moment",
+            "moment (kN m)".into(),
+            moments,
+        ));
+    }
+    panels
+}
+
 fn has_vehicles(scene: &Scene) -> bool {
     !scene.vehicles.is_empty()
         || !matches!(

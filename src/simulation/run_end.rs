@@ -47,8 +47,11 @@ fn travel_to_exit(v: &BodySpec, length: f64) -> Option<(f64, f64)> {
     let speed = v.initial_speed;
     // The contacts' spread about `initial_position` (a bogie vehicle's
     // wheelsets lie ±(l_c + l_t) about its centre).
-    let reach = match (v.kind, v.bogie) {
-        (BodyKind::BogieVehicle, Some(b)) => b.bogie_half_distance + b.axle_half_distance,
+    // A moving force's train trails behind it by the train's length.
+    let train = v.train.as_deref().and_then(crate::moving_load::hslm);
+    let reach = match (v.kind, v.bogie, train) {
+        (BodyKind::BogieVehicle, Some(b), _) => b.bogie_half_distance + b.axle_half_distance,
+        (BodyKind::MovingForce, _, Some(train)) => train.length(),
         _ => 0.0,
     };
     let x = v.initial_position;

@@ -308,7 +308,7 @@ impl DeckRecord {
     /// Empty records for `crossing`'s run to `end`, refused when they
     /// would hold more than `MAX_RECORDED_SAMPLES`.
     fn history(&self, crossing: &Crossing, end: f64) -> Result<Vec<Vec<f64>>, String> {
-        let steps = (end.min(crossing.exit_time()) / self.step).ceil();
+        let steps = (run_end(end, crossing.exit_time()) / self.step).ceil();
         let samples = steps * self.sensors.len() as f64;
         if samples.is_nan() || samples > MAX_RECORDED_SAMPLES as f64 {
             return Err(format!(
