@@ -329,7 +329,8 @@ pub struct BodySpec {
     pub initial_speed: f64,
     /// Hold the body's horizontal speed (m/s): a number, or a table of
     /// (time s, speed m/s) rows, linear between rows and held beyond them;
-    /// a tractive force computed each step holds it (wheels and gliders).
+    /// tractive forces computed each step hold it on every body of the
+    /// vehicle (any kind but a moving force).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prescribed_speed: Option<SpeedSpec>,
     /// Constant force on the body's centre, x component (N).

@@ -689,19 +689,20 @@ fn check_flight(checks: &mut Checks, scene: &Scene, prefix: &str, body: &super::
 }
 
 /// A prescribed speed: finite speeds, a table of at most `MAX_SPEED_ROWS`
-/// rows with strictly increasing times, starting at the initial speed, on a
-/// wheel or a glider (a tractive force on one body holds it).
+/// rows with strictly increasing times, starting at the initial speed, on
+/// any vehicle (tractive forces on each of its bodies hold it), not on a
+/// moving force.
 fn check_prescribed_speed(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
     use super::SpeedSpec;
     let path = format!("{prefix}.prescribed_speed");
     let Some(speed) = &body.prescribed_speed else {
         return;
     };
-    if !matches!(body.kind, BodyKind::Wheel | BodyKind::Glider) {
+    if body.kind == BodyKind::MovingForce {
         checks.fail(
             &path,
             "present",
-            "a prescribed speed holds a wheel or a glider; other kinds must leave it out",
+            "a moving force has no body to hold: its speed is initial_speed",
         );
         return;
     }
