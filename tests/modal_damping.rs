@@ -6,7 +6,7 @@
 //! refuses the field, naming it and the rule.
 
 use guideway::scene::Scene;
-use guideway::{Advance as _, Simulation};
+use guideway::Simulation;
 
 const RATIO: f64 = 0.015;
 

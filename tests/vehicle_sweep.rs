@@ -10,7 +10,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use guideway::scene::{Scene, SpeedSpec};
-use guideway::{Advance as _, Simulation};
+use guideway::Simulation;
 
 fn guideway(args: &[&str]) -> Output {
     let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
