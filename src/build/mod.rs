@@ -462,10 +462,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     for (v, spec) in std::iter::once(spec).chain(&scene.vehicles).enumerate() {
         let mut vehicle = match spec.kind {
             BodyKind::Wheel | BodyKind::Glider => {
-                let (mut body, contact, state) = single_body(spec, &system.beam);
-                // Driven from the first step on (`Simulation` sets each
-                // step's ẍ from the speed table).
-                body.drive = spec.prescribed_speed.as_ref().map(|_| 0.0);
+                let (body, contact, state) = single_body(spec, &system.beam);
                 Vehicle {
                     bodies: vec![body],
                     contacts: vec![contact],
@@ -480,6 +477,14 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         };
         if spec.massless_contacts() {
             followers::fold_contact_bodies(&mut vehicle);
+        }
+        if spec.prescribed_speed.is_some() {
+            // Every body of the vehicle is driven from the first step on
+            // (`Simulation` sets each step's ẍ from the speed table): it
+            // moves as one, its spacing kept.
+            for body in &mut vehicle.bodies {
+                body.drive = Some(0.0);
+            }
         }
         if let Some(law) = &spec.contact_law {
             let law = law

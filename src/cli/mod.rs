@@ -48,8 +48,8 @@ enum Command {
     Modes(ModesArgs),
     /// Export a scene as an FMI 2.0 co-simulation FMU.
     Export(ExportArgs),
-    /// Run a moving-force scene (or every HSLM train) at every speed of a
-    /// range, in parallel; write the envelope (peak deck deflection and
+    /// Run a moving-force scene (or every HSLM train), or a vehicle scene,
+    /// at every speed of a range, in parallel; write the envelope (peak deck deflection and
     /// acceleration, DAF) as CSV and a plot.
     Sweep(SweepArgs),
     /// Dynamic check of a railway bridge (EN 1991-2 §6.4, EN 1990 A2)
@@ -170,7 +170,8 @@ struct ModesArgs {
 
 #[derive(Debug, clap::Args)]
 struct SweepArgs {
-    /// Scene file whose [body] is a moving force (kind = "moving_force").
+    /// Scene file: moving forces (kind = "moving_force"), or vehicles, whose
+    /// speeds the sweep sets (docs/vehicles.md).
     scene: String,
     /// Speeds START:STOP:STEP (inclusive), e.g. 100:400:5, or one speed.
     #[arg(long, value_name = "START:STOP:STEP", allow_hyphen_values = true)]

@@ -14,6 +14,11 @@ pub(super) fn modes(args: ModesArgs) -> Result<(), Failure> {
     let beam = Beam::new(&scene.beam).map_err(Failure::Scene)?;
     let modes = beam.modes(args.count).map_err(Failure::Scene)?;
     let damping = beam.damping();
+    // One ratio for every mode (`beam.damping = { ratio }`) adds to each.
+    let modal_ratio = match scene.beam.damping {
+        Some(guideway::scene::DampingSpec::Modal { ratio }) => ratio,
+        _ => 0.0,
+    };
     println!("mode  f (Hz)        omega (rad/s)  damping ratio");
     for (k, &omega) in modes.omega.iter().enumerate() {
         println!(
@@ -21,7 +26,7 @@ pub(super) fn modes(args: ModesArgs) -> Result<(), Failure> {
             k + 1,
             omega / std::f64::consts::TAU,
             omega,
-            damping.ratio(omega)
+            damping.ratio(omega) + modal_ratio
         );
     }
     if let Some(path) = &args.out {

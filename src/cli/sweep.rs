@@ -1,8 +1,8 @@
 //! `guideway sweep SCENE --speeds START:STOP:STEP [--unit km/h]
 //! [--trains hslm|NAME,...] [--out CSV] [--plot PNG] [--threads N]
 //! [--track ballasted|slab]`: the
-//! scene's moving forces, or HSLM trains, at every speed; the envelope as
-//! CSV and a plot.
+//! scene's moving forces, or HSLM trains, or its vehicles, at every speed;
+//! the envelope as CSV and a plot.
 
 use std::time::Instant;
 

@@ -97,6 +97,9 @@ pub struct BeamDynamics {
     /// asked for (deflections and accelerations do without).
     damped: OnceCell<Option<(DVector<f64>, DVector<f64>)>>,
     damping: Rayleigh,
+    /// With one damping ratio for every mode, 2 ζ ωᵢ per mode: a + 2 ζ ω ⊙ v
+    /// carries that damping as a + α v carries α M.
+    modal_rates: Option<DVector<f64>>,
 }
 
 impl BeamDynamics {
@@ -129,6 +132,7 @@ impl BeamDynamics {
             loads,
             damped: OnceCell::new(),
             damping: beam.damping(),
+            modal_rates: beam.modal_ratio_rates(),
         }
     }
 
@@ -152,6 +156,9 @@ impl BeamDynamics {
                 du.axpy(c.stiffness, v, 1.0);
                 da.copy_from(a);
                 da.axpy(c.mass, v, 1.0);
+                if let Some(rates) = &self.modal_rates {
+                    da.zip_zip_apply(v, rates, |a, v, c| *a += c * v);
+                }
             }
             Some(None) => {}
             None => self.damped = OnceCell::new(),
@@ -204,6 +211,7 @@ impl BeamDynamics {
         BeamDynamics {
             damped: OnceCell::from(None),
             damping: Rayleigh::default(),
+            modal_rates: None,
             displacement,
             velocity: zero.clone(),
             acceleration: zero,
@@ -235,7 +243,7 @@ impl BeamDynamics {
     fn damped_state(&self) -> (&DVector<f64>, &DVector<f64>) {
         let damped = self.damped.get_or_init(|| {
             damped(
-                self.damping,
+                (self.damping, self.modal_rates.as_ref()),
                 &self.displacement,
                 &self.velocity,
                 &self.acceleration,
@@ -346,13 +354,21 @@ impl BeamDynamics {
     }
 }
 
-/// u + β v and a + α v for the beam's Rayleigh damping (α M + β K).
+/// u + β v and a + α v for the beam's Rayleigh damping (α M + β K), and
+/// a + 2 ζ ω ⊙ v for one ratio in every mode (`rates`).
 fn damped(
-    c: Rayleigh,
+    (c, rates): (Rayleigh, Option<&DVector<f64>>),
     u: &DVector<f64>,
     v: &DVector<f64>,
     a: &DVector<f64>,
 ) -> Option<(DVector<f64>, DVector<f64>)> {
+    if let Some(rates) = rates {
+        let (mut u, mut a) = (u.clone(), a.clone());
+        u.axpy(c.stiffness, v, 1.0);
+        a.axpy(c.mass, v, 1.0);
+        a.zip_zip_apply(v, rates, |a, v, c| *a += c * v);
+        return Some((u, a));
+    }
     if c.is_zero() {
         return None;
     }

@@ -27,7 +27,7 @@ pub(super) const TABLE_NOTES: &[(&str, &str)] = &[
     ),
     (
         "beam.damping",
-        "Rayleigh structural damping, one of three shapes",
+        "Structural damping: Rayleigh, one of three shapes, or { ratio } alone in every mode",
     ),
     (
         "beam.supports.springs",

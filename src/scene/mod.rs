@@ -220,13 +220,16 @@ pub struct SpringSpec {
 /// `{ ratio = 0.02, modes = [1, 3] }` (the same damping ratio ζ at the two
 /// natural bending modes numbered from 1), or
 /// `{ ratios = [0.02, 0.03], frequencies = [4.0, 30.0] }` (ζ at two
-/// frequencies in Hz).
+/// frequencies in Hz); or modal damping, `{ ratio = 0.015 }` alone: the
+/// same ratio ζ in every mode (EN 1991-2's one ratio; C = Σ 2 ζ ωᵢ
+/// (M φᵢ)(M φᵢ)ᵀ, exact on the modal structure).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(
     untagged,
     deny_unknown_fields,
-    expecting = "one of { alpha, beta } (Rayleigh coefficients), { ratio, modes = [i, j] } \
-                 or { ratios = [z1, z2], frequencies = [f1, f2] } (Hz), with no other fields"
+    expecting = "one of { alpha, beta } (Rayleigh coefficients), { ratio, modes = [i, j] }, \
+                 { ratios = [z1, z2], frequencies = [f1, f2] } (Hz), or { ratio } alone (the \
+                 same ratio in every mode), with no other fields"
 )]
 pub enum DampingSpec {
     Coefficients {
@@ -240,6 +243,10 @@ pub enum DampingSpec {
     Frequencies {
         ratios: [f64; 2],
         frequencies: [f64; 2],
+    },
+    /// After `Modes`, so that `{ ratio, modes }` stays Rayleigh.
+    Modal {
+        ratio: f64,
     },
 }
 
@@ -329,7 +336,8 @@ pub struct BodySpec {
     pub initial_speed: f64,
     /// Hold the body's horizontal speed (m/s): a number, or a table of
     /// (time s, speed m/s) rows, linear between rows and held beyond them;
-    /// a tractive force computed each step holds it (wheels and gliders).
+    /// tractive forces computed each step hold it on every body of the
+    /// vehicle (any kind but a moving force).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub prescribed_speed: Option<SpeedSpec>,
     /// Constant force on the body's centre, x component (N).

@@ -134,6 +134,7 @@ fn check_damping(checks: &mut Checks, damping: &DampingSpec) {
             checks.non_negative("beam.damping.alpha", *alpha);
             checks.non_negative("beam.damping.beta", *beta);
         }
+        DampingSpec::Modal { ratio } => check_ratio(checks, "beam.damping.ratio", *ratio),
         DampingSpec::Modes { ratio, modes } => {
             check_ratio(checks, "beam.damping.ratio", *ratio);
             if modes[0] < 1 || modes[1] < 1 || modes[0] == modes[1] {
@@ -689,19 +690,20 @@ fn check_flight(checks: &mut Checks, scene: &Scene, prefix: &str, body: &super::
 }
 
 /// A prescribed speed: finite speeds, a table of at most `MAX_SPEED_ROWS`
-/// rows with strictly increasing times, starting at the initial speed, on a
-/// wheel or a glider (a tractive force on one body holds it).
+/// rows with strictly increasing times, starting at the initial speed, on
+/// any vehicle (tractive forces on each of its bodies hold it), not on a
+/// moving force.
 fn check_prescribed_speed(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
     use super::SpeedSpec;
     let path = format!("{prefix}.prescribed_speed");
     let Some(speed) = &body.prescribed_speed else {
         return;
     };
-    if !matches!(body.kind, BodyKind::Wheel | BodyKind::Glider) {
+    if body.kind == BodyKind::MovingForce {
         checks.fail(
             &path,
             "present",
-            "a prescribed speed holds a wheel or a glider; other kinds must leave it out",
+            "a moving force has no body to hold: its speed is initial_speed",
         );
         return;
     }
@@ -1196,6 +1198,15 @@ pub const MAX_MODES: usize = 10_000;
 fn check_structure(checks: &mut Checks, scene: &Scene) {
     let solver = &scene.solver;
     if solver.structure == super::StructureKind::Full {
+        if let Some(DampingSpec::Modal { ratio }) = scene.beam.damping {
+            checks.fail(
+                "beam.damping.ratio",
+                fmt_f64(ratio),
+                "alone (the same ratio in every mode) needs solver.structure = \"modal\", \
+                 where it is exact; on the full mesh give Rayleigh damping, e.g. \
+                 { ratio, modes = [1, 3] }",
+            );
+        }
         if let Some(k) = solver.modes {
             let rule = "is read only with solver.structure = \"modal\"";
             checks.fail("solver.modes", k.to_string(), rule);

@@ -191,6 +191,24 @@ pub struct Simulation {
     restart_weight: Option<f64>,
 }
 
+/// Every body of each vehicle at a prescribed speed, and its speed: a
+/// vehicle's bodies run from its first body (`vehicle_forces`) to the next
+/// vehicle's.
+fn driven_bodies(
+    scene: &Scene,
+    vehicle_forces: &[(usize, [f64; 2])],
+    bodies: usize,
+) -> Vec<(usize, SpeedSpec)> {
+    let firsts: Vec<usize> = vehicle_forces.iter().map(|&(b, _)| b).collect();
+    let ends = firsts.iter().skip(1).copied().chain([bodies]);
+    std::iter::once(&scene.body)
+        .chain(&scene.vehicles)
+        .zip(firsts.iter().zip(ends))
+        .filter_map(|(spec, (&first, end))| Some((spec.prescribed_speed.clone()?, first..end)))
+        .flat_map(|(speed, range)| range.map(move |b| (b, speed.clone())))
+        .collect()
+}
+
 impl Simulation {
     /// Build the model a scene asks for. The scene must be valid.
     pub fn new(scene: &Scene) -> Result<Simulation, String> {
@@ -213,11 +231,7 @@ impl Simulation {
         let step = scene.solver.step;
         let body_force = [scene.body.force_x, scene.body.force_y];
         let mut vehicle_forces = assembly.vehicle_forces;
-        let drives = std::iter::once(&scene.body)
-            .chain(&scene.vehicles)
-            .zip(&vehicle_forces)
-            .filter_map(|(spec, &(b, _))| spec.prescribed_speed.clone().map(|v| (b, v)))
-            .collect();
+        let drives = driven_bodies(scene, &vehicle_forces, assembly.system.bodies.len());
         vehicle_forces[0].1 = body_force;
         let applied: Vec<Vector3<f64>> =
             constant_forces(&assembly.system, &vehicle_forces).collect();

@@ -59,7 +59,8 @@ pub struct ModalBasis {
     rows: DMatrix<f64>,
     /// ω² per mode.
     stiffness: DVector<f64>,
-    /// Rayleigh damping per mode, α + β ω² (1/s).
+    /// Damping per mode (1/s): Rayleigh's α + β ω², plus 2 ζ ω with one
+    /// ratio ζ for every mode.
     damping: DVector<f64>,
     /// Φᵀ D Φ of the support dampers (k × k); `None` without dampers.
     dampers: Option<DMatrix<f64>>,
@@ -136,6 +137,21 @@ impl ModalBasis {
             d.ger(c, &row, &row, 1.0);
         }
         self
+    }
+
+    /// The basis with `ratio` ζ of critical damping added in every kept
+    /// mode: 2 ζ ω per mode, which is C = Σ 2 ζ ωᵢ (M φᵢ)(M φᵢ)ᵀ on the
+    /// mesh, diagonal and exact here.
+    pub fn with_modal_ratio(mut self, ratio: f64) -> ModalBasis {
+        for (c, w) in self.damping.iter_mut().zip(&self.omega) {
+            *c += 2.0 * ratio * w;
+        }
+        self
+    }
+
+    /// The damping of each kept mode (1/s): q̈ᵢ + cᵢ q̇ᵢ + ωᵢ² qᵢ = fᵢ.
+    pub fn mode_damping(&self) -> &DVector<f64> {
+        &self.damping
     }
 
     /// How many modes are kept.

@@ -20,8 +20,11 @@ impl ModalBeam {
     /// Rayleigh damping and support dampers projected onto them.
     pub fn new(mesh: HermiteBeam, selection: ModeSelection) -> Result<ModalBeam, String> {
         let rayleigh = (mesh.damping().mass, mesh.damping().stiffness);
-        let basis =
+        let mut basis =
             ModalBasis::new(&mesh, selection)?.with_damping(rayleigh, mesh.damper_coefficients());
+        if let Some(ratio) = mesh.modal_ratio() {
+            basis = basis.with_modal_ratio(ratio);
+        }
         Ok(ModalBeam { mesh, basis })
     }
 

@@ -66,6 +66,29 @@ impl Structure {
         ModalBeam::new(mesh, selection).map(Structure::Modal)
     }
 
+    /// The damping ratio of every mode when the scene gives one for all
+    /// (a modal structure's only).
+    pub fn modal_ratio(&self) -> Option<f64> {
+        match self {
+            Structure::Hermite(_) => None,
+            Structure::Modal(modal) => modal.mesh.modal_ratio(),
+        }
+    }
+
+    /// 2 ζ ωᵢ per kept mode when the scene gives one damping ratio ζ for
+    /// every mode (a modal structure's only): C v = M Φ (2 ζ ω ⊙ q̇).
+    pub fn modal_ratio_rates(&self) -> Option<DVector<f64>> {
+        let Structure::Modal(modal) = self else {
+            return None;
+        };
+        let ratio = modal.mesh.modal_ratio()?;
+        let omega = modal.basis().omega();
+        Some(DVector::from_iterator(
+            omega.len(),
+            omega.iter().map(|w| 2.0 * ratio * w),
+        ))
+    }
+
     /// The kept modes when the structure is modal.
     pub fn modal(&self) -> Option<&ModalBasis> {
         match self {

@@ -1,5 +1,5 @@
 //! Studies over many runs: error against run time (work-precision), speed
-//! sweeps of moving forces, the deck acceleration as EN 1991-2 counts it,
+//! sweeps of moving forces and of vehicles, the deck acceleration as EN 1991-2 counts it,
 //! error estimates of any scene's figures.
 
 pub mod converge;
@@ -8,4 +8,5 @@ pub mod deck_filter;
 pub mod local_error;
 pub mod refine;
 pub mod sweep;
+pub mod vehicle_sweep;
 pub mod work_precision;

@@ -174,7 +174,7 @@ struct Load {
 
 /// The scene the sweep reads its outputs from: a midspan sensor (the
 /// deck) when it has none.
-fn with_deck_sensor(scene: &Scene) -> Scene {
+pub(super) fn with_deck_sensor(scene: &Scene) -> Scene {
     let mut scene = scene.clone();
     if scene.sensors.is_empty() {
         scene.sensors.push(SensorSpec {
@@ -239,10 +239,14 @@ pub fn sweep(
     max_steps: u64,
 ) -> Result<Vec<EnvelopeRow>, String> {
     if !crate::moving_load::is_moving_force_scene(scene) {
-        return Err(format!(
-            "the sweep runs moving forces: {}.body.kind must be \"moving_force\"",
-            scene.name
-        ));
+        return match loads {
+            Loads::Scene => super::vehicle_sweep::sweep(scene, (speeds, unit), threads, max_steps),
+            _ => Err(format!(
+                "--trains puts HSLM trains in place of moving forces: {}.body.kind must be \
+                 \"moving_force\" (a vehicle scene sweeps its own vehicles)",
+                scene.name
+            )),
+        };
     }
     let scene = &with_deck_sensor(scene);
     let beam = Beam::new(&scene.beam)?;

@@ -28,13 +28,15 @@ pub fn rk4_step_limit(system: &System) -> f64 {
 fn rk4_beam_limit(system: &System) -> f64 {
     let omega_max = system.beam.highest_frequency();
     let damping = system.beam.damping();
-    if damping.is_zero() {
+    let modal_ratio = system.beam.modal_ratio();
+    if damping.is_zero() && modal_ratio.is_none() {
         return 2.0 * std::f64::consts::SQRT_2 / omega_max;
     }
+    let extra = modal_ratio.unwrap_or(0.0);
     // 200 frequencies from ω_max / 10⁴ to ω_max, geometrically spaced.
     (0..=200)
         .map(|k| omega_max * 10f64.powf(-4.0 * k as f64 / 200.0))
-        .map(|omega| damped_mode_limit(omega, damping.ratio(omega)))
+        .map(|omega| damped_mode_limit(omega, damping.ratio(omega) + extra))
         .fold(f64::INFINITY, f64::min)
 }
 

@@ -144,6 +144,9 @@ pub struct HermiteBeam {
     elementwise_products: bool,
     mass_factor: BandLdlt,
     damping: Rayleigh,
+    /// One damping ratio for every mode (`beam.damping = { ratio }`): the
+    /// modal structure applies it; the mesh itself carries no Rayleigh.
+    modal_ratio: Option<f64>,
     /// k / μ of the Winkler foundation (1/s², 0 without): its matrix is
     /// (k / μ) M, so it shifts every ω² by this much.
     foundation_rate: f64,
@@ -315,6 +318,10 @@ impl HermiteBeam {
             elementwise_products: false,
             mass_factor,
             damping: Rayleigh::default(),
+            modal_ratio: match spec.damping {
+                Some(DampingSpec::Modal { ratio }) => Some(ratio),
+                _ => None,
+            },
             foundation_rate: foundation / spec.mass_per_length,
             foundation: spec.foundation.map(|f| Foundation {
                 stiffness: f.stiffness(),
@@ -340,7 +347,8 @@ impl HermiteBeam {
     fn rayleigh(&self, spec: Option<&DampingSpec>) -> Result<Rayleigh, String> {
         use std::f64::consts::TAU;
         Ok(match spec {
-            None => Rayleigh::default(),
+            // One ratio in every mode is the modal structure's (`modal_ratio`).
+            None | Some(DampingSpec::Modal { .. }) => Rayleigh::default(),
             Some(&DampingSpec::Coefficients { alpha, beta }) => Rayleigh {
                 mass: alpha,
                 stiffness: beta,
@@ -377,6 +385,12 @@ impl HermiteBeam {
     /// Rayleigh damping coefficients of the beam (zero when undamped).
     pub fn damping(&self) -> Rayleigh {
         self.damping
+    }
+
+    /// The damping ratio of every mode, when the scene gives one ratio for
+    /// all (`beam.damping = { ratio }`, modal structures only).
+    pub fn modal_ratio(&self) -> Option<f64> {
+        self.modal_ratio
     }
 
     /// The lowest `count` natural modes, K φ = ω² M φ, mass-normalized. The
