@@ -1,0 +1,264 @@
+//! The rail over the deck (`structure::track_on_deck`): statics against
+//! equilibrium and the bare deck's PL³/48EI, natural frequencies against
+//! the composite beam and the two-DOF closed form of a deck mode coupled
+//! to a rail-on-track mode, and a slow moving force against the static
+//! influence line.
+
+use guideway::beam::Rayleigh;
+use guideway::structure::rail_on_deck::RailOnDeck;
+use guideway::structure::track_on_deck::{TrackAssembly, TrackOnDeck, TrackState};
+use nalgebra::DMatrix;
+use std::f64::consts::PI;
+
+/// The deck: 20 m, 12 t/m, f1 = 5.5 Hz.
+const SPAN: f64 = 20.0;
+const DECK_MU: f64 = 12_000.0;
+const DECK_F1: f64 = 5.5;
+/// A UIC 60 rail and the ballasted preset's ground (docs/structures.md).
+const RAIL_EI: f64 = 6.4e6;
+const RAIL_MU: f64 = 60.0;
+const GROUND: f64 = 3.3e7;
+const GROUND_DAMPING: f64 = 4.5e4;
+const LOAD: f64 = 100e3;
+
+/// EI of the deck alone from its first frequency: ω₁ = (π/L)² √(EI/μ).
+fn deck_ei() -> f64 {
+    (2.0 * PI * DECK_F1).powi(2) * DECK_MU * (SPAN / PI).powi(4)
+}
+
+fn layout(track_stiffness: f64, element_length: f64) -> RailOnDeck {
+    RailOnDeck {
+        deck_length: SPAN,
+        deck_bending_stiffness: deck_ei(),
+        rail_bending_stiffness: RAIL_EI,
+        track_stiffness,
+        ground_stiffness: GROUND,
+        approach: 10.0,
+        run_off: 10.0,
+        element_length,
+    }
+}
+
+fn track(track_stiffness: f64, rail_mu: f64, deck_damping: Rayleigh) -> TrackAssembly {
+    TrackOnDeck {
+        layout: layout(track_stiffness, 0.25),
+        rail_mass_per_length: rail_mu,
+        deck_mass_per_length: DECK_MU,
+        track_damping: 0.0,
+        ground_damping: 0.0,
+        deck_damping,
+    }
+    .assemble()
+    .expect("assembles")
+}
+
+fn assert_within(found: f64, expected: f64, tolerance: f64, what: &str) {
+    let error = (found - expected).abs() / expected.abs();
+    println!("{what}: {found:.9e} against {expected:.9e} ({error:.2e})");
+    assert!(
+        error <= tolerance,
+        "{what}: {found:e} vs {expected:e} (relative error {error:.2e} > {tolerance:e})"
+    );
+}
+
+#[test]
+fn the_bearings_and_the_ground_carry_the_static_load() {
+    for at in [-7.3, 0.1, 6.6, 10.0, 19.9, 27.0] {
+        let solution = layout(3.3e7, 0.25)
+            .static_solution(at, LOAD)
+            .expect("solves");
+        let [left, right] = solution.reactions;
+        let total = left + right + solution.ground_force;
+        println!(
+            "load at {at} m: bearings {left:.3}, {right:.3}, ground {:.3}",
+            solution.ground_force
+        );
+        assert!(
+            (total - LOAD).abs() < 1e-9 * LOAD,
+            "load at {at} m: {left} + {right} + {} = {total}",
+            solution.ground_force
+        );
+    }
+}
+
+#[test]
+fn through_a_very_stiff_track_the_deck_deflects_as_the_bare_beam() {
+    let solution = layout(1e12, 0.25)
+        .static_solution(SPAN / 2.0, LOAD)
+        .expect("solves");
+    let middle = solution
+        .node_x
+        .iter()
+        .position(|&x| (x - SPAN / 2.0).abs() < 1e-9)
+        .expect("a node at midspan");
+    let bare = LOAD * SPAN.powi(3) / (48.0 * deck_ei());
+    assert_within(
+        -solution.deck[middle],
+        bare,
+        5e-3,
+        "deck midspan, stiff track",
+    );
+    // The dynamic assembly's K gives the same deflection.
+    let assembly = track(1e12, RAIL_MU, Rayleigh::default());
+    let mut load = vec![0.0; assembly.free_dofs()];
+    assembly
+        .add_rail_force(SPAN / 2.0, -LOAD, &mut load)
+        .expect("on the rail");
+    let u = assembly.static_deflection(&load).expect("solves");
+    let dynamic = -assembly
+        .deck_deflection(SPAN / 2.0, &u)
+        .expect("on the rail");
+    assert_within(
+        dynamic,
+        -solution.deck[middle],
+        1e-9,
+        "assembly vs static layout",
+    );
+}
+
+#[test]
+fn a_very_stiff_track_vibrates_as_the_composite_beam() {
+    // Rail and deck move as one simply supported beam of EI_d + EI_r and
+    // μ_d + μ_r: ω₁ = (π/L)² √((EI_d + EI_r)/(μ_d + μ_r)).
+    let rail_mu = 2_000.0;
+    let assembly = track(1e11, rail_mu, Rayleigh::default());
+    let (omega, _) = assembly.modes(1).expect("modes");
+    let composite = (PI / SPAN).powi(2) * ((deck_ei() + RAIL_EI) / (DECK_MU + rail_mu)).sqrt();
+    let bare = 2.0 * PI * DECK_F1;
+    println!("bare deck {bare:.6} rad/s");
+    // 1 %, where the bare deck is 8 % off: the rail runs on over the
+    // bearings onto the ground and restrains the ends a little (0.18 %).
+    assert_within(omega[0], composite, 1e-2, "ω₁, stiff track");
+}
+
+/// The two roots ω of the deck's first sine mode q_d coupled to the
+/// rail's q_r in the same shape through the track k_t (per unit length,
+/// after dividing by L/2): μ_d q̈_d + (EI_d p⁴ + k_t) q_d − k_t q_r = 0,
+/// μ_r q̈_r + (EI_r p⁴ + k_t) q_r − k_t q_d = 0, p = π/L. Returns the roots
+/// and the rail-to-deck amplitude ratio of each.
+fn two_dof(track_stiffness: f64, rail_mu: f64) -> [(f64, f64); 2] {
+    let p4 = (PI / SPAN).powi(4);
+    let (a, d) = (
+        (deck_ei() * p4 + track_stiffness) / DECK_MU,
+        (RAIL_EI * p4 + track_stiffness) / rail_mu,
+    );
+    let (b, c) = (track_stiffness / DECK_MU, track_stiffness / rail_mu);
+    // ω² of [[a, −b], [−c, d]].
+    let mean = 0.5 * (a + d);
+    let root = (0.25 * (a - d).powi(2) + b * c).sqrt();
+    [mean - root, mean + root].map(|w2| (w2.sqrt(), (a - w2) / b))
+}
+
+/// The FE mode most like the two-DOF shape (deck sin, rail `ratio` sin
+/// on the span, rail at rest off it): its ω and the mass-weighted
+/// squared correlation.
+fn matching_mode(assembly: &TrackAssembly, ratio: f64, count: usize) -> (f64, f64) {
+    let sine = |x: f64| {
+        let p = PI / SPAN;
+        if (0.0..=SPAN).contains(&x) {
+            [(p * x).sin(), p * (p * x).cos()]
+        } else {
+            [0.0, 0.0]
+        }
+    };
+    let shape = assembly.nodal_field(&|x| sine(x).map(|v| ratio * v), &sine);
+    let n = shape.len();
+    let mut m_shape = vec![0.0; n];
+    assembly.mass.mul_to(&shape, &mut m_shape);
+    let norm: f64 = shape.iter().zip(&m_shape).map(|(a, b)| a * b).sum();
+    let (omega, modes): (Vec<f64>, DMatrix<f64>) = assembly.modes(count).expect("modes");
+    (0..omega.len())
+        .map(|k| {
+            let c: f64 = modes
+                .column(k)
+                .iter()
+                .zip(&m_shape)
+                .map(|(a, b)| a * b)
+                .sum();
+            (omega[k], c * c / norm)
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("modes found")
+}
+
+#[test]
+fn a_soft_track_gives_the_two_dof_deck_and_rail_modes() {
+    // A heavy track (rail with its sleepers' share, 2 t/m) on a soft bed
+    // whose own frequency √(k_t/μ_r) lies near the deck's, so that the
+    // coupling splits them far from either.
+    let rail_mu = 2_000.0;
+    let track_stiffness = rail_mu * (2.0 * PI * 6.0f64).powi(2);
+    let assembly = track(track_stiffness, rail_mu, Rayleigh::default());
+    let roots = two_dof(track_stiffness, rail_mu);
+    println!(
+        "deck alone {:.4} rad/s, track alone {:.4} rad/s",
+        2.0 * PI * DECK_F1,
+        (track_stiffness / rail_mu).sqrt()
+    );
+    for (which, (omega, ratio)) in ["lower", "upper"].into_iter().zip(roots) {
+        let (found, correlation) = matching_mode(&assembly, ratio, 40);
+        println!("{which}: rail/deck ratio {ratio:.4}, correlation {correlation:.5}");
+        assert!(
+            correlation > 0.9,
+            "{which}: the closest mode correlates {correlation}"
+        );
+        assert_within(found, omega, 1e-2, &format!("{which} coupled mode"));
+    }
+}
+
+#[test]
+fn a_slow_moving_force_follows_the_static_influence_line() {
+    let omega_1 = 2.0 * PI * DECK_F1;
+    let mut structure = TrackOnDeck {
+        layout: layout(3.3e7, 0.25),
+        rail_mass_per_length: RAIL_MU,
+        deck_mass_per_length: DECK_MU,
+        track_damping: 4.5e4,
+        ground_damping: GROUND_DAMPING,
+        deck_damping: Rayleigh {
+            mass: 2.0 * 0.015 * omega_1,
+            stiffness: 0.0,
+        },
+    };
+    structure.layout.track_stiffness = 3.3e7;
+    let assembly = structure.assemble().expect("assembles");
+    let (speed, step, start) = (1.0, 0.01, -9.0);
+    let n = assembly.free_dofs();
+    let load_at = |x: f64| {
+        let mut f = vec![0.0; n];
+        assembly
+            .add_rail_force(x, -LOAD, &mut f)
+            .expect("on the rail");
+        f
+    };
+    // At rest in static equilibrium under the force at its start.
+    let first = load_at(start);
+    let mut state = TrackState {
+        u: assembly.static_deflection(&first).expect("solves"),
+        v: vec![0.0; n],
+        a: vec![0.0; n],
+    };
+    let hht = assembly.hht(step, -0.1).expect("stepper");
+    let (mut now, mut worst, mut peak) = (first, 0.0f64, 0.0f64);
+    let steps = (38.0 / (speed * step)) as usize;
+    for k in 1..=steps {
+        let x = start + speed * step * k as f64;
+        let next = load_at(x);
+        hht.advance(&assembly, &mut state, (&now, &next));
+        now = next;
+        if k % 10 == 0 {
+            let still = assembly.static_deflection(&now).expect("solves");
+            for probe in [SPAN / 2.0, SPAN / 4.0] {
+                let expected = assembly.deck_deflection(probe, &still).unwrap();
+                let found = assembly.deck_deflection(probe, &state.u).unwrap();
+                worst = worst.max((found - expected).abs());
+                peak = peak.max(expected.abs());
+            }
+            let under = |u: &[f64]| assembly.rail_deflection(x, u).unwrap();
+            worst = worst.max((under(&state.u) - under(&still)).abs());
+        }
+    }
+    println!("worst departure {worst:e} m of a peak {peak:e} m");
+    assert!(peak > 0.9 * LOAD * SPAN.powi(3) / (48.0 * deck_ei()));
+    assert!(worst < 1e-2 * peak, "{worst:e} vs {peak:e}");
+}
