@@ -82,6 +82,43 @@ fn the_bearings_and_the_ground_carry_the_static_load() {
 }
 
 #[test]
+fn the_rail_seats_carry_the_load_to_the_deck_and_the_ground() {
+    // The rail-seat load is cubic on each element: two Gauss points
+    // integrate it exactly. Its integral is the load (the rail's
+    // equilibrium), its part on the deck the bearings' reactions.
+    let assembly = track(3.3e7, RAIL_MU, Rayleigh::default());
+    let still = vec![0.0; assembly.free_dofs()];
+    for at in [-4.1, 3.0, 10.0] {
+        let mut load = vec![0.0; assembly.free_dofs()];
+        assembly
+            .add_rail_force(at, -LOAD, &mut load)
+            .expect("on the rail");
+        let u = assembly.static_deflection(&load).expect("solves");
+        let (mut total, mut on_deck) = (0.0, 0.0);
+        let gauss = [0.5 - 0.5 / 3f64.sqrt(), 0.5 + 0.5 / 3f64.sqrt()];
+        for pair in assembly.node_x.windows(2) {
+            let h = pair[1] - pair[0];
+            for s in gauss {
+                let x = pair[0] + s * h;
+                let q = 0.5 * h * assembly.rail_seat_load(x, &u, &still).unwrap();
+                total += q;
+                if assembly.on_deck(x).unwrap() {
+                    on_deck += q;
+                }
+            }
+        }
+        let solution = layout(3.3e7, 0.25).static_solution(at, LOAD).unwrap();
+        let bearings = solution.reactions[0] + solution.reactions[1];
+        println!("load at {at} m: rail seats {total:.6} N, on the deck {on_deck:.6}, bearings {bearings:.6}");
+        assert!((total - LOAD).abs() < 1e-9 * LOAD, "{total} vs {LOAD}");
+        assert!(
+            (on_deck - bearings).abs() < 1e-9 * LOAD,
+            "{on_deck} vs {bearings}"
+        );
+    }
+}
+
+#[test]
 fn through_a_very_stiff_track_the_deck_deflects_as_the_bare_beam() {
     let solution = layout(1e12, 0.25)
         .static_solution(SPAN / 2.0, LOAD)

@@ -224,6 +224,30 @@ impl TrackAssembly {
         out
     }
 
+    /// The rail-seat load per metre at `x` (N/m, compression positive):
+    /// −(k_t (w_r − w_d) + c_t (ẇ_r − ẇ_d)) on the deck, −(k_g w_r + c_g
+    /// ẇ_r) on the ground, from displacements `u` and velocities `v`.
+    pub fn rail_seat_load(&self, x: f64, u: &[f64], v: &[f64]) -> Result<f64, String> {
+        let (e, _) = self.locate(x)?;
+        let relative = |state: &[f64]| -> Result<f64, String> {
+            Ok(self.field(0, x, state)? - self.field(2, x, state)?)
+        };
+        let (stiffness, damping) = if self.on_deck[e] {
+            (self.track.layout.track_stiffness, self.track.track_damping)
+        } else {
+            (
+                self.track.layout.ground_stiffness,
+                self.track.ground_damping,
+            )
+        };
+        Ok(-(stiffness * relative(u)? + damping * relative(v)?))
+    }
+
+    /// Whether `x` lies on an element of the deck.
+    pub fn on_deck(&self, x: f64) -> Result<bool, String> {
+        Ok(self.on_deck[self.locate(x)?.0])
+    }
+
     /// The static deflections K u = `load`.
     pub fn static_deflection(&self, load: &[f64]) -> Result<Vec<f64>, String> {
         let factor = self
