@@ -381,3 +381,136 @@ impl Hht {
         state.a = a_new;
     }
 }
+
+/// A wheel of mass on the rail through a Hertz contact, P = C_H δ^(3/2)
+/// for a compression δ > 0 and nothing in tension, carrying a constant
+/// downward load (its weight and its share of the vehicle's).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HertzWheel {
+    /// Mass (kg).
+    pub mass: f64,
+    /// Constant downward load W (N).
+    pub load: f64,
+    /// C_H (N/m^1.5).
+    pub coefficient: f64,
+    /// Contact abscissa (m) and speed (m/s).
+    pub x: f64,
+    pub speed: f64,
+    /// Height of the wheel's contact point (m, up positive), its velocity
+    /// and acceleration.
+    pub z: f64,
+    pub z_velocity: f64,
+    pub z_acceleration: f64,
+    /// Contact force of the last step (N, compression positive).
+    pub force: f64,
+}
+
+impl TrackAssembly {
+    /// The unit upward force on the rail at `x` as a load vector: also
+    /// the row that reads the rail's deflection there.
+    fn rail_row(&self, x: f64) -> Result<Vec<f64>, String> {
+        let mut row = vec![0.0; self.free_dofs()];
+        self.add_rail_force(x, 1.0, &mut row)?;
+        Ok(row)
+    }
+
+    /// The wheel at rest at `x` in static equilibrium on the rail: the
+    /// structure's state (returned) and the wheel's (set), the contact
+    /// carrying the wheel's load.
+    pub fn wheel_at_rest(&self, wheel: &mut HertzWheel) -> Result<TrackState, String> {
+        let row = self.rail_row(wheel.x)?;
+        let load: Vec<f64> = row.iter().map(|n| -wheel.load * n).collect();
+        let u = self.static_deflection(&load)?;
+        let rail = dot(&row, &u);
+        wheel.force = wheel.load;
+        wheel.z = rail - (wheel.load / wheel.coefficient).powf(2.0 / 3.0);
+        wheel.z_velocity = 0.0;
+        wheel.z_acceleration = 0.0;
+        let n = u.len();
+        Ok(TrackState {
+            u,
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+        })
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// The Hertz force P with P = C_H max(δ₀ − c P, 0)^(3/2): the one root of
+/// a monotone function of P on [0, δ₀ / c], by bisection to the last bit.
+fn hertz_force(coefficient: f64, free_compression: f64, compliance: f64) -> f64 {
+    if free_compression <= 0.0 {
+        return 0.0;
+    }
+    let excess = |p: f64| p - coefficient * (free_compression - compliance * p).max(0.0).powf(1.5);
+    let (mut low, mut high) = (0.0, free_compression / compliance);
+    for _ in 0..200 {
+        let middle = 0.5 * (low + high);
+        if middle <= low || middle >= high {
+            break;
+        }
+        if excess(middle) < 0.0 {
+            low = middle;
+        } else {
+            high = middle;
+        }
+    }
+    0.5 * (low + high)
+}
+
+impl Hht {
+    /// One step of the structure and `wheel` coupled through its Hertz
+    /// contact, the wheel under the same HHT-α scheme; the contact force
+    /// is implicit (solved at the new step from the structure's and the
+    /// wheel's step compliances).
+    pub fn advance_wheel(
+        &self,
+        assembly: &TrackAssembly,
+        state: &mut TrackState,
+        wheel: &mut HertzWheel,
+    ) -> Result<(), String> {
+        let (dt, alpha, gamma, beta) = (self.step, self.alpha, self.gamma, self.beta);
+        let (old_row, next_x) = (assembly.rail_row(wheel.x)?, wheel.x + wheel.speed * dt);
+        let row = assembly.rail_row(next_x)?;
+        let now: Vec<f64> = old_row.iter().map(|n| -wheel.force * n).collect();
+        let zero = vec![0.0; row.len()];
+        // The structure's step without the new contact force.
+        let mut free = state.clone();
+        self.advance(assembly, &mut free, (&now, &zero));
+        // Its response to a unit upward force at the new contact.
+        let mut unit = row.clone();
+        self.factor.solve_in_place(&mut unit);
+        let weight = (1.0 + alpha) * beta * dt * dt;
+        let rail_compliance = weight * dot(&row, &unit);
+        let z_predicted =
+            wheel.z + dt * wheel.z_velocity + dt * dt * (0.5 - beta) * wheel.z_acceleration;
+        let z_free = z_predicted
+            + beta * dt * dt * (-(1.0 + alpha) * wheel.load - alpha * (wheel.force - wheel.load))
+                / wheel.mass;
+        let free_compression = dot(&row, &free.u) - z_free;
+        let force = hertz_force(
+            wheel.coefficient,
+            free_compression,
+            rail_compliance + weight / wheel.mass,
+        );
+        for i in 0..row.len() {
+            let a = -(1.0 + alpha) * force * unit[i];
+            free.a[i] += a;
+            free.u[i] += beta * dt * dt * a;
+            free.v[i] += gamma * dt * a;
+        }
+        *state = free;
+        let z_acceleration = ((1.0 + alpha) * (force - wheel.load)
+            - alpha * (wheel.force - wheel.load))
+            / wheel.mass;
+        wheel.z_velocity += dt * ((1.0 - gamma) * wheel.z_acceleration + gamma * z_acceleration);
+        wheel.z = z_predicted + beta * dt * dt * z_acceleration;
+        wheel.z_acceleration = z_acceleration;
+        wheel.force = force;
+        wheel.x = next_x;
+        Ok(())
+    }
+}
