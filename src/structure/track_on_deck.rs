@@ -414,18 +414,22 @@ impl TrackAssembly {
         Ok(row)
     }
 
-    /// The wheel at rest at `x` in static equilibrium on the rail: the
-    /// structure's state (returned) and the wheel's (set), the contact
-    /// carrying the wheel's load.
-    pub fn wheel_at_rest(&self, wheel: &mut HertzWheel) -> Result<TrackState, String> {
-        let row = self.rail_row(wheel.x)?;
-        let load: Vec<f64> = row.iter().map(|n| -wheel.load * n).collect();
+    /// The wheels at rest in static equilibrium on the rail: the
+    /// structure's state (returned) and the wheels' (set), each contact
+    /// carrying its wheel's load.
+    pub fn wheels_at_rest(&self, wheels: &mut [HertzWheel]) -> Result<TrackState, String> {
+        let mut load = vec![0.0; self.free_dofs()];
+        for wheel in wheels.iter() {
+            self.add_rail_force(wheel.x, -wheel.load, &mut load)?;
+        }
         let u = self.static_deflection(&load)?;
-        let rail = dot(&row, &u);
-        wheel.force = wheel.load;
-        wheel.z = rail - (wheel.load / wheel.coefficient).powf(2.0 / 3.0);
-        wheel.z_velocity = 0.0;
-        wheel.z_acceleration = 0.0;
+        for wheel in wheels.iter_mut() {
+            let rail = self.rail_deflection(wheel.x, &u)?;
+            wheel.force = wheel.load;
+            wheel.z = rail - (wheel.load / wheel.coefficient).powf(2.0 / 3.0);
+            wheel.z_velocity = 0.0;
+            wheel.z_acceleration = 0.0;
+        }
         let n = u.len();
         Ok(TrackState {
             u,
@@ -462,55 +466,107 @@ fn hertz_force(coefficient: f64, free_compression: f64, compliance: f64) -> f64 
 }
 
 impl Hht {
-    /// One step of the structure and `wheel` coupled through its Hertz
-    /// contact, the wheel under the same HHT-α scheme; the contact force
-    /// is implicit (solved at the new step from the structure's and the
-    /// wheel's step compliances).
-    pub fn advance_wheel(
+    /// One step of the structure and `wheels` coupled through their Hertz
+    /// contacts, each wheel under the same HHT-α scheme. The contact
+    /// forces are implicit: solved at the new step from the step
+    /// compliances (the structure's between every two contacts, the
+    /// wheels' own) by Gauss–Seidel sweeps, each a monotone scalar root.
+    pub fn advance_wheels(
         &self,
         assembly: &TrackAssembly,
         state: &mut TrackState,
-        wheel: &mut HertzWheel,
+        wheels: &mut [HertzWheel],
     ) -> Result<(), String> {
         let (dt, alpha, gamma, beta) = (self.step, self.alpha, self.gamma, self.beta);
-        let (old_row, next_x) = (assembly.rail_row(wheel.x)?, wheel.x + wheel.speed * dt);
-        let row = assembly.rail_row(next_x)?;
-        let now: Vec<f64> = old_row.iter().map(|n| -wheel.force * n).collect();
-        let zero = vec![0.0; row.len()];
-        // The structure's step without the new contact force.
+        let n = state.u.len();
+        let mut now = vec![0.0; n];
+        for wheel in wheels.iter() {
+            assembly.add_rail_force(wheel.x, -wheel.force, &mut now)?;
+        }
+        // The structure's step without the new contact forces.
         let mut free = state.clone();
-        self.advance(assembly, &mut free, (&now, &zero));
-        // Its response to a unit upward force at the new contact.
-        let mut unit = row.clone();
-        self.factor.solve_in_place(&mut unit);
+        self.advance(assembly, &mut free, (&now, &vec![0.0; n]));
         let weight = (1.0 + alpha) * beta * dt * dt;
-        let rail_compliance = weight * dot(&row, &unit);
-        let z_predicted =
-            wheel.z + dt * wheel.z_velocity + dt * dt * (0.5 - beta) * wheel.z_acceleration;
-        let z_free = z_predicted
-            + beta * dt * dt * (-(1.0 + alpha) * wheel.load - alpha * (wheel.force - wheel.load))
+        let mut rows = Vec::with_capacity(wheels.len());
+        let mut units = Vec::with_capacity(wheels.len());
+        let mut predicted = Vec::with_capacity(wheels.len());
+        let mut compression = Vec::with_capacity(wheels.len());
+        for wheel in wheels.iter() {
+            let row = assembly.rail_row(wheel.x + wheel.speed * dt)?;
+            let mut unit = row.clone();
+            self.factor.solve_in_place(&mut unit);
+            let z = wheel.z + dt * wheel.z_velocity + dt * dt * (0.5 - beta) * wheel.z_acceleration;
+            let z_free = z + beta
+                * dt
+                * dt
+                * (-(1.0 + alpha) * wheel.load - alpha * (wheel.force - wheel.load))
                 / wheel.mass;
-        let free_compression = dot(&row, &free.u) - z_free;
-        let force = hertz_force(
-            wheel.coefficient,
-            free_compression,
-            rail_compliance + weight / wheel.mass,
-        );
-        for i in 0..row.len() {
-            let a = -(1.0 + alpha) * force * unit[i];
-            free.a[i] += a;
-            free.u[i] += beta * dt * dt * a;
-            free.v[i] += gamma * dt * a;
+            compression.push(dot(&row, &free.u) - z_free);
+            predicted.push(z);
+            rows.push(row);
+            units.push(unit);
+        }
+        let forces = contact_forces(wheels, &rows, &units, &compression, weight)?;
+        for (unit, force) in units.iter().zip(&forces) {
+            for i in 0..n {
+                let a = -(1.0 + alpha) * force * unit[i];
+                free.a[i] += a;
+                free.u[i] += beta * dt * dt * a;
+                free.v[i] += gamma * dt * a;
+            }
         }
         *state = free;
-        let z_acceleration = ((1.0 + alpha) * (force - wheel.load)
-            - alpha * (wheel.force - wheel.load))
-            / wheel.mass;
-        wheel.z_velocity += dt * ((1.0 - gamma) * wheel.z_acceleration + gamma * z_acceleration);
-        wheel.z = z_predicted + beta * dt * dt * z_acceleration;
-        wheel.z_acceleration = z_acceleration;
-        wheel.force = force;
-        wheel.x = next_x;
+        for ((wheel, force), z) in wheels.iter_mut().zip(forces).zip(predicted) {
+            let acceleration = ((1.0 + alpha) * (force - wheel.load)
+                - alpha * (wheel.force - wheel.load))
+                / wheel.mass;
+            wheel.z_velocity += dt * ((1.0 - gamma) * wheel.z_acceleration + gamma * acceleration);
+            wheel.z = z + beta * dt * dt * acceleration;
+            wheel.z_acceleration = acceleration;
+            wheel.force = force;
+            wheel.x += wheel.speed * dt;
+        }
         Ok(())
     }
+}
+
+/// Most Gauss–Seidel sweeps for a step's contact forces.
+const MAX_SWEEPS: usize = 200;
+
+/// The contact forces P_i = C_H max(δ_i − Σ_j G_ij P_j, 0)^(3/2), G_ij =
+/// `weight` (row_i · S⁻¹ row_j) + δ_ij `weight` / m_i, by Gauss–Seidel
+/// until no force moves by more than 1e-12 of the largest load.
+fn contact_forces(
+    wheels: &[HertzWheel],
+    rows: &[Vec<f64>],
+    units: &[Vec<f64>],
+    compression: &[f64],
+    weight: f64,
+) -> Result<Vec<f64>, String> {
+    let count = wheels.len();
+    let coupling: Vec<Vec<f64>> = rows
+        .iter()
+        .map(|row| units.iter().map(|unit| weight * dot(row, unit)).collect())
+        .collect();
+    let scale = wheels.iter().map(|w| w.load.abs()).fold(0.0, f64::max);
+    let mut forces: Vec<f64> = wheels.iter().map(|w| w.force).collect();
+    for _ in 0..MAX_SWEEPS {
+        let mut moved = 0.0f64;
+        for i in 0..count {
+            let others: f64 = (0..count)
+                .filter(|&j| j != i)
+                .map(|j| coupling[i][j] * forces[j])
+                .sum();
+            let own = coupling[i][i] + weight / wheels[i].mass;
+            let force = hertz_force(wheels[i].coefficient, compression[i] - others, own);
+            moved = moved.max((force - forces[i]).abs());
+            forces[i] = force;
+        }
+        if moved <= 1e-12 * scale {
+            return Ok(forces);
+        }
+    }
+    Err(format!(
+        "the {count} contact forces did not settle in {MAX_SWEEPS} Gauss–Seidel sweeps"
+    ))
 }
