@@ -406,12 +406,17 @@ pub struct HertzWheel {
 }
 
 impl TrackAssembly {
-    /// The unit upward force on the rail at `x` as a load vector: also
-    /// the row that reads the rail's deflection there.
-    fn rail_row(&self, x: f64) -> Result<Vec<f64>, String> {
-        let mut row = vec![0.0; self.free_dofs()];
-        self.add_rail_force(x, 1.0, &mut row)?;
-        Ok(row)
+    /// The unit upward force on the rail at `x` as (DOF, load) entries
+    /// (four at most): also the row that reads the rail's deflection.
+    fn rail_row(&self, x: f64) -> Result<SparseRow, String> {
+        let (e, s) = self.locate(x)?;
+        let local = element_dofs(&self.dofs, e);
+        let shape = hermite(s, self.track.layout.element_length);
+        Ok([0, 1, 4, 5]
+            .into_iter()
+            .zip(shape)
+            .filter_map(|(k, n)| local[k].map(|i| (i, n)))
+            .collect())
     }
 
     /// The wheels at rest in static equilibrium on the rail: the
@@ -439,8 +444,12 @@ impl TrackAssembly {
     }
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
+/// A load vector's non-zero entries, (DOF, value).
+type SparseRow = Vec<(usize, f64)>;
+
+/// `row` · `vector`.
+fn dot(row: &SparseRow, vector: &[f64]) -> f64 {
+    row.iter().map(|&(i, value)| value * vector[i]).sum()
 }
 
 /// The Hertz force P with P = C_H max(δ₀ − c P, 0)^(3/2): the one root of
@@ -493,7 +502,8 @@ impl Hht {
         let mut compression = Vec::with_capacity(wheels.len());
         for wheel in wheels.iter() {
             let row = assembly.rail_row(wheel.x + wheel.speed * dt)?;
-            let mut unit = row.clone();
+            let mut unit = vec![0.0; n];
+            row.iter().for_each(|&(i, value)| unit[i] = value);
             self.factor.solve_in_place(&mut unit);
             let z = wheel.z + dt * wheel.z_velocity + dt * dt * (0.5 - beta) * wheel.z_acceleration;
             let z_free = z + beta
@@ -538,7 +548,7 @@ const MAX_SWEEPS: usize = 200;
 /// until no force moves by more than 1e-12 of the largest load.
 fn contact_forces(
     wheels: &[HertzWheel],
-    rows: &[Vec<f64>],
+    rows: &[SparseRow],
     units: &[Vec<f64>],
     compression: &[f64],
     weight: f64,
