@@ -518,8 +518,8 @@ impl Hht {
         }
         let forces = contact_forces(wheels, &rows, &units, &compression, weight)?;
         for (unit, force) in units.iter().zip(&forces) {
-            for i in 0..n {
-                let a = -(1.0 + alpha) * force * unit[i];
+            for (i, unit) in unit.iter().enumerate() {
+                let a = -(1.0 + alpha) * force * unit;
                 free.a[i] += a;
                 free.u[i] += beta * dt * dt * a;
                 free.v[i] += gamma * dt * a;
