@@ -3,7 +3,8 @@
 //! track's and the ground's dampers and the deck's Rayleigh damping, as
 //! mass, damping and stiffness bands of half-bandwidth 7 (`wide_band`) on
 //! the interleaved DOFs; its natural frequencies (dense, for checks) and an
-//! HHT-α stepper for forces on the rail. Library only: scenes do not build
+//! HHT-α stepper for forces on the rail and for wheels of mass on it
+//! through Hertz contacts (`HertzWheel`). Library only: scenes do not build
 //! it yet (the seam's geometry is one beam's).
 
 use crate::beam::{element_mass, element_stiffness, Rayleigh};
