@@ -8,5 +8,6 @@ pub mod profile;
 pub mod rail_on_deck;
 pub mod reduced;
 pub mod seam;
+pub mod track_on_deck;
 
 pub use seam::Structure;

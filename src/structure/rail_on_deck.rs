@@ -3,7 +3,7 @@
 //! deck and on the deck through the track's stiffness on the span, the
 //! rail's and the deck's DOFs interleaved node by node so that the coupled
 //! stiffness is a band of half-bandwidth 7 (`wide_band`). Static loads
-//! only: the scene's dynamic structure does not use it yet.
+//! only; `track_on_deck` adds the masses and dampers for the dynamics.
 
 use crate::beam::{element_mass, element_stiffness};
 use crate::wide_band::WideBand;
@@ -43,16 +43,16 @@ pub struct StaticSolution {
 }
 
 /// Free-DOF index of (rail w, rail ψ, deck w, deck ψ) at each node.
-type NodeDofs = [Option<usize>; 4];
+pub(super) type NodeDofs = [Option<usize>; 4];
 
 /// The eight DOFs of element `e`: its two nodes' in turn.
-fn element_dofs(dofs: &[NodeDofs], e: usize) -> [Option<usize>; 8] {
+pub(super) fn element_dofs(dofs: &[NodeDofs], e: usize) -> [Option<usize>; 8] {
     let (a, b) = (dofs[e], dofs[e + 1]);
     [a[0], a[1], a[2], a[3], b[0], b[1], b[2], b[3]]
 }
 
 /// Hermite cubics (w₁, ψ₁, w₂, ψ₂) at s ∈ [0, 1] of an element of length h.
-fn hermite(s: f64, h: f64) -> [f64; 4] {
+pub(super) fn hermite(s: f64, h: f64) -> [f64; 4] {
     let (s2, s3) = (s * s, s * s * s);
     [
         1.0 - 3.0 * s2 + 2.0 * s3,
@@ -117,7 +117,7 @@ impl RailOnDeck {
     }
 
     /// Whether element `e` lies on the span.
-    fn element_on_deck(&self, node_x: &[f64], e: usize) -> bool {
+    pub(super) fn element_on_deck(&self, node_x: &[f64], e: usize) -> bool {
         let tolerance = 1e-9 * self.element_length;
         node_x[e] > -tolerance && node_x[e + 1] < self.deck_length + tolerance
     }
@@ -157,8 +157,9 @@ impl RailOnDeck {
             ground_force,
         }
     }
+
     /// Node abscissae, refusing lengths that are not whole elements.
-    fn nodes(&self) -> Result<Vec<f64>, String> {
+    pub(super) fn nodes(&self) -> Result<Vec<f64>, String> {
         let h = self.element_length;
         let whole = |name: &str, length: f64| {
             let count = length / h;
@@ -182,7 +183,7 @@ impl RailOnDeck {
 
     /// DOFs node by node; the deck's w is held at its bearings, the deck
     /// has none off the span.
-    fn dofs(&self, node_x: &[f64]) -> Vec<NodeDofs> {
+    pub(super) fn dofs(&self, node_x: &[f64]) -> Vec<NodeDofs> {
         let tolerance = 1e-9 * self.element_length;
         let on_deck = |x: f64| x > -tolerance && x < self.deck_length + tolerance;
         let at_bearing = |x: f64| x.abs() < tolerance || (x - self.deck_length).abs() < tolerance;
@@ -210,19 +211,10 @@ impl RailOnDeck {
     /// The element's 8×8 stiffness on (rail w, ψ at both ends, deck w, ψ at
     /// both ends) in node order: rail bending, deck bending and the track
     /// on the span, rail bending and the ground off it.
-    fn element(&self, on_deck: bool) -> [[f64; 8]; 8] {
+    pub(super) fn element(&self, on_deck: bool) -> [[f64; 8]; 8] {
         let h = self.element_length;
         let rail = element_stiffness(h, self.rail_bending_stiffness);
         let mut k = [[0.0; 8]; 8];
-        // Local order: rail node 1, deck node 1, rail node 2, deck node 2.
-        let place = |k: &mut [[f64; 8]; 8], m: &Matrix4<f64>, (a, b): (usize, usize)| {
-            let at = |part: usize, p: usize| 4 * (p / 2) + part + p % 2;
-            for p in 0..4 {
-                for q in 0..4 {
-                    k[at(a, p)][at(b, q)] += m[(p, q)];
-                }
-            }
-        };
         place(&mut k, &rail, (0, 0));
         if on_deck {
             let layer = element_mass(h, self.track_stiffness);
@@ -239,6 +231,18 @@ impl RailOnDeck {
             place(&mut k, &element_mass(h, self.ground_stiffness), (0, 0));
         }
         k
+    }
+}
+
+/// Add the 4×4 element matrix `m` into the 8×8 `k` at the blocks of
+/// parts (`a`, `b`): 0 the rail, 2 the deck. Local order: rail node 1,
+/// deck node 1, rail node 2, deck node 2 (w, ψ each).
+pub(super) fn place(k: &mut [[f64; 8]; 8], m: &Matrix4<f64>, (a, b): (usize, usize)) {
+    let at = |part: usize, p: usize| 4 * (p / 2) + part + p % 2;
+    for p in 0..4 {
+        for q in 0..4 {
+            k[at(a, p)][at(b, q)] += m[(p, q)];
+        }
     }
 }
 
