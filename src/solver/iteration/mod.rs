@@ -706,6 +706,7 @@ impl ContactIteration {
                 continue;
             }
             let kinds_j = row_kinds(system.contacts[j].rolls());
+            self.element_responses.touch(apply.shape.element);
             for (i, measure) in measure_frames.iter().enumerate() {
                 if !measure.on_beam {
                     continue;
@@ -718,8 +719,8 @@ impl ContactIteration {
                     offsets: (self.offsets[i], self.offsets[j]),
                 };
                 let integrate = (&mut self.integrator, system, self.nominal_step);
-                let response = self.element_responses.pair(integrate, key, &measured);
-                pair.fill(response, part, matrix);
+                let fill = |response: &ElementResponse| pair.fill(response, part, matrix);
+                (self.element_responses).pair(integrate, key, &measured, fill);
             }
         }
         self.element_responses.end_build();

@@ -81,7 +81,7 @@ impl Loaded {
 
 /// Operator builds a pair's block stays kept without being read: read
 /// again from its loaded element's responses when those are kept.
-const KEPT_BUILDS: u64 = 4;
+const KEPT_BUILDS: u64 = 16;
 
 /// Bytes of whole responses kept for elements no contact loads now, the
 /// most recently loaded first: a train's next wheelset finds them on a
@@ -208,50 +208,47 @@ impl ResponseCache {
         }
     }
 
+    /// Marks loaded element `le`'s whole responses (if kept) as read in
+    /// this build: once per contact, not once per pair.
+    pub fn touch(&mut self, le: usize) {
+        if let Some(loaded) = self.loaded.get_mut(&le) {
+            loaded.used = self.build;
+        }
+    }
+
     /// The block of (measured element `key.0`, loaded element `key.1`),
     /// integrating the loaded element's responses if they are not kept
     /// (`measured`: every element measured in this build, at which they
-    /// are read when they cannot be kept).
+    /// are read when they cannot be kept), handed to `with`: one look-up
+    /// a pair, and no copy.
     pub fn pair(
         &mut self,
         (integrator, system, step): (&mut Integrator, &System, f64),
         key: (usize, usize),
         measured: &[usize],
-    ) -> &ElementResponse {
+        with: impl FnOnce(&ElementResponse),
+    ) {
         let build = self.build;
-        if !self.pairs.contains_key(&key) {
-            let (me, le) = key;
-            if self.misses(le) {
-                self.integrate(integrator, system, step, le);
-                let spare = self.spare.last();
-                let loaded = self.loaded.get(&le).or(spare).expect("integrated above");
-                for &m in measured.iter().chain([&me]) {
-                    let response = read_pair(system, loaded, (m, le));
-                    self.pairs.insert(
-                        (m, le),
-                        KeptPair {
-                            response,
-                            used: build,
-                        },
-                    );
-                }
-            } else {
-                let response = read_pair(system, &self.loaded[&le], key);
-                self.pairs.insert(
-                    key,
-                    KeptPair {
-                        response,
-                        used: build,
-                    },
-                );
+        if let Some(kept) = self.pairs.get_mut(&key) {
+            kept.used = build;
+            return with(&kept.response);
+        }
+        let (me, le) = key;
+        if self.misses(le) {
+            self.integrate(integrator, system, step, le);
+            let spare = self.spare.last();
+            let loaded = self.loaded.get(&le).or(spare).expect("integrated above");
+            for &m in measured.iter().chain([&me]) {
+                let response = read_pair(system, loaded, (m, le));
+                let used = build;
+                self.pairs.insert((m, le), KeptPair { response, used });
             }
+        } else {
+            let response = read_pair(system, &self.loaded[&le], key);
+            let used = build;
+            self.pairs.insert(key, KeptPair { response, used });
         }
-        if let Some(loaded) = self.loaded.get_mut(&key.1) {
-            loaded.used = build;
-        }
-        let kept = self.pairs.get_mut(&key).expect("inserted above");
-        kept.used = build;
-        &kept.response
+        with(&self.pairs[&key].response);
     }
 
     /// Integrates loaded element `le`'s four responses, into a kept entry
@@ -268,8 +265,7 @@ impl ResponseCache {
             used: self.build,
         });
         entry.used = self.build;
-        let dofs = beam.shape(le, beam.node_x[le]).dofs;
-        for (l, dof) in dofs.iter().enumerate() {
+        for (l, dof) in beam.element_dofs(le).iter().enumerate() {
             let (u, v) = (&mut entry.displacement[l], &mut entry.velocity[l]);
             // A response overwrites its vectors: only a held DOF's are cleared.
             let Some(dof) = *dof else {
@@ -292,8 +288,7 @@ impl ResponseCache {
 /// The block of `loaded`'s responses at measured element `me`'s DOFs.
 fn read_pair(system: &System, loaded: &Loaded, (me, le): (usize, usize)) -> ElementResponse {
     let beam = &system.beam;
-    let dofs = beam.shape(le, beam.node_x[le]).dofs;
-    let mdofs = beam.shape(me, beam.node_x[me]).dofs;
+    let (dofs, mdofs) = (beam.element_dofs(le), beam.element_dofs(me));
     let mut response = ElementResponse {
         displacement: Matrix4::zeros(),
         velocity: Matrix4::zeros(),
