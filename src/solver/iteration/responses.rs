@@ -8,11 +8,11 @@
 //! another element reads its entries instead of integrating again; the
 //! elements no contact loads now are kept within a constant budget, the
 //! least recently loaded dropped first. The entries at a measured element
-//! are read into a small per-pair block, kept while that pair is in use. Up to 256 elements every
-//! pair of elements used to be kept whole (65,536 blocks, 57 MiB at 256
-//! elements) and beyond it every loaded element was integrated again each
-//! time a contact entered a new element: a cost and memory cliff between
-//! neighbouring meshes. The responses depend only on the elements and the
+//! are read into a small per-pair block, kept while that pair is in use.
+//! Up to 256 elements a block used to be kept for every pair of elements
+//! (65,536 blocks, 57 MiB at 256 elements), and beyond it every loaded
+//! element was integrated again each time a contact entered a new element:
+//! a cost and memory cliff between neighbouring meshes. The responses depend only on the elements and the
 //! nominal step, never on the history, so what is kept changes no bit of
 //! the operator.
 
@@ -85,24 +85,24 @@ const KEPT_BUILDS: u64 = 16;
 
 /// Bytes of whole responses kept for elements no contact loads now, the
 /// most recently loaded first: a train's next wheelset finds them on a
-/// short bridge (all of the 250 elements of ten 25 m spans fit at 32 kB
-/// each) and a single wheel on a long one keeps two or three. Constant, so
-/// the cache stays linear in the elements.
-const IDLE_BYTES: usize = 4 << 20;
+/// short bridge (all 75 elements of three 25 m spans at 9.6 kB each, 128
+/// of the 250 of ten spans at 32 kB) and a single wheel on a long one
+/// keeps a few. Constant, so the cache stays linear in the elements.
+const MAX_IDLE_BYTES: usize = 4 << 20;
 
 /// The whole responses kept at most, in bytes: 200 contacts on 100,000
 /// elements would otherwise keep 2.5 GB. Beyond it a loaded element's
 /// responses are read at the elements measured in this build and dropped
 /// (integrated again when a contact enters another element).
-const KEPT_BYTES: usize = 64 << 20;
+const MAX_KEPT_BYTES: usize = 64 << 20;
 
 /// The kept responses, with the largest footprint they reached.
 pub(super) struct ResponseCache {
     loaded: HashMap<usize, Loaded, Hasher>,
     /// Per (measured, loaded) element pair.
     pairs: HashMap<(usize, usize), KeptPair, Hasher>,
-    /// The responses of an element that did not fit in `KEPT_BYTES`, and
-    /// of dropped ones, to integrate the next into.
+    /// The responses of an element that did not fit in `MAX_KEPT_BYTES`,
+    /// or one dropped, to integrate the next into.
     spare: Vec<Loaded>,
     /// Operator builds begun.
     build: u64,
@@ -161,7 +161,7 @@ impl ResponseCache {
         self.build += 1;
     }
 
-    /// Drops the least recently read responses beyond `IDLE_BYTES` and the
+    /// Drops the least recently read responses beyond `MAX_IDLE_BYTES` and the
     /// pairs the last `KEPT_BUILDS` builds did not read, and records the
     /// footprint. Each sweep frees a quarter of the budget, and pairs are
     /// swept when they have doubled since the last sweep, so that sweeping
@@ -181,7 +181,7 @@ impl ResponseCache {
     }
 
     /// Drops the least recently read whole responses of elements this
-    /// build did not read until they fit in three quarters of `IDLE_BYTES`,
+    /// build did not read until they fit in three quarters of `MAX_IDLE_BYTES`,
     /// when they exceed it.
     fn drop_idle(&mut self) {
         let build = self.build;
@@ -192,13 +192,13 @@ impl ResponseCache {
         let Some(whole) = self.loaded.values().next().map(Loaded::bytes) else {
             return;
         };
-        if idle.len() * whole <= IDLE_BYTES {
+        if idle.len() * whole <= MAX_IDLE_BYTES {
             return;
         }
         // Oldest first; the element breaks ties so that the order is the
         // same whatever the map's.
         idle.sort_unstable();
-        let keep = (3 * IDLE_BYTES / 4) / whole;
+        let keep = (3 * MAX_IDLE_BYTES / 4) / whole;
         let drop = idle.len() - keep;
         for &(_, e) in &idle[..drop] {
             let loaded = self.loaded.remove(&e).expect("listed above");
@@ -252,7 +252,7 @@ impl ResponseCache {
     }
 
     /// Integrates loaded element `le`'s four responses, into a kept entry
-    /// when `KEPT_BYTES` allows, else into the spare one.
+    /// when `MAX_KEPT_BYTES` allows, else into the spare one.
     fn integrate(&mut self, integrator: &mut Integrator, system: &System, step: f64, le: usize) {
         let beam = &system.beam;
         let n = beam.coordinates();
@@ -277,7 +277,7 @@ impl ResponseCache {
             beam.add_dof_load(dof, 1.0, &mut self.load);
             integrator.beam_response(system, &self.load, step, u, v);
         }
-        if self.footprint().bytes + entry.bytes() <= KEPT_BYTES {
+        if self.footprint().bytes + entry.bytes() <= MAX_KEPT_BYTES {
             self.loaded.insert(le, entry);
         } else {
             self.spare.push(entry);
