@@ -438,6 +438,12 @@ impl Simulation {
         self.params.step
     }
 
+    /// The most the contact iteration's unit-load response cache held at
+    /// once (issue 29: linear in the elements).
+    pub fn response_cache_peak(&self) -> crate::iteration::Footprint {
+        self.iteration.response_cache_peak()
+    }
+
     /// Steps taken and contact iterations spent so far.
     pub fn counters(&self) -> (u64, u64) {
         (self.state.steps, self.state.total_iterations)

@@ -13,10 +13,7 @@
 //! (r = 0, J = 0) has no tangential row: its tangential force stays exactly
 //! zero.
 
-use std::collections::HashMap;
-use std::hash::BuildHasherDefault;
-
-use nalgebra::{DMatrix, DVector, Dyn, Matrix4, Vector4, LU};
+use nalgebra::{DMatrix, DVector, Dyn, Vector4, LU};
 
 use crate::contact::{ContactForce, ContactFrame};
 use crate::integrate::{
@@ -25,6 +22,10 @@ use crate::integrate::{
 use crate::system::System;
 
 mod laws;
+mod responses;
+
+pub use responses::Footprint;
+use responses::{ElementResponse, ResponseCache};
 
 /// Tolerances and caps of the iteration (the paper's: 1e-7 m/s, 1e-5 m).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -411,40 +412,6 @@ impl Inverted {
     }
 }
 
-/// Hashes an element pair key as itself: keys are small distinct integers.
-#[derive(Default)]
-struct PairHasher(u64);
-
-impl std::hash::Hasher for PairHasher {
-    fn finish(&self) -> u64 {
-        // Mixed so that the low bits (the table's bucket) and the top bits
-        // (its tag) depend on both elements: unmixed, every pair with the
-        // same loaded element fell on one bucket and one tag, and with 64
-        // contacts the probing dominated the step.
-        let x = self.0.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-        x ^ (x >> 32)
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.0 = self.0.rotate_left(8) ^ u64::from(*b);
-        }
-    }
-    fn write_usize(&mut self, n: usize) {
-        self.0 = self.0.rotate_left(32) ^ n as u64;
-    }
-}
-
-type PairMap = HashMap<(usize, usize), ElementResponse, BuildHasherDefault<PairHasher>>;
-
-/// Displacements and velocities at one element's four DOFs after one step
-/// under a unit load held on each DOF of another (or the same) element
-/// (column = loaded DOF).
-#[derive(Debug, Clone, Copy)]
-struct ElementResponse {
-    displacement: Matrix4<f64>,
-    velocity: Matrix4<f64>,
-}
-
 /// A contact's beam rows (tangential, normal) in the frames it is measured
 /// in and in those its force is applied in.
 #[derive(Debug, Clone, Copy)]
@@ -487,9 +454,6 @@ impl PairEntry<'_> {
     }
 }
 
-/// Cached element pairs beyond which the cache is emptied (about 16 MB).
-const MAX_CACHED_PAIRS: usize = 1 << 16;
-
 /// A lower bound of the wall time one beam integration takes per element,
 /// for refusing a step up front (`deadline::foresee`): measured at about
 /// 4e-7 s (20,000 elements, 21 magnets, HHT: two steps of some 170
@@ -513,13 +477,12 @@ pub struct ContactIteration {
     load: DVector<f64>,
     response_u: Vec<DVector<f64>>,
     response_v: Vec<DVector<f64>>,
-    /// Responses for steps of the nominal length, keyed by (measured
-    /// element, loaded element), filled as the contacts reach the elements:
-    /// the Delassus operator then costs a few flops per entry instead of
-    /// beam integrations. They depend only on the elements and the nominal
-    /// step, never on the history, so a restored state continues
-    /// bit-identically.
-    element_responses: PairMap,
+    /// Responses for steps of the nominal length, filled as the contacts
+    /// reach the elements (`responses`): the Delassus operator then costs a
+    /// few flops per entry instead of beam integrations. They depend only
+    /// on the elements and the nominal step, never on the history, so a
+    /// restored state continues bit-identically.
+    element_responses: ResponseCache,
     nominal_step: f64,
     offsets: Vec<usize>,
     rows: usize,
@@ -576,7 +539,7 @@ impl ContactIteration {
             load: DVector::zeros(free_dofs),
             response_u: Vec::new(),
             response_v: Vec::new(),
-            element_responses: PairMap::default(),
+            element_responses: ResponseCache::new(),
             nominal_step,
             offsets,
             rows,
@@ -610,6 +573,12 @@ impl ContactIteration {
             memo: Default::default(),
             law_lag: laws::LawLag::default(),
         }
+    }
+
+    /// The most the unit-load response cache held at once: its memory is
+    /// linear in the elements (`responses`).
+    pub fn response_cache_peak(&self) -> Footprint {
+        self.element_responses.peak()
     }
 
     /// The end frames of the last step solved, with the configuration they
@@ -700,66 +669,6 @@ impl ContactIteration {
         }
     }
 
-    /// Fill the cached responses of every (measured, loaded) pair of the
-    /// given elements that is missing: four beam integrations per loaded
-    /// element, measured at all elements at once. Where every pair fits in
-    /// the cache, a loaded element's responses are kept at every element:
-    /// measured only where the contacts were, its four integrations were
-    /// repeated each time a contact entered another element.
-    fn fill_element_responses(&mut self, system: &System, measured: &[usize], loaded: &[usize]) {
-        if self.element_responses.len() > MAX_CACHED_PAIRS {
-            self.element_responses.clear();
-        }
-        let beam = &system.beam;
-        let elements = beam.elements();
-        let every: Vec<usize>;
-        let measured = if elements * elements <= MAX_CACHED_PAIRS {
-            every = (0..elements).collect();
-            &every
-        } else {
-            measured
-        };
-        self.reserve_responses(4);
-        for &le in loaded {
-            if measured
-                .iter()
-                .all(|&me| self.element_responses.contains_key(&(me, le)))
-            {
-                continue;
-            }
-            let dofs = beam.shape(le, beam.node_x[le]).dofs;
-            for (l, dof) in dofs.iter().enumerate() {
-                self.response_u[l].fill(0.0);
-                self.response_v[l].fill(0.0);
-                let Some(dof) = *dof else { continue };
-                self.load.fill(0.0);
-                beam.add_dof_load(dof, 1.0, &mut self.load);
-                let (u, v) = (&mut self.response_u[l], &mut self.response_v[l]);
-                self.integrator
-                    .beam_response(system, &self.load, self.nominal_step, u, v);
-            }
-            for &me in measured {
-                let mdofs = beam.shape(me, beam.node_x[me]).dofs;
-                let mut response = ElementResponse {
-                    displacement: Matrix4::zeros(),
-                    velocity: Matrix4::zeros(),
-                };
-                for (l, dof) in dofs.iter().enumerate() {
-                    if dof.is_none() {
-                        continue;
-                    }
-                    for (k, m) in mdofs.iter().enumerate() {
-                        if let Some(m) = *m {
-                            response.displacement[(k, l)] = beam.dof_value(m, &self.response_u[l]);
-                            response.velocity[(k, l)] = beam.dof_value(m, &self.response_v[l]);
-                        }
-                    }
-                }
-                self.element_responses.insert((me, le), response);
-            }
-        }
-    }
-
     /// Beam parts of ∂e/∂p (into `velocity`) and ∂g/∂p_n (into `gap`) for
     /// steps of the nominal length, from the cached element responses.
     fn beam_compliance_cached(
@@ -770,8 +679,8 @@ impl ContactIteration {
         matrix: &mut DMatrix<f64>,
     ) {
         let h = system.beam.surface_offset;
-        // The elements the contacts are measured on; a loaded element's
-        // responses are filled at all of them when one is missing.
+        // The elements the contacts are measured on: where a loaded
+        // element's responses are read when they cannot be kept whole.
         let on_beam = |frames: &[ContactFrame], elements: &mut Vec<usize>| {
             elements.clear();
             elements.extend(frames.iter().filter(|f| f.on_beam).map(|f| f.shape.element));
@@ -780,6 +689,7 @@ impl ContactIteration {
         };
         let mut measured = std::mem::take(&mut self.measured_elements);
         on_beam(measure_frames, &mut measured);
+        self.element_responses.begin_build();
         // Each contact's rows once, not once per pair.
         let mut rows = std::mem::take(&mut self.beam_rows);
         rows.clear();
@@ -796,6 +706,7 @@ impl ContactIteration {
                 continue;
             }
             let kinds_j = row_kinds(system.contacts[j].rolls());
+            self.element_responses.touch(apply.shape.element);
             for (i, measure) in measure_frames.iter().enumerate() {
                 if !measure.on_beam {
                     continue;
@@ -807,15 +718,12 @@ impl ContactIteration {
                     at: (i, j),
                     offsets: (self.offsets[i], self.offsets[j]),
                 };
-                match self.element_responses.get(&key) {
-                    Some(r) => pair.fill(r, part, matrix),
-                    None => {
-                        self.fill_element_responses(system, &measured, &[key.1]);
-                        pair.fill(&self.element_responses[&key], part, matrix);
-                    }
-                }
+                let integrate = (&mut self.integrator, system, self.nominal_step);
+                let fill = |response: &ElementResponse| pair.fill(response, part, matrix);
+                (self.element_responses).pair(integrate, key, &measured, fill);
             }
         }
+        self.element_responses.end_build();
         self.beam_rows = rows;
         self.measured_elements = measured;
     }
@@ -937,7 +845,7 @@ impl ContactIteration {
         // Grid steps differ from the nominal step by round-off only.
         let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
         if crate::deadline::is_set() {
-            self.foresee_beam_integrations(system, frames, nominal);
+            self.foresee_beam_integrations(system, start_frames, nominal);
         }
         if crate::deadline::passed() {
             self.delassus.frames = measured;
@@ -982,11 +890,11 @@ impl ContactIteration {
     fn foresee_beam_integrations(
         &self,
         system: &System,
-        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        start_frames: &[ContactFrame],
         nominal: bool,
     ) {
-        let elements_of = |frames: &[ContactFrame]| {
-            let mut e: Vec<usize> = frames
+        let loaded = || {
+            let mut e: Vec<usize> = start_frames
                 .iter()
                 .filter(|f| f.on_beam)
                 .map(|f| f.shape.element)
@@ -996,12 +904,9 @@ impl ContactIteration {
             e
         };
         let integrations = if nominal {
-            let measured = elements_of(measure_frames);
-            let missing = elements_of(start_frames)
+            let missing = loaded()
                 .into_iter()
-                .filter(|&le| {
-                    (measured.iter()).any(|&me| !self.element_responses.contains_key(&(me, le)))
-                })
+                .filter(|&le| self.element_responses.misses(le))
                 .count();
             4 * missing
         } else {

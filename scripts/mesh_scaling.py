@@ -1,0 +1,110 @@
+#!/usr/bin/env python3
+"""Step cost and peak memory against the mesh size (issue 29): whole runs of
+`guideway run` under `/usr/bin/time -v`, one process each.
+
+  python3 scripts/mesh_scaling.py wheel 16 256 300 16384
+  python3 scripts/mesh_scaling.py train 3 10 100
+
+`wheel N`: the paper's wheel at 10 m/s (`lee1994-wheel-10`) on N elements
+with HHT-α at its 2.5 ms step. `train S`: the eight coaches of
+`train-8-coaches-3x25-300` (32 glider wheelsets, HHT-α at 1 ms) over a
+continuous bridge of S spans of 25 m, 25 elements a span. Prints a Markdown
+table: steps, CPU (user + system, the fastest of REPEATS = 3 runs), CPU
+per step and per element·step, peak RSS. GUIDEWAY=path measures another
+build.
+"""
+
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+REPEATS = int(os.environ.get("REPEATS", "3"))
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+GUIDEWAY = os.environ.get("GUIDEWAY", os.path.join(ROOT, "target", "release", "guideway"))
+
+
+def shown(name):
+    return subprocess.run(
+        [GUIDEWAY, "scenes", "--show", name], check=True, capture_output=True, text=True
+    ).stdout
+
+
+def setting(text, key, value):
+    """`text` with the first `key = ...` line's value replaced."""
+    pattern = re.compile(rf"^{re.escape(key)} = .*?(\s+#.*)?$", re.M)
+    new, count = pattern.subn(lambda m: f"{key} = {value}{m.group(1) or ''}", text, count=1)
+    if count != 1:
+        raise SystemExit(f"no `{key}` in the scene")
+    return new
+
+
+def wheel(elements):
+    text = setting(shown("lee1994-wheel-10"), "elements", elements)
+    return setting(text, "integrator", '"hht"'), elements
+
+
+def train(spans):
+    text = shown("train-8-coaches-3x25-300")
+    text = setting(text, "length", f"{25.0 * spans}")
+    text = setting(text, "elements", 25 * spans)
+    supports = ", ".join(f"{25.0 * k}" for k in range(1, spans))
+    # The intermediate supports' list spans several lines in the shown scene.
+    text, count = re.subn(r"^intermediate = \[[^\]]*\]", f"intermediate = [{supports}]", text, flags=re.M)
+    if count != 1:
+        raise SystemExit("no intermediate supports in the scene")
+    return text, 25 * spans
+
+
+def measure(text, elements):
+    with tempfile.TemporaryDirectory() as tmp:
+        scene = os.path.join(tmp, "scene.toml")
+        summary = os.path.join(tmp, "summary.json")
+        with open(scene, "w") as f:
+            f.write(text)
+        # The child's own CPU time and peak RSS, to the microsecond and kB
+        # (`/usr/bin/time` rounds CPU to 10 ms); the fastest of `REPEATS`.
+        best = None
+        for _ in range(REPEATS):
+            child = subprocess.Popen(
+                ["/usr/bin/time", "-v", GUIDEWAY, "run", scene, "-q", "--summary", summary],
+                stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+            )
+            _, status, usage = os.wait4(child.pid, 0)
+            if status != 0:
+                raise SystemExit(f"{elements} elements: {child.stderr.read()[-2000:]}")
+            # wait4 counts `time`'s waited-for child; its own maxrss is that
+            # of the forked Python, so the peak RSS is the one `time` reports.
+            cpu = usage.ru_utime + usage.ru_stime
+            report = child.stderr.read()
+            rss = int(re.search(r"Maximum resident set size \(kbytes\): (\d+)", report).group(1))
+            time_user = float(re.search(r"User time \(seconds\): ([\d.]+)", report).group(1))
+            assert abs(time_user - usage.ru_utime) < 0.02, (time_user, usage.ru_utime)
+            best = (cpu, rss) if best is None else (min(best[0], cpu), max(best[1], rss))
+        user, rss = best
+        figures = json.load(open(summary))
+    steps = figures["steps"]
+    return steps, user, rss
+
+
+def main():
+    if len(sys.argv) < 3 or sys.argv[1] not in ("wheel", "train"):
+        raise SystemExit(__doc__)
+    case = wheel if sys.argv[1] == "wheel" else train
+    print("| elements | steps | CPU (s) | µs per step | ns per element·step | peak RSS (MiB) |")
+    print("|---:|---:|---:|---:|---:|---:|")
+    for size in sys.argv[2:]:
+        text, elements = case(int(size))
+        steps, user, rss = measure(text, elements)
+        per_step = user / steps
+        print(
+            f"| {elements} | {steps} | {user:.3f} | {per_step * 1e6:,.1f} "
+            f"| {per_step / elements * 1e9:,.1f} | {rss / 1024:.1f} |",
+            flush=True,
+        )
+
+
+if __name__ == "__main__":
+    main()
