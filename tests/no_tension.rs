@@ -287,7 +287,7 @@ fn a_glider_dropped_on_a_beam_lands_plastically_as_newtons_law_with_the_effectiv
         names
             .iter()
             .position(|x| x == n)
-            .expect(&format!("{n} in {names:?}"))
+            .unwrap_or_else(|| panic!("{n} in {names:?}"))
     };
     let (impulse, loss, balance, force) = (
         at("contact.impact_impulse"),
