@@ -39,7 +39,11 @@ pub(super) fn apply(vehicle: &mut Vehicle, law: ResolvedLaw, share: f64) -> Resu
                 }
                 let (k, c) =
                     magnet_equivalent(share, nominal_gap, proportional_gain, derivative_gain);
-                (LawKind::Magnet { max_force }, k, c, radius)
+                let kind = LawKind::Magnet {
+                    max_force,
+                    nominal_gap,
+                };
+                (kind, k, c, radius)
             }
         };
         contact.kind = ContactKind::Glider;

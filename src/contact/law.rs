@@ -36,8 +36,9 @@ pub enum LawKind {
     /// that it carries its preload at g = rest (N/m^1.5).
     Hertz { coefficient: f64 },
     /// The linearised EMS magnet: the suspension's law capped at `max_force`
-    /// (N); its stiffness and damping are the controller's k_e, c_e.
-    Magnet { max_force: f64 },
+    /// (N); its stiffness and damping are the controller's k_e, c_e; its
+    /// nominal air gap s₀ (m) gives the air gap and current outputs.
+    Magnet { max_force: f64, nominal_gap: f64 },
 }
 
 /// Steel's Young's modulus (Pa) and Poisson's ratio, the default of a
@@ -84,6 +85,21 @@ pub fn magnet_equivalent(
     (stiffness, damping)
 }
 
+/// The magnet's current relative to its operating current, i/i₀, that
+/// carries `force` (N) at the air gap deviation `air_gap_change` = s − s₀
+/// (m) by the linearised force law ΔF = 2F₀ Δi/i₀ − 2F₀ Δs/s₀ at the
+/// operating point (`load` F₀, `nominal_gap` s₀): 1 + ΔF/2F₀ + Δs/s₀.
+/// Below saturation that is the controller's 1 + (K_p/i₀) Δs + (K_d/i₀) Δṡ;
+/// at the cap, the current the capped force takes.
+pub fn magnet_relative_current(
+    load: f64,
+    nominal_gap: f64,
+    force: f64,
+    air_gap_change: f64,
+) -> f64 {
+    1.0 + (force - load) / (2.0 * load) + air_gap_change / nominal_gap
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -106,5 +122,18 @@ mod tests {
         assert_eq!(k, 0.0);
         assert_eq!(c, 4.0e4);
         assert!(magnet_equivalent(4.0e4, 0.01, 160.0, 0.5).0 > 0.0);
+    }
+
+    #[test]
+    fn the_current_behind_a_force_is_the_controllers_below_saturation() {
+        // Static (Δṡ = 0): the controller sets Δi/i₀ = K_p/i₀ Δs, and the
+        // force is F₀ + k_e Δs; the current read back from that force and
+        // gap is the controller's.
+        let (load, gap, kp) = (4.0e4, 0.01, 160.0);
+        let (k, _) = magnet_equivalent(load, gap, kp, 0.9);
+        let change = 1.0e-4;
+        let current = magnet_relative_current(load, gap, load + k * change, change);
+        assert!((current - (1.0 + kp * change)).abs() < 1e-12, "{current}");
+        assert_eq!(magnet_relative_current(load, gap, load, 0.0), 1.0);
     }
 }

@@ -87,7 +87,7 @@ impl Follower {
         let linear = self.preload - self.stiffness * (gap - self.rest) - self.damping * rate;
         match self.kind {
             LawKind::Suspension => linear,
-            LawKind::Magnet { max_force } => linear.min(max_force),
+            LawKind::Magnet { max_force, .. } => linear.min(max_force),
             LawKind::Hertz { coefficient } => {
                 // Signed, so that the slack side is negative (a lift-off's
                 // instant is where it crosses zero).
@@ -117,7 +117,7 @@ impl Follower {
                 let compression = (self.hertz_offset(coefficient) + self.rest - gap).max(0.0);
                 0.4 * coefficient * compression.powf(2.5)
             }
-            LawKind::Magnet { max_force } => {
+            LawKind::Magnet { max_force, .. } => {
                 // The linear spring's energy, continued linearly where the
                 // force is held at its cap (δ below the saturation's δ_s).
                 let saturation = (self.preload - max_force) / self.stiffness;

@@ -49,6 +49,9 @@ pub enum Quantity {
     OnBeam(usize),
     ContactClosed(usize),
     Gap(usize),
+    /// An EMS magnet's air gap s₀ − g (m) and relative current i/i₀.
+    MagnetAirGap(usize),
+    MagnetCurrent(usize),
     ImpulseTangential(usize),
     ImpulseNormal(usize),
     Irregularity(usize),
@@ -245,6 +248,28 @@ impl Catalogue {
             );
         }
         self.flight(contact, c);
+        self.magnet(system, c);
+    }
+
+    /// An EMS magnet's air gap and current (`contact_law = "ems"`).
+    fn magnet(&mut self, system: &System, c: usize) {
+        if magnet(system, c).is_none() {
+            return;
+        }
+        let n = &system.contacts[c].name;
+        self.real(
+            format!("{n}.air_gap"),
+            "m",
+            "EMS magnet's air gap s = s0 - gap (nominal_gap s0 where the law carries its static load)",
+            Quantity::MagnetAirGap(c),
+        );
+        self.real(
+            format!("{n}.current"),
+            "1",
+            "EMS magnet's current over its operating current, i/i0 = 1 + (F - F0)/2F0 + (s - s0)/s0 \
+             (the linearised force law; the controller's command below saturation)",
+            Quantity::MagnetCurrent(c),
+        );
     }
 
     /// Lift-off and landing: the contact's state, gap and last impact.
@@ -614,6 +639,13 @@ pub fn evaluate(
             Quantity::OnBeam(c) => f64::from(u8::from(state.parts[c].on_structure())),
             Quantity::ContactClosed(c) => f64::from(u8::from(!state.contacts[c].open)),
             Quantity::Gap(c) => state.contacts[c].gap,
+            Quantity::MagnetAirGap(c) => {
+                magnet(system, c).map_or(f64::NAN, |(_, s0)| s0 - state.contacts[c].gap)
+            }
+            Quantity::MagnetCurrent(c) => magnet(system, c).map_or(f64::NAN, |(load, s0)| {
+                let force = state.force_history[c][0].normal;
+                crate::contact_law::magnet_relative_current(load, s0, force, -state.contacts[c].gap)
+            }),
             Quantity::ImpulseTangential(c) => state.contacts[c].impulse[0],
             Quantity::ImpulseNormal(c) => state.contacts[c].impulse[1],
             Quantity::Irregularity(c) => system
@@ -669,4 +701,16 @@ fn needs_beam_dynamics(quantity: &Quantity) -> bool {
             | Quantity::Reaction(_)
             | Quantity::ReactionMoment(_)
     )
+}
+
+/// Contact `c`'s magnet law, if it has one: its static load F₀ (N) and
+/// nominal air gap s₀ (m).
+fn magnet(system: &System, c: usize) -> Option<(f64, f64)> {
+    let follower = system.contacts[c].follower?;
+    match follower.kind {
+        crate::contact_law::LawKind::Magnet { nominal_gap, .. } => {
+            Some((follower.preload, nominal_gap))
+        }
+        _ => None,
+    }
 }

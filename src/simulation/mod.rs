@@ -85,12 +85,14 @@ impl Steppable for Simulation {
 /// Impacts slower than this (m/s) are plastic whatever the restitution: a
 /// bouncing contact comes to rest after finitely many bounces (e^k v₀ <
 /// `RESTING_SPEED`) instead of an endless sequence of ever shorter flights.
-/// With the rules that a contact opens at most once and bounces at most
-/// once per grid step (a second landing in it is plastic, and the contact
-/// then stays closed to the grid point), a contact has at most three
-/// events per grid step, so a run takes at most (1 + 3 × contacts) steps
-/// per grid step plus its track events (and three start-up steps with a
-/// shaped force profile, `START_UP_DIVISIONS`).
+/// A contact bounces at most once per grid step (a second landing in it is
+/// plastic). Under HHT-α it also opens at most once per grid step (it then
+/// stays closed to the grid point), so it has at most three events per
+/// grid step and a run takes at most (1 + 3 × contacts) steps per grid
+/// step plus its track events (and three start-up steps with a shaped
+/// force profile, `START_UP_DIVISIONS`). Under RK4 a contact that would
+/// pull opens again, at most `max_reopenings` times per grid step over all
+/// contacts (`Simulation::count_reopening`), past which the run stops.
 pub const RESTING_SPEED: f64 = SolverParameters::DEFAULT.resting_speed;
 
 /// A contact's impact on the far corner of a rail gap.
@@ -183,6 +185,9 @@ pub struct Simulation {
     /// them opened in it.
     open: Vec<bool>,
     opened: Vec<bool>,
+    /// The grid step and how many contacts reopened in it (RK4; bounded
+    /// by `max_reopenings`; a record of the run, not of its state).
+    reopenings: (u64, usize),
     /// Impacts at rail gaps (not part of the state: a record of the run).
     joint_impacts: Vec<JointImpact>,
     /// Where the integrator carries accelerations from step to step
@@ -315,6 +320,7 @@ impl Simulation {
             applied: Vec::new(),
             open: assembly.open.clone(),
             opened: vec![false; assembly.open.len()],
+            reopenings: (0, 0),
             restitution: assembly.restitution,
             joint_impacts: Vec::new(),
             restart_weight,
@@ -673,14 +679,20 @@ impl Simulation {
         }
     }
 
-    /// Solve the step with the contacts open at its start open, then open
-    /// every closed contact whose normal force came out tensile and solve
-    /// it again, until no closed contact pulls. The loop ends: a contact
-    /// opened in the step stays open for the rest of it, so there are at
-    /// most (contacts + 1) passes. A contact opens at most once per grid
-    /// step: one that already opened in this grid step (and has landed
-    /// since) stays closed until the next grid point, its force reported
-    /// as it is, so that no contact chatters within a step.
+    /// Solve the step with the contacts open at its start open, then make
+    /// its active set complementary: open every closed contact whose normal
+    /// force came out tensile and solve it again; where none pulls, close
+    /// again the first contact opened in this step whose gap ends below the
+    /// track (it would have pushed: opening it was another contact's doing),
+    /// and solve again. The step ends with every closed contact's force
+    /// ≥ 0 and every contact it opened off the track (the complementarity
+    /// problem of the step's contacts, solved by the switches of
+    /// `linalg::complementarity` on the whole step). A closed contact is
+    /// not kept closed under tension where it opened and landed in this
+    /// grid step already, under RK4 (bounded by `count_reopening`); under
+    /// HHT-α it still is (see `open_the_pulling`). At most
+    /// `active_set_passes` solves: a step whose set still switches is an
+    /// error saying so.
     ///
     /// Under HHT-α a contact that carries a compressive force into the step
     /// does not open at its start (which would drop that force's share of
@@ -696,7 +708,7 @@ impl Simulation {
             *open = status.open;
         }
         self.opened.fill(false);
-        loop {
+        for _ in 0..active_set_passes(self.open.len()) {
             self.iteration.set_open(&self.open);
             let solution = self.solve(guess, dt)?;
             if let Some(c) = self.lift_off_inside(&solution.forces) {
@@ -705,20 +717,85 @@ impl Simulation {
                 }
                 // It pulls from the step's start: it opens there (below).
             }
-            let grid = self.state.grid_step;
-            let mut opened_any = false;
-            for (c, force) in solution.forces.iter().enumerate() {
-                let may_open = self.state.contacts[c].opened_in != Some(grid);
-                if !self.open[c] && force.normal < 0.0 && may_open {
-                    self.open[c] = true;
-                    self.opened[c] = true;
-                    opened_any = true;
-                }
-            }
-            if !opened_any {
+            if !self.open_the_pulling(&solution.forces)? && !self.close_a_penetrating() {
                 return Ok((solution, dt, None));
             }
         }
+        Err(SolverError {
+            time: self.state.time,
+            message: format!(
+                "the contacts' active set of a step of {dt:e} s did not settle in {} solves \
+                 (a contact opened pulls, closed sinks below the track): the rigid contact \
+                 chatters here; a compliant contact law is well posed (docs/contact-laws.md)",
+                active_set_passes(self.open.len())
+            ),
+        })
+    }
+
+    /// Open every closed contact whose normal force in `forces` pulls;
+    /// whether one did.
+    fn open_the_pulling(&mut self, forces: &[ContactForce]) -> Result<bool, SolverError> {
+        let mut opened_any = false;
+        let grid = self.state.grid_step;
+        for (c, force) in forces.iter().enumerate() {
+            if self.open[c] || force.normal >= 0.0 {
+                continue;
+            }
+            // Under HHT-α a contact reopening in the grid step it landed in
+            // would fly on the acceleration its landing's restart carried
+            // with it closed (a step of 1.6e-3 of the energy gained in
+            // `hht_events`): it stays closed there, as before (open item).
+            if self.state.contacts[c].opened_in == Some(grid) {
+                if self.restart_weight.is_some() {
+                    continue;
+                }
+                self.count_reopening()?;
+            }
+            self.open[c] = true;
+            self.opened[c] = true;
+            opened_any = true;
+        }
+        Ok(opened_any)
+    }
+
+    /// Count a contact's reopening in the grid step it opened in already:
+    /// at most `max_reopenings` in a grid step, past which the contacts
+    /// chatter without end and the run stops, saying so.
+    fn count_reopening(&mut self) -> Result<(), SolverError> {
+        let grid = self.state.grid_step;
+        if self.reopenings.0 != grid {
+            self.reopenings = (grid, 0);
+        }
+        self.reopenings.1 += 1;
+        let bound = max_reopenings(self.open.len());
+        if self.reopenings.1 <= bound {
+            return Ok(());
+        }
+        Err(SolverError {
+            time: self.state.time,
+            message: format!(
+                "the contacts reopened more than {bound} times in one grid step of {} s: \
+                 the rigid contact chatters without end here; a compliant contact law is \
+                 well posed (docs/contact-laws.md)",
+                self.params.step
+            ),
+        })
+    }
+
+    /// Close again the first contact opened in this step whose gap ends
+    /// below the track by more than the iteration's gap tolerance (the
+    /// band a closed contact's gap is held in: a contact closed at a gap
+    /// of −1e-7 m that opens and rises still ends below zero); whether one
+    /// was.
+    fn close_a_penetrating(&mut self) -> bool {
+        let gaps = self.iteration.contact_gaps();
+        let tolerance = self.params.iteration.gap_tolerance;
+        let sinking = (0..self.opened.len()).find(|&c| self.opened[c] && gaps[c] < -tolerance);
+        if let Some(c) = sinking {
+            self.open[c] = false;
+            self.opened[c] = false;
+        }
+        sinking.is_some()
     }
 
     /// The contacts opened in the step just solved lift off at its start.
@@ -1314,6 +1391,19 @@ type Bracket = ((f64, f64), (f64, f64));
 /// How far (dt/2^k) the landing locator looks for a just-bounced contact
 /// above the track before it counts the bounce as lost in the step.
 const BOUNCE_HALVINGS: i32 = 30;
+
+/// Reopenings of contacts that opened in the grid step already that one
+/// grid step may hold (`Simulation::count_reopening`): four per contact,
+/// and four.
+fn max_reopenings(contacts: usize) -> usize {
+    4 * contacts + 4
+}
+
+/// Solves a step's active set may take (`solve_active_set`): every
+/// contact opened once and closed again once, and the first solve.
+fn active_set_passes(contacts: usize) -> usize {
+    2 * contacts + 2
+}
 
 /// Each contact's status at t = 0: open where its vehicle starts above the
 /// track, with its gap.
