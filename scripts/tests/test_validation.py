@@ -62,7 +62,8 @@ def test_fmu_is_self_contained_and_documented(scene):
 @pytest.mark.parametrize("scene", SCENES)
 def test_cross_check_files_follow_the_rules(scene, tmp_path):
     ident = identifier(scene)
-    model_dir = tmp_path / "fmus" / "2.0" / "cs" / "linux64" / "guideway" / "0.1.0" / ident
+    version = read_model_description(str(fmu_path(scene))).generationTool.split()[1]
+    model_dir = tmp_path / "fmus" / "2.0" / "cs" / "linux64" / "guideway" / version / ident
     model_dir.mkdir(parents=True)
     shutil.copy(fmu_path(scene), model_dir / f"{ident}.fmu")
     for suffix in ["_ref.csv", "_ref.opt"]:
