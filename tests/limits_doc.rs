@@ -28,6 +28,10 @@ const TUNING: &[(&str, &str)] = &[
         "neighbouring steps fitted by the profile polynomial",
     ),
     (
+        "MAX_SWEEPS",
+        "Gauss–Seidel sweeps of the track-on-deck Hertz forces; past them the step returns an error",
+    ),
+    (
         "MAX_MODE_DOFS",
         "dense eigensolver or subspace iteration: a method switch",
     ),
