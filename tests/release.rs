@@ -143,7 +143,15 @@ fn a_release_states_its_version_notes_and_checksums() {
 
     let notes = std::fs::read_to_string(dir.join("RELEASE_NOTES.md")).unwrap();
     assert!(notes.contains(&format!("## [{version}]")), "{notes}");
-    assert!(notes.contains("FMU export"), "{notes}");
+    // The notes carry the body of the version's CHANGELOG section: its
+    // first entry, as the changelog words it.
+    let changelog = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/CHANGELOG.md"))
+        .expect("the changelog");
+    let section = &changelog[changelog
+        .find(&format!("## [{version}]"))
+        .expect("a section for this version")..];
+    let first_entry = section.lines().find(|l| l.starts_with("- ")).unwrap();
+    assert!(notes.contains(first_entry), "{first_entry} not in {notes}");
     assert!(!notes.contains("[Unreleased]"), "{notes}");
 
     // SHA256SUMS covers every other file, with the right digests
