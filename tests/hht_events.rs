@@ -290,7 +290,11 @@ fn a_state_naming_a_missing_contact_to_restart_is_refused() {
 /// a just-bounced contact's return and checked the other landing contacts
 /// (2026-11-27), seeds 1, 4 and 5 gained 1.4e-2, 5e-4 and 2e-4 of it in
 /// one step (a contact left 14 µm below the track, a sliver step of
-/// 4.8e-13 s) and seed 8 stopped with a solver error.
+/// 4.8e-13 s) and seed 8 stopped with a solver error (on the profile grid
+/// of the time). The bound is ten times the single-seed test's because
+/// seed 14 still gains 4.1e-6 in the step at 0.2815 s, where one contact
+/// lifts off at the step's start and another lands and leaves at once: an
+/// open path (measured 2026-11-27; the others stay below 1.1e-7).
 #[test]
 fn rough_tracks_under_hht_gain_no_energy_whatever_the_seed() {
     for seed in 1..=16u64 {
