@@ -36,7 +36,7 @@ pub mod vehicle;
 // written against them (other branches, tests, examples) still compiles.
 pub use build as assemble;
 pub use contact::{impact, law as contact_law};
-pub use linalg::{band, complementarity, two_level, wide_band};
+pub use linalg::{band, complementarity, dense_modes, two_level, wide_band};
 pub use outputs::mask as output_mask;
 pub use report::output_file;
 pub use solver::{deadline, integrate, iteration, static_start};

@@ -4,5 +4,6 @@
 
 pub mod band;
 pub mod complementarity;
+pub mod dense_modes;
 pub mod two_level;
 pub mod wide_band;

@@ -10,7 +10,7 @@
 use crate::beam::{element_mass, element_stiffness, Rayleigh};
 use crate::structure::rail_on_deck::{element_dofs, hermite, place, NodeDofs, RailOnDeck};
 use crate::wide_band::{WideBand, WideLdlt};
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::DMatrix;
 
 /// Most free DOFs for which `frequencies` solves the dense eigenproblem
 /// (O(n³) time, n² memory).
@@ -272,26 +272,8 @@ impl TrackAssembly {
             ));
         }
         let dense = |a: &WideBand| DMatrix::from_fn(n, n, |i, j| a.get(i, j));
-        let l_inv = dense(&self.mass)
-            .cholesky()
-            .ok_or("the rail-over-deck mass matrix is not positive definite")?
-            .l()
-            .try_inverse()
-            .ok_or("the rail-over-deck mass matrix is singular")?;
-        let a = &l_inv * dense(&self.stiffness) * l_inv.transpose();
-        let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-        order.truncate(count.min(n));
-        let omega = order
-            .iter()
-            .map(|&i| eig.eigenvalues[i].max(0.0).sqrt())
-            .collect();
-        let columns: Vec<_> = order
-            .iter()
-            .map(|&i| l_inv.transpose() * eig.eigenvectors.column(i))
-            .collect();
-        Ok((omega, DMatrix::from_columns(&columns)))
+        let (mass, stiffness) = (dense(&self.mass), dense(&self.stiffness));
+        crate::dense_modes::lowest_modes(mass, stiffness, count, "the rail-over-deck")
     }
 
     /// An HHT-α stepper of step `step` (s) and α ∈ [−1/3, 0].

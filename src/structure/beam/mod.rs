@@ -438,32 +438,8 @@ impl HermiteBeam {
     fn dense_modes(&self, count: usize) -> Result<Modes, String> {
         let n = self.free_dofs;
         let dense = |a: &SymBand| DMatrix::from_fn(n, n, |i, j| a.get(i, j));
-        let chol = dense(&self.mass)
-            .cholesky()
-            .ok_or("beam mass matrix is not positive definite")?;
-        let l_inv = chol
-            .l()
-            .try_inverse()
-            .ok_or("beam mass matrix is singular")?;
-        let a = &l_inv * dense(&self.stiffness) * l_inv.transpose();
-        let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
-        let mut order: Vec<usize> = (0..n).collect();
-        order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-        order.truncate(count.min(n));
-        let omega = order
-            .iter()
-            .map(|&i| eig.eigenvalues[i].max(0.0).sqrt())
-            .collect();
-        // φ = L⁻ᵀ y: M-orthonormal because the y are orthonormal.
-        let columns: Vec<DVector<f64>> = order
-            .iter()
-            .map(|&i| l_inv.transpose() * eig.eigenvectors.column(i))
-            .collect();
-        let shapes = if columns.is_empty() {
-            DMatrix::zeros(n, 0)
-        } else {
-            DMatrix::from_columns(&columns)
-        };
+        let (mass, stiffness) = (dense(&self.mass), dense(&self.stiffness));
+        let (omega, shapes) = crate::dense_modes::lowest_modes(mass, stiffness, count, "beam")?;
         Ok(Modes { omega, shapes })
     }
 

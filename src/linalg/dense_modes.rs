@@ -1,0 +1,43 @@
+//! The lowest natural modes of a small structure by the dense generalized
+//! eigenproblem K φ = ω² M φ, through the Cholesky factor of M (nalgebra's
+//! symmetric eigensolver has no generalized form, so it is reduced by hand).
+
+use nalgebra::{DMatrix, SymmetricEigen};
+
+/// The lowest `count` circular frequencies (rad/s, ascending) and their
+/// M-orthonormal shapes (columns; n × 0 for none) of dense `mass` and
+/// `stiffness`; `what` names the structure in the errors.
+pub fn lowest_modes(
+    mass: DMatrix<f64>,
+    stiffness: DMatrix<f64>,
+    count: usize,
+    what: &str,
+) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+    let n = mass.nrows();
+    let l_inv = mass
+        .cholesky()
+        .ok_or(format!("{what} mass matrix is not positive definite"))?
+        .l()
+        .try_inverse()
+        .ok_or(format!("{what} mass matrix is singular"))?;
+    let a = &l_inv * stiffness * l_inv.transpose();
+    let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    order.truncate(count.min(n));
+    let omega = order
+        .iter()
+        .map(|&i| eig.eigenvalues[i].max(0.0).sqrt())
+        .collect();
+    // φ = L⁻ᵀ y: M-orthonormal because the y are orthonormal.
+    let columns: Vec<_> = order
+        .iter()
+        .map(|&i| l_inv.transpose() * eig.eigenvectors.column(i))
+        .collect();
+    let shapes = if columns.is_empty() {
+        DMatrix::zeros(n, 0)
+    } else {
+        DMatrix::from_columns(&columns)
+    };
+    Ok((omega, shapes))
+}
