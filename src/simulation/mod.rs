@@ -816,13 +816,8 @@ impl Simulation {
     fn first_landing(&self) -> Option<(f64, usize)> {
         let end = self.iteration.contact_gaps();
         let mut first: Option<(f64, usize)> = None;
-        for (c, status) in self.state.contacts.iter().enumerate() {
-            let (g0, g1) = (status.gap, end[c]);
-            // A slack follower's gap is its suspension's: it lands by its law.
-            let follower = self.system.contacts[c].follower.is_some();
-            if !status.open || self.opened[c] || g1.is_nan() || g1 >= 0.0 || follower {
-                continue;
-            }
+        for c in self.landing_candidates() {
+            let (g0, g1) = (self.state.contacts[c].gap, end[c]);
             let fraction = if g0 > 0.0 { g0 / (g0 - g1) } else { 0.0 };
             if first.is_none_or(|(f, _)| fraction < f) {
                 first = Some((fraction, c));
@@ -984,7 +979,7 @@ impl Simulation {
         forces: &[ContactForce],
         dt: f64,
     ) -> Result<Option<(StepSolution, f64, usize)>, SolverError> {
-        let candidates = self.landing_candidates();
+        let candidates: Vec<usize> = self.landing_candidates().collect();
         let end_gaps = self.iteration.contact_gaps().to_vec();
         let start = self.state.contacts[contact].gap;
         let gap = |sim: &Simulation, _: &StepSolution| sim.iteration.contact_gaps()[contact];
@@ -1063,17 +1058,17 @@ impl Simulation {
         Ok(None)
     }
 
-    /// The open contacts whose gap closes in the step just solved (those
-    /// `first_landing` weighs).
-    fn landing_candidates(&self) -> Vec<usize> {
+    /// The open contacts whose gap closes in the step just solved: not
+    /// opened in it, and not slack followers (a follower's gap is its
+    /// suspension's: it lands by its law).
+    fn landing_candidates(&self) -> impl Iterator<Item = usize> + '_ {
         let end = self.iteration.contact_gaps();
         (self.state.contacts.iter().enumerate())
-            .filter(|&(c, status)| {
+            .filter(move |&(c, status)| {
                 let follower = self.system.contacts[c].follower.is_some();
                 status.open && !self.opened[c] && !follower && end[c] < 0.0
             })
             .map(|(c, _)| c)
-            .collect()
     }
 
     /// The contact frames of state `d`, each contact on the part of the
