@@ -4,6 +4,8 @@
 use guideway::report::StepProgress;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use std::io::IsTerminal;
+use std::ops::ControlFlow;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 const SHOW_AFTER: Duration = Duration::from_secs(1);
@@ -21,6 +23,22 @@ impl Progress {
             enabled: !quiet && std::io::stderr().is_terminal(),
             started: Instant::now(),
             bar: None,
+        }
+    }
+
+    /// The step callback of a run: the bar moved, and a stop asked for
+    /// once Ctrl-C set `interrupted`.
+    pub fn on_step<'a>(
+        &'a mut self,
+        interrupted: &'a AtomicBool,
+    ) -> impl FnMut(StepProgress) -> ControlFlow<()> + 'a {
+        move |step| {
+            self.update(step);
+            if interrupted.load(Ordering::SeqCst) {
+                ControlFlow::Break(())
+            } else {
+                ControlFlow::Continue(())
+            }
         }
     }
 

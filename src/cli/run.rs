@@ -23,7 +23,6 @@ use guideway::Scene;
 use std::fs::File;
 use std::ops::ControlFlow;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::Ordering;
 
 /// Values (rows × outputs) kept for the plot: between this and twice this,
 /// so that 10 000 sensors do not take gigabytes. With the paper's 21
@@ -96,14 +95,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         simulation.read_only(Some(&read));
     }
     let mut progress = Progress::new(args.quiet);
-    let on_step = |step| {
-        progress.update(step);
-        if interrupted.load(Ordering::SeqCst) {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    };
+    let on_step = progress.on_step(&interrupted);
     let (result, exits) = match &outputs.nodes {
         None => {
             let mut watch = ExitWatch::new(&mut simulation, &vehicles);

@@ -10,8 +10,6 @@ use guideway::moving_load::ForceRun;
 use guideway::report::exits::VehicleExit;
 use guideway::report::{check_run_length, drive_into, SummaryEvent};
 use guideway::Scene;
-use std::ops::ControlFlow;
-use std::sync::atomic::Ordering;
 
 /// What `guideway run` offers for vehicles but not for moving forces, and
 /// why.
@@ -55,14 +53,7 @@ pub(super) fn run(args: &RunArgs, scene: &Scene) -> Result<(), Failure> {
         &outputs,
     )?;
     let mut progress = Progress::new(args.quiet);
-    let on_step = |step| {
-        progress.update(step);
-        if interrupted.load(Ordering::SeqCst) {
-            ControlFlow::Break(())
-        } else {
-            ControlFlow::Continue(())
-        }
-    };
+    let on_step = progress.on_step(&interrupted);
     let result = drive_into(scene, &mut forces, &mut sink, on_step);
     progress.finish();
     match result {
