@@ -365,13 +365,7 @@ fn envelope_row(
             daf: load.statics.amplification(&probe.name, peak),
         })
         .collect();
-    let largest = |suffix: &str| {
-        design
-            .iter()
-            .filter(|d| d.name.starts_with("sensor.") && d.name.ends_with(suffix))
-            .map(|d| d.peak.abs())
-            .fold(0.0, f64::max)
-    };
+    let largest = |suffix: &str| largest_sensor_peak(&design, suffix);
     let deflection = largest(".deflection");
     let static_deflection = load
         .statics
@@ -486,4 +480,14 @@ fn speed_km_h(row: &EnvelopeRow, unit: SpeedUnit) -> f64 {
         SpeedUnit::KilometresPerHour => row.speed,
         SpeedUnit::MetresPerSecond => row.speed_m_s * 3.6,
     }
+}
+
+/// The largest |peak| of the sensors' design outputs named `*suffix`
+/// (".deflection", ".acceleration"); 0 without sensors.
+pub(super) fn largest_sensor_peak(design: &[DesignPeak], suffix: &str) -> f64 {
+    design
+        .iter()
+        .filter(|d| d.name.starts_with("sensor.") && d.name.ends_with(suffix))
+        .map(|d| d.peak.abs())
+        .fold(0.0, f64::max)
 }

@@ -5,7 +5,9 @@
 //! filtered deck acceleration, DAF against the static envelope of the
 //! vehicles' static axle loads).
 
-use super::sweep::{in_parallel, with_deck_sensor, DesignPeak, EnvelopeRow, SpeedUnit};
+use super::sweep::{
+    in_parallel, largest_sensor_peak, with_deck_sensor, DesignPeak, EnvelopeRow, SpeedUnit,
+};
 use crate::design::{probes, StaticEnvelope};
 use crate::report::{check_run_length, RunSummary};
 use crate::scene::{BodySpec, Scene, SpeedSpec};
@@ -193,13 +195,7 @@ fn envelope_row(
             peak: value,
         });
     }
-    let largest = |suffix: &str| {
-        design
-            .iter()
-            .filter(|d| d.name.starts_with("sensor.") && d.name.ends_with(suffix))
-            .map(|d| d.peak.abs())
-            .fold(0.0, f64::max)
-    };
+    let largest = |suffix: &str| largest_sensor_peak(&design, suffix);
     let (deflection, acceleration) = (largest(".deflection"), largest(".acceleration"));
     let mut filtered = 0.0f64;
     for sensor in &scene.sensors {
