@@ -31,7 +31,8 @@ pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
     let elapsed = started.elapsed().as_secs_f64();
     write_whole(&args.out, &envelope_csv(&rows, unit))?;
     if let Some(plot) = &args.plot {
-        write_sweep_plot(&rows, unit, track, plot).map_err(Failure::Run)?;
+        let title = format!("{}: speed sweep", scene.name);
+        write_sweep_plot(&title, &rows, unit, track, plot).map_err(Failure::Run)?;
     }
     let worst = rows
         .iter()
