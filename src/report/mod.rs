@@ -4,6 +4,7 @@
 
 pub mod converge_plot;
 pub mod csv;
+pub mod curve_groups;
 mod deck_acceleration;
 pub mod exits;
 pub mod nodes;

@@ -1,10 +1,12 @@
 //! The run as a PNG in the manner of the paper's Fig. 10: nominal speed,
 //! sensor deflections over the static midspan deflection, and the energy
-//! balance's relative drift, against normalised time t·V0/L; with vehicles
-//! also every contact's normal force (its flights shaded, as in any run
-//! with a lift-off) and the sprung bodies' vertical
-//! accelerations.
+//! balance's relative drift, against normalised time t·V0/L for the
+//! paper's one body, seconds otherwise; with vehicles also the contacts'
+//! normal forces (their flights shaded, as in any run with a lift-off) and
+//! the vertical accelerations of the sprung bodies and of the unsprung
+//! masses, each panel's many curves drawn as their envelope.
 
+use super::curve_groups::{columns_of, grouped, is_unsprung};
 use super::output_names;
 use super::trace::Trace;
 use crate::scene::Scene;
@@ -24,7 +26,9 @@ pub const FONT_PATHS: [&str; 3] = [
 /// Environment variable naming a TTF file to use instead.
 pub const FONT_ENV: &str = "GUIDEWAY_PLOT_FONT";
 
-const SIZE: (u32, u32) = (1000, 1200);
+/// The plot's width, and the height of each panel.
+const WIDTH: u32 = 1000;
+const PANEL_HEIGHT: u32 = 240;
 pub(crate) const FONT: &str = "sans-serif";
 const COLOURS: [RGBColor; 5] = [
     RGBColor(31, 119, 180),
@@ -89,7 +93,8 @@ struct Panel {
 pub fn draw(scene: &Scene, trace: &Trace, path: &Path, text: Text) -> Result<(), String> {
     let (x, x_label) = normalised_time(scene, trace);
     let panels = panels(scene, trace, &x);
-    let root = BitMapBackend::new(path, SIZE).into_drawing_area();
+    let height = PANEL_HEIGHT * panels.len().max(1) as u32;
+    let root = BitMapBackend::new(path, (WIDTH, height)).into_drawing_area();
     root.fill(&WHITE).map_err(|e| e.to_string())?;
     let areas = root.split_evenly((panels.len(), 1));
     let x_range = padded_range(x.iter().copied());
@@ -100,12 +105,13 @@ pub fn draw(scene: &Scene, trace: &Trace, path: &Path, text: Text) -> Result<(),
         .map_err(|e| format!("cannot write the plot to {}: {e}", path.display()))
 }
 
-/// t·V0/L when the body starts moving, t otherwise; and the axis label.
+/// The x axis: t·V0/L for the paper's one body starting to move (its
+/// Fig. 10), seconds for vehicles, trains and moving forces (their length,
+/// not the span's, sets the time scale); and the axis label.
 fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
     let speed = scene.body.initial_speed;
-    // A train's passage is read in seconds (its length, not the span's,
-    // sets the time scale).
-    if speed > 0.0 && !crate::moving_load::is_moving_force_scene(scene) {
+    let one_body = !has_vehicles(scene) && !crate::moving_load::is_moving_force_scene(scene);
+    if speed > 0.0 && one_body {
         let scale = speed / scene.beam.length;
         (
             trace.time.iter().map(|t| t * scale).collect(),
@@ -164,20 +170,21 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         return force_panels(scene, trace, &curve);
     }
     let (speed_title, speed_columns) = speed_columns(scene, trace);
-    let speeds = speed_columns
-        .iter()
-        .filter_map(|name| trace.column(name).map(|v| curve(name.clone(), v, 1.0)))
-        .collect();
+    let named = |names: &[String]| -> Vec<(String, &[f64])> {
+        names
+            .iter()
+            .filter_map(|name| Some((name.clone(), trace.column(name)?)))
+            .collect()
+    };
+    let speeds = grouped(x, &named(&speed_columns), 1.0, "vehicles");
 
     let (scale, y_label) = deflection_scale(scene);
-    let deflections = scene
+    let sensor_columns: Vec<String> = scene
         .sensors
         .iter()
-        .filter_map(|sensor| {
-            let name = output_names::sensor_deflection(&sensor.name);
-            trace.column(&name).map(|v| curve(name, v, scale))
-        })
+        .map(|sensor| output_names::sensor_deflection(&sensor.name))
         .collect();
+    let deflections = grouped(x, &named(&sensor_columns), scale, "sensors");
 
     let drift = trace
         .column(output_names::ENERGY_BALANCE)
@@ -190,13 +197,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         });
 
     let mut panels = vec![
-        Panel {
-            title: speed_title.to_string(),
-            y_label: "V (m/s)".to_string(),
-            y_decimals: Some(2),
-            curves: speeds,
-            flights: Vec::new(),
-        },
+        speed_panel(speed_title, speeds),
         Panel {
             title: "Sensor deflection".to_string(),
             y_label,
@@ -211,31 +212,7 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
     }
     let flights = flights(trace, x);
     if has_vehicles(scene) || !flights.is_empty() {
-        let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
-            trace
-                .names
-                .iter()
-                .filter(|n| n.ends_with(suffix) && !n.contains("_unsprung."))
-                .filter_map(|n| trace.column(n).map(|v| curve(n.clone(), v, scale)))
-                .collect()
-        };
-        panels.push(Panel {
-            title: "Contact forces".to_string(),
-            y_label: "normal force (kN)".to_string(),
-            y_decimals: Some(1),
-            curves: columns(".normal_force", 1e3),
-            flights,
-        });
-        let accelerations = columns(".ay", 1.0);
-        if !accelerations.is_empty() {
-            panels.push(Panel {
-                title: "Vertical acceleration of the sprung bodies".to_string(),
-                y_label: "ay (m/s^2)".to_string(),
-                y_decimals: None,
-                curves: accelerations,
-                flights: Vec::new(),
-            });
-        }
+        panels.extend(body_panels(trace, x, flights));
     }
     if !scene.track.irregularities.is_empty() {
         let profiles = trace
@@ -259,6 +236,75 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         curves: drift.into_iter().collect(),
         flights: Vec::new(),
     });
+    panels
+}
+
+/// The speeds in m/s; or, where they stay within 1e-4 of their start (a
+/// train at a constant 300 km/h), their departure from it in mm/s, so that
+/// the ticks do not repeat "83.3333".
+fn speed_panel(title: &str, mut curves: Vec<Curve>) -> Panel {
+    let values = || curves.iter().flat_map(|c| c.points.iter().map(|p| p.1));
+    let (low, high) = values().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+        (l.min(v), h.max(v))
+    });
+    let start = curves.first().and_then(|c| c.points.first()).map(|p| p.1);
+    let mut y_label = "V (m/s)".to_string();
+    if let Some(v0) = start.filter(|v0| *v0 != 0.0 && high - low < 1e-4 * v0.abs()) {
+        for point in curves.iter_mut().flat_map(|c| c.points.iter_mut()) {
+            point.1 = (point.1 - v0) * 1e3;
+        }
+        y_label = format!("V - {v0:.4} m/s (mm/s)");
+    }
+    Panel {
+        title: title.to_string(),
+        y_label,
+        y_decimals: Some(2),
+        curves,
+        flights: Vec::new(),
+    }
+}
+
+/// Every contact's normal force (its flights shaded), then the vertical
+/// accelerations of the sprung bodies and of the unsprung masses apart:
+/// a car body's is the ride-comfort figure, a wheelset's is dominated by
+/// the contact's stiffness.
+fn body_panels(trace: &Trace, x: &[f64], flights: Vec<(f64, f64)>) -> Vec<Panel> {
+    let forces = columns_of(trace, ".normal_force", &|_| true);
+    let sprung = columns_of(trace, ".ay", &|b| !is_unsprung(trace, b));
+    let unsprung = columns_of(trace, ".ay", &|b| is_unsprung(trace, b));
+    let panel = |title: &str, y_label: &str, curves, flights| Panel {
+        title: title.to_string(),
+        y_label: y_label.to_string(),
+        y_decimals: Some(0),
+        curves,
+        flights,
+    };
+    let mut panels = vec![Panel {
+        y_decimals: Some(1),
+        ..panel(
+            "Contact forces",
+            "normal force (kN)",
+            grouped(x, &forces, 1e3, "contacts"),
+            flights,
+        )
+    }];
+    for (columns, title, what) in [
+        (
+            sprung,
+            "Vertical acceleration of the sprung bodies",
+            "sprung bodies",
+        ),
+        (
+            unsprung,
+            "Vertical acceleration of the unsprung masses",
+            "unsprung masses",
+        ),
+    ] {
+        if !columns.is_empty() {
+            let curves = grouped(x, &columns, 1.0, what);
+            panels.push(panel(title, "ay (m/s^2)", curves, Vec::new()));
+        }
+    }
     panels
 }
 
@@ -415,11 +461,18 @@ fn draw_panel(
             BLACK.mix(0.12).filled(),
         )
     }))?;
+    // Two one-pixel lines a pixel apart, not one two-pixel line: plotters
+    // joins wide segments with unlimited miters, so a spike (a landing's
+    // force) drew a needle far out of its panel.
+    let pixels = chart.plotting_area().dim_in_pixel().1.max(1);
+    let one_pixel = (y_range.end - y_range.start) / f64::from(pixels);
     for (i, curve) in panel.curves.iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
+        let lifted = curve.points.iter().map(|&(x, y)| (x, y + one_pixel));
+        chart.draw_series(LineSeries::new(lifted, colour.stroke_width(1)))?;
         let series = chart.draw_series(LineSeries::new(
             curve.points.iter().copied(),
-            colour.stroke_width(2),
+            colour.stroke_width(1),
         ))?;
         if labelled {
             series.label(&curve.label).legend(move |(x, y)| {
@@ -554,12 +607,44 @@ mod tests {
         assert_eq!(speed.title, "Speed of each vehicle");
         let labels: Vec<&str> = speed.curves.iter().map(|c| c.label.as_str()).collect();
         assert_eq!(labels, ["coach1.vx", "coach2.vx"]);
+        // A constant speed is drawn as its departure from the start, mm/s.
+        let v0 = scene.body.initial_speed;
+        assert_eq!(speed.y_label, format!("V - {v0:.4} m/s (mm/s)"));
         for curve in &speed.curves {
             assert_eq!(curve.points.len(), 5, "{}", curve.label);
-            for &(_, v) in &curve.points {
-                assert!((v - scene.body.initial_speed).abs() < 1e-3, "{v}");
+            assert_eq!(curve.points[0].1, 0.0);
+            for &(_, dv) in &curve.points {
+                assert!(dv.abs() < 1.0, "{dv} mm/s");
             }
         }
+    }
+
+    #[test]
+    fn a_train_plots_in_seconds_with_sprung_bodies_and_wheelsets_apart() {
+        let (scene, trace, x) = run("train-2-coaches-2x40-100", 4);
+        assert_eq!(x, trace.time);
+        let panels = panels(&scene, &trace, &x);
+        let panel = |title: &str| panels.iter().find(|p| p.title == title).expect(title);
+        let labels = |title: &str| -> Vec<String> {
+            panel(title)
+                .curves
+                .iter()
+                .map(|c| c.label.clone())
+                .collect()
+        };
+        // Two car bodies and their four bogies, one by one.
+        let sprung = labels("Vertical acceleration of the sprung bodies");
+        assert_eq!(sprung.len(), 6, "{sprung:?}");
+        assert!(sprung.iter().all(|l| !l.contains("wheelset")), "{sprung:?}");
+        // Eight wheelsets: their envelope.
+        assert_eq!(
+            labels("Vertical acceleration of the unsprung masses"),
+            ["largest of 8 unsprung masses", "least of 8 unsprung masses"]
+        );
+        assert_eq!(
+            labels("Contact forces"),
+            ["largest of 8 contacts", "least of 8 contacts"]
+        );
     }
 
     #[test]
