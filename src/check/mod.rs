@@ -418,25 +418,7 @@ fn pass(ok: bool) -> &'static str {
 fn verdicts(r: &CheckResult) -> Vec<Verdict> {
     let spec = &r.spec;
     let l = spec.longest_span();
-    let (required, why) = if spec.is_continuous() && spec.line_speed <= 200.0 {
-        let why = "a continuous beam: Figure 6.10 is for simply supported spans; the dynamic \
-                   analysis is run";
-        (true, why.to_string())
-    } else {
-        let nominal_f1 = first_frequency(l, spec.mass_per_length, r.bending_stiffness);
-        dynamic_analysis_required(spec.line_speed, l, nominal_f1)
-    };
-    let mut out = vec![verdict(
-        "EN 1991-2 §6.4.4, Fig. 6.9/6.10",
-        "dynamic analysis required",
-        if required {
-            "yes".into()
-        } else {
-            "not by §6.4.4".into()
-        },
-        why,
-        "INFO",
-    )];
+    let mut out = vec![analysis_verdict(r)];
     out.push(verdict(
         "EN 1991-2 Table 6.6, §6.4.6.4 eq. (6.13)",
         "damping used ζ = ζ_table + Δζ",
@@ -487,6 +469,29 @@ fn verdicts(r: &CheckResult) -> Vec<Verdict> {
     out
 }
 
+/// EN 1991-2 §6.4.4: whether a dynamic analysis is required (a
+/// continuous beam always: Figure 6.10 is for simply supported spans).
+fn analysis_verdict(r: &CheckResult) -> Verdict {
+    let spec = &r.spec;
+    let l = spec.longest_span();
+    let (required, why) = if spec.is_continuous() && spec.line_speed <= 200.0 {
+        let why = "a continuous beam: Figure 6.10 is for simply supported spans; the dynamic \
+                   analysis is run";
+        (true, why.to_string())
+    } else {
+        let nominal_f1 = first_frequency(l, spec.mass_per_length, r.bending_stiffness);
+        dynamic_analysis_required(spec.line_speed, l, nominal_f1)
+    };
+    let value = if required { "yes" } else { "not by §6.4.4" };
+    verdict(
+        "EN 1991-2 §6.4.4, Fig. 6.9/6.10",
+        "dynamic analysis required",
+        value.into(),
+        why,
+        "INFO",
+    )
+}
+
 fn track_label(track: TrackKind) -> &'static str {
     match track {
         TrackKind::Ballasted => "ballasted track",
@@ -508,6 +513,25 @@ fn load_effect_verdicts(r: &CheckResult) -> Vec<Verdict> {
     let phi_irr = phi_irregularity(l_phi, n0, spec.line_speed / 3.6);
     let phi = dynamic_factor(l_phi, careful);
     let (m71, w71) = main_lm71(r, alpha);
+    let mut out = vec![
+        midspan_moment_verdict(r, (phi, phi_irr), m71),
+        verdict(
+            "EN 1990 A2.4.4.2.3(3)",
+            "midspan deflection under Φ × α × LM71",
+            format!("{:.2} mm", phi * w71 * 1e3),
+            format!("≤ L/600 = {:.2} mm", deflection_limit(l) * 1e3),
+            pass(phi * w71 <= deflection_limit(l)),
+        ),
+        comfort_verdict(r, phi),
+    ];
+    out.extend(hogging_verdict(r, (phi, phi_irr), alpha));
+    out
+}
+
+/// §6.4.6.5(3) eq. (6.15): the largest (1 + φ′dyn + φ″/2) × the static
+/// midspan moment over the runs against Φ × α × LM71's `m71`.
+fn midspan_moment_verdict(r: &CheckResult, (phi, phi_irr): (f64, f64), m71: f64) -> Verdict {
+    let careful = r.spec.settings.carefully_maintained;
     let dynamic = r
         .runs
         .iter()
@@ -535,33 +559,21 @@ fn load_effect_verdicts(r: &CheckResult) -> Vec<Verdict> {
     } else {
         "LM71 × Φ governs"
     };
-    let mut out = vec![
-        verdict(
-            "EN 1991-2 §6.4.6.5(3) eq. (6.15), Annex C, §6.4.5.2",
-            "midspan moment: (1 + φ′dyn + φ″/2) × HSLM against Φ × α × LM71",
-            format!(
-                "{:.0} kN m (φ′dyn = {phi_dyn:.3}, φ″ = {phi_irr:.4})",
-                dynamic / 1e3
-            ),
-            format!(
-                "Φ α LM71 = {:.3} × {:.0} kN m = {:.0} kN m ({factor}); {governs}",
-                phi,
-                m71 / 1e3,
-                phi * m71 / 1e3
-            ),
-            "INFO",
+    verdict(
+        "EN 1991-2 §6.4.6.5(3) eq. (6.15), Annex C, §6.4.5.2",
+        "midspan moment: (1 + φ′dyn + φ″/2) × HSLM against Φ × α × LM71",
+        format!(
+            "{:.0} kN m (φ′dyn = {phi_dyn:.3}, φ″ = {phi_irr:.4})",
+            dynamic / 1e3
         ),
-        verdict(
-            "EN 1990 A2.4.4.2.3(3)",
-            "midspan deflection under Φ × α × LM71",
-            format!("{:.2} mm", phi * w71 * 1e3),
-            format!("≤ L/600 = {:.2} mm", deflection_limit(l) * 1e3),
-            pass(phi * w71 <= deflection_limit(l)),
+        format!(
+            "Φ α LM71 = {:.3} × {:.0} kN m = {:.0} kN m ({factor}); {governs}",
+            phi,
+            m71 / 1e3,
+            phi * m71 / 1e3
         ),
-        comfort_verdict(r, phi),
-    ];
-    out.extend(hogging_verdict(r, (phi, phi_irr), alpha));
-    out
+        "INFO",
+    )
 }
 
 /// LM71 × `alpha` at the checked midspan: moment (N m) and deflection
