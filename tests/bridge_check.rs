@@ -246,7 +246,7 @@ fn modal_midspan_peak(
 
 /// The real train ICE 2 (IAPF-07 Annex C) over the 20 m bridge: every
 /// run's peak midspan deflection against the modal series with the same
-/// Rayleigh damping (ζ at modes 1 and 3), within 1 % (3e-5 found). No published bridge
+/// damping (the check's ζ in every mode), within 1 %. No published bridge
 /// with its real-train response and every input was found (see
 /// docs/bridge-check.md), so the reference is this independent solution.
 #[test]
@@ -261,20 +261,202 @@ fn ice2_runs_agree_with_the_modal_series() {
     let (l, m) = (20.0, 12000.0);
     let ei = m * (2.0 * l * l * 5.5 / PI).powi(2);
     let zeta = result.damping_percent / 100.0;
-    let w1 = (PI / l).powi(2) * (ei / m).sqrt();
-    let w3 = 9.0 * w1;
-    let (alpha, beta) = (2.0 * zeta * w1 * w3 / (w1 + w3), 2.0 * zeta / (w1 + w3));
-    let zeta_of = |w: f64| alpha / (2.0 * w) + beta * w / 2.0;
+    let zeta_of = |_: f64| zeta;
     let runs: Vec<_> = result.runs.iter().filter(|r| r.train == "ICE2").collect();
     assert!(!runs.is_empty());
+    let mut worst: f64 = 0.0;
     for run in runs {
         let reference =
             modal_midspan_peak((l, m, ei), &zeta_of, &ice2.forces(), run.speed_kmh / 3.6);
         let got = run.deflections[2];
+        worst = worst.max((got / reference - 1.0).abs());
         assert!(
             (got - reference).abs() <= 0.01 * reference,
             "{} km/h: {got} m against {reference} m",
             run.speed_kmh
         );
+    }
+    eprintln!("ICE 2: largest relative departure from the series {worst:.2e}");
+}
+
+/// EN 1991-2 §6.4.6.3.1 gives one damping ratio for the structure: the
+/// check's structure damps modes 1, 2 and 3 each at 2 ζ ωₙ with ζ = Table
+/// 6.6's 1.5 % (reinforced concrete, L = 20 m) + eq. (6.13)'s Δζ =
+/// 0.118 / 0.398 %, by hand; Rayleigh damping at modes 1 and 3 would give
+/// mode 2 ζ (ω₁ω₃ + ω₂²) / (ω₂ (ω₁ + ω₃)) = 0.63 ζ (ωₙ ∝ n²).
+#[test]
+fn the_check_damps_every_mode_at_the_table_ratio() {
+    let spec = BridgeSpec::from_toml_str(EXAMPLE).unwrap();
+    let zeta = (1.5 + 0.118 / 0.398) / 100.0;
+    let ei = 12000.0 * (4400.0 / PI).powi(2);
+    let scene = guideway::check::scene_for(&spec, 12000.0, ei, zeta).unwrap();
+    let structure = guideway::study::sweep::structure_of(&scene).unwrap();
+    let basis = structure.modal().expect("a modal structure");
+    assert_eq!(basis.modes(), structure.free_dofs(), "every mode kept");
+    // ωₙ = (nπ/L)² √(EI/m) of the continuous span, f1 = 5.5 Hz
+    for n in 1..=3 {
+        let omega = (n as f64 * PI / 20.0).powi(2) * (ei / 12000.0).sqrt();
+        let found = basis.omega()[n - 1];
+        assert!(
+            (found / omega - 1.0).abs() < 1e-3,
+            "ω{n}: {found} vs {omega}"
+        );
+        let ratio = basis.mode_damping()[n - 1] / (2.0 * found);
+        assert!(
+            (ratio - zeta).abs() < 1e-12,
+            "mode {n}: ζ = {ratio}, table {zeta}"
+        );
+    }
+}
+
+/// Natural values λL (L = 1) of a beam of `spans` equal spans over pinned
+/// supports in (from, to): where the determinant of its span-by-span
+/// conditions changes sign. Each span's w = A sin λξ + B cos λξ + C sinh
+/// λξ + D cosh λξ; w = 0 at both ends of every span, w'' = 0 at the two
+/// outer ends, w' and w'' continuous over each intermediate support.
+fn multi_span_eigenvalues(spans: usize, (from, to): (f64, f64)) -> Vec<f64> {
+    let det = |lam: f64| {
+        let n = 4 * spans;
+        let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
+        let (s, c, sh, ch) = (lam.sin(), lam.cos(), lam.sinh(), lam.cosh());
+        let value_end = [s, c, sh, ch];
+        let slope_start = [1.0, 0.0, 1.0, 0.0];
+        let slope_end = [c, -s, ch, sh];
+        let curvature_start = [0.0, -1.0, 0.0, 1.0];
+        let curvature_end = [-s, -c, sh, ch];
+        let mut row = 0;
+        let mut put = |row: usize, span: usize, coefficients: [f64; 4], sign: f64| {
+            for (k, v) in coefficients.iter().enumerate() {
+                a[(row, 4 * span + k)] += sign * v;
+            }
+        };
+        for i in 0..spans {
+            put(row, i, [0.0, 1.0, 0.0, 1.0], 1.0); // w(0) = 0
+            put(row + 1, i, value_end, 1.0); // w(L) = 0
+            row += 2;
+            if i + 1 < spans {
+                put(row, i, slope_end, 1.0);
+                put(row, i + 1, slope_start, -1.0);
+                put(row + 1, i, curvature_end, 1.0);
+                put(row + 1, i + 1, curvature_start, -1.0);
+                row += 2;
+            }
+        }
+        put(row, 0, curvature_start, 1.0);
+        put(row + 1, spans - 1, curvature_end, 1.0);
+        a.determinant()
+    };
+    let steps = 20_000;
+    let h = (to - from) / steps as f64;
+    let mut roots = Vec::new();
+    for k in 0..steps {
+        let (mut lo, mut hi) = (from + k as f64 * h, from + (k + 1) as f64 * h);
+        if det(lo).signum() == det(hi).signum() {
+            continue;
+        }
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if det(lo).signum() == det(mid).signum() {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        roots.push(0.5 * (lo + hi));
+    }
+    roots
+}
+
+/// A continuous beam's f1 and f3 from the check (its mesh) against the
+/// span-by-span frequency equation above: two equal spans have the single
+/// span's f1 (closed form, λL = π) and f3 at the root above 2π; three
+/// equal spans f1 (λL = π again) and f3 at the third root.
+#[test]
+fn continuous_spans_have_the_frequencies_of_the_span_equations() {
+    let (l, m, ei): (f64, f64, f64) = (20.0, 12000.0, 2.353893e10);
+    let single = PI / (2.0 * l * l) * (ei / m).sqrt();
+    for count in [2, 3] {
+        let spans = vec![format!("{l:?}"); count].join(", ");
+        let text = format!(
+            "name = \"c\"\nsupports = \"continuous\"\nspans = [{spans}]\n\
+             mass_per_length = {m:?}\nbending_stiffness = {ei:?}\n\
+             bridge_type = \"reinforced_concrete\"\ntrack = \"ballasted\"\nline_speed = 300.0\n"
+        );
+        let spec = BridgeSpec::from_toml_str(&text).unwrap();
+        let case = &guideway::check::mass_cases(&spec, ei).unwrap()[0];
+        let roots = multi_span_eigenvalues(count, (3.0, 7.0));
+        eprintln!(
+            "{count} spans: λL = {roots:?}; f1 = {} Hz, f3 = {} Hz",
+            case.f1, case.f3
+        );
+        assert!((roots[0] - PI).abs() < 1e-9, "λ1 L = π: {roots:?}");
+        let third = roots[2];
+        if count == 2 {
+            // the third mode of two equal spans: one full sine per span
+            assert!((third - 2.0 * PI).abs() < 1e-9, "{roots:?}");
+        }
+        let f3 = single * (third / PI).powi(2);
+        assert!(
+            (case.f1 / single - 1.0).abs() < 1e-6,
+            "{count}: f1 {} vs {single}",
+            case.f1
+        );
+        assert!(
+            (case.f3 / f3 - 1.0).abs() < 1e-4,
+            "{count}: f3 {} vs {f3}",
+            case.f3
+        );
+    }
+}
+
+/// Two continuous spans end to end: the stations of both spans and the
+/// middle support, LΦ = 1.2 × 20 m (Table 6.2 case 5.1), the hogging row;
+/// bad continuous descriptions refused naming the field.
+#[test]
+fn two_continuous_spans_are_checked_with_their_hogging() {
+    let text = QUICK
+        .replace(
+            "span = 20.0",
+            "supports = \"continuous\"\nspans = [20.0, 20.0]",
+        )
+        .replace("mass_lower = 10800.0\nmass_upper = 13200.0\n", "")
+        .replace("[settings]", "[settings]\nreal_trains = false");
+    let spec = BridgeSpec::from_toml_str(&text).unwrap();
+    let r = run_check(&spec, 2).unwrap();
+    assert_eq!(r.stations.len(), 11);
+    assert_eq!(r.stations[5].name, "support1");
+    assert!((r.stations[5].position - 20.0).abs() < 1e-12);
+    assert_eq!(r.stations[r.main_station].name, "s1x50");
+    assert!((r.determinant_length - 24.0).abs() < 1e-12);
+    // f1 of two equal spans is the single span's: 5.5 Hz as given
+    assert!((r.mass_cases[0].f1 - 5.5).abs() < 1e-9);
+    let hogging = r
+        .verdicts
+        .iter()
+        .find(|v| v.check.starts_with("hogging moment"))
+        .expect("a hogging row");
+    assert!(hogging.value.contains("support1"), "{}", hogging.value);
+    assert!(r.runs.iter().all(|run| run.deflections[5] < 1e-9));
+    assert!(r.runs.iter().any(|run| run.moments[5] > 1e5));
+    let cases = [
+        (
+            "spans = [20.0, 20.0]",
+            "spans = [20.0]",
+            "spans (count) = 1",
+        ),
+        (
+            "spans = [20.0, 20.0]",
+            "spans = [20.0, 0.5]",
+            "spans[1] = 0.5",
+        ),
+        (
+            "spans = [20.0, 20.0]",
+            "span = 20.0\nspans = [20.0, 20.0]",
+            "span = 20",
+        ),
+    ];
+    for (from, to, needle) in cases {
+        let error = BridgeSpec::from_toml_str(&text.replace(from, to)).unwrap_err();
+        assert!(error.contains(needle), "{to}: {error}");
     }
 }

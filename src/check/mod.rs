@@ -11,14 +11,63 @@ pub mod spec;
 use serde::Serialize;
 
 use crate::moving_load::{Axle, Crossing, RealTrain, HSLM_TRAINS};
-use crate::scene::{Scene, SectionSpec, SensorSpec};
+use crate::scene::{DampingSpec, Scene, SectionSpec, SensorSpec, StructureKind};
 use crate::study::deck_filter::{cut_off, low_pass_zero_phase};
 use crate::study::sweep::{sweep, EnvelopeRow, Loads, SpeedUnit, DEFAULT_MAX_SWEEP_STEPS};
 use rules::*;
 pub use spec::{BridgeSpec, TrackKind};
 
-/// Points along the span the envelopes are read at (fractions of L).
+/// Points along each span the envelopes are read at (fractions of it).
 pub const STATIONS: [f64; 5] = [0.1, 0.3, 0.5, 0.7, 0.9];
+
+/// A point of the bridge its outputs are read at: a sensor and a section.
+#[derive(Debug, Clone, Serialize)]
+pub struct Station {
+    pub name: String,
+    /// Abscissa (m) from the left end.
+    pub position: f64,
+    /// Over an intermediate support (hogging moment, no deflection).
+    pub support: bool,
+}
+
+/// The stations of a bridge: `STATIONS` of each span (`x10` … `x90` on one
+/// span; `s1x10` … on a continuous beam) and each intermediate support
+/// (`support1` …), left to right; and the index of the midspan the
+/// midspan checks read (of the longest span, the first if several).
+pub fn stations(spec: &BridgeSpec) -> (Vec<Station>, usize) {
+    let spans = spec.span_lengths();
+    let longest = spec.longest_span();
+    let (mut out, mut main, mut start) = (Vec::new(), 0, 0.0);
+    for (i, &l) in spans.iter().enumerate() {
+        for f in STATIONS {
+            let pct = (f * 100.0).round() as i64;
+            let name = if spec.is_continuous() {
+                format!("s{}x{pct:02}", i + 1)
+            } else {
+                format!("x{pct:02}")
+            };
+            if pct == 50 && l == longest && main == 0 {
+                main = out.len();
+            }
+            let support = false;
+            out.push(Station {
+                name,
+                position: start + f * l,
+                support,
+            });
+        }
+        start += l;
+        if i + 1 < spans.len() {
+            let name = format!("support{}", i + 1);
+            out.push(Station {
+                name,
+                position: start,
+                support: true,
+            });
+        }
+    }
+    (out, main)
+}
 
 /// One mass case of §6.4.6.3.2 and what it gives.
 #[derive(Debug, Clone, Serialize)]
@@ -47,6 +96,8 @@ pub struct Run {
     pub moments: Vec<f64>,
     /// The static midspan moment of the same train (N m).
     pub static_moment: f64,
+    /// The static |moment| (N m) of the same train at each station.
+    pub static_moments: Vec<f64>,
 }
 
 /// One row of the PASS/FAIL table.
@@ -64,6 +115,14 @@ pub struct Verdict {
 #[derive(Debug, Clone, Serialize)]
 pub struct CheckResult {
     pub spec: BridgeSpec,
+    /// Where the outputs are read, and which is the midspan checked.
+    pub stations: Vec<Station>,
+    pub main_station: usize,
+    /// EN 1991-2 Table 6.2: LΦ (m) of Φ and φ″.
+    pub determinant_length: f64,
+    /// LM71 (α = 1) at each station, solved on the mesh (continuous
+    /// beams; a simply supported span uses the closed form).
+    pub lm71: Vec<lm71::Lm71Effects>,
     pub bending_stiffness: f64,
     pub damping_percent: f64,
     pub damping_table: f64,
@@ -93,7 +152,7 @@ type Train = (String, Vec<(f64, f64)>, f64);
 /// its resonances).
 fn trains(spec: &BridgeSpec) -> Vec<Train> {
     let mut out: Vec<Train> = match spec.settings.hslm_b {
-        Some(b) if spec.span < 7.0 => {
+        Some(b) if !spec.is_continuous() && spec.span < 7.0 => {
             let axles = (0..b.forces)
                 .map(|i| (i as f64 * b.spacing, -170e3))
                 .collect();
@@ -115,60 +174,88 @@ fn trains(spec: &BridgeSpec) -> Vec<Train> {
 }
 
 /// The moving-force scene of one mass case: stations as sensors and
-/// sections, Rayleigh damping `zeta` at modes 1 and 3.
-fn scene_for(spec: &BridgeSpec, mass: f64, ei: f64, zeta: f64) -> Result<Scene, String> {
+/// sections; the damping ratio `zeta` in every mode (EN 1991-2 §6.4.6.3.1
+/// gives one ζ for the structure), on the modal structure keeping every
+/// mode of the mesh (so the runs are the mesh's own, in modal
+/// coordinates).
+pub fn scene_for(spec: &BridgeSpec, mass: f64, ei: f64, zeta: f64) -> Result<Scene, String> {
     let s = &spec.settings;
     let text = format!(
         "name = \"{name}\"\ngravity = 9.81\n[beam]\nlength = {l:?}\nmass_per_length = {mass:?}\n\
          bending_stiffness = {ei:?}\nsurface_offset = 0.0\nelements = {n}\n\
-         [beam.damping]\nratio = {zeta:?}\nmodes = [1, 3]\n[body]\nname = \"train\"\n\
+         supports = {{ intermediate = {supports:?} }}\n\
+         [body]\nname = \"train\"\n\
          kind = \"moving_force\"\nmass = 1.0\ninitial_position = 0.0\ninitial_speed = 50.0\n\
          [solver]\nstep = {dt:?}\n",
         name = "check",
-        l = spec.span,
-        n = s.elements,
+        l = spec.length(),
+        n = s.elements * spec.span_lengths().len(),
+        supports = spec.intermediate_supports(),
         dt = s.step,
     );
     let mut scene = Scene::from_toml_str(&text).map_err(|e| e.to_string())?;
-    for f in STATIONS {
-        let name = station_name(f);
-        scene.sensors.push(SensorSpec {
-            name: name.clone(),
-            position: f * spec.span,
-        });
-        scene.sections.push(SectionSpec {
-            name,
-            position: f * spec.span,
-        });
+    for station in stations(spec).0 {
+        let (name, position) = (station.name, station.position);
+        if !station.support {
+            scene.sensors.push(SensorSpec {
+                name: name.clone(),
+                position,
+            });
+        }
+        scene.sections.push(SectionSpec { name, position });
     }
     scene.validate().map_err(|e| e.to_string())?;
+    // Set after the scene rules, which refuse a modal structure under
+    // moving forces because `guideway run` steps those on the full mesh;
+    // the sweep steps the structure `structure_of` reduces.
+    scene.beam.damping = Some(DampingSpec::Modal { ratio: zeta });
+    scene.solver.structure = StructureKind::Modal;
+    // every mode of the mesh is kept
+    scene.solver.modes = Some(crate::beam::Beam::new(&scene.beam)?.free_dofs());
     Ok(scene)
 }
 
-fn station_name(fraction: f64) -> String {
-    format!("x{:02}", (fraction * 100.0).round() as i64)
+/// f1 and f3 (Hz): of a simply supported span n² f1 (closed form); of a
+/// continuous beam its mesh's modes.
+fn frequencies(spec: &BridgeSpec, m: f64, ei: f64) -> Result<(f64, f64), String> {
+    if !spec.is_continuous() {
+        let f1 = first_frequency(spec.span, m, ei);
+        return Ok((f1, 9.0 * f1));
+    }
+    let scene = scene_for(spec, m, ei, 0.0)?;
+    let omega = crate::beam::Beam::new(&scene.beam)?.frequencies(3)?;
+    let hz = |w: f64| w / std::f64::consts::TAU;
+    Ok((hz(omega[0]), hz(omega[2])))
 }
 
-/// f1 and f3 (Hz) of a simply supported span: n² f1.
-fn frequencies(l: f64, m: f64, ei: f64) -> (f64, f64) {
-    let f1 = first_frequency(l, m, ei);
-    (f1, 9.0 * f1)
+/// EI (N m²): given, or from f1 at the nominal mass (closed form on one
+/// span; on a continuous beam scaled from its mesh's f1 at a reference
+/// EI, f ∝ √EI).
+fn bending_stiffness(spec: &BridgeSpec) -> Result<f64, String> {
+    let (l, m) = (spec.span, spec.mass_per_length);
+    match (spec.first_frequency, spec.bending_stiffness) {
+        (Some(f1), _) if !spec.is_continuous() => Ok(stiffness_from_frequency(l, m, f1)),
+        (Some(f1), _) => {
+            let reference = 1e10;
+            let (f, _) = frequencies(spec, m, reference)?;
+            Ok(reference * (f1 / f).powi(2))
+        }
+        (None, Some(ei)) => Ok(ei),
+        (None, None) => Err("give first_frequency or bending_stiffness".into()),
+    }
 }
 
 /// Run the whole check on `threads` threads.
 pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, String> {
     spec.validate()?;
-    let l = spec.span;
-    let ei = match (spec.first_frequency, spec.bending_stiffness) {
-        (Some(f1), _) => stiffness_from_frequency(l, spec.mass_per_length, f1),
-        (None, Some(ei)) => ei,
-        (None, None) => return Err("give first_frequency or bending_stiffness".into()),
-    };
+    let l = spec.longest_span();
+    let ei = bending_stiffness(spec)?;
     let table = damping_lower_limit(spec.bridge_type, l);
     let extra = additional_damping(l);
     let zeta = (table + extra) / 100.0;
     let design_speed = maximum_design_speed(spec.line_speed);
-    let mut cases = mass_cases(spec, ei);
+    let mut cases = mass_cases(spec, ei)?;
+    let (station_list, main_station) = stations(spec);
     let trains = trains(spec);
     let mut runs = Vec::new();
     let mut resonances = Vec::new();
@@ -196,7 +283,10 @@ pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, Strin
                 threads,
                 DEFAULT_MAX_SWEEP_STEPS,
             )?;
-            runs.extend(rows.iter().map(|r| run_of(&case.name, r)));
+            runs.extend(
+                rows.iter()
+                    .map(|r| run_of(&case.name, r, &station_list, main_station)),
+            );
         }
         case.cut_off = cut_off(case.f1, case.f3);
     }
@@ -204,7 +294,19 @@ pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, Strin
         TrackKind::Ballasted => spec.settings.acceleration_limit_ballasted,
         TrackKind::DirectFastened => spec.settings.acceleration_limit_direct_fastened,
     };
+    let lm71 = if spec.is_continuous() {
+        let scene = scene_for(spec, spec.mass_per_length, ei, 0.0)?;
+        let beam = crate::beam::Beam::new(&scene.beam)?;
+        let at: Vec<f64> = station_list.iter().map(|s| s.position).collect();
+        lm71::lm71_envelope(&beam, &at, 1.0)?
+    } else {
+        Vec::new()
+    };
     let mut result = CheckResult {
+        determinant_length: determinant_length(&spec.span_lengths()),
+        lm71,
+        stations: station_list,
+        main_station,
         spec: spec.clone(),
         bending_stiffness: ei,
         damping_percent: table + extra,
@@ -228,7 +330,7 @@ pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, Strin
 
 /// §6.4.6.3.2: the lower and upper bounds of the mass (one nominal case
 /// when neither is given or both equal it).
-fn mass_cases(spec: &BridgeSpec, ei: f64) -> Vec<MassCase> {
+pub fn mass_cases(spec: &BridgeSpec, ei: f64) -> Result<Vec<MassCase>, String> {
     let lower = spec.mass_lower.unwrap_or(spec.mass_per_length);
     let upper = spec.mass_upper.unwrap_or(spec.mass_per_length);
     let named: Vec<(&str, f64)> = if lower == upper {
@@ -239,23 +341,29 @@ fn mass_cases(spec: &BridgeSpec, ei: f64) -> Vec<MassCase> {
     named
         .into_iter()
         .map(|(name, m)| {
-            let (f1, f3) = frequencies(spec.span, m, ei);
-            MassCase {
+            let (f1, f3) = frequencies(spec, m, ei)?;
+            Ok(MassCase {
                 name: name.into(),
                 mass_per_length: m,
                 f1,
                 f3,
                 cut_off: cut_off(f1, f3),
-            }
+            })
         })
         .collect()
 }
 
 /// A sweep row as one run of the check.
-fn run_of(case: &str, row: &EnvelopeRow) -> Run {
+fn run_of(case: &str, row: &EnvelopeRow, stations: &[Station], main: usize) -> Run {
     let design = |name: String| row.design.iter().find(|d| d.name == name);
     let peak = |name: String| design(name).map_or(0.0, |d| d.peak.abs());
-    let midspan_moment = design("section.x50.moment".into());
+    let static_of = |name: String| {
+        design(name).map_or(0.0, |d| match d.daf {
+            Some(daf) if daf > 0.0 => d.peak.abs() / daf,
+            _ => 0.0,
+        })
+    };
+    let midspan_moment = design(format!("section.{}.moment", stations[main].name));
     let daf_moment = midspan_moment.and_then(|d| d.daf).unwrap_or(0.0);
     let static_moment = midspan_moment.map_or(0.0, |d| {
         if daf_moment > 0.0 {
@@ -272,15 +380,19 @@ fn run_of(case: &str, row: &EnvelopeRow) -> Run {
         acceleration_filtered: row.peak_acceleration_filtered,
         daf_deflection: row.daf,
         daf_moment,
-        deflections: STATIONS
+        deflections: stations
             .iter()
-            .map(|&f| peak(format!("sensor.{}.deflection", station_name(f))))
+            .map(|s| peak(format!("sensor.{}.deflection", s.name)))
             .collect(),
-        moments: STATIONS
+        moments: stations
             .iter()
-            .map(|&f| peak(format!("section.{}.moment", station_name(f))))
+            .map(|s| peak(format!("section.{}.moment", s.name)))
             .collect(),
         static_moment,
+        static_moments: stations
+            .iter()
+            .map(|s| static_of(format!("section.{}.moment", s.name)))
+            .collect(),
     }
 }
 
@@ -305,20 +417,8 @@ fn pass(ok: bool) -> &'static str {
 /// The PASS/FAIL table.
 fn verdicts(r: &CheckResult) -> Vec<Verdict> {
     let spec = &r.spec;
-    let l = spec.span;
-    let nominal_f1 = first_frequency(l, spec.mass_per_length, r.bending_stiffness);
-    let (required, why) = dynamic_analysis_required(spec.line_speed, l, nominal_f1);
-    let mut out = vec![verdict(
-        "EN 1991-2 §6.4.4, Fig. 6.9/6.10",
-        "dynamic analysis required",
-        if required {
-            "yes".into()
-        } else {
-            "not by §6.4.4".into()
-        },
-        why,
-        "INFO",
-    )];
+    let l = spec.longest_span();
+    let mut out = vec![analysis_verdict(r)];
     out.push(verdict(
         "EN 1991-2 Table 6.6, §6.4.6.4 eq. (6.13)",
         "damping used ζ = ζ_table + Δζ",
@@ -326,7 +426,15 @@ fn verdicts(r: &CheckResult) -> Vec<Verdict> {
             "{:.3} % = {:.3} % + {:.3} %",
             r.damping_percent, r.damping_table, r.damping_additional
         ),
-        format!("{} span {l} m", spec.bridge_type.label()),
+        format!(
+            "{} span {l} m{}",
+            spec.bridge_type.label(),
+            if spec.is_continuous() {
+                " (the longest)"
+            } else {
+                ""
+            }
+        ),
         "INFO",
     ));
     // §6.4.6.3.2(3): the acceleration from the lower bound of the mass.
@@ -361,6 +469,29 @@ fn verdicts(r: &CheckResult) -> Vec<Verdict> {
     out
 }
 
+/// EN 1991-2 §6.4.4: whether a dynamic analysis is required (a
+/// continuous beam always: Figure 6.10 is for simply supported spans).
+fn analysis_verdict(r: &CheckResult) -> Verdict {
+    let spec = &r.spec;
+    let l = spec.longest_span();
+    let (required, why) = if spec.is_continuous() && spec.line_speed <= 200.0 {
+        let why = "a continuous beam: Figure 6.10 is for simply supported spans; the dynamic \
+                   analysis is run";
+        (true, why.to_string())
+    } else {
+        let nominal_f1 = first_frequency(l, spec.mass_per_length, r.bending_stiffness);
+        dynamic_analysis_required(spec.line_speed, l, nominal_f1)
+    };
+    let value = if required { "yes" } else { "not by §6.4.4" };
+    verdict(
+        "EN 1991-2 §6.4.4, Fig. 6.9/6.10",
+        "dynamic analysis required",
+        value.into(),
+        why,
+        "INFO",
+    )
+}
+
 fn track_label(track: TrackKind) -> &'static str {
     match track {
         TrackKind::Ballasted => "ballasted track",
@@ -371,7 +502,7 @@ fn track_label(track: TrackKind) -> &'static str {
 /// §6.4.6.5(3) (dynamic against LM71 × Φ) and A2.4.4.2.3(3) (L/600).
 fn load_effect_verdicts(r: &CheckResult) -> Vec<Verdict> {
     let spec = &r.spec;
-    let l = spec.span;
+    let (l, l_phi) = (spec.longest_span(), r.determinant_length);
     let careful = spec.settings.carefully_maintained;
     let alpha = spec.settings.classification_factor;
     let n0 = r
@@ -379,9 +510,28 @@ fn load_effect_verdicts(r: &CheckResult) -> Vec<Verdict> {
         .iter()
         .map(|c| c.f1)
         .fold(f64::INFINITY, f64::min);
-    let phi_irr = phi_irregularity(l, n0, spec.line_speed / 3.6);
-    let phi = dynamic_factor(l, careful);
-    let (m71, w71) = lm71::lm71_midspan(l, r.bending_stiffness, alpha);
+    let phi_irr = phi_irregularity(l_phi, n0, spec.line_speed / 3.6);
+    let phi = dynamic_factor(l_phi, careful);
+    let (m71, w71) = main_lm71(r, alpha);
+    let mut out = vec![
+        midspan_moment_verdict(r, (phi, phi_irr), m71),
+        verdict(
+            "EN 1990 A2.4.4.2.3(3)",
+            "midspan deflection under Φ × α × LM71",
+            format!("{:.2} mm", phi * w71 * 1e3),
+            format!("≤ L/600 = {:.2} mm", deflection_limit(l) * 1e3),
+            pass(phi * w71 <= deflection_limit(l)),
+        ),
+        comfort_verdict(r, phi),
+    ];
+    out.extend(hogging_verdict(r, (phi, phi_irr), alpha));
+    out
+}
+
+/// §6.4.6.5(3) eq. (6.15): the largest (1 + φ′dyn + φ″/2) × the static
+/// midspan moment over the runs against Φ × α × LM71's `m71`.
+fn midspan_moment_verdict(r: &CheckResult, (phi, phi_irr): (f64, f64), m71: f64) -> Verdict {
+    let careful = r.spec.settings.carefully_maintained;
     let dynamic = r
         .runs
         .iter()
@@ -409,41 +559,96 @@ fn load_effect_verdicts(r: &CheckResult) -> Vec<Verdict> {
     } else {
         "LM71 × Φ governs"
     };
-    vec![
-        verdict(
-            "EN 1991-2 §6.4.6.5(3) eq. (6.15), Annex C, §6.4.5.2",
-            "midspan moment: (1 + φ′dyn + φ″/2) × HSLM against Φ × α × LM71",
-            format!(
-                "{:.0} kN m (φ′dyn = {phi_dyn:.3}, φ″ = {phi_irr:.4})",
-                dynamic / 1e3
-            ),
-            format!(
-                "Φ α LM71 = {:.3} × {:.0} kN m = {:.0} kN m ({factor}); {governs}",
-                phi,
-                m71 / 1e3,
-                phi * m71 / 1e3
-            ),
-            "INFO",
+    verdict(
+        "EN 1991-2 §6.4.6.5(3) eq. (6.15), Annex C, §6.4.5.2",
+        "midspan moment: (1 + φ′dyn + φ″/2) × HSLM against Φ × α × LM71",
+        format!(
+            "{:.0} kN m (φ′dyn = {phi_dyn:.3}, φ″ = {phi_irr:.4})",
+            dynamic / 1e3
         ),
-        verdict(
-            "EN 1990 A2.4.4.2.3(3)",
-            "midspan deflection under Φ × α × LM71",
-            format!("{:.2} mm", phi * w71 * 1e3),
-            format!("≤ L/600 = {:.2} mm", deflection_limit(l) * 1e3),
-            pass(phi * w71 <= deflection_limit(l)),
+        format!(
+            "Φ α LM71 = {:.3} × {:.0} kN m = {:.0} kN m ({factor}); {governs}",
+            phi,
+            m71 / 1e3,
+            phi * m71 / 1e3
         ),
-        comfort_verdict(r, phi),
-    ]
+        "INFO",
+    )
+}
+
+/// LM71 × `alpha` at the checked midspan: moment (N m) and deflection
+/// (m); closed form on one span, the mesh's envelope on a continuous beam.
+fn main_lm71(r: &CheckResult, alpha: f64) -> (f64, f64) {
+    match r.lm71.get(r.main_station) {
+        Some(e) => (alpha * e.sagging, alpha * e.deflection),
+        None => lm71::lm71_midspan(r.spec.span, r.bending_stiffness, alpha),
+    }
+}
+
+/// A continuous beam's hogging moment over its intermediate supports:
+/// the largest (1 + φ′dyn + φ″/2) × the static effect of HSLM or a real
+/// train (eq. (6.15)) against Φ × α × LM71's hogging (§6.3.2, the
+/// distributed load on the unfavourable parts), at the support where
+/// LM71's is largest.
+fn hogging_verdict(r: &CheckResult, (phi, phi_irr): (f64, f64), alpha: f64) -> Option<Verdict> {
+    let careful = r.spec.settings.carefully_maintained;
+    let (i, station) = r
+        .stations
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.support)
+        .max_by(|a, b| {
+            r.lm71[a.0]
+                .hogging
+                .abs()
+                .total_cmp(&r.lm71[b.0].hogging.abs())
+        })?;
+    let m71 = alpha * r.lm71[i].hogging.abs();
+    let dynamic = r
+        .runs
+        .iter()
+        .map(|run| {
+            let stat = run.static_moments[i];
+            let phi_dyn = if stat > 0.0 {
+                run.moments[i] / stat - 1.0
+            } else {
+                0.0
+            };
+            enhanced_dynamic_effect(stat, phi_dyn.max(0.0), phi_irr, careful)
+        })
+        .fold(0.0, f64::max);
+    let governs = if dynamic > phi * m71 {
+        "dynamic governs: design for it"
+    } else {
+        "LM71 × Φ governs"
+    };
+    Some(verdict(
+        "EN 1991-2 §6.4.6.5(3) eq. (6.15), §6.3.2, Table 6.2 case 5.1",
+        "hogging moment over the supports: (1 + φ′dyn + φ″/2) × HSLM against Φ × α × LM71",
+        format!(
+            "{:.0} kN m at {} ({:.2} m)",
+            dynamic / 1e3,
+            station.name,
+            station.position
+        ),
+        format!(
+            "Φ α LM71 = {phi:.3} × {:.0} kN m = {:.0} kN m (LΦ = {:.2} m); {governs}",
+            m71 / 1e3,
+            phi * m71 / 1e3,
+            r.determinant_length
+        ),
+        "INFO",
+    ))
 }
 
 /// EN 1990 A2.4.4.3.2: the midspan deflection under LM71 × Φ with α = 1
 /// against the passenger-comfort limit, when Figure A2.3's L/δ is given.
 fn comfort_verdict(r: &CheckResult, phi: f64) -> Verdict {
     let s = &r.spec.settings;
-    let l = r.spec.span;
+    let l = r.spec.longest_span();
     let clause = "EN 1990 A2.4.4.3.2, Figure A2.3";
     let check = "passenger comfort: midspan deflection under Φ × LM71 (α = 1)";
-    let (_, w71) = lm71::lm71_midspan(l, r.bending_stiffness, 1.0);
+    let (_, w71) = main_lm71(r, 1.0);
     let delta = phi * w71;
     let Some(ratio) = s.comfort_span_to_deflection else {
         return verdict(
@@ -456,13 +661,24 @@ fn comfort_verdict(r: &CheckResult, phi: f64) -> Verdict {
         );
     };
     let b_v = s.comfort_acceleration;
-    let limit = comfort_deflection_limit(l, ratio, b_v, SpanArrangement::OneOrTwo);
+    let (arrangement, factor, label) = if r.spec.span_lengths().len() >= 3 {
+        (
+            SpanArrangement::ContinuousThreeOrMore,
+            0.9,
+            "continuous, three or more spans",
+        )
+    } else if r.spec.is_continuous() {
+        (SpanArrangement::OneOrTwo, 0.7, "two continuous spans")
+    } else {
+        (SpanArrangement::OneOrTwo, 0.7, "one span")
+    };
+    let limit = comfort_deflection_limit(l, ratio, b_v, arrangement);
     verdict(
         clause,
         check,
         format!("{:.2} mm", delta * 1e3),
         format!(
-            "≤ L / ({ratio} × 0.7 / {b_v}) = {:.2} mm (one span, b_v = {b_v} m/s²)",
+            "≤ L / ({ratio} × {factor} / {b_v}) = {:.2} mm ({label}, b_v = {b_v} m/s²)",
             limit * 1e3
         ),
         pass(delta <= limit),
@@ -474,18 +690,24 @@ fn assumptions(r: &CheckResult) -> Vec<String> {
     let s = &r.spec.settings;
     let mut out = vec![
         format!(
-            "One simply supported span as an Euler–Bernoulli beam of {} Hermite elements; trains as \
+            "{} as an Euler–Bernoulli beam of {} Hermite elements per span; trains as \
              moving forces (no vehicle–bridge interaction, hence Δζ of §6.4.6.4); Newmark average \
-             acceleration with a step of {} s, each run until the last axle leaves the span.",
+             acceleration with a step of {} s, each run until the last axle leaves the bridge.",
+            if r.spec.is_continuous() { "A continuous beam over pinned supports" } else { "One simply supported span" },
             s.elements, s.step
         ),
         format!(
-            "EI = {:.4e} N m² {} (held for every mass case: f1 = (π/2L²)√(EI/m)).",
+            "EI = {:.4e} N m² {} (held for every mass case: {}).",
             r.bending_stiffness,
-            if r.spec.first_frequency.is_some() { "from f1 at the nominal mass" } else { "as given" }
+            if r.spec.first_frequency.is_some() { "from f1 at the nominal mass" } else { "as given" },
+            if r.spec.is_continuous() {
+                "f1 and f3 are the continuous beam's, from its mesh"
+            } else {
+                "f1 = (π/2L²)√(EI/m)"
+            }
         ),
-        "Damping as Rayleigh damping with ζ at modes 1 and 3 (mode 2, antisymmetric, gets less; \
-         modes above 3 more)."
+        "Damping ζ in every mode (EN 1991-2 §6.4.6.3.1 gives one ratio for the structure): the \
+         runs are stepped in the modal coordinates of every mode of the mesh."
             .into(),
         format!(
             "Speeds from 40 m/s (144 km/h) to 1.2 × {} = {} km/h in {} km/h steps, {} km/h within ±{} % \
@@ -507,8 +729,19 @@ fn assumptions(r: &CheckResult) -> Vec<String> {
             s.classification_factor,
             if s.carefully_maintained { "carefully" } else { "with standard" }
         ),
-        "Determinant length LΦ = L (simply supported span); φ″ at the maximum line speed."
-            .into(),
+        if r.spec.is_continuous() {
+            format!(
+                "Determinant length LΦ = {:.3} m (EN 1991-2 Table 6.2 case 5.1: k × the mean span, \
+                 k = 1.2, 1.3, 1.4, 1.5 for 2, 3, 4, ≥ 5 spans, not below the longest span); φ″ at \
+                 the maximum line speed. Table 6.6, eq. (6.13) and L/600 read the longest span \
+                 (the least damping); LM71 on the mesh's influence lines, its distributed load on \
+                 the unfavourable parts (§6.3.2).",
+                r.determinant_length
+            )
+        } else {
+            "Determinant length LΦ = L (simply supported span); φ″ at the maximum line speed."
+                .into()
+        },
         format!(
             "Real trains {}: ICE 2 and Talgo AV as moving forces, axle loads of IAPF-07 Annex C \
              (src/moving_load/trains/*.toml name the source).",
@@ -518,12 +751,11 @@ fn assumptions(r: &CheckResult) -> Vec<String> {
          (settings.comfort_span_to_deflection), read off the figure by the engineer; × 0.7 for one \
          span, ÷ b_v."
             .into(),
-        "Not coded: continuous spans, modal damping of every mode (Rayleigh damping is used), the \
-         flow chart's torsion and Annex F conditions, deck twist, the car-body acceleration of \
+        "Not coded: the flow chart's torsion and Annex F conditions, deck twist, the car-body acceleration of \
          vehicles."
             .into(),
     ];
-    if r.spec.span < 7.0 {
+    if !r.spec.is_continuous() && r.spec.span < 7.0 {
         out.push(
             "HSLM-B with N and d as given in settings.hslm_b (read off EN 1991-2 Figure E.8)."
                 .into(),
@@ -549,7 +781,7 @@ fn worst_case(r: &mut CheckResult, trains: &[Train], zeta: f64) -> Result<(), St
         .find(|c| c.name == worst.mass_case)
         .ok_or("mass case")?;
     let scene = scene_for(&r.spec, case.mass_per_length, r.bending_stiffness, zeta)?;
-    let beam = crate::beam::Beam::new(&scene.beam)?;
+    let beam = crate::study::sweep::structure_of(&scene)?;
     let (_, offsets, _) = trains.iter().find(|t| t.0 == worst.train).ok_or("train")?;
     let speed = worst.speed_kmh / 3.6;
     let axles: Vec<Axle> = offsets
@@ -565,7 +797,7 @@ fn worst_case(r: &mut CheckResult, trains: &[Train], zeta: f64) -> Result<(), St
     if steps > crate::study::sweep::MAX_STEPS_PER_RUN as usize {
         return Err(format!("the worst case needs {steps} steps"));
     }
-    let x = 0.5 * r.spec.span;
+    let x = r.stations[r.main_station].position;
     let mut raw = Vec::with_capacity(steps);
     for _ in 0..steps {
         crossing.step();

@@ -10,7 +10,7 @@ use base64::Engine as _;
 use plotters::prelude::*;
 use sha2::{Digest, Sha256};
 
-use super::{CheckResult, STATIONS};
+use super::CheckResult;
 use crate::report::plot::{load_font, FONT};
 use crate::report::plot_style::{
     colour, err, labelled_chart, labelled_mesh, legend, legend_line, limit_line, Area,
@@ -69,11 +69,11 @@ fn runs_csv(r: &CheckResult) -> String {
     let mut text = String::from(
         "mass_case,train,speed_kmh,peak_acceleration_m_s2,peak_acceleration_filtered_m_s2,daf_deflection,daf_moment,static_moment_midspan_n_m",
     );
-    for f in STATIONS {
-        let _ = write!(text, ",deflection_x{:02}_m", (f * 100.0).round());
+    for s in &r.stations {
+        let _ = write!(text, ",deflection_{}_m", s.name);
     }
-    for f in STATIONS {
-        let _ = write!(text, ",moment_x{:02}_n_m", (f * 100.0).round());
+    for s in &r.stations {
+        let _ = write!(text, ",moment_{}_n_m", s.name);
     }
     text.push('\n');
     for run in &r.runs {
@@ -388,12 +388,12 @@ fn plot_envelopes(r: &CheckResult, path: &Path) -> Result<(), String> {
     let root = BitMapBackend::new(path, (1000, 800)).into_drawing_area();
     root.fill(&WHITE).map_err(err)?;
     let areas = root.split_evenly((2, 1));
-    let l = r.spec.span;
+    let l = r.spec.length();
     let envelope = |pick: &dyn Fn(&super::Run) -> &Vec<f64>, scale: f64| -> Vec<(f64, f64)> {
         let mut points = vec![(0.0, 0.0)];
-        for (i, f) in STATIONS.iter().enumerate() {
+        for (i, s) in r.stations.iter().enumerate() {
             let peak = r.runs.iter().map(|x| pick(x)[i]).fold(0.0, f64::max);
-            points.push((f * l, peak * scale));
+            points.push((s.position, peak * scale));
         }
         points.push((l, 0.0));
         points

@@ -210,6 +210,26 @@ pub fn first_frequency(l: f64, m: f64, ei: f64) -> f64 {
     PI / (2.0 * l * l) * (ei / m).sqrt()
 }
 
+/// EN 1991-2 §6.4.5.3, Table 6.2 case 5.1: the determinant length LΦ
+/// (m) of the dynamic factor for a continuous beam of n spans: k × L_m,
+/// L_m = (L1 + … + Ln)/n the mean span, k = 1.2, 1.3, 1.4 for n = 2, 3, 4
+/// and 1.5 from 5; not less than the longest span. One span: its length.
+pub fn determinant_length(spans: &[f64]) -> f64 {
+    let n = spans.len();
+    let longest = spans.iter().fold(0.0, |a: f64, &b| a.max(b));
+    if n < 2 {
+        return longest;
+    }
+    let mean = spans.iter().sum::<f64>() / n as f64;
+    let k = match n {
+        2 => 1.2,
+        3 => 1.3,
+        4 => 1.4,
+        _ => 1.5,
+    };
+    (k * mean).max(longest)
+}
+
 /// EN 1990 A2.4.4.2.3(3): the largest total vertical deflection along a
 /// track under rail traffic, L/600.
 pub fn deflection_limit(l: f64) -> f64 {
@@ -395,6 +415,24 @@ mod tests {
             138.0,
             1e-12
         ));
+    }
+
+    /// Table 6.2 case 5.1 by hand: two spans 20 + 20 m: 1.2 × 20 = 24 m;
+    /// three 15 + 20 + 15: 1.3 × 50/3 = 21.667 m; 10 + 30 (mean 20, 1.2 ×
+    /// 20 = 24 < 30): the longest span 30 m; five of 10 m: 1.5 × 10 = 15;
+    /// one span: itself.
+    #[test]
+    fn table_6_2_determinant_length_of_continuous_beams() {
+        assert!(close(determinant_length(&[20.0, 20.0]), 24.0, 1e-12));
+        assert!(close(
+            determinant_length(&[15.0, 20.0, 15.0]),
+            65.0 / 3.0,
+            1e-12
+        ));
+        assert!(close(determinant_length(&[10.0, 30.0]), 30.0, 1e-12));
+        assert!(close(determinant_length(&[10.0; 5]), 15.0, 1e-12));
+        assert!(close(determinant_length(&[10.0; 4]), 14.0, 1e-12));
+        assert!(close(determinant_length(&[17.0]), 17.0, 1e-12));
     }
 
     /// 20 m, 12 t/m, 5.5 Hz: EI = 12000 × (2 × 400 × 5.5 / π)² = 12000 ×

@@ -26,11 +26,17 @@ pub enum TrackKind {
 #[serde(deny_unknown_fields)]
 pub struct BridgeSpec {
     pub name: String,
-    /// Span L (m).
+    /// Span L (m) of a simply supported bridge (0 when `spans` gives a
+    /// continuous beam's).
+    #[serde(default)]
     pub span: f64,
-    /// Only `simply_supported` is coded.
+    /// `simply_supported` (one span, `span`) or `continuous` (a beam over
+    /// intermediate supports, `spans`).
     #[serde(default = "simply_supported")]
     pub supports: String,
+    /// The spans (m) of a continuous beam, left to right, two or more.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub spans: Vec<f64>,
     /// Mass per length (kg/m): the nominal value f1 belongs to.
     pub mass_per_length: f64,
     /// Lower and upper bounds of the mass per length (kg/m), EN 1991-2
@@ -133,7 +139,53 @@ fn within(field: &str, value: f64, low: f64, high: f64, unit: &str) -> Result<()
 impl BridgeSpec {
     /// The spans as the report states them.
     pub fn span_description(&self) -> String {
-        format!("{} m, simply supported", self.span)
+        if self.is_continuous() {
+            let list: Vec<String> = self.spans.iter().map(|l| format!("{l}")).collect();
+            format!(
+                "{} m, continuous over {} spans",
+                list.join(" + "),
+                self.spans.len()
+            )
+        } else {
+            format!("{} m, simply supported", self.span)
+        }
+    }
+
+    /// A continuous beam over intermediate supports.
+    pub fn is_continuous(&self) -> bool {
+        self.supports == "continuous"
+    }
+
+    /// The span lengths (m): `span` alone, or the continuous beam's.
+    pub fn span_lengths(&self) -> Vec<f64> {
+        if self.is_continuous() {
+            self.spans.clone()
+        } else {
+            vec![self.span]
+        }
+    }
+
+    /// The length of the beam (m): the sum of the spans.
+    pub fn length(&self) -> f64 {
+        self.span_lengths().iter().sum()
+    }
+
+    /// The longest span (m): the L of Table 6.6, eq. (6.13) and L/600
+    /// (the conservative choice on a continuous beam: the least damping).
+    pub fn longest_span(&self) -> f64 {
+        self.span_lengths().iter().fold(0.0, |a: f64, &b| a.max(b))
+    }
+
+    /// The abscissae (m) of the intermediate supports.
+    pub fn intermediate_supports(&self) -> Vec<f64> {
+        let spans = self.span_lengths();
+        let mut x = 0.0;
+        let mut out = Vec::new();
+        for l in &spans[..spans.len() - 1] {
+            x += l;
+            out.push(x);
+        }
+        out
     }
 
     /// Parse and validate a bridge description.
@@ -148,13 +200,7 @@ impl BridgeSpec {
 
     /// Every field within its bounds; one of f1 and EI.
     pub fn validate(&self) -> Result<(), String> {
-        if self.supports != "simply_supported" {
-            return Err(format!(
-                "supports = {:?}: only \"simply_supported\" (one span) is coded",
-                self.supports
-            ));
-        }
-        within("span", self.span, 1.0, 200.0, "m")?;
+        self.validate_spans()?;
         within("mass_per_length", self.mass_per_length, 100.0, 1e6, "kg/m")?;
         let lower = self.mass_lower.unwrap_or(self.mass_per_length);
         let upper = self.mass_upper.unwrap_or(self.mass_per_length);
@@ -180,7 +226,45 @@ impl BridgeSpec {
             }
         }
         within("line_speed", self.line_speed, 10.0, 600.0, "km/h")?;
-        self.settings.validate(self.span)
+        // HSLM-B is for simply supported spans (EN 1991-2 Annex E, E.1(2)).
+        let hslm_b_span = if self.is_continuous() {
+            f64::INFINITY
+        } else {
+            self.span
+        };
+        self.settings.validate(hslm_b_span)
+    }
+
+    /// `span` for a simply supported bridge, `spans` (2 … 20) for a
+    /// continuous one, each from 1 m to 200 m.
+    fn validate_spans(&self) -> Result<(), String> {
+        match self.supports.as_str() {
+            "simply_supported" => {
+                if !self.spans.is_empty() {
+                    return Err("spans: only with supports = \"continuous\" (a simply \
+                                supported bridge gives span)"
+                        .into());
+                }
+                within("span", self.span, 1.0, 200.0, "m")
+            }
+            "continuous" => {
+                if self.span != 0.0 {
+                    return Err(format!(
+                        "span = {}: a continuous beam gives its spans in spans = [...]",
+                        self.span
+                    ));
+                }
+                within("spans (count)", self.spans.len() as f64, 2.0, 20.0, "spans")?;
+                for (i, &l) in self.spans.iter().enumerate() {
+                    within(&format!("spans[{i}]"), l, 1.0, 200.0, "m")?;
+                }
+                Ok(())
+            }
+            other => Err(format!(
+                "supports = {other:?}: must be \"simply_supported\" (span) or \"continuous\" \
+                 (spans)"
+            )),
+        }
     }
 }
 

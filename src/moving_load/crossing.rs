@@ -1,6 +1,8 @@
 //! The beam under moving forces, stepped with Newmark's average
 //! acceleration (β = 1/4, γ = 1/2): M a + C v + K u = f(t), the forces
-//! placed at their positions at each step's end.
+//! placed at their positions at each step's end; on the full mesh or in
+//! the modal coordinates of a modal structure (one damping ratio in every
+//! mode).
 
 use std::borrow::Cow;
 use std::ops::Deref;
@@ -8,8 +10,7 @@ use std::ops::Deref;
 use nalgebra::DVector;
 
 use super::Axle;
-use crate::band::BandLdlt;
-use crate::beam::Beam;
+use crate::beam::{Beam, EffectiveFactor};
 use crate::design::{BeamDynamics, DesignPeaks, PointLoad, Probe};
 
 const BETA: f64 = 0.25;
@@ -38,7 +39,7 @@ pub struct Crossing<'a> {
     axles: Cow<'a, [Axle]>,
     step: f64,
     /// Factor of M + γ Δt C + β Δt² K.
-    factor: BandLdlt,
+    factor: EffectiveFactor,
     time: f64,
     u: DVector<f64>,
     v: DVector<f64>,
@@ -69,8 +70,13 @@ impl<'a> Crossing<'a> {
         if !(step > 0.0 && step.is_finite()) {
             return Err(format!("the step must be > 0 (got {step})"));
         }
-        let factor = beam.factor_effective(GAMMA * step, BETA * step * step)?;
-        let n = beam.free_dofs();
+        let (c, k) = (GAMMA * step, BETA * step * step);
+        // The full mesh keeps its plain band factor (its runs bit for bit).
+        let factor = match beam.modal() {
+            None => EffectiveFactor::Band(beam.factor_effective(c, k)?),
+            Some(_) => beam.effective_factor(c, k)?,
+        };
+        let n = beam.coordinates();
         let z = || DVector::zeros(n);
         let mut crossing = Crossing {
             beam,
@@ -125,7 +131,8 @@ impl<'a> Crossing<'a> {
             let x = axle.at(t);
             if (0.0..=length).contains(&x) {
                 let shape = self.beam.shape(self.beam.element_at(x), x);
-                shape.scatter(&shape.n, axle.force, &mut self.load);
+                self.beam
+                    .scatter(&shape, &shape.n, axle.force, &mut self.load);
                 self.placed.push(PointLoad {
                     x,
                     element: shape.element,
@@ -261,9 +268,9 @@ impl<'a> Crossing<'a> {
 /// (by Maxwell's reciprocity, the deflection under a unit load at the
 /// sensor), sampled every eighth of the shortest element.
 pub fn static_peak(beam: &Beam, axles: &[Axle], sensor: f64) -> Result<f64, String> {
-    let mut unit = DVector::zeros(beam.free_dofs());
+    let mut unit = DVector::zeros(beam.coordinates());
     let shape = beam.shape(beam.element_at(sensor), sensor);
-    shape.scatter(&shape.n, 1.0, &mut unit);
+    beam.scatter(&shape, &shape.n, 1.0, &mut unit);
     let influence = beam.static_deflection(&unit)?;
     let speed = axles.iter().map(|a| a.speed.abs()).fold(0.0, f64::max);
     if speed == 0.0 {

@@ -151,6 +151,17 @@ pub struct DesignPeak {
     pub daf: Option<f64>,
 }
 
+/// The structure a scene's crossings step: its mesh, reduced to the modes
+/// `solver.structure = "modal"` keeps (where one damping ratio in every
+/// mode is exact).
+pub fn structure_of(scene: &Scene) -> Result<Beam, String> {
+    let beam = Beam::new(&scene.beam)?;
+    match crate::modal::ModeSelection::of(&scene.solver) {
+        Some(selection) => beam.reduce_to_modes(selection),
+        None => Ok(beam),
+    }
+}
+
 /// What a sweep runs: the scene's own forces, or HSLM trains put in
 /// place of its `[body]`.
 #[derive(Debug, Clone)]
@@ -249,7 +260,7 @@ pub fn sweep(
         };
     }
     let scene = &with_deck_sensor(scene);
-    let beam = Beam::new(&scene.beam)?;
+    let beam = structure_of(scene)?;
     let probes = probes(scene, &beam);
     let loads = sweep_loads(scene, &beam, loads)?;
     let deck = DeckRecord::new(scene, &beam)?;
