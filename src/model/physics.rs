@@ -21,6 +21,7 @@ pub enum SceneDynamics {
 /// state keeps its bytes (and states saved before moving forces load).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(untagged)]
+#[allow(clippy::large_enum_variant)] // a few per instance (roll-back copies kept in place)
 pub enum SceneState {
     Vehicles(SimState),
     Forces(ForceState),
