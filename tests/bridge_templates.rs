@@ -2,7 +2,7 @@
 //! bridge engineer starts from are built-ins, listed by `guideway scenes`,
 //! shown by `--show`, and they run (the sweep template with `sweep`).
 
-use guideway::scene::{builtin, templates, Scene};
+use guideway::scene::{builtin, builtins, template_file, templates, Scene};
 use std::process::{Command, Output};
 
 fn guideway(args: &[&str]) -> Output {
@@ -22,9 +22,20 @@ fn guideway(args: &[&str]) -> Output {
 fn each_template_is_the_shipped_file_and_is_listed() {
     let listing = String::from_utf8(guideway(&["scenes"]).stdout).expect("UTF-8");
     let mut count = 0;
-    for (name, _) in templates() {
-        let file = format!("{}/scenes/{name}.toml", env!("CARGO_MANIFEST_DIR"));
-        let shipped = Scene::load(&file).expect("shipped scene loads");
+    for (name, description) in templates() {
+        let file = format!(
+            "{}/{}",
+            env!("CARGO_MANIFEST_DIR"),
+            template_file(name).expect("a template's file")
+        );
+        assert!(
+            builtins().iter().any(|(b, _)| *b == name),
+            "{name} built in"
+        );
+        let mut shipped = Scene::load(&file).expect("shipped scene loads");
+        // (named and described as listed)
+        shipped.name = name.to_string();
+        shipped.description = description.to_string();
         assert_eq!(builtin(name), Some(shipped), "{name}");
         assert!(
             listing.lines().any(|l| l.starts_with(name)),
@@ -47,7 +58,7 @@ fn the_hslm_template_sweeps_by_name() {
     let out = out.to_str().unwrap();
     guideway(&[
         "sweep",
-        "bridge25_hslm",
+        "bridge25-hslm",
         "--speeds",
         "50:60:10",
         "--out",
@@ -81,4 +92,35 @@ fn the_train_template_runs_by_name_past_the_span() {
         .as_f64()
         .expect("the train leaves the span");
     assert!(exit >= 20.0 / (300.0 / 3.6), "exit at {exit} s");
+}
+
+/// Its former name (the file's) still loads it.
+#[test]
+fn the_hslm_template_keeps_its_former_name() {
+    let (mut former, now) = (
+        builtin("bridge25_hslm").unwrap(),
+        builtin("bridge25-hslm").unwrap(),
+    );
+    assert_eq!(former.name, "bridge25_hslm");
+    former.name = now.name.clone();
+    former.description = now.description.clone();
+    assert_eq!(former, now);
+}
+
+/// `guideway run` of the moving-force template from the binary alone.
+#[test]
+fn the_hslm_template_runs_by_name() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let csv = dir.path().join("run.csv");
+    guideway(&["run", "bridge25-hslm", "-q", "--out", csv.to_str().unwrap()]);
+    let text = std::fs::read_to_string(csv).expect("CSV");
+    assert!(text
+        .lines()
+        .next()
+        .unwrap()
+        .contains("sensor.midspan.deflection"));
+    assert!(
+        text.lines().count() > 1000,
+        "a row per step of the crossing"
+    );
 }

@@ -6,22 +6,22 @@
 use guideway::fmi2::instance::Instance;
 use guideway::fmi2::logging::Logger;
 use guideway::fmi2::model_description::generate;
-use guideway::model::{Model, Role, Value, VarType};
-use guideway::scene::{builtins, BodyKind};
-use guideway::{Scene, Simulation};
+use guideway::model::{Model, Role, SceneDynamics, Value, VarType};
+use guideway::scene::builtins;
+use guideway::Scene;
 
-type Fmu = Instance<Simulation>;
+type Fmu = Instance<SceneDynamics>;
 
 fn instance(scene: &Scene) -> (Fmu, String) {
-    let model = Model::<Simulation>::new(scene.clone()).unwrap();
+    let model = Model::<SceneDynamics>::new(scene.clone()).unwrap();
     let (xml, guid) = generate(model.scene(), model.table());
     let logger = Logger::new(None, std::ptr::null_mut(), "own", false);
     let fmu = Instance::new(scene.clone(), &guid, logger).unwrap_or_else(|(_, e)| panic!("{e}"));
     (fmu, xml)
 }
 
-/// The built-in scenes and the project's scene files that make FMUs (a
-/// moving-force scene is a sweep's, not an FMU's).
+/// The built-in scenes and the project's scene files (vehicles and moving
+/// forces alike).
 fn scenes() -> Vec<Scene> {
     let mut all: Vec<Scene> = builtins()
         .iter()
@@ -32,7 +32,6 @@ fn scenes() -> Vec<Scene> {
         let path = entry.unwrap().path();
         all.push(Scene::load(path.to_str().unwrap()).unwrap());
     }
-    all.retain(|s| s.body.kind != BodyKind::MovingForce);
     assert!(all.len() >= 8, "{} scenes", all.len());
     all
 }
@@ -314,4 +313,57 @@ fn a_step_known_to_outlast_the_budget_is_refused_up_front() {
         e.contains("refused up front") && e.contains("elements"),
         "{e}"
     );
+}
+
+// ---- issue 26 item 4: a moving-force FMU's forged states are refused ------------
+
+#[test]
+fn forged_moving_force_states_are_refused_naming_why() {
+    let scene = Scene::load(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/bridge25_hslm.toml"
+    ))
+    .unwrap();
+    let (mut fmu, _) = instance(&scene);
+    fmu.setup_experiment(0.0, None).unwrap();
+    fmu.enter_initialization_mode().unwrap();
+    fmu.exit_initialization_mode().unwrap();
+    fmu.do_step(0.0, 0.05).unwrap();
+    let key = fmu.get_state(0).unwrap();
+    let bytes = fmu.serialize_state(key).unwrap();
+    let (head, good) = open_state(&bytes);
+    assert_eq!(good["sim"]["steps"], 50, "{good}");
+    let forge = |change: &dyn Fn(&mut serde_json::Value)| {
+        let mut v = good.clone();
+        change(&mut v);
+        close_state(&head, &v)
+    };
+    let short = forge(&|v| {
+        v["sim"]["velocity"].as_array_mut().unwrap().pop();
+    });
+    let e = fmu.deserialize_state(&short).unwrap_err();
+    assert!(e.contains("velocity has") && e.contains("free DOFs"), "{e}");
+    let off_its_step = forge(&|v| v["sim"]["time"] = 0.2.into());
+    let e = fmu.deserialize_state(&off_its_step).unwrap_err();
+    assert!(e.contains("time 0.2 s is not that of its step 50"), "{e}");
+    // (a vehicle's state handed to moving forces)
+    let train = guideway::scene::builtin("lee1994-wheel-10").unwrap();
+    let (mut wheel, _) = instance(&train);
+    wheel.setup_experiment(0.0, None).unwrap();
+    wheel.enter_initialization_mode().unwrap();
+    wheel.exit_initialization_mode().unwrap();
+    let wheel_key = wheel.get_state(0).unwrap();
+    let theirs = wheel.serialize_state(wheel_key).unwrap();
+    let (_, vehicle) = open_state(&theirs);
+    let wheel_inside = forge(&|v| v["sim"] = vehicle["sim"].clone());
+    let e = fmu.deserialize_state(&wheel_inside).unwrap_err();
+    assert!(e.contains("not one of this model"), "{e}");
+    // The instance is unchanged by the refusals and its own state restores.
+    fmu.set_state(key).unwrap();
+    // A communication point off the grid of solver.step is refused before
+    // anything runs; the grid's next point is then reached as ever.
+    let e = fmu.do_step(0.05, 0.0105).unwrap_err();
+    assert!(e.contains("must be a multiple of it"), "{e}");
+    fmu.do_step(0.05, 0.05).unwrap();
+    assert_eq!(fmu.model().time(), 0.1);
 }

@@ -7,7 +7,9 @@
 //! `GUIDEWAY_RECORD_GUARDS=1 cargo test --release --test layout_guards`
 //! (and say in the commit why the bits changed).
 
-use guideway::scene::{builtin, builtins};
+use guideway::moving_load::{is_moving_force_scene, ForceRun};
+use guideway::report::Steppable;
+use guideway::scene::{builtin, builtins, Scene};
 use guideway::{Advance, Simulation};
 use std::path::PathBuf;
 
@@ -64,16 +66,8 @@ fn fnv1a_from(mut hash: u64, values: &[f64]) -> u64 {
 /// values to step `STEPS` or the exit.
 fn record(name: &str, mode: Mode) -> (Vec<String>, String) {
     let scene = builtin(name).expect("a built-in scene");
-    let mut sim = match mode {
-        Mode::ToExit => Simulation::new(&scene),
-        Mode::OpenEnded | Mode::EveryOtherOutput => Simulation::new_open_ended(&scene),
-    }
-    .expect("a built-in scene builds");
+    let mut sim = build(&scene, mode);
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
-    if let Mode::EveryOtherOutput = mode {
-        let read: Vec<bool> = (0..names.len()).map(|i| i % 2 == 0).collect();
-        sim.read_only(Some(&read));
-    }
     let mut values = vec![0.0; names.len()];
     sim.output_values(&mut values);
     let mut lines = format!("0 {:016x}\n", fnv1a(&values));
@@ -94,6 +88,24 @@ fn record(name: &str, mode: Mode) -> (Vec<String>, String) {
         }
     }
     (names, lines)
+}
+
+/// The run of `scene` in `mode`: its vehicles' simulation, or the
+/// crossing of its moving forces (to their exit).
+fn build(scene: &Scene, mode: Mode) -> Box<dyn Steppable> {
+    if is_moving_force_scene(scene) {
+        return Box::new(ForceRun::new(scene).expect("a built-in scene builds"));
+    }
+    let mut sim = match mode {
+        Mode::ToExit => Simulation::new(scene),
+        Mode::OpenEnded | Mode::EveryOtherOutput => Simulation::new_open_ended(scene),
+    }
+    .expect("a built-in scene builds");
+    if let Mode::EveryOtherOutput = mode {
+        let read: Vec<bool> = (0..sim.outputs().len()).map(|i| i % 2 == 0).collect();
+        sim.read_only(Some(&read));
+    }
+    Box::new(sim)
 }
 
 fn guard_path(file: &str) -> PathBuf {

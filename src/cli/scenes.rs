@@ -13,19 +13,18 @@ pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
         None => {
             let width = builtins()
                 .iter()
-                .copied()
-                .chain(templates())
                 .map(|(name, _)| name.len())
                 .max()
                 .unwrap_or(0);
             for (name, description) in builtins() {
                 println!("{name:width$}  {description}");
             }
+            let names: Vec<&str> = templates().map(|(name, _)| name).collect();
             println!();
-            println!("Bridge templates (`guideway scenes --show NAME > my.toml`):");
-            for (name, description) in templates() {
-                println!("{name:width$}  {description}");
-            }
+            println!(
+                "Bridge templates (`guideway scenes --show NAME > my.toml`): {}",
+                names.join(", ")
+            );
             let trains: Vec<&str> = HSLM_TRAINS.iter().map(|t| t.name).collect();
             println!();
             println!(

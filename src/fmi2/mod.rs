@@ -12,11 +12,12 @@ pub mod model_description;
 use crate::model::{Dynamics, Model};
 use crate::scene::Scene;
 
-/// The physics behind the exported functions: the real `Simulation`, or the
-/// stand-in of `model::fake` when built with the `fake-physics` feature (to
-/// test the FMI machinery alone).
+/// The physics behind the exported functions: the scene's (vehicles or
+/// moving forces, `model::SceneDynamics`), or the stand-in of `model::fake`
+/// when built with the `fake-physics` feature (to test the FMI machinery
+/// alone).
 #[cfg(not(feature = "fake-physics"))]
-pub type Physics = crate::simulation::Simulation;
+pub type Physics = crate::model::SceneDynamics;
 #[cfg(feature = "fake-physics")]
 pub type Physics = crate::model::fake::FakeDynamics;
 

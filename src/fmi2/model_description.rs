@@ -450,7 +450,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
         co_simulation: CoSimulation {
             model_identifier: model_identifier(&scene.name),
             needs_execution_tool: false,
-            variable_step: true,
+            variable_step: crate::model::experiment::variable_communication_steps(scene),
             interpolate_inputs: true,
             max_output_derivative_order: 0,
             asynchronous: false,

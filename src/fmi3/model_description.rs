@@ -240,7 +240,7 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
             model_identifier: model_identifier(&scene.name),
             get_set_state: true,
             serialize_state: true,
-            variable_step: true,
+            variable_step: crate::model::experiment::variable_communication_steps(scene),
             has_event_mode: false,
             intermediate_update: false,
             might_return_early: true,

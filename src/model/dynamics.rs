@@ -1,9 +1,10 @@
 //! The physics as the model layer sees it: build from a scene, step, read
 //! outputs, save and restore state.
 //!
-//! `Simulation` is the one real implementation. The trait exists so that the
-//! model and the FMI layer can be tested against a small fake (see
-//! `model::fake`) independently of the physics.
+//! `Simulation` (vehicles) and `model::forces::ForceDynamics` (moving
+//! forces) implement it, chosen per scene by `model::SceneDynamics`; a small
+//! fake (`model::fake`) tests the model and FMI layers apart from the
+//! physics.
 
 use crate::scene::Scene;
 use crate::simulation::{SimState, Simulation, Steppable};
@@ -21,6 +22,12 @@ pub trait Dynamics: Steppable + Sized {
     /// The coupling ports' additional loads (fx, fy, moment), one per port.
     fn set_coupling_loads(&mut self, _loads: &[[f64; 3]]) {}
     fn exit_time(&self) -> Option<f64>;
+    /// Whether the dynamics can advance to `t` (their time): Err naming
+    /// the rule where they cannot, checked before a communication step
+    /// runs (so that a refused step has changed nothing).
+    fn check_target(&self, _t: f64) -> Result<(), String> {
+        Ok(())
+    }
     /// The simulation events (entries, exits, ...) after the first `from`,
     /// in words, each with its time; the list only grows as the run goes on.
     fn events_since(&self, _from: usize) -> Vec<String> {

@@ -14,14 +14,30 @@ pub const FREE_VIBRATION_PERIODS: f64 = 3.0;
 /// plus `FREE_VIBRATION_PERIODS` periods of the longest span's fundamental
 /// mode (simply supported: T₁ = 2 L² / π · √(m / EI)); 1 s where no vehicle
 /// moves.
+/// Moving forces step on their fixed grid only (`variable_communication_steps`):
+/// there the stop time is the first grid point at or after it.
 pub fn default_stop_time(scene: &Scene) -> f64 {
-    match run_end(scene) {
+    let stop = match run_end(scene) {
         RunEnd::EndTime(t) => t,
         RunEnd::LastExit { distance, speed } => {
             exit_time((distance, speed)) + FREE_VIBRATION_PERIODS * fundamental_period(scene)
         }
         RunEnd::NoExit => 1.0,
+    };
+    if variable_communication_steps(scene) {
+        return stop;
     }
+    let step = scene.solver.step;
+    (stop / step - 1e-9).ceil() * step
+}
+
+/// Whether the FMU takes communication steps of any size: a vehicle's
+/// does (its last internal step is shortened to the point); moving forces
+/// are stepped on the fixed grid of `solver.step` (Newmark's matrix is
+/// factored once for it), so their communication steps are fixed
+/// multiples of it (`canHandleVariableCommunicationStepSize = false`).
+pub fn variable_communication_steps(scene: &Scene) -> bool {
+    !crate::moving_load::is_moving_force_scene(scene)
 }
 
 /// Fundamental period (s) of the longest span between supports, taken as
@@ -50,6 +66,19 @@ mod tests {
         assert!((period - 0.41).abs() < 1e-3, "{period}");
         let stop = default_stop_time(&scene);
         assert!((stop - (2.4 + 3.0 * period)).abs() < 1e-12, "{stop}");
+    }
+
+    /// The HSLM template at 50 m/s: 25 m plus the train's length, then
+    /// three periods, rounded up to its 1 ms grid.
+    #[test]
+    fn moving_forces_stop_on_their_grid() {
+        let scene = crate::scene::builtin("bridge25-hslm").unwrap();
+        let train = crate::moving_load::hslm("HSLM-A1").unwrap();
+        let exact = (25.0 + train.length()) / 50.0 + 3.0 * fundamental_period(&scene);
+        let stop = default_stop_time(&scene);
+        assert!(stop >= exact && stop < exact + 0.001, "{stop} {exact}");
+        assert_eq!(stop, (stop / 0.001).round() * 0.001);
+        assert!(!variable_communication_steps(&scene));
     }
 
     #[test]

@@ -13,6 +13,8 @@ pub mod experiment;
 mod extrapolate;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
+mod forces;
+mod physics;
 mod restore;
 mod rollback;
 pub mod snapshot;
@@ -21,6 +23,7 @@ mod structure;
 pub mod variables;
 
 pub use dynamics::Dynamics;
+pub use physics::{SceneDynamics, SceneState};
 pub use structure::initial_dependencies;
 pub use variables::{
     Causality, DisplayUnit, Role, Setting, Value, VarType, Variability, Variable, VariableTable,

@@ -187,6 +187,9 @@ impl<D: Dynamics> Model<D> {
         if let Some(time) = sim.exit_time() {
             return Ok(StepOutcome::Exited { time: t0 + time });
         }
+        // (refused before anything changes: the step is not run)
+        sim.check_target(snap_to_grid(to - t0, step))
+            .map_err(|e| ModelError(format!("cannot step to t = {to} s: {e}")))?;
         let start = sim.time();
         let ramp = Ramp::new(
             start,

@@ -229,18 +229,21 @@ impl VariableTable {
             );
         }
         b.param("solver.step", SolverStep, "s", "fixed internal time step");
-        b.param(
-            "solver.velocity_tolerance",
-            SolverVelocityTolerance,
-            "m/s",
-            "tolerance on the velocity error |e|",
-        );
-        b.param(
-            "solver.gap_tolerance",
-            SolverGapTolerance,
-            "m",
-            "tolerance on the gap error |g|",
-        );
+        // (moving forces have no contact iteration to tolerate errors of)
+        if !crate::moving_load::is_moving_force_scene(scene) {
+            b.param(
+                "solver.velocity_tolerance",
+                SolverVelocityTolerance,
+                "m/s",
+                "tolerance on the velocity error |e|",
+            );
+            b.param(
+                "solver.gap_tolerance",
+                SolverGapTolerance,
+                "m",
+                "tolerance on the gap error |g|",
+            );
+        }
 
         if !scene.vehicles.is_empty() {
             b.param(
@@ -257,16 +260,20 @@ impl VariableTable {
             });
         }
 
-        b.input(
-            &format!("{body}.force_x"),
-            Input::ForceX,
-            "horizontal force on the body's centre",
-        );
-        b.input(
-            &format!("{body}.force_y"),
-            Input::ForceY,
-            "vertical force on the body's centre",
-        );
+        // Moving forces are prescribed (their magnitude is the vehicle's
+        // weight or train's axle loads): there is no body to push.
+        if !crate::moving_load::is_moving_force_scene(scene) {
+            b.input(
+                &format!("{body}.force_x"),
+                Input::ForceX,
+                "horizontal force on the body's centre",
+            );
+            b.input(
+                &format!("{body}.force_y"),
+                Input::ForceY,
+                "vertical force on the body's centre",
+            );
+        }
 
         for (port, name) in scene.couplings.iter().enumerate() {
             let turns = outputs
@@ -571,7 +578,9 @@ impl Builder<'_> {
             let Access::Vehicle(get, _) = f.access else {
                 return None;
             };
-            (!f.doc.is_empty() && get(spec).is_some() && which(rest)).then_some((i, rest))
+            let applies = applies_to(spec, rest);
+            (!f.doc.is_empty() && get(spec).is_some() && which(rest) && applies)
+                .then_some((i, rest))
         });
         let mut rows: Vec<(usize, &str)> = rows.collect();
         let first = |rest: &str| FMU_FIRST_FIELDS.iter().position(|&p| p == rest);
@@ -697,6 +706,20 @@ fn vehicle_spec_mut(scene: &mut Scene, k: usize) -> Option<&mut BodySpec> {
     match k {
         0 => Some(&mut scene.body),
         k => scene.vehicles.get_mut(k - 1),
+    }
+}
+
+/// Whether vehicle field `rest` (`body.<rest>`) is a parameter of `spec`:
+/// a moving force has a place, a speed and (without a train, whose axle
+/// loads are fixed) a mass whose weight is its force; no body's fields.
+fn applies_to(spec: &BodySpec, rest: &str) -> bool {
+    if spec.kind != crate::scene::BodyKind::MovingForce {
+        return true;
+    }
+    match rest {
+        "initial_position" | "initial_speed" => true,
+        "mass" => spec.train.is_none(),
+        _ => false,
     }
 }
 

@@ -180,6 +180,17 @@ impl<'a> Crossing<'a> {
         (&self.u, &self.v, &self.a)
     }
 
+    /// Continue from a saved state: time (s) and the free DOFs'
+    /// displacement, velocity and acceleration (of the beam's length: the
+    /// caller checks), the forces placed as at that time.
+    pub fn set_state(&mut self, time: f64, (u, v, a): (&[f64], &[f64], &[f64])) {
+        self.time = time;
+        self.u.copy_from_slice(u);
+        self.v.copy_from_slice(v);
+        self.a.copy_from_slice(a);
+        self.place_loads(time);
+    }
+
     /// The beam now, for its design outputs: Newmark's acceleration
     /// satisfies the equation of motion at the step's end.
     pub fn dynamics(&self) -> BeamDynamics {

@@ -14,7 +14,7 @@ mod trains;
 
 pub use crossing::{exit_time, run_end, static_peak, Crossing, Peaks};
 pub use hslm::{hslm, HslmTrain, HSLM_TRAINS};
-pub use run::{crossing_times, AxleEvent, ForceRun, ForceVehicle, FORCES_ON_BEAM};
+pub use run::{crossing_times, AxleEvent, ForceRun, ForceState, ForceVehicle, FORCES_ON_BEAM};
 pub use trains::RealTrain;
 
 use crate::scene::{BodyKind, BodySpec, Scene};

@@ -12,6 +12,7 @@ use crate::outputs::Quantity;
 use crate::outputs::{structure_catalogue, structure_value, BeamNow, OutputInfo, OutputKind};
 use crate::scene::Scene;
 use crate::simulation::{Advance, SolverError, Steppable};
+use serde::{Deserialize, Serialize};
 
 /// The output counting the forces on the beam.
 pub const FORCES_ON_BEAM: &str = "forces.on_beam";
@@ -32,6 +33,18 @@ pub struct AxleEvent {
     pub kind: &'static str,
     /// Time (s).
     pub time: f64,
+}
+
+/// A saved state of a run: the steps taken, the crossing's time (a sum of
+/// steps, kept as summed so that a restored run continues bit-identically)
+/// and the beam's free DOFs.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ForceState {
+    pub steps: u64,
+    pub time: f64,
+    pub displacement: Vec<f64>,
+    pub velocity: Vec<f64>,
+    pub acceleration: Vec<f64>,
 }
 
 /// The run: the crossing, its outputs and when it stops.
@@ -97,8 +110,82 @@ impl ForceRun {
         })
     }
 
+    /// `new`, running on past the last exit to any time asked for (the
+    /// beam vibrating freely): a co-simulation's end is its stop time.
+    pub fn open_ended(scene: &Scene) -> Result<ForceRun, String> {
+        let mut run = ForceRun::new(scene)?;
+        run.stop_at_exit = false;
+        Ok(run)
+    }
+
     pub fn beam(&self) -> &Beam {
         self.crossing.beam()
+    }
+
+    /// The fixed step (s) and the steps taken.
+    pub fn steps(&self) -> (f64, u64) {
+        (self.crossing.step_size(), self.steps)
+    }
+
+    /// Everything needed to continue the run bit-identically.
+    pub fn state(&self) -> ForceState {
+        let (u, v, a) = self.crossing.state();
+        ForceState {
+            steps: self.steps,
+            time: self.crossing.time(),
+            displacement: u.as_slice().to_vec(),
+            velocity: v.as_slice().to_vec(),
+            acceleration: a.as_slice().to_vec(),
+        }
+    }
+
+    /// Whether `state` (which may be forged) fits this run: vectors of the
+    /// beam's free DOFs, finite numbers, its time in its step.
+    pub fn check_state(&self, state: &ForceState) -> Result<(), String> {
+        let dofs = self.crossing.beam().free_dofs();
+        let vectors = [
+            ("displacement", &state.displacement),
+            ("velocity", &state.velocity),
+            ("acceleration", &state.acceleration),
+        ];
+        for (name, values) in vectors {
+            if values.len() != dofs {
+                return Err(format!(
+                    "the state's {name} has {} values, the beam {dofs} free DOFs",
+                    values.len()
+                ));
+            }
+            if let Some(x) = values.iter().find(|x| !x.is_finite()) {
+                return Err(format!(
+                    "the state's {name} holds a non-finite number ({x})"
+                ));
+            }
+        }
+        // The crossing's time is a sum of steps: within half a step of
+        // its count of them (rounding adds far less).
+        let step = self.crossing.step_size();
+        let grid = state.steps as f64 * step;
+        if !(state.time >= 0.0 && (state.time - grid).abs() < 0.5 * step) {
+            return Err(format!(
+                "the state's time {} s is not that of its step {} of solver.step = {step} s",
+                state.time, state.steps
+            ));
+        }
+        Ok(())
+    }
+
+    /// Continue from `state`, refused (naming why) unless it fits.
+    pub fn restore(&mut self, state: &ForceState) -> Result<(), String> {
+        self.check_state(state)?;
+        let vectors = (
+            state.displacement.as_slice(),
+            state.velocity.as_slice(),
+            state.acceleration.as_slice(),
+        );
+        self.crossing.set_state(state.time, vectors);
+        self.steps = state.steps;
+        self.now = self.crossing.dynamics();
+        Ok(())
     }
 
     /// The vehicles and their axles.

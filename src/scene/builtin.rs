@@ -8,7 +8,7 @@ use super::{BodyKind, Scene};
 /// The scene `guideway run` uses when none is given.
 pub const DEFAULT_SCENE: &str = "lee1994-wheel-10";
 
-const BUILTINS: [(&str, &str); 7] = [
+const BUILTINS: [(&str, &str); 9] = [
     (
         "lee1994-wheel-1",
         "Lee (1994) model 1: wheel rolling at 1 m/s onto a 24 m simply supported beam, dt = 0.005 s",
@@ -37,6 +37,14 @@ const BUILTINS: [(&str, &str); 7] = [
         "train-8-coaches-3x25-300",
         "eight coaches on glider wheelsets at 300 km/h from the approach over a 3 x 25 m continuous bridge onto the run-off, then 1 s of free vibration (HHT, alpha = -0.1, 1 ms)",
     ),
+    (
+        "bridge25-hslm",
+        "bridge template: 25 m simply supported bridge, f1 = 4.0 Hz, 2 % damping, HSLM-A1 as moving forces at 50 m/s (`guideway sweep bridge25-hslm --speeds 100:400:5 --unit km/h --trains hslm`)",
+    ),
+    (
+        "train-8-coaches-20m-300-hertz",
+        "bridge template: eight coaches on Hertz wheel-rail contacts at 300 km/h over a 20 m span (12 t/m, f1 = 5.5 Hz, 1.5 %)",
+    ),
 ];
 
 /// The train scenes, as TOML (they are read like any scene file).
@@ -55,28 +63,41 @@ const TRAINS: [(&str, &str); 3] = [
     ),
 ];
 
-/// Bridge templates: the shipped scene files, as TOML. Listed apart from
-/// `builtins()` (whose every scene runs with `guideway run` and is
-/// guarded bit for bit): `bridge25_hslm` is a moving-force scene for
-/// `guideway sweep`.
-const TEMPLATES: [(&str, &str, &str); 2] = [
+/// Bridge templates: the shipped scene files, as TOML (built-ins like the
+/// others, listed, run and guarded bit for bit; `bridge25_hslm`, the
+/// file's own name, is the moving-force template's former name).
+const TEMPLATES: [(&str, &str); 3] = [
+    (
+        "bridge25-hslm",
+        include_str!("../../scenes/bridge25_hslm.toml"),
+    ),
     (
         "bridge25_hslm",
-        "25 m simply supported bridge, f1 = 4.0 Hz, 2 % damping, HSLM-A trains as moving forces (`guideway sweep bridge25_hslm --speeds 100:400:5 --unit km/h --trains hslm`)",
         include_str!("../../scenes/bridge25_hslm.toml"),
     ),
     (
         "train-8-coaches-20m-300-hertz",
-        "eight coaches on Hertz wheel-rail contacts at 300 km/h over a 20 m span (12 t/m, f1 = 5.5 Hz, 1.5 %)",
         include_str!("../../scenes/train-8-coaches-20m-300-hertz.toml"),
     ),
 ];
 
-/// Names and one-line descriptions of the bridge templates.
+/// Names and one-line descriptions of the bridge templates (built-ins a
+/// bridge engineer starts a scene file from).
 pub fn templates() -> impl Iterator<Item = (&'static str, &'static str)> {
-    TEMPLATES
+    BUILTINS
         .iter()
-        .map(|&(name, description, _)| (name, description))
+        .copied()
+        .filter(|(name, _)| TEMPLATES.iter().any(|(template, _)| template == name))
+}
+
+/// The shipped scene file a bridge template is (relative to the
+/// repository's root).
+pub fn template_file(name: &str) -> Option<&'static str> {
+    match name {
+        "bridge25-hslm" | "bridge25_hslm" => Some("scenes/bridge25_hslm.toml"),
+        "train-8-coaches-20m-300-hertz" => Some("scenes/train-8-coaches-20m-300-hertz.toml"),
+        _ => None,
+    }
 }
 
 /// Names and one-line descriptions of the built-in scenes.
@@ -85,11 +106,13 @@ pub fn builtins() -> &'static [(&'static str, &'static str)] {
 }
 
 /// The built-ins a release ships as FMUs with cross-check results: the
-/// paper's (a train's reference CSV would run to hundreds of MB).
+/// paper's (a train's reference CSV would run to hundreds of MB; a
+/// template is a file to start from, exported once edited).
 pub fn fmu_builtins() -> impl Iterator<Item = &'static (&'static str, &'static str)> {
-    BUILTINS
-        .iter()
-        .filter(|(name, _)| TRAINS.iter().all(|(train, _)| train != name))
+    BUILTINS.iter().filter(|(name, _)| {
+        TRAINS.iter().all(|(train, _)| train != name)
+            && TEMPLATES.iter().all(|(template, _)| template != name)
+    })
 }
 
 /// The built-in scene of that name: the paper's model 1 beam (two
@@ -99,8 +122,14 @@ pub fn builtin(name: &str) -> Option<Scene> {
     if let Some((_, text)) = TRAINS.iter().find(|(known, _)| *known == name) {
         return Some(Scene::from_toml_str(text).expect("a built-in train scene is valid"));
     }
-    if let Some((_, _, text)) = TEMPLATES.iter().find(|(known, _, _)| *known == name) {
-        return Some(Scene::from_toml_str(text).expect("a bridge template is valid"));
+    if let Some((_, text)) = TEMPLATES.iter().find(|(known, _)| *known == name) {
+        let mut scene = Scene::from_toml_str(text).expect("a bridge template is valid");
+        // Named and described as listed (the former name keeps the file's).
+        if let Some(&(name, description)) = BUILTINS.iter().find(|(known, _)| *known == name) {
+            scene.name = name.to_string();
+            scene.description = description.to_string();
+        }
+        return Some(scene);
     }
     let (kind, initial_speed, step) = match name {
         "lee1994-wheel-1" => (BodyKind::Wheel, 1.0, 0.005),

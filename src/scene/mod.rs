@@ -15,7 +15,7 @@ mod limits;
 mod validate;
 
 pub use advice::advisories;
-pub use builtin::{builtin, builtins, fmu_builtins, templates, DEFAULT_SCENE};
+pub use builtin::{builtin, builtins, fmu_builtins, template_file, templates, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
 pub use fields::field_notes_markdown;

@@ -27,7 +27,7 @@ fn assert_single_problem(edit: impl FnOnce(&mut Scene), path: &str, value: &str,
 
 #[test]
 fn every_builtin_is_valid_and_round_trips_through_toml() {
-    assert_eq!(builtins().len(), 7);
+    assert_eq!(builtins().len(), 9);
     for &(name, description) in builtins() {
         let scene = builtin(name).unwrap_or_else(|| panic!("{name} is listed but not built"));
         assert_eq!(scene.name, name);
