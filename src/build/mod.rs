@@ -436,7 +436,7 @@ pub const MOVING_FORCE_REFUSAL: &str =
      crossing of prescribed forces (the library's moving_load::ForceRun and Crossing)";
 
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
-    let mut beam = Beam::new(&scene.beam)?;
+    let mut beam = Beam::of_scene(&scene.beam, &scene.track)?;
     if let Some(selection) = crate::modal::ModeSelection::of(&scene.solver) {
         beam = beam.reduce_to_modes(selection)?;
     }
@@ -539,6 +539,14 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         system.contacts.extend(vehicle.contacts);
         system.force_elements.extend(vehicle.force_elements);
         bodies.extend(vehicle.states);
+    }
+    if let Some(rail) = system.beam.track() {
+        // The rail is the whole track: the system's abscissa starts at the
+        // approach's start (`structure::track_seam`), so move the bodies.
+        system.track.approach = 0.0;
+        system.track.run_off = 0.0;
+        let shift = rail.deck_start();
+        bodies.iter_mut().for_each(|b| b.position.x += shift);
     }
     for name in &scene.couplings {
         let Some(b) = system.bodies.iter().position(|b| &b.name == name) else {

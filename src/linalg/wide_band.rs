@@ -66,13 +66,21 @@ impl WideBand {
         }
     }
 
-    /// `out = A x`.
+    /// `out = A x`: each stored entry of the lower band once, for its own
+    /// row and its mirror (the product is most of a rail-over-deck step).
     pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
         let (n, b) = (self.size(), self.half_bandwidth);
         assert!(x.len() == n && out.len() == n);
-        for (i, o) in out.iter_mut().enumerate() {
-            let (lo, hi) = (i.saturating_sub(b), (i + b).min(n - 1));
-            *o = (lo..=hi).map(|j| self.get(i, j) * x[j]).sum();
+        out.fill(0.0);
+        for (i, row) in self.rows.chunks_exact(b + 1).enumerate() {
+            // row[k] = A(i, i − b + k); row[b] the diagonal.
+            let mut sum = row[b] * x[i];
+            for (k, a) in row.iter().enumerate().take(b).skip(b.saturating_sub(i)) {
+                let j = i + k - b;
+                sum += a * x[j];
+                out[j] += a * x[i];
+            }
+            out[i] += sum;
         }
     }
 
@@ -131,22 +139,26 @@ impl WideLdlt {
         self.lower[i * b + b - (i - m)]
     }
 
-    /// `x ← A⁻¹ x`: L z = x, D y = z, Lᵀ x = y.
+    /// `x ← A⁻¹ x`: L z = x, D y = z, Lᵀ x = y; Lᵀ by rows of L, each
+    /// final entry of x subtracted from those above it.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         let (n, b) = (self.size(), self.half_bandwidth);
         assert_eq!(x.len(), n);
+        let row = |i: usize| &self.lower[i * b..(i + 1) * b];
         for i in 0..n {
-            let sum: f64 = (i.saturating_sub(b)..i).map(|m| self.l(i, m) * x[m]).sum();
+            let sum: f64 = (b.saturating_sub(i)..b)
+                .map(|k| row(i)[k] * x[i + k - b])
+                .sum();
             x[i] -= sum;
         }
         for (xi, d) in x.iter_mut().zip(&self.pivot) {
             *xi /= d;
         }
         for i in (0..n).rev() {
-            let sum: f64 = (i + 1..(i + b + 1).min(n))
-                .map(|k| self.l(k, i) * x[k])
-                .sum();
-            x[i] -= sum;
+            let xi = x[i];
+            for k in b.saturating_sub(i)..b {
+                x[i + k - b] -= row(i)[k] * xi;
+            }
         }
     }
 }

@@ -59,6 +59,8 @@ pub enum Quantity {
     SensorVelocity(usize),
     /// Load per metre on the Winkler foundation at sensor i.
     SensorFoundationLoad(usize),
+    /// The rail's deflection at sensor i, under a rail over the deck.
+    SensorRailDeflection(usize),
     SensorAcceleration(usize),
     SectionMoment(usize),
     SectionShear(usize),
@@ -430,6 +432,15 @@ impl Catalogue {
                     Quantity::SensorFoundationLoad(i),
                 );
             }
+            if beam.track().is_some() {
+                self.real(
+                    format!("sensor.{name}.rail_deflection"),
+                    "m",
+                    "deflection of the rail over the deck at the sensor (up positive); the \
+                     sensor's deflection is the deck's",
+                    Quantity::SensorRailDeflection(i),
+                );
+            }
         }
         self.design(beam, sections, reactions);
     }
@@ -570,6 +581,9 @@ pub fn structure_value(
             let x = sensors[i];
             -(f.stiffness * beam.deflection(u, x) + f.damping * beam.deflection(v, x))
         }),
+        Quantity::SensorRailDeflection(i) => beam
+            .track()
+            .map_or(f64::NAN, |t| t.rail_deflection(u, sensors[i])),
         Quantity::SensorAcceleration(i) => {
             dynamics.map_or(f64::NAN, |b| b.acceleration_at(beam, sensors[i]))
         }
@@ -614,9 +628,13 @@ pub fn evaluate(
     let accelerations = needs_accelerations.then(|| body_accelerations(system, state, probes));
     let mut spring_energy = None;
     let mut spring_energy = || *spring_energy.get_or_insert_with(|| energy::spring(system, state));
+    // Under a rail over the deck the system's abscissa starts at the
+    // approach; the outputs keep the scene's (the deck's x = 0).
+    let origin = system.beam.track().map(|t| t.deck_start());
+    let scene_x = |x: f64| origin.map_or(x, |o| x - o);
     for (value, quantity) in values.iter_mut().zip(quantities) {
         *value = match *quantity {
-            Quantity::X(b) => d.bodies[b].position.x,
+            Quantity::X(b) => scene_x(d.bodies[b].position.x),
             Quantity::Y(b) => d.bodies[b].position.y,
             Quantity::Vx(b) => d.bodies[b].velocity.x,
             Quantity::Vy(b) => d.bodies[b].velocity.y,
@@ -633,7 +651,7 @@ pub fn evaluate(
                 }
                 None => f64::NAN,
             },
-            Quantity::ContactPosition(c) => d.contact_x[c],
+            Quantity::ContactPosition(c) => scene_x(d.contact_x[c]),
             Quantity::TangentialForce(c) => state.force_history[c][0].tangential,
             Quantity::NormalForce(c) => state.force_history[c][0].normal,
             Quantity::OnBeam(c) => f64::from(u8::from(state.parts[c].on_structure())),
@@ -655,6 +673,7 @@ pub fn evaluate(
             q @ (Quantity::Sensor(_)
             | Quantity::SensorVelocity(_)
             | Quantity::SensorFoundationLoad(_)
+            | Quantity::SensorRailDeflection(_)
             | Quantity::SensorAcceleration(_)
             | Quantity::SectionMoment(_)
             | Quantity::SectionShear(_)

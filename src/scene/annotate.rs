@@ -26,6 +26,10 @@ pub(super) const TABLE_NOTES: &[(&str, &str)] = &[
         "An irregularity of the running surface, summed into r(x)",
     ),
     (
+        "track.on_deck",
+        "A rail over the deck on a layer, on the ground off it: the contacts run on the rail",
+    ),
+    (
         "beam.damping",
         "Structural damping: Rayleigh, one of three shapes, or { ratio } alone in every mode",
     ),

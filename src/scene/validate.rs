@@ -65,6 +65,7 @@ pub(super) fn validate(scene: &Scene) -> Result<(), SceneError> {
     check_sections(&mut checks, scene, length_ok);
     check_solver(&mut checks, scene);
     checks.problems.extend(super::irregularity::problems(scene));
+    checks.problems.extend(super::on_deck::problems(scene));
     check_couplings(&mut checks, scene);
     checks.problems.extend(super::limits::problems(scene));
     if checks.problems.is_empty() {

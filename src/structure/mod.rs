@@ -9,5 +9,6 @@ pub mod rail_on_deck;
 pub mod reduced;
 pub mod seam;
 pub mod track_on_deck;
+pub mod track_seam;
 
 pub use seam::Structure;

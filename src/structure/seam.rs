@@ -14,10 +14,11 @@ use std::ops::Deref;
 
 use nalgebra::DVector;
 
-use crate::beam::{EffectiveFactor, HermiteBeam, Shape, VelocityFreeBand};
+use crate::beam::{EffectiveFactor, Foundation, HermiteBeam, Modes, Shape, VelocityFreeBand};
 use crate::modal::{ModalBasis, ModeSelection};
-use crate::scene::BeamSpec;
+use crate::scene::{BeamSpec, TrackSpec};
 use crate::structure::reduced::ModalBeam;
+use crate::structure::track_seam::TrackBeam;
 
 /// The flexible structure under the vehicles.
 pub enum Structure {
@@ -25,6 +26,9 @@ pub enum Structure {
     Hermite(HermiteBeam),
     /// The state is the kept modes' coordinates.
     Modal(ModalBeam),
+    /// A rail over the deck: the contacts run on the rail (the mesh), the
+    /// state is the rail's and the deck's DOFs interleaved.
+    Track(Box<TrackBeam>),
 }
 
 /// One expression per implementation: `each!(self, b => b.f(..))`.
@@ -33,6 +37,7 @@ macro_rules! each {
         match $self {
             Structure::Hermite($b) => $e,
             Structure::Modal($b) => $e,
+            Structure::Track($b) => $e,
         }
     };
 }
@@ -45,6 +50,7 @@ impl Deref for Structure {
         match self {
             Structure::Hermite(mesh) => mesh,
             Structure::Modal(modal) => &modal.mesh,
+            Structure::Track(track) => &track.mesh,
         }
     }
 }
@@ -55,6 +61,24 @@ impl Structure {
         HermiteBeam::new(spec).map(Structure::Hermite)
     }
 
+    /// The structure of a (validated) scene's beam and track: the rail
+    /// over the deck when the track has `on_deck`, else the beam's mesh.
+    pub fn of_scene(spec: &BeamSpec, track: &TrackSpec) -> Result<Structure, String> {
+        match &track.on_deck {
+            None => Structure::new(spec),
+            Some(on_deck) => TrackBeam::new(spec, on_deck, (track.approach, track.run_off))
+                .map(|t| Structure::Track(Box::new(t))),
+        }
+    }
+
+    /// The rail over the deck, when the structure is one.
+    pub fn track(&self) -> Option<&TrackBeam> {
+        match self {
+            Structure::Track(track) => Some(track),
+            _ => None,
+        }
+    }
+
     /// The structure reduced to the modes `selection` keeps: from here on
     /// its state vectors are modal coordinates. A reduced structure is
     /// reduced again from its mesh.
@@ -62,6 +86,7 @@ impl Structure {
         let mesh = match self {
             Structure::Hermite(mesh) => mesh,
             Structure::Modal(modal) => modal.mesh,
+            Structure::Track(_) => return Err(TRACK_NOT_MODAL.into()),
         };
         ModalBeam::new(mesh, selection).map(Structure::Modal)
     }
@@ -70,7 +95,7 @@ impl Structure {
     /// (a modal structure's only).
     pub fn modal_ratio(&self) -> Option<f64> {
         match self {
-            Structure::Hermite(_) => None,
+            Structure::Hermite(_) | Structure::Track(_) => None,
             Structure::Modal(modal) => modal.mesh.modal_ratio(),
         }
     }
@@ -92,7 +117,7 @@ impl Structure {
     /// The kept modes when the structure is modal.
     pub fn modal(&self) -> Option<&ModalBasis> {
         match self {
-            Structure::Hermite(_) => None,
+            Structure::Hermite(_) | Structure::Track(_) => None,
             Structure::Modal(modal) => Some(modal.basis()),
         }
     }
@@ -163,8 +188,12 @@ impl Structure {
         self.axis_of_field(element, x, &self.element_field(element, u))
     }
 
-    /// Transverse deflection w at `x` (m).
+    /// Transverse deflection w at `x` (m): the deck's at its abscissa `x`
+    /// under a rail (the sensors read the deck; the contacts the rail).
     pub fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        if let Structure::Track(track) = self {
+            return track.deck_deflection(u, x);
+        }
         let shape = self.shape(self.element_at(x), x);
         self.dot(&shape, &shape.n, u)
     }
@@ -193,6 +222,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.stiffness_times(u, out),
             Structure::Modal(modal) => modal.basis().stiffness_times(u, out),
+            Structure::Track(track) => track.stiffness_times(u, out),
         }
     }
 
@@ -201,13 +231,16 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.mass_times(v, out),
             Structure::Modal(_) => out.copy_from(v),
+            Structure::Track(track) => track.mass_times(v, out),
         }
     }
 
     /// `rhs ← M⁻¹ rhs` (the identity in modal coordinates).
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
-        if let Structure::Hermite(mesh) = self {
-            mesh.solve_mass(rhs);
+        match self {
+            Structure::Hermite(mesh) => mesh.solve_mass(rhs),
+            Structure::Modal(_) => {}
+            Structure::Track(track) => track.solve_mass(rhs),
         }
     }
 
@@ -227,6 +260,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.static_deflection(load),
             Structure::Modal(modal) => modal.basis().static_deflection(load),
+            Structure::Track(track) => track.static_deflection(load),
         }
     }
 
@@ -241,6 +275,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.internal_forces(u, v, scratch, out),
             Structure::Modal(modal) => modal.basis().internal_forces(u, v, out),
+            Structure::Track(track) => track.internal_forces(u, v, scratch, out),
         }
     }
 
@@ -254,6 +289,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.accelerations(state, load, out),
             Structure::Modal(modal) => modal.basis().accelerations(state, load, out),
+            Structure::Track(track) => track.accelerations(state, load, out),
         }
     }
 
@@ -263,6 +299,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.velocity_free_band(),
             Structure::Modal(_) => None,
+            Structure::Track(_) => None,
         }
     }
 
@@ -271,6 +308,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.kinetic_energy(v),
             Structure::Modal(modal) => modal.basis().kinetic_energy(v),
+            Structure::Track(track) => track.kinetic_energy(v),
         }
     }
 
@@ -279,6 +317,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.strain_energy(u),
             Structure::Modal(modal) => modal.basis().strain_energy(u),
+            Structure::Track(track) => track.strain_energy(u),
         }
     }
 
@@ -287,6 +326,7 @@ impl Structure {
         match self {
             Structure::Hermite(mesh) => mesh.damping_power(v),
             Structure::Modal(modal) => modal.basis().damping_power(v),
+            Structure::Track(track) => track.damping_power(v),
         }
     }
 
@@ -301,4 +341,48 @@ impl Structure {
     pub fn highest_frequency(&self) -> f64 {
         each!(self, b => b.highest_frequency())
     }
+
+    /// Whether the structure has any damping: under a rail the deck's,
+    /// the track's and the ground's (the rail mesh has none of its own).
+    pub fn is_damped(&self) -> bool {
+        match self {
+            Structure::Track(track) => track.is_damped(),
+            _ => self.deref().is_damped(),
+        }
+    }
+
+    /// The Winkler foundation under the beam; none under a rail over a
+    /// deck (its track and ground layers are the assembly's).
+    pub fn foundation(&self) -> Option<Foundation> {
+        match self {
+            Structure::Track(_) => None,
+            _ => self.deref().foundation(),
+        }
+    }
+
+    /// The lowest `count` natural modes; under a rail those of the coupled
+    /// rail and deck (dense, `track_on_deck::MAX_DENSE_DOFS`), their shapes
+    /// in the state's coordinates.
+    pub fn modes(&self, count: usize) -> Result<Modes, String> {
+        match self {
+            Structure::Track(track) => {
+                let (omega, shapes) = track.assembly().modes(count)?;
+                Ok(Modes { omega, shapes })
+            }
+            _ => self.deref().modes(count),
+        }
+    }
+
+    /// The lowest `count` natural circular frequencies (rad/s).
+    pub fn frequencies(&self, count: usize) -> Result<Vec<f64>, String> {
+        match self {
+            Structure::Track(_) => self.modes(count).map(|m| m.omega),
+            _ => self.deref().frequencies(count),
+        }
+    }
 }
+
+/// Why a rail over the deck has no modal route.
+pub const TRACK_NOT_MODAL: &str = "solver.modes: the rail over the deck (track.on_deck) is \
+     stepped on its full mesh only; a modal reduction of the coupled rail and deck is not \
+     built: leave solver.modes out";

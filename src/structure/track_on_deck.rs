@@ -49,11 +49,11 @@ pub struct TrackAssembly {
 
 /// The element's 8×8 mass, damping and stiffness (`rail_on_deck::place`
 /// order).
-type ElementMatrices = [[[f64; 8]; 8]; 3];
+pub(super) type ElementMatrices = [[[f64; 8]; 8]; 3];
 
 impl TrackOnDeck {
     /// The element matrices of an element on the deck or off it.
-    fn element(&self, on_deck: bool) -> ElementMatrices {
+    pub(super) fn element(&self, on_deck: bool) -> ElementMatrices {
         let h = self.layout.element_length;
         let (mut m, mut c) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
         let k = self.layout.element(on_deck);
@@ -126,6 +126,11 @@ impl TrackAssembly {
     /// the bearings).
     pub fn free_dofs(&self) -> usize {
         self.dofs.iter().flatten().flatten().count()
+    }
+
+    /// Free-DOF index of (rail w, rail ψ, deck w, deck ψ) at each node.
+    pub(super) fn node_dofs(&self) -> &[NodeDofs] {
+        &self.dofs
     }
 
     /// `weights[0]` M + `weights[1]` C + `weights[2]` K, assembled.

@@ -249,6 +249,7 @@ mod tests {
             approach: 8.0,
             run_off: 15.0,
             irregularities: Vec::new(),
+            on_deck: None,
         };
         scene.solver.end_time = Some(4.0);
         let plan = SpeedPlan::new(&scene, &[5.0, 20.0]).unwrap();

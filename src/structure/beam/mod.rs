@@ -180,6 +180,8 @@ pub enum EffectiveFactor {
     Modal(ModalFactor),
     /// Fine meshes, where the band factor alone loses the smooth modes.
     TwoLevel(Box<TwoLevelFactor>),
+    /// The rail over the deck's interleaved DOFs (`structure::track_seam`).
+    Wide(crate::wide_band::WideLdlt),
 }
 
 impl EffectiveFactor {
@@ -194,6 +196,7 @@ impl EffectiveFactor {
             EffectiveFactor::Band(factor) => factor.solve_mut(rhs),
             EffectiveFactor::Modal(factor) => factor.solve_mut(rhs),
             EffectiveFactor::TwoLevel(factor) => factor.solve_mut(rhs),
+            EffectiveFactor::Wide(factor) => factor.solve_in_place(rhs.as_mut_slice()),
         }
     }
 }

@@ -1,0 +1,160 @@
+//! The rules of `[track.on_deck]` (the rail over the deck): its values,
+//! and what the rest of the scene must be for the rail-over-deck model to
+//! hold it (one simply supported span, whole elements on the approach and
+//! the run-off, HHT-α on the full mesh); what it cannot do yet is refused
+//! with the reason.
+
+use super::{BodyKind, DampingSpec, EndSupport, IntegratorKind, Scene, StructureKind};
+use crate::scene::error::Problem;
+
+/// Most rail elements from the approach's start to the run-off's end: the
+/// beam's own bound (`validate::MAX_ELEMENTS`).
+const MAX_RAIL_ELEMENTS: f64 = super::validate::MAX_ELEMENTS as f64;
+
+/// Every broken rule of `track.on_deck` (none when the track has none).
+pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
+    let Some(spec) = &scene.track.on_deck else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let mut fail = |path: &str, value: String, rule: &str| {
+        out.push(Problem::new(format!("track.on_deck.{path}"), value, rule))
+    };
+    for (path, value) in [
+        ("rail_bending_stiffness", Some(spec.rail_bending_stiffness)),
+        ("rail_mass_per_length", Some(spec.rail_mass_per_length)),
+        ("stiffness", Some(spec.stiffness())),
+        ("ground_stiffness", spec.ground_stiffness),
+    ] {
+        if let Some(x) = value.filter(|x| !(x.is_finite() && *x > 0.0)) {
+            let rule = if path == "stiffness" && spec.stiffness.is_none() && spec.preset.is_none() {
+                "the layer needs a stiffness > 0 (N/m²) or a preset (\"ballasted\" or \"slab\")"
+            } else {
+                "must be finite and > 0"
+            };
+            fail(path, format!("{x:?}"), rule);
+        }
+    }
+    for (path, value) in [
+        ("damping", spec.damping),
+        ("ground_damping", spec.ground_damping),
+    ] {
+        if let Some(x) = value.filter(|x| !(x.is_finite() && *x >= 0.0)) {
+            fail(path, format!("{x:?}"), "must be finite and >= 0");
+        }
+    }
+    out.extend(layout_problems(scene));
+    out.extend(unsupported(scene));
+    out
+}
+
+/// One simply supported span whose element length divides the approach
+/// and the run-off, and a rail of bounded size.
+fn layout_problems(scene: &Scene) -> Vec<Problem> {
+    let (beam, track) = (&scene.beam, &scene.track);
+    let mut out = Vec::new();
+    let supports = &beam.supports;
+    let simple = supports.left == EndSupport::Pinned
+        && supports.right == EndSupport::Pinned
+        && supports.intermediate.is_empty()
+        && supports.springs.is_empty()
+        && beam.joints.is_empty()
+        && beam.foundation.is_none();
+    if !simple {
+        out.push(Problem::new(
+            "track.on_deck",
+            "",
+            "the rail over the deck is built on one simply supported span: beam.supports \
+             pinned at both ends, without intermediate supports, springs, joints or \
+             beam.foundation",
+        ));
+    }
+    if matches!(beam.damping, Some(DampingSpec::Modal { .. })) {
+        out.push(Problem::new(
+            "beam.damping",
+            "{ ratio }",
+            "one ratio in every mode is a modal structure's; under a rail over the deck give \
+             Rayleigh damping (coefficients, frequencies or modes)",
+        ));
+    }
+    let h = beam.length / beam.elements.max(1) as f64;
+    for (path, length) in [
+        ("track.approach", track.approach),
+        ("track.run_off", track.run_off),
+    ] {
+        let count = length / h;
+        if count.is_finite() && (count - count.round()).abs() > 1e-9 * count.max(1.0) {
+            out.push(Problem::new(
+                path,
+                format!("{length:?}"),
+                format!(
+                    "under a rail over the deck must be a whole number of the deck's elements \
+                     (beam.length / beam.elements = {h:?} m): the rail's mesh continues the \
+                     deck's"
+                ),
+            ));
+        }
+    }
+    let elements = (track.approach + beam.length + track.run_off) / h;
+    if elements > MAX_RAIL_ELEMENTS {
+        out.push(Problem::new(
+            "track.approach",
+            format!("{:?}", track.approach),
+            format!(
+                "the rail from the approach to the run-off would have {elements:.0} elements \
+                 of {h:?} m, more than {MAX_RAIL_ELEMENTS}"
+            ),
+        ));
+    }
+    out
+}
+
+/// What the rail over the deck does not do yet, each with the reason.
+fn unsupported(scene: &Scene) -> Vec<Problem> {
+    let mut out = Vec::new();
+    let solver = &scene.solver;
+    if solver.integrator != IntegratorKind::Hht {
+        out.push(Problem::new(
+            "solver.integrator",
+            format!("{:?}", solver.integrator).to_lowercase(),
+            "the rail over the deck is stepped by HHT-α only: set integrator = \"hht\"",
+        ));
+    }
+    if solver.structure != StructureKind::Full {
+        out.push(Problem::new(
+            "solver.structure",
+            "\"modal\"",
+            crate::structure::seam::TRACK_NOT_MODAL,
+        ));
+    }
+    if !scene.track.irregularities.is_empty() {
+        out.push(Problem::new(
+            "track.irregularities",
+            format!("{} irregularities", scene.track.irregularities.len()),
+            "are not built on a rail over the deck yet (the rail's abscissa starts at the \
+             approach): leave them out",
+        ));
+    }
+    if !scene.sections.is_empty() || scene.reactions {
+        out.push(Problem::new(
+            "sections",
+            "",
+            "sections and support reactions of a deck under a rail are not built yet (the \
+             deck's element forces need the track layer's load): leave sections and \
+             reactions out",
+        ));
+    }
+    let vehicles = std::iter::once(&scene.body).chain(&scene.vehicles);
+    if vehicles
+        .into_iter()
+        .any(|v| v.kind == BodyKind::MovingForce)
+    {
+        out.push(Problem::new(
+            "body.kind",
+            "\"moving_force\"",
+            "a crossing of moving forces runs on the bare beam; on a rail over the deck use a \
+             vehicle (a glider of the force's mass)",
+        ));
+    }
+    out
+}

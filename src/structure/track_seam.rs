@@ -1,0 +1,343 @@
+//! The rail over the deck behind the structure seam (`Structure::Track`):
+//! the contacts see the rail as a free Hermite mesh from the approach's
+//! start to the run-off's end, while the state is the interleaved rail and
+//! deck DOFs of `track_on_deck` with its wide-band mass, damping and
+//! stiffness; the deck's sensors read the deck.
+//!
+//! The system's abscissa starts at the rail's start: the deck's x = 0 is
+//! the system's `deck_start` (the approach), so the rail mesh, whose nodes
+//! start at 0 like every mesh, needs no negative abscissae.
+
+use nalgebra::{DMatrix, DVector};
+
+use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh, Shape};
+use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SupportsSpec};
+use crate::structure::rail_on_deck::{element_dofs, RailOnDeck};
+use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
+use crate::wide_band::{WideBand, WideLdlt};
+
+/// The rail over a simply supported deck, as the seam sees it.
+pub struct TrackBeam {
+    /// The rail: geometry and shapes for the contacts (no supports, no
+    /// dynamics of its own: its DOFs are mapped into the assembly's).
+    pub(in crate::structure) mesh: HermiteBeam,
+    assembly: TrackAssembly,
+    /// The assembly's index of each free DOF of the rail mesh.
+    rail_dofs: Vec<usize>,
+    mass_factor: WideLdlt,
+    stiffness_factor: WideLdlt,
+    /// The system's abscissa of the deck's x = 0 (m): the approach.
+    deck_start: f64,
+    /// An upper bound of the highest natural circular frequency (rad/s).
+    highest_frequency: f64,
+}
+
+impl TrackBeam {
+    /// The rail of `on_deck` over the deck of `deck` (validated: one simply
+    /// supported span, Rayleigh damping) between an approach and a run-off
+    /// on the ground; the rail's elements are the deck's.
+    pub fn new(
+        deck: &BeamSpec,
+        on_deck: &OnDeckSpec,
+        (approach, run_off): (f64, f64),
+    ) -> Result<TrackBeam, String> {
+        let deck_damping: Rayleigh = HermiteBeam::new(deck)?.damping();
+        let element_length = deck.length / deck.elements as f64;
+        let track = TrackOnDeck {
+            layout: RailOnDeck {
+                deck_length: deck.length,
+                deck_bending_stiffness: deck.bending_stiffness,
+                rail_bending_stiffness: on_deck.rail_bending_stiffness,
+                track_stiffness: on_deck.stiffness(),
+                ground_stiffness: on_deck.ground_stiffness(),
+                approach,
+                run_off,
+                element_length,
+            },
+            rail_mass_per_length: on_deck.rail_mass_per_length,
+            deck_mass_per_length: deck.mass_per_length,
+            track_damping: on_deck.damping(),
+            ground_damping: on_deck.ground_damping(),
+            deck_damping,
+        };
+        let assembly = track.assemble()?;
+        let mesh = HermiteBeam::new(&rail_spec(deck, on_deck, assembly.node_x.len() - 1))?;
+        let rail_dofs = rail_dofs(&mesh, &assembly)?;
+        let not_definite =
+            |what: &str| format!("the rail-over-deck {what} is not positive definite");
+        let mass_factor = assembly.mass.ldlt().ok_or_else(|| not_definite("mass"))?;
+        let stiffness_factor =
+            (assembly.stiffness.ldlt()).ok_or_else(|| not_definite("stiffness"))?;
+        let highest_frequency = assembly.element_frequency_bound()?;
+        Ok(TrackBeam {
+            mesh,
+            assembly,
+            rail_dofs,
+            mass_factor,
+            stiffness_factor,
+            deck_start: approach,
+            highest_frequency,
+        })
+    }
+
+    /// The system's abscissa of the deck's x = 0 (m).
+    pub fn deck_start(&self) -> f64 {
+        self.deck_start
+    }
+
+    /// The assembled rail over the deck.
+    pub fn assembly(&self) -> &TrackAssembly {
+        &self.assembly
+    }
+
+    /// Entries of a state vector: every free DOF of rail and deck.
+    pub fn coordinates(&self) -> usize {
+        self.assembly.free_dofs()
+    }
+
+    /// Value of `u` on free DOF `dof` of the rail mesh.
+    pub fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
+        u[self.rail_dofs[dof]]
+    }
+
+    /// `out += scale` × a unit load on the rail mesh's free DOF `dof`.
+    pub fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        out[self.rail_dofs[dof]] += scale;
+    }
+
+    /// The rail's field on the four rail-mesh DOFs `dofs`.
+    pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
+        dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u)))
+    }
+
+    /// Dot a row of `shape` with the rail's field of `u`.
+    pub fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
+        let local = self.gather(&shape.dofs, u);
+        local.iter().zip(row).map(|(a, b)| a * b).sum()
+    }
+
+    /// `dot` of two rows.
+    pub fn dot_rows(
+        &self,
+        shape: &Shape,
+        (first, second): (&[f64; 4], &[f64; 4]),
+        u: &DVector<f64>,
+    ) -> (f64, f64) {
+        (self.dot(shape, first, u), self.dot(shape, second, u))
+    }
+
+    /// Two loads on the rail at `shape`, `scale_1 row_1 + scale_2 row_2`.
+    pub fn scatter_rows(
+        &self,
+        shape: &Shape,
+        (first, scale_1): (&[f64; 4], f64),
+        (second, scale_2): (&[f64; 4], f64),
+        out: &mut DVector<f64>,
+    ) {
+        for (k, dof) in shape.dofs.iter().enumerate() {
+            if let Some(i) = *dof {
+                self.add_dof_load(i, scale_1 * first[k] + scale_2 * second[k], out);
+            }
+        }
+    }
+
+    /// Add the load `scale * row` on the rail at `shape` into `out`.
+    pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
+        for (dof, r) in shape.dofs.iter().zip(row) {
+            if let Some(i) = *dof {
+                self.add_dof_load(i, scale * r, out);
+            }
+        }
+    }
+
+    /// The wide-band factor of M + `damping_weight` C + `stiffness_weight` K.
+    pub fn effective_factor(
+        &self,
+        damping_weight: f64,
+        stiffness_weight: f64,
+    ) -> Result<EffectiveFactor, String> {
+        let band = self
+            .assembly
+            .combination([1.0, damping_weight, stiffness_weight])?;
+        band.ldlt().map(EffectiveFactor::Wide).ok_or_else(|| {
+            "the implicit scheme's effective matrix of the rail over the deck is not positive \
+             definite"
+                .into()
+        })
+    }
+
+    /// No support dampers: the track's and the ground's are distributed.
+    pub fn damper_rate_bound(&self) -> f64 {
+        0.0
+    }
+
+    /// The element-by-element bound of the highest circular frequency.
+    pub fn highest_frequency(&self) -> f64 {
+        self.highest_frequency
+    }
+
+    /// Deck deflection of `u` at the deck's abscissa `x` (NaN off it).
+    pub fn deck_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        let on = x >= 0.0 && x <= self.assembly.track.layout.deck_length;
+        let value = self.assembly.deck_deflection(x, u.as_slice());
+        value.ok().filter(|_| on).unwrap_or(f64::NAN)
+    }
+
+    /// Rail deflection of `u` at the deck's abscissa `x` (NaN off the rail).
+    pub fn rail_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        (self.assembly.rail_deflection(x, u.as_slice())).unwrap_or(f64::NAN)
+    }
+}
+
+/// The dynamics on the interleaved DOFs.
+impl TrackBeam {
+    /// `out = band x`.
+    fn times(band: &WideBand, x: &DVector<f64>, out: &mut DVector<f64>) {
+        band.mul_to(x.as_slice(), out.as_mut_slice());
+    }
+
+    pub fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
+        Self::times(&self.assembly.stiffness, u, out);
+    }
+
+    pub fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        Self::times(&self.assembly.mass, v, out);
+    }
+
+    pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
+        self.mass_factor.solve_in_place(rhs.as_mut_slice());
+    }
+
+    /// K u = `load`, with one step of iterative refinement (the deck's
+    /// EI/h³ against the ground's k h, as in `rail_on_deck`).
+    pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
+        let mut u = load.clone();
+        self.stiffness_factor.solve_in_place(u.as_mut_slice());
+        let mut residual = DVector::zeros(u.len());
+        self.stiffness_times(&u, &mut residual);
+        residual = load - residual;
+        self.stiffness_factor
+            .solve_in_place(residual.as_mut_slice());
+        Ok(u + residual)
+    }
+
+    /// `out = K u + C v`, using `scratch`.
+    pub fn internal_forces(
+        &self,
+        u: &DVector<f64>,
+        v: &DVector<f64>,
+        scratch: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        self.stiffness_times(u, out);
+        Self::times(&self.assembly.damping, v, scratch);
+        *out += &*scratch;
+    }
+
+    /// `M⁻¹ (load − K u − C v)`.
+    pub fn accelerations(
+        &self,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        load: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        let mut scratch = DVector::zeros(u.len());
+        let mut internal = DVector::zeros(u.len());
+        self.internal_forces(u, v, &mut scratch, &mut internal);
+        out.copy_from(load);
+        *out -= internal;
+        self.solve_mass(out);
+    }
+
+    fn quadratic(band: &WideBand, x: &DVector<f64>) -> f64 {
+        let mut product = DVector::zeros(x.len());
+        Self::times(band, x, &mut product);
+        x.dot(&product)
+    }
+
+    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        0.5 * Self::quadratic(&self.assembly.mass, v)
+    }
+
+    pub fn strain_energy(&self, u: &DVector<f64>) -> f64 {
+        0.5 * Self::quadratic(&self.assembly.stiffness, u)
+    }
+
+    pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
+        Self::quadratic(&self.assembly.damping, v)
+    }
+
+    /// Whether any damper acts (the deck's, the track's, the ground's).
+    pub fn is_damped(&self) -> bool {
+        let track = &self.assembly.track;
+        !track.deck_damping.is_zero() || track.track_damping > 0.0 || track.ground_damping > 0.0
+    }
+}
+
+/// The rail as a free mesh over the whole track: the deck's element
+/// length, the rail's mass and bending stiffness, the deck's surface
+/// offset (the running surface's height in the bodies' frame).
+fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, elements: usize) -> BeamSpec {
+    let element_length = deck.length / deck.elements as f64;
+    BeamSpec {
+        length: element_length * elements as f64,
+        mass_per_length: on_deck.rail_mass_per_length,
+        bending_stiffness: on_deck.rail_bending_stiffness,
+        frequency: None,
+        surface_offset: deck.surface_offset,
+        elements,
+        supports: SupportsSpec {
+            left: EndSupport::Free,
+            right: EndSupport::Free,
+            intermediate: Vec::new(),
+            springs: Vec::new(),
+        },
+        damping: None,
+        joints: Vec::new(),
+        foundation: None,
+    }
+}
+
+/// The assembly's index of every free DOF of the rail mesh: node by node,
+/// its w and ψ.
+fn rail_dofs(mesh: &HermiteBeam, assembly: &TrackAssembly) -> Result<Vec<usize>, String> {
+    let nodes = assembly.node_dofs();
+    if mesh.elements() + 1 != nodes.len() {
+        return Err("the rail mesh and the rail-over-deck assembly differ in nodes".into());
+    }
+    let mut map = vec![usize::MAX; mesh.free_dofs()];
+    for e in 0..mesh.elements() {
+        let local = element_dofs(nodes, e);
+        for (k, dof) in mesh.element_dofs(e).iter().enumerate() {
+            let rail = local[if k < 2 { k } else { k + 2 }];
+            if let (Some(i), Some(j)) = (*dof, rail) {
+                map[i] = j;
+            }
+        }
+    }
+    if map.contains(&usize::MAX) {
+        return Err("a rail DOF has no place in the rail-over-deck assembly".into());
+    }
+    Ok(map)
+}
+
+impl TrackAssembly {
+    /// Irons' bound: the highest generalized eigenvalue of the assembly is
+    /// at most the highest of its elements' (each element's mass being
+    /// positive definite), here from the dense 8×8 (4×4 off the deck)
+    /// element eigenproblems.
+    fn element_frequency_bound(&self) -> Result<f64, String> {
+        let mut highest = 0.0f64;
+        for deck in [false, true] {
+            let [m, _, k] = self.track.element(deck);
+            let n = if deck { 8 } else { 4 };
+            // Off the deck the element has the rail's four DOFs: 0, 1, 4, 5.
+            let pick = |p: usize| if deck { p } else { [0, 1, 4, 5][p] };
+            let dense = |a: &[[f64; 8]; 8]| DMatrix::from_fn(n, n, |i, j| a[pick(i)][pick(j)]);
+            let (omega, _) =
+                crate::dense_modes::lowest_modes(dense(&m), dense(&k), n, "a rail element")?;
+            highest = highest.max(omega.last().copied().unwrap_or(0.0));
+        }
+        Ok(highest)
+    }
+}
