@@ -59,49 +59,47 @@ impl InverseBand {
     /// Z(rows[p], rows[q]) into `out` (column-major, m × m for the m
     /// `rows`, increasing and distinct); returns the rows the column
     /// recurrences walked: Σ over the columns of their distance to the
-    /// first row, at most, whatever the matrix's size.
+    /// first row, whatever the matrix's size.
     pub fn entries(&self, rows: &[usize], out: &mut [f64]) -> usize {
         let m = rows.len();
         assert!(out.len() == m * m && rows.windows(2).all(|w| w[0] < w[1]));
         assert!(rows.last().map_or(true, |&r| r < self.size()));
-        out.fill(0.0);
-        let mut walked = 0;
-        for (q, &b) in rows.iter().enumerate() {
-            out[q * m + q] = self.band[b][0];
-            walked += self.column_upwards(rows, q, out);
-        }
-        walked
-    }
-
-    /// Column `rows[q]`'s entries at the earlier rows, into both triangles
-    /// of `out`; the rows walked. Stops where the recurrence's three
-    /// values are all zero: every entry above is zero then.
-    fn column_upwards(&self, rows: &[usize], q: usize, out: &mut [f64]) -> usize {
-        let (m, b) = (rows.len(), rows[q]);
-        let Some(mut p) = q.checked_sub(1) else {
+        let Some(&first) = rows.first() else {
             return 0;
         };
-        // Z(i+1, b), Z(i+2, b), Z(i+3, b) for the next row i.
-        let mut z = [
-            self.band[b][0],
-            entry_within(&self.band, b + 1, b),
-            entry_within(&self.band, b + 2, b),
-        ];
-        let mut walked = 0;
-        for i in (rows[0]..b).rev() {
+        for (q, &b) in rows.iter().enumerate() {
+            out[q * m + q] = self.band[b][0];
+        }
+        // Every column's recurrence upwards at once, row by row: the
+        // columns whose own row lies below row i (a suffix of `rows`) each
+        // take Z(i, b) from their Z(i+1..=i+3, b). Side by side, the
+        // columns' multiply-adds are independent (they vectorise), where
+        // one column's each waits on the last.
+        let mut z = [vec![0.0; m], vec![0.0; m], vec![0.0; m]];
+        let (mut walked, mut started, mut p) = (0, m, m - 1);
+        for i in (first..rows[m - 1]).rev() {
+            // Columns whose own row is i + 1 start: Z(i+1..=i+3, b).
+            while started > 0 && rows[started - 1] == i + 1 {
+                started -= 1;
+                let b = rows[started];
+                z[0][started] = self.band[b][0];
+                z[1][started] = entry_within(&self.band, b + 1, b);
+                z[2][started] = entry_within(&self.band, b + 2, b);
+            }
             let l = &self.below[i];
-            let next = -(l[0] * z[0] + l[1] * z[1] + l[2] * z[2]);
-            z = [next, z[0], z[1]];
-            walked += 1;
-            if i == rows[p] {
-                (out[q * m + p], out[p * m + q]) = (next, next);
-                if p == 0 {
-                    break;
-                }
+            let [z0, z1, z2] = &mut z;
+            for c in started..m {
+                let next = -(l[0] * z0[c] + l[1] * z1[c] + l[2] * z2[c]);
+                (z2[c], z1[c], z0[c]) = (z1[c], z0[c], next);
+            }
+            walked += m - started;
+            while rows[p] > i {
                 p -= 1;
             }
-            if z == [0.0; 3] {
-                break;
+            if rows[p] == i {
+                for q in started..m {
+                    (out[q * m + p], out[p * m + q]) = (z0[q], z0[q]);
+                }
             }
         }
         walked

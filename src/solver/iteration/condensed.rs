@@ -18,6 +18,10 @@ use crate::linalg::band_inverse::InverseBand;
 use crate::system::System;
 
 use super::responses::ElementResponse;
+use super::Part;
+
+/// A measured element's places and a loaded one's (`Condensed::places`).
+type PlacesPair = ([Option<usize>; 4], [Option<usize>; 4]);
 use nalgebra::Matrix4;
 
 /// A⁻¹'s band for the factor it was taken from, and its entries at the
@@ -91,27 +95,42 @@ impl Condensed {
         self.work.rows_walked += walked as u64;
     }
 
-    /// The response block of measured element `me` to unit loads on the
-    /// DOFs of loaded element `le` (both among `prepare`'s elements).
-    pub fn block(&self, (me, le): (usize, usize)) -> ElementResponse {
-        let place = |e: usize| {
-            let at = self.places.binary_search_by_key(&e, |p| p.0);
-            self.places[at.expect("an element of the build")].1
-        };
-        let (measured, loaded) = (place(me), place(le));
+    /// The places in the build's DOFs of element `e`'s (one of
+    /// `prepare`'s elements): looked up once per contact, not per pair.
+    pub fn places(&self, e: usize) -> [Option<usize>; 4] {
+        let at = self.places.binary_search_by_key(&e, |p| p.0);
+        self.places[at.expect("an element of the build")].1
+    }
+
+    /// The response block of a measured element to unit loads on the DOFs
+    /// of a loaded one (their `places`), for `part` only: the other
+    /// part's matrix is left zero.
+    pub fn block(&self, (measured, loaded): PlacesPair, part: Part) -> ElementResponse {
         let m = self.dofs.len();
+        let weight = match part {
+            Part::Gap => self.weights.0,
+            Part::Velocity => self.weights.1,
+        };
         let mut z = Matrix4::zeros();
         for (l, column) in loaded.iter().enumerate() {
             let Some(column) = column else { continue };
+            let entries = &self.entries[column * m..(column + 1) * m];
             for (k, row) in measured.iter().enumerate() {
                 if let Some(row) = row {
-                    z[(k, l)] = self.entries[column * m + row];
+                    z[(k, l)] = weight * entries[*row];
                 }
             }
         }
-        ElementResponse {
-            displacement: z * self.weights.0,
-            velocity: z * self.weights.1,
+        let zero = Matrix4::zeros();
+        match part {
+            Part::Gap => ElementResponse {
+                displacement: z,
+                velocity: zero,
+            },
+            Part::Velocity => ElementResponse {
+                displacement: zero,
+                velocity: z,
+            },
         }
     }
 }

@@ -775,17 +775,20 @@ impl ContactIteration {
                 apply: rows4(apply.beam_rows(h)),
             }),
         );
+        let places = |f: &ContactFrame| f.on_beam.then(|| self.condensed.places(f.shape.element));
+        let measured: Vec<_> = measure_frames.iter().map(places).collect();
         for (j, apply) in start_frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
             let kinds_j = row_kinds(system.contacts[j].rolls());
-            for (i, measure) in measure_frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
+            let loaded = self.condensed.places(apply.shape.element);
+            for (i, measure) in measured.iter().enumerate() {
+                let Some(measure) = *measure else { continue };
                 let pair = PairEntry {
                     rows: (&rows[i].measure, &rows[j].apply),
                     kinds: (row_kinds(system.contacts[i].rolls()), kinds_j),
                     at: (i, j),
                     offsets: (self.offsets[i], self.offsets[j]),
                 };
-                let key = (measure.shape.element, apply.shape.element);
-                pair.fill(&self.condensed.block(key), part, matrix);
+                pair.fill(&self.condensed.block((measure, loaded), part), part, matrix);
             }
         }
         self.beam_rows = rows;
