@@ -37,10 +37,10 @@ impl InverseBand {
             // Z(k, j) for k, j in i+1..=i+3: at most 2 apart, in the band.
             let z = |k: usize, j: usize| entry_within(&band, k, j);
             let mut row = [0.0f64; 4];
-            for d in 1..=3 {
+            for (d, entry) in row.iter_mut().enumerate().skip(1) {
                 let j = i + d;
                 if j < n {
-                    row[d] = -(l[0] * z(i + 1, j) + l[1] * z(i + 2, j) + l[2] * z(i + 3, j));
+                    *entry = -(l[0] * z(i + 1, j) + l[1] * z(i + 2, j) + l[2] * z(i + 3, j));
                 }
             }
             row[0] = inverse_pivot[i] - (l[0] * row[1] + l[1] * row[2] + l[2] * row[3]);
@@ -63,7 +63,7 @@ impl InverseBand {
     pub fn entries(&self, rows: &[usize], out: &mut [f64]) -> usize {
         let m = rows.len();
         assert!(out.len() == m * m && rows.windows(2).all(|w| w[0] < w[1]));
-        assert!(rows.last().map_or(true, |&r| r < self.size()));
+        assert!(rows.last().is_none_or(|&r| r < self.size()));
         let Some(&first) = rows.first() else {
             return 0;
         };
