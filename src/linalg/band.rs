@@ -265,6 +265,12 @@ impl BandLdlt {
         self.lower.len()
     }
 
+    /// Per column i, L(i+1, i), L(i+2, i), L(i+3, i) (0 past the last row),
+    /// and D's reciprocal pivots: what `band_inverse` recurs on.
+    pub(crate) fn columns_below_and_inverse_pivots(&self) -> (&[[f64; 3]], &[f64]) {
+        (&self.below, &self.inverse_pivot)
+    }
+
     /// `x ← A⁻¹ x`.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         assert_eq!(x.len(), self.size());

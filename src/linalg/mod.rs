@@ -3,6 +3,7 @@
 //! complementarity problem of the contact impulses.
 
 pub mod band;
+pub mod band_inverse;
 pub mod complementarity;
 pub mod dense_modes;
 pub mod two_level;

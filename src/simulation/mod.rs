@@ -450,6 +450,12 @@ impl Simulation {
         self.iteration.response_cache_peak()
     }
 
+    /// What the contact operators cost so far: whole-beam solves for
+    /// responses, and the condensed builds' work (issue 29).
+    pub fn delassus_work(&self) -> (u64, crate::iteration::CondensedWork) {
+        self.iteration.delassus_work()
+    }
+
     /// Steps taken and contact iterations spent so far.
     pub fn counters(&self) -> (u64, u64) {
         (self.state.steps, self.state.total_iterations)

@@ -457,6 +457,22 @@ impl Hht {
         (forcing * self.gamma * dt, forcing * self.beta * dt * dt)
     }
 
+    /// The nominal step's band factor of the effective matrix A and the
+    /// weights (w_u, w_v) of `beam_response` on that step: u = w_u A⁻¹ f,
+    /// v = w_v A⁻¹ f. None where the solve is not the plain band factor's
+    /// (a modal structure, or a fine mesh's two-level solve).
+    pub fn nominal_band_response(&self) -> Option<(&crate::band::BandLdlt, f64, f64)> {
+        let EffectiveFactor::Band(factor) = &self.nominal.1 else {
+            return None;
+        };
+        let (h, forcing) = (self.nominal.0, 1.0 + self.alpha);
+        Some((
+            factor,
+            forcing * self.beta * h * h,
+            forcing * self.gamma * h,
+        ))
+    }
+
     pub fn beam_response(
         &mut self,
         system: &System,

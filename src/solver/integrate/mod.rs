@@ -366,6 +366,15 @@ impl Integrator {
         }
     }
 
+    /// HHT-α's `Hht::nominal_band_response`: the band factor and weights
+    /// its beam responses on the nominal step are made of; None for RK4.
+    pub fn nominal_band_response(&self) -> Option<(&crate::band::BandLdlt, f64, f64)> {
+        match self {
+            Integrator::Rk4(_) => None,
+            Integrator::Hht(hht) => hht.nominal_band_response(),
+        }
+    }
+
     /// Displacement and velocity of the beam alone after `dt` under a
     /// constant `load`, from rest: the step's response to a unit contact
     /// load, from which the iteration builds its Delassus operator.

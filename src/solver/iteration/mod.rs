@@ -21,9 +21,11 @@ use crate::integrate::{
 };
 use crate::system::System;
 
+mod condensed;
 mod laws;
 mod responses;
 
+pub use condensed::Work as CondensedWork;
 pub use responses::Footprint;
 use responses::{ElementResponse, ResponseCache};
 
@@ -483,6 +485,12 @@ pub struct ContactIteration {
     /// on the elements and the nominal step, never on the history, so a
     /// restored state continues bit-identically.
     element_responses: ResponseCache,
+    /// HHT-α's responses on the nominal step from A⁻¹ at the contacts'
+    /// DOFs (`condensed`), where its solve is the plain band factor's:
+    /// then `element_responses` stays empty.
+    condensed: condensed::Condensed,
+    /// Whole-beam solves made for operators (responses integrated).
+    delassus_beam_solves: u64,
     nominal_step: f64,
     offsets: Vec<usize>,
     rows: usize,
@@ -540,6 +548,8 @@ impl ContactIteration {
             response_u: Vec::new(),
             response_v: Vec::new(),
             element_responses: ResponseCache::new(),
+            condensed: Default::default(),
+            delassus_beam_solves: 0,
             nominal_step,
             offsets,
             rows,
@@ -579,6 +589,13 @@ impl ContactIteration {
     /// linear in the elements (`responses`).
     pub fn response_cache_peak(&self) -> Footprint {
         self.element_responses.peak()
+    }
+
+    /// What the operator builds cost: whole-beam solves for responses,
+    /// and the condensed builds' work (`condensed`).
+    pub fn delassus_work(&self) -> (u64, CondensedWork) {
+        let cached = self.element_responses.integrations();
+        (self.delassus_beam_solves + cached, self.condensed.work())
     }
 
     /// The end frames of the last step solved, with the configuration they
@@ -678,6 +695,10 @@ impl ContactIteration {
         part: Part,
         matrix: &mut DMatrix<f64>,
     ) {
+        if self.integrator.nominal_band_response().is_some() {
+            let frames = (measure_frames, start_frames);
+            return self.beam_compliance_condensed(system, frames, part, matrix);
+        }
         let h = system.beam.surface_offset;
         // The elements the contacts are measured on: where a loaded
         // element's responses are read when they cannot be kept whole.
@@ -728,6 +749,51 @@ impl ContactIteration {
         self.measured_elements = measured;
     }
 
+    /// `beam_compliance_cached` where HHT-α's nominal solve is the plain
+    /// band factor's: the blocks from A⁻¹ at the contacts' DOFs, taken in
+    /// one pass for all of them (`condensed`).
+    fn beam_compliance_condensed(
+        &mut self,
+        system: &System,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        part: Part,
+        matrix: &mut DMatrix<f64>,
+    ) {
+        let h = system.beam.surface_offset;
+        let on_beam = |f: &&ContactFrame| f.on_beam;
+        let elements = (measure_frames.iter().chain(start_frames))
+            .filter(on_beam)
+            .map(|f| f.shape.element);
+        let response = self.integrator.nominal_band_response();
+        let response = response.expect("the caller checked it");
+        self.condensed.prepare(response, system, elements);
+        let mut rows = std::mem::take(&mut self.beam_rows);
+        rows.clear();
+        rows.extend(
+            (measure_frames.iter().zip(start_frames)).map(|(measure, apply)| BeamRows {
+                measure: rows4(measure.beam_rows(h)),
+                apply: rows4(apply.beam_rows(h)),
+            }),
+        );
+        let places = |f: &ContactFrame| f.on_beam.then(|| self.condensed.places(f.shape.element));
+        let measured: Vec<_> = measure_frames.iter().map(places).collect();
+        for (j, apply) in start_frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
+            let kinds_j = row_kinds(system.contacts[j].rolls());
+            let loaded = self.condensed.places(apply.shape.element);
+            for (i, measure) in measured.iter().enumerate() {
+                let Some(measure) = *measure else { continue };
+                let pair = PairEntry {
+                    rows: (&rows[i].measure, &rows[j].apply),
+                    kinds: (row_kinds(system.contacts[i].rolls()), kinds_j),
+                    at: (i, j),
+                    offsets: (self.offsets[i], self.offsets[j]),
+                };
+                pair.fill(&self.condensed.block((measure, loaded), part), part, matrix);
+            }
+        }
+        self.beam_rows = rows;
+    }
+
     /// Beam parts of ∂e/∂p and ∂g/∂p_n for other step lengths (the
     /// shortened steps before an event or a communication point): the beam's
     /// responses to each applied row, integrated directly.
@@ -754,6 +820,7 @@ impl ContactIteration {
                 beam.scatter(&apply.shape, &rows[kj], 1.0, &mut self.load);
                 let (u, v) = (&mut self.response_u[column], &mut self.response_v[column]);
                 self.integrator.beam_response(system, &self.load, dt, u, v);
+                self.delassus_beam_solves += 1;
             }
             let normal_column = self.offsets[j] + kinds_j.len() - 1;
             for (i, measure) in measure_frames.iter().enumerate() {
@@ -903,7 +970,9 @@ impl ContactIteration {
             e.dedup();
             e
         };
-        let integrations = if nominal {
+        let integrations = if nominal && self.integrator.nominal_band_response().is_some() {
+            0
+        } else if nominal {
             let missing = loaded()
                 .into_iter()
                 .filter(|&le| self.element_responses.misses(le))
@@ -1311,6 +1380,46 @@ mod tests {
         // Reciprocity: the beam's response is symmetric in load and measure
         // (same frames at both ends here).
         assert!((direct.1[(0, 1)] - direct.1[(1, 0)]).abs() <= 1e-9 * direct.1[(0, 1)].abs());
+    }
+
+    #[test]
+    fn condensed_hht_blocks_give_the_integrated_coupling_without_a_beam_solve() {
+        // HHT-α on the nominal step: the blocks from A⁻¹ at the contacts'
+        // DOFs against whole-beam solves of each applied row, on a mesh
+        // beyond the band factor's dense size (wheels 12.5 m apart).
+        let mut scene = crate::integrate::fixtures::two_paper_wheels();
+        scene.beam.elements = 40;
+        let assembly = assemble(&scene).unwrap();
+        let system = assembly.system;
+        let mut frames = Vec::new();
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).sin());
+        let located = (&[3.0, 15.5][..], &[TrackPart::Beam; 2][..]);
+        contact_frames(&system, &u, &assembly.bodies, located, &mut frames).unwrap();
+        let dt = 0.0025;
+        let hht = crate::integrate::Hht::new(&system, 0.1, dt).unwrap();
+        let mut iteration = ContactIteration::new(Integrator::Hht(Box::new(hht)), &system, dt);
+        assert!(iteration.integrator.nominal_band_response().is_some());
+        let (rows, contacts) = (iteration.rows, system.contacts.len());
+        let both = (frames.as_slice(), frames.as_slice());
+        for (part, size) in [(Part::Velocity, rows), (Part::Gap, contacts)] {
+            let mut condensed = DMatrix::zeros(size, size);
+            let solves = iteration.delassus_work().0;
+            iteration.beam_compliance_cached(&system, both, part, &mut condensed);
+            assert_eq!(iteration.delassus_work().0, solves, "no beam solve");
+            let mut direct = DMatrix::zeros(size, size);
+            iteration.beam_compliance_integrated(&system, both, (dt, part), &mut direct);
+            let scale = direct.amax();
+            assert!(
+                (&condensed - &direct).amax() <= 1e-12 * scale,
+                "{condensed} vs {direct}"
+            );
+            // The wheels load each other through the beam.
+            assert!(direct[(0, size - 1)].abs() > 1e-6 * direct[(0, 0)].abs());
+        }
+        // The direct path's solves alone (2 wheels × 2 rows, each part);
+        // one band of A⁻¹ for both condensed builds.
+        let (solves, work) = iteration.delassus_work();
+        assert_eq!((solves, work.bands, work.builds), (8, 1, 2));
     }
 
     #[test]

@@ -110,6 +110,8 @@ pub(super) struct ResponseCache {
     swept_pairs: usize,
     load: DVector<f64>,
     peak: Footprint,
+    /// Beam responses integrated.
+    integrations: u64,
 }
 
 /// What the cache holds (or the most it held).
@@ -133,6 +135,7 @@ impl ResponseCache {
             swept_pairs: 0,
             load: DVector::zeros(0),
             peak: Footprint::default(),
+            integrations: 0,
         }
     }
 
@@ -149,6 +152,11 @@ impl ResponseCache {
     /// The most the cache held at once (at the end of each build).
     pub fn peak(&self) -> Footprint {
         self.peak
+    }
+
+    /// Beam responses integrated so far.
+    pub fn integrations(&self) -> u64 {
+        self.integrations
     }
 
     /// Whether a build would integrate loaded element `le`.
@@ -276,6 +284,7 @@ impl ResponseCache {
             self.load.fill(0.0);
             beam.add_dof_load(dof, 1.0, &mut self.load);
             integrator.beam_response(system, &self.load, step, u, v);
+            self.integrations += 1;
         }
         if self.footprint().bytes + entry.bytes() <= MAX_KEPT_BYTES {
             self.loaded.insert(le, entry);
