@@ -1142,9 +1142,7 @@ impl Simulation {
             })?;
         let grid = self.state.grid_step;
         self.state.impact_loss += impact.loss;
-        // HHT-α restarts the bodies of the contacts landing a second time
-        // in the grid step and of those the impact sends off the track.
-        let mut restarted = Vec::new();
+        let mut relanded = Vec::new();
         for (d, &part) in parts.iter().enumerate() {
             let s = &mut self.state;
             let status = &mut s.contacts[d];
@@ -1158,23 +1156,16 @@ impl Simulation {
                     status.open = e > 0.0 || (leaves && first);
                     status.landed_in = Some(grid);
                     if !first && !status.open {
-                        restarted.push(d);
+                        relanded.push(d);
                     }
                     s.force_history[d] = [ContactForce::default(); 3];
                     push_event(s, d, EventKind::Landing);
                 }
-                crate::impact::Part::Closed => {
-                    self.leave_at_impact(d, impact.separation[d]);
-                    // It carried its force into HHT-α's start: a body
-                    // leaving with it would be pushed off (energy gained).
-                    if self.state.contacts[d].open {
-                        restarted.push(d);
-                    }
-                }
+                crate::impact::Part::Closed => self.leave_at_impact(d, impact.separation[d]),
                 _ => {}
             }
         }
-        self.restart(&restarted, self.grid_remainder())
+        self.restart(&relanded, self.grid_remainder())
     }
 
     /// A closed contact that an impact sends away from the track at
