@@ -192,28 +192,45 @@ fn rigid_maglev_magnets_never_pull_under_rk4() {
 
 /// The maglev on rigid magnets under `auto` (HHT-α at these
 /// steps) reported −10 kN (8 elements, 1 ms) and −96 kN (32 elements,
-/// 0.25 ms) on main at c557099, and still does: under HHT-α a contact that
-/// opened and landed in a grid step stays closed to its end (open item).
+/// 0.25 ms) on main at c557099, and −59.7 kN at 32 elements on main at
+/// 85bf027, where HHT-α kept a contact that reopened in its landing's grid
+/// step closed.
 #[test]
-#[ignore = "open: HHT-α keeps a contact that reopens in its landing's grid step closed"]
 fn rigid_maglev_magnets_never_pull() {
-    for (elements, step) in [(8, 1e-3), (16, 5e-4), (32, 2.5e-4)] {
+    for (elements, step) in [(8, 1e-3), (32, 2.5e-4)] {
         let found = extremes(&rigid_maglev(elements, step, "auto"));
         assert_never_pulls(&format!("maglev, {elements} elements, {step} s"), &found);
         assert!(found.balance < 1e-7 * 1.74e8, "{}", found.balance);
     }
 }
 
-/// Eight coaches on rigid glider wheelsets reported −0.44 MN (20
-/// elements, 0.5 ms) and −0.53 MN (40 elements, 1 ms) on main at c557099.
+/// The same maglev at 16 elements and 0.5 ms stops with a solver error at
+/// 0.195 s: a magnet enters the span 2.2e-7 s before the grid point, the
+/// steps left are 5.3e-9 s and 2.2e-7 s long (another magnet lifts off at
+/// the second one's start), and the full step after them does not converge
+/// (the velocity stage, 50 iterations). On main at 85bf027 this run ended
+/// without tension. Open: HHT-α after slivers of steps.
 #[test]
-#[ignore = "open: HHT-α keeps a contact that reopens in its landing's grid step closed"]
+#[ignore = "open: HHT-α's step after sliver steps at 0.195 s does not converge"]
+fn rigid_maglev_magnets_never_pull_at_16_elements() {
+    let found = extremes(&rigid_maglev(16, 5e-4, "auto"));
+    assert_never_pulls("maglev, 16 elements, 0.0005 s", &found);
+    assert!(found.balance < 1e-7 * 1.74e8, "{}", found.balance);
+}
+
+/// Eight coaches on rigid glider wheelsets reported −0.44 MN (20
+/// elements, 0.5 ms) and −0.53 MN (40 elements, 1 ms) on main at c557099,
+/// and −0.44 MN with the energy balance off by 9.3e5 J at 20 elements on
+/// main at 85bf027.
+#[test]
 fn rigid_coach_wheelsets_never_pull() {
     for (elements, step) in [(20, 5e-4), (40, 1e-3)] {
         let found = extremes(&rigid_coaches(8, elements, step, 2.6));
         assert_never_pulls(&format!("coaches, {elements} elements, {step} s"), &found);
         // The train's 1.4e9 J: HHT-α's books hold to 1e-3 at this step on
-        // the chattering wheelsets (6.8e-4 and 6.5e-3 before the fix).
+        // the chattering wheelsets (6.8e-4 and 6.5e-3 before the fix of
+        // the greedy active set, 6.8e-4 at 20 elements on main at 85bf027;
+        // 3.8e-5 and 3.9e-5 with HHT-α's lift-off at a step's start).
         assert!(found.balance < 1e-3 * 1.37e9, "{}", found.balance);
     }
 }

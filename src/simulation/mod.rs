@@ -704,6 +704,9 @@ impl Simulation {
     /// does not open at its start (which would drop that force's share of
     /// the step's impulse): the step is shortened to the instant its end
     /// force reaches zero (`locate_lift_off`), and the contact opens there.
+    /// Where it pulls from the start, it lifts off there with HHT-α's
+    /// restart where the step then leaves it off the track
+    /// (`lift_off_at_start`), else it opens at the start in the step's set.
     /// Returns the solution, the step's length and that contact.
     fn solve_active_set(
         &mut self,
@@ -714,14 +717,22 @@ impl Simulation {
             *open = status.open;
         }
         self.opened.fill(false);
+        let mut tried = vec![false; self.open.len()];
         for _ in 0..active_set_passes(self.open.len()) {
             self.iteration.set_open(&self.open);
             let solution = self.solve(guess, dt)?;
             if let Some(c) = self.lift_off_inside(&solution.forces) {
                 if let Some((solution, tau)) = self.locate_lift_off(c, &solution.forces, dt) {
+                    if self.state.contacts[c].opened_in == Some(self.state.grid_step) {
+                        self.count_reopening()?;
+                    }
                     return Ok((solution, tau, Some(c)));
                 }
-                // It pulls from the step's start: it opens there (below).
+                let first_try = !std::mem::replace(&mut tried[c], true);
+                if first_try && self.lift_off_at_start(c, guess, dt)? {
+                    continue;
+                }
+                // Else it opens at the step's start (below).
             }
             if !self.open_the_pulling(&solution.forces)? && !self.close_a_penetrating() {
                 return Ok((solution, dt, None));
@@ -747,14 +758,7 @@ impl Simulation {
             if self.open[c] || force.normal >= 0.0 {
                 continue;
             }
-            // Under HHT-α a contact reopening in the grid step it landed in
-            // would fly on the acceleration its landing's restart carried
-            // with it closed (a step of 1.6e-3 of the energy gained in
-            // `hht_events`): it stays closed there, as before (open item).
             if self.state.contacts[c].opened_in == Some(grid) {
-                if self.restart_weight.is_some() {
-                    continue;
-                }
                 self.count_reopening()?;
             }
             self.open[c] = true;
@@ -1401,9 +1405,10 @@ fn max_reopenings(contacts: usize) -> usize {
 }
 
 /// Solves a step's active set may take (`solve_active_set`): every
-/// contact opened once and closed again once, and the first solve.
+/// contact opened once and closed again once, lifted off at the step's
+/// start once (under HHT-α), and the first solve.
 fn active_set_passes(contacts: usize) -> usize {
-    2 * contacts + 2
+    3 * contacts + 2
 }
 
 /// Each contact's status at t = 0: open where its vehicle starts above the

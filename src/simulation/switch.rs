@@ -119,7 +119,7 @@ impl Simulation {
 
     /// The step's active set from the contacts' statuses (after an event
     /// or an impact changed them).
-    fn sync_open(&mut self) {
+    pub(super) fn sync_open(&mut self) {
         for (open, status) in self.open.iter_mut().zip(&self.state.contacts) {
             *open = status.open;
         }
