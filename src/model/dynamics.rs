@@ -37,6 +37,12 @@ pub trait Dynamics: Steppable + Sized {
     fn event_count(&self) -> usize {
         0
     }
+    /// Why `bytes` (a serialized snapshot of model `guid`) do not decode,
+    /// in better words than the decoder's own where the dynamics can say
+    /// (a state of several kinds tried in turn); `None` keeps the decoder's.
+    fn explain_undecodable(_guid: &str, _bytes: &[u8]) -> Option<String> {
+        None
+    }
     fn state(&self) -> Self::State;
     /// `*into = self.state()`, in `into`'s storage where the dynamics can
     /// (the roll-back copy taken before every communication step).

@@ -720,7 +720,8 @@ impl<D: Dynamics> Model<D> {
     }
 
     pub fn deserialize(bytes: &[u8], guid: &str) -> Result<Snapshot<D::State>, ModelError> {
-        snapshot::decode(guid, bytes).map_err(ModelError)
+        snapshot::decode(guid, bytes)
+            .map_err(|said| ModelError(D::explain_undecodable(guid, bytes).unwrap_or(said)))
     }
 
     /// The snapshot in `bytes`, refused unless it is a whole state of this

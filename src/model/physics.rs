@@ -4,7 +4,7 @@
 //! which.
 
 use super::forces::ForceDynamics;
-use super::Dynamics;
+use super::{snapshot, Dynamics, Snapshot};
 use crate::moving_load::{is_moving_force_scene, ForceState};
 use crate::scene::Scene;
 use crate::simulation::{Advance, OutputInfo, SimState, Simulation, SolverError, Steppable};
@@ -84,6 +84,16 @@ impl Dynamics for SceneDynamics {
     fn event_count(&self) -> usize {
         either!(self, d => Dynamics::event_count(d))
     }
+    /// The untagged state says only that no kind matched: say why each
+    /// did not (a forged vehicle state's wrong length, say).
+    fn explain_undecodable(guid: &str, bytes: &[u8]) -> Option<String> {
+        let as_vehicles = snapshot::decode::<Snapshot<SimState>>(guid, bytes).err()?;
+        let as_forces = snapshot::decode::<Snapshot<ForceState>>(guid, bytes).err()?;
+        Some(format!(
+            "{as_vehicles} (read as a vehicle state); {as_forces} (read as a moving-force state)"
+        ))
+    }
+
     fn state(&self) -> SceneState {
         match self {
             SceneDynamics::Vehicles(d) => SceneState::Vehicles(Dynamics::state(d)),
