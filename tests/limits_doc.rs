@@ -31,10 +31,6 @@ const TUNING: &[(&str, &str)] = &[
         "MAX_SWEEPS",
         "Gauss–Seidel sweeps of the track-on-deck Hertz forces; past them the step returns an error",
     ),
-    (
-        "MAX_MODE_DOFS",
-        "dense eigensolver or subspace iteration: a method switch",
-    ),
 ];
 
 /// Names of `const MAX_...`/`const MIN_...` items in one source text.

@@ -8,7 +8,7 @@ use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactForce, ContactKind, Follower};
 use crate::force_element::{Direction, ForceElement};
-use crate::scene::{BodyKind, BodySpec, BogieSpec, MaglevSpec, Scene, SuspensionSpec};
+use crate::scene::{BodyKind, BodySpec, BogieSpec, DampingSpec, MaglevSpec, Scene, SuspensionSpec};
 use crate::solver::iteration::IterationSettings;
 use crate::solver::parameters::SolverParameters;
 use crate::system::{System, Track};
@@ -439,6 +439,11 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let mut beam = Beam::of_scene(&scene.beam, &scene.track)?;
     if let Some(selection) = crate::modal::ModeSelection::of(&scene.solver) {
         beam = beam.reduce_to_modes(selection)?;
+    } else if matches!(scene.beam.damping, Some(DampingSpec::Modal { .. })) {
+        // One ratio for every mode on the full mesh: the mesh in all its
+        // modes (a complete basis), where each mode takes its 2 ζ ω.
+        let every = crate::modal::ModeSelection::Count(beam.free_dofs());
+        beam = beam.reduce_to_modes(every)?;
     }
     let spec = &scene.body;
     let gravity = scene.gravity;

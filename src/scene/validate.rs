@@ -1200,13 +1200,7 @@ fn check_structure(checks: &mut Checks, scene: &Scene) {
     let solver = &scene.solver;
     if solver.structure == super::StructureKind::Full {
         if let Some(DampingSpec::Modal { ratio }) = scene.beam.damping {
-            checks.fail(
-                "beam.damping.ratio",
-                fmt_f64(ratio),
-                "alone (the same ratio in every mode) needs solver.structure = \"modal\", \
-                 where it is exact; on the full mesh give Rayleigh damping, e.g. \
-                 { ratio, modes = [1, 3] }",
-            );
+            check_every_mode_damping(checks, scene, ratio);
         }
         if let Some(k) = solver.modes {
             let rule = "is read only with solver.structure = \"modal\"";
@@ -1257,6 +1251,46 @@ fn check_structure(checks: &mut Checks, scene: &Scene) {
                 scene.beam.joints.len()
             ),
         );
+    }
+}
+
+/// One ratio for every mode on the full mesh: the mesh runs in the
+/// coordinates of all its modes (a complete basis, so nothing is
+/// truncated) where each mode gets its 2 ζ ω exactly. That needs the dense
+/// eigenproblem of every free DOF and what the modal route takes.
+fn check_every_mode_damping(checks: &mut Checks, scene: &Scene, ratio: f64) {
+    let most = crate::beam::MAX_MODE_DOFS;
+    // Two DOFs a node bound the free ones whatever the supports.
+    let dofs = 2 * (scene.beam.elements + 1);
+    let why = if dofs > most {
+        Some(format!(
+            "alone (the same ratio in every mode) damps every mode of the full mesh \
+             exactly by running it in all its modes, which needs at most {most} DOFs \
+             ({} elements; beam.elements = {} gives up to {dofs}): give \
+             solver.structure = \"modal\" with solver.modes, or Rayleigh damping \
+             {{ ratio, modes = [1, 3] }}",
+            most / 2 - 1,
+            scene.beam.elements
+        ))
+    } else if scene.body.kind == BodyKind::MovingForce {
+        Some(
+            "alone (the same ratio in every mode) is not taken by moving forces on the \
+             full mesh (they step its nodal DOFs): give Rayleigh damping \
+             { ratio, modes = [1, 3] }"
+                .to_string(),
+        )
+    } else if !scene.beam.joints.is_empty() {
+        Some(
+            "alone (the same ratio in every mode) runs the mesh in its modes, which rail \
+             joints (beam.joints) do not allow: give Rayleigh damping \
+             { ratio, modes = [1, 3] }"
+                .to_string(),
+        )
+    } else {
+        None
+    };
+    if let Some(rule) = why {
+        checks.fail("beam.damping.ratio", fmt_f64(ratio), rule);
     }
 }
 
