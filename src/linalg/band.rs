@@ -441,12 +441,13 @@ impl BandLdlt {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use nalgebra::DMatrix;
 
-    /// A random-ish SPD band matrix: diagonally dominant.
-    fn sample(n: usize) -> SymBand {
+    /// A random-ish SPD band matrix: diagonally dominant (the band
+    /// inverse's tests use it too).
+    pub(crate) fn sample(n: usize) -> SymBand {
         let mut a = SymBand::zeros(n);
         for i in 0..n {
             for k in 1..=3.min(i) {

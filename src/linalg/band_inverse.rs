@@ -118,20 +118,8 @@ fn entry_within(band: &[[f64; 4]], a: usize, b: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::band::SymBand;
+    use crate::band::tests::sample;
     use nalgebra::DMatrix;
-
-    /// An SPD band matrix of a beam's kind: rows of very different scales.
-    fn sample(n: usize) -> SymBand {
-        let mut a = SymBand::zeros(n);
-        for i in 0..n {
-            for k in 1..=3.min(i) {
-                a.add_symmetric(i, i - k, ((i * 7 + k * 3) as f64 * 0.37).sin());
-            }
-            a.add_symmetric(i, i, 8.0 + (i as f64).cos());
-        }
-        a
-    }
 
     #[test]
     fn chosen_entries_are_those_of_the_dense_inverse() {

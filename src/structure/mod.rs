@@ -3,6 +3,7 @@
 //! track's irregularity profile.
 
 pub mod beam;
+pub mod dof_access;
 pub mod modal;
 pub mod profile;
 pub mod rail_on_deck;

@@ -5,8 +5,9 @@
 
 use nalgebra::DVector;
 
-use crate::beam::{EffectiveFactor, HermiteBeam, Shape};
+use crate::beam::{EffectiveFactor, HermiteBeam};
 use crate::modal::{ModalBasis, ModeSelection};
+use crate::structure::dof_access::DofAccess;
 
 /// The beam reduced to the modes a selection keeps.
 pub struct ModalBeam {
@@ -38,65 +39,6 @@ impl ModalBeam {
         self.basis.modes()
     }
 
-    /// Value on free DOF `dof` of the field of modal coordinates `q`.
-    pub fn dof_value(&self, dof: usize, q: &DVector<f64>) -> f64 {
-        self.basis.value(dof, q)
-    }
-
-    /// `out += scale` × a unit load on free DOF `dof`, in modal coordinates.
-    pub fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
-        self.basis.add_load(dof, scale, out);
-    }
-
-    /// The field on an element's four DOFs `dofs` (0 where held): one
-    /// product with the kept modes per DOF.
-    pub fn gather(&self, dofs: &[Option<usize>; 4], q: &DVector<f64>) -> [f64; 4] {
-        dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, q)))
-    }
-
-    /// Dot a row of `shape` with the field of `q`.
-    pub fn dot(&self, shape: &Shape, row: &[f64; 4], q: &DVector<f64>) -> f64 {
-        let local = self.gather(&shape.dofs, q);
-        local.iter().zip(row).map(|(a, b)| a * b).sum()
-    }
-
-    /// `dot` of two rows with the element's field gathered once for both.
-    pub fn dot_rows(
-        &self,
-        shape: &Shape,
-        (first, second): (&[f64; 4], &[f64; 4]),
-        q: &DVector<f64>,
-    ) -> (f64, f64) {
-        let local = self.gather(&shape.dofs, q);
-        let dot = |row: &[f64; 4]| local.iter().zip(row).map(|(a, b)| a * b).sum();
-        (dot(first), dot(second))
-    }
-
-    /// Two loads at `shape`, `scale_1 row_1 + scale_2 row_2`: one product
-    /// with the kept modes per DOF, not two.
-    pub fn scatter_rows(
-        &self,
-        shape: &Shape,
-        (first, scale_1): (&[f64; 4], f64),
-        (second, scale_2): (&[f64; 4], f64),
-        out: &mut DVector<f64>,
-    ) {
-        for (k, dof) in shape.dofs.iter().enumerate() {
-            if let Some(i) = *dof {
-                self.add_dof_load(i, scale_1 * first[k] + scale_2 * second[k], out);
-            }
-        }
-    }
-
-    /// Add the load `scale * row` at `shape` into modal load `out`.
-    pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
-        for (dof, r) in shape.dofs.iter().zip(row) {
-            if let Some(i) = *dof {
-                self.add_dof_load(i, scale * r, out);
-            }
-        }
-    }
-
     /// The modal factor of I + `damping_weight` C + `stiffness_weight` Ω².
     pub fn effective_factor(
         &self,
@@ -123,5 +65,15 @@ impl ModalBeam {
     /// eigenpairs.
     pub fn highest_frequency(&self) -> f64 {
         self.basis.omega().last().copied().unwrap_or(0.0)
+    }
+}
+
+impl DofAccess for ModalBeam {
+    fn dof_value(&self, dof: usize, q: &DVector<f64>) -> f64 {
+        self.basis.value(dof, q)
+    }
+
+    fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        self.basis.add_load(dof, scale, out);
     }
 }

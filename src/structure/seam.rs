@@ -17,6 +17,7 @@ use nalgebra::DVector;
 use crate::beam::{EffectiveFactor, Foundation, HermiteBeam, Modes, Shape, VelocityFreeBand};
 use crate::modal::{ModalBasis, ModeSelection};
 use crate::scene::{BeamSpec, TrackSpec};
+use crate::structure::dof_access::DofAccess;
 use crate::structure::reduced::ModalBeam;
 use crate::structure::track_seam::TrackBeam;
 

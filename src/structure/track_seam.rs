@@ -10,8 +10,9 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh, Shape};
+use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh};
 use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SupportsSpec};
+use crate::structure::dof_access::DofAccess;
 use crate::structure::rail_on_deck::{element_dofs, RailOnDeck};
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
 use crate::wide_band::{WideBand, WideLdlt};
@@ -95,61 +96,6 @@ impl TrackBeam {
         self.assembly.free_dofs()
     }
 
-    /// Value of `u` on free DOF `dof` of the rail mesh.
-    pub fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
-        u[self.rail_dofs[dof]]
-    }
-
-    /// `out += scale` × a unit load on the rail mesh's free DOF `dof`.
-    pub fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
-        out[self.rail_dofs[dof]] += scale;
-    }
-
-    /// The rail's field on the four rail-mesh DOFs `dofs`.
-    pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
-        dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u)))
-    }
-
-    /// Dot a row of `shape` with the rail's field of `u`.
-    pub fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
-        let local = self.gather(&shape.dofs, u);
-        local.iter().zip(row).map(|(a, b)| a * b).sum()
-    }
-
-    /// `dot` of two rows.
-    pub fn dot_rows(
-        &self,
-        shape: &Shape,
-        (first, second): (&[f64; 4], &[f64; 4]),
-        u: &DVector<f64>,
-    ) -> (f64, f64) {
-        (self.dot(shape, first, u), self.dot(shape, second, u))
-    }
-
-    /// Two loads on the rail at `shape`, `scale_1 row_1 + scale_2 row_2`.
-    pub fn scatter_rows(
-        &self,
-        shape: &Shape,
-        (first, scale_1): (&[f64; 4], f64),
-        (second, scale_2): (&[f64; 4], f64),
-        out: &mut DVector<f64>,
-    ) {
-        for (k, dof) in shape.dofs.iter().enumerate() {
-            if let Some(i) = *dof {
-                self.add_dof_load(i, scale_1 * first[k] + scale_2 * second[k], out);
-            }
-        }
-    }
-
-    /// Add the load `scale * row` on the rail at `shape` into `out`.
-    pub fn scatter(&self, shape: &Shape, row: &[f64; 4], scale: f64, out: &mut DVector<f64>) {
-        for (dof, r) in shape.dofs.iter().zip(row) {
-            if let Some(i) = *dof {
-                self.add_dof_load(i, scale * r, out);
-            }
-        }
-    }
-
     /// The wide-band factor of M + `damping_weight` C + `stiffness_weight` K.
     pub fn effective_factor(
         &self,
@@ -186,6 +132,16 @@ impl TrackBeam {
     /// Rail deflection of `u` at the deck's abscissa `x` (NaN off the rail).
     pub fn rail_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
         (self.assembly.rail_deflection(x, u.as_slice())).unwrap_or(f64::NAN)
+    }
+}
+
+impl DofAccess for TrackBeam {
+    fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
+        u[self.rail_dofs[dof]]
+    }
+
+    fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        out[self.rail_dofs[dof]] += scale;
     }
 }
 
