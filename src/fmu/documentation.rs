@@ -176,11 +176,6 @@ one that no step size cures, with the reason in the log.</p>"#,
     )
 }
 
-/// Every vehicle of the scene (the first one is `scene.body`).
-fn vehicles(scene: &Scene) -> impl Iterator<Item = &BodySpec> {
-    std::iter::once(&scene.body).chain(&scene.vehicles)
-}
-
 /// A vehicle's kind in words: `bogie vehicle`, `sprung mass`.
 fn kind_words(vehicle: &BodySpec) -> String {
     format!("{:?}", vehicle.kind)
@@ -213,7 +208,8 @@ fn vehicle_table(scene: &Scene) -> String {
     if scene.vehicles.is_empty() && scene.body.body_names().len() <= 1 {
         return String::new();
     }
-    let rows: String = vehicles(scene)
+    let rows: String = scene
+        .every_vehicle()
         .map(|v| {
             let bodies: Vec<String> = v
                 .body_names()

@@ -66,8 +66,8 @@ pub fn vehicle_axles(spec: &BodySpec, gravity: f64) -> Vec<Axle> {
 
 /// Every axle of a moving-force scene ([body] and [[vehicles]]).
 pub fn scene_axles(scene: &Scene) -> Vec<Axle> {
-    std::iter::once(&scene.body)
-        .chain(&scene.vehicles)
+    scene
+        .every_vehicle()
         .flat_map(|spec| vehicle_axles(spec, scene.gravity))
         .collect()
 }

@@ -72,8 +72,8 @@ impl ForceRun {
             return Err("a run of moving forces needs body.kind = \"moving_force\"".into());
         }
         let beam = Beam::new(&scene.beam)?;
-        let vehicles: Vec<ForceVehicle> = std::iter::once(&scene.body)
-            .chain(&scene.vehicles)
+        let vehicles: Vec<ForceVehicle> = scene
+            .every_vehicle()
             .map(|spec| ForceVehicle {
                 name: spec.name.clone(),
                 axles: vehicle_axles(spec, scene.gravity),

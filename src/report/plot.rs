@@ -215,11 +215,9 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
         panels.extend(body_panels(trace, x, flights));
     }
     if !scene.track.irregularities.is_empty() {
-        let profiles = trace
-            .names
-            .iter()
-            .filter(|n| n.ends_with(".irregularity"))
-            .filter_map(|n| trace.column(n).map(|v| curve(n.clone(), v, 1e-3)))
+        let profiles = columns_of(trace, ".irregularity", &|_| true)
+            .into_iter()
+            .map(|(name, values)| curve(name, values, 1e-3))
             .collect();
         panels.push(Panel {
             title: "Track irregularity at the contacts".to_string(),
@@ -316,7 +314,7 @@ fn body_panels(trace: &Trace, x: &[f64], flights: Vec<(f64, f64)>) -> Vec<Panel>
 /// have a nominal speed of their own, not one for the vehicle). Columns
 /// the trace lacks are left out.
 fn speed_columns(scene: &Scene, trace: &Trace) -> (&'static str, Vec<String>) {
-    let vehicles = std::iter::once(&scene.body).chain(&scene.vehicles);
+    let vehicles = scene.every_vehicle();
     let columns: Vec<String> = vehicles
         .filter_map(|vehicle| {
             let nominal = output_names::nominal_speed(&vehicle.name);
@@ -370,11 +368,9 @@ fn force_panels(
     curve: &dyn Fn(String, &[f64], f64) -> Curve,
 ) -> Vec<Panel> {
     let columns = |suffix: &str, scale: f64| -> Vec<Curve> {
-        trace
-            .names
-            .iter()
-            .filter(|n| n.ends_with(suffix))
-            .filter_map(|n| trace.column(n).map(|v| curve(n.clone(), v, scale)))
+        columns_of(trace, suffix, &|_| true)
+            .into_iter()
+            .map(|(name, values)| curve(name, values, scale))
             .collect()
     };
     let (scale, y_label) = deflection_scale(scene);

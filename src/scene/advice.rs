@@ -19,8 +19,8 @@ use super::{BodyKind, BodySpec, ResolvedLaw, Scene};
 /// vehicles whose massive contact bodies are on the rigid contact, and
 /// proposing the well-posed law.
 pub fn advisories(scene: &Scene) -> Vec<String> {
-    let vehicles: Vec<&BodySpec> = std::iter::once(&scene.body)
-        .chain(&scene.vehicles)
+    let vehicles: Vec<&BodySpec> = scene
+        .every_vehicle()
         .filter(|spec| rigid_massive_contacts(spec))
         .collect();
     let mut lines = Vec::new();

@@ -50,7 +50,7 @@ pub fn contact_rows(body: &BodySpec) -> usize {
 /// Every broken product limit and every name used twice.
 pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
     let mut problems = Vec::new();
-    let vehicles = std::iter::once(&scene.body).chain(&scene.vehicles);
+    let vehicles = scene.every_vehicle();
     let rows = vehicles
         .clone()
         .fold(0usize, |sum, v| sum.saturating_add(contact_rows(v)));

@@ -873,11 +873,15 @@ impl Scene {
         }
     }
 
+    /// Every vehicle: `[body]`, then each of `[[vehicles]]`.
+    pub fn every_vehicle(&self) -> impl Iterator<Item = &BodySpec> + Clone {
+        std::iter::once(&self.body).chain(&self.vehicles)
+    }
+
     /// The names of every body of the scene, vehicle by vehicle (what a
     /// coupling may name).
     pub fn body_names(&self) -> Vec<String> {
-        std::iter::once(&self.body)
-            .chain(&self.vehicles)
+        self.every_vehicle()
             .flat_map(BodySpec::body_names)
             .collect()
     }

@@ -144,9 +144,8 @@ fn unsupported(scene: &Scene) -> Vec<Problem> {
              reactions out",
         ));
     }
-    let vehicles = std::iter::once(&scene.body).chain(&scene.vehicles);
-    if vehicles
-        .into_iter()
+    if scene
+        .every_vehicle()
         .any(|v| v.kind == BodyKind::MovingForce)
     {
         out.push(Problem::new(

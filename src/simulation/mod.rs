@@ -206,8 +206,8 @@ fn driven_bodies(
 ) -> Vec<(usize, SpeedSpec)> {
     let firsts: Vec<usize> = vehicle_forces.iter().map(|&(b, _)| b).collect();
     let ends = firsts.iter().skip(1).copied().chain([bodies]);
-    std::iter::once(&scene.body)
-        .chain(&scene.vehicles)
+    scene
+        .every_vehicle()
         .zip(firsts.iter().zip(ends))
         .filter_map(|(spec, (&first, end))| Some((spec.prescribed_speed.clone()?, first..end)))
         .flat_map(|(speed, range)| range.map(move |b| (b, speed.clone())))

@@ -25,8 +25,8 @@ pub fn run_end(scene: &Scene) -> RunEnd {
     if let Some(t) = scene.solver.end_time {
         return RunEnd::EndTime(t);
     }
-    let exits = std::iter::once(&scene.body)
-        .chain(&scene.vehicles)
+    let exits = scene
+        .every_vehicle()
         .filter_map(|v| travel_to_exit(v, scene.beam.length));
     let last = exits.reduce(|a, b| if exit_time(b) > exit_time(a) { b } else { a });
     match last {

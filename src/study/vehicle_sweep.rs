@@ -68,7 +68,7 @@ impl SpeedPlan {
             // Over the free vibration a faster run goes further: the track
             // grows by what the fastest vehicle travels beyond the scene's.
             let extra = |v: &BodySpec| tail * v.initial_speed.abs() * (fastest - 1.0).max(0.0);
-            for v in vehicles(scene) {
+            for v in scene.every_vehicle() {
                 if v.initial_speed > 0.0 {
                     run_off = run_off.max(scene.track.run_off + extra(v));
                 } else {
@@ -83,11 +83,6 @@ impl SpeedPlan {
             run_off,
         })
     }
-}
-
-/// The first vehicle and the others.
-fn vehicles(scene: &Scene) -> impl Iterator<Item = &BodySpec> {
-    std::iter::once(&scene.body).chain(&scene.vehicles)
 }
 
 /// When the last contact leaves the beam at the vehicles' initial speeds
