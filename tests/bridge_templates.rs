@@ -2,25 +2,13 @@
 //! bridge engineer starts from are built-ins, listed by `guideway scenes`,
 //! shown by `--show`, and they run (the sweep template with `sweep`).
 
+mod common;
+use common::cli::guideway_ok;
 use guideway::scene::{builtin, builtins, template_file, templates, Scene};
-use std::process::{Command, Output};
-
-fn guideway(args: &[&str]) -> Output {
-    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("guideway runs");
-    assert!(
-        output.status.success(),
-        "guideway {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    output
-}
 
 #[test]
 fn each_template_is_the_shipped_file_and_is_listed() {
-    let listing = String::from_utf8(guideway(&["scenes"]).stdout).expect("UTF-8");
+    let listing = String::from_utf8(guideway_ok(&["scenes"]).stdout).expect("UTF-8");
     let mut count = 0;
     for (name, description) in templates() {
         let file = format!(
@@ -41,7 +29,7 @@ fn each_template_is_the_shipped_file_and_is_listed() {
             listing.lines().any(|l| l.starts_with(name)),
             "{name} listed"
         );
-        let shown = String::from_utf8(guideway(&["scenes", "--show", name]).stdout).unwrap();
+        let shown = String::from_utf8(guideway_ok(&["scenes", "--show", name]).stdout).unwrap();
         assert_eq!(
             Scene::from_toml_str(&shown).expect("shown scene reads"),
             builtin(name).unwrap()
@@ -56,7 +44,7 @@ fn the_hslm_template_sweeps_by_name() {
     let dir = tempfile::tempdir().expect("temp dir");
     let out = dir.path().join("sweep.csv");
     let out = out.to_str().unwrap();
-    guideway(&[
+    guideway_ok(&[
         "sweep",
         "bridge25-hslm",
         "--speeds",
@@ -75,7 +63,7 @@ fn the_train_template_runs_by_name_past_the_span() {
     let summary = summary.to_str().unwrap();
     let csv = dir.path().join("run.csv");
     let name = "train-8-coaches-20m-300-hertz";
-    guideway(&[
+    guideway_ok(&[
         "run",
         name,
         "-q",
@@ -112,7 +100,7 @@ fn the_hslm_template_keeps_its_former_name() {
 fn the_hslm_template_runs_by_name() {
     let dir = tempfile::tempdir().expect("temp dir");
     let csv = dir.path().join("run.csv");
-    guideway(&["run", "bridge25-hslm", "-q", "--out", csv.to_str().unwrap()]);
+    guideway_ok(&["run", "bridge25-hslm", "-q", "--out", csv.to_str().unwrap()]);
     let text = std::fs::read_to_string(csv).expect("CSV");
     assert!(text
         .lines()

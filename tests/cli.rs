@@ -1,24 +1,11 @@
 //! The `guideway` binary, run as a user would.
 
+mod common;
+use common::cli::{guideway, stderr, stdout};
 use guideway::scene::{builtin, builtins};
 use guideway::Scene;
 use std::path::Path;
-use std::process::{Command, Output};
-
-fn guideway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("the guideway binary runs")
-}
-
-fn stdout(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stdout).into_owned()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use std::process::Command;
 
 #[test]
 fn scenes_lists_every_builtin_with_its_description() {

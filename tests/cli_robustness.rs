@@ -2,30 +2,13 @@
 //! user (or an attacker) would: bounded work and memory, Ctrl-C, non-finite
 //! values, XML-illegal text, name and size limits, output files, exit codes.
 
+use common::cli::{arg, guideway, stderr};
 mod common;
 use common::model_description;
 use guideway::scene::builtin;
 use std::io::Read;
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
-
-fn guideway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .env("GUIDEWAY_CDYLIB", cdylib())
-        .output()
-        .expect("the guideway binary runs")
-}
-
-/// `cargo test` builds the cdylib next to the test binaries, not next to
-/// the guideway binary where `export` looks by default.
-fn cdylib() -> PathBuf {
-    guideway::fmu::default_cdylib().expect("the cdylib is built with the tests")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
+use std::path::Path;
+use std::process::{Command, Stdio};
 
 fn default_toml() -> String {
     builtin("lee1994-wheel-10").unwrap().to_toml_string()
@@ -40,10 +23,6 @@ fn scene_file(dir: &Path, name: &str, from: &str, to: &str) -> String {
     path.to_str().unwrap().to_string()
 }
 
-fn s(path: &Path) -> &str {
-    path.to_str().unwrap()
-}
-
 // ---- 1: bounded work and memory, Ctrl-C -------------------------------------------
 
 #[test]
@@ -52,7 +31,7 @@ fn a_run_needing_more_steps_than_the_limit_is_refused_before_running() {
     // the beam, 10 × 24 m / 10 m/s, is 9600 steps.
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("r.csv");
-    let output = guideway(&["run", "--max-steps", "100", "--out", s(&csv), "--quiet"]);
+    let output = guideway(&["run", "--max-steps", "100", "--out", arg(&csv), "--quiet"]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     let message = stderr(&output);
     assert!(
@@ -152,7 +131,7 @@ fn peak_memory_at_rest(dir: &Path, end: &str, extra: &[&str]) -> i64 {
     let text = text.replace("[solver]\n", &format!("[solver]\nend_time = {end}\n"));
     std::fs::write(&file, text).unwrap();
     let csv = dir.join(format!("rest{end}.csv"));
-    let mut args = vec!["run", &file, "--out", s(&csv), "--quiet"];
+    let mut args = vec!["run", &file, "--out", arg(&csv), "--quiet"];
     args.extend(extra);
     let (code, kb) = run_measuring_memory(&args);
     assert_eq!(code, Some(0));
@@ -181,8 +160,8 @@ fn memory_does_not_grow_with_the_length_of_the_run() {
     // The plot keeps a thinned copy of bounded size: once the run is
     // longer than that bound, doubling it costs nothing.
     let plot = dir.path().join("p.png");
-    let long = peak_memory_at_rest(dir.path(), "250", &["--plot", s(&plot)]);
-    let longer = peak_memory_at_rest(dir.path(), "500", &["--plot", s(&plot)]);
+    let long = peak_memory_at_rest(dir.path(), "250", &["--plot", arg(&plot)]);
+    let longer = peak_memory_at_rest(dir.path(), "500", &["--plot", arg(&plot)]);
     assert!(
         longer < long + 5_000,
         "peak {long} kB for 100 000 rows, {longer} kB for 200 000"
@@ -211,7 +190,7 @@ fn ctrl_c_keeps_the_rows_written_so_far_marked_incomplete() {
             "run",
             &file,
             "--out",
-            s(&csv),
+            arg(&csv),
             "--max-steps",
             "1000000",
             "--quiet",
@@ -292,7 +271,7 @@ fn values_that_overflow_an_output_are_refused_as_the_fmu_refuses_them() {
     ] {
         let file = scene_file(dir.path(), "big.toml", from, to);
         let csv = dir.path().join("big.csv");
-        let output = guideway(&["run", &file, "--out", s(&csv), "--quiet"]);
+        let output = guideway(&["run", &file, "--out", arg(&csv), "--quiet"]);
         assert_eq!(output.status.code(), Some(2), "{to}: {}", stderr(&output));
         let message = stderr(&output);
         assert!(
@@ -320,8 +299,8 @@ fn a_description_with_characters_xml_cannot_carry_is_refused_by_run_and_export()
         std::fs::write(&file, scene.to_toml_string()).unwrap();
         let fmu = dir.path().join("ctrl.fmu");
         for args in [
-            vec!["export", s(&file), "-o", s(&fmu)],
-            vec!["run", s(&file), "--quiet"],
+            vec!["export", arg(&file), "-o", arg(&fmu)],
+            vec!["run", arg(&file), "--quiet"],
         ] {
             let output = guideway(&args);
             assert_eq!(
@@ -352,7 +331,7 @@ fn every_export_writes_well_formed_xml() {
     let file = dir.path().join("edge.toml");
     std::fs::write(&file, scene.to_toml_string()).unwrap();
     let fmu = dir.path().join("edge.fmu");
-    let output = guideway(&["export", s(&file), "-o", s(&fmu)]);
+    let output = guideway(&["export", arg(&file), "-o", arg(&fmu)]);
     assert!(output.status.success(), "{}", stderr(&output));
     let xml = model_description(&fmu);
     guideway::fmu::check_well_formed(&xml).unwrap();
@@ -382,7 +361,7 @@ fn names_longer_than_64_characters_are_refused_naming_the_limit() {
     ] {
         let file = scene_file(dir.path(), "long.toml", from, &to);
         let fmu = dir.path().join("long.fmu");
-        let output = guideway(&["export", &file, "-o", s(&fmu)]);
+        let output = guideway(&["export", &file, "-o", arg(&fmu)]);
         assert_eq!(
             output.status.code(),
             Some(2),
@@ -409,7 +388,7 @@ fn more_than_10000_sensors_are_refused_with_one_problem() {
     }
     let file = dir.path().join("many.toml");
     std::fs::write(&file, text).unwrap();
-    let output = guideway(&["run", s(&file), "--quiet"]);
+    let output = guideway(&["run", arg(&file), "--quiet"]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     let message = stderr(&output);
     assert!(
@@ -431,8 +410,8 @@ fn a_scene_file_over_10_mb_is_refused_unread() {
     std::fs::write(&file, &text).unwrap();
     let never = dir.path().join("never.fmu");
     for args in [
-        vec!["run", s(&file), "--quiet"],
-        vec!["export", s(&file), "-o", s(&never)],
+        vec!["run", arg(&file), "--quiet"],
+        vec!["export", arg(&file), "-o", arg(&never)],
     ] {
         let output = guideway(&args);
         assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
@@ -453,7 +432,7 @@ fn a_description_over_1000_characters_is_refused() {
     scene.description = "x".repeat(1001);
     let file = dir.path().join("d.toml");
     std::fs::write(&file, scene.to_toml_string()).unwrap();
-    let output = guideway(&["run", s(&file), "--quiet"]);
+    let output = guideway(&["run", arg(&file), "--quiet"]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     assert!(stderr(&output).contains("1001 characters, more than the limit of 1000"));
 }
@@ -468,12 +447,12 @@ fn an_output_equal_to_the_scene_or_to_another_output_is_refused() {
     let same = dir.path().join(".").join("s.toml");
     let x = dir.path().join("x.csv");
     let cases: Vec<Vec<&str>> = vec![
-        vec!["run", &file, "--out", s(&same)],
+        vec!["run", &file, "--out", arg(&same)],
         vec!["run", &file, "--summary", &file],
         vec!["run", &file, "--plot", &file],
-        vec!["export", &file, "-o", s(&same)],
-        vec!["run", &file, "--out", s(&x), "--summary", s(&x)],
-        vec!["run", &file, "--out", s(&x), "--plot", s(&x)],
+        vec!["export", &file, "-o", arg(&same)],
+        vec!["run", &file, "--out", arg(&x), "--summary", arg(&x)],
+        vec!["run", &file, "--out", arg(&x), "--plot", arg(&x)],
     ];
     for args in cases {
         let output = guideway(&args);
@@ -501,9 +480,9 @@ fn an_output_equal_to_the_scene_or_to_another_output_is_refused() {
         "export",
         &file,
         "-o",
-        s(&fmu),
+        arg(&fmu),
         "--cross-check",
-        s(dir.path()),
+        arg(dir.path()),
     ]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
 }
@@ -521,7 +500,7 @@ fn a_failed_run_leaves_the_previous_results_and_keeps_its_rows_apart() {
     let summary = dir.path().join("s.json");
     std::fs::write(&csv, "previous good results\n").unwrap();
     std::fs::write(&summary, "{}\n").unwrap();
-    let output = guideway(&["run", &file, "--out", s(&csv), "--summary", s(&summary)]);
+    let output = guideway(&["run", &file, "--out", arg(&csv), "--summary", arg(&summary)]);
     assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
     assert_eq!(
         std::fs::read_to_string(&csv).unwrap(),
@@ -566,7 +545,7 @@ fn a_failed_export_leaves_the_previous_fmu() {
     let fmu = dir.path().join("m.fmu");
     std::fs::write(&fmu, "previous FMU").unwrap();
     let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(["export", "-o", s(&fmu)])
+        .args(["export", "-o", arg(&fmu)])
         .env("GUIDEWAY_CDYLIB", dir.path().join("missing.so"))
         .output()
         .unwrap();
@@ -584,7 +563,7 @@ fn export_and_run_give_the_same_exit_code_for_a_scene_that_cannot_be_simulated()
     let file = scene_file(dir.path(), "fine.toml", "elements = 2", "elements = 128");
     let fmu = dir.path().join("fine.fmu");
     let run = guideway(&["run", &file, "--quiet"]);
-    let export = guideway(&["export", &file, "-o", s(&fmu)]);
+    let export = guideway(&["export", &file, "-o", arg(&fmu)]);
     assert_eq!(run.status.code(), Some(2), "{}", stderr(&run));
     assert_eq!(export.status.code(), Some(2), "{}", stderr(&export));
     assert!(
@@ -611,9 +590,9 @@ fn a_cross_check_needing_too_many_steps_is_refused_before_anything_is_written() 
         "export",
         &file,
         "-o",
-        s(&fmu),
+        arg(&fmu),
         "--cross-check",
-        s(&cross_check),
+        arg(&cross_check),
     ]);
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
     assert!(

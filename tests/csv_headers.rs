@@ -3,21 +3,10 @@
 //! (issue 26 item 6: pandas renames a repeated column, `csv.DictReader`
 //! keeps only the last).
 
+mod common;
+use common::cli::guideway_ok;
 use std::collections::HashSet;
 use std::path::Path;
-use std::process::Command;
-
-fn guideway(args: &[&str]) {
-    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("guideway runs");
-    assert!(
-        output.status.success(),
-        "guideway {args:?} failed: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-}
 
 /// The fields of one CSV line (RFC 4180 quotes; no field spans lines in
 /// these files). Hand-written: a dozen lines, where the `csv` crate would
@@ -115,11 +104,11 @@ fn every_csv_names_each_column_once() {
         let mut args: Vec<&str> = args.iter().map(String::as_str).collect();
         let path = out(file);
         args.extend(["--out", &path]);
-        guideway(&args);
+        guideway_ok(&args);
         assert!(check_csv(Path::new(&path)) > 1, "{file}");
     }
     let report = out("check");
-    guideway(&["check", "bridge20", "--out", &report, "--threads", "1"]);
+    guideway_ok(&["check", "bridge20", "--out", &report, "--threads", "1"]);
     let mut checked = 0;
     for entry in std::fs::read_dir(&report).expect("report dir") {
         let path = entry.expect("entry").path();

@@ -6,11 +6,11 @@
 //! generated pages (`docs/scene-fields.md`, `docs/cli-help.md`, the
 //! annotated example in `docs/scenes.md`) instead of comparing them.
 
+mod common;
 use guideway::scene::field_notes_markdown;
 use guideway::Scene;
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 /// Pages linked from the guide that other branches write; each is checked
 /// like any page once it exists (the test fails while a page listed here
@@ -34,13 +34,9 @@ fn read(relative: &str) -> String {
         .unwrap_or_else(|e| panic!("cannot read {relative}: {e}"))
 }
 
+/// What `guideway args` prints, failing the test unless it succeeded.
 fn guideway(args: &[&str]) -> String {
-    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("guideway runs");
-    assert!(output.status.success(), "guideway {args:?} failed");
-    String::from_utf8(output.stdout).expect("UTF-8 output")
+    common::cli::stdout(&common::cli::guideway_ok(args))
 }
 
 /// README.md and every page under docs/.

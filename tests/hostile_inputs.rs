@@ -3,6 +3,8 @@
 //! inputs, states the FMU made itself, duplicate names, forged states,
 //! pipes and devices, unbounded reads, table paths and messages.
 
+mod common;
+use common::cli::{arg, guideway, stderr};
 use guideway::scene::{builtin, MAX_CONTACT_ROWS};
 use guideway::Scene;
 use std::fmt::Write as _;
@@ -126,15 +128,6 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-fn guideway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .env("GUIDEWAY_CDYLIB", guideway::fmu::default_cdylib().unwrap())
-        .env_remove("GUIDEWAY_TABLE_PATHS")
-        .output()
-        .expect("the guideway binary runs")
-}
-
 /// `guideway args`, killed (and the test failed) after 30 s.
 fn guideway_within_30_s(args: &[&str]) -> Output {
     let mut child = Command::new(env!("CARGO_BIN_EXE_guideway"))
@@ -152,14 +145,6 @@ fn guideway_within_30_s(args: &[&str]) -> Output {
         std::thread::sleep(Duration::from_millis(50));
     }
     child.wait_with_output().unwrap()
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
-
-fn s(path: &Path) -> &str {
-    path.to_str().unwrap()
 }
 
 /// The default scene with a profile table `table` beside it, in `dir`.
@@ -199,9 +184,16 @@ fn sweep_and_modes_refuse_to_write_onto_their_scene() {
     ));
     std::fs::write(&scene, text.unwrap()).unwrap();
     let before = std::fs::read(&scene).unwrap();
-    let out = guideway(&["sweep", s(&scene), "--speeds", "100", "--out", s(&scene)]);
+    let out = guideway(&[
+        "sweep",
+        arg(&scene),
+        "--speeds",
+        "100",
+        "--out",
+        arg(&scene),
+    ]);
     assert_refused_unchanged(&out, &scene, &before);
-    let out = guideway(&["modes", s(&scene), "--out", s(&scene)]);
+    let out = guideway(&["modes", arg(&scene), "--out", arg(&scene)]);
     assert_refused_unchanged(&out, &scene, &before);
 }
 
@@ -212,12 +204,12 @@ fn run_refuses_to_write_onto_the_scene_s_table_file_even_through_a_link() {
     std::fs::write(&table, "0,0\n10,0.001\n30,0\n").unwrap();
     let scene = scene_with_table(dir.path(), "t.csv");
     let before = std::fs::read(&table).unwrap();
-    let out = guideway(&["run", s(&scene), "--out", s(&table), "--quiet"]);
+    let out = guideway(&["run", arg(&scene), "--out", arg(&table), "--quiet"]);
     assert_refused_unchanged(&out, &table, &before);
     assert!(stderr(&out).contains("table file"), "{}", stderr(&out));
     let link = dir.path().join("other-name.csv");
     std::fs::hard_link(&table, &link).unwrap();
-    let out = guideway(&["run", s(&scene), "--summary", s(&link), "--quiet"]);
+    let out = guideway(&["run", arg(&scene), "--summary", arg(&link), "--quiet"]);
     assert_refused_unchanged(&out, &table, &before);
 }
 
@@ -231,22 +223,22 @@ fn export_refuses_to_write_onto_the_vehicle_fmu() {
     let out = guideway(&[
         "export",
         "-o",
-        s(&vehicle),
+        arg(&vehicle),
         "--vehicle",
-        s(&vehicle),
+        arg(&vehicle),
         "--ssp",
-        s(&ssp),
+        arg(&ssp),
     ]);
     assert_refused_unchanged(&out, &vehicle, &before);
     let fmu = dir.path().join("g.fmu");
     let out = guideway(&[
         "export",
         "-o",
-        s(&fmu),
+        arg(&fmu),
         "--vehicle",
-        s(&vehicle),
+        arg(&vehicle),
         "--ssp",
-        s(&vehicle),
+        arg(&vehicle),
     ]);
     assert_refused_unchanged(&out, &vehicle, &before);
     assert!(!fmu.exists(), "nothing written");
@@ -262,9 +254,9 @@ fn release_refuses_a_changelog_inside_the_directory_it_replaces() {
     let args = [
         "release",
         "--out",
-        s(dir.path()),
+        arg(dir.path()),
         "--changelog",
-        s(&changelog),
+        arg(&changelog),
         "--replace",
     ];
     let out = guideway(&args);
@@ -283,7 +275,7 @@ fn release_refuses_a_changelog_inside_the_directory_it_replaces() {
 // ---- 7 and 8: pipes, devices and endless files are refused, not read -------------
 
 fn fifo(path: &Path) {
-    let name = std::ffi::CString::new(s(path)).unwrap();
+    let name = std::ffi::CString::new(arg(path)).unwrap();
     assert_eq!(unsafe { libc::mkfifo(name.as_ptr(), 0o600) }, 0);
 }
 
@@ -292,7 +284,7 @@ fn a_named_pipe_as_scene_or_table_is_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     let pipe = dir.path().join("pipe.toml");
     fifo(&pipe);
-    let out = guideway_within_30_s(&["run", s(&pipe), "--quiet"]);
+    let out = guideway_within_30_s(&["run", arg(&pipe), "--quiet"]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(
         stderr(&out).contains("not a regular file"),
@@ -301,7 +293,7 @@ fn a_named_pipe_as_scene_or_table_is_refused_at_once() {
     );
     fifo(&dir.path().join("t.csv"));
     let scene = scene_with_table(dir.path(), "t.csv");
-    let out = guideway_within_30_s(&["run", s(&scene), "--quiet"]);
+    let out = guideway_within_30_s(&["run", arg(&scene), "--quiet"]);
     assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
     assert!(
         stderr(&out).contains("not a regular file"),
@@ -316,7 +308,7 @@ fn release_refuses_dev_zero_as_changelog_without_reading_it() {
     let out = guideway_within_30_s(&[
         "release",
         "--out",
-        s(dir.path()),
+        arg(dir.path()),
         "--changelog",
         "/dev/zero",
     ]);
@@ -336,9 +328,9 @@ fn table_files_outside_the_scene_folder_are_refused_and_contents_never_echoed() 
     let dir = outer.path().join("scene");
     std::fs::create_dir(&dir).unwrap();
     std::fs::write(outer.path().join("x.csv"), "0,0\n10,0.001\n").unwrap();
-    for path in ["../x.csv", "/etc/passwd", s(&outer.path().join("x.csv"))] {
+    for path in ["../x.csv", "/etc/passwd", arg(&outer.path().join("x.csv"))] {
         let scene = scene_with_table(&dir, path);
-        let error = Scene::load(s(&scene)).unwrap_err().to_string();
+        let error = Scene::load(arg(&scene)).unwrap_err().to_string();
         assert!(
             error.contains("must lie in the scene file's folder"),
             "{path}: {error}"
@@ -346,7 +338,7 @@ fn table_files_outside_the_scene_folder_are_refused_and_contents_never_echoed() 
     }
     // A link inside the folder that leads outside is the same file outside.
     std::os::unix::fs::symlink("/etc/passwd", dir.join("p.csv")).unwrap();
-    let error = Scene::load(s(&scene_with_table(&dir, "p.csv")))
+    let error = Scene::load(arg(&scene_with_table(&dir, "p.csv")))
         .unwrap_err()
         .to_string();
     assert!(
@@ -356,7 +348,7 @@ fn table_files_outside_the_scene_folder_are_refused_and_contents_never_echoed() 
     assert!(!error.contains("root"), "{error}");
     // A bad line of a table is named by number, never shown.
     std::fs::write(dir.join("bad.csv"), "0,0\nsecret-token,1\n").unwrap();
-    let error = Scene::load(s(&scene_with_table(&dir, "bad.csv")))
+    let error = Scene::load(arg(&scene_with_table(&dir, "bad.csv")))
         .unwrap_err()
         .to_string();
     assert!(

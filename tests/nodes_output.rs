@@ -2,20 +2,10 @@
 //! acceleration at every row of the run, streamed; refused up front beyond
 //! its bound.
 
+mod common;
+use common::cli::{guideway, stderr};
 use guideway::scene::{BodyKind, IntegratorKind};
 use guideway::Scene;
-use std::process::{Command, Output};
-
-fn guideway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("the guideway binary runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 /// Header and rows of a CSV file.
 fn read_csv(path: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {

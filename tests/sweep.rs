@@ -1,20 +1,10 @@
 //! `guideway sweep`, run as a user would: bad speed ranges are refused with
 //! the rule they break; the envelope has one row per speed and train.
 
-use std::process::{Command, Output};
+mod common;
+use common::cli::{guideway, stderr};
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bridge25_hslm.toml");
-
-fn guideway(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("the guideway binary runs")
-}
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8_lossy(&output.stderr).into_owned()
-}
 
 fn refused(speeds: &str, expected: &str) {
     let dir = tempfile::tempdir().expect("temp dir");

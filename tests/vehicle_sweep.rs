@@ -5,25 +5,13 @@
 //! of its whole weight; every vehicle kind holds a prescribed speed on
 //! every one of its bodies.
 
+mod common;
+use common::cli::guideway_ok;
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::{Command, Output};
 
 use guideway::scene::{Scene, SpeedSpec};
 use guideway::Simulation;
-
-fn guideway(args: &[&str]) -> Output {
-    let output = Command::new(env!("CARGO_BIN_EXE_guideway"))
-        .args(args)
-        .output()
-        .expect("the guideway binary runs");
-    assert!(
-        output.status.success(),
-        "guideway {args:?}: {}",
-        String::from_utf8_lossy(&output.stderr)
-    );
-    output
-}
 
 /// A train of two sprung masses, 8 m apart, from the approach over a 20 m
 /// beam (a section at the quarter point, reactions) and onto the run-off,
@@ -104,7 +92,7 @@ fn run_one_by_one(dir: &Path, speed: &str) -> BTreeMap<String, f64> {
     let scene = dir.join(format!("train-{speed}.toml"));
     std::fs::write(&scene, TRAIN.replace("{speed}", speed)).unwrap();
     let summary = dir.join(format!("summary-{speed}.json"));
-    guideway(&[
+    guideway_ok(&[
         "run",
         scene.to_str().unwrap(),
         "--summary",
@@ -129,7 +117,7 @@ fn sweep(dir: &Path, threads: &str) -> (Vec<String>, Vec<Vec<f64>>) {
     let scene = dir.join("train.toml");
     std::fs::write(&scene, TRAIN.replace("{speed}", "10.0")).unwrap();
     let out = dir.join(format!("sweep-{threads}.csv"));
-    guideway(&[
+    guideway_ok(&[
         "sweep",
         scene.to_str().unwrap(),
         "--speeds",
@@ -213,7 +201,7 @@ fn a_sprung_mass_crawling_deflects_the_beam_by_its_static_deflection() {
     let scene = dir.path().join("crawler.toml");
     std::fs::write(&scene, CRAWLER).unwrap();
     let out = dir.path().join("sweep.csv");
-    guideway(&[
+    guideway_ok(&[
         "sweep",
         scene.to_str().unwrap(),
         "--speeds",

@@ -2,6 +2,8 @@
 //! collect the figures the paper reports.
 #![allow(dead_code)]
 
+pub mod cli;
+
 use guideway::scene::{BodyKind, Scene};
 use guideway::{Advance, Simulation};
 
