@@ -2,7 +2,7 @@
 //! user (or an attacker) would: bounded work and memory, Ctrl-C, non-finite
 //! values, XML-illegal text, name and size limits, output files, exit codes.
 
-use common::cli::{arg, guideway, stderr};
+use common::cli::{arg, guideway, refusal, stderr};
 mod common;
 use common::model_description;
 use guideway::scene::builtin;
@@ -32,8 +32,7 @@ fn a_run_needing_more_steps_than_the_limit_is_refused_before_running() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("r.csv");
     let output = guideway(&["run", "--max-steps", "100", "--out", arg(&csv), "--quiet"]);
-    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
-    let message = stderr(&output);
+    let message = refusal(&output, "");
     assert!(
         message.contains("more than the limit of 100 steps"),
         "{message}"
@@ -57,13 +56,7 @@ fn speeds_that_never_reach_the_exit_are_refused_naming_the_steps() {
         // (the explicit default makes a binary without the limit fail at
         // once instead of running for ever)
         let output = guideway(&["run", &file, "--max-steps", "1000000", "--quiet"]);
-        assert_eq!(
-            output.status.code(),
-            Some(2),
-            "{speed}: {}",
-            stderr(&output)
-        );
-        let message = stderr(&output);
+        let message = refusal(&output, speed);
         assert!(
             message.contains("limit of 1000000 steps") || message.contains("magnitude limit"),
             "{speed}: {message}"
@@ -272,8 +265,7 @@ fn values_that_overflow_an_output_are_refused_as_the_fmu_refuses_them() {
         let file = scene_file(dir.path(), "big.toml", from, to);
         let csv = dir.path().join("big.csv");
         let output = guideway(&["run", &file, "--out", arg(&csv), "--quiet"]);
-        assert_eq!(output.status.code(), Some(2), "{to}: {}", stderr(&output));
-        let message = stderr(&output);
+        let message = refusal(&output, to);
         assert!(
             message.contains(field) && message.contains("magnitude limit"),
             "{message}"
@@ -303,13 +295,7 @@ fn a_description_with_characters_xml_cannot_carry_is_refused_by_run_and_export()
             vec!["run", arg(&file), "--quiet"],
         ] {
             let output = guideway(&args);
-            assert_eq!(
-                output.status.code(),
-                Some(2),
-                "{args:?}: {}",
-                stderr(&output)
-            );
-            let message = stderr(&output);
+            let message = refusal(&output, &format!("{args:?}"));
             let code = format!("U+{:04X}", c as u32);
             assert!(
                 message.contains("description") && message.contains(&code),
@@ -362,13 +348,7 @@ fn names_longer_than_64_characters_are_refused_naming_the_limit() {
         let file = scene_file(dir.path(), "long.toml", from, &to);
         let fmu = dir.path().join("long.fmu");
         let output = guideway(&["export", &file, "-o", arg(&fmu)]);
-        assert_eq!(
-            output.status.code(),
-            Some(2),
-            "{field}: {}",
-            stderr(&output)
-        );
-        let message = stderr(&output);
+        let message = refusal(&output, field);
         assert!(message.contains(&format!("{field} = \"aaaa")), "{message}");
         assert!(
             message.contains("300 characters, more than the limit of 64"),
@@ -389,8 +369,7 @@ fn more_than_10000_sensors_are_refused_with_one_problem() {
     let file = dir.path().join("many.toml");
     std::fs::write(&file, text).unwrap();
     let output = guideway(&["run", arg(&file), "--quiet"]);
-    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
-    let message = stderr(&output);
+    let message = refusal(&output, "");
     assert!(
         message.contains("sensors = 10002 sensors: must hold at most 10000"),
         "{message}"
@@ -414,8 +393,7 @@ fn a_scene_file_over_10_mb_is_refused_unread() {
         vec!["export", arg(&file), "-o", arg(&never)],
     ] {
         let output = guideway(&args);
-        assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
-        let message = stderr(&output);
+        let message = refusal(&output, "");
         assert!(
             message.contains(&format!("scene is {} bytes", text.len())),
             "{message}"
@@ -456,13 +434,7 @@ fn an_output_equal_to_the_scene_or_to_another_output_is_refused() {
     ];
     for args in cases {
         let output = guideway(&args);
-        assert_eq!(
-            output.status.code(),
-            Some(2),
-            "{args:?}: {}",
-            stderr(&output)
-        );
-        let message = stderr(&output);
+        let message = refusal(&output, &format!("{args:?}"));
         assert!(
             message.contains("would overwrite") || message.contains("would be overwritten"),
             "{message}"

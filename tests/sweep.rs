@@ -2,7 +2,7 @@
 //! the rule they break; the envelope has one row per speed and train.
 
 mod common;
-use common::cli::{guideway, stderr};
+use common::cli::{guideway, refusal, stderr};
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bridge25_hslm.toml");
 
@@ -17,13 +17,7 @@ fn refused(speeds: &str, expected: &str) {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(
-        output.status.code(),
-        Some(2),
-        "--speeds {speeds}: {}",
-        stderr(&output)
-    );
-    let message = stderr(&output);
+    let message = refusal(&output, &format!("--speeds {speeds}"));
     assert!(
         message.contains(&format!("--speeds \"{speeds}\"")) && message.contains(expected),
         "--speeds {speeds}: {message}"

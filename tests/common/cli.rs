@@ -45,3 +45,11 @@ pub fn stderr(output: &Output) -> String {
 pub fn arg(path: &Path) -> &str {
     path.to_str().expect("test paths are UTF-8")
 }
+
+/// The message of a refusal: fails the test (naming `context`) unless the
+/// run exited with status 2, the command line's "refused before running".
+pub fn refusal(output: &Output, context: &str) -> String {
+    let message = stderr(output);
+    assert_eq!(output.status.code(), Some(2), "{context}: {message}");
+    message
+}
