@@ -422,7 +422,8 @@ fn draw_panel(
             .flat_map(|c| c.points.iter().map(|&(_, y)| y)),
     );
     let labelled = text == Text::Labelled;
-    let legend = least_crowded_corner(&panel.curves, &x_range, &y_range);
+    let box_height = legend_height(panel.curves.len(), area.dim_in_pixel().1);
+    let (legend, y_range) = legend_place(&panel.curves, &x_range, y_range, box_height);
     let mut builder = ChartBuilder::on(area);
     builder.margin(15);
     if labelled {
@@ -512,16 +513,41 @@ pub fn tick_label(y: f64, span: f64, decimals: Option<usize>) -> String {
     }
 }
 
-/// The corner of the chart whose legend box (a third of the width, a
-/// quarter of the height per curve, up to half) covers the fewest
-/// points of the curves.
+/// The legend box's height as a fraction of the plotting area of a panel
+/// `panel_pixels` high: a row of 15-px text per curve and its frame,
+/// against the panel less its caption, axis labels and margins.
+fn legend_height(curves: usize, panel_pixels: u32) -> f64 {
+    let plot_pixels = f64::from(panel_pixels.saturating_sub(100).max(60));
+    ((22 * curves.max(1) + 14) as f64 / plot_pixels).min(0.5)
+}
+
+/// The legend's corner and the y range to draw: the least crowded corner;
+/// when even that one would hide part of a curve (a force that fills its
+/// panel), the range grows upward so that the legend sits above them all.
+pub fn legend_place(
+    curves: &[Curve],
+    x: &Range<f64>,
+    y: Range<f64>,
+    box_height: f64,
+) -> (SeriesLabelPosition, Range<f64>) {
+    let (corner, covered) = least_crowded_corner(curves, x, &y, box_height);
+    if covered == 0 {
+        return (corner, y);
+    }
+    let top = y.start + (y.end - y.start) / (1.0 - box_height);
+    (SeriesLabelPosition::UpperRight, y.start..top)
+}
+
+/// The corner of the chart whose legend box (a third of the width,
+/// `box_height` of the height) covers the fewest points of the curves,
+/// and how many it covers.
 pub fn least_crowded_corner(
     curves: &[Curve],
     x: &Range<f64>,
     y: &Range<f64>,
-) -> SeriesLabelPosition {
+    box_height: f64,
+) -> (SeriesLabelPosition, usize) {
     let (width, height) = (x.end - x.start, y.end - y.start);
-    let box_height = (0.12 * curves.len().max(1) as f64).min(0.5);
     let corners = [
         (SeriesLabelPosition::UpperRight, true, true),
         (SeriesLabelPosition::UpperLeft, false, true),
@@ -551,8 +577,9 @@ pub fn least_crowded_corner(
     };
     corners
         .into_iter()
-        .min_by_key(|&(_, right, upper)| covered(right, upper))
-        .map_or(SeriesLabelPosition::UpperRight, |c| c.0)
+        .map(|(corner, right, upper)| (corner, covered(right, upper)))
+        .min_by_key(|&(_, count)| count)
+        .unwrap_or((SeriesLabelPosition::UpperRight, 0))
 }
 
 /// The range of the finite values, widened by 5 % (or by 1 when they are

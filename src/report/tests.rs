@@ -549,15 +549,47 @@ fn legends_go_to_the_corner_the_curves_leave_free() {
         )
     };
     // A curve hugging the top: the legend goes below.
-    let top = plot::least_crowded_corner(&[ramp(|_| 0.95)], &x, &y);
+    let top = plot::least_crowded_corner(&[ramp(|_| 0.95)], &x, &y, 0.24).0;
     assert!(matches!(top, At::LowerRight | At::LowerLeft), "{top:?}");
     // A rise from lower left to upper right leaves the other two corners.
-    let rise = plot::least_crowded_corner(&[ramp(|t| t)], &x, &y);
+    let rise = plot::least_crowded_corner(&[ramp(|t| t)], &x, &y, 0.24).0;
     assert!(matches!(rise, At::UpperLeft | At::LowerRight), "{rise:?}");
     // A dip in the middle (the deflection) leaves the lower corners free.
-    let dip =
-        plot::least_crowded_corner(&[ramp(|t| 1.0 - (std::f64::consts::PI * t).sin())], &x, &y);
+    let dip = plot::least_crowded_corner(
+        &[ramp(|t| 1.0 - (std::f64::consts::PI * t).sin())],
+        &x,
+        &y,
+        0.24,
+    )
+    .0;
     assert!(matches!(dip, At::LowerRight | At::LowerLeft), "{dip:?}");
+}
+
+#[test]
+fn a_curve_that_fills_its_panel_gets_room_above_it_for_the_legend() {
+    use plotters::prelude::SeriesLabelPosition as At;
+    // A force chattering over the whole panel (its range padded by 5 %):
+    // every corner is crowded.
+    let chatter = || plot::Curve {
+        label: "c".into(),
+        points: (0..=1000)
+            .map(|k| (k as f64 / 1000.0, if k % 2 == 0 { 0.05 } else { 0.95 }))
+            .collect(),
+    };
+    let x = 0.0..1.0;
+    let (corner, y) = plot::legend_place(&[chatter()], &x, 0.0..1.0, 0.25);
+    assert!(matches!(corner, At::UpperRight), "{corner:?}");
+    // The data fill the lower three quarters; the box the top quarter.
+    assert!((y.end - 4.0 / 3.0).abs() < 1e-12, "{y:?}");
+    let (_, covered) = plot::least_crowded_corner(&[chatter()], &x, &y, 0.25);
+    assert_eq!(covered, 0);
+    // A curve that leaves a corner free keeps its range.
+    let low = plot::Curve {
+        label: "c".into(),
+        points: vec![(0.0, 0.0), (1.0, 0.1)],
+    };
+    let (_, y) = plot::legend_place(&[low], &x, 0.0..1.0, 0.25);
+    assert_eq!(y, 0.0..1.0);
 }
 
 #[test]
