@@ -32,7 +32,11 @@ Variants (each changes the coupled system and its reference alike):
              and guideway its force's derivative from both FMUs' outputs
              (dF/dt = k (vy - vy_w) + c (ay - ay_w))
 
-Usage: .venv/bin/python scripts/coupling_order.py [VARIANT ...] [--steps H ...]
+With --masters it runs the base system in the three masters of
+test_coupling.py instead, the vehicle computing its outputs at the step's
+end (`consistent` = 0) and when read (1).
+
+Usage: .venv/bin/python scripts/coupling_order.py [VARIANT ...] [--steps H ...] [--masters]
 """
 
 import argparse
@@ -162,11 +166,35 @@ def errors(rows, reference, h, damping):
             np.max(np.abs(ay_ref - ay_ref[0])))
 
 
+def masters(steps):
+    """The base system in the three masters of test_coupling.py (each reads
+    every output after the step, then transfers), the vehicle computing its
+    outputs at the step's end and on read."""
+    import test_coupling
+
+    watched = test_coupling.OBSERVED + [("vehicle", "ay")]
+    columns = test_coupling.BUILTIN_COLUMNS + ["car.ay"]
+    print("master     vehicle.consistent  " + "  ".join(f"car ay, H = {h * 1e3:g} ms" for h in steps))
+    with tempfile.TemporaryDirectory() as d:
+        fmus = build(pathlib.Path(d), C, 1.0)
+        for consistent in (0, 1):
+            starts = {**STARTS, ("vehicle", "extrapolate"): 1, ("vehicle", "consistent"): consistent}
+            for master, runner in test_coupling.RUNNERS.items():
+                runs = {(master, h): runner(fmus[0], h, starts, watched) for h in steps}
+                e = test_coupling.errors(fmus, runs, master, steps, columns)[:, -1]
+                print(f"{master:10s} {consistent:18d}  " + "  ".join(f"{x:19.3e}" for x in e),
+                      flush=True)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("variants", nargs="*", default=list(VARIANTS))
     parser.add_argument("--steps", nargs="+", type=float, default=[2.5e-3, 1.25e-3])
+    parser.add_argument("--masters", action="store_true",
+                        help="the base system in fmpy, libcosim and Ecos instead")
     args = parser.parse_args()
+    if args.masters:
+        return masters(args.steps)
     print("variant            H (ms)  car y      car ay (reported)  car ay (consistent)  "
           "peak ay change (m/s2)  reported ay error (m/s2)")
     for variant in args.variants:
