@@ -18,6 +18,8 @@ Variants (each changes the coupled system and its reference alike):
   base       the system of the tests
   no-damper  suspension damping c = 0
   stiff-beam the beam's bending stiffness x 100 (first mode 480 Hz)
+  one-mode   the beam in its first mode only (48 Hz; `solver.structure =
+             "modal"`), two-modes: its first two (48 and 193 Hz)
   quadratic  the quarter car extrapolates a parabola through its last
              three communication points instead of a line
   consistent the quarter car computes its outputs ay and force_y (which
@@ -59,6 +61,8 @@ VARIANTS = {
     "base": {},
     "no-damper": {"damping": 0.0},
     "stiff-beam": {"stiffness_factor": 100.0},
+    "one-mode": {"modes": 1},
+    "two-modes": {"modes": 2},
     "quadratic": {"extrapolate": 2},
     "exact": {"exact": True, "extrapolate": 3},
     "consistent": {"consistent": 1},
@@ -66,10 +70,12 @@ VARIANTS = {
 }
 
 
-def build(d, damping, stiffness_factor):
+def build(d, damping, stiffness_factor, modes=None):
     """The guideway FMU, the quarter car FMU and the reference run."""
     beam = BEAM.replace("bending_stiffness = 8.5347e10", f"bending_stiffness = {EI * stiffness_factor!r}")
     assert stiffness_factor == 1.0 or beam != BEAM
+    if modes is not None:
+        beam = beam.replace("[solver]\n", f'[solver]\nstructure = "modal"\nmodes = {modes}\n')
     builtin = BUILTIN.replace(f"damping = {C}", f"damping = {damping}")
     (d / "coupled.toml").write_text(COUPLED + beam)
     (d / "builtin.toml").write_text(builtin + beam)
@@ -201,7 +207,8 @@ def main():
         options = VARIANTS[variant]
         damping = options.get("damping", C)
         with tempfile.TemporaryDirectory() as d:
-            paths, reference = build(pathlib.Path(d), damping, options.get("stiffness_factor", 1.0))
+            paths, reference = build(pathlib.Path(d), damping, options.get("stiffness_factor", 1.0),
+                                     options.get("modes"))
             for h in args.steps:
                 rows = run(paths, h, damping, options)
                 e = errors(rows, reference, h, damping)
