@@ -141,6 +141,15 @@ fn attribute(e: &quick_xml::events::BytesStart, name: &str) -> Option<String> {
         })
 }
 
+/// The name and causality of a variable element (one with a name and a
+/// value reference).
+fn named_variable(e: &quick_xml::events::BytesStart) -> Option<(String, String)> {
+    let name = attribute(e, "name")?;
+    attribute(e, "valueReference")?;
+    let causality = attribute(e, "causality").unwrap_or_else(|| "local".into());
+    Some((name, causality))
+}
+
 /// The FMI version and variables a model description declares. A variable
 /// is an element of `ModelVariables` with a name and a value reference: an
 /// FMI 2.0 `ScalarVariable` (typed by its first child) or an FMI 3.0
@@ -172,33 +181,17 @@ fn interface(xml: &str) -> Result<Interface, String> {
             _ if !in_variables => {}
             _ if scalar.is_some() => {
                 let (name, causality) = scalar.take().unwrap_or_default();
-                variables.insert(
-                    name,
-                    Variable {
-                        causality,
-                        ty: element,
-                    },
-                );
+                let ty = element;
+                variables.insert(name, Variable { causality, ty });
             }
-            _ => {
-                let (Some(name), Some(_)) =
-                    (attribute(&e, "name"), attribute(&e, "valueReference"))
-                else {
-                    continue;
-                };
-                let causality = attribute(&e, "causality").unwrap_or_else(|| "local".into());
-                if element == "ScalarVariable" {
-                    scalar = Some((name, causality));
-                } else {
-                    variables.insert(
-                        name,
-                        Variable {
-                            causality,
-                            ty: element,
-                        },
-                    );
+            _ => match named_variable(&e) {
+                Some(named) if element == "ScalarVariable" => scalar = Some(named),
+                Some((name, causality)) => {
+                    let ty = element;
+                    variables.insert(name, Variable { causality, ty });
                 }
-            }
+                None => {}
+            },
         }
     }
     Ok(Interface {
