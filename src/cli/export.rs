@@ -1,5 +1,5 @@
 //! `guideway export SCENE -o NAME.fmu [--fmi 2|3] [--cross-check DIR]
-//! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
+//! [--ssp SYSTEM.ssp [--ssp-version 1|2] --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
 use super::{check_outputs, load_scene_with_inputs, ExportArgs, Failure, Inputs};
 use guideway::fmu::ssp::{Experiment, SspVersion, System, SystemError};
