@@ -1,8 +1,8 @@
 //! `guideway export SCENE -o NAME.fmu [--fmi 2|3] [--cross-check DIR]
-//! [--ssp SYSTEM.ssp --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
+//! [--ssp SYSTEM.ssp [--ssp-version 1|2] --vehicle VEHICLE.fmu --connect FROM=TO ...]`.
 
 use super::{check_outputs, load_scene_with_inputs, ExportArgs, Failure, Inputs};
-use guideway::fmu::ssp::{Experiment, System, SystemError};
+use guideway::fmu::ssp::{Experiment, SspVersion, System, SystemError};
 use guideway::fmu::{self, ExportError, FmiVersion};
 use guideway::scene::Scene;
 use std::path::{Path, PathBuf};
@@ -21,23 +21,17 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
             ))
         })?;
     }
-    if args.ssp.is_some() && args.fmi != "2" {
-        return Err(Failure::Usage(
-            "--ssp writes an SSP 1.0 system, which holds FMI 2.0 FMUs: use --fmi 2 with --ssp"
-                .into(),
-        ));
-    }
-    // A bad --connect is a usage error found before anything is written.
-    let system = match (&args.ssp, &args.vehicle) {
-        (Some(_), Some(vehicle)) => Some(check_system(&args, &scene, vehicle)?),
-        _ => None,
-    };
-    let (cdylib, warning) = fmu::export_cdylib().map_err(Failure::Run)?;
     let fmi = if args.fmi == "3" {
         FmiVersion::V3
     } else {
         FmiVersion::V2
     };
+    // A bad --connect is a usage error found before anything is written.
+    let system = match (&args.ssp, &args.vehicle) {
+        (Some(_), Some(vehicle)) => Some(check_system(&args, &scene, vehicle, fmi)?),
+        _ => None,
+    };
+    let (cdylib, warning) = fmu::export_cdylib().map_err(Failure::Run)?;
     let exported = fmu::export_as(&scene, &args.out, &cdylib, fmi).map_err(|e| match e {
         // The same scene problem gives the same exit code as `run`.
         ExportError::Scene(m) => {
@@ -67,21 +61,34 @@ pub(super) fn export(args: ExportArgs) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The `--ssp` system, its connections checked against the model
-/// description the FMU will have and the vehicle FMU.
-fn check_system(args: &ExportArgs, scene: &Scene, vehicle: &Path) -> Result<System, Failure> {
-    let xml = fmu::model_description(scene)
+/// The `--ssp` system (SSP `--ssp-version`), its connections checked
+/// against the model description the FMU (of FMI `fmi`) will have and the
+/// vehicle FMU.
+fn check_system(
+    args: &ExportArgs,
+    scene: &Scene,
+    vehicle: &Path,
+    fmi: FmiVersion,
+) -> Result<System, Failure> {
+    let xml = fmu::model_description_as(scene, fmi)
         .map_err(|e| Failure::Scene(format!("scene `{}` cannot be exported: {e}", scene.name)))?;
     let experiment = Experiment {
         stop_time: guideway::model::experiment::default_stop_time(scene),
         step_size: scene.solver.step,
     };
-    fmu::ssp::check_connections(&scene.name, &xml, vehicle, &args.connect, experiment).map_err(
-        |e| match e {
-            SystemError::Connection(m) => Failure::Usage(m),
-            SystemError::Io(m) => Failure::Run(m),
-        },
+    let version = SspVersion::parse(&args.ssp_version).unwrap_or_default();
+    fmu::ssp::check_connections(
+        &scene.name,
+        version,
+        &xml,
+        vehicle,
+        &args.connect,
+        experiment,
     )
+    .map_err(|e| match e {
+        SystemError::Connection(m) => Failure::Usage(m),
+        SystemError::Io(m) => Failure::Run(m),
+    })
 }
 
 /// Refuse an FMU, SSP or cross-check file that would overwrite an input

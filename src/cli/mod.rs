@@ -237,10 +237,14 @@ struct ExportArgs {
     /// `<model>_ref.opt`) into this directory.
     #[arg(long, value_name = "DIR")]
     cross_check: Option<PathBuf>,
-    /// Also write an SSP 1.0 system of this FMU (component `guideway`) and
-    /// the `--vehicle` FMU (component `vehicle`), wired by `--connect`.
+    /// Also write an SSP system of this FMU (component `guideway`) and the
+    /// `--vehicle` FMU (component `vehicle`), wired by `--connect`.
     #[arg(long, value_name = "SSP", requires = "vehicle")]
     ssp: Option<PathBuf>,
+    /// The SSP standard of the `--ssp` system: 1 (SSP 1.0, which every
+    /// tested master reads) or 2 (SSP 2.0, `Float64` connectors for FMI 3.0).
+    #[arg(long, value_name = "VERSION", default_value = "1", value_parser = ["1", "2"], requires = "ssp")]
+    ssp_version: String,
     /// The vehicle FMU of the `--ssp` system.
     #[arg(long, value_name = "FMU", requires = "ssp")]
     vehicle: Option<PathBuf>,

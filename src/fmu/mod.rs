@@ -274,7 +274,12 @@ fn describe_as_packaged(
 /// The modelDescription.xml `export` would write for `scene` (to check an
 /// SSP's connections before anything is written).
 pub fn model_description(scene: &Scene) -> Result<String, ExportError> {
-    describe_as_packaged(scene, FmiVersion::V2).map(|(_, _, d)| d.xml)
+    model_description_as(scene, FmiVersion::V2)
+}
+
+/// The same, for an FMU of standard `fmi`.
+pub fn model_description_as(scene: &Scene, fmi: FmiVersion) -> Result<String, ExportError> {
+    describe_as_packaged(scene, fmi).map(|(_, _, d)| d.xml)
 }
 
 fn write_zip(staged: &Staged, files: Vec<(String, &[u8], u32)>) -> Result<(), String> {

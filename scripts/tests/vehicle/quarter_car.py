@@ -10,8 +10,17 @@ so the car starts in static equilibrium. Between communication points the
 inputs are held (`extrapolate` = 0), or follow the line through their values
 at the last two communication points (`extrapolate` = 1, second-order
 coupling; the output at the end of the step then uses the extrapolated
-inputs too); the sprung mass is integrated with classical RK4 in `substeps`
-steps. Built into an FMU with pythonfmu by the tests.
+inputs too), or the parabola through the last three (`extrapolate` = 2), or
+their Taylor polynomial from the exact derivatives at the communication
+point (`extrapolate` = 3: d y_w/dt = vy_w, d vy_w/dt = the optional input
+`ay_w`, the coupling body's acceleration; scripts/coupling_order.py); the
+sprung mass is integrated with classical RK4 in `substeps` steps. The
+outputs `ay` and `force_y` depend directly on the inputs: they are computed
+at the end of each step from the inputs extrapolated to it (`consistent` =
+0), or whenever they are read, from the state and the inputs as last set
+(`consistent` = 1: a master that sets the inputs at t + H before reading
+gets outputs consistent with them). Built into an FMU with pythonfmu by the
+tests.
 """
 
 from pythonfmu import Fmi2Causality, Fmi2Slave, Fmi2Variability, Real, Integer
@@ -31,10 +40,12 @@ class quarter_car(Fmi2Slave):
         self.y0 = 1.0
         self.substeps = 20
         self.extrapolate = 0
-        self.history = None  # (time, y_w, vy_w) at the last communication point
+        self.consistent = 0
+        self.history = []  # (time, y_w, vy_w) at the last communication points, newest first
         self.nominal = None  # the first communication step's size
         self.y_w = 0.0
         self.vy_w = 0.0
+        self.ay_w = 0.0
         self.y = 1.0
         self.vy = 0.0
         self.ay = 0.0
@@ -44,10 +55,14 @@ class quarter_car(Fmi2Slave):
             self.register_variable(Real(name, **par))
         self.register_variable(Integer("substeps", **par))
         self.register_variable(Integer("extrapolate", **par))
-        for name in ("y_w", "vy_w"):
+        self.register_variable(Integer("consistent", **par))
+        for name in ("y_w", "vy_w", "ay_w"):
             self.register_variable(Real(name, causality=Fmi2Causality.input))
-        for name in ("y", "vy", "ay", "force_y"):
+        for name in ("y", "vy"):
             self.register_variable(Real(name, causality=Fmi2Causality.output))
+        for name in ("ay", "force_y"):
+            self.register_variable(Real(name, causality=Fmi2Causality.output,
+                                        getter=lambda name=name: self.read(name)))
 
     def suspension(self, y, vy, w):
         """Force of the suspension on the sprung mass (N, up) with the
@@ -62,20 +77,35 @@ class quarter_car(Fmi2Slave):
         self.ay = self.acceleration(self.y, self.vy, w)
         self.force_y = -self.suspension(self.y, self.vy, w)
 
+    def read(self, name):
+        """An output with direct feedthrough, as `consistent` says."""
+        if self.consistent:
+            self.outputs((self.y_w, self.vy_w))
+        return getattr(self, name)
+
     def exit_initialization_mode(self):
         self.y, self.vy = self.y0, 0.0
         self.outputs((self.y_w, self.vy_w))
 
     def inputs(self, current_time):
-        """The inputs at current_time + s: held, or along the line through
-        the last two communication points."""
+        """The inputs at current_time + s: held, or extrapolated from the
+        last communication points, or from their exact derivatives."""
         now = (current_time, self.y_w, self.vy_w)
-        past, self.history = self.history, now
-        if not self.extrapolate or past is None or current_time <= past[0]:
+        past = [p for p in self.history if p[0] < current_time]
+        self.history = [now] + past[:1]
+        if self.extrapolate == 3:
+            y, v, a = self.y_w, self.vy_w, self.ay_w
+            return lambda s: (y + v * s + a * s * s / 2, v + a * s)
+        if not self.extrapolate or not past:
             return lambda s: (now[1], now[2])
-        dt = self.snapped(current_time, current_time - past[0])
-        rates = ((now[1] - past[1]) / dt, (now[2] - past[2]) / dt)
-        return lambda s: (now[1] + rates[0] * s, now[2] + rates[1] * s)
+        dt = self.snapped(current_time, current_time - past[0][0])
+        rates = [(now[i] - past[0][i]) / dt for i in (1, 2)]
+        if self.extrapolate == 1 or len(past) < 2:
+            return lambda s: (now[1] + rates[0] * s, now[2] + rates[1] * s)
+        # the parabola through three equally spaced points
+        curvature = [(now[i] - 2 * past[0][i] + past[1][i]) / dt**2 for i in (1, 2)]
+        return lambda s: tuple(now[i + 1] + (rates[i] + curvature[i] * dt / 2) * s
+                               + curvature[i] * s * s / 2 for i in (0, 1))
 
     def snapped(self, current_time, step_size):
         """The step size, or the first step's if within a few ulp of the
