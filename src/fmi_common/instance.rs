@@ -121,10 +121,15 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
         self.model.set_experiment(start, stop).map_err(|e| e.0)
     }
 
-    pub fn enter_initialization_mode(&mut self) -> Result<(), String> {
-        self.require_call(Call::EnterInitializationMode)?;
-        self.mode = F::INITIALIZATION_MODE;
+    /// Moves to `to` by `call`, where the rules allow `call`.
+    fn enter(&mut self, call: Call, to: F::Mode) -> Result<(), String> {
+        self.require_call(call)?;
+        self.mode = to;
         Ok(())
+    }
+
+    pub fn enter_initialization_mode(&mut self) -> Result<(), String> {
+        self.enter(Call::EnterInitializationMode, F::INITIALIZATION_MODE)
     }
 
     pub fn exit_initialization_mode(&mut self) -> Result<(), String> {
@@ -136,9 +141,7 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
     }
 
     pub fn terminate(&mut self) -> Result<(), String> {
-        self.require_call(Call::Terminate)?;
-        self.mode = F::TERMINATED;
-        Ok(())
+        self.enter(Call::Terminate, F::TERMINATED)
     }
 
     pub fn reset(&mut self) -> Result<(), String> {

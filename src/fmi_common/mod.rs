@@ -152,3 +152,95 @@ pub fn read_scene(resources: &std::path::Path) -> Result<Scene, String> {
         .map_err(|e| format!("the scene: {e}"))?;
     Scene::from_toml_str(&text).map_err(|e| format!("invalid scene {}: {e}", path.display()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fmi2::instance::Fmi2;
+    use crate::fmi3::instance::Fmi3;
+
+    const CALLS: [Call; 16] = [
+        Call::SetupExperiment,
+        Call::EnterInitializationMode,
+        Call::ExitInitializationMode,
+        Call::Terminate,
+        Call::Reset,
+        Call::FreeInstance,
+        Call::GetReal,
+        Call::Get,
+        Call::Set,
+        Call::DoStep,
+        Call::GetState,
+        Call::SetState,
+        Call::FreeState,
+        Call::StateSize,
+        Call::SerializeState,
+        Call::DeserializeState,
+    ];
+
+    /// A front's table of rules lets the co-simulation life cycle be walked
+    /// (instantiate, initialize, step, retry after a Discard, terminate,
+    /// reset), keeps a fatal instance closed to every call, and allows the
+    /// FMU state calls wherever the instance is alive.
+    fn walkable<F: Front>(prefix: &str) {
+        let allows = |call, mode| F::allowed(call).contains(&mode);
+        for call in CALLS {
+            assert!(
+                !allows(call, F::FATAL),
+                "{prefix}: {call:?} after a fatal error"
+            );
+            assert!(
+                F::name(call).starts_with(prefix),
+                "{call:?}: {}",
+                F::name(call)
+            );
+        }
+        assert!(allows(Call::SetupExperiment, F::INSTANTIATED));
+        assert!(allows(Call::EnterInitializationMode, F::INSTANTIATED));
+        assert!(allows(Call::ExitInitializationMode, F::INITIALIZATION_MODE));
+        assert!(allows(Call::Get, F::INITIALIZATION_MODE) && allows(Call::Get, F::STEPPING));
+        assert!(allows(Call::DoStep, F::STEPPING) && allows(Call::DoStep, F::DISCARDED));
+        assert!(allows(Call::Terminate, F::STEPPING) && allows(Call::Reset, F::TERMINATED));
+        assert!(!allows(Call::DoStep, F::TERMINATED) && !allows(Call::Set, F::TERMINATED));
+        let alive = [
+            F::INSTANTIATED,
+            F::INITIALIZATION_MODE,
+            F::STEPPING,
+            F::TERMINATED,
+        ];
+        for call in [Call::GetState, Call::SetState, Call::SerializeState] {
+            assert!(alive.iter().all(|&m| allows(call, m)), "{call:?}");
+        }
+    }
+
+    #[test]
+    fn both_fronts_rules_walk_the_life_cycle_and_close_a_fatal_instance() {
+        walkable::<Fmi2>("fmi2");
+        walkable::<Fmi3>("fmi3");
+    }
+
+    #[test]
+    fn state_handles_are_never_null_aligned_and_differ_between_fronts() {
+        let handles = [Fmi2::next_state_handle(), Fmi3::next_state_handle()];
+        assert!(
+            handles.iter().all(|&h| h != 0 && h % 8 == 0),
+            "{handles:x?}"
+        );
+        assert_ne!(handles[0], handles[1]);
+        assert_ne!(Fmi2::next_state_handle(), handles[0], "never reused");
+    }
+
+    #[test]
+    fn a_restored_state_puts_the_instance_in_the_mode_of_its_phase() {
+        use crate::fmi2::instance::Mode::*;
+        let after =
+            |current, phase, terminated| mode_after_restore::<Fmi2>(current, phase, terminated);
+        assert_eq!(after(Instantiated, Phase::Configuring, false), Instantiated);
+        assert_eq!(
+            after(Terminated, Phase::Configuring, false),
+            InitializationMode
+        );
+        assert_eq!(after(Instantiated, Phase::Running, false), StepComplete);
+        assert_eq!(after(StepComplete, Phase::Running, true), StepFailed);
+    }
+}
