@@ -5,8 +5,9 @@
 //! `system::System` by `build` and run by `simulation`) knows nothing of
 //! FMI. `outputs` is the catalogue of what a run reports. The `model`
 //! module turns a scene into a table of named, typed variables; the `fmi2`
-//! layer exports that table through the FMI 2.0 co-simulation C ABI and
-//! knows nothing of beams; `report`, `study`, `design` and `moving_load`
+//! and `fmi3` fronts export that table through the FMI 2.0 and 3.0
+//! co-simulation C ABIs over one shared layer (`fmi_common`) and know
+//! nothing of beams; `report`, `study`, `design` and `moving_load`
 //! sit above the physics.
 
 pub mod build;
@@ -16,6 +17,7 @@ pub mod design;
 pub mod energy;
 pub mod fmi2;
 pub mod fmi3;
+pub mod fmi_common;
 pub mod fmu;
 pub mod input_file;
 pub mod linalg;

@@ -1,37 +1,30 @@
 //! The FMI 2.0 common and co-simulation functions, exported from the cdylib
 //! under their standard names.
 //!
-//! Each function is thin: it checks pointers, reads C arguments, catches
-//! panics (a panic turns into fmi2Fatal and a logged message, never an
-//! unwind across the C boundary) and delegates to `Instance`. Each is checked
-//! against the standard's typedef at compile time.
+//! Each function is thin: it reads its C arguments (checked by
+//! `fmi_common::abi`), runs inside `fmi_common::abi::with_instance` (a panic
+//! turns into fmi2Fatal and a logged message, never an unwind across the C
+//! boundary; a refusal into fmi2Error and a logged message) and delegates to
+//! the shared `Instance`. Each is checked against the standard's typedef at
+//! compile time.
 
-use super::instance::{Instance, Mode};
+use super::instance::{Fmi2, Instance};
 use super::logging::Logger;
 use super::Physics;
+use crate::fmi_common::abi::{self, categories, no_variables, slice, slice_mut, string};
 use crate::model::{Value, VarType};
 use fmi_sys::fmi2::*;
-use std::ffi::{c_char, CStr};
-use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::ffi::c_char;
 
 type Inst = Instance<Physics>;
 
 const OK: fmi2Status = fmi2Status_fmi2OK;
+#[cfg(test)]
 const ERROR: fmi2Status = fmi2Status_fmi2Error;
+#[cfg(test)]
 const FATAL: fmi2Status = fmi2Status_fmi2Fatal;
 
-pub(crate) fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "unknown panic".to_string()
-    }
-}
-
-/// Run `f` on the instance behind `c`: NULL gives fmi2Error, `Err` gives
-/// fmi2Error with a logged message, a panic gives fmi2Fatal.
+/// `abi::with_instance` on an FMI 2.0 instance of the shipped physics.
 ///
 /// # Safety
 /// `c` is NULL or a pointer returned by `fmi2Instantiate` and not yet freed.
@@ -40,92 +33,7 @@ unsafe fn with_instance(
     function: &str,
     f: impl FnOnce(&mut Inst) -> Result<fmi2Status, String>,
 ) -> fmi2Status {
-    if c.is_null() {
-        return ERROR;
-    }
-    // SAFETY: per the function's contract.
-    let inst = unsafe { &mut *(c as *mut Inst) };
-    if inst.mode() == Mode::Fatal {
-        inst.logger.log(
-            ERROR,
-            &format!(
-                "{function}: the instance had a fatal error; only fmi2FreeInstance is allowed"
-            ),
-        );
-        return ERROR;
-    }
-    match catch_unwind(AssertUnwindSafe(|| f(&mut *inst))) {
-        Ok(Ok(status)) => status,
-        Ok(Err(message)) => {
-            let message = if message.starts_with(function) {
-                message
-            } else {
-                format!("{function}: {message}")
-            };
-            inst.logger.log(ERROR, &message);
-            ERROR
-        }
-        Err(payload) => {
-            inst.set_fatal();
-            let message = format!("{function}: internal error: {}", panic_message(&*payload));
-            // The logger itself is the importer's; do not let it unwind us.
-            let _ = catch_unwind(AssertUnwindSafe(|| inst.logger.log(FATAL, &message)));
-            FATAL
-        }
-    }
-}
-
-/// Refuse lengths no array can have (more bytes than `isize::MAX`).
-fn check_len<T>(n: usize, what: &str) -> Result<(), String> {
-    let max = isize::MAX as usize / std::mem::size_of::<T>().max(1);
-    if n > max {
-        return Err(format!("the length of {what}, {n}, is impossibly large"));
-    }
-    Ok(())
-}
-
-/// A slice of `n` elements at `p`; NULL is allowed only when `n` is 0.
-///
-/// # Safety
-/// If not NULL, `p` points to `n` valid elements.
-pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
-    check_len::<T>(n, what)?;
-    if n == 0 {
-        Ok(&[])
-    } else if p.is_null() {
-        Err(format!("{what} is NULL but its length is {n}"))
-    } else {
-        // SAFETY: per the function's contract.
-        Ok(unsafe { std::slice::from_raw_parts(p, n) })
-    }
-}
-
-/// # Safety
-/// If not NULL, `p` points to `n` writable elements.
-pub(crate) unsafe fn slice_mut<'a, T>(
-    p: *mut T,
-    n: usize,
-    what: &str,
-) -> Result<&'a mut [T], String> {
-    check_len::<T>(n, what)?;
-    if n == 0 {
-        Ok(&mut [])
-    } else if p.is_null() {
-        Err(format!("{what} is NULL but its length is {n}"))
-    } else {
-        // SAFETY: per the function's contract.
-        Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
-    }
-}
-
-/// # Safety
-/// `p` is NULL or a NUL-terminated string.
-pub(crate) unsafe fn string(p: *const c_char, what: &str) -> Result<String, String> {
-    if p.is_null() {
-        return Err(format!("{what} is NULL"));
-    }
-    // SAFETY: per the function's contract.
-    Ok(unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned())
+    unsafe { abi::with_instance(c, function, f) }
 }
 
 // ---- common functions ------------------------------------------------------
@@ -149,15 +57,11 @@ pub unsafe extern "C" fn fmi2SetDebugLogging(
     c: fmi2Component,
     logging_on: fmi2Boolean,
     n_categories: usize,
-    categories: *const fmi2String,
+    list: *const fmi2String,
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2SetDebugLogging", |inst| {
-            let list = slice(categories, n_categories, "categories")?;
-            let names = list
-                .iter()
-                .map(|&p| string(p, "a category"))
-                .collect::<Result<Vec<_>, _>>()?;
+            let names = categories(list, n_categories)?;
             inst.logger.configure(logging_on != 0, &names)?;
             Ok(OK)
         })
@@ -182,42 +86,28 @@ pub unsafe extern "C" fn fmi2Instantiate(
     }
     // SAFETY: not NULL; the importer passes a valid callback struct.
     let callbacks = unsafe { *functions };
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        let name = unsafe { string(instance_name, "instanceName") };
-        let name_shown = name.clone().unwrap_or_default();
-        let logger = Logger::new(
+    let logger = |name: &str, debug| {
+        Logger::new(
             callbacks.logger,
             callbacks.componentEnvironment,
-            &name_shown,
-            logging_on != 0,
-        );
+            name,
+            debug,
+        )
+    };
+    let make = || {
+        let name = unsafe { string(instance_name, "instanceName") };
+        let logger = logger(name.as_deref().unwrap_or_default(), logging_on != 0);
         let args = name.and_then(|_| {
             Ok((unsafe { string(fmu_guid, "fmuGUID") }?, unsafe {
                 string(fmu_resource_location, "fmuResourceLocation")
             }?))
         });
-        let (guid, location) = match args {
-            Ok(a) => a,
-            Err(e) => return Err((logger, e)),
-        };
-        Inst::instantiate(fmu_type, &guid, &location, logger)
-    }));
-    match result {
-        Ok(Ok(inst)) => Box::into_raw(Box::new(inst)) as fmi2Component,
-        Ok(Err((logger, reason))) => {
-            logger.log(ERROR, &format!("fmi2Instantiate: {reason}"));
-            std::ptr::null_mut()
+        match args {
+            Ok((guid, location)) => Inst::instantiate(fmu_type, &guid, &location, logger),
+            Err(e) => Err((logger, e)),
         }
-        Err(payload) => {
-            let logger = Logger::new(callbacks.logger, callbacks.componentEnvironment, "", true);
-            let msg = format!(
-                "fmi2Instantiate: internal error: {}",
-                panic_message(&*payload)
-            );
-            let _ = catch_unwind(AssertUnwindSafe(|| logger.log(FATAL, &msg)));
-            std::ptr::null_mut()
-        }
-    }
+    };
+    abi::instantiate("fmi2Instantiate", make, || logger("", true))
 }
 const _: fmi2InstantiateTYPE = Some(fmi2Instantiate);
 
@@ -225,12 +115,7 @@ const _: fmi2InstantiateTYPE = Some(fmi2Instantiate);
 /// Standard FMI 2.0 contract for this function.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    if c.is_null() {
-        return;
-    }
-    // SAFETY: `c` came from fmi2Instantiate (Box::into_raw) and is freed once.
-    let inst = unsafe { Box::from_raw(c as *mut Inst) };
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(inst)));
+    unsafe { abi::free_instance::<Physics, Fmi2>(c) }
 }
 const _: fmi2FreeInstanceTYPE = Some(fmi2FreeInstance);
 
@@ -304,8 +189,7 @@ unsafe fn get<T>(
     c: fmi2Component,
     function: &str,
     ty: VarType,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
+    (vr, nvr): (*const fmi2ValueReference, usize),
     value: *mut T,
     store: impl Fn(Value) -> T,
 ) -> fmi2Status {
@@ -313,13 +197,7 @@ unsafe fn get<T>(
         with_instance(c, function, |inst| {
             let vrs = slice(vr, nvr, "vr")?;
             let out = slice_mut(value, nvr, "value")?;
-            let mut out = out.iter_mut();
-            inst.get_each(function, ty, vrs, |v| {
-                if let Some(o) = out.next() {
-                    *o = store(v);
-                }
-            })?;
-            Ok(OK)
+            inst.get_into(function, ty, vrs, out, store).map(|()| OK)
         })
     }
 }
@@ -329,19 +207,15 @@ unsafe fn get<T>(
 unsafe fn set<T: Copy>(
     c: fmi2Component,
     function: &str,
-    vr: *const fmi2ValueReference,
-    nvr: usize,
+    (vr, nvr): (*const fmi2ValueReference, usize),
     value: *const T,
     load: impl Fn(T) -> Value,
 ) -> fmi2Status {
     unsafe {
         with_instance(c, function, |inst| {
             let vrs = slice(vr, nvr, "vr")?;
-            let values: Vec<Value> = slice(value, nvr, "value")?
-                .iter()
-                .map(|&x| load(x))
-                .collect();
-            inst.set(function, vrs, &values).map(|()| OK)
+            let values = slice(value, nvr, "value")?;
+            inst.set_from(function, vrs, values, load).map(|()| OK)
         })
     }
 }
@@ -375,18 +249,18 @@ pub unsafe extern "C" fn fmi2GetInteger(
     nvr: usize,
     value: *mut fmi2Integer,
 ) -> fmi2Status {
+    let store = |v| match v {
+        Value::Integer(n) => n,
+        _ => 0,
+    };
     unsafe {
         get(
             c,
             "fmi2GetInteger",
             VarType::Integer,
-            vr,
-            nvr,
+            (vr, nvr),
             value,
-            |v| match v {
-                Value::Integer(n) => n,
-                _ => 0,
-            },
+            store,
         )
     }
 }
@@ -401,22 +275,19 @@ pub unsafe extern "C" fn fmi2GetBoolean(
     nvr: usize,
     value: *mut fmi2Boolean,
 ) -> fmi2Status {
+    let store = |v| matches!(v, Value::Boolean(true)) as fmi2Boolean;
     unsafe {
-        get(c, "fmi2GetBoolean", VarType::Boolean, vr, nvr, value, |v| {
-            matches!(v, Value::Boolean(true)) as fmi2Boolean
-        })
+        get(
+            c,
+            "fmi2GetBoolean",
+            VarType::Boolean,
+            (vr, nvr),
+            value,
+            store,
+        )
     }
 }
 const _: fmi2GetBooleanTYPE = Some(fmi2GetBoolean);
-
-fn no_strings(vrs: &[fmi2ValueReference]) -> Result<fmi2Status, String> {
-    match vrs.first() {
-        None => Ok(OK),
-        Some(vr) => Err(format!(
-            "unknown value reference {vr}: this model has no String variables"
-        )),
-    }
-}
 
 /// # Safety
 /// Standard FMI 2.0 contract for this function.
@@ -430,7 +301,7 @@ pub unsafe extern "C" fn fmi2GetString(
     unsafe {
         with_instance(c, "fmi2GetString", |inst| {
             inst.get("fmi2GetString", VarType::Real, &[])?;
-            no_strings(slice(vr, nvr, "vr")?)
+            no_variables(slice(vr, nvr, "vr")?, "String").map(|()| OK)
         })
     }
 }
@@ -445,7 +316,7 @@ pub unsafe extern "C" fn fmi2SetReal(
     nvr: usize,
     value: *const fmi2Real,
 ) -> fmi2Status {
-    unsafe { set(c, "fmi2SetReal", vr, nvr, value, Value::Real) }
+    unsafe { set(c, "fmi2SetReal", (vr, nvr), value, Value::Real) }
 }
 const _: fmi2SetRealTYPE = Some(fmi2SetReal);
 
@@ -458,7 +329,7 @@ pub unsafe extern "C" fn fmi2SetInteger(
     nvr: usize,
     value: *const fmi2Integer,
 ) -> fmi2Status {
-    unsafe { set(c, "fmi2SetInteger", vr, nvr, value, Value::Integer) }
+    unsafe { set(c, "fmi2SetInteger", (vr, nvr), value, Value::Integer) }
 }
 const _: fmi2SetIntegerTYPE = Some(fmi2SetInteger);
 
@@ -471,11 +342,8 @@ pub unsafe extern "C" fn fmi2SetBoolean(
     nvr: usize,
     value: *const fmi2Boolean,
 ) -> fmi2Status {
-    unsafe {
-        set(c, "fmi2SetBoolean", vr, nvr, value, |b| {
-            Value::Boolean(b != 0)
-        })
-    }
+    let load = |b| Value::Boolean(b != 0);
+    unsafe { set(c, "fmi2SetBoolean", (vr, nvr), value, load) }
 }
 const _: fmi2SetBooleanTYPE = Some(fmi2SetBoolean);
 
@@ -491,7 +359,7 @@ pub unsafe extern "C" fn fmi2SetString(
     unsafe {
         with_instance(c, "fmi2SetString", |inst| {
             inst.set("fmi2SetString", &[], &[])?;
-            no_strings(slice(vr, nvr, "vr")?)
+            no_variables(slice(vr, nvr, "vr")?, "String").map(|()| OK)
         })
     }
 }
@@ -505,12 +373,7 @@ const _: fmi2SetStringTYPE = Some(fmi2SetString);
 pub unsafe extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2GetFMUstate", |inst| {
-            if state.is_null() {
-                return Err("FMUstate is NULL".into());
-            }
-            let key = inst.get_state(*state as usize)?;
-            *state = key as fmi2FMUstate;
-            Ok(OK)
+            abi::get_state(inst, state).map(|()| OK)
         })
     }
 }
@@ -537,12 +400,7 @@ pub unsafe extern "C" fn fmi2FreeFMUstate(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2FreeFMUstate", |inst| {
-            if state.is_null() {
-                return Ok(OK);
-            }
-            inst.free_state(*state as usize)?;
-            *state = std::ptr::null_mut();
-            Ok(OK)
+            abi::free_state(inst, state).map(|()| OK)
         })
     }
 }
@@ -558,11 +416,7 @@ pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2SerializedFMUstateSize", |inst| {
-            if size.is_null() {
-                return Err("size is NULL".into());
-            }
-            *size = inst.serialize_state(state as usize)?.len();
-            Ok(OK)
+            abi::state_size(inst, state, size).map(|()| OK)
         })
     }
 }
@@ -579,16 +433,7 @@ pub unsafe extern "C" fn fmi2SerializeFMUstate(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2SerializeFMUstate", |inst| {
-            let bytes = inst.serialize_state(state as usize)?;
-            if size < bytes.len() {
-                return Err(format!(
-                    "size = {size} is too small: the state needs {} bytes (fmi2SerializedFMUstateSize)",
-                    bytes.len()
-                ));
-            }
-            let out = slice_mut(serialized as *mut u8, bytes.len(), "serializedState")?;
-            out.copy_from_slice(&bytes);
-            Ok(OK)
+            abi::serialize_state(inst, state, serialized as *mut u8, size).map(|()| OK)
         })
     }
 }
@@ -605,13 +450,7 @@ pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2DeSerializeFMUstate", |inst| {
-            if state.is_null() {
-                return Err("FMUstate is NULL".into());
-            }
-            let bytes = slice(serialized as *const u8, size, "serializedState")?;
-            let key = inst.deserialize_state(bytes)?;
-            *state = key as fmi2FMUstate;
-            Ok(OK)
+            abi::deserialize_state(inst, serialized as *const u8, size, state).map(|()| OK)
         })
     }
 }
@@ -632,7 +471,9 @@ pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
             let vrs = slice(vr, nvr, "vr")?;
             let orders = slice(order, nvr, "order")?;
             let values = slice(value, nvr, "value")?;
-            inst.set_input_derivatives(vrs, orders, values).map(|()| OK)
+            let function = "fmi2SetRealInputDerivatives";
+            inst.set_input_derivatives(function, vrs, orders, values)
+                .map(|()| OK)
         })
     }
 }
@@ -691,7 +532,8 @@ pub unsafe extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     unsafe {
         with_instance(c, "fmi2DoStep", |inst| {
-            inst.do_step(current_communication_point, communication_step_size)
+            let report = inst.do_step(current_communication_point, communication_step_size)?;
+            Ok(report.status)
         })
     }
 }

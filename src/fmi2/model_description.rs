@@ -1,82 +1,17 @@
-//! modelDescription.xml, generated from the variable table with quick-xml
-//! and serde, in the element order of the FMI 2.0 schema.
-//!
-//! The GUID is derived from the document itself: the SHA-256 of the XML
-//! written with an empty guid attribute, formatted like a UUID. Two FMUs that
-//! differ in anything their description says never share a GUID, and an
-//! identical rebuild keeps it. The initial unknowns' dependencies are left
-//! out of the digest: they are measured from the rest of the description
-//! (see `model::initial_dependencies`), and an instance, which does not need
-//! them, checks its GUID without measuring them.
+//! FMI 2.0's modelDescription.xml, generated from the variable table with
+//! quick-xml and serde, in the element order of the FMI 2.0 schema: its
+//! co-simulation capabilities, `ScalarVariable` elements and dependencies
+//! as 1-based indices into ModelVariables. The parts both versions share
+//! (units, log categories, default experiment, number format, the GUID
+//! derived from the document) are `fmi_common::description`.
 
+use crate::fmi_common::description::{
+    default_experiment, log_categories, model_identifier, real_text, signed, units,
+    DefaultExperiment, LogCategories, Units,
+};
 use crate::model::{Causality, Value, VarType, VariableTable};
 use crate::scene::Scene;
 use serde::Serialize;
-use sha2::{Digest, Sha256};
-
-/// Log categories the FMU declares (and filters on with fmi2SetDebugLogging).
-pub const LOG_CATEGORIES: &[(&str, &str)] = &[
-    (
-        "logEvents",
-        "initialization; every simulation event (a contact's entry onto and exit from the \
-         structure, leaving the track, ...) with its time; state save and restore",
-    ),
-    ("logStatusWarning", "calls that returned fmi2Warning"),
-    (
-        "logStatusDiscard",
-        "steps that returned fmi2Discard (exit, solver failure)",
-    ),
-    (
-        "logStatusError",
-        "calls that returned fmi2Error, with the reason",
-    ),
-    ("logStatusFatal", "internal faults (fmi2Fatal)"),
-];
-
-/// The model identifier for a scene name: a C identifier.
-pub fn model_identifier(scene_name: &str) -> String {
-    let mut id: String = scene_name
-        .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
-        .collect();
-    if id.is_empty() || id.starts_with(|c: char| c.is_ascii_digit()) {
-        id.insert_str(0, "m_");
-    }
-    id
-}
-
-pub use crate::model::experiment::default_stop_time;
-
-/// Base-unit exponents (kg, m, s, rad) of the units the outputs may use.
-fn base_unit(unit: &str) -> Option<BaseUnit> {
-    let (kg, m, s, rad) = match unit {
-        "m" => (0, 1, 0, 0),
-        "kg" => (1, 0, 0, 0),
-        "s" => (0, 0, 1, 0),
-        "N" => (1, 1, -2, 0),
-        "N.s" => (1, 1, -1, 0),
-        "J" => (1, 2, -2, 0),
-        "W" => (1, 2, -3, 0),
-        "m/s" => (0, 1, -1, 0),
-        "m/s2" => (0, 1, -2, 0),
-        "rad" => (0, 0, 0, 1),
-        "rad/s" => (0, 0, -1, 1),
-        "rad/s2" => (0, 0, -2, 1),
-        "kg/m" => (1, -1, 0, 0),
-        "kg.m2" => (1, 2, 0, 0),
-        "N.m2" => (1, 3, -2, 0),
-        "N/m" => (1, 0, -2, 0),
-        "N.m" => (1, 2, -2, 0),
-        _ => return None,
-    };
-    let nz = |x: i32| (x != 0).then_some(x);
-    Some(BaseUnit {
-        kg: nz(kg),
-        m: nz(m),
-        s: nz(s),
-        rad: nz(rad),
-    })
-}
 
 #[derive(Serialize)]
 #[serde(rename = "fmiModelDescription")]
@@ -135,66 +70,6 @@ struct CoSimulation {
     serialize_state: bool,
     #[serde(rename = "@providesDirectionalDerivative")]
     directional_derivative: bool,
-}
-
-#[derive(Serialize)]
-pub(crate) struct Units {
-    #[serde(rename = "Unit")]
-    units: Vec<Unit>,
-}
-
-#[derive(Serialize)]
-struct Unit {
-    #[serde(rename = "@name")]
-    name: String,
-    #[serde(rename = "BaseUnit", skip_serializing_if = "Option::is_none")]
-    base: Option<BaseUnit>,
-    #[serde(rename = "DisplayUnit", skip_serializing_if = "Vec::is_empty")]
-    display: Vec<DisplayUnitElement>,
-}
-
-#[derive(Serialize)]
-struct DisplayUnitElement {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@factor")]
-    factor: f64,
-}
-
-#[derive(Serialize)]
-struct BaseUnit {
-    #[serde(rename = "@kg", skip_serializing_if = "Option::is_none")]
-    kg: Option<i32>,
-    #[serde(rename = "@m", skip_serializing_if = "Option::is_none")]
-    m: Option<i32>,
-    #[serde(rename = "@s", skip_serializing_if = "Option::is_none")]
-    s: Option<i32>,
-    #[serde(rename = "@rad", skip_serializing_if = "Option::is_none")]
-    rad: Option<i32>,
-}
-
-#[derive(Serialize)]
-pub(crate) struct LogCategories {
-    #[serde(rename = "Category")]
-    categories: Vec<Category>,
-}
-
-#[derive(Serialize)]
-struct Category {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@description")]
-    description: &'static str,
-}
-
-#[derive(Serialize)]
-pub(crate) struct DefaultExperiment {
-    #[serde(rename = "@startTime")]
-    start_time: f64,
-    #[serde(rename = "@stopTime")]
-    stop_time: f64,
-    #[serde(rename = "@stepSize")]
-    step_size: f64,
 }
 
 #[derive(Serialize)]
@@ -274,18 +149,12 @@ struct Unknown {
     dependencies: Option<String>,
 }
 
-/// A Real attribute, written in the shorter of the plain and the exponent
-/// form (both read back exactly): `5e-324`, not 324 decimals.
+/// A Real attribute (`description::real_text`).
 struct Real(f64);
 
 impl Serialize for Real {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let (plain, exp) = (format!("{}", self.0), format!("{:e}", self.0));
-        s.serialize_str(if exp.len() < plain.len() {
-            &exp
-        } else {
-            &plain
-        })
+        s.serialize_str(&real_text(self.0))
     }
 }
 
@@ -382,63 +251,9 @@ fn structure(table: &VariableTable, with_initial_dependencies: bool) -> ModelStr
     }
 }
 
-pub(crate) fn units(table: &VariableTable) -> Units {
-    Units {
-        units: table
-            .units()
-            .into_iter()
-            .map(|(u, display)| Unit {
-                name: u.to_string(),
-                base: base_unit(u),
-                display: display
-                    .into_iter()
-                    .map(|d| DisplayUnitElement {
-                        name: d.name,
-                        factor: d.factor,
-                    })
-                    .collect(),
-            })
-            .collect(),
-    }
-}
-
-/// The declared log categories.
-pub(crate) fn log_categories() -> LogCategories {
-    LogCategories {
-        categories: LOG_CATEGORIES
-            .iter()
-            .map(|&(name, description)| Category { name, description })
-            .collect(),
-    }
-}
-
-/// Stop time and step of `scene`'s default experiment (`model::experiment`).
-pub(crate) fn default_experiment(scene: &Scene) -> DefaultExperiment {
-    DefaultExperiment {
-        start_time: 0.0,
-        stop_time: default_stop_time(scene),
-        step_size: scene.solver.step,
-    }
-}
-
-/// A GUID (FMI 3.0: an instantiation token) from a description written
-/// without it: its SHA-256, formatted like a UUID.
-pub(crate) fn digest_guid(unsigned: &str) -> String {
-    let digest = Sha256::digest(unsigned.as_bytes());
-    let h: String = digest[..16].iter().map(|b| format!("{b:02x}")).collect();
-    format!(
-        "{{{}-{}-{}-{}-{}}}",
-        &h[0..8],
-        &h[8..12],
-        &h[12..16],
-        &h[16..20],
-        &h[20..32]
-    )
-}
-
 /// The modelDescription.xml of `scene` and its variable table, with its GUID.
 pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
-    let mut doc = Document {
+    let doc = Document {
         fmi_version: "2.0",
         model_name: &scene.name,
         guid: String::new(),
@@ -468,19 +283,10 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
         },
         structure: structure(table, false),
     };
-    let guid = digest_guid(&to_xml(&doc));
-    doc.guid = guid.clone();
-    doc.structure = structure(table, true);
-    (to_xml(&doc), guid)
-}
-
-fn to_xml(doc: &Document) -> String {
-    let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
-    ser.indent(' ', 2);
-    doc.serialize(ser)
-        .expect("the model description is plain data and always serializes");
-    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
+    signed(doc, |doc, guid| {
+        doc.guid = guid.to_string();
+        doc.structure = structure(table, true);
+    })
 }
 
 #[cfg(test)]
@@ -493,13 +299,6 @@ mod tests {
     fn xml(scene: &Scene) -> (String, String) {
         let sim = FakeDynamics::build(scene).unwrap();
         generate(scene, &VariableTable::new(scene, sim.outputs()))
-    }
-
-    #[test]
-    fn identifiers_are_c_identifiers() {
-        assert_eq!(model_identifier("lee1994-wheel-10"), "lee1994_wheel_10");
-        assert_eq!(model_identifier("3d beam"), "m_3d_beam");
-        assert_eq!(model_identifier(""), "m_");
     }
 
     #[test]

@@ -2,28 +2,28 @@
 //! their standard names (the ones it does not provide are in
 //! `unsupported`).
 //!
-//! Each function is thin: it checks pointers, reads C arguments, catches
-//! panics (a panic turns into fmi3Fatal and a logged message, never an
-//! unwind across the C boundary) and delegates to `Instance`. Each is checked
-//! against the standard's typedef at compile time.
+//! Each function is thin: it reads its C arguments (checked by
+//! `fmi_common::abi`), runs inside `fmi_common::abi::with_instance` (a panic
+//! turns into fmi3Fatal and a logged message, never an unwind across the C
+//! boundary; a refusal into fmi3Error and a logged message) and delegates to
+//! the shared `Instance`. Each is checked against the standard's typedef at
+//! compile time.
 
-use super::instance::{Instance, Mode};
+use super::instance::{Fmi3, Instance};
 use super::logging::Logger;
 use super::Physics;
-use crate::fmi2::exports::{panic_message, slice, slice_mut, string};
+use crate::fmi_common::abi::{self, categories, slice, slice_mut, string};
 use crate::model::{Value, VarType};
 use fmi_sys::fmi3::*;
 use std::ffi::c_char;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 
 pub(super) type Inst = Instance<Physics>;
 
 pub(super) const OK: fmi3Status = fmi3Status_fmi3OK;
+#[cfg(test)]
 pub(super) const ERROR: fmi3Status = fmi3Status_fmi3Error;
-const FATAL: fmi3Status = fmi3Status_fmi3Fatal;
 
-/// Run `f` on the instance behind `c`: NULL gives fmi3Error, `Err` gives
-/// fmi3Error with a logged message, a panic gives fmi3Fatal.
+/// `abi::with_instance` on an FMI 3.0 instance of the shipped physics.
 ///
 /// # Safety
 /// `c` is NULL or a pointer returned by `fmi3InstantiateCoSimulation` and
@@ -33,36 +33,7 @@ pub(super) unsafe fn with_instance(
     function: &str,
     f: impl FnOnce(&mut Inst) -> Result<fmi3Status, String>,
 ) -> fmi3Status {
-    if c.is_null() {
-        return ERROR;
-    }
-    // SAFETY: per the function's contract.
-    let inst = unsafe { &mut *(c as *mut Inst) };
-    if inst.mode() == Mode::Fatal {
-        let message =
-            format!("{function}: the instance had a fatal error; only fmi3FreeInstance is allowed");
-        inst.logger.log(ERROR, &message);
-        return ERROR;
-    }
-    match catch_unwind(AssertUnwindSafe(|| f(&mut *inst))) {
-        Ok(Ok(status)) => status,
-        Ok(Err(message)) => {
-            let message = if message.starts_with(function) {
-                message
-            } else {
-                format!("{function}: {message}")
-            };
-            inst.logger.log(ERROR, &message);
-            ERROR
-        }
-        Err(payload) => {
-            inst.set_fatal();
-            let message = format!("{function}: internal error: {}", panic_message(&*payload));
-            // The logger itself is the importer's; do not let it unwind us.
-            let _ = catch_unwind(AssertUnwindSafe(|| inst.logger.log(FATAL, &message)));
-            FATAL
-        }
-    }
+    unsafe { abi::with_instance(c, function, f) }
 }
 
 /// `nValues` must equal `nValueReferences`: every variable here is a scalar.
@@ -90,15 +61,11 @@ pub unsafe extern "C" fn fmi3SetDebugLogging(
     c: fmi3Instance,
     logging_on: fmi3Boolean,
     n_categories: usize,
-    categories: *const fmi3String,
+    list: *const fmi3String,
 ) -> fmi3Status {
     unsafe {
         with_instance(c, "fmi3SetDebugLogging", |inst| {
-            let list = slice(categories, n_categories, "categories")?;
-            let names = list
-                .iter()
-                .map(|&p| string(p, "a category"))
-                .collect::<Result<Vec<_>, _>>()?;
+            let names = categories(list, n_categories)?;
             inst.logger.configure(logging_on, &names)?;
             Ok(OK)
         })
@@ -159,7 +126,7 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
     log_message: fmi3LogMessageCallback,
     _intermediate_update: fmi3IntermediateUpdateCallback,
 ) -> fmi3Instance {
-    let result = catch_unwind(AssertUnwindSafe(|| {
+    let make = || {
         let logger = Logger::new(log_message, instance_environment, logging_on);
         unsafe {
             instantiate(
@@ -170,23 +137,9 @@ pub unsafe extern "C" fn fmi3InstantiateCoSimulation(
                 logger,
             )
         }
-    }));
-    match result {
-        Ok(Ok(inst)) => Box::into_raw(Box::new(inst)) as fmi3Instance,
-        Ok(Err((logger, reason))) => {
-            logger.log(ERROR, &format!("fmi3InstantiateCoSimulation: {reason}"));
-            std::ptr::null_mut()
-        }
-        Err(payload) => {
-            let logger = Logger::new(log_message, instance_environment, true);
-            let msg = format!(
-                "fmi3InstantiateCoSimulation: internal error: {}",
-                panic_message(&*payload)
-            );
-            let _ = catch_unwind(AssertUnwindSafe(|| logger.log(FATAL, &msg)));
-            std::ptr::null_mut()
-        }
-    }
+    };
+    let fallback = || Logger::new(log_message, instance_environment, true);
+    abi::instantiate("fmi3InstantiateCoSimulation", make, fallback)
 }
 const _: fmi3InstantiateCoSimulationTYPE = Some(fmi3InstantiateCoSimulation);
 
@@ -194,13 +147,7 @@ const _: fmi3InstantiateCoSimulationTYPE = Some(fmi3InstantiateCoSimulation);
 /// Standard FMI 3.0 contract for this function.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3FreeInstance(c: fmi3Instance) {
-    if c.is_null() {
-        return;
-    }
-    // SAFETY: `c` came from fmi3InstantiateCoSimulation (Box::into_raw) and
-    // is freed once.
-    let inst = unsafe { Box::from_raw(c as *mut Inst) };
-    let _ = catch_unwind(AssertUnwindSafe(move || drop(inst)));
+    unsafe { abi::free_instance::<Physics, Fmi3>(c) }
 }
 const _: fmi3FreeInstanceTYPE = Some(fmi3FreeInstance);
 
@@ -218,8 +165,8 @@ pub unsafe extern "C" fn fmi3EnterInitializationMode(
     unsafe {
         with_instance(c, "fmi3EnterInitializationMode", |inst| {
             let stop = stop_time_defined.then_some(stop_time);
-            inst.enter_initialization_mode(start_time, stop)
-                .map(|()| OK)
+            inst.setup_experiment(start_time, stop)?;
+            inst.enter_initialization_mode().map(|()| OK)
         })
     }
 }
@@ -270,7 +217,7 @@ pub unsafe extern "C" fn fmi3GetFloat64(
             check_scalars(nvr, n_values)?;
             let vrs = slice(vr, nvr, "valueReferences")?;
             let out = slice_mut(values, nvr, "values")?;
-            inst.get_float64(vrs, out).map(|()| OK)
+            inst.get_reals(vrs, out).map(|()| OK)
         })
     }
 }
@@ -292,13 +239,8 @@ unsafe fn get<T>(
         with_instance(c, function, |inst| {
             check_scalars(nvr, n_values)?;
             let vrs = slice(vr, nvr, "valueReferences")?;
-            let mut out = slice_mut(values, nvr, "values")?.iter_mut();
-            inst.get_each(function, ty, vrs, |v| {
-                if let Some(o) = out.next() {
-                    *o = store(v);
-                }
-            })?;
-            Ok(OK)
+            let out = slice_mut(values, nvr, "values")?;
+            inst.get_into(function, ty, vrs, out, store).map(|()| OK)
         })
     }
 }
@@ -316,11 +258,8 @@ unsafe fn set<T: Copy>(
         with_instance(c, function, |inst| {
             check_scalars(nvr, n_values)?;
             let vrs = slice(vr, nvr, "valueReferences")?;
-            let values: Vec<Value> = slice(values, nvr, "values")?
-                .iter()
-                .map(|&x| load(x))
-                .collect();
-            inst.set(function, vrs, &values).map(|()| OK)
+            let values = slice(values, nvr, "values")?;
+            inst.set_from(function, vrs, values, load).map(|()| OK)
         })
     }
 }
@@ -434,12 +373,7 @@ const _: fmi3SetBooleanTYPE = Some(fmi3SetBoolean);
 pub unsafe extern "C" fn fmi3GetFMUState(c: fmi3Instance, state: *mut fmi3FMUState) -> fmi3Status {
     unsafe {
         with_instance(c, "fmi3GetFMUState", |inst| {
-            if state.is_null() {
-                return Err("FMUState is NULL".into());
-            }
-            let key = inst.get_state(*state as usize)?;
-            *state = key as fmi3FMUState;
-            Ok(OK)
+            abi::get_state(inst, state).map(|()| OK)
         })
     }
 }
@@ -463,12 +397,7 @@ const _: fmi3SetFMUStateTYPE = Some(fmi3SetFMUState);
 pub unsafe extern "C" fn fmi3FreeFMUState(c: fmi3Instance, state: *mut fmi3FMUState) -> fmi3Status {
     unsafe {
         with_instance(c, "fmi3FreeFMUState", |inst| {
-            if state.is_null() {
-                return Ok(OK);
-            }
-            inst.free_state(*state as usize)?;
-            *state = std::ptr::null_mut();
-            Ok(OK)
+            abi::free_state(inst, state).map(|()| OK)
         })
     }
 }
@@ -484,11 +413,7 @@ pub unsafe extern "C" fn fmi3SerializedFMUStateSize(
 ) -> fmi3Status {
     unsafe {
         with_instance(c, "fmi3SerializedFMUStateSize", |inst| {
-            if size.is_null() {
-                return Err("size is NULL".into());
-            }
-            *size = inst.serialize_state(state as usize)?.len();
-            Ok(OK)
+            abi::state_size(inst, state, size).map(|()| OK)
         })
     }
 }
@@ -505,16 +430,7 @@ pub unsafe extern "C" fn fmi3SerializeFMUState(
 ) -> fmi3Status {
     unsafe {
         with_instance(c, "fmi3SerializeFMUState", |inst| {
-            let bytes = inst.serialize_state(state as usize)?;
-            if size < bytes.len() {
-                return Err(format!(
-                    "size = {size} is too small: the state needs {} bytes (fmi3SerializedFMUStateSize)",
-                    bytes.len()
-                ));
-            }
-            let out = slice_mut(serialized, bytes.len(), "serializedState")?;
-            out.copy_from_slice(&bytes);
-            Ok(OK)
+            abi::serialize_state(inst, state, serialized, size).map(|()| OK)
         })
     }
 }
@@ -531,13 +447,7 @@ pub unsafe extern "C" fn fmi3DeserializeFMUState(
 ) -> fmi3Status {
     unsafe {
         with_instance(c, "fmi3DeserializeFMUState", |inst| {
-            if state.is_null() {
-                return Err("FMUState is NULL".into());
-            }
-            let bytes = slice(serialized, size, "serializedState")?;
-            let key = inst.deserialize_state(bytes)?;
-            *state = key as fmi3FMUState;
-            Ok(OK)
+            abi::deserialize_state(inst, serialized, size, state).map(|()| OK)
         })
     }
 }

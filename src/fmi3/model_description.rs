@@ -1,7 +1,8 @@
 //! FMI 3.0 modelDescription.xml, generated from the same variable table as
 //! the FMI 2.0 one (`crate::fmi2::model_description`), in the element order
-//! of the FMI 3.0 schema. Units, log categories and the default experiment
-//! are the FMI 2.0 ones (the two schemas agree on them).
+//! of the FMI 3.0 schema. Units, log categories, the default experiment,
+//! the number format and the token's derivation are shared
+//! (`fmi_common::description`: the two schemas agree on them).
 //!
 //! Differences from 2.0: typed variable elements (`Float64`, `Int32`,
 //! `Boolean`), the independent variable `time` (FMI 3.0 wants exactly one;
@@ -9,9 +10,9 @@
 //! as value references, and the instantiation token in place of the GUID
 //! (derived the same way: the SHA-256 of the XML written without it).
 
-use crate::fmi2::model_description::{
-    default_experiment, digest_guid, log_categories, model_identifier, units, DefaultExperiment,
-    LogCategories, Units,
+use crate::fmi_common::description::{
+    default_experiment, log_categories, model_identifier, real_text, signed, units,
+    DefaultExperiment, LogCategories, Units,
 };
 use crate::model::{Causality, Value, VarType, Variable, VariableTable};
 use crate::scene::Scene;
@@ -115,18 +116,10 @@ enum TypedVariable {
     Boolean(Attributes),
 }
 
-/// A value as an attribute: a Float64 in the shorter of the plain and the
-/// exponent form (both read back exactly), as in the FMI 2.0 description.
+/// A value as an attribute (a Float64 as in the FMI 2.0 description).
 fn text(v: Value) -> String {
     match v {
-        Value::Real(x) => {
-            let (plain, exp) = (format!("{x}"), format!("{x:e}"));
-            if exp.len() < plain.len() {
-                exp
-            } else {
-                plain
-            }
-        }
+        Value::Real(x) => real_text(x),
         Value::Integer(n) => n.to_string(),
         Value::Boolean(b) => b.to_string(),
     }
@@ -228,7 +221,7 @@ fn structure(table: &VariableTable, with_initial_dependencies: bool) -> ModelStr
 pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
     let mut variables: Vec<TypedVariable> = vec![time_variable(table)];
     variables.extend(table.variables().iter().map(typed_variable));
-    let mut doc = Document {
+    let doc = Document {
         fmi_version: "3.0",
         model_name: &scene.name,
         token: String::new(),
@@ -251,17 +244,8 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
         variables: ModelVariables { variables },
         structure: structure(table, false),
     };
-    let token = digest_guid(&to_xml(&doc));
-    doc.token = token.clone();
-    doc.structure = structure(table, true);
-    (to_xml(&doc), token)
-}
-
-fn to_xml(doc: &Document) -> String {
-    let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
-    ser.indent(' ', 2);
-    doc.serialize(ser)
-        .expect("the model description is plain data and always serializes");
-    format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")
+    signed(doc, |doc, token| {
+        doc.token = token.to_string();
+        doc.structure = structure(table, true);
+    })
 }

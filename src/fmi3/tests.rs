@@ -74,7 +74,8 @@ fn steps_give_the_fmi2_outputs_to_the_bit() {
         .filter(|v| v.ty == VarType::Real)
         .map(|v| v.value_reference)
         .collect();
-    a.enter_initialization_mode(0.0, None).unwrap();
+    a.setup_experiment(0.0, None).unwrap();
+    a.enter_initialization_mode().unwrap();
     a.exit_initialization_mode().unwrap();
     b.setup_experiment(0.0, None).unwrap();
     b.enter_initialization_mode().unwrap();
@@ -85,13 +86,13 @@ fn steps_give_the_fmi2_outputs_to_the_bit() {
         let report = a.do_step(k as f64 * h, h).unwrap();
         assert_eq!(report.status, fmi3Status_fmi3OK);
         b.do_step(k as f64 * h, h).unwrap();
-        a.get_float64(&outputs, &mut x3).unwrap();
+        a.get_reals(&outputs, &mut x3).unwrap();
         b.get_reals(&outputs, &mut x2).unwrap();
         let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&x3), bits(&x2), "step {k}");
     }
     let mut t = [0.0];
-    a.get_float64(&[time_value_reference(&table)], &mut t)
+    a.get_reals(&[time_value_reference(&table)], &mut t)
         .unwrap();
     assert!((t[0] - 0.5).abs() < 1e-12);
 }
@@ -100,7 +101,8 @@ fn steps_give_the_fmi2_outputs_to_the_bit() {
 fn a_state_round_trips_through_serialization() {
     let scene = scene();
     let mut a = instance3(&scene);
-    a.enter_initialization_mode(0.0, None).unwrap();
+    a.setup_experiment(0.0, None).unwrap();
+    a.enter_initialization_mode().unwrap();
     a.exit_initialization_mode().unwrap();
     a.do_step(0.0, 0.01).unwrap();
     let key = a.get_state(0).unwrap();
@@ -108,12 +110,12 @@ fn a_state_round_trips_through_serialization() {
     a.do_step(0.01, 0.01).unwrap();
     let vr = [0u32];
     let mut after = [0.0];
-    a.get_float64(&vr, &mut after).unwrap();
+    a.get_reals(&vr, &mut after).unwrap();
     let restored = a.deserialize_state(&bytes).unwrap();
     a.set_state(restored).unwrap();
     a.do_step(0.01, 0.01).unwrap();
     let mut again = [0.0];
-    a.get_float64(&vr, &mut again).unwrap();
+    a.get_reals(&vr, &mut again).unwrap();
     assert_eq!(after[0].to_bits(), again[0].to_bits());
     // Another model's bytes are refused.
     let mut other = scene.clone();
@@ -194,7 +196,8 @@ fn an_allowed_early_return_ends_at_the_internal_step_of_the_exit() {
     let start = |early: bool| {
         let mut a = instance3(&scene);
         a.allow_early_return(early);
-        a.enter_initialization_mode(0.0, None).unwrap();
+        a.setup_experiment(0.0, None).unwrap();
+        a.enter_initialization_mode().unwrap();
         a.exit_initialization_mode().unwrap();
         a
     };
@@ -227,8 +230,8 @@ fn an_allowed_early_return_ends_at_the_internal_step_of_the_exit() {
     plain.do_step((k - 1) as f64 * step, step).unwrap();
     assert_eq!(on(&mut plain), 0);
     let (mut a, mut b) = ([0.0], [0.0]);
-    early.get_float64(&[deflection], &mut a).unwrap();
-    plain.get_float64(&[deflection], &mut b).unwrap();
+    early.get_reals(&[deflection], &mut a).unwrap();
+    plain.get_reals(&[deflection], &mut b).unwrap();
     assert_eq!(a[0].to_bits(), b[0].to_bits());
     // Without the importer's leave, the same step runs through.
     let report = start(false).do_step(0.0, 3.0).unwrap();

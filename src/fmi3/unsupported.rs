@@ -5,7 +5,8 @@
 //! their signatures (each checked against the standard's typedef).
 
 use super::exports::{with_instance, OK};
-use crate::fmi2::exports::slice;
+use crate::fmi_common::abi::{self, slice};
+use crate::fmi_common::Status;
 use fmi_sys::fmi3::*;
 
 /// Functions on an instance that always refuse, with the reason.
@@ -38,13 +39,7 @@ macro_rules! no_variables {
             $(let _ = $arg;)*
             unsafe {
                 with_instance(c, stringify!($name), |_| {
-                    match slice(vr, nvr, "valueReferences")?.first() {
-                        None => Ok(OK),
-                        Some(v) => Err(format!(
-                            "unknown value reference {v}: this model has no {} variables",
-                            $what
-                        )),
-                    }
+                    abi::no_variables(slice(vr, nvr, "valueReferences")?, $what).map(|()| OK)
                 })
             }
         }
@@ -201,7 +196,7 @@ fn refuse_instance(
     let logger = super::logging::Logger::new(log_message, environment, true);
     let message = format!("{function}: this FMU supports co-simulation only");
     let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-        logger.log(fmi3Status_fmi3Error, &message)
+        logger.log(Status::Error, &message)
     }));
     std::ptr::null_mut()
 }

@@ -3,7 +3,7 @@
 //! `<Model>_ref.csv` (time, then every output, one row per step), computed by
 //! the same model code the FMU runs.
 
-use crate::fmi2::model_description::default_stop_time;
+use crate::model::experiment::default_stop_time;
 use crate::model::{Dynamics, Model, StepOutcome, Value};
 use crate::output_file::Staged;
 use crate::report::DEFAULT_MAX_STEPS;

@@ -2,9 +2,9 @@
 //! its variables with units, generated from the same variable table as
 //! modelDescription.xml.
 
-use crate::fmi2::model_description::default_stop_time;
-use crate::fmi2::Description;
+use crate::fmi_common::Description;
 use crate::fmu::FmiVersion;
+use crate::model::experiment::default_stop_time;
 use crate::model::{Value, Variable, VariableTable};
 use crate::moving_load::is_moving_force_scene;
 use crate::scene::{BodySpec, Scene};

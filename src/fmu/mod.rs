@@ -19,8 +19,8 @@ mod documentation;
 pub mod release;
 pub mod ssp;
 
-use crate::fmi2::instance::SCENE_FILE;
-use crate::fmi2::{describe, Description, Physics};
+use crate::fmi2::describe;
+use crate::fmi_common::{Description, Physics, SCENE_FILE};
 use crate::output_file::Staged;
 use crate::scene::Scene;
 use std::fmt;
@@ -353,12 +353,12 @@ fn check_attributes(e: &quick_xml::events::BytesStart) -> Result<(), String> {
 /// Write the cross-check reference files `<modelIdentifier>_ref.csv` and
 /// `<modelIdentifier>_ref.opt` of `scene` into `dir`.
 pub fn write_cross_check(scene: &Scene, dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let id = crate::fmi2::model_description::model_identifier(&scene.name);
+    let id = crate::fmi_common::description::model_identifier(&scene.name);
     cross_check::write::<Physics>(scene, &id, dir)
 }
 
 /// The paths `write_cross_check` writes for a scene named `scene_name`.
 pub fn cross_check_files(scene_name: &str, dir: &Path) -> Vec<PathBuf> {
-    let id = crate::fmi2::model_description::model_identifier(scene_name);
+    let id = crate::fmi_common::description::model_identifier(scene_name);
     cross_check::files(&id, dir).to_vec()
 }

@@ -16,7 +16,7 @@
 //! the cdylib, so building a release twice from one build gives the same
 //! bytes.
 
-use crate::fmi2::model_description::model_identifier;
+use crate::fmi_common::description::model_identifier;
 use crate::scene::{builtin, fmu_builtins, BodyKind, Scene};
 use sha2::{Digest, Sha256};
 use std::fmt::Write as _;
