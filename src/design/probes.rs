@@ -240,17 +240,35 @@ enum Row {
     State,
 }
 
+/// Most modes read as rows: building a section's rows costs 2k readings
+/// of 20 k each, what 2k steps of reading through the DOFs cost.
+const MAX_ROW_MODES: usize = 256;
+/// Most probes × modes read as rows (four rows each at most: 32 MB).
+const MAX_ROW_ENTRIES: usize = 1_000_000;
+
 impl<'a> ProbeReader<'a> {
-    /// `probes` on `beam`: as rows when it is modal.
+    /// `probes` on `beam`: as rows when it is modal, with at most
+    /// `MAX_ROW_MODES` modes and `MAX_ROW_ENTRIES` probes × modes (beyond,
+    /// through the DOFs as on a mesh). Built once for all of a sweep's
+    /// runs.
     pub fn new(probes: &'a [Probe], beam: &Beam) -> ProbeReader<'a> {
-        let rows = beam.modal().map(|basis| {
-            let units = unit_states(beam, basis.modes());
-            probes
-                .iter()
-                .map(|p| row_of(p.read, beam, &units))
-                .collect()
-        });
+        let rows = beam
+            .modal()
+            .map(|basis| basis.modes())
+            .filter(|&k| k <= MAX_ROW_MODES && probes.len() * k <= MAX_ROW_ENTRIES)
+            .map(|k| {
+                let units = unit_states(beam, k);
+                probes
+                    .iter()
+                    .map(|p| row_of(p.read, beam, &units))
+                    .collect()
+            });
         ProbeReader { probes, rows }
+    }
+
+    /// The probes, in the order `read` gives their values.
+    pub fn probes(&self) -> &'a [Probe] {
+        self.probes
     }
 }
 

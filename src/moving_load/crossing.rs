@@ -11,7 +11,7 @@ use nalgebra::DVector;
 
 use super::Axle;
 use crate::beam::{Beam, EffectiveFactor};
-use crate::design::{BeamDynamics, DesignPeaks, PointLoad, Probe, ProbeReader};
+use crate::design::{BeamDynamics, DesignPeaks, PointLoad, ProbeReader};
 
 const BETA: f64 = 0.25;
 const GAMMA: f64 = 0.5;
@@ -205,7 +205,7 @@ impl<'a> Crossing<'a> {
     /// than `max_steps` steps.
     pub fn design_peaks(
         &mut self,
-        probes: &[Probe],
+        probes: &ProbeReader,
         end: f64,
         max_steps: u64,
     ) -> Result<DesignPeaks, String> {
@@ -217,20 +217,20 @@ impl<'a> Crossing<'a> {
     /// time histories).
     pub fn design_peaks_watching(
         &mut self,
-        probes: &[Probe],
+        probes: &ProbeReader,
         end: f64,
         max_steps: u64,
         mut watch: impl FnMut(&Crossing, &BeamDynamics, &[f64]),
     ) -> Result<DesignPeaks, String> {
         let steps = self.steps_to(end, max_steps)?;
-        let mut peaks = DesignPeaks::new(probes.len());
-        let reader = ProbeReader::new(probes, &self.beam);
-        let mut values = Vec::with_capacity(probes.len());
+        let count = probes.probes().len();
+        let mut peaks = DesignPeaks::new(count);
+        let mut values = Vec::with_capacity(count);
         let mut now = self.dynamics();
         for _ in 0..steps {
             self.step();
             now.update((&self.u, &self.v, &self.a), self.placed.iter().copied());
-            reader.read(&self.beam, &now, &mut values);
+            probes.read(&self.beam, &now, &mut values);
             peaks.take_in(&values);
             watch(self, &now, &values);
         }

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use crate::beam::Beam;
-use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, StaticEnvelope};
+use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, ProbeReader, StaticEnvelope};
 use crate::moving_load::{
     exit_time, run_end, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain,
 };
@@ -264,6 +264,7 @@ pub fn sweep(
     let probes = probes(scene, &beam);
     let loads = sweep_loads(scene, &beam, loads)?;
     let deck = DeckRecord::new(scene, &beam, &probes)?;
+    let reader = ProbeReader::new(&probes, &beam);
     let jobs: Vec<(usize, f64)> = (0..loads.len())
         .flat_map(|l| speeds.iter().map(move |&v| (l, v)))
         .collect();
@@ -289,7 +290,7 @@ pub fn sweep(
         let mut crossing = Crossing::new(&beam, &axles, scene.solver.step)?;
         let mut history = deck.history(&crossing, end)?;
         let peaks =
-            crossing.design_peaks_watching(&probes, end, MAX_STEPS_PER_RUN, |_, _, v| {
+            crossing.design_peaks_watching(&reader, end, MAX_STEPS_PER_RUN, |_, _, v| {
                 for (record, &i) in history.iter_mut().zip(&deck.accelerations) {
                     record.push(v[i]);
                 }
