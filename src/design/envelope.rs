@@ -13,7 +13,7 @@ use std::collections::BTreeMap;
 
 use nalgebra::DVector;
 
-use super::probes::{probes, Probe};
+use super::probes::{probes, Probe, ProbeReader};
 use super::{BeamDynamics, PointLoad};
 use crate::assemble::{assemble, Assembly};
 use crate::beam::Beam;
@@ -126,6 +126,10 @@ pub fn envelope_of_loads(
     let shifts = shifts(scene, beam, loads, (first, last), reads.len());
     let at_rest = DVector::zeros(beam.coordinates());
     let mut response = BeamDynamics::at_rest(beam, at_rest, Vec::new());
+    // A modal structure's outputs read as rows over its modes (one dot
+    // product each); the mesh's as before.
+    let rows = beam.modal().map(|_| ProbeReader::new(&reads, beam));
+    let mut values = Vec::with_capacity(reads.len());
     for &shift in &shifts {
         let on_beam = loads
             .iter()
@@ -133,8 +137,15 @@ pub fn envelope_of_loads(
             .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
             .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
         response.set_static_response(beam, stiffness.as_ref(), on_beam)?;
-        for (peak, read) in peaks.iter_mut().zip(&reads) {
-            *peak = peak.max(read.value(beam, &response).abs());
+        match &rows {
+            Some(reader) => reader.read(beam, &response, &mut values),
+            None => {
+                values.clear();
+                values.extend(reads.iter().map(|r| r.value(beam, &response)));
+            }
+        }
+        for (peak, value) in peaks.iter_mut().zip(&values) {
+            *peak = peak.max(value.abs());
         }
     }
     Ok(StaticEnvelope {

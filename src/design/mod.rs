@@ -275,13 +275,49 @@ impl BeamDynamics {
         a: &DVector<f64>,
     ) -> [f64; 4] {
         let mut f = beam.element_end_forces(element, u, a);
+        self.subtract_loads(beam, element, &mut f);
+        f
+    }
+
+    /// `f −= r_e`: the consistent loads of the point loads on `element`.
+    fn subtract_loads(&self, beam: &Beam, element: usize, f: &mut [f64; 4]) {
         for load in self.loads.iter().filter(|l| l.element == element) {
             let shape = beam.shape(element, load.x);
             for ((f, n), dn) in f.iter_mut().zip(shape.n).zip(shape.dn) {
                 *f -= load.force * n + load.couple * dn;
             }
         }
-        f
+    }
+
+    /// Shear and moment at `x` in `element` from its end forces `f` and
+    /// the point loads between its left node and `x` (a load exactly on
+    /// the section counts as right of it); without the piece's inertia.
+    fn carried_to(&self, beam: &Beam, (element, x): (usize, f64), f: &[f64; 4]) -> (f64, f64) {
+        let left = beam.node_x[element];
+        // From the left node: V_i = f₀, M_i = −f₁ (the node's couple on the
+        // element is −M), then the loads on the piece up to x.
+        let mut shear = f[0];
+        let mut moment = -f[1] + f[0] * (x - left);
+        for load in self
+            .loads
+            .iter()
+            .filter(|l| l.element == element && l.x < x)
+        {
+            shear += load.force;
+            moment += load.force * (x - load.x) - load.couple;
+        }
+        (shear, moment)
+    }
+
+    /// The point loads' share of `section_forces` at `x`: what they give
+    /// on the beam at rest and undeformed (the rest is linear in the
+    /// damped state, which a modal structure's probes read as rows).
+    fn section_load_share(&self, beam: &Beam, x: f64) -> SectionForces {
+        let e = beam.element_at(x);
+        let mut f = [0.0; 4];
+        self.subtract_loads(beam, e, &mut f);
+        let (shear, moment) = self.carried_to(beam, (e, x), &f);
+        SectionForces { moment, shear }
     }
 
     /// Bending moment (N m, sagging positive) and shear (N) at `x`. A load
@@ -291,14 +327,7 @@ impl BeamDynamics {
         let e = beam.element_at(x);
         let f = self.end_forces(beam, e, u, a);
         let left = beam.node_x[e];
-        // From the left node: V_i = f₀, M_i = −f₁ (the node's couple on the
-        // element is −M), then the loads on the piece up to x.
-        let mut shear = f[0];
-        let mut moment = -f[1] + f[0] * (x - left);
-        for load in self.loads.iter().filter(|l| l.element == e && l.x < x) {
-            shear += load.force;
-            moment += load.force * (x - load.x) - load.couple;
-        }
+        let (mut shear, mut moment) = self.carried_to(beam, (e, x), &f);
         // The piece's inertia −μ ã(ξ): ã is cubic, so three Gauss points
         // integrate ∫ ã and ∫ ã (x − ξ) exactly.
         let half = 0.5 * (x - left);
@@ -448,7 +477,7 @@ pub fn supports(beam: &Beam) -> Vec<Support> {
 mod envelope;
 mod probes;
 pub use envelope::{envelope_of_loads, static_envelope, static_shares, StaticEnvelope};
-pub use probes::{probes, DesignPeaks, Probe};
+pub use probes::{probes, DesignPeaks, Probe, ProbeReader};
 
 #[cfg(test)]
 mod tests;

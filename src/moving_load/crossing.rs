@@ -11,7 +11,7 @@ use nalgebra::DVector;
 
 use super::Axle;
 use crate::beam::{Beam, EffectiveFactor};
-use crate::design::{BeamDynamics, DesignPeaks, PointLoad, Probe};
+use crate::design::{BeamDynamics, DesignPeaks, PointLoad, ProbeReader};
 
 const BETA: f64 = 0.25;
 const GAMMA: f64 = 0.5;
@@ -205,30 +205,34 @@ impl<'a> Crossing<'a> {
     /// than `max_steps` steps.
     pub fn design_peaks(
         &mut self,
-        probes: &[Probe],
+        probes: &ProbeReader,
         end: f64,
         max_steps: u64,
     ) -> Result<DesignPeaks, String> {
-        self.design_peaks_watching(probes, end, max_steps, |_, _| {})
+        self.design_peaks_watching(probes, end, max_steps, |_, _, _| {})
     }
 
-    /// `design_peaks`, calling `watch` with the crossing and its design
-    /// outputs' state after each step (to record time histories).
+    /// `design_peaks`, calling `watch` with the crossing, its design
+    /// outputs' state and the probes' values after each step (to record
+    /// time histories).
     pub fn design_peaks_watching(
         &mut self,
-        probes: &[Probe],
+        probes: &ProbeReader,
         end: f64,
         max_steps: u64,
-        mut watch: impl FnMut(&Crossing, &BeamDynamics),
+        mut watch: impl FnMut(&Crossing, &BeamDynamics, &[f64]),
     ) -> Result<DesignPeaks, String> {
         let steps = self.steps_to(end, max_steps)?;
-        let mut peaks = DesignPeaks::new(probes.len());
+        let count = probes.probes().len();
+        let mut peaks = DesignPeaks::new(count);
+        let mut values = Vec::with_capacity(count);
         let mut now = self.dynamics();
         for _ in 0..steps {
             self.step();
             now.update((&self.u, &self.v, &self.a), self.placed.iter().copied());
-            peaks.record(probes, &self.beam, &now);
-            watch(self, &now);
+            probes.read(&self.beam, &now, &mut values);
+            peaks.take_in(&values);
+            watch(self, &now, &values);
         }
         Ok(peaks)
     }

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 use crate::beam::Beam;
-use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, StaticEnvelope};
+use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, ProbeReader, StaticEnvelope};
 use crate::moving_load::{
     exit_time, run_end, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain,
 };
@@ -263,7 +263,8 @@ pub fn sweep(
     let beam = structure_of(scene)?;
     let probes = probes(scene, &beam);
     let loads = sweep_loads(scene, &beam, loads)?;
-    let deck = DeckRecord::new(scene, &beam)?;
+    let deck = DeckRecord::new(scene, &beam, &probes)?;
+    let reader = ProbeReader::new(&probes, &beam);
     let jobs: Vec<(usize, f64)> = (0..loads.len())
         .flat_map(|l| speeds.iter().map(move |&v| (l, v)))
         .collect();
@@ -288,11 +289,12 @@ pub fn sweep(
         let axles = at_speed(&load.axles, speed_m_s);
         let mut crossing = Crossing::new(&beam, &axles, scene.solver.step)?;
         let mut history = deck.history(&crossing, end)?;
-        let peaks = crossing.design_peaks_watching(&probes, end, MAX_STEPS_PER_RUN, |c, _| {
-            for (record, &x) in history.iter_mut().zip(&deck.sensors) {
-                record.push(c.acceleration(x));
-            }
-        })?;
+        let peaks =
+            crossing.design_peaks_watching(&reader, end, MAX_STEPS_PER_RUN, |_, _, v| {
+                for (record, &i) in history.iter_mut().zip(&deck.accelerations) {
+                    record.push(v[i]);
+                }
+            })?;
         let mut row = envelope_row(load, (speed, speed_m_s), &probes, &peaks);
         deck.add_filtered(&mut row, &history, scene);
         Ok(row)
@@ -303,18 +305,27 @@ pub fn sweep(
 /// What the sweep records of the deck's acceleration for the filtered
 /// peak: the sensors, the step and the cut-off of EN 1991-2 §6.4.6.5(4).
 struct DeckRecord {
-    sensors: Vec<f64>,
+    /// The index among the probes of each sensor's acceleration.
+    accelerations: Vec<usize>,
     step: f64,
     cut_off: f64,
 }
 
 impl DeckRecord {
-    fn new(scene: &Scene, beam: &Beam) -> Result<DeckRecord, String> {
+    fn new(scene: &Scene, beam: &Beam, probes: &[Probe]) -> Result<DeckRecord, String> {
+        let accelerations = scene
+            .sensors
+            .iter()
+            .map(|s| {
+                let name = format!("sensor.{}.acceleration", s.name);
+                probes.iter().position(|p| p.name == name).ok_or(name)
+            })
+            .collect::<Result<Vec<usize>, String>>()?;
         let to_hz = 0.5 / std::f64::consts::PI;
         let f: Vec<f64> = beam.frequencies(3)?.iter().map(|w| w * to_hz).collect();
         let third = f.get(2).or(f.last()).copied().unwrap_or(0.0);
         Ok(DeckRecord {
-            sensors: scene.sensors.iter().map(|s| s.position).collect(),
+            accelerations,
             step: scene.solver.step,
             cut_off: cut_off(f.first().copied().unwrap_or(0.0), third),
         })
@@ -324,17 +335,17 @@ impl DeckRecord {
     /// would hold more than `MAX_RECORDED_SAMPLES`.
     fn history(&self, crossing: &Crossing, end: f64) -> Result<Vec<Vec<f64>>, String> {
         let steps = (run_end(end, crossing.exit_time()) / self.step).ceil();
-        let samples = steps * self.sensors.len() as f64;
+        let samples = steps * self.accelerations.len() as f64;
         if samples.is_nan() || samples > MAX_RECORDED_SAMPLES as f64 {
             return Err(format!(
                 "the filtered deck acceleration needs {samples:.0} samples ({steps:.0} steps × {} \
                  sensors), more than the limit of {MAX_RECORDED_SAMPLES} (fewer sensors or a \
                  shorter run)",
-                self.sensors.len()
+                self.accelerations.len()
             ));
         }
         let capacity = steps as usize;
-        Ok(vec![Vec::with_capacity(capacity); self.sensors.len()])
+        Ok(vec![Vec::with_capacity(capacity); self.accelerations.len()])
     }
 
     /// The filtered peaks into `row`: per sensor as the design output
