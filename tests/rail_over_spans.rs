@@ -470,3 +470,47 @@ fn in_a_scene_a_glider_crosses_a_gap_between_two_spans_on_the_rail() {
     assert!(rows.iter().any(|r| r[0] > 22.0), "the glider crossed");
     assert!(worst < 1e-2, "{worst:e}");
 }
+
+#[test]
+fn a_deck_whose_elements_the_rail_cannot_continue_is_refused_naming_the_rule() {
+    // 87 elements over 20 m + 24 m give the spans elements of two lengths;
+    // spans of 20 m and 24 m 0.5 m apart in 44 elements of 1 m leave a gap
+    // that is not whole elements; springs under the deck are not the
+    // track's layer.
+    let uneven = two_span_scene(INTERMEDIATE, 1e8, (0.0, 0.0), 1e-3)
+        .replace("elements = 88", "elements = 87");
+    let gap = two_span_scene(
+        "[[beam.joints]]\nat = 20.0\nkind = \"separate\"\ngap = 0.5",
+        1e8,
+        (0.0, 0.0),
+        1e-3,
+    )
+    .replace("length = 44.0", "length = 44.5")
+    .replace("elements = 88", "elements = 44");
+    let springs = two_span_scene(
+        "[beam.supports]\nintermediate = [20.0]\nsprings = [{ at = 30.0, vertical = 1e8 }]",
+        1e8,
+        (0.0, 0.0),
+        1e-3,
+    );
+    for (scene, expected) in [
+        (uneven, "beam.elements = 87: gives the deck elements of"),
+        (
+            gap,
+            "beam.joints[0].gap = 0.5: under a rail over the deck must be a whole number",
+        ),
+        (
+            springs,
+            "leave beam.supports.springs and beam.foundation out",
+        ),
+    ] {
+        let error = guideway::Scene::from_toml_str(&scene)
+            .unwrap_err()
+            .to_string();
+        println!("{error}");
+        assert!(
+            error.contains(expected),
+            "{expected:?} missing from {error}"
+        );
+    }
+}
