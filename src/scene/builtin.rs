@@ -35,7 +35,7 @@ const BUILTINS: [(&str, &str); 9] = [
     ),
     (
         "train-8-coaches-3x25-300",
-        "eight coaches on glider wheelsets at 300 km/h from the approach over a 3 x 25 m continuous bridge onto the run-off, then 1 s of free vibration (HHT, alpha = -0.1, 1 ms)",
+        "eight coaches on glider wheelsets at 300 km/h from the approach over a 3 x 25 m continuous bridge onto the run-off, then 1 s of free vibration (Hertz wheel-rail contacts, HHT, alpha = -0.1, 0.5 ms)",
     ),
     (
         "bridge25-hslm",

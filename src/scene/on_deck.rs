@@ -1,10 +1,11 @@
 //! The rules of `[track.on_deck]` (the rail over the deck): its values,
 //! and what the rest of the scene must be for the rail-over-deck model to
-//! hold it (one simply supported span, whole elements on the approach and
-//! the run-off, HHT-α on the full mesh); what it cannot do yet is refused
-//! with the reason.
+//! hold it (spans and joints in elements of one length, whole elements on
+//! the approach, the run-off and every gap, HHT-α on the full mesh); what
+//! it cannot do yet is refused with the reason.
 
-use super::{BodyKind, DampingSpec, EndSupport, IntegratorKind, Scene, StructureKind};
+use super::{BodyKind, DampingSpec, IntegratorKind, Scene, StructureKind};
+use crate::mesh::Mesh;
 use crate::scene::error::Problem;
 
 /// Most rail elements from the approach's start to the run-off's end: the
@@ -48,25 +49,18 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
     out
 }
 
-/// One simply supported span whose element length divides the approach
-/// and the run-off, and a rail of bounded size.
+/// A deck of spans and joints meshed in elements of one length that
+/// divides the approach, the run-off and every gap, without springs or a
+/// foundation of its own, and a rail of bounded size.
 fn layout_problems(scene: &Scene) -> Vec<Problem> {
     let (beam, track) = (&scene.beam, &scene.track);
     let mut out = Vec::new();
-    let supports = &beam.supports;
-    let simple = supports.left == EndSupport::Pinned
-        && supports.right == EndSupport::Pinned
-        && supports.intermediate.is_empty()
-        && supports.springs.is_empty()
-        && beam.joints.is_empty()
-        && beam.foundation.is_none();
-    if !simple {
+    if !beam.supports.springs.is_empty() || beam.foundation.is_some() {
         out.push(Problem::new(
             "track.on_deck",
             "",
-            "the rail over the deck is built on one simply supported span: beam.supports \
-             pinned at both ends, without intermediate supports, springs, joints or \
-             beam.foundation",
+            "the deck under a rail rests on its supports only: leave beam.supports.springs \
+             and beam.foundation out (the track's own layer is track.on_deck)",
         ));
     }
     if matches!(beam.damping, Some(DampingSpec::Modal { .. })) {
@@ -77,11 +71,32 @@ fn layout_problems(scene: &Scene) -> Vec<Problem> {
              Rayleigh damping (coefficients, frequencies or modes)",
         ));
     }
-    let h = beam.length / beam.elements.max(1) as f64;
-    for (path, length) in [
-        ("track.approach", track.approach),
-        ("track.run_off", track.run_off),
-    ] {
+    // A deck the beam's own rules refuse is reported there.
+    let Ok(mesh) = Mesh::new(beam) else {
+        return out;
+    };
+    let h = mesh.element_length.first().copied().unwrap_or(f64::NAN);
+    if let Some(k) = (mesh.element_length.iter()).position(|l| (l - h).abs() > 1e-9 * h) {
+        out.push(Problem::new(
+            "beam.elements",
+            format!("{}", beam.elements),
+            format!(
+                "gives the deck elements of {h:?} m and, from x = {:?} m, of {:?} m: under a \
+                 rail every span between supports and joints must be a whole number of \
+                 elements of one length (the rail's mesh continues the deck's)",
+                mesh.element_start[k], mesh.element_length[k]
+            ),
+        ));
+        return out;
+    }
+    let gaps = beam.joints.iter().enumerate().filter(|(_, j)| j.gap > 0.0);
+    let lengths = [
+        ("track.approach".to_string(), track.approach),
+        ("track.run_off".to_string(), track.run_off),
+    ]
+    .into_iter()
+    .chain(gaps.map(|(i, j)| (format!("beam.joints[{i}].gap"), j.gap)));
+    for (path, length) in lengths {
         let count = length / h;
         if count.is_finite() && (count - count.round()).abs() > 1e-9 * count.max(1.0) {
             out.push(Problem::new(
@@ -89,8 +104,7 @@ fn layout_problems(scene: &Scene) -> Vec<Problem> {
                 format!("{length:?}"),
                 format!(
                     "under a rail over the deck must be a whole number of the deck's elements \
-                     (beam.length / beam.elements = {h:?} m): the rail's mesh continues the \
-                     deck's"
+                     ({h:?} m): the rail's mesh continues the deck's"
                 ),
             ));
         }

@@ -446,6 +446,11 @@ fn bodies_with_paths(scene: &Scene) -> impl Iterator<Item = (String, &super::Bod
 }
 
 fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
+    // Under a rail (track.on_deck) the contacts run on the rail, which
+    // spans the deck's gaps and joints.
+    if scene.track.on_deck.is_some() {
+        return;
+    }
     let Some((i, widest)) = scene
         .beam
         .joints
@@ -487,11 +492,12 @@ fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
 /// body that starts moving left on a track with joints is refused before
 /// the run, not stopped at the first joint.
 fn check_leftward_over_joints(checks: &mut Checks, scene: &Scene) {
-    if scene
-        .beam
-        .joints
-        .iter()
-        .all(|j| j.kind == JointKind::Continuous)
+    if scene.track.on_deck.is_some()
+        || scene
+            .beam
+            .joints
+            .iter()
+            .all(|j| j.kind == JointKind::Continuous)
     {
         return;
     }

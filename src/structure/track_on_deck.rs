@@ -8,7 +8,8 @@
 //! it yet (the seam's geometry is one beam's).
 
 use crate::beam::{element_mass, element_stiffness, Rayleigh};
-use crate::structure::rail_on_deck::{element_dofs, hermite, place, NodeDofs, RailOnDeck};
+use crate::scene::BeamSpec;
+use crate::structure::rail_on_deck::{hermite, place, RailOnDeck, TrackLayout};
 use crate::wide_band::{WideBand, WideLdlt};
 use nalgebra::DMatrix;
 
@@ -16,7 +17,9 @@ use nalgebra::DMatrix;
 /// (O(n³) time, n² memory).
 pub const MAX_DENSE_DOFS: usize = 3000;
 
-/// A rail over one simply supported deck, with its masses and dampers.
+/// A rail over a deck, with its masses and dampers: one simply supported
+/// span (`assemble`) or the spans, supports and joints of a beam
+/// (`assemble_over`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrackOnDeck {
     /// Lengths, bending stiffnesses, track and ground moduli.
@@ -40,8 +43,7 @@ pub struct TrackAssembly {
     pub track: TrackOnDeck,
     /// Node abscissae from −approach to L + run-off (m).
     pub node_x: Vec<f64>,
-    dofs: Vec<NodeDofs>,
-    on_deck: Vec<bool>,
+    layout: TrackLayout,
     pub mass: WideBand,
     pub damping: WideBand,
     pub stiffness: WideBand,
@@ -76,9 +78,17 @@ impl TrackOnDeck {
         [m, c, k]
     }
 
-    /// Assemble M, C and K, refusing non-positive masses or moduli and
-    /// lengths that are not whole elements.
+    /// Assemble M, C and K over one simply supported span, refusing
+    /// non-positive masses or moduli and lengths that are not whole
+    /// elements.
     pub fn assemble(&self) -> Result<TrackAssembly, String> {
+        self.assemble_over(&self.layout.single_span()?)
+    }
+
+    /// Assemble M, C and K over the deck `deck` (its spans, supports and
+    /// joints; its length `layout.deck_length`, its elements all of
+    /// `layout.element_length`), the rail on the ground in its gaps.
+    pub fn assemble_over(&self, deck: &BeamSpec) -> Result<TrackAssembly, String> {
         let positive = [
             ("rail_mass_per_length", self.rail_mass_per_length),
             ("deck_mass_per_length", self.deck_mass_per_length),
@@ -100,19 +110,17 @@ impl TrackOnDeck {
                 return Err(format!("{name} = {value} must be finite and >= 0"));
             }
         }
-        let node_x = self.layout.nodes()?;
-        let dofs = self.layout.dofs(&node_x);
-        let on_deck = (0..node_x.len() - 1)
-            .map(|e| self.layout.element_on_deck(&node_x, e))
-            .collect();
+        if !(deck.supports.springs.is_empty() && deck.foundation.is_none()) {
+            return Err("a deck under a rail has no springs or foundation of its own".into());
+        }
+        let layout = self.layout.layout(deck)?;
         let mut assembly = TrackAssembly {
             track: *self,
-            node_x,
-            dofs,
-            on_deck,
-            mass: WideBand::zeros(0, 7),
-            damping: WideBand::zeros(0, 7),
-            stiffness: WideBand::zeros(0, 7),
+            node_x: layout.node_x.clone(),
+            layout,
+            mass: WideBand::zeros(0, 0),
+            damping: WideBand::zeros(0, 0),
+            stiffness: WideBand::zeros(0, 0),
         };
         assembly.mass = assembly.combination([1.0, 0.0, 0.0])?;
         assembly.damping = assembly.combination([0.0, 1.0, 0.0])?;
@@ -122,24 +130,29 @@ impl TrackOnDeck {
 }
 
 impl TrackAssembly {
-    /// Free DOFs (rail w, ψ everywhere; deck w, ψ on the span, w held at
-    /// the bearings).
+    /// Free DOFs (rail w, ψ everywhere; deck w, ψ on the spans, w held at
+    /// the supports).
     pub fn free_dofs(&self) -> usize {
-        self.dofs.iter().flatten().flatten().count()
+        self.layout.free
     }
 
-    /// Free-DOF index of (rail w, rail ψ, deck w, deck ψ) at each node.
-    pub(super) fn node_dofs(&self) -> &[NodeDofs] {
-        &self.dofs
+    /// The half-bandwidth of M, C and K.
+    pub fn half_bandwidth(&self) -> usize {
+        self.layout.half_bandwidth
+    }
+
+    /// The rail's (w, ψ) DOFs at each node.
+    pub(super) fn rail_node_dofs(&self) -> &[[usize; 2]] {
+        &self.layout.rail_dofs
     }
 
     /// `weights[0]` M + `weights[1]` C + `weights[2]` K, assembled.
     pub fn combination(&self, weights: [f64; 3]) -> Result<WideBand, String> {
-        let mut band = WideBand::zeros(self.free_dofs(), 7);
+        let mut band = WideBand::zeros(self.free_dofs(), self.half_bandwidth());
         let matrices = [false, true].map(|deck| self.track.element(deck));
-        for (e, &deck) in self.on_deck.iter().enumerate() {
+        for (e, &deck) in self.layout.on_deck.iter().enumerate() {
             let parts = &matrices[usize::from(deck)];
-            let local = element_dofs(&self.dofs, e);
+            let local = self.layout.element_dofs[e];
             for (p, row) in local.iter().enumerate() {
                 for (q, col) in local.iter().enumerate().take(p + 1) {
                     if let (Some(i), Some(j)) = (row, col) {
@@ -155,27 +168,14 @@ impl TrackAssembly {
     /// The element holding `x` and the abscissa s ∈ [0, 1] in it; `x` off
     /// the rail is refused.
     fn locate(&self, x: f64) -> Result<(usize, f64), String> {
-        let elements = self.node_x.len() - 1;
-        let e = self
-            .node_x
-            .partition_point(|&n| n <= x)
-            .saturating_sub(1)
-            .min(elements - 1);
-        let s = (x - self.node_x[e]) / self.track.layout.element_length;
-        if !(0.0..=1.0).contains(&s) {
-            return Err(format!(
-                "x = {x} m lies off the rail [{}, {}] m",
-                self.node_x[0], self.node_x[elements]
-            ));
-        }
-        Ok((e, s))
+        self.layout.locate(x, self.track.layout.element_length)
     }
 
     /// Add a force `force` (N, up positive) on the rail at `x` into the
     /// load vector `out` (consistent nodal loads).
     pub fn add_rail_force(&self, x: f64, force: f64, out: &mut [f64]) -> Result<(), String> {
         let (e, s) = self.locate(x)?;
-        let local = element_dofs(&self.dofs, e);
+        let local = self.layout.element_dofs[e];
         let shape = hermite(s, self.track.layout.element_length);
         for (k, n) in [0, 1, 4, 5].into_iter().zip(shape) {
             if let Some(i) = local[k] {
@@ -188,10 +188,10 @@ impl TrackAssembly {
     /// w at `x` of the rail (`part` 0) or the deck (`part` 2) in `u`.
     fn field(&self, part: usize, x: f64, u: &[f64]) -> Result<f64, String> {
         let (e, s) = self.locate(x)?;
-        if part == 2 && !self.on_deck[e] {
+        if part == 2 && !self.layout.on_deck[e] {
             return Ok(0.0);
         }
-        let local = element_dofs(&self.dofs, e);
+        let local = self.layout.element_dofs[e];
         let shape = hermite(s, self.track.layout.element_length);
         Ok([0, 1, 4, 5]
             .into_iter()
@@ -219,11 +219,12 @@ impl TrackAssembly {
         deck: &dyn Fn(f64) -> [f64; 2],
     ) -> Vec<f64> {
         let mut out = vec![0.0; self.free_dofs()];
-        for (&x, node) in self.node_x.iter().zip(&self.dofs) {
-            let values = [rail(x), deck(x)];
-            for (k, dof) in node.iter().enumerate() {
+        for (e, local) in self.layout.element_dofs.iter().enumerate() {
+            for (k, dof) in local.iter().enumerate() {
+                let x = self.node_x[e + k / 4];
+                let values = if k % 4 < 2 { rail(x) } else { deck(x) };
                 if let Some(i) = *dof {
-                    out[i] = values[k / 2][k % 2];
+                    out[i] = values[k % 2];
                 }
             }
         }
@@ -238,7 +239,7 @@ impl TrackAssembly {
         let relative = |state: &[f64]| -> Result<f64, String> {
             Ok(self.field(0, x, state)? - self.field(2, x, state)?)
         };
-        let (stiffness, damping) = if self.on_deck[e] {
+        let (stiffness, damping) = if self.layout.on_deck[e] {
             (self.track.layout.track_stiffness, self.track.track_damping)
         } else {
             (
@@ -251,7 +252,7 @@ impl TrackAssembly {
 
     /// Whether `x` lies on an element of the deck.
     pub fn on_deck(&self, x: f64) -> Result<bool, String> {
-        Ok(self.on_deck[self.locate(x)?.0])
+        Ok(self.layout.on_deck[self.locate(x)?.0])
     }
 
     /// The static deflections K u = `load`.
@@ -398,7 +399,7 @@ impl TrackAssembly {
     /// (four at most): also the row that reads the rail's deflection.
     fn rail_row(&self, x: f64) -> Result<SparseRow, String> {
         let (e, s) = self.locate(x)?;
-        let local = element_dofs(&self.dofs, e);
+        let local = self.layout.element_dofs[e];
         let shape = hermite(s, self.track.layout.element_length);
         Ok([0, 1, 4, 5]
             .into_iter()

@@ -11,13 +11,14 @@
 use nalgebra::{DMatrix, DVector};
 
 use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh};
+use crate::mesh::Mesh;
 use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SupportsSpec};
 use crate::structure::dof_access::DofAccess;
-use crate::structure::rail_on_deck::{element_dofs, RailOnDeck};
+use crate::structure::rail_on_deck::RailOnDeck;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
 use crate::wide_band::{WideBand, WideLdlt};
 
-/// The rail over a simply supported deck, as the seam sees it.
+/// The rail over the deck's spans, as the seam sees it.
 pub struct TrackBeam {
     /// The rail: geometry and shapes for the contacts (no supports, no
     /// dynamics of its own: its DOFs are mapped into the assembly's).
@@ -34,16 +35,17 @@ pub struct TrackBeam {
 }
 
 impl TrackBeam {
-    /// The rail of `on_deck` over the deck of `deck` (validated: one simply
-    /// supported span, Rayleigh damping) between an approach and a run-off
-    /// on the ground; the rail's elements are the deck's.
+    /// The rail of `on_deck` over the deck of `deck` (validated: spans and
+    /// joints in elements of one length, Rayleigh damping) between an
+    /// approach and a run-off on the ground; the rail's elements are the
+    /// deck's.
     pub fn new(
         deck: &BeamSpec,
         on_deck: &OnDeckSpec,
         (approach, run_off): (f64, f64),
     ) -> Result<TrackBeam, String> {
         let deck_damping: Rayleigh = HermiteBeam::new(deck)?.damping();
-        let element_length = deck.length / deck.elements as f64;
+        let element_length = deck_element_length(deck)?;
         let track = TrackOnDeck {
             layout: RailOnDeck {
                 deck_length: deck.length,
@@ -61,8 +63,9 @@ impl TrackBeam {
             ground_damping: on_deck.ground_damping(),
             deck_damping,
         };
-        let assembly = track.assemble()?;
-        let mesh = HermiteBeam::new(&rail_spec(deck, on_deck, assembly.node_x.len() - 1))?;
+        let assembly = track.assemble_over(deck)?;
+        let rail = rail_spec(deck, on_deck, element_length, assembly.node_x.len() - 1);
+        let mesh = HermiteBeam::new(&rail)?;
         let rail_dofs = rail_dofs(&mesh, &assembly)?;
         let not_definite =
             |what: &str| format!("the rail-over-deck {what} is not positive definite");
@@ -233,8 +236,12 @@ impl TrackBeam {
 /// The rail as a free mesh over the whole track: the deck's element
 /// length, the rail's mass and bending stiffness, the deck's surface
 /// offset (the running surface's height in the bodies' frame).
-fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, elements: usize) -> BeamSpec {
-    let element_length = deck.length / deck.elements as f64;
+fn rail_spec(
+    deck: &BeamSpec,
+    on_deck: &OnDeckSpec,
+    element_length: f64,
+    elements: usize,
+) -> BeamSpec {
     BeamSpec {
         length: element_length * elements as f64,
         mass_per_length: on_deck.rail_mass_per_length,
@@ -254,20 +261,26 @@ fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, elements: usize) -> BeamSpec
     }
 }
 
+/// The length of the deck's elements (validated to be one length under a
+/// rail: `scene::on_deck`).
+pub fn deck_element_length(deck: &BeamSpec) -> Result<f64, String> {
+    let mesh = Mesh::new(deck)?;
+    (mesh.element_length.first().copied()).ok_or_else(|| "the deck has no elements".into())
+}
+
 /// The assembly's index of every free DOF of the rail mesh: node by node,
 /// its w and ψ.
 fn rail_dofs(mesh: &HermiteBeam, assembly: &TrackAssembly) -> Result<Vec<usize>, String> {
-    let nodes = assembly.node_dofs();
+    let nodes = assembly.rail_node_dofs();
     if mesh.elements() + 1 != nodes.len() {
         return Err("the rail mesh and the rail-over-deck assembly differ in nodes".into());
     }
     let mut map = vec![usize::MAX; mesh.free_dofs()];
     for e in 0..mesh.elements() {
-        let local = element_dofs(nodes, e);
-        for (k, dof) in mesh.element_dofs(e).iter().enumerate() {
-            let rail = local[if k < 2 { k } else { k + 2 }];
-            if let (Some(i), Some(j)) = (*dof, rail) {
-                map[i] = j;
+        let local = [nodes[e][0], nodes[e][1], nodes[e + 1][0], nodes[e + 1][1]];
+        for (dof, rail) in mesh.element_dofs(e).iter().zip(local) {
+            if let Some(i) = *dof {
+                map[i] = rail;
             }
         }
     }
