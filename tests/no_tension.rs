@@ -204,14 +204,14 @@ fn rigid_maglev_magnets_never_pull() {
     }
 }
 
-/// The same maglev at 16 elements and 0.5 ms stops with a solver error at
-/// 0.195 s: a magnet enters the span 2.2e-7 s before the grid point, the
-/// steps left are 5.3e-9 s and 2.2e-7 s long (another magnet lifts off at
-/// the second one's start), and the full step after them does not converge
-/// (the velocity stage, 50 iterations). On main at 85bf027 this run ended
-/// without tension. Open: HHT-α after slivers of steps.
+/// The same maglev at 16 elements and 0.5 ms stopped with a solver error
+/// at 0.195 s on main at 1bbcc3c: a magnet entered the span 2.2e-7 s
+/// before the grid point with a separating velocity jump, another magnet's
+/// lift-off was located 5.3e-9 s into the step left, and the step was
+/// taken with the entering magnet held closed at −9.9e10 N (the jump
+/// cancelled over the sliver), which the next steps carried. Another
+/// contact pulling at a located lift-off now opens at the step's start.
 #[test]
-#[ignore = "open: HHT-α's step after sliver steps at 0.195 s does not converge"]
 fn rigid_maglev_magnets_never_pull_at_16_elements() {
     let found = extremes(&rigid_maglev(16, 5e-4, "auto"));
     assert_never_pulls("maglev, 16 elements, 0.0005 s", &found);

@@ -723,6 +723,14 @@ impl Simulation {
             let solution = self.solve(guess, dt)?;
             if let Some(c) = self.lift_off_inside(&solution.forces) {
                 if let Some((solution, tau)) = self.locate_lift_off(c, &solution.forces, dt) {
+                    // Another closed contact that pulls at the located
+                    // instant opens at the step's start and the step is
+                    // solved again: taken as it is, a contact holding a
+                    // separating velocity jump over a sliver of a step
+                    // pulled 1e11 N, carried into the next step.
+                    if self.open_the_pulling_but(&solution.forces, Some(c))? {
+                        continue;
+                    }
                     if self.state.contacts[c].opened_in == Some(self.state.grid_step) {
                         self.count_reopening()?;
                     }
@@ -752,10 +760,20 @@ impl Simulation {
     /// Open every closed contact whose normal force in `forces` pulls;
     /// whether one did.
     fn open_the_pulling(&mut self, forces: &[ContactForce]) -> Result<bool, SolverError> {
+        self.open_the_pulling_but(forces, None)
+    }
+
+    /// `open_the_pulling`, leaving `kept` (a lift-off located at the
+    /// step's end, whose force is zero to its tolerance) as it is.
+    fn open_the_pulling_but(
+        &mut self,
+        forces: &[ContactForce],
+        kept: Option<usize>,
+    ) -> Result<bool, SolverError> {
         let mut opened_any = false;
         let grid = self.state.grid_step;
         for (c, force) in forces.iter().enumerate() {
-            if self.open[c] || force.normal >= 0.0 {
+            if self.open[c] || force.normal >= 0.0 || kept == Some(c) {
                 continue;
             }
             if self.state.contacts[c].opened_in == Some(grid) {

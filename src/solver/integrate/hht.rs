@@ -18,7 +18,8 @@ use nalgebra::{DVector, Vector3};
 
 use super::hht_energy::{step_dissipation, Buffers, Weights};
 use super::{
-    contact_frames, follower_dissipation, loads_but_laws, DynamicState, IntegrationError, StepStart,
+    contact_frames, follower_dissipation, loads_but_laws, DynamicState, HeldFollowers,
+    IntegrationError, StepStart,
 };
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
@@ -82,6 +83,11 @@ pub struct Hht {
     /// Whether the energy the step removes (dampers, structural and
     /// numerical damping) is booked: off when no sink reads it.
     books: bool,
+    /// Per contact: a follower whose force the iteration gives
+    /// (`hold_followers`), and every follower's force in the last
+    /// integration.
+    held_followers: Vec<bool>,
+    followers_used: Vec<ContactForce>,
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -129,6 +135,8 @@ impl Hht {
             predictor_internal: z(),
             end_dissipation: 0.0,
             books: true,
+            held_followers: vec![false; system.contacts.len()],
+            followers_used: vec![ContactForce::default(); system.contacts.len()],
             base: Base {
                 known: false,
                 dt: 0.0,
@@ -221,10 +229,14 @@ impl Hht {
         // The force elements' loads apart: the contact iteration reads them
         // (`ContactIteration::anticipate_laws`).
         let at = (self.predicted_bodies.as_slice(), &self.predicted_v);
+        let followers = HeldFollowers {
+            held: &self.held_followers,
+            used: &mut self.followers_used,
+        };
         let contacts = loads_but_laws(
             system,
             &self.frames,
-            forces,
+            (forces, followers),
             from.applied,
             at,
             (&mut self.load, &mut end.body_loads),
@@ -442,6 +454,17 @@ impl Hht {
             return end_force;
         }
         0.0
+    }
+
+    /// See `Integrator::hold_followers`.
+    pub fn hold_followers(&mut self, held: &[bool]) {
+        self.held_followers.clear();
+        self.held_followers.extend_from_slice(held);
+    }
+
+    /// Every follower's force in the last integration.
+    pub fn follower_forces_used(&self) -> &[ContactForce] {
+        &self.followers_used
     }
 
     /// The force elements' loads on each body in the last integration, and

@@ -163,16 +163,27 @@ pub fn loads(
 ) -> f64 {
     let loads = (beam_load, &mut *body_loads);
     let at = (bodies, beam_velocity);
-    loads_but_laws(system, frames, forces, applied, at, loads)
+    let followers = HeldFollowers::default();
+    loads_but_laws(system, frames, (forces, followers), applied, at, loads)
         + add_element_forces(&system.force_elements, bodies, body_loads)
 }
 
-/// `loads` without the force elements.
+/// Which followers' forces a step holds as given (`held`, per contact;
+/// empty: none, each from its law), and where to record every follower's
+/// force the loads used (`used`; empty: not recorded).
+#[derive(Default)]
+pub struct HeldFollowers<'a> {
+    pub held: &'a [bool],
+    pub used: &'a mut [ContactForce],
+}
+
+/// `loads` without the force elements; a follower whose force is held
+/// (`HeldFollowers`) takes it from `forces` instead of its law.
 #[inline]
 pub fn loads_but_laws(
     system: &System,
     frames: &[ContactFrame],
-    forces: &[ContactForce],
+    (forces, followers): (&[ContactForce], HeldFollowers),
     applied: &[Vector3<f64>],
     (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
     (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
@@ -180,16 +191,23 @@ pub fn loads_but_laws(
     beam_load.as_mut_slice().fill(0.0); // a memset: DVector::fill goes entry by entry
     body_loads.copy_from_slice(applied);
     let mut dissipation = 0.0;
-    for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
+    let contacts = system.contacts.iter().zip(frames).zip(forces);
+    for (c, ((contact, frame), force)) in contacts.enumerate() {
         let follower_force;
         let force = match contact.follower {
             Some(follower) => {
                 let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
                 dissipation += follower.dissipation(gap, rate);
-                follower_force = ContactForce {
-                    tangential: 0.0,
-                    normal: follower.force(gap, rate),
+                follower_force = match followers.held.get(c) {
+                    Some(true) => *force,
+                    _ => ContactForce {
+                        tangential: 0.0,
+                        normal: follower.force(gap, rate),
+                    },
                 };
+                if let Some(used) = followers.used.get_mut(c) {
+                    *used = follower_force;
+                }
                 &follower_force
             }
             None => force,
@@ -342,6 +360,23 @@ impl Integrator {
         match self {
             Integrator::Rk4(_) => true,
             Integrator::Hht(hht) => hht.keeps_energy_books(),
+        }
+    }
+
+    /// From the next integration on, the compliant followers' forces
+    /// (`held`, per contact) are the ones the iteration gives, not their
+    /// laws' at the predicted end (HHT-α; RK4 evaluates them in its stages).
+    pub fn hold_followers(&mut self, held: &[bool]) {
+        if let Integrator::Hht(hht) = self {
+            hht.hold_followers(held);
+        }
+    }
+
+    /// Every follower's force in the last integration (HHT-α; empty for RK4).
+    pub fn held_follower_forces(&self) -> &[ContactForce] {
+        match self {
+            Integrator::Rk4(_) => &[],
+            Integrator::Hht(hht) => hht.follower_forces_used(),
         }
     }
 

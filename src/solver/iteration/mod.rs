@@ -22,6 +22,7 @@ use crate::integrate::{
 use crate::system::System;
 
 mod condensed;
+mod followers;
 mod laws;
 mod responses;
 
@@ -526,6 +527,8 @@ pub struct ContactIteration {
     memo: crate::integrate::FrameMemo,
     /// Workspace of the force elements' anticipated lag (`laws`).
     law_lag: laws::LawLag,
+    /// The compliant followers' secant step (`followers`).
+    secant: followers::Secant,
 }
 
 impl ContactIteration {
@@ -542,6 +545,7 @@ impl ContactIteration {
         for (c, contact) in system.contacts.iter().enumerate() {
             contacts_of_body[contact.body].push(c);
         }
+        let secant = followers::Secant::new(system, integrator.lags_force_laws());
         ContactIteration {
             integrator,
             load: DVector::zeros(free_dofs),
@@ -582,6 +586,7 @@ impl ContactIteration {
             settle_change: 0.0,
             memo: Default::default(),
             law_lag: laws::LawLag::default(),
+            secant,
         }
     }
 
@@ -1086,6 +1091,11 @@ impl ContactIteration {
         self.memo
             .contact_frames(system, u, bodies, located, &mut start_frames)?;
         self.integrator.begin_step(system, dt)?;
+        if self.secant.any() {
+            // The first integration takes the laws at its prediction.
+            self.secant.reset();
+            self.integrator.hold_followers(&[]);
+        }
         self.forces.clear();
         self.forces.extend_from_slice(guess);
         for ((force, contact), &open) in
@@ -1184,7 +1194,9 @@ impl ContactIteration {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
             if residual <= settings.velocity_tolerance {
-                if self.settled(system, end, settings.velocity_tolerance) {
+                let settled = self.settled(system, end, settings.velocity_tolerance);
+                let tolerance = settings.velocity_tolerance;
+                if self.laws_settled(system, (from.dt, tolerance), end, (settled, iterations)) {
                     return Ok((iterations, residual));
                 }
                 if iterations >= settings.max_iterations {

@@ -1,0 +1,202 @@
+//! A secant (Newton) step for the compliant contact laws under HHT-α.
+//!
+//! HHT-α evaluates a follower's law (Hertz, an EMS magnet) at the end
+//! configuration predicted by the previous integration of the step, so the
+//! plain fixed point f ← F(end(f)) contracts by ρ ≈ k (w_body + w_track),
+//! with k the law's stiffness linearised and w the step's compliances of
+//! the body and of the track under it. A Hertz wheelset on a light rail
+//! converges slowly (8.0 integrations a step on the rail over the deck,
+//! 2.8 for massless followers on the bare deck). So once the plain fixed
+//! point has taken two integrations of a step without settling it, each
+//! compliant follower's force becomes the iteration's own unknown: held
+//! over each integration and updated by a secant step on its residual
+//! r = F(end) − f, with the slope of F(end) against f measured on the last
+//! two integrations. The converged step is the same fixed point, f =
+//! F(end), to the tolerance (`laws_settled`); only the way there changes.
+//! Suspension followers keep the plain fixed point (their bodies are
+//! heavy: it converges in two or three integrations).
+
+use super::ContactIteration;
+use crate::contact::ContactForce;
+use crate::contact_law::LawKind;
+use crate::integrate::{follower_forces, DynamicState};
+use crate::system::System;
+
+/// The slope s of F(end) against f a secant step uses, bounded: a
+/// measured s ≥ 1 would step away from the fixed point, and one far below
+/// −1 comes from a law crossing a kink (lift-off, saturation) between the
+/// two integrations.
+const SLOPE_RANGE: (f64, f64) = (-20.0, 0.5);
+
+/// Per compliant follower: the force held over the last integration and
+/// the law's force at its end, for the last two integrations.
+#[derive(Default)]
+pub(super) struct Secant {
+    /// Whether the contact's force is the iteration's (compliant law).
+    pub compliant: Vec<bool>,
+    /// Whether this step's forces are held (from its first secant step).
+    holding: bool,
+    /// The integration (its count in the step) whose laws' forces
+    /// `first_used` holds, while the plain fixed point runs.
+    first: Option<u32>,
+    first_used: Vec<f64>,
+    /// (held, law at the end) of the last and the one before.
+    last: Vec<Option<(f64, f64)>>,
+    before: Vec<Option<(f64, f64)>>,
+    /// The laws' forces at the end of the last integration.
+    at_end: Vec<ContactForce>,
+}
+
+impl Secant {
+    /// `lags`: the integrator evaluates the laws at a predicted end (HHT-α);
+    /// RK4 evaluates them in its stages, and nothing is held.
+    pub fn new(system: &System, lags: bool) -> Secant {
+        let compliant: Vec<bool> = (system.contacts.iter())
+            .map(|c| {
+                lags && c
+                    .follower
+                    .is_some_and(|f| !matches!(f.kind, LawKind::Suspension))
+            })
+            .collect();
+        let n = compliant.len();
+        Secant {
+            compliant,
+            holding: false,
+            first: None,
+            first_used: vec![0.0; n],
+            last: vec![None; n],
+            before: vec![None; n],
+            at_end: vec![ContactForce::default(); n],
+        }
+    }
+
+    /// Whether any contact's force is the iteration's.
+    pub fn any(&self) -> bool {
+        self.compliant.contains(&true)
+    }
+
+    /// Forget the step before: a new step starts.
+    pub fn reset(&mut self) {
+        self.last.fill(None);
+        self.before.fill(None);
+        self.holding = false;
+        self.first = None;
+    }
+}
+
+/// The next force from (held, law at end) pairs: the secant step where
+/// two are known and their held forces differ, the plain fixed point else.
+fn secant_step(last: (f64, f64), before: Option<(f64, f64)>) -> f64 {
+    let (held, law) = last;
+    let slope = before
+        .filter(|&(f, _)| f != held)
+        .map(|(f, g)| (law - g) / (held - f))
+        .filter(|s| s.is_finite())
+        .map_or(0.0, |s| s.clamp(SLOPE_RANGE.0, SLOPE_RANGE.1));
+    (held + (law - held) / (1.0 - slope)).max(0.0)
+}
+
+impl ContactIteration {
+    /// Whether the step is at its fixed point after its `iteration`-th
+    /// integration, into `end` (`settled`: whether its bodies settled);
+    /// where not, the next integration's compliant forces are set. While the
+    /// bodies settle within two integrations the plain fixed point runs
+    /// (each integration takes the laws where the last ended, as a secant
+    /// step without a slope would, and the laws are evaluated once per
+    /// integration); after two that did not, the forces are held and
+    /// stepped (`step_laws`), seeded with the laws' forces of those two,
+    /// and the step is settled when the bodies are and the laws' residuals
+    /// are within `tolerance`.
+    pub(super) fn laws_settled(
+        &mut self,
+        system: &System,
+        (dt, tolerance): (f64, f64),
+        end: &DynamicState,
+        (settled, iteration): (bool, u32),
+    ) -> bool {
+        if !self.secant.any() {
+            return settled;
+        }
+        if !self.secant.holding {
+            if settled {
+                return true;
+            }
+            let used = self.integrator.held_follower_forces();
+            let secant = &mut self.secant;
+            if secant.first.is_none_or(|k| k + 1 != iteration) {
+                secant.first = Some(iteration);
+                secant.first_used.clear();
+                secant.first_used.extend(used.iter().map(|f| f.normal));
+                return false;
+            }
+            // The laws' forces at the end of the integration before are
+            // those this one took (its prediction was that end).
+            for c in (0..used.len()).filter(|&c| secant.compliant[c]) {
+                secant.last[c] = Some((secant.first_used[c], used[c].normal));
+            }
+            secant.holding = true;
+        }
+        let largest = self.step_laws(system, dt, end);
+        settled && largest <= tolerance
+    }
+
+    /// After an integration of the step into `end`: the laws' forces at
+    /// its end, and each compliant follower's next force by the secant
+    /// step into `self.forces`, which the next integration holds. Returns
+    /// the largest body velocity change the residuals F(end) − f would
+    /// make over the step (m/s): within the velocity tolerance, the step
+    /// is at its fixed point as far as the laws go.
+    pub(super) fn step_laws(&mut self, system: &System, dt: f64, end: &DynamicState) -> f64 {
+        let secant = &mut self.secant;
+        let frames = &self.end_frames;
+        follower_forces(
+            system,
+            frames,
+            &end.bodies,
+            &end.beam_velocity,
+            &mut secant.at_end,
+        );
+        let held = self.integrator.held_follower_forces();
+        let velocity_weight = self.integrator.body_weights(dt).0;
+        let mut largest: f64 = 0.0;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            if !secant.compliant[c] {
+                continue;
+            }
+            let pair = (held[c].normal, secant.at_end[c].normal);
+            let mass = system.bodies[contact.body].mass;
+            largest = largest.max(velocity_weight * (pair.1 - pair.0).abs() / mass);
+            secant.before[c] = secant.last[c].replace(pair);
+            self.forces[c] = ContactForce {
+                tangential: 0.0,
+                normal: secant_step(pair, secant.before[c]),
+            };
+        }
+        self.integrator.hold_followers(&self.secant.compliant);
+        largest
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::secant_step;
+
+    #[test]
+    fn a_linear_law_is_solved_by_one_secant_step() {
+        // F(end(f)) = 100 − 3 f: the plain fixed point diverges (slope −3),
+        // its fixed point is f = 25.
+        let law = |f: f64| 100.0 - 3.0 * f;
+        let first = (10.0, law(10.0));
+        let second_held = secant_step(first, None);
+        assert_eq!(second_held, 70.0);
+        let second = (second_held, law(second_held));
+        let third = secant_step(second, Some(first));
+        assert!((third - 25.0).abs() < 1e-12, "{third}");
+    }
+
+    #[test]
+    fn a_slack_law_holds_no_tension() {
+        assert_eq!(secant_step((5.0, -0.0), None), 0.0);
+        assert_eq!(secant_step((5.0, 0.0), Some((6.0, 1.0))), 0.0);
+    }
+}
