@@ -225,11 +225,22 @@ thread_local! {
 /// applied force on `[body]`, then the coupling ports' loads.
 fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
     sim.set_body_force(inputs[0], inputs[1]);
-    let loads: Vec<[f64; 3]> = inputs[2..]
+    sim.set_coupling_loads(&coupling_loads(inputs));
+}
+
+/// `apply_inputs` during initialization: the state at t = 0 carries the
+/// coupling loads as it carries the body forces it was built with.
+fn apply_start_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
+    sim.set_body_force(inputs[0], inputs[1]);
+    sim.set_start_coupling_loads(&coupling_loads(inputs));
+}
+
+/// The coupling ports' loads among the inputs (after the two body forces).
+fn coupling_loads(inputs: &[f64]) -> Vec<[f64; 3]> {
+    inputs[2..]
         .chunks_exact(3)
         .map(|c| [c[0], c[1], c[2]])
-        .collect();
-    sim.set_coupling_loads(&loads);
+        .collect()
 }
 
 /// An output's value `x` as a variable of type `ty`.
@@ -400,7 +411,7 @@ impl<D: Dynamics> Model<D> {
             scene.body.force_y = self.inputs[1];
             let mut sim =
                 D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
-            apply_inputs(&mut sim, &self.inputs);
+            apply_start_inputs(&mut sim, &self.inputs);
             self.sim = Some(sim);
         }
         Ok(self.sim.as_mut().expect("just built"))
@@ -590,7 +601,13 @@ impl<D: Dynamics> Model<D> {
     /// Set the variables `vrs`: all or nothing. Parameters only before
     /// initialization is left, inputs at any time, outputs never.
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
-        self.changing();
+        // Once running, no output depends on an input directly (the model
+        // description's Outputs): those of the current state stay as read,
+        // t = 0's included, whose body loads are taken at initialization.
+        match self.phase {
+            Phase::Configuring => self.changing(),
+            Phase::Running => self.rollback.invalidate(),
+        }
         let mut scene = self.scene.clone();
         let mut inputs = self.inputs.clone();
         let mut budget = self.wall_time_budget;
@@ -637,7 +654,8 @@ impl<D: Dynamics> Model<D> {
             }
         }
         // Only the body forces (inputs 0 and 1) go into the build of the
-        // state at t = 0 (`ensure_sim`); coupling loads are applied to it.
+        // state at t = 0 (`ensure_sim`); coupling loads are applied to it
+        // (its contacts carrying them: `apply_start_inputs`).
         let build_inputs_changed = inputs[..2] != self.inputs[..2];
         self.scene = scene;
         self.inputs = inputs;
@@ -647,7 +665,10 @@ impl<D: Dynamics> Model<D> {
         if params_changed || (build_inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
-            apply_inputs(sim, &self.inputs);
+            match self.phase {
+                Phase::Configuring => apply_start_inputs(sim, &self.inputs),
+                Phase::Running => apply_inputs(sim, &self.inputs),
+            }
             self.loads_ramped = false;
         }
         Ok(())
@@ -695,7 +716,7 @@ impl<D: Dynamics> Model<D> {
         self.changing();
         validate(&self.scene).map_err(|e| ModelError(format!("invalid parameters: {e}")))?;
         self.check_run_length()?;
-        self.output_values()?;
+        self.outputs_now = Some(self.output_values()?);
         self.phase = Phase::Running;
         Ok(())
     }

@@ -658,6 +658,53 @@ fn coupling_loads_add_to_the_applied_force_and_accelerations_follow_the_last_ste
     assert_ne!(run(-6e5, -1e5)[1], whole[1], "the coupling load acts");
 }
 
+/// A load set on a coupling port during initialization is carried by the
+/// coupled body's contact at t = 0, as `force_y` is: a glider at rest
+/// under a car ten times its mass reads no acceleration at the start, and
+/// its contact carries the static sum of both weights. (It read −10 g: the
+/// car's weight over the glider's mass.) Once running, an input changes
+/// nothing the last step ended with, t = 0 included.
+#[test]
+fn a_coupling_load_set_during_initialization_is_carried_at_t_0() {
+    use crate::simulation::Simulation;
+    let mut scene = Scene::lee1994(BodyKind::Glider, 30.0, 0.005);
+    scene.couplings = vec!["glider".into()];
+    // (the paper's scene loads the glider by its force, not by gravity)
+    let (mass, g) = (scene.body.mass, 9.81);
+    let car = 10.0 * mass * g;
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    let vr = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().value_reference;
+    let (cy, ay) = (vr(&m, "glider.coupling_force_y"), vr(&m, "glider.ay"));
+    let normal = vr(&m, "contact.normal_force");
+    let reals = |m: &mut Model<Simulation>| {
+        let values = m.get(VarType::Real, &[ay, normal]).unwrap();
+        values
+            .iter()
+            .map(|v| match v {
+                Value::Real(x) => *x,
+                _ => panic!("{v:?}"),
+            })
+            .collect::<Vec<f64>>()
+    };
+    let alone = reals(&mut m); // built before the input is set
+    m.set(&[cy], &[Value::Real(-car)]).unwrap();
+    m.initialize().unwrap();
+    let start = reals(&mut m);
+    assert!(start[0].abs() <= 1e-9 * g, "ay at t = 0: {}", start[0]);
+    let carried = alone[1] + car;
+    assert!(
+        (start[1] - carried).abs() <= 1e-9 * carried,
+        "{} vs {carried}",
+        start[1]
+    );
+    m.set(&[cy], &[Value::Real(0.0)]).unwrap();
+    assert_eq!(
+        reals(&mut m),
+        start,
+        "running: the input waits for the step"
+    );
+}
+
 // ---- the per-step path: roll-back copies kept between steps, Real getters --------
 
 /// The state a failed step goes back to is the one the last completed step

@@ -433,9 +433,50 @@ impl Simulation {
     /// Set the additional loads (fx, fy in N, moment in N m) on the
     /// coupling points, one per `System::couplings` entry (extra entries are
     /// ignored, missing ones left as they were), held until changed.
+    /// Set the additional loads (fx, fy in N, moment in N m) on the
+    /// coupling points, one per `System::couplings` entry (extra entries are
+    /// ignored, missing ones left as they were), held until changed.
     pub fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
         for (held, load) in self.state.coupling_loads.iter_mut().zip(loads) {
             *held = *load;
+        }
+    }
+
+    /// `set_coupling_loads` for the state at t = 0 (an FMU's initialization):
+    /// before the first step the rigid contacts of each coupled body carry
+    /// its load, as they carry `body.force_y` (`build::assemble`), so that
+    /// the start balances its inputs. Without it a coupled body at rest read
+    /// its load over its own mass as its acceleration at t = 0 (−10 g for a
+    /// car on a glider of a tenth of its mass).
+    pub fn set_start_coupling_loads(&mut self, loads: &[[f64; 3]]) {
+        let at_start = self.state.steps == 0;
+        for (k, load) in loads
+            .iter()
+            .enumerate()
+            .take(self.state.coupling_loads.len())
+        {
+            let change = load[1] - self.state.coupling_loads[k][1];
+            self.state.coupling_loads[k] = *load;
+            if at_start && change != 0.0 {
+                self.carry_at_start(self.system.couplings[k], change);
+            }
+        }
+    }
+
+    /// Shift the start's normal forces of `body`'s closed rigid contacts by
+    /// their share of a vertical load change `change_y` (positive up).
+    fn carry_at_start(&mut self, body: usize, change_y: f64) {
+        let carrying: Vec<usize> = (self.system.contacts.iter().enumerate())
+            .filter(|(c, contact)| {
+                contact.body == body && contact.follower.is_none() && !self.state.contacts[*c].open
+            })
+            .map(|(c, _)| c)
+            .collect();
+        let share = change_y / carrying.len().max(1) as f64;
+        for c in carrying {
+            let mut force = self.state.force_history[c][0];
+            force.normal = (force.normal - share).max(0.0);
+            self.state.force_history[c] = [force; 3];
         }
     }
 
