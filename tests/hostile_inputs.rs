@@ -362,7 +362,12 @@ fn table_files_outside_the_scene_folder_are_refused_and_contents_never_echoed() 
 #[test]
 fn a_coach_too_heavy_for_a_contact_point_is_named_with_its_mass() {
     // On 86becc7: "no foot point of contact 1 on the beam could be found".
-    let mut scene = builtin("train-8-coaches-3x25-300").unwrap();
+    // (Lee's rigid contact: the built-in train now runs Hertz contacts.)
+    let rigid = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scripts/scenes/bench-8-coaches-3x25-300-rigid.toml"
+    );
+    let mut scene = Scene::load(rigid).unwrap();
     scene.body.mass = 1e15;
     let mut sim = guideway::Simulation::new(&scene).unwrap();
     let error = sim.advance_to(0.1).unwrap_err().to_string();

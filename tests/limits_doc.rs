@@ -8,6 +8,14 @@ use std::path::Path;
 /// Constants that tune an algorithm and bound no input, memory or time.
 const TUNING: &[(&str, &str)] = &[
     (
+        "MAX_ROW_MODES",
+        "modes up to which the design outputs are read as rows over the modes; past it through the DOFs, the same values",
+    ),
+    (
+        "MAX_ROW_ENTRIES",
+        "probes x modes up to which the design outputs are read as rows (32 MB); past it through the DOFs, the same values",
+    ),
+    (
         "MAX_SECANT_STEPS",
         "secant steps of beam.frequency's EI search on springs; past them the scene is refused naming the field",
     ),
