@@ -9,7 +9,11 @@ use std::process::{Command, Output};
 /// it next to the test binaries, not next to the binary where `export`
 /// looks by default) and no table search path from the caller's shell.
 pub fn command(args: &[&str]) -> Command {
-    let mut command = Command::new(env!("CARGO_BIN_EXE_guideway"));
+    // `option_env!`: the stress_balance example shares tests/common and
+    // has no binary to run (it never calls this); the tests always do.
+    #[allow(clippy::option_env_unwrap)]
+    let binary = option_env!("CARGO_BIN_EXE_guideway").expect("set by cargo for tests");
+    let mut command = Command::new(binary);
     command.args(args).env_remove("GUIDEWAY_TABLE_PATHS");
     if let Ok(cdylib) = guideway::fmu::default_cdylib() {
         command.env("GUIDEWAY_CDYLIB", cdylib);

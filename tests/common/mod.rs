@@ -2,9 +2,6 @@
 //! collect the figures the paper reports.
 #![allow(dead_code)]
 
-// Integration tests only (cfg(test)): the examples that share this module
-// have no binary to run.
-#[cfg(test)]
 pub mod cli;
 
 use guideway::scene::{BodyKind, Scene};
