@@ -377,6 +377,20 @@ fn a_coach_too_heavy_for_a_contact_point_is_named_with_its_mass() {
     );
 }
 
+#[test]
+fn a_coach_too_heavy_for_its_hertz_contacts_is_named_with_its_mass() {
+    // The built-in train runs Hertz contacts: the force-law stage cannot
+    // follow 1e15 kg, and said only that it did not converge.
+    let mut scene = builtin("train-8-coaches-3x25-300").unwrap();
+    scene.body.mass = 1e15;
+    let mut sim = guideway::Simulation::new(&scene).unwrap();
+    let error = sim.advance_to(0.1).unwrap_err().to_string();
+    assert!(
+        error.contains("coach1") && error.contains("1e15 kg"),
+        "{error}"
+    );
+}
+
 /// `guideway modes --count 60` on 4,096 elements failed with "the
 /// subspace iteration lost rank" (issue 30): from random start vectors
 /// every column of K⁻¹ M X is mode 1 to within λ₁/λ₁₂₀ ≈ 1e-8, and the

@@ -1370,6 +1370,12 @@ impl Simulation {
                         "{e}: {}",
                         heaviest_and_deflection(&self.system, &s.dynamic.beam_displacement)
                     ),
+                    crate::iteration::StepError::NotConverged { stage, .. }
+                    | crate::iteration::StepError::Diverged { stage, .. }
+                        if stage == crate::iteration::FORCE_LAW_STAGE =>
+                    {
+                        format!("{e}; {}", heaviest_on_laws(&self.system))
+                    }
                     e => e.to_string(),
                 },
             })?;
@@ -1539,6 +1545,23 @@ fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
          {body} with a mass of {} kg; lighter bodies or a stiffer beam keep the contacts on \
          the track",
         fmt_number(deflection),
+        fmt_number(mass)
+    )
+}
+
+/// What most often keeps a compliant law from settling: the weight it
+/// carries, named by the heaviest body (a coach of 1e15 kg presses a Hertz
+/// contact far past any force the step can follow).
+fn heaviest_on_laws(system: &System) -> String {
+    use crate::report::fmt_number;
+    let heaviest = system
+        .bodies
+        .iter()
+        .max_by(|a, b| a.mass.total_cmp(&b.mass));
+    let (body, mass) = heaviest.map_or(("?", 0.0), |b| (b.name.as_str(), b.mass));
+    format!(
+        "the compliant contacts carry the bodies' weight, the heaviest being {body} with a \
+         mass of {} kg",
         fmt_number(mass)
     )
 }

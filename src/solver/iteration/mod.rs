@@ -53,6 +53,9 @@ pub struct StepSolution {
     pub gap_error: f64,
 }
 
+/// The name of the stage that settles the compliant laws' forces.
+pub const FORCE_LAW_STAGE: &str = "force-law fixed-point";
+
 /// Why a step failed.
 #[derive(Debug, Clone, PartialEq)]
 pub enum StepError {
@@ -1203,7 +1206,7 @@ impl ContactIteration {
                     // The contacts converged; the force laws' fixed point
                     // did not: report the bodies' last velocity change.
                     return Err(StepError::NotConverged {
-                        stage: "force-law fixed-point",
+                        stage: FORCE_LAW_STAGE,
                         iterations,
                         residual: self.settle_change,
                         tolerance: settings.velocity_tolerance,
