@@ -601,13 +601,7 @@ impl<D: Dynamics> Model<D> {
     /// Set the variables `vrs`: all or nothing. Parameters only before
     /// initialization is left, inputs at any time, outputs never.
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
-        // Once running, no output depends on an input directly (the model
-        // description's Outputs): those of the current state stay as read,
-        // t = 0's included, whose body loads are taken at initialization.
-        match self.phase {
-            Phase::Configuring => self.changing(),
-            Phase::Running => self.rollback.invalidate(),
-        }
+        self.changing();
         let mut scene = self.scene.clone();
         let mut inputs = self.inputs.clone();
         let mut budget = self.wall_time_budget;
@@ -716,7 +710,7 @@ impl<D: Dynamics> Model<D> {
         self.changing();
         validate(&self.scene).map_err(|e| ModelError(format!("invalid parameters: {e}")))?;
         self.check_run_length()?;
-        self.outputs_now = Some(self.output_values()?);
+        self.output_values()?;
         self.phase = Phase::Running;
         Ok(())
     }
