@@ -21,11 +21,6 @@ pub trait Dynamics: Steppable + Sized {
     fn set_body_force(&mut self, fx: f64, fy: f64);
     /// The coupling ports' additional loads (fx, fy, moment), one per port.
     fn set_coupling_loads(&mut self, _loads: &[[f64; 3]]) {}
-    /// `set_coupling_loads` before the first step, during initialization:
-    /// the state at t = 0 balances them where the dynamics can.
-    fn set_start_coupling_loads(&mut self, loads: &[[f64; 3]]) {
-        self.set_coupling_loads(loads)
-    }
     fn exit_time(&self) -> Option<f64>;
     /// Whether the dynamics can advance to `t` (their time): Err naming
     /// the rule where they cannot, checked before a communication step
@@ -111,9 +106,6 @@ impl Dynamics for Simulation {
     }
     fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
         Simulation::set_coupling_loads(self, loads)
-    }
-    fn set_start_coupling_loads(&mut self, loads: &[[f64; 3]]) {
-        Simulation::set_start_coupling_loads(self, loads)
     }
     fn event_count(&self) -> usize {
         Simulation::events(self).len()

@@ -228,13 +228,6 @@ fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
     sim.set_coupling_loads(&coupling_loads(inputs));
 }
 
-/// `apply_inputs` during initialization: the state at t = 0 carries the
-/// coupling loads as it carries the body forces it was built with.
-fn apply_start_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
-    sim.set_body_force(inputs[0], inputs[1]);
-    sim.set_start_coupling_loads(&coupling_loads(inputs));
-}
-
 /// The coupling ports' loads among the inputs (after the two body forces).
 fn coupling_loads(inputs: &[f64]) -> Vec<[f64; 3]> {
     inputs[2..]
@@ -411,7 +404,7 @@ impl<D: Dynamics> Model<D> {
             scene.body.force_y = self.inputs[1];
             let mut sim =
                 D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
-            apply_start_inputs(&mut sim, &self.inputs);
+            apply_inputs(&mut sim, &self.inputs);
             self.sim = Some(sim);
         }
         Ok(self.sim.as_mut().expect("just built"))
@@ -649,7 +642,7 @@ impl<D: Dynamics> Model<D> {
         }
         // Only the body forces (inputs 0 and 1) go into the build of the
         // state at t = 0 (`ensure_sim`); coupling loads are applied to it
-        // (its contacts carrying them: `apply_start_inputs`).
+        // (its contacts carrying them: `Simulation::set_coupling_loads`).
         let build_inputs_changed = inputs[..2] != self.inputs[..2];
         self.scene = scene;
         self.inputs = inputs;
@@ -659,10 +652,7 @@ impl<D: Dynamics> Model<D> {
         if params_changed || (build_inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
-            match self.phase {
-                Phase::Configuring => apply_start_inputs(sim, &self.inputs),
-                Phase::Running => apply_inputs(sim, &self.inputs),
-            }
+            apply_inputs(sim, &self.inputs);
             self.loads_ramped = false;
         }
         Ok(())

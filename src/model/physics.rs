@@ -72,9 +72,6 @@ impl Dynamics for SceneDynamics {
     fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
         either!(self, d => Dynamics::set_coupling_loads(d, loads))
     }
-    fn set_start_coupling_loads(&mut self, loads: &[[f64; 3]]) {
-        either!(self, d => Dynamics::set_start_coupling_loads(d, loads))
-    }
     fn exit_time(&self) -> Option<f64> {
         either!(self, d => Dynamics::exit_time(d))
     }

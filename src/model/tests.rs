@@ -696,6 +696,12 @@ fn a_coupling_load_set_during_initialization_is_carried_at_t_0() {
         "{} vs {carried}",
         start[1]
     );
+    // Set again once running, before the first step (libcosim and Ecos
+    // set inputs there): carried the same way.
+    m.set(&[cy], &[Value::Real(-2.0 * car)]).unwrap();
+    let again = reals(&mut m);
+    assert!(again[0].abs() <= 1e-9 * g, "ay at t = 0: {}", again[0]);
+    assert!((again[1] - carried - car).abs() <= 1e-9 * carried);
 }
 
 // ---- the per-step path: roll-back copies kept between steps, Real getters --------

@@ -433,22 +433,14 @@ impl Simulation {
     /// Set the additional loads (fx, fy in N, moment in N m) on the
     /// coupling points, one per `System::couplings` entry (extra entries are
     /// ignored, missing ones left as they were), held until changed.
-    /// Set the additional loads (fx, fy in N, moment in N m) on the
-    /// coupling points, one per `System::couplings` entry (extra entries are
-    /// ignored, missing ones left as they were), held until changed.
-    pub fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
-        for (held, load) in self.state.coupling_loads.iter_mut().zip(loads) {
-            *held = *load;
-        }
-    }
-
-    /// `set_coupling_loads` for the state at t = 0 (an FMU's initialization):
-    /// before the first step the rigid contacts of each coupled body carry
+    ///
+    /// Before the first step the rigid contacts of each coupled body carry
     /// its load, as they carry `body.force_y` (`build::assemble`), so that
-    /// the start balances its inputs. Without it a coupled body at rest read
-    /// its load over its own mass as its acceleration at t = 0 (−10 g for a
-    /// car on a glider of a tenth of its mass).
-    pub fn set_start_coupling_loads(&mut self, loads: &[[f64; 3]]) {
+    /// the start balances its inputs whenever a master sets them (before,
+    /// in or after initialization: masters differ). Without it a coupled
+    /// body at rest read its load over its own mass as its acceleration at
+    /// t = 0 (−10 g for a car on a glider of a tenth of its mass).
+    pub fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
         let at_start = self.state.steps == 0;
         for (k, load) in loads
             .iter()
