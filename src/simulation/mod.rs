@@ -1527,17 +1527,24 @@ fn no_start_point(
 fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
     use crate::report::fmt_number;
     let deflection = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    format!(
+        "the beam's displacements reach {} m under the bodies' weight, the heaviest being \
+         {}; lighter bodies or a stiffer beam keep the contacts on the track",
+        fmt_number(deflection),
+        heaviest_body(system)
+    )
+}
+
+/// The heaviest body, in words: "coach1 with a mass of 1e15 kg".
+fn heaviest_body(system: &System) -> String {
     let heaviest = system
         .bodies
         .iter()
         .max_by(|a, b| a.mass.total_cmp(&b.mass));
     let (body, mass) = heaviest.map_or(("?", 0.0), |b| (b.name.as_str(), b.mass));
     format!(
-        "the beam's displacements reach {} m under the bodies' weight, the heaviest being \
-         {body} with a mass of {} kg; lighter bodies or a stiffer beam keep the contacts on \
-         the track",
-        fmt_number(deflection),
-        fmt_number(mass)
+        "{body} with a mass of {} kg",
+        crate::report::fmt_number(mass)
     )
 }
 
@@ -1545,16 +1552,9 @@ fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
 /// carries, named by the heaviest body (a coach of 1e15 kg presses a Hertz
 /// contact far past any force the step can follow).
 fn heaviest_on_laws(system: &System) -> String {
-    use crate::report::fmt_number;
-    let heaviest = system
-        .bodies
-        .iter()
-        .max_by(|a, b| a.mass.total_cmp(&b.mass));
-    let (body, mass) = heaviest.map_or(("?", 0.0), |b| (b.name.as_str(), b.mass));
     format!(
-        "the compliant contacts carry the bodies' weight, the heaviest being {body} with a \
-         mass of {} kg",
-        fmt_number(mass)
+        "the compliant contacts carry the bodies' weight, the heaviest being {}",
+        heaviest_body(system)
     )
 }
 
