@@ -15,6 +15,7 @@ import pytest
 from fmpy import read_model_description
 
 from conftest import GLIDER, GUIDEWAY, WHEEL, fmu_path
+from omsimulator import omsimulator, omsimulator_run
 
 WIRE = "vehicle.glider.vx=guideway.wheel.force_x"
 STEPS = 10
@@ -137,3 +138,21 @@ def test_fmpy_simulate_ssp_stamps_each_row_with_the_step_start(ssp):
     assert n >= STEPS
     np.testing.assert_allclose(system["time"], alone["time"][:n], rtol=0, atol=1e-12)
     np.testing.assert_array_equal(system[vx], alone["glider.vx"][1:n + 1])
+
+
+
+@pytest.mark.skipif(not omsimulator(), reason="OMSimulator not installed (docs/fmu.md: building it)")
+def test_omsimulator_runs_the_ssp_as_shipped_with_the_input_following_the_output(ssp, tmp_path):
+    """OMSimulator loads the SSD as written (no error, no "wrong/deprecated
+    content" warning), runs it to the SSD's stop time, and after each
+    communication point the input holds the output's value."""
+    from lxml import etree
+
+    with zipfile.ZipFile(ssp) as z:
+        root = etree.fromstring(z.read("SystemStructure.ssd"))
+    ns = {"ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription"}
+    stop = float(root.find("ssd:DefaultExperiment", ns).get("stopTime"))
+    rows = omsimulator_run(ssp, tmp_path, stop)
+    assert max(rows) == pytest.approx(stop, abs=1e-9)
+    assert len(rows) > 100
+    assert all(vx > 29.0 and force == vx for vx, force in rows.values())

@@ -27,6 +27,7 @@ import pytest
 from lxml import etree
 
 from conftest import GLIDER, GUIDEWAY, WHEEL, fmu_path
+from omsimulator import omsimulator, omsimulator_run
 
 WIRE = "vehicle.glider.vx=guideway.wheel.force_x"
 STEPS = 10
@@ -173,6 +174,20 @@ def test_libcosim_runs_the_ssp_2_system_of_fmi_2_fmus(systems):
         inputs.append(observer.last_real_values(g, [fx])[0])
     assert min(outputs) > 29.0
     assert inputs[1:] == outputs[:-1]
+
+
+@pytest.mark.skipif(not omsimulator(), reason="OMSimulator not installed (docs/fmu.md: building it)")
+def test_omsimulator_runs_real_connectors_and_refuses_float64_ones(systems, tmp_path):
+    """OMSimulator 3.0 runs SSP 1.0 with FMI 3.0 FMUs and SSP 2.0 whose
+    connectors are `Real` (FMI 2.0 FMUs), and refuses SSP 2.0's `Float64`
+    connectors ("Failed to import ssd:Connector:type")."""
+    for key in ["fmi3_ssp1", "fmi2", "ssp1"]:
+        rows = omsimulator_run(systems[key], tmp_path, STEPS * 0.0025)
+        assert len(rows) == STEPS + 1, key
+        assert all(vx >= 29.0 and force == vx for vx, force in rows.values()), (key, rows)
+    for key in ["fmi3", "mixed"]:
+        with pytest.raises(RuntimeError, match="Failed to import ssd:Connector:type"):
+            omsimulator_run(systems[key], tmp_path, STEPS * 0.0025)
 
 
 def test_fmpy_reads_the_ssp_2_system_only_unvalidated(systems):

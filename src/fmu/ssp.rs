@@ -366,6 +366,27 @@ fn oms_master(step_size: f64) -> String {
     )
 }
 
+/// OMSimulator reads its result settings from the DefaultExperiment's
+/// annotation and warns that the file holds "wrong/deprecated content"
+/// when the annotation is missing.
+fn oms_results(name: &str) -> String {
+    format!(
+        "    <ssd:Annotations>\n      <ssc:Annotation type=\"org.openmodelica\">\n        <oms:Annotations>\n          <oms:SimulationInformation resultFile=\"{name}_res.mat\" loggingInterval=\"0\" bufferSize=\"10\"/>\n        </oms:Annotations>\n      </ssc:Annotation>\n    </ssd:Annotations>\n"
+    )
+}
+
+/// The system's name: the scene's, as an identifier. SSP allows any
+/// string, but OMSimulator names a model only by `[a-zA-Z][a-zA-Z0-9_]*`
+/// and refuses the whole file otherwise ("is not a valid ident").
+fn system_name(scene_name: &str) -> String {
+    let id = crate::fmi_common::description::model_identifier(scene_name);
+    if id.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        id
+    } else {
+        format!("m{id}")
+    }
+}
+
 /// The SSD. SSP 2.0 keeps SSP 1.0's namespaces; only `version` and the
 /// connector types differ.
 fn ssd(name: &str, version: SspVersion, wires: &[Wire], experiment: Experiment) -> String {
@@ -382,9 +403,10 @@ fn ssd(name: &str, version: SspVersion, wires: &[Wire], experiment: Experiment) 
         })
         .collect();
     format!(
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<ssd:SystemStructureDescription xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:oms=\"https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd\" version=\"{v}\" name=\"{n}\">\n  <ssd:System name=\"{n}\">\n    <ssd:Elements>\n{elements}    </ssd:Elements>\n    <ssd:Connections>\n{connections}    </ssd:Connections>\n{master}  </ssd:System>\n  <ssd:DefaultExperiment startTime=\"0\" stopTime=\"{stop}\"/>\n</ssd:SystemStructureDescription>\n",
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<ssd:SystemStructureDescription xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:oms=\"https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd\" version=\"{v}\" name=\"{n}\">\n  <ssd:System name=\"{n}\">\n    <ssd:Elements>\n{elements}    </ssd:Elements>\n    <ssd:Connections>\n{connections}    </ssd:Connections>\n{master}  </ssd:System>\n  <ssd:DefaultExperiment startTime=\"0\" stopTime=\"{stop}\">\n{results}  </ssd:DefaultExperiment>\n</ssd:SystemStructureDescription>\n",
         v = version.label(),
-        n = esc(name),
+        n = system_name(name),
+        results = oms_results(&system_name(name)),
         elements = elements(wires),
         master = oms_master(experiment.step_size),
         stop = experiment.stop_time,
@@ -454,12 +476,26 @@ mod tests {
     fn the_ssd_declares_the_connectors_it_wires() {
         let w = wire("vehicle.f=guideway.wheel.force_y", ["Real", "Real"]);
         let x = ssd("s&t", SspVersion::V1, &[w], EXPERIMENT);
-        assert!(x.contains("version=\"1.0\" name=\"s&amp;t\""));
-        assert!(x.contains("<ssd:DefaultExperiment startTime=\"0\" stopTime=\"3.5\"/>"));
+        assert!(x.contains("version=\"1.0\" name=\"s_t\""));
+        assert!(x.contains("<ssd:DefaultExperiment startTime=\"0\" stopTime=\"3.5\">"));
+        assert!(x.contains("<oms:SimulationInformation resultFile=\"s_t_res.mat\""));
         assert!(x.contains("<oms:FixedStepMaster description=\"oms-ma\" stepSize=\"0.001\""));
         assert!(x.contains("<ssd:Connector name=\"wheel.force_y\" kind=\"input\"><ssc:Real/>"));
         assert!(x.contains("<ssd:Connector name=\"f\" kind=\"output\"><ssc:Real/>"));
         assert!(x.contains("startElement=\"vehicle\" startConnector=\"f\" endElement=\"guideway\""));
+    }
+
+    #[test]
+    fn the_system_is_named_by_an_identifier_omsimulator_accepts() {
+        for (scene, name) in [
+            ("lee1994-wheel-10", "lee1994_wheel_10"),
+            ("10 spans", "m_10_spans"),
+        ] {
+            assert_eq!(system_name(scene), name);
+            let x = ssd(scene, SspVersion::V1, &[], EXPERIMENT);
+            assert!(x.contains(&format!("<ssd:System name=\"{name}\">")), "{x}");
+        }
+        assert_eq!(system_name("_x"), "m_x");
     }
 
     #[test]
