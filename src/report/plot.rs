@@ -10,6 +10,7 @@ use super::curve_groups::{columns_of, grouped, is_unsprung};
 use super::output_names;
 use super::trace::Trace;
 use crate::scene::Scene;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::ops::Range;
 use std::path::Path;
@@ -155,8 +156,10 @@ pub fn deflection_scale(scene: &Scene) -> (f64, String) {
     }
 }
 
-fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
-    let curve = |label: String, values: &[f64], scale: f64| Curve {
+/// A curve of `values` over `x` divided by `scale`, without the points
+/// that are not finite.
+fn scaled_curve(x: &[f64], label: String, values: &[f64], scale: f64) -> Curve {
+    Curve {
         label,
         points: x
             .iter()
@@ -164,52 +167,22 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             .map(|(&x, &v)| (x, v / scale))
             .filter(|(_, y)| y.is_finite())
             .collect(),
-    };
+    }
+}
 
+fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
+    let curve = |label: String, values: &[f64], scale: f64| scaled_curve(x, label, values, scale);
     if crate::moving_load::is_moving_force_scene(scene) {
         return force_panels(scene, trace, &curve);
     }
     let (speed_title, speed_columns) = speed_columns(scene, trace);
-    let named = |names: &[String]| -> Vec<(String, &[f64])> {
-        names
-            .iter()
-            .filter_map(|name| Some((name.clone(), trace.column(name)?)))
-            .collect()
-    };
-    let speeds = grouped(x, &named(&speed_columns), 1.0, "vehicles");
-
-    let (scale, y_label) = deflection_scale(scene);
-    let sensor_columns: Vec<String> = scene
-        .sensors
-        .iter()
-        .map(|sensor| output_names::sensor_deflection(&sensor.name))
-        .collect();
-    let deflections = grouped(x, &named(&sensor_columns), scale, "sensors");
-
-    let drift = trace
-        .column(output_names::ENERGY_BALANCE)
-        .and_then(|energy| {
-            let initial = *energy.first()?;
-            (initial != 0.0 && initial.is_finite()).then(|| {
-                let relative: Vec<f64> = energy.iter().map(|e| (e - initial) / initial).collect();
-                curve("(E - E0) / E0".to_string(), &relative, 1.0)
-            })
-        });
-
-    let mut panels = vec![
-        speed_panel(speed_title, speeds),
-        Panel {
-            title: "Sensor deflection".to_string(),
-            y_label,
-            y_decimals: Some(2),
-            curves: deflections,
-            flights: Vec::new(),
-        },
-    ];
+    let speeds = grouped(x, &named_columns(trace, &speed_columns), 1.0, "vehicles");
+    let mut panels = Vec::new();
     // Nothing to show (moving forces have no body): no empty frame.
-    if speed_columns.is_empty() {
-        panels.remove(0);
+    if !speed_columns.is_empty() {
+        panels.push(speed_panel(speed_title, speeds));
     }
+    panels.push(deflection_panel(scene, trace, x));
     let flights = flights(trace, x);
     if has_vehicles(scene) || !flights.is_empty() {
         panels.extend(body_panels(trace, x, flights));
@@ -219,22 +192,63 @@ fn panels(scene: &Scene, trace: &Trace, x: &[f64]) -> Vec<Panel> {
             .into_iter()
             .map(|(name, values)| curve(name, values, 1e-3))
             .collect();
-        panels.push(Panel {
-            title: "Track irregularity at the contacts".to_string(),
-            y_label: "r (mm)".to_string(),
-            y_decimals: Some(2),
-            curves: profiles,
-            flights: Vec::new(),
-        });
+        panels.push(plain_panel(
+            "Track irregularity at the contacts",
+            "r (mm)",
+            Some(2),
+            profiles,
+        ));
     }
-    panels.push(Panel {
-        title: "Energy balance, relative drift".to_string(),
-        y_label: "(E - E0) / E0".to_string(),
-        y_decimals: None,
-        curves: drift.into_iter().collect(),
-        flights: Vec::new(),
-    });
+    let drift = drift_curve(trace, x).into_iter().collect();
+    panels.push(plain_panel(
+        "Energy balance, relative drift",
+        "(E - E0) / E0",
+        None,
+        drift,
+    ));
     panels
+}
+
+/// The columns of `names` the trace has, with their names.
+fn named_columns<'t>(trace: &'t Trace, names: &[String]) -> Vec<(String, &'t [f64])> {
+    names
+        .iter()
+        .filter_map(|name| Some((name.clone(), trace.column(name)?)))
+        .collect()
+}
+
+/// A panel without flights.
+fn plain_panel(title: &str, y_label: &str, y_decimals: Option<usize>, curves: Vec<Curve>) -> Panel {
+    Panel {
+        title: title.to_string(),
+        y_label: y_label.to_string(),
+        y_decimals,
+        curves,
+        flights: Vec::new(),
+    }
+}
+
+/// The sensors' deflections, scaled by the static peak where one is known.
+fn deflection_panel(scene: &Scene, trace: &Trace, x: &[f64]) -> Panel {
+    let (scale, y_label) = deflection_scale(scene);
+    let sensor_columns: Vec<String> = scene
+        .sensors
+        .iter()
+        .map(|sensor| output_names::sensor_deflection(&sensor.name))
+        .collect();
+    let deflections = grouped(x, &named_columns(trace, &sensor_columns), scale, "sensors");
+    plain_panel("Sensor deflection", &y_label, Some(2), deflections)
+}
+
+/// The energy balance's drift relative to its start, where the start is
+/// a finite non-zero energy.
+fn drift_curve(trace: &Trace, x: &[f64]) -> Option<Curve> {
+    let energy = trace.column(output_names::ENERGY_BALANCE)?;
+    let initial = *energy.first()?;
+    (initial != 0.0 && initial.is_finite()).then(|| {
+        let relative: Vec<f64> = energy.iter().map(|e| (e - initial) / initial).collect();
+        scaled_curve(x, "(E - E0) / E0".to_string(), &relative, 1.0)
+    })
 }
 
 /// The speeds in m/s; or, where they stay within 1e-4 of their start (a
@@ -408,13 +422,19 @@ fn has_vehicles(scene: &Scene) -> bool {
         )
 }
 
+/// The chart of one panel, with x and y in data units.
+type Chart<'a, 'b> =
+    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+type DrawResult =
+    Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
+
 fn draw_panel(
     panel: &Panel,
     area: &DrawingArea<BitMapBackend, plotters::coord::Shift>,
     x_range: Range<f64>,
     x_label: &str,
     text: Text,
-) -> Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>> {
+) -> DrawResult {
     let y_range = padded_range(
         panel
             .curves
@@ -434,16 +454,7 @@ fn draw_panel(
     }
     let mut chart = builder.build_cartesian_2d(x_range.clone(), y_range.clone())?;
     if labelled {
-        let span = y_range.end - y_range.start;
-        let decimals = panel.y_decimals.map(|d| d.max(tick_decimals(span)));
-        let format_y = |y: &f64| tick_label(*y, span, decimals);
-        chart
-            .configure_mesh()
-            .x_desc(x_label)
-            .y_desc(&panel.y_label)
-            .label_style((FONT, 15))
-            .y_label_formatter(&format_y)
-            .draw()?;
+        draw_mesh(&mut chart, panel, &y_range, x_label)?;
     } else {
         // Without a font the mesh cannot be labelled: frame the panel.
         chart.draw_series(std::iter::once(Rectangle::new(
@@ -451,13 +462,46 @@ fn draw_panel(
             BLACK.stroke_width(1),
         )))?;
     }
-
     chart.draw_series(panel.flights.iter().map(|&(from, to)| {
         Rectangle::new(
             [(from, y_range.start), (to, y_range.end)],
             BLACK.mix(0.12).filled(),
         )
     }))?;
+    draw_curves(&mut chart, panel, &y_range, labelled)?;
+    if labelled && !panel.curves.is_empty() {
+        chart
+            .configure_series_labels()
+            .position(legend)
+            .label_font((FONT, 15))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
+    }
+    Ok(())
+}
+
+/// The labelled axes and grid.
+fn draw_mesh(chart: &mut Chart, panel: &Panel, y_range: &Range<f64>, x_label: &str) -> DrawResult {
+    let span = y_range.end - y_range.start;
+    let decimals = panel.y_decimals.map(|d| d.max(tick_decimals(span)));
+    let format_y = |y: &f64| tick_label(*y, span, decimals);
+    chart
+        .configure_mesh()
+        .x_desc(x_label)
+        .y_desc(&panel.y_label)
+        .label_style((FONT, 15))
+        .y_label_formatter(&format_y)
+        .draw()
+}
+
+/// The curves, each with its legend entry where the panel is labelled.
+fn draw_curves(
+    chart: &mut Chart,
+    panel: &Panel,
+    y_range: &Range<f64>,
+    labelled: bool,
+) -> DrawResult {
     // Two one-pixel lines a pixel apart, not one two-pixel line: plotters
     // joins wide segments with unlimited miters, so a spike (a landing's
     // force) drew a needle far out of its panel.
@@ -476,15 +520,6 @@ fn draw_panel(
                 PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
             });
         }
-    }
-    if labelled && !panel.curves.is_empty() {
-        chart
-            .configure_series_labels()
-            .position(legend)
-            .label_font((FONT, 15))
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()?;
     }
     Ok(())
 }
