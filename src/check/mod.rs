@@ -257,51 +257,16 @@ pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, Strin
     let mut cases = mass_cases(spec, ei)?;
     let (station_list, main_station) = stations(spec);
     let trains = trains(spec);
-    let mut runs = Vec::new();
-    let mut resonances = Vec::new();
-    for (index, case) in cases.iter_mut().enumerate() {
-        let scene = scene_for(spec, case.mass_per_length, ei, zeta)?;
-        for (name, axles, spacing) in &trains {
-            let critical = resonant_speeds(case.f1, *spacing, 3);
-            if index == 0 {
-                resonances.extend(critical.iter().map(|&v| (name.clone(), v)));
-            }
-            let s = &spec.settings;
-            let speeds = speed_series(
-                design_speed,
-                s.speed_step,
-                s.fine_speed_step,
-                s.resonance_band,
-                &critical,
-            );
-            let loads = Loads::Axles(vec![(name.clone(), axles.clone())]);
-            let unit = SpeedUnit::KilometresPerHour;
-            let rows = sweep(
-                &scene,
-                &loads,
-                (&speeds, unit),
-                threads,
-                DEFAULT_MAX_SWEEP_STEPS,
-            )?;
-            runs.extend(
-                rows.iter()
-                    .map(|r| run_of(&case.name, r, &station_list, main_station)),
-            );
-        }
-        case.cut_off = cut_off(case.f1, case.f3);
-    }
+    let at = Stations {
+        list: &station_list,
+        main: main_station,
+    };
+    let (runs, resonances) = sweep_cases(spec, (ei, zeta), &mut cases, &trains, &at, threads)?;
     let acceleration_limit = match spec.track {
         TrackKind::Ballasted => spec.settings.acceleration_limit_ballasted,
         TrackKind::DirectFastened => spec.settings.acceleration_limit_direct_fastened,
     };
-    let lm71 = if spec.is_continuous() {
-        let scene = scene_for(spec, spec.mass_per_length, ei, 0.0)?;
-        let beam = crate::beam::Beam::new(&scene.beam)?;
-        let at: Vec<f64> = station_list.iter().map(|s| s.position).collect();
-        lm71::lm71_envelope(&beam, &at, 1.0)?
-    } else {
-        Vec::new()
-    };
+    let lm71 = lm71_rows(spec, ei, &station_list)?;
     let mut result = CheckResult {
         determinant_length: determinant_length(&spec.span_lengths()),
         lm71,
@@ -326,6 +291,72 @@ pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, Strin
     result.assumptions = assumptions(&result);
     worst_case(&mut result, &trains, zeta)?;
     Ok(result)
+}
+
+/// The stations of a check and the one whose results lead.
+struct Stations<'a> {
+    list: &'a [Station],
+    main: usize,
+}
+
+/// Every train at every speed of its series on every mass case (the
+/// resonances of the first case listed), each case's cut-off set.
+fn sweep_cases(
+    spec: &BridgeSpec,
+    (ei, zeta): (f64, f64),
+    cases: &mut [MassCase],
+    trains: &[Train],
+    at: &Stations,
+    threads: usize,
+) -> Result<(Vec<Run>, Vec<(String, f64)>), String> {
+    let design_speed = maximum_design_speed(spec.line_speed);
+    let mut runs = Vec::new();
+    let mut resonances = Vec::new();
+    for (index, case) in cases.iter_mut().enumerate() {
+        let scene = scene_for(spec, case.mass_per_length, ei, zeta)?;
+        for (name, axles, spacing) in trains {
+            let critical = resonant_speeds(case.f1, *spacing, 3);
+            if index == 0 {
+                resonances.extend(critical.iter().map(|&v| (name.clone(), v)));
+            }
+            let s = &spec.settings;
+            let speeds = speed_series(
+                design_speed,
+                s.speed_step,
+                s.fine_speed_step,
+                s.resonance_band,
+                &critical,
+            );
+            let loads = Loads::Axles(vec![(name.clone(), axles.clone())]);
+            let unit = SpeedUnit::KilometresPerHour;
+            let rows = sweep(
+                &scene,
+                &loads,
+                (&speeds, unit),
+                threads,
+                DEFAULT_MAX_SWEEP_STEPS,
+            )?;
+            runs.extend(rows.iter().map(|r| run_of(&case.name, r, at.list, at.main)));
+        }
+        case.cut_off = cut_off(case.f1, case.f3);
+    }
+    Ok((runs, resonances))
+}
+
+/// LM71's static envelope at the stations, on continuous decks only (a
+/// single span's is the closed form, `lm71::lm71_midspan`).
+fn lm71_rows(
+    spec: &BridgeSpec,
+    ei: f64,
+    stations: &[Station],
+) -> Result<Vec<lm71::Lm71Effects>, String> {
+    if !spec.is_continuous() {
+        return Ok(Vec::new());
+    }
+    let scene = scene_for(spec, spec.mass_per_length, ei, 0.0)?;
+    let beam = crate::beam::Beam::new(&scene.beam)?;
+    let at: Vec<f64> = stations.iter().map(|s| s.position).collect();
+    lm71::lm71_envelope(&beam, &at, 1.0)
 }
 
 /// §6.4.6.3.2: the lower and upper bounds of the mass (one nominal case

@@ -13,7 +13,7 @@ use sha2::{Digest, Sha256};
 use super::CheckResult;
 use crate::report::plot::{load_font, FONT};
 use crate::report::plot_style::{
-    colour, err, labelled_chart, labelled_mesh, legend, legend_line, limit_line, Area,
+    colour, err, labelled_chart, labelled_mesh, legend, legend_line, limit_line, Area, Chart,
 };
 
 /// The files written into `dir`, the HTML first.
@@ -299,28 +299,9 @@ fn speed_panel(
     let mut trains: Vec<&str> = runs.iter().map(|x| x.train.as_str()).collect();
     trains.dedup();
     for (i, train) in trains.iter().enumerate() {
-        let of = |f: &dyn Fn(&super::Run) -> f64| -> Vec<(f64, f64)> {
-            runs.iter()
-                .filter(|x| x.train == *train)
-                .map(|x| (x.speed_kmh, f(x)))
-                .collect()
-        };
-        let style = colour(i).stroke_width(2);
-        let main = if acceleration {
-            of(&|x| x.acceleration_filtered)
-        } else {
-            of(&|x| x.daf_deflection)
-        };
-        chart
-            .draw_series(LineSeries::new(main, style))
-            .map_err(err)?
-            .label(*train)
-            .legend(legend_line(style));
-        if acceleration {
-            let raw = of(&|x| x.acceleration);
-            let thin = colour(i).mix(0.5).stroke_width(1);
-            chart.draw_series(LineSeries::new(raw, thin)).map_err(err)?;
-        }
+        let of_train: Vec<&super::Run> =
+            runs.iter().copied().filter(|x| x.train == *train).collect();
+        draw_train(&mut chart, (i, train), &of_train, acceleration)?;
         let tick = r
             .resonances
             .iter()
@@ -339,6 +320,36 @@ fn speed_panel(
         limit_line(&mut chart, (low, high), limit, Some(name))?;
     }
     legend(&mut chart, SeriesLabelPosition::UpperLeft)
+}
+
+/// One train's curve against speed (the filtered acceleration, with the
+/// raw one thin beside it, or the deflection's DAF), in its colour `i`.
+fn draw_train<DB: DrawingBackend>(
+    chart: &mut Chart<DB>,
+    (i, train): (usize, &str),
+    runs: &[&super::Run],
+    acceleration: bool,
+) -> Result<(), String> {
+    let of = |f: &dyn Fn(&super::Run) -> f64| -> Vec<(f64, f64)> {
+        runs.iter().map(|x| (x.speed_kmh, f(x))).collect()
+    };
+    let style = colour(i).stroke_width(2);
+    let main = if acceleration {
+        of(&|x| x.acceleration_filtered)
+    } else {
+        of(&|x| x.daf_deflection)
+    };
+    chart
+        .draw_series(LineSeries::new(main, style))
+        .map_err(err)?
+        .label(train)
+        .legend(legend_line(style));
+    if acceleration {
+        let raw = of(&|x| x.acceleration);
+        let thin = colour(i).mix(0.5).stroke_width(1);
+        chart.draw_series(LineSeries::new(raw, thin)).map_err(err)?;
+    }
+    Ok(())
 }
 
 /// The worst run's midspan acceleration, raw and filtered.

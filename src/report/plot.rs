@@ -8,9 +8,9 @@
 
 use super::curve_groups::{columns_of, grouped, is_unsprung};
 use super::output_names;
+use super::plot_style;
 use super::trace::Trace;
 use crate::scene::Scene;
-use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use std::ops::Range;
 use std::path::Path;
@@ -423,8 +423,7 @@ fn has_vehicles(scene: &Scene) -> bool {
 }
 
 /// The chart of one panel, with x and y in data units.
-type Chart<'a, 'b> =
-    ChartContext<'a, BitMapBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+type Chart<'a, 'b> = plot_style::Chart<'a, BitMapBackend<'b>>;
 type DrawResult =
     Result<(), DrawingAreaErrorKind<<BitMapBackend<'static> as DrawingBackend>::ErrorType>>;
 

@@ -121,17 +121,7 @@ pub fn drive_into(
 ) -> Result<Streamed, StreamError> {
     let stop = stop_time(scene).map_err(StreamError::Refused)?;
     let mut values = vec![0.0; simulation.outputs().len()];
-    simulation.output_values(&mut values);
-    if let Some(bad) = non_finite_output(simulation.outputs(), &values) {
-        return Err(StreamError::Refused(format!(
-            "{bad} at the start with these values; choose smaller ones"
-        )));
-    }
-    let mut steps = 0;
-    let output_failed = |message, steps| StreamError::Output { message, steps };
-    sink.row(simulation.time(), &values)
-        .map_err(|m| output_failed(m, steps))?;
-
+    write_first_row(simulation, sink, &mut values)?;
     let names: Vec<String> = simulation
         .outputs()
         .iter()
@@ -139,52 +129,80 @@ pub fn drive_into(
         .collect();
     let fraction = progress_fraction(scene, &names, simulation.time(), stop);
     let start_time = simulation.time();
-    let mut solve_time = Duration::ZERO;
+    let mut streamed = Streamed {
+        exit_time: None,
+        solve_time: Duration::ZERO,
+        steps: 0,
+    };
     loop {
         // Multiples of the step, so that step times carry no accumulated
         // rounding.
-        let target = (start_time + (steps + 1) as f64 * scene.solver.step).min(stop);
-        let started = Instant::now();
-        let advanced = simulation.advance_to(target);
-        solve_time += started.elapsed();
-        let advance = advanced.map_err(|error| StreamError::Solver { error, steps })?;
-        simulation.output_values(&mut values);
+        let target = (start_time + (streamed.steps + 1) as f64 * scene.solver.step).min(stop);
+        let advance = write_step(simulation, sink, &mut values, target, &mut streamed)?;
         let time = simulation.time();
-        if let Some(bad) = non_finite_output(simulation.outputs(), &values) {
-            let message = format!("{bad} after the step to t = {time} s; nothing of it written");
-            return Err(StreamError::Solver {
-                error: SolverError { time, message },
-                steps,
-            });
-        }
-        sink.row(time, &values)
-            .map_err(|m| output_failed(m, steps))?;
-        steps += 1;
         let progress = StepProgress {
             time,
             fraction: fraction(time, &values),
         };
         if on_step(progress).is_break() {
+            let steps = streamed.steps;
             return Err(StreamError::Interrupted { time, steps });
         }
         match advance {
             Advance::Exited { time } => {
-                return Ok(Streamed {
-                    exit_time: Some(time),
-                    solve_time,
-                    steps,
-                })
+                streamed.exit_time = Some(time);
+                return Ok(streamed);
             }
-            Advance::Reached if target >= stop => {
-                return Ok(Streamed {
-                    exit_time: None,
-                    solve_time,
-                    steps,
-                })
-            }
+            Advance::Reached if target >= stop => return Ok(streamed),
             Advance::Reached => {}
         }
     }
+}
+
+/// The row at the start, refused if an output is not finite.
+fn write_first_row(
+    simulation: &impl Steppable,
+    sink: &mut impl RowSink,
+    values: &mut [f64],
+) -> Result<(), StreamError> {
+    simulation.output_values(values);
+    if let Some(bad) = non_finite_output(simulation.outputs(), values) {
+        return Err(StreamError::Refused(format!(
+            "{bad} at the start with these values; choose smaller ones"
+        )));
+    }
+    sink.row(simulation.time(), values)
+        .map_err(|message| StreamError::Output { message, steps: 0 })
+}
+
+/// One step to `target` and its row; the step's solve time and count
+/// are added to `streamed`. A row with an output that is not finite is
+/// not written: the step fails.
+fn write_step(
+    simulation: &mut impl Steppable,
+    sink: &mut impl RowSink,
+    values: &mut [f64],
+    target: f64,
+    streamed: &mut Streamed,
+) -> Result<Advance, StreamError> {
+    let steps = streamed.steps;
+    let started = Instant::now();
+    let advanced = simulation.advance_to(target);
+    streamed.solve_time += started.elapsed();
+    let advance = advanced.map_err(|error| StreamError::Solver { error, steps })?;
+    simulation.output_values(values);
+    let time = simulation.time();
+    if let Some(bad) = non_finite_output(simulation.outputs(), values) {
+        let message = format!("{bad} after the step to t = {time} s; nothing of it written");
+        return Err(StreamError::Solver {
+            error: SolverError { time, message },
+            steps,
+        });
+    }
+    sink.row(time, values)
+        .map_err(|message| StreamError::Output { message, steps })?;
+    streamed.steps += 1;
+    Ok(advance)
 }
 
 /// 0 at the start, 1 at the exit or the stop time: the larger of the
