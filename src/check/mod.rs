@@ -293,6 +293,9 @@ pub fn run_check(spec: &BridgeSpec, threads: usize) -> Result<CheckResult, Strin
     Ok(result)
 }
 
+/// A train's name and one of its resonant speeds (km/h).
+type Resonance = (String, f64);
+
 /// The stations of a check and the one whose results lead.
 struct Stations<'a> {
     list: &'a [Station],
@@ -308,7 +311,7 @@ fn sweep_cases(
     trains: &[Train],
     at: &Stations,
     threads: usize,
-) -> Result<(Vec<Run>, Vec<(String, f64)>), String> {
+) -> Result<(Vec<Run>, Vec<Resonance>), String> {
     let design_speed = maximum_design_speed(spec.line_speed);
     let mut runs = Vec::new();
     let mut resonances = Vec::new();
