@@ -160,7 +160,7 @@ impl Step<'_> {
         for c in 0..self.work.opened.len() {
             if self.work.opened[c] {
                 self.state.contacts[c].opened_in = Some(grid);
-                push_event(&mut self.state, c, EventKind::LiftOff);
+                push_event(self.state, c, EventKind::LiftOff);
             }
         }
     }

@@ -46,11 +46,11 @@ impl Step<'_> {
                 continue;
             }
             self.state.contacts[c].open = slack;
-            let law = |d: &DynamicState, sim: &Step| -> Option<f64> {
-                let frame = sim.frame(c, d)?;
-                let contact = &sim.system.contacts[c];
+            let law = |d: &DynamicState, step: &Step| -> Option<f64> {
+                let frame = step.frame(c, d)?;
+                let contact = &step.system.contacts[c];
                 let (gap, rate) =
-                    follower_gap(&sim.system, contact, &frame, &d.bodies, &d.beam_velocity);
+                    follower_gap(step.system, contact, &frame, &d.bodies, &d.beam_velocity);
                 Some(follower.law(gap, rate))
             };
             // The fraction of the step at which the law crossed zero.
@@ -70,7 +70,7 @@ impl Step<'_> {
             } else {
                 EventKind::Landing
             };
-            push_event_at(&mut self.state, c, kind, time);
+            push_event_at(self.state, c, kind, time);
         }
     }
 
@@ -91,21 +91,16 @@ impl Step<'_> {
             // Only near a corner, and moving past it: the search for the
             // surface's foot point is not made for every follower at every step.
             let reach = self.state.contacts[c].gap.abs();
-            if !near_corner(&self.system, part, start.position.x, end.position.x, reach) {
+            if !near_corner(self.system, part, start.position.x, end.position.x, reach) {
                 continue;
             }
             let before = past_corner(
-                &self.system,
+                self.system,
                 part,
                 &self.state.dynamic.beam_displacement,
                 start,
             );
-            let after = past_corner(
-                &self.system,
-                part,
-                &self.work.scratch.beam_displacement,
-                end,
-            );
+            let after = past_corner(self.system, part, &self.work.scratch.beam_displacement, end);
             let (Some(s0), Some(s1)) = (before, after) else {
                 continue;
             };
@@ -132,14 +127,14 @@ impl Step<'_> {
         dt: f64,
     ) -> Result<(StepSolution, f64), SolverError> {
         let part = self.state.parts[c];
-        let past = |sim: &Step, d: &DynamicState| {
-            let contact = &sim.system.contacts[c];
+        let past = |step: &Step, d: &DynamicState| {
+            let contact = &step.system.contacts[c];
             let point = contact.point(&d.bodies[contact.body]);
-            past_corner(&sim.system, part, &d.beam_displacement, &point).unwrap_or(f64::NAN)
+            past_corner(step.system, part, &d.beam_displacement, &point).unwrap_or(f64::NAN)
         };
         let start = past(self, &self.state.dynamic);
         let end = past(self, &self.work.scratch);
-        let miss = |sim: &Step, _: &StepSolution| past(sim, &sim.work.scratch);
+        let miss = |step: &Step, _: &StepSolution| past(step, &step.work.scratch);
         let tolerance = self.corner_tolerance();
         self.locate(forces, dt, ((0.0, start), end), tolerance, miss)?
             .ok_or_else(|| SolverError {

@@ -68,15 +68,15 @@ impl Step<'_> {
         let candidates: Vec<usize> = self.landing_candidates().collect();
         let end_gaps = self.work.iteration.contact_gaps().to_vec();
         let start = self.state.contacts[contact].gap;
-        let gap = |sim: &Step, _: &StepSolution| sim.work.iteration.contact_gaps()[contact];
+        let gap = |step: &Step, _: &StepSolution| step.work.iteration.contact_gaps()[contact];
         let ends = (start, end_gaps[contact]);
         let Some(bracket) = self.landing_bracket(forces, dt, ends, gap)? else {
             return Ok(None);
         };
         let (low, (high, at_high)) = bracket;
         let located = self.locate(forces, high, (low, at_high), LANDING_GAP, gap)?;
-        let below = |sim: &Step| {
-            let gaps = sim.work.iteration.contact_gaps();
+        let below = |step: &Step| {
+            let gaps = step.work.iteration.contact_gaps();
             candidates.iter().any(|&d| gaps[d] < -LANDING_GAP)
         };
         if let Some((solution, tau)) = located.filter(|_| !below(self)) {
@@ -93,7 +93,7 @@ impl Step<'_> {
         };
         let start = candidates.iter().map(|&d| self.state.contacts[d].gap);
         let ends = (start.fold(f64::INFINITY, f64::min), lowest(&end_gaps).0);
-        let miss = |sim: &Step, _: &StepSolution| lowest(sim.work.iteration.contact_gaps()).0;
+        let miss = |step: &Step, _: &StepSolution| lowest(step.work.iteration.contact_gaps()).0;
         let Some(bracket) = self.landing_bracket(forces, dt, ends, miss)? else {
             return Ok(None);
         };
@@ -158,7 +158,7 @@ impl Step<'_> {
     pub(crate) fn land(&mut self, c: usize, plastic: bool) -> Result<(), SolverError> {
         let frames = self.frames_now()?;
         let parts = self.impact_parts(c, plastic, &frames);
-        let impact = crate::impact::resolve(&self.system, &frames, &parts, &mut self.state.dynamic)
+        let impact = crate::impact::resolve(self.system, &frames, &parts, &mut self.state.dynamic)
             .map_err(|message| SolverError {
                 time: self.state.time,
                 message,

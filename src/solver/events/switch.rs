@@ -94,7 +94,7 @@ impl Step<'_> {
                 _ => Part::Closed,
             })
             .collect();
-        let impact = crate::impact::resolve(&self.system, &frames, &parts, &mut self.state.dynamic)
+        let impact = crate::impact::resolve(self.system, &frames, &parts, &mut self.state.dynamic)
             .map_err(|message| SolverError {
                 time: self.state.time,
                 message,

@@ -42,7 +42,7 @@ impl Step<'_> {
     ) -> Result<(StepSolution, f64), SolverError> {
         let start = self.state.dynamic.contact_x[contact] - edge;
         let tolerance = 1e-12 * self.system.beam.length;
-        let miss = |sim: &Step, _: &StepSolution| sim.work.scratch.contact_x[contact] - edge;
+        let miss = |step: &Step, _: &StepSolution| step.work.scratch.contact_x[contact] - edge;
         let end = self.work.scratch.contact_x[contact] - edge;
         self.locate(forces, dt, ((0.0, start), end), tolerance, miss)?
             .ok_or_else(|| SolverError {
