@@ -1,7 +1,7 @@
 //! HHT-α across changes of contact state: lift-off (located inside the
 //! step), landing, entry onto the beam and exit from it. The scheme carries
 //! each step's end force and accelerations into the next; at every such
-//! change it restarts from a consistent state (`src/simulation/switch.rs`).
+//! change it restarts from a consistent state (`src/solver/events/switch.rs`).
 
 mod common;
 

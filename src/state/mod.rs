@@ -45,10 +45,10 @@ pub struct ContactStatus {
     /// The impulse of the last impact on the body (N s): tangential, normal.
     pub impulse: [f64; 2],
     /// The grid step in which it last opened: a contact opens at most once
-    /// per grid step (see `Simulation::solve_active_set`).
+    /// per grid step (see `solver::events::active_set`).
     pub opened_in: Option<u64>,
     /// The grid step in which it last landed: a second landing in the same
-    /// grid step is plastic (see `Simulation::land`).
+    /// grid step is plastic (see `solver::events::landing`).
     #[serde(default)]
     pub landed_in: Option<u64>,
 }

@@ -21,17 +21,17 @@
 
 use nalgebra::Vector3;
 
-use super::{JointImpact, Simulation, SolverError};
 use crate::contact::ContactForce;
 use crate::integrate::{contact_frames, loads, DynamicState, IntegrationError};
+use crate::solver::stepper::{JointImpact, SolverError, Step};
 use crate::system::{System, TrackPart};
 
-impl Simulation {
+impl Step<'_> {
     /// After the track events of the step just taken (the contacts were on
     /// `before`): the impact of a velocity jump at the located contact,
     /// then, for the implicit scheme, the restart of every body whose
     /// contact switched.
-    pub(super) fn after_switch(
+    pub(crate) fn after_switch(
         &mut self,
         located: usize,
         before: &[TrackPart],
@@ -56,8 +56,8 @@ impl Simulation {
     /// level ground). RK4 takes the jump into the step's force; HHT-α,
     /// which carries that force into the next step, would make it
     /// alternate (and pull, for α = 0) ever after.
-    fn kink_impact(&self, c: usize) -> Result<bool, SolverError> {
-        let carries = self.iteration.integrator().carries_step_end();
+    pub(crate) fn kink_impact(&self, c: usize) -> Result<bool, SolverError> {
+        let carries = self.work.iteration.integrator().carries_step_end();
         if !carries || self.state.contacts[c].open {
             return Ok(false);
         }
@@ -72,7 +72,7 @@ impl Simulation {
     /// errors), the positions unchanged. The impulse is recorded
     /// (`joint_impacts`, and the contact's `impact_impulse` outputs); its
     /// loss enters `energy.impact_loss`.
-    fn joint_impact(&mut self, contact: usize) -> Result<(), SolverError> {
+    pub(crate) fn joint_impact(&mut self, contact: usize) -> Result<(), SolverError> {
         use crate::impact::Part;
         let follower = |d: usize| self.system.contacts[d].follower.is_some();
         // A follower has no mass to take an impulse: its law follows the
@@ -94,7 +94,7 @@ impl Simulation {
                 _ => Part::Closed,
             })
             .collect();
-        let impact = crate::impact::resolve(&self.system, &frames, &parts, &mut self.state.dynamic)
+        let impact = crate::impact::resolve(self.system, &frames, &parts, &mut self.state.dynamic)
             .map_err(|message| SolverError {
                 time: self.state.time,
                 message,
@@ -107,8 +107,8 @@ impl Simulation {
         self.state.impact_loss += impact.loss;
         let impulse = impact.impulses[contact];
         self.state.contacts[contact].impulse = [impulse.x, impulse.y];
-        if self.joint_impacts.len() < self.params.max_events {
-            self.joint_impacts.push(JointImpact {
+        if self.work.joint_impacts.len() < self.params.max_events {
+            self.work.joint_impacts.push(JointImpact {
                 time: self.state.time,
                 contact,
                 impulse,
@@ -119,8 +119,8 @@ impl Simulation {
 
     /// The step's active set from the contacts' statuses (after an event
     /// or an impact changed them).
-    pub(super) fn sync_open(&mut self) {
-        for (open, status) in self.open.iter_mut().zip(&self.state.contacts) {
+    pub(crate) fn sync_open(&mut self) {
+        for (open, status) in self.work.open.iter_mut().zip(&self.state.contacts) {
             *open = status.open;
         }
     }
@@ -139,8 +139,8 @@ impl Simulation {
     /// before (diverging), and then restarts from the p of the pass that
     /// moved least (at worst the held forces, which the step would have
     /// carried anyway, with the open contacts' zeroed).
-    pub(super) fn restart(&mut self, changed: &[usize], dt: f64) -> Result<(), SolverError> {
-        let Some(weight) = self.restart_weight else {
+    pub(crate) fn restart(&mut self, changed: &[usize], dt: f64) -> Result<(), SolverError> {
+        let Some(weight) = self.work.restart_weight else {
             return Ok(());
         };
         self.sync_open();
@@ -151,10 +151,10 @@ impl Simulation {
             .iter()
             .map(|&c| self.system.contacts[c].body)
             .collect();
-        let restarted: Vec<bool> = (self.system.contacts.iter().zip(&self.open))
+        let restarted: Vec<bool> = (self.system.contacts.iter().zip(&self.work.open))
             .map(|(c, &open)| !open && bodies.contains(&c.body))
             .collect();
-        let mut forces: Vec<ContactForce> = (self.state.force_history.iter().zip(&self.open))
+        let mut forces: Vec<ContactForce> = (self.state.force_history.iter().zip(&self.work.open))
             .map(|(h, &open)| if open { ContactForce::default() } else { h[0] })
             .collect();
         if restarted.contains(&true) {
@@ -172,7 +172,7 @@ impl Simulation {
 
     /// The restarts left pending by events inside the grid step just
     /// ended, now for full steps.
-    pub(super) fn restart_pending(&mut self) -> Result<(), SolverError> {
+    pub(crate) fn restart_pending(&mut self) -> Result<(), SolverError> {
         let pending = std::mem::take(&mut self.state.pending_restart);
         if pending.is_empty() {
             return Ok(());
@@ -182,7 +182,7 @@ impl Simulation {
 
     /// The time from now to the next grid point: the length of the step
     /// that follows an event (the grid step, from a grid point).
-    pub(super) fn grid_remainder(&self) -> f64 {
+    pub(crate) fn grid_remainder(&self) -> f64 {
         let next = (self.state.grid_step + 1) as f64 * self.params.step;
         let remainder = next - self.state.time;
         if remainder > self.params.same_instant() {
@@ -198,17 +198,17 @@ impl Simulation {
     /// last one solved (at first, the held forces). Every trial step starts
     /// from the same state with the same step length, so they share one
     /// velocity operator (built by the first that corrects).
-    fn restart_fixed_point(
+    pub(crate) fn restart_fixed_point(
         &mut self,
         forces: Vec<ContactForce>,
         restarted: &[bool],
         weight: f64,
         dt: f64,
     ) -> Result<Vec<ContactForce>, SolverError> {
-        self.iteration.set_open(&self.open);
-        self.iteration.share_operator(true);
+        self.work.iteration.set_open(&self.work.open);
+        self.work.iteration.share_operator(true);
         let found = self.restart_passes(forces, restarted, weight, dt);
-        self.iteration.share_operator(false);
+        self.work.iteration.share_operator(false);
         found
     }
 
@@ -216,7 +216,7 @@ impl Simulation {
     /// contacts' bodies: the one that changes the lightest one's velocity
     /// over a step of `dt` by the velocity tolerance (the beam's compliance
     /// only makes it smaller). A trial step's p₁ is no better than that.
-    fn resolved_force(&self, restarted: &[bool], dt: f64) -> f64 {
+    pub(crate) fn resolved_force(&self, restarted: &[bool], dt: f64) -> f64 {
         let lightest = (self.system.contacts.iter().zip(restarted))
             .filter(|(_, &r)| r)
             .map(|(c, _)| self.system.bodies[c.body].mass)
@@ -230,7 +230,7 @@ impl Simulation {
     /// is within ρ δ / (1 − ρ) of the fixed point: the passes stop once
     /// that is below what a trial step resolves (`resolved_force`), which
     /// saves the last one or two of four or five passes.
-    fn restart_passes(
+    pub(crate) fn restart_passes(
         &mut self,
         mut forces: Vec<ContactForce>,
         restarted: &[bool],
@@ -287,7 +287,7 @@ impl Simulation {
     }
 
     /// The constant forces on the bodies in the last step.
-    fn applied_now(&self) -> Vec<nalgebra::Vector3<f64>> {
+    pub(crate) fn applied_now(&self) -> Vec<nalgebra::Vector3<f64>> {
         match self.state.last_applied.len() {
             0 => self.constant_forces(),
             _ => self.state.last_applied.clone(),
@@ -296,7 +296,7 @@ impl Simulation {
 
     /// Loads and accelerations of `forces` into the state, and a constant
     /// force history of the `restarted` contacts (the next step's guess).
-    fn restart_from(
+    pub(crate) fn restart_from(
         &mut self,
         forces: &[ContactForce],
         restarted: &[bool],

@@ -24,18 +24,19 @@
 
 use nalgebra::{DVector, Vector2};
 
-use super::{EventKind, Simulation, SolverError};
 use crate::contact::{foot_point_on, ContactForce, ContactFrame};
 use crate::integrate::{follower_gap, DynamicState};
 use crate::iteration::StepSolution;
+use crate::solver::stepper::{SolverError, Step};
 use crate::state::push_event_at;
+use crate::state::EventKind;
 use crate::system::{System, TrackPart};
 
-impl Simulation {
+impl Step<'_> {
     /// After a step of `dt` was accepted (its start state in `scratch`):
     /// each follower's contact open where its force is zero, with a
     /// lift-off or landing event where that changed.
-    pub(super) fn follower_transitions(&mut self, dt: f64) {
+    pub(crate) fn follower_transitions(&mut self, dt: f64) {
         for c in 0..self.system.contacts.len() {
             let Some(follower) = self.system.contacts[c].follower else {
                 continue;
@@ -45,15 +46,18 @@ impl Simulation {
                 continue;
             }
             self.state.contacts[c].open = slack;
-            let law = |d: &DynamicState, sim: &Simulation| -> Option<f64> {
-                let frame = sim.frame(c, d)?;
-                let contact = &sim.system.contacts[c];
+            let law = |d: &DynamicState, step: &Step| -> Option<f64> {
+                let frame = step.frame(c, d)?;
+                let contact = &step.system.contacts[c];
                 let (gap, rate) =
-                    follower_gap(&sim.system, contact, &frame, &d.bodies, &d.beam_velocity);
+                    follower_gap(step.system, contact, &frame, &d.bodies, &d.beam_velocity);
                 Some(follower.law(gap, rate))
             };
             // The fraction of the step at which the law crossed zero.
-            let fraction = match (law(&self.scratch, self), law(&self.state.dynamic, self)) {
+            let fraction = match (
+                law(&self.work.scratch, self),
+                law(&self.state.dynamic, self),
+            ) {
                 (Some(p0), Some(p1)) if p0 != p1 && (p0 - p1).is_finite() => {
                     (p0 / (p0 - p1)).clamp(0.0, 1.0)
                 }
@@ -66,7 +70,7 @@ impl Simulation {
             } else {
                 EventKind::Landing
             };
-            push_event_at(&mut self.state, c, kind, time);
+            push_event_at(self.state, c, kind, time);
         }
     }
 
@@ -74,7 +78,7 @@ impl Simulation {
     /// surface beyond in the step just solved (its end state in
     /// `scratch`), and the fraction of the step at which it does (linear
     /// estimate).
-    pub(super) fn first_corner_departure(&self) -> Option<(f64, usize)> {
+    pub(crate) fn first_corner_departure(&self) -> Option<(f64, usize)> {
         let tolerance = self.corner_tolerance();
         let mut first: Option<(f64, usize)> = None;
         for (c, contact) in self.system.contacts.iter().enumerate() {
@@ -83,20 +87,20 @@ impl Simulation {
             }
             let part = self.state.parts[c];
             let start = &contact.point(&self.state.dynamic.bodies[contact.body]);
-            let end = &contact.point(&self.scratch.bodies[contact.body]);
+            let end = &contact.point(&self.work.scratch.bodies[contact.body]);
             // Only near a corner, and moving past it: the search for the
             // surface's foot point is not made for every follower at every step.
             let reach = self.state.contacts[c].gap.abs();
-            if !near_corner(&self.system, part, start.position.x, end.position.x, reach) {
+            if !near_corner(self.system, part, start.position.x, end.position.x, reach) {
                 continue;
             }
             let before = past_corner(
-                &self.system,
+                self.system,
                 part,
                 &self.state.dynamic.beam_displacement,
                 start,
             );
-            let after = past_corner(&self.system, part, &self.scratch.beam_displacement, end);
+            let after = past_corner(self.system, part, &self.work.scratch.beam_displacement, end);
             let (Some(s0), Some(s1)) = (before, after) else {
                 continue;
             };
@@ -116,21 +120,21 @@ impl Simulation {
 
     /// Shorten the step so that follower `c` leaves its corner at its end.
     /// Leaves the state at that instant in `scratch`.
-    pub(super) fn locate_corner_departure(
+    pub(crate) fn locate_corner_departure(
         &mut self,
         c: usize,
         forces: &[ContactForce],
         dt: f64,
     ) -> Result<(StepSolution, f64), SolverError> {
         let part = self.state.parts[c];
-        let past = |sim: &Simulation, d: &DynamicState| {
-            let contact = &sim.system.contacts[c];
+        let past = |step: &Step, d: &DynamicState| {
+            let contact = &step.system.contacts[c];
             let point = contact.point(&d.bodies[contact.body]);
-            past_corner(&sim.system, part, &d.beam_displacement, &point).unwrap_or(f64::NAN)
+            past_corner(step.system, part, &d.beam_displacement, &point).unwrap_or(f64::NAN)
         };
         let start = past(self, &self.state.dynamic);
-        let end = past(self, &self.scratch);
-        let miss = |sim: &Simulation, _: &StepSolution| past(sim, &sim.scratch);
+        let end = past(self, &self.work.scratch);
+        let miss = |step: &Step, _: &StepSolution| past(step, &step.work.scratch);
         let tolerance = self.corner_tolerance();
         self.locate(forces, dt, ((0.0, start), end), tolerance, miss)?
             .ok_or_else(|| SolverError {
@@ -144,12 +148,12 @@ impl Simulation {
 
     /// Within this distance of the instant it leaves a corner a follower
     /// counts as having left it (m): that of the track events.
-    fn corner_tolerance(&self) -> f64 {
+    pub(crate) fn corner_tolerance(&self) -> f64 {
         1e-12 * self.system.beam.length
     }
 
     /// Contact `c`'s frame in state `d` on the part it is on now.
-    fn frame(&self, c: usize, d: &DynamicState) -> Option<ContactFrame> {
+    pub(crate) fn frame(&self, c: usize, d: &DynamicState) -> Option<ContactFrame> {
         self.frames_of(d).ok()?.into_iter().nth(c)
     }
 }

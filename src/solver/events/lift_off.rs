@@ -9,20 +9,21 @@
 //! zero, and the contact opens there: the force falls from f₀ to zero over
 //! [0, τ] and the carried state is that of a zero force.
 
-use super::{push_event, EventKind, Simulation, SolverError};
 use crate::contact::ContactForce;
 use crate::iteration::StepSolution;
+use crate::solver::stepper::{SolverError, Step};
+use crate::state::{push_event, EventKind};
 
-impl Simulation {
+impl Step<'_> {
     /// Under HHT-α, the closed contact that starts the step compressed and
     /// whose end force in `forces` pulls, with the earliest linear estimate
     /// of the zero crossing; `None` under RK4 or when there is none.
-    pub(super) fn lift_off_inside(&self, forces: &[ContactForce]) -> Option<usize> {
-        self.restart_weight?;
+    pub(crate) fn lift_off_inside(&self, forces: &[ContactForce]) -> Option<usize> {
+        self.work.restart_weight?;
         let mut first: Option<(f64, usize)> = None;
         for (c, force) in forces.iter().enumerate() {
             let start = self.state.force_history[c][0].normal;
-            if self.open[c] || force.normal >= 0.0 || start <= 0.0 {
+            if self.work.open[c] || force.normal >= 0.0 || start <= 0.0 {
                 continue;
             }
             let fraction = start / (start - force.normal);
@@ -39,7 +40,7 @@ impl Simulation {
     /// tried (`LIFT_OFF_EARLIEST` of it: opening at the start drops at most
     /// that share of the step's impulse) or the steps fail: the contact
     /// then opens at the step's start.
-    pub(super) fn locate_lift_off(
+    pub(crate) fn locate_lift_off(
         &mut self,
         c: usize,
         forces: &[ContactForce],
@@ -51,7 +52,7 @@ impl Simulation {
         if early < 0.0 {
             return None;
         }
-        let end_force = |_: &Simulation, solution: &StepSolution| solution.forces[c].normal;
+        let end_force = |_: &Step, solution: &StepSolution| solution.forces[c].normal;
         let bracket = ((earliest, early), forces[c].normal);
         self.locate(forces, dt, bracket, tolerance, end_force)
             .ok()
@@ -72,7 +73,7 @@ impl Simulation {
     /// step's active set, as before (without that way back, the paper's
     /// wheel at 250 m/s landed at once and its next step diverged). The
     /// contacts that set opened stay open either way.
-    pub(super) fn lift_off_at_start(
+    pub(crate) fn lift_off_at_start(
         &mut self,
         c: usize,
         guess: &[ContactForce],
@@ -81,31 +82,31 @@ impl Simulation {
         let before = self.state.clone();
         self.lift_off_now(c)?;
         self.open_the_opened();
-        self.iteration.set_open(&self.open);
+        self.work.iteration.set_open(&self.work.open);
         let solved = self.solve(guess, dt).is_ok();
-        if solved && self.iteration.contact_gaps()[c] >= 0.0 {
+        if solved && self.work.iteration.contact_gaps()[c] >= 0.0 {
             if before.contacts[c].opened_in == Some(before.grid_step) {
                 self.count_reopening()?;
             }
             return Ok(true);
         }
-        self.state = before;
+        *self.state = before;
         self.sync_open();
         self.open_the_opened();
         Ok(false)
     }
 
     /// The contacts the step's active set opened are open.
-    fn open_the_opened(&mut self) {
-        for (open, &opened) in self.open.iter_mut().zip(&self.opened) {
+    pub(crate) fn open_the_opened(&mut self) {
+        for (open, &opened) in self.work.open.iter_mut().zip(&self.work.opened) {
             *open |= opened;
         }
     }
 
     /// Contact `c`, its force zero at the end of the step just taken,
     /// opens now; HHT-α restarts its body.
-    pub(super) fn lift_off_now(&mut self, c: usize) -> Result<(), SolverError> {
-        let s = &mut self.state;
+    pub(crate) fn lift_off_now(&mut self, c: usize) -> Result<(), SolverError> {
+        let s = &mut *self.state;
         s.contacts[c].open = true;
         s.contacts[c].opened_in = Some(s.grid_step);
         s.force_history[c] = [ContactForce::default(); 3];

@@ -1,0 +1,181 @@
+//! The step's active set: which contacts are open in it. A closed contact
+//! that pulls opens, a contact opened in the step that sinks closes again,
+//! until the step is complementary; a contact reopening without end in a
+//! grid step stops the run, saying so.
+
+use crate::contact::ContactForce;
+use crate::iteration::StepSolution;
+use crate::solver::stepper::{SolverError, Step};
+use crate::state::{push_event, EventKind};
+
+impl Step<'_> {
+    /// Solve the step with the contacts open at its start open, then make
+    /// its active set complementary: open every closed contact whose normal
+    /// force came out tensile and solve it again; where none pulls, close
+    /// again the first contact opened in this step whose gap ends below the
+    /// track (it would have pushed: opening it was another contact's doing),
+    /// and solve again. The step ends with every closed contact's force
+    /// ≥ 0 and every contact it opened off the track (the complementarity
+    /// problem of the step's contacts, solved by the switches of
+    /// `linalg::complementarity` on the whole step). A closed contact is
+    /// not kept closed under tension where it opened and landed in this
+    /// grid step already, under RK4 (bounded by `count_reopening`); under
+    /// HHT-α it still is (see `open_the_pulling`). At most
+    /// `active_set_passes` solves: a step whose set still switches is an
+    /// error saying so.
+    ///
+    /// Under HHT-α a contact that carries a compressive force into the step
+    /// does not open at its start (which would drop that force's share of
+    /// the step's impulse): the step is shortened to the instant its end
+    /// force reaches zero (`locate_lift_off`), and the contact opens there.
+    /// Where it pulls from the start, it lifts off there with HHT-α's
+    /// restart where the step then leaves it off the track
+    /// (`lift_off_at_start`), else it opens at the start in the step's set.
+    /// Returns the solution, the step's length and that contact.
+    pub(crate) fn solve_active_set(
+        &mut self,
+        guess: &[ContactForce],
+        dt: f64,
+    ) -> Result<(StepSolution, f64, Option<usize>), SolverError> {
+        for (open, status) in self.work.open.iter_mut().zip(&self.state.contacts) {
+            *open = status.open;
+        }
+        self.work.opened.fill(false);
+        let mut tried = vec![false; self.work.open.len()];
+        for _ in 0..active_set_passes(self.work.open.len()) {
+            self.work.iteration.set_open(&self.work.open);
+            let solution = self.solve(guess, dt)?;
+            if let Some(c) = self.lift_off_inside(&solution.forces) {
+                if let Some((solution, tau)) = self.locate_lift_off(c, &solution.forces, dt) {
+                    // Another closed contact that pulls at the located
+                    // instant opens at the step's start and the step is
+                    // solved again: taken as it is, a contact holding a
+                    // separating velocity jump over a sliver of a step
+                    // pulled 1e11 N, carried into the next step.
+                    if self.open_the_pulling_but(&solution.forces, Some(c))? {
+                        continue;
+                    }
+                    if self.state.contacts[c].opened_in == Some(self.state.grid_step) {
+                        self.count_reopening()?;
+                    }
+                    return Ok((solution, tau, Some(c)));
+                }
+                let first_try = !std::mem::replace(&mut tried[c], true);
+                if first_try && self.lift_off_at_start(c, guess, dt)? {
+                    continue;
+                }
+                // Else it opens at the step's start (below).
+            }
+            if !self.open_the_pulling(&solution.forces)? && !self.close_a_penetrating() {
+                return Ok((solution, dt, None));
+            }
+        }
+        Err(SolverError {
+            time: self.state.time,
+            message: format!(
+                "the contacts' active set of a step of {dt:e} s did not settle in {} solves \
+                 (a contact opened pulls, closed sinks below the track): the rigid contact \
+                 chatters here; a compliant contact law is well posed (docs/contact-laws.md)",
+                active_set_passes(self.work.open.len())
+            ),
+        })
+    }
+
+    /// Open every closed contact whose normal force in `forces` pulls;
+    /// whether one did.
+    pub(crate) fn open_the_pulling(
+        &mut self,
+        forces: &[ContactForce],
+    ) -> Result<bool, SolverError> {
+        self.open_the_pulling_but(forces, None)
+    }
+
+    /// `open_the_pulling`, leaving `kept` (a lift-off located at the
+    /// step's end, whose force is zero to its tolerance) as it is.
+    pub(crate) fn open_the_pulling_but(
+        &mut self,
+        forces: &[ContactForce],
+        kept: Option<usize>,
+    ) -> Result<bool, SolverError> {
+        let mut opened_any = false;
+        let grid = self.state.grid_step;
+        for (c, force) in forces.iter().enumerate() {
+            if self.work.open[c] || force.normal >= 0.0 || kept == Some(c) {
+                continue;
+            }
+            if self.state.contacts[c].opened_in == Some(grid) {
+                self.count_reopening()?;
+            }
+            self.work.open[c] = true;
+            self.work.opened[c] = true;
+            opened_any = true;
+        }
+        Ok(opened_any)
+    }
+
+    /// Count a contact's reopening in the grid step it opened in already:
+    /// at most `max_reopenings` in a grid step, past which the contacts
+    /// chatter without end and the run stops, saying so.
+    pub(crate) fn count_reopening(&mut self) -> Result<(), SolverError> {
+        let grid = self.state.grid_step;
+        if self.work.reopenings.0 != grid {
+            self.work.reopenings = (grid, 0);
+        }
+        self.work.reopenings.1 += 1;
+        let bound = max_reopenings(self.work.open.len());
+        if self.work.reopenings.1 <= bound {
+            return Ok(());
+        }
+        Err(SolverError {
+            time: self.state.time,
+            message: format!(
+                "the contacts reopened more than {bound} times in one grid step of {} s: \
+                 the rigid contact chatters without end here; a compliant contact law is \
+                 well posed (docs/contact-laws.md)",
+                self.params.step
+            ),
+        })
+    }
+
+    /// Close again the first contact opened in this step whose gap ends
+    /// below the track by more than the iteration's gap tolerance (the
+    /// band a closed contact's gap is held in: a contact closed at a gap
+    /// of −1e-7 m that opens and rises still ends below zero); whether one
+    /// was.
+    pub(crate) fn close_a_penetrating(&mut self) -> bool {
+        let gaps = self.work.iteration.contact_gaps();
+        let tolerance = self.params.iteration.gap_tolerance;
+        let sinking =
+            (0..self.work.opened.len()).find(|&c| self.work.opened[c] && gaps[c] < -tolerance);
+        if let Some(c) = sinking {
+            self.work.open[c] = false;
+            self.work.opened[c] = false;
+        }
+        sinking.is_some()
+    }
+
+    /// The contacts opened in the step just solved lift off at its start.
+    pub(crate) fn record_lift_offs(&mut self) {
+        let grid = self.state.grid_step;
+        for c in 0..self.work.opened.len() {
+            if self.work.opened[c] {
+                self.state.contacts[c].opened_in = Some(grid);
+                push_event(self.state, c, EventKind::LiftOff);
+            }
+        }
+    }
+}
+
+/// Reopenings of contacts that opened in the grid step already that one
+/// grid step may hold (`Step::count_reopening`): four per contact,
+/// and four.
+fn max_reopenings(contacts: usize) -> usize {
+    4 * contacts + 4
+}
+
+/// Solves a step's active set may take (`solve_active_set`): every
+/// contact opened once and closed again once, lifted off at the step's
+/// start once (under HHT-α), and the first solve.
+pub(crate) fn active_set_passes(contacts: usize) -> usize {
+    3 * contacts + 2
+}
