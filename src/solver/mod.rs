@@ -1,8 +1,11 @@
 //! How the system is advanced in time: the integrators (RK4, HHT-α), the
-//! contact-force iteration of Lee (1994) over them, and the static start.
+//! contact-force iteration of Lee (1994) over them, the impacts at a
+//! landing, the static start, and the scene's `[solver]` table (`spec`).
 
 pub mod deadline;
+pub mod impact;
 pub mod integrate;
 pub mod iteration;
 pub mod parameters;
+pub mod spec;
 pub mod static_start;
