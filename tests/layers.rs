@@ -97,17 +97,6 @@ const EXCEPTIONS: &[(&str, &str, &str)] = &[
         "report::fmt_number (now crate::numbers): simulation/ is stepper23's this session",
     ),
     (
-        "report/converge_plot.rs",
-        "study",
-        "the plot of a convergence study's rows; study/ runs report's runs: the plots of \
-         studies belong in study/",
-    ),
-    (
-        "report/sweep_plot.rs",
-        "study",
-        "the plot of a sweep's rows (study::sweep::EnvelopeRow): as for converge_plot.rs",
-    ),
-    (
         "report/deck_acceleration.rs",
         "study",
         "the summary's filtered deck acceleration uses study::deck_filter, a filter to move \

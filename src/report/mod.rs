@@ -2,7 +2,6 @@
 //! figures of merit (`RunSummary`), CSV and PNG writers. Shared by the
 //! command line, the tests and the FMU cross-check.
 
-pub mod converge_plot;
 pub mod csv;
 pub mod curve_groups;
 mod deck_acceleration;
@@ -14,7 +13,6 @@ pub mod plot_style;
 mod run;
 mod stream;
 mod summary;
-pub mod sweep_plot;
 mod trace;
 
 pub use crate::numbers::fmt_number;
