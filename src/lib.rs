@@ -23,6 +23,7 @@ pub mod input_file;
 pub mod linalg;
 pub mod model;
 pub mod moving_load;
+pub mod numbers;
 pub mod outputs;
 pub mod report;
 pub mod scene;
@@ -37,12 +38,12 @@ pub mod vehicle;
 // The modules' paths before the layout of issue 23, kept so that code
 // written against them (other branches, tests, examples) still compiles.
 pub use build as assemble;
-pub use contact::{impact, law as contact_law};
-pub use linalg::{band, complementarity, dense_modes, two_level, wide_band};
+pub use contact::law as contact_law;
+pub use linalg::{band, complementarity, dense_modes, wide_band};
 pub use outputs::mask as output_mask;
 pub use report::output_file;
-pub use solver::{deadline, integrate, iteration, static_start};
-pub use structure::beam::{bending, mesh};
+pub use solver::{deadline, impact, integrate, iteration, static_start};
+pub use structure::beam::{bending, mesh, two_level};
 pub use structure::{beam, modal, profile};
 pub use vehicle::{body, force_element};
 

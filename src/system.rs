@@ -521,7 +521,8 @@ fn corner_frame(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{BodyKind, JointKind, JointSpec, Scene};
+    use crate::scene::{BodyKind, Scene};
+    use crate::structure::beam::{JointKind, JointSpec};
 
     /// Two 24 m spans with a rail gap of `gap` after x = 24, and a hinge at 36.
     fn track(gap: f64) -> System {

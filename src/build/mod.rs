@@ -437,7 +437,7 @@ pub const MOVING_FORCE_REFUSAL: &str =
 
 pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     let mut beam = Beam::of_scene(&scene.beam, &scene.track)?;
-    if let Some(selection) = crate::modal::ModeSelection::of(&scene.solver) {
+    if let Some(selection) = scene.solver.mode_selection() {
         beam = beam.reduce_to_modes(selection)?;
     } else if matches!(scene.beam.damping, Some(DampingSpec::Modal { .. })) {
         // One ratio for every mode on the full mesh: the mesh in all its

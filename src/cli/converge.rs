@@ -2,8 +2,8 @@
 //! meshes) as a table, a CSV and a plot (docs/error-estimates.md).
 
 use super::{load_scene, ConvergeArgs, Failure};
-use guideway::report::converge_plot::write_converge_plot;
 use guideway::study::converge::{converge, to_csv};
+use guideway::study::converge_plot::write_converge_plot;
 use guideway::study::refine::{cores, Refinement};
 
 pub(super) fn run_converge(args: ConvergeArgs) -> Result<(), Failure> {

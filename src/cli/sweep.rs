@@ -8,8 +8,8 @@ use std::time::Instant;
 
 use super::{check_outputs, load_scene_with_inputs, Failure, SweepArgs};
 use guideway::moving_load::{hslm, HSLM_TRAINS};
-use guideway::report::sweep_plot::{write_sweep_plot, Track};
 use guideway::study::sweep::{envelope_csv, parse_speeds, sweep, Loads, SpeedUnit};
+use guideway::study::sweep_plot::{write_sweep_plot, Track};
 
 pub(super) fn run_sweep(args: SweepArgs) -> Result<(), Failure> {
     let unit = SpeedUnit::parse(&args.unit).map_err(Failure::Usage)?;

@@ -20,7 +20,6 @@ use crate::body::BodyState;
 use crate::contact_law::LawKind;
 use crate::profile::Profile;
 
-pub mod impact;
 pub mod law;
 
 /// What touches the track.
@@ -530,7 +529,7 @@ pub fn foot_point_on(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{BeamSpec, SupportsSpec};
+    use crate::structure::beam::{BeamSpec, SupportsSpec};
 
     const RADIUS: f64 = 0.3;
 
@@ -710,7 +709,8 @@ mod tests {
 mod profile_tests {
     use super::*;
     use crate::profile::Profile;
-    use crate::scene::{BeamSpec, IrregularitySpec, SupportsSpec};
+    use crate::structure::beam::{BeamSpec, SupportsSpec};
+    use crate::structure::profile::IrregularitySpec;
 
     fn sine() -> Profile {
         let spec = IrregularitySpec::Sine {

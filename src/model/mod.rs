@@ -29,7 +29,7 @@ pub use variables::{
     Causality, DisplayUnit, Role, Setting, Value, VarType, Variability, Variable, VariableTable,
 };
 
-use crate::report::non_finite_output;
+use crate::outputs::non_finite_output;
 use crate::scene::{Scene, MAX_MAGNITUDE};
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, start_inputs};

@@ -7,7 +7,7 @@ use super::{
     advance, apply_inputs, err, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
     MAX_INTERNAL_STEPS_PER_CALL, MAX_RUN_STEPS,
 };
-use crate::report::non_finite_output;
+use crate::outputs::non_finite_output;
 use crate::simulation::Advance;
 
 impl<D: Dynamics> Model<D> {
@@ -238,7 +238,7 @@ impl<D: Dynamics> Model<D> {
                         "one internal step (solver.step = {step:e} s) takes longer than \
                          solver.wall_time_budget = {} s{why}; {}; raise the budget, or make \
                          the model smaller (beam.elements, contacts)",
-                        crate::report::fmt_number(self.wall_time_budget),
+                        crate::numbers::fmt_number(self.wall_time_budget),
                         rolled_back(),
                     ),
                     curable: false,
@@ -249,7 +249,7 @@ impl<D: Dynamics> Model<D> {
                     "the step took longer than solver.wall_time_budget = {} s (it had reached \
                      t = {:e} s of {to:e} s); {}; use shorter communication steps or \
                      a larger budget",
-                    crate::report::fmt_number(self.wall_time_budget),
+                    crate::numbers::fmt_number(self.wall_time_budget),
                     t0 + reached,
                     rolled_back(),
                 ),

@@ -9,9 +9,11 @@ use crate::system::System;
 use derived::{beam_dynamics, body_accelerations, frames_now};
 
 pub mod derived;
+mod finite;
 pub mod mask;
 
 pub use derived::Probes;
+pub use finite::non_finite_output;
 
 /// How an output is typed when exported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

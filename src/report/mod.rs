@@ -2,7 +2,6 @@
 //! figures of merit (`RunSummary`), CSV and PNG writers. Shared by the
 //! command line, the tests and the FMU cross-check.
 
-pub mod converge_plot;
 pub mod csv;
 pub mod curve_groups;
 mod deck_acceleration;
@@ -14,29 +13,17 @@ pub mod plot_style;
 mod run;
 mod stream;
 mod summary;
-pub mod sweep_plot;
 mod trace;
 
-pub use run::{
-    drive, run_scene, stop_time, Run, RunError, StepProgress, Steppable, DEFAULT_END_TIME_FACTOR,
-};
+pub use crate::numbers::fmt_number;
+pub use crate::outputs::non_finite_output;
+pub use run::{drive, run_scene, Run, RunError, Steppable};
 pub use stream::{
-    check_run_length, drive_into, non_finite_output, RowSink, StreamError, Streamed,
-    DEFAULT_MAX_STEPS,
+    check_run_length, drive_into, stop_time, RowSink, StepProgress, StreamError, Streamed,
+    DEFAULT_END_TIME_FACTOR, DEFAULT_MAX_STEPS,
 };
 pub use summary::{RunSummary, SummaryBuilder, SummaryEvent};
 pub use trace::{Decimated, Trace};
-
-/// A number for a message: plain between 1e-3 and 1e6, else in exponent
-/// form (shortest round-trip digits either way), so that 5e-324 is not
-/// printed with 325 digits.
-pub fn fmt_number(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-3..1e6).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
-}
 
 /// Names of the simulation outputs the report reads.
 pub mod output_names {

@@ -1,18 +1,13 @@
 //! Drive a simulation from start to exit, recording every internal step.
 
-use super::stream::{check_run_length, drive_into, StreamError};
+use super::stream::{check_run_length, drive_into, StepProgress, StreamError};
 use super::summary::RunSummary;
 use super::trace::Trace;
 use crate::scene::Scene;
-use crate::simulation::run_end::{run_end, RunEnd};
 use crate::simulation::{Simulation, SolverError};
 use std::fmt;
 use std::ops::ControlFlow;
 use std::time::Duration;
-
-/// When a run without `solver.end_time` gives up waiting for the exit: this
-/// many times the rigid-beam travel time of the last vehicle to leave.
-pub const DEFAULT_END_TIME_FACTOR: f64 = 10.0;
 
 /// A finished (or, inside `RunError::Solver`, interrupted) run.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,14 +34,6 @@ impl Run {
     }
 }
 
-/// Where a run is, reported after each internal step.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct StepProgress {
-    pub time: f64,
-    /// 0 at the start, 1 at the exit or the end time (an estimate between).
-    pub fraction: f64,
-}
-
 #[derive(Debug, Clone, PartialEq)]
 pub enum RunError {
     /// The model could not be built from the scene.
@@ -68,22 +55,6 @@ impl fmt::Display for RunError {
 }
 
 impl std::error::Error for RunError {}
-
-/// The time at which a run stops if the last contact has not left the
-/// beam (`simulation::run_end`, the one rule): `solver.end_time`, or
-/// `DEFAULT_END_TIME_FACTOR` × the last exit at the vehicles' initial
-/// speeds. Without an end time a vehicle must start moving.
-pub fn stop_time(scene: &Scene) -> Result<f64, String> {
-    match run_end(scene) {
-        RunEnd::EndTime(end) => Ok(end),
-        RunEnd::LastExit { distance, speed } => Ok(DEFAULT_END_TIME_FACTOR * distance / speed),
-        RunEnd::NoExit => Err(format!(
-            "body.initial_speed = {:?} and no vehicle moves: a run without solver.end_time \
-             ends when the last contact leaves the beam, so a vehicle must start moving",
-            scene.body.initial_speed
-        )),
-    }
-}
 
 pub use crate::simulation::Steppable;
 

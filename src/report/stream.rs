@@ -3,10 +3,11 @@
 //! that memory does not grow with the length of the run.
 
 use super::output_names;
-use super::run::{stop_time, StepProgress};
 use super::trace::Trace;
+use crate::outputs::non_finite_output;
 use crate::scene::Scene;
-use crate::simulation::{Advance, OutputInfo, SolverError, Steppable};
+use crate::simulation::run_end::{run_end, RunEnd};
+use crate::simulation::{Advance, SolverError, Steppable};
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
 
@@ -14,6 +15,34 @@ use std::time::{Duration, Instant};
 /// a few seconds on the paper's two-element beam, about a minute on 128
 /// elements (the cost of a step grows linearly with the elements).
 pub const DEFAULT_MAX_STEPS: u64 = 1_000_000;
+
+/// When a run without `solver.end_time` gives up waiting for the exit: this
+/// many times the rigid-beam travel time of the last vehicle to leave.
+pub const DEFAULT_END_TIME_FACTOR: f64 = 10.0;
+
+/// Where a run is, reported after each internal step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StepProgress {
+    pub time: f64,
+    /// 0 at the start, 1 at the exit or the end time (an estimate between).
+    pub fraction: f64,
+}
+
+/// The time at which a run stops if the last contact has not left the
+/// beam (`simulation::run_end`, the one rule): `solver.end_time`, or
+/// `DEFAULT_END_TIME_FACTOR` × the last exit at the vehicles' initial
+/// speeds. Without an end time a vehicle must start moving.
+pub fn stop_time(scene: &Scene) -> Result<f64, String> {
+    match run_end(scene) {
+        RunEnd::EndTime(end) => Ok(end),
+        RunEnd::LastExit { distance, speed } => Ok(DEFAULT_END_TIME_FACTOR * distance / speed),
+        RunEnd::NoExit => Err(format!(
+            "body.initial_speed = {:?} and no vehicle moves: a run without solver.end_time \
+             ends when the last contact leaves the beam, so a vehicle must start moving",
+            scene.body.initial_speed
+        )),
+    }
+}
 
 /// Where the rows of a run go.
 pub trait RowSink {
@@ -83,30 +112,6 @@ pub fn check_run_length(scene: &Scene, max_steps: u64, how_to_raise: &str) -> Re
         ));
     }
     Ok(steps as u64)
-}
-
-/// The first output that is not a finite number, named with its value.
-/// The CLI and the FMU refuse the same values with it.
-#[allow(clippy::eq_op)] // x − x is the point: 0 or NaN
-pub fn non_finite_output(outputs: &[OutputInfo], values: &[f64]) -> Option<String> {
-    // x − x is 0 for a finite x, NaN otherwise: a sum without a branch per
-    // value first (this runs after every step), the search only on failure.
-    // Four sums side by side, which the compiler keeps in vector registers.
-    let mut sums = [0.0; 4];
-    let fours = values.chunks_exact(4);
-    let rest = fours.remainder();
-    for four in fours {
-        for (sum, &x) in sums.iter_mut().zip(four) {
-            *sum += x - x;
-        }
-    }
-    let rest = rest.iter().fold(0.0, |sum, &x| sum + (x - x));
-    if sums.iter().sum::<f64>() + rest == 0.0 {
-        return None;
-    }
-    let k = values.iter().position(|x| !x.is_finite())?;
-    let name = outputs.get(k).map_or("?", |o| o.name.as_str());
-    Some(format!("output {name} is {}", values[k]))
 }
 
 /// Drive `simulation` of `scene` until the body leaves the beam or the stop

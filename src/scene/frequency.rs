@@ -18,12 +18,6 @@ const TOLERANCE: f64 = 1e-12;
 /// Relative disagreement accepted when the iteration stalls at round-off.
 const ACCEPTED: f64 = 1e-9;
 
-/// The serde default of `beam.bending_stiffness`: not a number, so that a
-/// scene that gives neither EI nor f1 fails the rule on EI.
-pub(super) fn stiffness_not_given() -> f64 {
-    f64::NAN
-}
-
 /// Replace `beam.frequency` by the `beam.bending_stiffness` it implies;
 /// refuse a scene that gives both or neither.
 pub(super) fn resolve(scene: &mut Scene, text: &str) -> Result<(), SceneError> {

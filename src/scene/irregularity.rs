@@ -1,13 +1,14 @@
-//! Track irregularities in a scene: `[[track.irregularities]]`, summed into
-//! the profile r(x) that `crate::profile` evaluates; their rules, and the
-//! reading of profile tables from CSV files beside the scene.
+//! Track irregularities in a scene (`[[track.irregularities]]`, each a
+//! `structure::profile::IrregularitySpec`, summed into the profile r(x)):
+//! their rules, and the reading of profile tables from CSV files beside the
+//! scene.
 
-use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 use super::error::Problem;
 use super::{Scene, SceneError, MAX_MAGNITUDE, MAX_SCENE_BYTES};
 use crate::profile::spectrum::{Grid, Spectrum, MAX_SAMPLES};
+use crate::structure::profile::IrregularitySpec;
 
 /// Most irregularities in a scene (the scene's list limit).
 pub const MAX_IRREGULARITIES: usize = 10_000;
@@ -16,72 +17,6 @@ pub const MAX_IRREGULARITIES: usize = 10_000;
 /// 1 m), so this is ten times the scene's list limit; the scene's byte
 /// limit bounds the text either way.
 pub const MAX_TABLE_POINTS: usize = 100_000;
-
-/// One irregularity of the running surface, r(x) in metres (up positive),
-/// added on the beam and on the rigid approach and run-off alike.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
-pub enum IrregularitySpec {
-    /// A rise by `height` centred at `position`, smoothed over `smoothing`
-    /// metres (half a sine period): a bilateral contact cannot follow a
-    /// sharp step without an impulse.
-    Step {
-        position: f64,
-        height: f64,
-        smoothing: f64,
-    },
-    /// A linear rise by `height` from `start` over `length`, its two
-    /// corners rounded over `smoothing` metres each.
-    Ramp {
-        start: f64,
-        length: f64,
-        height: f64,
-        smoothing: f64,
-    },
-    /// A dip −depth (1 + cos 2π(x − position)/wavelength)/2 one wavelength
-    /// long, centred at `position`.
-    CosineDip {
-        position: f64,
-        wavelength: f64,
-        depth: f64,
-    },
-    /// amplitude · sin(2π x / wavelength + phase) along the whole track.
-    Sine {
-        amplitude: f64,
-        wavelength: f64,
-        #[serde(default)]
-        phase: f64,
-    },
-    /// A table of (x, r) points, inline or read from a CSV `file` (path
-    /// relative to the scene file; read when the scene is loaded and kept
-    /// inline from then on), interpolated by a cubic spline.
-    Table {
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        file: Option<String>,
-        #[serde(default, skip_serializing_if = "Vec::is_empty")]
-        points: Vec<[f64; 2]>,
-    },
-    /// A random profile from a spectrum (`iso8608` class A–H, `fra` class
-    /// 1–6, `german_low`, `german_high`) within a wavelength band, from a
-    /// seed; `spacing` of its samples defaults to shortest_wavelength / 10.
-    Random {
-        spectrum: String,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        class: Option<String>,
-        seed: u32,
-        shortest_wavelength: f64,
-        longest_wavelength: f64,
-        #[serde(default, skip_serializing_if = "Option::is_none")]
-        spacing: Option<f64>,
-    },
-}
-
-impl IrregularitySpec {
-    /// The sample spacing of a random profile.
-    pub fn random_spacing(shortest_wavelength: f64, spacing: Option<f64>) -> f64 {
-        spacing.unwrap_or(shortest_wavelength / 10.0)
-    }
-}
 
 /// Where a random profile's grid starts and how long the track is (m).
 pub fn track_extent(scene: &Scene) -> (f64, f64) {

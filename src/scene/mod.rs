@@ -15,13 +15,14 @@ mod limits;
 mod on_deck;
 mod validate;
 
+pub use crate::structure::profile::IrregularitySpec;
 pub use advice::advisories;
 pub use builtin::{builtin, builtins, fmu_builtins, template_file, templates, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
 pub use fields::field_notes_markdown;
 pub use irregularity::{
-    parse_table, read_table, track_extent, IrregularitySpec, MAX_IRREGULARITIES, MAX_TABLE_POINTS,
+    parse_table, read_table, track_extent, MAX_IRREGULARITIES, MAX_TABLE_POINTS,
     TABLE_PATHS_VARIABLE,
 };
 pub use limits::{contact_rows, MAX_CONTACT_ROWS};
@@ -77,179 +78,10 @@ pub struct Scene {
     pub couplings: Vec<String>,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BeamSpec {
-    /// Length L of the beam (m).
-    pub length: f64,
-    /// Mass per unit length (kg/m).
-    pub mass_per_length: f64,
-    /// Bending stiffness EI (N m^2); left out when `frequency` gives it.
-    #[serde(default = "frequency::stiffness_not_given")]
-    pub bending_stiffness: f64,
-    /// First natural frequency f1 (Hz), instead of `bending_stiffness`:
-    /// reading the scene sets EI so that the model's first mode has f1,
-    /// then clears this field.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub frequency: Option<f64>,
-    /// Distance h from the neutral axis to the top surface (m).
-    pub surface_offset: f64,
-    /// Number of Hermite cubic elements.
-    pub elements: usize,
-    #[serde(default)]
-    pub supports: SupportsSpec,
-    /// Rayleigh structural damping C = α M + β K; none when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub damping: Option<DampingSpec>,
-    /// Joints splitting the structure into several beams in a row, by
-    /// increasing abscissa; none: one beam.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub joints: Vec<JointSpec>,
-    /// A Winkler foundation under the whole beam (a rail on its track bed);
-    /// none when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub foundation: Option<FoundationSpec>,
-}
-
-/// A continuous (Winkler) elastic foundation: a distributed spring and
-/// damper to the ground under every point of the beam, per metre of beam.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct FoundationSpec {
-    /// Typical values to start from (docs/structures.md gives their
-    /// sources); `stiffness` and `damping` override them.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub preset: Option<FoundationPreset>,
-    /// Foundation modulus k (N/m per metre of beam, N/m²).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub stiffness: Option<f64>,
-    /// Foundation damping c (N s/m per metre of beam, N s/m²).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub damping: Option<f64>,
-}
-
-/// Track beds with typical foundation values per rail.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum FoundationPreset {
-    /// Rail on pads, sleepers and ballast.
-    Ballasted,
-    /// Rail on elastic fastenings on a concrete slab.
-    Slab,
-}
-
-impl FoundationPreset {
-    /// (stiffness N/m², damping N s/m²) per rail: docs/structures.md
-    /// derives them from their sources.
-    pub fn values(self) -> (f64, f64) {
-        match self {
-            FoundationPreset::Ballasted => (3.3e7, 4.5e4),
-            FoundationPreset::Slab => (9.2e7, 7.3e4),
-        }
-    }
-}
-
-impl FoundationSpec {
-    /// The foundation modulus k (N/m²): the given one, else the preset's,
-    /// else 0 (refused by validation).
-    pub fn stiffness(&self) -> f64 {
-        self.stiffness
-            .or(self.preset.map(|p| p.values().0))
-            .unwrap_or(0.0)
-    }
-
-    /// The foundation damping c (N s/m²): the given one, else the
-    /// preset's, else 0.
-    pub fn damping(&self) -> f64 {
-        self.damping
-            .or(self.preset.map(|p| p.values().1))
-            .unwrap_or(0.0)
-    }
-}
-
-/// Where one beam of the track meets the next.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct JointSpec {
-    /// Abscissa of the joint (m); for a separate joint, where the beam
-    /// before it ends.
-    pub at: f64,
-    pub kind: JointKind,
-    /// Separate joints only: width of the rail gap (m); the next beam
-    /// starts at `at + gap`.
-    #[serde(default)]
-    pub gap: f64,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum JointKind {
-    /// The beam runs on over a pinned support at `at` (as an intermediate
-    /// support).
-    Continuous,
-    /// Internal hinge: deflection shared, rotations independent; no support
-    /// of its own (add an intermediate support or a spring at `at`).
-    Hinge,
-    /// Two simply supported beams: the one before ends pinned at `at`, the
-    /// next starts pinned at `at + gap`.
-    Separate,
-}
-
-/// An elastic support at a node: vertical and rotational springs and
-/// dampers to the ground (all default 0).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SpringSpec {
-    /// Abscissa (m), 0 <= at <= L; a node is placed there.
-    pub at: f64,
-    /// Vertical stiffness (N/m).
-    #[serde(default)]
-    pub vertical: f64,
-    /// Rotational stiffness (N m/rad).
-    #[serde(default)]
-    pub rotational: f64,
-    /// Vertical damping (N s/m).
-    #[serde(default)]
-    pub vertical_damping: f64,
-    /// Rotational damping (N m s/rad).
-    #[serde(default)]
-    pub rotational_damping: f64,
-}
-
-/// Rayleigh damping of the beam, C = α M + β K, given either way:
-/// `{ alpha = 0.1, beta = 1e-4 }` (coefficients, 1/s and s), or
-/// `{ ratio = 0.02, modes = [1, 3] }` (the same damping ratio ζ at the two
-/// natural bending modes numbered from 1), or
-/// `{ ratios = [0.02, 0.03], frequencies = [4.0, 30.0] }` (ζ at two
-/// frequencies in Hz); or modal damping, `{ ratio = 0.015 }` alone: the
-/// same ratio ζ in every mode (EN 1991-2's one ratio; C = Σ 2 ζ ωᵢ
-/// (M φᵢ)(M φᵢ)ᵀ, exact on the modal structure).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(
-    untagged,
-    deny_unknown_fields,
-    expecting = "one of { alpha, beta } (Rayleigh coefficients), { ratio, modes = [i, j] }, \
-                 { ratios = [z1, z2], frequencies = [f1, f2] } (Hz), or { ratio } alone (the \
-                 same ratio in every mode), with no other fields"
-)]
-pub enum DampingSpec {
-    Coefficients {
-        alpha: f64,
-        beta: f64,
-    },
-    Modes {
-        ratio: f64,
-        modes: [usize; 2],
-    },
-    Frequencies {
-        ratios: [f64; 2],
-        frequencies: [f64; 2],
-    },
-    /// After `Modes`, so that `{ ratio, modes }` stays Rayleigh.
-    Modal {
-        ratio: f64,
-    },
-}
+// The beam's parameters are the structure's (structure/beam/spec.rs).
+pub use crate::structure::beam::{
+    BeamSpec, DampingSpec, FoundationPreset, FoundationSpec, JointKind, JointSpec, SpringSpec,
+};
 
 /// The rigid approach (x < 0) and run-off (x > L) of the track (m).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
@@ -334,46 +166,7 @@ fn default_gravity() -> f64 {
     9.81
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SupportsSpec {
-    #[serde(default = "pinned")]
-    pub left: EndSupport,
-    #[serde(default = "pinned")]
-    pub right: EndSupport,
-    /// Abscissae (m) of intermediate pinned supports for multi-span beams.
-    #[serde(default)]
-    pub intermediate: Vec<f64>,
-    /// Elastic supports (springs and dampers to the ground) at nodes.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub springs: Vec<SpringSpec>,
-}
-
-fn pinned() -> EndSupport {
-    EndSupport::Pinned
-}
-
-impl Default for SupportsSpec {
-    fn default() -> Self {
-        SupportsSpec {
-            left: EndSupport::Pinned,
-            right: EndSupport::Pinned,
-            intermediate: Vec::new(),
-            springs: Vec::new(),
-        }
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum EndSupport {
-    /// Deflection held, rotation free.
-    Pinned,
-    /// Deflection and rotation held.
-    Clamped,
-    /// Nothing held.
-    Free,
-}
+pub use crate::structure::beam::{EndSupport, SupportsSpec};
 
 /// The vehicle (or moving force): its kind, mass, start and loads.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -595,157 +388,10 @@ pub struct SectionSpec {
     pub position: f64,
 }
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SolverSpec {
-    /// Fixed internal time step (s).
-    #[serde(default = "default_step")]
-    pub step: f64,
-    /// Tolerance on the velocity error |e| (m/s); paper: 1e-7.
-    #[serde(default = "default_velocity_tolerance")]
-    pub velocity_tolerance: f64,
-    /// Tolerance on the gap error |g| (m); paper: 1e-5.
-    #[serde(default = "default_gap_tolerance")]
-    pub gap_tolerance: f64,
-    /// Cap on contact-force iterations per stage and step.
-    #[serde(default = "default_max_iterations")]
-    pub max_iterations: u32,
-    /// Time integrator of the bodies.
-    #[serde(default)]
-    pub integrator: IntegratorKind,
-    /// Numerical damping of the implicit scheme, −α of HHT-α, in [0, 1/3]
-    /// (0: Newmark's average acceleration, energy-conserving).
-    #[serde(default)]
-    pub numerical_damping: f64,
-    /// How the contact force varies within a step under RK4 (HHT-α's
-    /// unknown force is its end-of-step value whatever this says).
-    #[serde(default, skip_serializing_if = "ForceProfile::is_default")]
-    pub force_profile: ForceProfile,
-    /// Stop time (s) if the body has not left the beam before.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub end_time: Option<f64>,
-    /// The state at t = 0: `rest` on the undeformed beam, or `static`: the
-    /// beam deflected under the vehicles' weight and every suspension at
-    /// its preload (the vehicles start in equilibrium).
-    #[serde(default, skip_serializing_if = "StartKind::is_rest")]
-    pub start: StartKind,
-    /// How the beam is represented: its finite elements (`full`), or its
-    /// lowest natural modes (`modal`, with `modes` or `max_frequency`).
-    #[serde(default, skip_serializing_if = "StructureKind::is_full")]
-    pub structure: StructureKind,
-    /// With `structure = "modal"`: how many of the lowest modes to keep.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub modes: Option<usize>,
-    /// With `structure = "modal"`: keep the modes up to this frequency (Hz).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub max_frequency: Option<f64>,
-    /// Relative error the summary figures must meet: `guideway run` then
-    /// chooses the step (as with `--rtol`; docs/error-estimates.md).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub tolerance: Option<f64>,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum StructureKind {
-    /// Every finite-element DOF of the beam (the paper's model).
-    #[default]
-    Full,
-    /// The beam's lowest natural modes of the finite-element model.
-    Modal,
-}
-
-impl StructureKind {
-    pub fn is_full(&self) -> bool {
-        *self == StructureKind::Full
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum StartKind {
-    #[default]
-    Rest,
-    Static,
-}
-
-impl StartKind {
-    pub fn is_rest(&self) -> bool {
-        *self == StartKind::Rest
-    }
-}
-
-// The solver's defaults are `SolverParameters::DEFAULT`'s (one source).
-const SOLVER_DEFAULTS: crate::solver::parameters::SolverParameters =
-    crate::solver::parameters::SolverParameters::DEFAULT;
-
-fn default_step() -> f64 {
-    SOLVER_DEFAULTS.step
-}
-fn default_velocity_tolerance() -> f64 {
-    SOLVER_DEFAULTS.iteration.velocity_tolerance
-}
-fn default_gap_tolerance() -> f64 {
-    SOLVER_DEFAULTS.iteration.gap_tolerance
-}
-fn default_max_iterations() -> u32 {
-    SOLVER_DEFAULTS.iteration.max_iterations
-}
-
-impl Default for SolverSpec {
-    fn default() -> Self {
-        SolverSpec {
-            step: default_step(),
-            velocity_tolerance: default_velocity_tolerance(),
-            gap_tolerance: default_gap_tolerance(),
-            max_iterations: default_max_iterations(),
-            integrator: IntegratorKind::default(),
-            numerical_damping: 0.0,
-            force_profile: ForceProfile::default(),
-            end_time: None,
-            start: StartKind::Rest,
-            structure: StructureKind::Full,
-            modes: None,
-            max_frequency: None,
-            tolerance: None,
-        }
-    }
-}
-
-/// The contact force within a step. The iteration's unknown is always the
-/// force's mean over the step; the profile sets its shape from the means of
-/// the steps before.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ForceProfile {
-    /// Constant over the step: the paper's scheme (second order).
-    #[default]
-    Held,
-    /// Linear: its mean over this step and the previous one as found.
-    Linear,
-    /// Quadratic: its means over this step and the two before as found.
-    Quadratic,
-}
-
-impl ForceProfile {
-    pub fn is_default(&self) -> bool {
-        *self == ForceProfile::default()
-    }
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum IntegratorKind {
-    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
-    #[default]
-    Rk4,
-    /// HHT-α for the beam (implicit, unconditionally stable), damping
-    /// `numerical_damping`.
-    Hht,
-    /// RK4 where `step` is within its stability limit for the mesh, HHT-α
-    /// otherwise.
-    Auto,
-}
+// The solver's parameters are the solver's (solver/spec.rs, solver/integrate).
+pub use crate::solver::integrate::{ForceProfile, IntegratorKind};
+pub use crate::solver::spec::{SolverSpec, StartKind};
+pub use crate::structure::modal::StructureKind;
 
 impl Scene {
     /// Parse a scene from TOML text and validate it.

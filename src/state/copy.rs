@@ -340,7 +340,7 @@ mod tests {
     fn copy_between_shapes_equals_clone() {
         let mut fine = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
         fine.beam.elements = 8;
-        fine.solver.integrator = crate::scene::IntegratorKind::Hht;
+        fine.solver.integrator = crate::solver::integrate::IntegratorKind::Hht;
         let coarse = Scene::lee1994(BodyKind::Glider, 30.0, 0.0025);
         let (a, b) = (state_after(&fine, 10), state_after(&coarse, 10));
         let mut into = a.clone();
@@ -354,7 +354,7 @@ mod tests {
     fn a_checked_copy_equals_clone_between_any_shapes() {
         let mut fine = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
         fine.beam.elements = 8;
-        fine.solver.integrator = crate::scene::IntegratorKind::Hht;
+        fine.solver.integrator = crate::solver::integrate::IntegratorKind::Hht;
         let coarse = Scene::lee1994(BodyKind::Glider, 30.0, 0.0025);
         let wheel = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
         let states = [

@@ -19,9 +19,26 @@
 use std::sync::Arc;
 
 use nalgebra::{Cholesky, DMatrix, DVector, Dyn};
+use serde::{Deserialize, Serialize};
 
 use crate::beam::{lowest_modes_by_subspace, HermiteBeam, Wanted, DENSE_MODE_DOFS};
-use crate::scene::{SolverSpec, StructureKind};
+
+/// The scene's `solver.structure`: how the beam is represented.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum StructureKind {
+    /// Every finite-element DOF of the beam (the paper's model).
+    #[default]
+    Full,
+    /// The beam's lowest natural modes of the finite-element model.
+    Modal,
+}
+
+impl StructureKind {
+    pub fn is_full(&self) -> bool {
+        *self == StructureKind::Full
+    }
+}
 
 /// Which modes a modal structure keeps.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -30,21 +47,6 @@ pub enum ModeSelection {
     Count(usize),
     /// Every mode up to this frequency (Hz).
     UpTo(f64),
-}
-
-impl ModeSelection {
-    /// The selection a (validated) solver spec asks for, `None` for the
-    /// full structure.
-    pub fn of(solver: &SolverSpec) -> Option<ModeSelection> {
-        if solver.structure == StructureKind::Full {
-            return None;
-        }
-        match (solver.modes, solver.max_frequency) {
-            (Some(k), _) => Some(ModeSelection::Count(k)),
-            (None, Some(f)) => Some(ModeSelection::UpTo(f)),
-            (None, None) => None,
-        }
-    }
 }
 
 /// The kept modes: shapes on the free DOFs (one per column) and their
@@ -317,7 +319,7 @@ fn modes_up_to(beam: &HermiteBeam, hz: f64) -> Result<(Vec<f64>, DMatrix<f64>), 
 mod tests {
     use super::*;
     use crate::beam::start_value;
-    use crate::scene::{BeamSpec, EndSupport, SupportsSpec};
+    use crate::structure::beam::{BeamSpec, DampingSpec, EndSupport, SupportsSpec};
 
     fn beam(elements: usize, supports: SupportsSpec) -> HermiteBeam {
         HermiteBeam::new(&BeamSpec {
@@ -426,7 +428,7 @@ mod tests {
             supports: SupportsSpec::default(),
             joints: Vec::new(),
             foundation: None,
-            damping: Some(crate::scene::DampingSpec::Coefficients {
+            damping: Some(DampingSpec::Coefficients {
                 alpha: 0.3,
                 beta: 2e-4,
             }),

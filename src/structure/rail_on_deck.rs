@@ -9,7 +9,7 @@
 
 use crate::beam::{element_mass, element_stiffness};
 use crate::mesh::Mesh;
-use crate::scene::{BeamSpec, SupportsSpec};
+use crate::structure::beam::{BeamSpec, SupportsSpec};
 use crate::wide_band::WideBand;
 use nalgebra::Matrix4;
 

@@ -8,7 +8,7 @@
 //! it yet (the seam's geometry is one beam's).
 
 use crate::beam::{element_mass, element_stiffness, Rayleigh};
-use crate::scene::BeamSpec;
+use crate::structure::beam::BeamSpec;
 use crate::structure::rail_on_deck::{hermite, place, RailOnDeck, TrackLayout};
 use crate::wide_band::{WideBand, WideLdlt};
 use nalgebra::DMatrix;

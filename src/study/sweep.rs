@@ -156,7 +156,7 @@ pub struct DesignPeak {
 /// mode is exact).
 pub fn structure_of(scene: &Scene) -> Result<Beam, String> {
     let beam = Beam::new(&scene.beam)?;
-    match crate::modal::ModeSelection::of(&scene.solver) {
+    match scene.solver.mode_selection() {
         Some(selection) => beam.reduce_to_modes(selection),
         None => Ok(beam),
     }

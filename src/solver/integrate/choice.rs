@@ -1,9 +1,25 @@
 //! Which integrator a scene runs, and why (for `auto`).
 
 use super::{Hht, Integrator, Rk4};
-use crate::scene::{IntegratorKind, SolverSpec};
+use crate::solver::spec::SolverSpec;
 use crate::system::System;
 use nalgebra::Complex;
+use serde::{Deserialize, Serialize};
+
+/// The scene's `solver.integrator`: which scheme advances the bodies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum IntegratorKind {
+    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
+    #[default]
+    Rk4,
+    /// HHT-α for the beam (implicit, unconditionally stable), damping
+    /// `numerical_damping`.
+    Hht,
+    /// RK4 where `step` is within its stability limit for the mesh, HHT-α
+    /// otherwise.
+    Auto,
+}
 
 type Complex64 = Complex<f64>;
 

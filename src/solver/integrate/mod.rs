@@ -18,10 +18,10 @@ use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::add_element_forces;
 use crate::system::{System, TrackPart};
 
-pub use choice::{choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
+pub use choice::{choose_integrator, rk4_step_limit, IntegratorKind, AUTO_MIN_DAMPING};
 pub use hht::Hht;
 pub use memo::FrameMemo;
-pub use profile::{force_shape, ForceShape};
+pub use profile::{force_shape, ForceProfile, ForceShape};
 pub use rk4::Rk4;
 
 /// Positions and velocities of everything that moves, plus each contact's

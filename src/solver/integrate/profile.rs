@@ -10,9 +10,30 @@
 //! quadratic one it is O(Δt³) and the coupled step is fourth order.
 
 use nalgebra::{Matrix2, Matrix3, RowVector2, RowVector3, Vector2};
+use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactForce;
-use crate::scene::ForceProfile;
+
+/// The contact force within a step. The iteration's unknown is always the
+/// force's mean over the step; the profile sets its shape from the means of
+/// the steps before.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ForceProfile {
+    /// Constant over the step: the paper's scheme (second order).
+    #[default]
+    Held,
+    /// Linear: its mean over this step and the previous one as found.
+    Linear,
+    /// Quadratic: its means over this step and the two before as found.
+    Quadratic,
+}
+
+impl ForceProfile {
+    pub fn is_default(&self) -> bool {
+        *self == ForceProfile::default()
+    }
+}
 
 /// RK4's distinct stage times as fractions of the step.
 pub const STAGE_FRACTIONS: [f64; 3] = [0.0, 0.5, 1.0];

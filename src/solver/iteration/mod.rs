@@ -998,7 +998,7 @@ impl ContactIteration {
             format!(
                 "its contact operator needs {integrations} integrations of the beam's \
                  {elements} elements, at least {} s",
-                crate::report::fmt_number(seconds)
+                crate::numbers::fmt_number(seconds)
             )
         });
     }

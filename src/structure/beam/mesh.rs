@@ -12,7 +12,7 @@
 
 use std::ops::Range;
 
-use crate::scene::{BeamSpec, EndSupport, JointKind};
+use super::{BeamSpec, EndSupport, JointKind};
 
 /// One smooth piece of the track's surface: a beam, or the part of a beam
 /// between its ends and hinges; its abscissae and its elements.

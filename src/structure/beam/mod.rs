@@ -10,13 +10,18 @@ use crate::band::{BandLdlt, SymBand};
 use crate::bending::Bending;
 use crate::mesh::{GroundSpring, Mesh, Segment};
 use crate::modal::ModalFactor;
-use crate::scene::{BeamSpec, DampingSpec};
-use crate::two_level::{CoarseMesh, Effective, FineMesh, TwoLevelFactor, PLAIN_FACTOR_ERROR};
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
+use two_level::{CoarseMesh, Effective, FineMesh, TwoLevelFactor, PLAIN_FACTOR_ERROR};
 
 pub mod bending;
 pub mod mesh;
+mod spec;
 mod subspace;
+pub mod two_level;
+pub use spec::{
+    BeamSpec, DampingSpec, EndSupport, FoundationPreset, FoundationSpec, JointKind, JointSpec,
+    SpringSpec, SupportsSpec,
+};
 #[cfg(test)]
 pub(crate) use subspace::start_value;
 pub(crate) use subspace::{lowest as lowest_modes_by_subspace, Wanted};
@@ -1161,7 +1166,6 @@ impl HermiteBeam {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::{EndSupport, SupportsSpec};
     use nalgebra::DMatrix;
 
     fn paper_beam(elements: usize) -> BeamSpec {
@@ -1253,7 +1257,7 @@ mod tests {
         free.supports.right = EndSupport::Free;
         specs.push(free.clone());
         // Stiff springs raise the highest frequency above the elements' bound.
-        let spring = |at, vertical| crate::scene::SpringSpec {
+        let spring = |at, vertical| SpringSpec {
             at,
             vertical,
             rotational: 1e12,
@@ -1325,7 +1329,6 @@ mod tests {
 
     /// Beams of every kind of support and joint, uniform and not.
     fn varied_beams() -> Vec<BeamSpec> {
-        use crate::scene::{JointKind, JointSpec};
         let mut specs = vec![paper_beam(1), paper_beam(2), paper_beam(7)];
         let mut clamped = paper_beam(9);
         clamped.supports.left = EndSupport::Clamped;
@@ -1337,7 +1340,7 @@ mod tests {
         let mut free = paper_beam(6);
         free.supports.left = EndSupport::Free;
         free.supports.right = EndSupport::Free;
-        free.supports.springs = vec![crate::scene::SpringSpec {
+        free.supports.springs = vec![SpringSpec {
             at: 10.0,
             vertical: 1e10,
             rotational: 1e8,

@@ -7,12 +7,13 @@
 //! the scene), so a contact that stays closed follows it with a bounded
 //! force; r'' may jump where a shape starts or ends.
 
+mod spec;
 pub mod spectrum;
 pub mod spline;
 
 use std::f64::consts::PI;
 
-use crate::scene::IrregularitySpec;
+pub use spec::IrregularitySpec;
 use spectrum::{Grid, Spectrum};
 use spline::{PeriodicSpline, TableSpline};
 

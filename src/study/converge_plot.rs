@@ -2,9 +2,9 @@
 //! the step (or elements), log–log, with its observed order in the legend,
 //! and the solve time of each run below (work against precision).
 
-use super::plot::{load_font, Text, FONT};
-use crate::study::converge::{Ladder, Point};
-use crate::study::convergence::is_error_measure;
+use super::converge::{Ladder, Point};
+use super::convergence::is_error_measure;
+use crate::report::plot::{load_font, Text, FONT};
 use plotters::prelude::*;
 use std::path::Path;
 

@@ -4,9 +4,9 @@
 //! deck acceleration limit of EN 1990 Annex A2 (A2.4.4.2.1) for the track on the
 //! deck: 3.5 m/s² on ballasted track, 5 m/s² on slab track.
 
-use super::plot::{load_font, Text, FONT};
-use super::plot_style::{colour, err, limit_line};
-use crate::study::sweep::{EnvelopeRow, SpeedUnit};
+use super::sweep::{EnvelopeRow, SpeedUnit};
+use crate::report::plot::{load_font, Text, FONT};
+use crate::report::plot_style::{colour, err, limit_line};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
