@@ -4,10 +4,10 @@
 //! share of the vehicle's weight, so that it starts where the law carries
 //! that share.
 
-use super::Vehicle;
 use crate::contact::{ContactKind, Follower};
 use crate::contact_law::{hertz_compression, magnet_equivalent, LawKind};
 use crate::scene::ResolvedLaw;
+use crate::vehicle::presets::Vehicle;
 
 /// Put every contact of `vehicle` on `law`, each carrying `share` (N).
 /// A Hertz contact body starts sunk by its static compression; a wheel
