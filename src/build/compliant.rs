@@ -4,10 +4,9 @@
 //! share of the vehicle's weight, so that it starts where the law carries
 //! that share.
 
-use super::Vehicle;
 use crate::contact::{ContactKind, Follower};
-use crate::contact_law::{hertz_compression, magnet_equivalent, LawKind};
-use crate::scene::ResolvedLaw;
+use crate::contact_law::ResolvedLaw;
+use crate::vehicle::presets::Vehicle;
 
 /// Put every contact of `vehicle` on `law`, each carrying `share` (N).
 /// A Hertz contact body starts sunk by its static compression; a wheel
@@ -15,45 +14,18 @@ use crate::scene::ResolvedLaw;
 /// point on its centre, its radius in the law's rest).
 pub(super) fn apply(vehicle: &mut Vehicle, law: ResolvedLaw, share: f64) -> Result<(), String> {
     for contact in &mut vehicle.contacts {
-        let radius = contact.radius();
-        let (kind, stiffness, damping, rest) = match law {
-            ResolvedLaw::Rigid => return Ok(()),
-            ResolvedLaw::Hertz { coefficient } => {
-                let sunk = hertz_compression(coefficient, share);
-                vehicle.states[contact.body].position.y -= sunk;
-                (LawKind::Hertz { coefficient }, 0.0, 0.0, radius - sunk)
-            }
-            ResolvedLaw::Ems {
-                nominal_gap,
-                proportional_gain,
-                derivative_gain,
-                max_force,
-            } => {
-                let max_force = max_force.unwrap_or(2.0 * share);
-                // NaN-safe: a cap that is not above the load is refused.
-                if max_force.partial_cmp(&share) != Some(std::cmp::Ordering::Greater) {
-                    return Err(format!(
-                        "contact_law.max_force = {max_force} N must exceed the magnet's static \
-                         load {share} N"
-                    ));
-                }
-                let (k, c) =
-                    magnet_equivalent(share, nominal_gap, proportional_gain, derivative_gain);
-                let kind = LawKind::Magnet {
-                    max_force,
-                    nominal_gap,
-                };
-                (kind, k, c, radius)
-            }
+        let Some(f) = law.follower(share, contact.radius())? else {
+            return Ok(());
         };
+        vehicle.states[contact.body].position.y -= f.sunk;
         contact.kind = ContactKind::Glider;
         contact.follower = Some(Follower {
-            stiffness,
-            damping,
+            stiffness: f.stiffness,
+            damping: f.damping,
             preload: share,
-            rest,
+            rest: f.rest,
             attachment: nalgebra::Vector2::zeros(),
-            kind,
+            kind: f.kind,
         });
     }
     Ok(())

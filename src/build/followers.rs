@@ -4,9 +4,9 @@
 //! hanging from the suspension's upper end, so the preset's geometry,
 //! preloads and names stay those of its massive form.
 
-use super::Vehicle;
 use crate::contact::Follower;
 use crate::force_element::Direction;
+use crate::vehicle::presets::Vehicle;
 
 /// Replace every contact body of `vehicle` by a massless follower: its
 /// vertical suspension (stiffness, damping, preload, rest length) becomes

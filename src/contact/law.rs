@@ -26,7 +26,10 @@
 //! (`contact::Follower`): evaluated with the loads at every stage, no rows
 //! in the iteration, slack (open) where the law would pull.
 
-/// Which law a follower's force obeys.
+use super::Follower;
+
+/// Which law a follower's force obeys: each variant's force and energy
+/// are side by side in `impl LawKind` below.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum LawKind {
     /// The massless follower's suspension: P = preload − k (g − rest) − c ġ.
@@ -39,6 +42,139 @@ pub enum LawKind {
     /// (N); its stiffness and damping are the controller's k_e, c_e; its
     /// nominal air gap s₀ (m) gives the air gap and current outputs.
     Magnet { max_force: f64, nominal_gap: f64 },
+}
+
+/// A contact law as a scene resolves it, ready to build: Lee's rigid
+/// constraint, or a compliant law that becomes a follower's `LawKind`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ResolvedLaw {
+    Rigid,
+    Hertz {
+        coefficient: f64,
+    },
+    Ems {
+        nominal_gap: f64,
+        proportional_gain: f64,
+        derivative_gain: f64,
+        max_force: Option<f64>,
+    },
+}
+
+/// A compliant law's follower parameters for a contact body carrying
+/// `share` (N): its law, stiffness, damping, rest gap, and how far the
+/// body starts sunk below its rigid place (m).
+pub struct CompliantFollower {
+    pub kind: LawKind,
+    pub stiffness: f64,
+    pub damping: f64,
+    pub rest: f64,
+    pub sunk: f64,
+}
+
+impl ResolvedLaw {
+    /// The follower of a contact body of radius `radius` carrying
+    /// `share` (N); None for the rigid contact; an error naming the field
+    /// where the law cannot carry it.
+    pub fn follower(&self, share: f64, radius: f64) -> Result<Option<CompliantFollower>, String> {
+        Ok(Some(match *self {
+            ResolvedLaw::Rigid => return Ok(None),
+            ResolvedLaw::Hertz { coefficient } => {
+                let sunk = hertz_compression(coefficient, share);
+                let kind = LawKind::Hertz { coefficient };
+                (kind, 0.0, 0.0, radius - sunk, sunk).into()
+            }
+            ResolvedLaw::Ems {
+                nominal_gap,
+                proportional_gain,
+                derivative_gain,
+                max_force,
+            } => {
+                let max_force = max_force.unwrap_or(2.0 * share);
+                // NaN-safe: a cap that is not above the load is refused.
+                if max_force.partial_cmp(&share) != Some(std::cmp::Ordering::Greater) {
+                    return Err(format!(
+                        "contact_law.max_force = {max_force} N must exceed the magnet's static \
+                         load {share} N"
+                    ));
+                }
+                let (k, c) =
+                    magnet_equivalent(share, nominal_gap, proportional_gain, derivative_gain);
+                let kind = LawKind::Magnet {
+                    max_force,
+                    nominal_gap,
+                };
+                (kind, k, c, radius, 0.0).into()
+            }
+        }))
+    }
+}
+
+impl From<(LawKind, f64, f64, f64, f64)> for CompliantFollower {
+    fn from((kind, stiffness, damping, rest, sunk): (LawKind, f64, f64, f64, f64)) -> Self {
+        CompliantFollower {
+            kind,
+            stiffness,
+            damping,
+            rest,
+            sunk,
+        }
+    }
+}
+
+impl LawKind {
+    /// Normal force (N, compression positive) of `follower` at gap `gap`
+    /// and rate `rate`, before the cut at zero: negative where the law
+    /// would pull (the follower is slack, its contact open).
+    pub fn force(&self, follower: &Follower, gap: f64, rate: f64) -> f64 {
+        let f = follower;
+        let linear = f.preload - f.stiffness * (gap - f.rest) - f.damping * rate;
+        match *self {
+            LawKind::Suspension => linear,
+            LawKind::Magnet { max_force, .. } => linear.min(max_force),
+            LawKind::Hertz { coefficient } => {
+                // Signed, so that the slack side is negative (a lift-off's
+                // instant is where it crosses zero).
+                let compression = hertz_compression(coefficient, f.preload) + f.rest - gap;
+                compression.signum() * coefficient * compression.abs().powf(1.5) - f.damping * rate
+            }
+        }
+    }
+
+    /// Potential energy of `follower`'s spring at gap `gap` (J), zero at
+    /// rest: that of ½ k δ² − preload δ (δ = gap − rest) up to where the
+    /// spring goes slack, constant beyond.
+    pub fn potential_energy(&self, follower: &Follower, gap: f64) -> f64 {
+        let f = follower;
+        match *self {
+            LawKind::Suspension => {
+                let delta = (gap - f.rest).min(f.preload / f.stiffness);
+                0.5 * f.stiffness * delta * delta - f.preload * delta
+            }
+            LawKind::Hertz { coefficient } => {
+                // ∫ C_H δ^{3/2} dδ from the undeformed contact.
+                let offset = hertz_compression(coefficient, f.preload);
+                let compression = (offset + f.rest - gap).max(0.0);
+                0.4 * coefficient * compression.powf(2.5)
+            }
+            LawKind::Magnet { max_force, .. } => {
+                // The linear spring's energy, continued linearly where the
+                // force is held at its cap (δ below the saturation's δ_s).
+                let saturation = (f.preload - max_force) / f.stiffness;
+                let delta = (gap - f.rest).min(f.preload / f.stiffness);
+                let held = delta.max(saturation);
+                0.5 * f.stiffness * held * held - f.preload * held - max_force * (delta - held)
+            }
+        }
+    }
+
+    /// The spring's force alone at gap `gap` (no damper), whose excess
+    /// over the force is the damper's dissipation.
+    pub fn elastic_force(&self, follower: &Follower, gap: f64) -> f64 {
+        match *self {
+            LawKind::Suspension => follower.preload - follower.stiffness * (gap - follower.rest),
+            _ => self.force(follower, gap, 0.0),
+        }
+    }
 }
 
 /// Steel's Young's modulus (Pa) and Poisson's ratio, the default of a

@@ -83,50 +83,13 @@ impl Follower {
     /// The suspension's law before the cut at zero: negative where the
     /// suspension would pull (the follower is slack, its contact open).
     pub fn law(&self, gap: f64, rate: f64) -> f64 {
-        let linear = self.preload - self.stiffness * (gap - self.rest) - self.damping * rate;
-        match self.kind {
-            LawKind::Suspension => linear,
-            LawKind::Magnet { max_force, .. } => linear.min(max_force),
-            LawKind::Hertz { coefficient } => {
-                // Signed, so that the slack side is negative (a lift-off's
-                // instant is where it crosses zero).
-                let compression = self.hertz_offset(coefficient) + self.rest - gap;
-                compression.signum() * coefficient * compression.abs().powf(1.5)
-                    - self.damping * rate
-            }
-        }
+        self.kind.force(self, gap, rate)
     }
 
-    /// A Hertz law's compression at its preload, δ₀ (m).
-    fn hertz_offset(&self, coefficient: f64) -> f64 {
-        crate::contact_law::hertz_compression(coefficient, self.preload)
-    }
-
-    /// Potential energy of its spring at gap `gap` (J), zero at rest: that
-    /// of ½ k δ² − preload δ (δ = gap − rest) up to where the spring goes
-    /// slack, constant beyond.
+    /// Potential energy of its spring at gap `gap` (J), zero at rest
+    /// (each law's beside its force, `LawKind::potential_energy`).
     pub fn potential_energy(&self, gap: f64) -> f64 {
-        match self.kind {
-            LawKind::Suspension => {
-                let delta = (gap - self.rest).min(self.preload / self.stiffness);
-                0.5 * self.stiffness * delta * delta - self.preload * delta
-            }
-            LawKind::Hertz { coefficient } => {
-                // ∫ C_H δ^{3/2} dδ from the undeformed contact.
-                let compression = (self.hertz_offset(coefficient) + self.rest - gap).max(0.0);
-                0.4 * coefficient * compression.powf(2.5)
-            }
-            LawKind::Magnet { max_force, .. } => {
-                // The linear spring's energy, continued linearly where the
-                // force is held at its cap (δ below the saturation's δ_s).
-                let saturation = (self.preload - max_force) / self.stiffness;
-                let delta = (gap - self.rest).min(self.preload / self.stiffness);
-                let held = delta.max(saturation);
-                0.5 * self.stiffness * held * held
-                    - self.preload * held
-                    - max_force * (delta - held)
-            }
-        }
+        self.kind.potential_energy(self, gap)
     }
 
     /// Power its damper dissipates at gap `gap` and rate `rate`: what the
@@ -138,10 +101,7 @@ impl Follower {
     /// it is max(E, 0) ġ, the compressed spring's energy that the damper's
     /// relaxation, which the force law neglects, takes. Never negative.
     pub fn dissipation(&self, gap: f64, rate: f64) -> f64 {
-        let elastic = match self.kind {
-            LawKind::Suspension => self.preload - self.stiffness * (gap - self.rest),
-            _ => self.law(gap, 0.0),
-        };
+        let elastic = self.kind.elastic_force(self, gap);
         (elastic.max(0.0) - self.force(gap, rate)) * rate
     }
 }

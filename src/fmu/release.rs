@@ -186,14 +186,7 @@ fn collect_files(root: &Path, dir: &Path, out: &mut Vec<String>) -> Result<(), S
 }
 
 fn body_text(scene: &Scene) -> &'static str {
-    match scene.body.kind {
-        BodyKind::Wheel => "wheel (rolls, no slip)",
-        BodyKind::Glider => "maglev glider (J = 0, r = 0)",
-        BodyKind::SprungMass => "sprung mass on a spring-damper over a glider",
-        BodyKind::BogieVehicle => "car body on two bogies over four wheelsets (10 DOF)",
-        BodyKind::MaglevVehicle => "car body over magnets on spring-dampers",
-        BodyKind::MovingForce => "moving force (no body)",
-    }
+    scene.body.kind.description()
 }
 
 /// The cross-check `ReadMe.txt` of one model.

@@ -57,21 +57,14 @@ impl Dynamics for FakeDynamics {
             real(format!("{b}.x"), "m", "abscissa of the body's centre"),
             real(format!("{b}.vx"), "m/s", "horizontal velocity"),
         ];
-        let radius = match scene.body.kind {
-            BodyKind::Wheel => {
-                outputs.push(real(
-                    format!("{b}.angular_velocity"),
-                    "rad/s",
-                    "angular velocity",
-                ));
-                Some(scene.body.radius.unwrap_or(1.0))
-            }
-            BodyKind::Glider
-            | BodyKind::SprungMass
-            | BodyKind::BogieVehicle
-            | BodyKind::MaglevVehicle
-            | BodyKind::MovingForce => None,
-        };
+        let radius = (scene.body.kind == BodyKind::Wheel).then(|| {
+            outputs.push(real(
+                format!("{b}.angular_velocity"),
+                "rad/s",
+                "angular velocity",
+            ));
+            scene.body.radius.unwrap_or(1.0)
+        });
         for s in &scene.sensors {
             outputs.push(real(
                 format!("sensor.{}.deflection", s.name),

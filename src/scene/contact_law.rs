@@ -5,6 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
+pub use crate::contact_law::ResolvedLaw;
 use crate::contact_law::{hertz_coefficient, STEEL};
 
 /// The scene's choice of contact law for one vehicle's contact bodies.
@@ -42,21 +43,6 @@ pub struct ContactLawSpec {
     pub derivative_gain: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub max_force: Option<f64>,
-}
-
-/// A contact law ready to build.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum ResolvedLaw {
-    Rigid,
-    Hertz {
-        coefficient: f64,
-    },
-    Ems {
-        nominal_gap: f64,
-        proportional_gain: f64,
-        derivative_gain: f64,
-        max_force: Option<f64>,
-    },
 }
 
 /// A broken rule: the field (under `contact_law`), its value, the rule.

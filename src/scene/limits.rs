@@ -6,7 +6,7 @@
 //! memory or time of the host (a 26 KB scene of 100 maglev vehicles with
 //! 1,000 magnets each asked for an 80 GB matrix).
 
-use super::{BodyKind, BodySpec, Scene};
+use super::{BodySpec, Scene};
 use crate::scene::error::Problem;
 use std::collections::HashMap;
 
@@ -37,14 +37,7 @@ fn bytes_shown(bytes: f64) -> String {
 /// Rows of the contact iteration a vehicle brings: an upper bound from its
 /// spec alone (before anything is assembled), saturating.
 pub fn contact_rows(body: &BodySpec) -> usize {
-    match body.kind {
-        BodyKind::Wheel => 2,
-        BodyKind::Glider | BodyKind::SprungMass => 1,
-        // Four wheelsets, each rolling (two rows) when it has a radius.
-        BodyKind::BogieVehicle => 8,
-        BodyKind::MaglevVehicle => body.maglev.map_or(0, |m| m.magnets),
-        BodyKind::MovingForce => 0,
-    }
+    body.kind.contact_rows(body)
 }
 
 /// Every broken product limit and every name used twice.

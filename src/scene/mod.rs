@@ -16,6 +16,7 @@ mod on_deck;
 mod validate;
 
 pub use crate::structure::profile::IrregularitySpec;
+pub use crate::vehicle::presets::{BodyKind, BogieSpec, MaglevSpec, SuspensionSpec};
 pub use advice::advisories;
 pub use builtin::{builtin, builtins, fmu_builtins, template_file, templates, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
@@ -26,6 +27,7 @@ pub use irregularity::{
     TABLE_PATHS_VARIABLE,
 };
 pub use limits::{contact_rows, MAX_CONTACT_ROWS};
+pub(crate) use validate::{fmt_f64, quoted, Checks};
 pub use validate::{
     is_identifier, is_xml_char, MAX_DESCRIPTION_CHARS, MAX_ELEMENTS, MAX_INTERMEDIATE_SUPPORTS,
     MAX_ITERATIONS, MAX_MAGNITUDE, MAX_NAME_CHARS, MAX_SCENE_BYTES, MAX_SENSORS, MIN_MAGNITUDE,
@@ -234,33 +236,6 @@ fn is_zero(x: &f64) -> bool {
     *x == 0.0
 }
 
-/// A maglev car body (bounce, pitch) over `magnets` gliders evenly spaced
-/// along it, each on a vertical spring–damper preloaded with its share of
-/// the car body's weight.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct MaglevSpec {
-    /// Pitch inertia of the car body (kg m^2).
-    pub car_inertia: f64,
-    /// Number of magnets, front to rear, centred on the car body.
-    pub magnets: usize,
-    /// Distance between neighbouring magnets (m).
-    pub magnet_spacing: f64,
-    /// Mass of one magnet (kg).
-    pub magnet_mass: f64,
-    /// Suspension of one magnet: stiffness (N/m) and damping (N s/m).
-    pub stiffness: f64,
-    #[serde(default)]
-    pub damping: f64,
-}
-
-impl MaglevSpec {
-    /// Offset of magnet `i` (0 = front) from the car body's centre (m).
-    pub fn offset(&self, i: usize) -> f64 {
-        (0.5 * (self.magnets as f64 - 1.0) - i as f64) * self.magnet_spacing
-    }
-}
-
 /// A prescribed horizontal speed: constant, or a table of (time, speed).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(
@@ -289,84 +264,6 @@ impl SpeedSpec {
             }
         }
     }
-}
-
-/// The 10-DOF half vehicle: a car body (bounce, pitch) on secondary
-/// spring–dampers over two bogies (bounce, pitch), each on primary
-/// spring–dampers over two wheelsets (gliders, bounce). Both suspensions are
-/// preloaded with the weight they carry.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BogieSpec {
-    /// Pitch inertia of the car body (kg m^2).
-    pub car_inertia: f64,
-    /// Mass of one bogie (kg).
-    pub bogie_mass: f64,
-    /// Pitch inertia of one bogie (kg m^2).
-    pub bogie_inertia: f64,
-    /// Mass of one wheelset (kg).
-    pub wheelset_mass: f64,
-    /// Half the distance between the bogie centres (m).
-    pub bogie_half_distance: f64,
-    /// Half the distance between the two axles of a bogie (m).
-    pub axle_half_distance: f64,
-    /// Primary suspension, per axle: stiffness (N/m) and damping (N s/m).
-    pub primary_stiffness: f64,
-    #[serde(default)]
-    pub primary_damping: f64,
-    /// Secondary suspension, per bogie: stiffness (N/m) and damping (N s/m).
-    pub secondary_stiffness: f64,
-    #[serde(default)]
-    pub secondary_damping: f64,
-    /// Radius of the wheelsets (m): with it they are rolling wheels (no
-    /// slip, pitch inertia `wheelset_inertia`), without it gliders.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wheel_radius: Option<f64>,
-    /// Polar moment of inertia of one wheelset (kg m^2); with `wheel_radius`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub wheelset_inertia: Option<f64>,
-}
-
-/// A sprung mass's suspension: a vertical spring–damper over an unsprung
-/// contact mass (a glider), preloaded with the sprung weight so that the
-/// vehicle starts in static equilibrium.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SuspensionSpec {
-    /// Vertical stiffness k (N/m).
-    pub stiffness: f64,
-    /// Vertical damping c (N s/m).
-    #[serde(default)]
-    pub damping: f64,
-    /// Mass of the contact body under the spring (kg); 0 makes it the
-    /// massless follower (its force is the suspension's).
-    pub unsprung_mass: f64,
-}
-
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum BodyKind {
-    /// Rigid disc rolling without slip (mass, inertia, radius).
-    Wheel,
-    /// Point body gliding at the surface (r = 0, J = 0): the maglev model.
-    Glider,
-    /// Moving oscillator: the body (J = 0) on a vertical spring–damper over
-    /// an unsprung glider (`suspension`).
-    #[serde(rename = "sprung_mass")]
-    SprungMass,
-    /// Car body over two bogies over four wheelsets (`bogie`); the body's
-    /// `initial_position` is the car body's centre.
-    #[serde(rename = "bogie_vehicle")]
-    BogieVehicle,
-    /// Car body over N magnets (gliders) on spring–dampers along its
-    /// length (`maglev`); `initial_position` is the car body's centre.
-    #[serde(rename = "maglev_vehicle")]
-    MaglevVehicle,
-    /// A point force at constant speed with no body (no inertia, no
-    /// contact): its weight `mass` × `gravity` plus `force_y`, or each axle
-    /// of its `train`. Run by `guideway sweep`, not `guideway run`.
-    #[serde(rename = "moving_force")]
-    MovingForce,
 }
 
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -459,13 +356,10 @@ impl Scene {
 
     /// The paper's model 1 (Vu-Quoc & Olsson's beam) with the given body.
     pub fn lee1994(kind: BodyKind, initial_speed: f64, step: f64) -> Scene {
-        let (name, inertia, radius) = match kind {
-            BodyKind::Wheel => ("wheel", Some(135.0), Some(0.3)),
-            BodyKind::Glider
-            | BodyKind::SprungMass
-            | BodyKind::BogieVehicle
-            | BodyKind::MaglevVehicle
-            | BodyKind::MovingForce => ("glider", None, None),
+        let (name, inertia, radius) = if kind == BodyKind::Wheel {
+            ("wheel", Some(135.0), Some(0.3))
+        } else {
+            ("glider", None, None)
         };
         Scene {
             name: format!("lee1994-{name}-{initial_speed}"),
@@ -539,41 +433,14 @@ impl BodySpec {
     /// `<name>_bogie1..2`, `<name>_wheelset1..4` (bogie vehicle),
     /// `<name>_magnet1..N` (maglev vehicle); none for a moving force.
     pub fn body_names(&self) -> Vec<String> {
-        let n = &self.name;
-        let mut names = vec![n.clone()];
-        match self.kind {
-            BodyKind::Wheel | BodyKind::Glider => {}
-            // A massless follower (unsprung_mass = 0) is a contact, not a body.
-            BodyKind::SprungMass if self.suspension.is_some_and(|s| s.unsprung_mass == 0.0) => {}
-            BodyKind::SprungMass => names.push(format!("{n}_unsprung")),
-            BodyKind::BogieVehicle => {
-                names.extend((1..=2).map(|i| format!("{n}_bogie{i}")));
-                // Massless followers are contacts, not bodies.
-                if !self.massless_contacts() {
-                    names.extend((1..=4).map(|i| format!("{n}_wheelset{i}")));
-                }
-            }
-            // Massless followers are contacts, not bodies.
-            BodyKind::MaglevVehicle if self.massless_contacts() => {}
-            BodyKind::MaglevVehicle => {
-                let magnets = self.maglev.map_or(0, |m| m.magnets);
-                names.extend((1..=magnets).map(|i| format!("{n}_magnet{i}")));
-            }
-            // A moving force is a load, not a body.
-            BodyKind::MovingForce => names.clear(),
-        }
-        names
+        self.kind.body_names(self)
     }
 
     /// Whether a bogie or maglev vehicle runs on massless followers
     /// (`bogie.wheelset_mass = 0`, `maglev.magnet_mass = 0`) in place of
     /// its wheelsets or magnets.
     pub fn massless_contacts(&self) -> bool {
-        match self.kind {
-            BodyKind::BogieVehicle => self.bogie.is_some_and(|b| b.wheelset_mass == 0.0),
-            BodyKind::MaglevVehicle => self.maglev.is_some_and(|m| m.magnet_mass == 0.0),
-            _ => false,
-        }
+        self.kind.massless_contacts(self)
     }
 }
 

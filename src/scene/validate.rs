@@ -32,8 +32,6 @@ pub const MAX_SCENE_BYTES: u64 = 10_000_000;
 
 /// Most sensors: each adds an output column to every row of a run.
 pub const MAX_SENSORS: usize = 10_000;
-/// Magnets of one maglev vehicle.
-pub const MAX_MAGNETS: usize = 1000;
 
 /// Most intermediate supports.
 pub const MAX_INTERMEDIATE_SUPPORTS: usize = 10_000;
@@ -586,34 +584,7 @@ fn check_body(
         );
     }
     checks.positive(&path("mass"), body.mass);
-    match body.kind {
-        BodyKind::Wheel => {
-            checks.required_positive(&path("inertia"), body.inertia, "a wheel needs");
-            checks.required_positive(&path("radius"), body.radius, "a wheel needs");
-        }
-        BodyKind::Glider
-        | BodyKind::SprungMass
-        | BodyKind::BogieVehicle
-        | BodyKind::MaglevVehicle
-        | BodyKind::MovingForce => {
-            for (path, value) in [
-                (&path("inertia"), body.inertia),
-                (&path("radius"), body.radius),
-            ] {
-                if let Some(v) = value {
-                    checks.fail(
-                        path,
-                        fmt_f64(v),
-                        "must be left out for a glider or a sprung mass (J = 0, r = 0)",
-                    );
-                }
-            }
-        }
-    }
-    check_suspension(checks, prefix, body);
-    check_train(checks, prefix, body);
-    check_bogie(checks, prefix, body);
-    check_maglev(checks, prefix, body);
+    crate::vehicle::presets::check(checks, prefix, body);
     check_wheelsets_on_track(checks, prefix, body, scene);
     if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
         let x = body.initial_position;
@@ -756,34 +727,6 @@ fn check_prescribed_speed(checks: &mut Checks, prefix: &str, body: &super::BodyS
     }
 }
 
-/// A train names an HSLM train and belongs to a moving force, whose own
-/// force it replaces (so `force_y` must be left at 0).
-fn check_train(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
-    let path = format!("{prefix}.train");
-    let Some(name) = &body.train else {
-        return;
-    };
-    if body.kind != BodyKind::MovingForce {
-        checks.fail(
-            &path,
-            quoted(name),
-            format!("must be left out unless {prefix}.kind = \"moving_force\""),
-        );
-    } else if crate::moving_load::hslm(name).is_none() {
-        checks.fail(
-            &path,
-            quoted(name),
-            "must name a built-in train: HSLM-A1 … HSLM-A10",
-        );
-    } else if body.force_y != 0.0 {
-        checks.fail(
-            format!("{prefix}.force_y"),
-            fmt_f64(body.force_y),
-            "must be 0 for a moving force with a train (each axle carries the train's force)",
-        );
-    }
-}
-
 /// Moving forces run without bodies: a scene has only moving forces or
 /// none, and no irregularity (a force of fixed magnitude cannot feel one).
 fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
@@ -811,30 +754,6 @@ fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
     }
 }
 
-/// A sprung mass needs its suspension; other kinds must leave it out.
-fn check_suspension(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
-    let path = |field: &str| format!("{prefix}.{field}");
-    match (body.kind, &body.suspension) {
-        (BodyKind::SprungMass, Some(s)) => {
-            checks.positive(&path("suspension.stiffness"), s.stiffness);
-            checks.non_negative(&path("suspension.damping"), s.damping);
-            // 0 is the massless follower.
-            checks.non_negative(&path("suspension.unsprung_mass"), s.unsprung_mass);
-        }
-        (BodyKind::SprungMass, None) => checks.fail(
-            path("suspension"),
-            "missing",
-            format!("a sprung_mass needs [{prefix}.suspension] with stiffness and unsprung_mass"),
-        ),
-        (_, Some(_)) => checks.fail(
-            path("suspension"),
-            "present",
-            format!("must be left out unless {prefix}.kind = \"sprung_mass\""),
-        ),
-        (_, None) => {}
-    }
-}
-
 /// A bogie vehicle's front and rear wheelsets, at initial_position ±
 /// (bogie_half_distance + axle_half_distance), must start on the track.
 fn check_wheelsets_on_track(
@@ -843,12 +762,16 @@ fn check_wheelsets_on_track(
     body: &super::BodySpec,
     scene: &Scene,
 ) {
-    let reach = match (body.kind, body.bogie, body.maglev) {
-        (BodyKind::BogieVehicle, Some(b), _) => b.bogie_half_distance + b.axle_half_distance,
-        (BodyKind::MaglevVehicle, _, Some(m)) if m.magnets <= MAX_MAGNETS => m.offset(0),
-        _ => return,
+    if !body.kind.starts_on_track() {
+        return;
+    }
+    let Some(reach) = body.kind.reach(body) else {
+        return;
     };
-    let (front, rear) = (body.initial_position + reach, body.initial_position - reach);
+    let (front, rear) = (
+        body.initial_position + reach.ahead,
+        body.initial_position - reach.behind,
+    );
     let (start, end) = (
         -scene.track.approach,
         scene.beam.length + scene.track.run_off,
@@ -867,133 +790,6 @@ fn check_wheelsets_on_track(
                 fmt_f64(end)
             ),
         );
-    }
-}
-
-/// A bogie vehicle needs its bogies; other kinds must leave them out.
-fn check_bogie(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
-    let path = |field: &str| format!("{prefix}.bogie.{field}");
-    match (body.kind, &body.bogie) {
-        (BodyKind::BogieVehicle, Some(b)) => {
-            for (field, value) in [
-                ("car_inertia", b.car_inertia),
-                ("bogie_mass", b.bogie_mass),
-                ("bogie_inertia", b.bogie_inertia),
-                ("axle_half_distance", b.axle_half_distance),
-                ("primary_stiffness", b.primary_stiffness),
-                ("secondary_stiffness", b.secondary_stiffness),
-            ] {
-                checks.positive(&path(field), value);
-            }
-            // 0: massless followers under the bogies' axles.
-            if b.wheelset_mass != 0.0 {
-                checks.positive(&path("wheelset_mass"), b.wheelset_mass);
-            }
-            checks.non_negative(&path("primary_damping"), b.primary_damping);
-            checks.non_negative(&path("secondary_damping"), b.secondary_damping);
-            check_wheel_wheelsets(checks, &path, b);
-            // The two bogies' axles must not overlap: lc > lt.
-            if b.bogie_half_distance.is_finite()
-                && b.axle_half_distance.is_finite()
-                && b.bogie_half_distance <= b.axle_half_distance
-            {
-                checks.fail(
-                    path("bogie_half_distance"),
-                    fmt_f64(b.bogie_half_distance),
-                    format!(
-                        "must exceed bogie.axle_half_distance = {} (the bogies' axles \
-                         would overlap)",
-                        fmt_f64(b.axle_half_distance)
-                    ),
-                );
-            }
-        }
-        (BodyKind::BogieVehicle, None) => checks.fail(
-            format!("{prefix}.bogie"),
-            "missing",
-            format!(
-                "a bogie_vehicle needs [{prefix}.bogie] with its masses, distances and suspensions"
-            ),
-        ),
-        (_, Some(_)) => checks.fail(
-            format!("{prefix}.bogie"),
-            "present",
-            format!("must be left out unless {prefix}.kind = \"bogie_vehicle\""),
-        ),
-        (_, None) => {}
-    }
-}
-
-/// A maglev vehicle needs its magnets; other kinds must leave them out.
-fn check_maglev(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
-    let path = |field: &str| format!("{prefix}.maglev.{field}");
-    match (body.kind, &body.maglev) {
-        (BodyKind::MaglevVehicle, Some(m)) => {
-            for (field, value) in [
-                ("car_inertia", m.car_inertia),
-                ("magnet_spacing", m.magnet_spacing),
-                ("stiffness", m.stiffness),
-            ] {
-                checks.positive(&path(field), value);
-            }
-            // 0: massless followers at the magnets' stations.
-            if m.magnet_mass != 0.0 {
-                checks.positive(&path("magnet_mass"), m.magnet_mass);
-            }
-            checks.non_negative(&path("damping"), m.damping);
-            if !(1..=MAX_MAGNETS).contains(&m.magnets) {
-                checks.fail(
-                    path("magnets"),
-                    m.magnets.to_string(),
-                    format!("must be 1 to {MAX_MAGNETS}"),
-                );
-            }
-        }
-        (BodyKind::MaglevVehicle, None) => checks.fail(
-            format!("{prefix}.maglev"),
-            "missing",
-            format!(
-                "a maglev_vehicle needs [{prefix}.maglev] with car_inertia, magnets, \
-                 magnet_spacing, magnet_mass and stiffness"
-            ),
-        ),
-        (_, Some(_)) => checks.fail(
-            format!("{prefix}.maglev"),
-            "present",
-            format!("must be left out unless {prefix}.kind = \"maglev_vehicle\""),
-        ),
-        (_, None) => {}
-    }
-}
-
-/// Wheel wheelsets need both their radius and their inertia; gliders
-/// neither.
-fn check_wheel_wheelsets(checks: &mut Checks, path: &dyn Fn(&str) -> String, b: &super::BogieSpec) {
-    match (b.wheel_radius, b.wheelset_inertia) {
-        (Some(r), Some(j)) => {
-            checks.positive(&path("wheel_radius"), r);
-            checks.positive(&path("wheelset_inertia"), j);
-            if b.wheelset_mass == 0.0 {
-                checks.fail(
-                    path("wheelset_mass"),
-                    "0",
-                    "a massless follower does not roll: wheel wheelsets (with wheel_radius) \
-                     need a mass > 0; leave out wheel_radius and wheelset_inertia for followers",
-                );
-            }
-        }
-        (Some(_), None) => checks.fail(
-            path("wheelset_inertia"),
-            "missing",
-            "wheel wheelsets (with wheel_radius) need a value > 0",
-        ),
-        (None, Some(_)) => checks.fail(
-            path("wheel_radius"),
-            "missing",
-            "wheel wheelsets (with wheelset_inertia) need a value > 0; leave both out for \
-             glider wheelsets",
-        ),
-        (None, None) => {}
     }
 }
 
@@ -1312,13 +1108,13 @@ pub fn is_identifier(name: &str) -> bool {
 }
 
 /// Shortest text that reads back as the same number (`-1.0`, `NaN`, `inf`).
-fn fmt_f64(x: f64) -> String {
+pub(crate) fn fmt_f64(x: f64) -> String {
     format!("{x:?}")
 }
 
 /// A string as a quoted value in a problem; a long one is cut, so that a
 /// 10 MB name does not make a 10 MB error message.
-fn quoted(s: &str) -> String {
+pub(crate) fn quoted(s: &str) -> String {
     const SHOWN: usize = 40;
     let chars = s.chars().count();
     if chars <= SHOWN + 10 {
@@ -1329,19 +1125,26 @@ fn quoted(s: &str) -> String {
     }
 }
 
+/// The problems found so far; the vehicle presets add theirs
+/// (`vehicle::presets::Preset::check`).
 #[derive(Default)]
-struct Checks {
+pub(crate) struct Checks {
     problems: Vec<Problem>,
 }
 
 impl Checks {
-    fn fail(&mut self, path: impl Into<String>, value: impl Into<String>, rule: impl Into<String>) {
+    pub(crate) fn fail(
+        &mut self,
+        path: impl Into<String>,
+        value: impl Into<String>,
+        rule: impl Into<String>,
+    ) {
         self.problems.push(Problem::new(path, value, rule));
     }
 
     /// Check `x` against `rule` of the field table (whose words the
     /// message takes); reports and returns false when it breaks it.
-    fn rule(&mut self, path: &str, x: f64, rule: Rule) -> bool {
+    pub(crate) fn rule(&mut self, path: &str, x: f64, rule: Rule) -> bool {
         match rule.problem(x, 0.0) {
             Some(words) => {
                 self.fail(path, fmt_f64(x), words);
@@ -1352,17 +1155,17 @@ impl Checks {
     }
 
     /// Finite and within ±`MAX_MAGNITUDE`.
-    fn finite(&mut self, path: &str, x: f64) -> bool {
+    pub(crate) fn finite(&mut self, path: &str, x: f64) -> bool {
         self.rule(path, x, Rule::Finite)
     }
 
     /// Finite, > 0 and within [`MIN_MAGNITUDE`, `MAX_MAGNITUDE`].
-    fn positive(&mut self, path: &str, x: f64) -> bool {
+    pub(crate) fn positive(&mut self, path: &str, x: f64) -> bool {
         self.rule(path, x, Rule::Positive)
     }
 
     /// At most `MAX_NAME_CHARS` characters.
-    fn name_length(&mut self, path: &str, name: &str) {
+    pub(crate) fn name_length(&mut self, path: &str, name: &str) {
         let chars = name.chars().count();
         if chars > MAX_NAME_CHARS {
             self.fail(
@@ -1374,11 +1177,11 @@ impl Checks {
     }
 
     /// Finite and >= 0.
-    fn non_negative(&mut self, path: &str, x: f64) {
+    pub(crate) fn non_negative(&mut self, path: &str, x: f64) {
         self.rule(path, x, Rule::NonNegative);
     }
 
-    fn required_positive(&mut self, path: &str, x: Option<f64>, who: &str) {
+    pub(crate) fn required_positive(&mut self, path: &str, x: Option<f64>, who: &str) {
         match x {
             None => self.fail(path, "missing", format!("{who} a value > 0")),
             Some(x) => {

@@ -4,7 +4,7 @@
 //! else when the last contact leaves the structure, which at the vehicles'
 //! initial speeds happens at `RunEnd::LastExit`.
 
-use crate::scene::{BodyKind, BodySpec, Scene};
+use crate::scene::{BodySpec, Scene};
 
 /// When a scene's run ends.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -46,19 +46,14 @@ pub fn exit_time((distance, speed): (f64, f64)) -> f64 {
 fn travel_to_exit(v: &BodySpec, length: f64) -> Option<(f64, f64)> {
     let speed = v.initial_speed;
     // The contacts' spread about `initial_position` (a bogie vehicle's
-    // wheelsets lie ±(l_c + l_t) about its centre).
-    // A moving force's train trails behind it by the train's length.
-    let train = v.train.as_deref().and_then(crate::moving_load::hslm);
-    let reach = match (v.kind, v.bogie, train) {
-        (BodyKind::BogieVehicle, Some(b), _) => b.bogie_half_distance + b.axle_half_distance,
-        (BodyKind::MovingForce, _, Some(train)) => train.length(),
-        _ => 0.0,
-    };
+    // wheelsets and a maglev's magnets lie about its centre, a moving
+    // force's train trails behind it): the preset's reach.
+    let reach = v.kind.reach(v).unwrap_or_default();
     let x = v.initial_position;
     if speed > 0.0 {
-        Some((length - (x - reach), speed))
+        Some((length - (x - reach.behind), speed))
     } else if speed < 0.0 {
-        Some((x + reach, -speed))
+        Some((x + reach.ahead, -speed))
     } else {
         None
     }
@@ -117,5 +112,42 @@ mod tests {
         scene.body.initial_speed = 0.0;
         assert_eq!(run_end(&scene), RunEnd::NoExit);
         assert!(crate::report::stop_time(&scene).is_err());
+    }
+
+    /// A maglev car of 4 magnets 3 m apart, centred at x₀ = 6 m at 10 m/s
+    /// on the 24 m beam: its rear magnet, 4.5 m behind the centre, leaves
+    /// last, after L − (x₀ − 4.5) = 22.5 m (the reach validation places
+    /// the magnets by; before the one rule the run ended at 18 m).
+    #[test]
+    fn a_maglev_car_leaves_when_its_rear_magnet_does() {
+        let mut scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
+        scene.body.kind = BodyKind::MaglevVehicle;
+        scene.body.initial_position = 6.0;
+        scene.body.maglev = Some(crate::scene::MaglevSpec {
+            car_inertia: 1.5e6,
+            magnets: 4,
+            magnet_spacing: 3.0,
+            magnet_mass: 600.0,
+            stiffness: 8e5,
+            damping: 0.0,
+        });
+        scene.validate().unwrap();
+        let rear = 6.0 - 0.5 * (4.0 - 1.0) * 3.0;
+        assert_eq!(
+            run_end(&scene),
+            RunEnd::LastExit {
+                distance: 24.0 - rear,
+                speed: 10.0
+            }
+        );
+        // Running back, the front magnet leaves last, after x₀ + 4.5 m.
+        scene.body.initial_speed = -10.0;
+        assert_eq!(
+            run_end(&scene),
+            RunEnd::LastExit {
+                distance: 6.0 + 4.5,
+                speed: 10.0
+            }
+        );
     }
 }
