@@ -71,6 +71,7 @@ fn layout(track_stiffness: f64, approach: f64) -> RailOnDeck {
         approach,
         run_off: approach,
         element_length: H,
+        sleepers: None,
     }
 }
 

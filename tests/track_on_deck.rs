@@ -36,6 +36,7 @@ fn layout(track_stiffness: f64, element_length: f64) -> RailOnDeck {
         approach: 10.0,
         run_off: 10.0,
         element_length,
+        sleepers: None,
     }
 }
 

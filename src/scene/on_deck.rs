@@ -21,11 +21,14 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
     let mut fail = |path: &str, value: String, rule: &str| {
         out.push(Problem::new(format!("track.on_deck.{path}"), value, rule))
     };
+    // On sleepers the continuous layer is not built: its values are
+    // refused rather than silently unused.
+    let layer = spec.sleepers.is_none();
     for (path, value) in [
         ("rail_bending_stiffness", Some(spec.rail_bending_stiffness)),
         ("rail_mass_per_length", Some(spec.rail_mass_per_length)),
-        ("stiffness", Some(spec.stiffness())),
-        ("ground_stiffness", spec.ground_stiffness),
+        ("stiffness", Some(spec.stiffness()).filter(|_| layer)),
+        ("ground_stiffness", spec.ground_stiffness.filter(|_| layer)),
     ] {
         if let Some(x) = value.filter(|x| !(x.is_finite() && *x > 0.0)) {
             let rule = if path == "stiffness" && spec.stiffness.is_none() && spec.preset.is_none() {
@@ -44,8 +47,65 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
             fail(path, format!("{x:?}"), "must be finite and >= 0");
         }
     }
+    out.extend(sleeper_problems(scene));
     out.extend(layout_problems(scene));
     out.extend(unsupported(scene));
+    out
+}
+
+/// The rules of `track.on_deck.sleepers`: every value given or preset and
+/// in its range, the continuous layer's fields left out, and the spacing
+/// a whole number of the deck's elements (sleepers sit at the rail's
+/// nodes).
+fn sleeper_problems(scene: &Scene) -> Vec<Problem> {
+    let Some(spec) = scene.track.on_deck.as_ref() else {
+        return Vec::new();
+    };
+    let Some(sleepers) = spec.sleepers else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let layer = [
+        ("preset", spec.preset.map(|_| f64::NAN)),
+        ("stiffness", spec.stiffness),
+        ("damping", spec.damping),
+        ("ground_stiffness", spec.ground_stiffness),
+        ("ground_damping", spec.ground_damping),
+    ];
+    for (path, value) in layer {
+        if let Some(value) = value {
+            out.push(Problem::new(
+                format!("track.on_deck.{path}"),
+                format!("{value:?}"),
+                "is the continuous layer's: on sleepers the rail rests on them only; leave it \
+                 out (the pads' and the ballast's values are in track.on_deck.sleepers)",
+            ));
+        }
+    }
+    let resolved = sleepers.resolve();
+    for (name, value, rule) in resolved.problems() {
+        let path = format!("track.on_deck.sleepers.{name}");
+        out.push(Problem::new(path, format!("{value:?}"), rule));
+    }
+    let h = Mesh::new(&scene.beam)
+        .ok()
+        .and_then(|m| m.element_length.first().copied());
+    if let Some(h) = h.filter(|_| resolved.spacing > 0.0) {
+        let count = resolved.spacing / h;
+        if !count.is_finite()
+            || (count - count.round()).abs() > 1e-9 * count.max(1.0)
+            || count.round() < 1.0
+        {
+            out.push(Problem::new(
+                "track.on_deck.sleepers.spacing",
+                format!("{:?}", resolved.spacing),
+                format!(
+                    "must be a whole number of the rail's elements ({h:?} m): the sleepers sit \
+                     at its nodes, every spacing from the approach's start"
+                ),
+            ));
+        }
+    }
     out
 }
 

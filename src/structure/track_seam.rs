@@ -56,6 +56,7 @@ impl TrackBeam {
                 approach,
                 run_off,
                 element_length,
+                sleepers: on_deck.sleepers.map(|s| s.resolve()),
             },
             rail_mass_per_length: on_deck.rail_mass_per_length,
             deck_mass_per_length: deck.mass_per_length,
@@ -229,7 +230,22 @@ impl TrackBeam {
     /// Whether any damper acts (the deck's, the track's, the ground's).
     pub fn is_damped(&self) -> bool {
         let track = &self.assembly.track;
-        !track.deck_damping.is_zero() || track.track_damping > 0.0 || track.ground_damping > 0.0
+        let sleepers =
+            (track.layout.sleepers).is_some_and(|s| s.pad_damping > 0.0 || s.ballast_damping > 0.0);
+        let layer = track.layout.sleepers.is_none()
+            && (track.track_damping > 0.0 || track.ground_damping > 0.0);
+        !track.deck_damping.is_zero() || layer || sleepers
+    }
+
+    /// Whether the rail rests on sleepers (else on a continuous layer).
+    pub fn has_sleepers(&self) -> bool {
+        self.assembly.track.layout.sleepers.is_some()
+    }
+
+    /// The rail-seat (pad) force of the sleeper nearest the deck's
+    /// abscissa `x` (N, compression positive; NaN without sleepers).
+    pub fn rail_seat_force(&self, u: &DVector<f64>, v: &DVector<f64>, x: f64) -> f64 {
+        (self.assembly.rail_seat_force(x, u.as_slice(), v.as_slice())).unwrap_or(f64::NAN)
     }
 }
 
@@ -307,6 +323,85 @@ impl TrackAssembly {
                 crate::dense_modes::lowest_modes(dense(&m), dense(&k), n, "a rail element")?;
             highest = highest.max(omega.last().copied().unwrap_or(0.0));
         }
+        Ok(highest.max(self.sleeper_frequency_bound()?))
+    }
+
+    /// Irons' bound with the sleepers: each sleeper (its mass, pad and
+    /// ballast) joins the element that holds its base (else the one to its
+    /// right, the last node's the one to its left), so that the groups'
+    /// matrices sum to the assembly's; the highest eigenvalue of any group
+    /// bounds the assembly's.
+    fn sleeper_frequency_bound(&self) -> Result<f64, String> {
+        let Some(s) = self.track.layout.sleepers else {
+            return Ok(0.0);
+        };
+        let layout = &self.layout;
+        let elements = layout.on_deck.len();
+        // Per element: its sleepers as (rail w slot, deck w slot or ground).
+        let mut groups = vec![Vec::new(); elements];
+        for seat in &layout.seats {
+            let right = seat.node < elements && layout.element_dofs[seat.node][2] == seat.base;
+            let e = match seat.base {
+                Some(_) if right => seat.node,
+                Some(_) => seat.node - 1,
+                None => seat.node.min(elements - 1),
+            };
+            let (rail, deck) = if e == seat.node { (0, 2) } else { (4, 6) };
+            groups[e].push((rail, seat.base.map(|_| deck)));
+        }
+        let mut seen = Vec::new();
+        let mut highest = 0.0f64;
+        for (e, group) in groups.into_iter().enumerate() {
+            let key = (layout.on_deck[e], group);
+            if key.1.is_empty() || seen.contains(&key) {
+                continue;
+            }
+            highest = highest.max(self.group_frequency(&s, key.0, &key.1)?);
+            seen.push(key);
+        }
         Ok(highest)
+    }
+
+    /// The highest circular frequency of an element (on the deck or off
+    /// it) with the sleepers `group` ((rail w slot, deck w slot or the
+    /// ground) each) on its nodes.
+    fn group_frequency(
+        &self,
+        s: &crate::structure::track_sleepers::Sleepers,
+        deck: bool,
+        group: &[(usize, Option<usize>)],
+    ) -> Result<f64, String> {
+        let [m, _, k] = self.track.element(deck);
+        let slots: Vec<usize> = if deck {
+            (0..8).collect()
+        } else {
+            vec![0, 1, 4, 5]
+        };
+        let n = slots.len() + group.len();
+        let position = |slot: usize| slots.iter().position(|&p| p == slot);
+        let dense = |a: &[[f64; 8]; 8]| {
+            DMatrix::from_fn(n, n, |i, j| match (slots.get(i), slots.get(j)) {
+                (Some(&p), Some(&q)) => a[p][q],
+                _ => 0.0,
+            })
+        };
+        let (mut mass, mut stiffness) = (dense(&m), dense(&k));
+        for (g, &(rail, base)) in group.iter().enumerate() {
+            let (r, d) = (position(rail).expect("a rail slot"), slots.len() + g);
+            mass[(d, d)] += s.sleeper_mass;
+            let mut spring = |a: usize, b: usize, value: f64| {
+                stiffness[(a, a)] += value;
+                stiffness[(b, b)] += value;
+                stiffness[(a, b)] -= value;
+                stiffness[(b, a)] -= value;
+            };
+            spring(r, d, s.pad_stiffness);
+            match base.and_then(position) {
+                Some(b) => spring(d, b, s.ballast_stiffness),
+                None => stiffness[(d, d)] += s.ballast_stiffness,
+            }
+        }
+        let (omega, _) = crate::dense_modes::lowest_modes(mass, stiffness, n, "a sleeper")?;
+        Ok(omega.last().copied().unwrap_or(0.0))
     }
 }
