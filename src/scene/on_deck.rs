@@ -1,12 +1,13 @@
 //! The rules of `[track.on_deck]` (the rail over the deck): its values,
 //! and what the rest of the scene must be for the rail-over-deck model to
-//! hold it (spans and joints in elements of one length, whole elements on
-//! the approach, the run-off and every gap, HHT-α on the full mesh); what
-//! it cannot do yet is refused with the reason.
+//! hold it (a deck on its supports only, sleepers at the rail's nodes,
+//! HHT-α on the full mesh); what it cannot do yet is refused with the
+//! reason.
 
 use super::{BodyKind, DampingSpec, IntegratorKind, Scene, StructureKind};
 use crate::mesh::Mesh;
 use crate::scene::error::Problem;
+use crate::structure::rail_on_deck::RailOnDeck;
 
 /// Most rail elements from the approach's start to the run-off's end: the
 /// beam's own bound (`validate::MAX_ELEMENTS`).
@@ -87,31 +88,36 @@ fn sleeper_problems(scene: &Scene) -> Vec<Problem> {
         let path = format!("track.on_deck.sleepers.{name}");
         out.push(Problem::new(path, format!("{value:?}"), rule));
     }
-    let h = Mesh::new(&scene.beam)
-        .ok()
-        .and_then(|m| m.element_length.first().copied());
-    if let Some(h) = h.filter(|_| resolved.spacing > 0.0) {
-        let count = resolved.spacing / h;
-        if !count.is_finite()
-            || (count - count.round()).abs() > 1e-9 * count.max(1.0)
-            || count.round() < 1.0
-        {
-            out.push(Problem::new(
-                "track.on_deck.sleepers.spacing",
-                format!("{:?}", resolved.spacing),
-                format!(
-                    "must be a whole number of the rail's elements ({h:?} m): the sleepers sit \
-                     at its nodes, every spacing from the approach's start"
-                ),
-            ));
-        }
+    if !(resolved.spacing > 0.0 && resolved.spacing.is_finite()) {
+        return out;
+    }
+    let Ok(element_length) = crate::structure::track_seam::deck_element_length(&scene.beam) else {
+        return out;
+    };
+    let rail = RailOnDeck {
+        deck_length: scene.beam.length,
+        deck_bending_stiffness: scene.beam.bending_stiffness,
+        rail_bending_stiffness: spec.rail_bending_stiffness,
+        track_stiffness: 0.0,
+        ground_stiffness: 0.0,
+        approach: scene.track.approach,
+        run_off: scene.track.run_off,
+        element_length,
+        sleepers: Some(resolved),
+    };
+    if let Some(rule) = rail.sleeper_problem(&scene.beam) {
+        out.push(Problem::new(
+            "track.on_deck.sleepers.spacing",
+            format!("{:?}", resolved.spacing),
+            rule,
+        ));
     }
     out
 }
 
-/// A deck of spans and joints meshed in elements of one length that
-/// divides the approach, the run-off and every gap, without springs or a
-/// foundation of its own, and a rail of bounded size.
+/// A deck without springs or a foundation of its own, and a rail of
+/// bounded size (the deck's elements, and the approach, the run-off and
+/// the gaps in elements of at most the deck's longest).
 fn layout_problems(scene: &Scene) -> Vec<Problem> {
     let (beam, track) = (&scene.beam, &scene.track);
     let mut out = Vec::new();
@@ -135,41 +141,11 @@ fn layout_problems(scene: &Scene) -> Vec<Problem> {
     let Ok(mesh) = Mesh::new(beam) else {
         return out;
     };
-    let h = mesh.element_length.first().copied().unwrap_or(f64::NAN);
-    if let Some(k) = (mesh.element_length.iter()).position(|l| (l - h).abs() > 1e-9 * h) {
-        out.push(Problem::new(
-            "beam.elements",
-            format!("{}", beam.elements),
-            format!(
-                "gives the deck elements of {h:?} m and, from x = {:?} m, of {:?} m: under a \
-                 rail every span between supports and joints must be a whole number of \
-                 elements of one length (the rail's mesh continues the deck's)",
-                mesh.element_start[k], mesh.element_length[k]
-            ),
-        ));
-        return out;
-    }
-    let gaps = beam.joints.iter().enumerate().filter(|(_, j)| j.gap > 0.0);
-    let lengths = [
-        ("track.approach".to_string(), track.approach),
-        ("track.run_off".to_string(), track.run_off),
-    ]
-    .into_iter()
-    .chain(gaps.map(|(i, j)| (format!("beam.joints[{i}].gap"), j.gap)));
-    for (path, length) in lengths {
-        let count = length / h;
-        if count.is_finite() && (count - count.round()).abs() > 1e-9 * count.max(1.0) {
-            out.push(Problem::new(
-                path,
-                format!("{length:?}"),
-                format!(
-                    "under a rail over the deck must be a whole number of the deck's elements \
-                     ({h:?} m): the rail's mesh continues the deck's"
-                ),
-            ));
-        }
-    }
-    let elements = (track.approach + beam.length + track.run_off) / h;
+    // The rail's elements off the deck are at most the deck's longest.
+    let h = mesh.element_length.iter().copied().fold(0.0, f64::max);
+    let gaps: f64 = beam.joints.iter().map(|j| j.gap).sum();
+    let off_deck = ((track.approach + track.run_off + gaps) / h).ceil();
+    let elements = mesh.element_length.len() as f64 + off_deck;
     if elements > MAX_RAIL_ELEMENTS {
         out.push(Problem::new(
             "track.approach",

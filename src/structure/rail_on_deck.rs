@@ -83,7 +83,7 @@ impl RailOnDeck {
         let layout = self.layout(deck)?;
         let mut stiffness = WideBand::zeros(layout.free, layout.half_bandwidth);
         for (e, local) in layout.element_dofs.iter().enumerate() {
-            let k = self.element(layout.on_deck[e]);
+            let k = self.element(layout.on_deck[e], layout.element_length[e]);
             for (p, row) in local.iter().enumerate() {
                 for (q, col) in local.iter().enumerate().take(p + 1) {
                     if let (Some(i), Some(j)) = (row, col) {
@@ -97,11 +97,11 @@ impl RailOnDeck {
             layout.add_seats(&mut stiffness, springs)?;
         }
         let mut u = vec![0.0; layout.free];
-        let (e, s) = layout.locate(at, self.element_length)?;
+        let (e, s) = layout.locate(at)?;
         let local = layout.element_dofs[e];
         for (k, n) in [0, 1, 4, 5]
             .into_iter()
-            .zip(hermite(s, self.element_length))
+            .zip(hermite(s, layout.element_length[e]))
         {
             if let Some(i) = local[k] {
                 u[i] -= load * n;
@@ -128,10 +128,9 @@ impl RailOnDeck {
     fn forces(&self, layout: &TrackLayout, u: &[f64]) -> StaticSolution {
         let value = |dof: Option<usize>| dof.map_or(0.0, |i| u[i]);
         let (mut reactions, mut ground_force) = (Vec::<(f64, f64)>::new(), 0.0);
-        let h = self.element_length;
         let x = &layout.node_x;
         for (e, local) in layout.element_dofs.iter().enumerate() {
-            let q = local.map(value);
+            let (q, h) = (local.map(value), layout.element_length[e]);
             if !layout.on_deck[e] && self.sleepers.is_some() {
                 continue;
             }
@@ -145,7 +144,7 @@ impl RailOnDeck {
                 ground_force -= self.ground_stiffness * w;
                 continue;
             }
-            let k = self.element(true);
+            let k = self.element(true, h);
             for (p, node) in [(2, e), (6, e + 1)] {
                 if local[p].is_none() {
                     let force: f64 = k[p].iter().zip(&q).map(|(a, b)| a * b).sum();
@@ -155,6 +154,7 @@ impl RailOnDeck {
         }
         // A sleeper's ballast pushes on the ground, on a held deck DOF
         // (a bearing's reaction) or on the deck (carried by its bearings).
+        let h = self.element_length;
         let ballast = self.sleepers.map_or(0.0, |s| s.ballast_stiffness);
         for seat in layout.seats.iter().filter(|seat| seat.base.is_none()) {
             let force = -ballast * u[seat.dof];
@@ -211,29 +211,28 @@ impl RailOnDeck {
             ));
         }
         let mesh = Mesh::new(deck)?;
-        let node_x = self.nodes()?;
+        let (node_x, element_length) = self.rail_nodes(&mesh)?;
         let tolerance = 1e-9 * h;
         let mut on_deck = vec![false; node_x.len() - 1];
         let mut deck_elements = vec![None; node_x.len() - 1];
-        for (k, (&start, &length)) in mesh
-            .element_start
-            .iter()
-            .zip(&mesh.element_length)
-            .enumerate()
-        {
-            let e = ((start + self.approach) / h).round();
-            let aligned = e >= 0.0 && (e * h - self.approach - start).abs() < tolerance;
-            if !aligned || (length - h).abs() > tolerance || e as usize >= on_deck.len() {
+        for (k, (&start, &end)) in (mesh.element_start.iter().zip(&mesh.element_end)).enumerate() {
+            let e = node_x.partition_point(|&x| x < start - tolerance);
+            let aligned = e + 1 < node_x.len()
+                && (node_x[e] - start).abs() < tolerance
+                && (node_x[e + 1] - end).abs() < tolerance;
+            if !aligned {
                 return Err(format!(
-                    "the deck's element from x = {start} m is {length} m long: under a rail \
-                     every span and gap of the deck must be a whole number of elements of \
-                     {h} m"
+                    "the deck's element from x = {start} m to {end} m is not one of the \
+                     rail's elements"
                 ));
             }
-            on_deck[e as usize] = true;
-            deck_elements[e as usize] = Some(mesh.element_dofs[k]);
+            on_deck[e] = true;
+            deck_elements[e] = Some(mesh.element_dofs[k]);
         }
-        let sleeper_at = self.sleeper_nodes(&node_x)?;
+        let sleeper_at = self.sleeper_nodes(&node_x).map_err(|rule| {
+            let spacing = self.sleepers.map_or(f64::NAN, |s| s.spacing);
+            format!("track.on_deck.sleepers.spacing = {spacing:?} m {rule}")
+        })?;
         let (numbering, rail_dofs, sleeper_dofs, free) =
             number_dofs(&node_x, &mesh, &sleeper_at, tolerance)?;
         let element_dofs: Vec<[Option<usize>; 8]> = (0..node_x.len() - 1)
@@ -269,6 +268,7 @@ impl RailOnDeck {
             .unwrap_or(0);
         Ok(TrackLayout {
             node_x,
+            element_length,
             element_dofs,
             on_deck,
             rail_dofs,
@@ -279,7 +279,8 @@ impl RailOnDeck {
     }
 
     /// Whether a sleeper sits at each node: every `spacing` from the
-    /// rail's start, each at a node of the rail (none without sleepers).
+    /// rail's start, each at a node of the rail (none without sleepers);
+    /// else the rule, naming the abscissa without a node.
     fn sleeper_nodes(&self, node_x: &[f64]) -> Result<Vec<bool>, String> {
         let mut at = vec![false; node_x.len()];
         let Some(sleepers) = self.sleepers else {
@@ -295,14 +296,59 @@ impl RailOnDeck {
             let node = node_x.partition_point(|&n| n < x - tolerance);
             if node >= node_x.len() || (node_x[node] - x).abs() > tolerance {
                 return Err(format!(
-                    "track.on_deck.sleepers.spacing = {spacing:?} m puts a sleeper at x = \
-                     {x:?} m, where the rail has no node: sleepers sit at the rail's nodes, \
-                     so the spacing must be a whole number of its elements ({shortest:?} m)"
+                    "puts a sleeper at x = {x:?} m, where the rail has no node: sleepers sit \
+                     at the rail's nodes, so the spacing must be a whole number of the rail's \
+                     elements (the shortest {shortest:?} m)"
                 ));
             }
             at[node] = true;
         }
         Ok(at)
+    }
+
+    /// The rail's nodes and element lengths over the deck's `mesh`: every
+    /// `element_length` from the approach's start where the deck's
+    /// elements are all of that length and the approach, the run-off and
+    /// the gaps whole numbers of them; else the deck's own nodes, and the
+    /// approach, the run-off and each gap in equal elements of at most
+    /// `element_length`.
+    fn rail_nodes(&self, mesh: &Mesh) -> Result<(Vec<f64>, Vec<f64>), String> {
+        let h = self.element_length;
+        let uniform = (mesh.element_length.iter()).all(|l| (l - h).abs() <= 1e-9 * h);
+        if let Some(nodes) = self.nodes().ok().filter(|_| uniform) {
+            let lengths = vec![h; nodes.len() - 1];
+            return Ok((nodes, lengths));
+        }
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(format!("element_length = {h} m must be finite and > 0"));
+        }
+        // Up to `to` in equal elements of at most h, `from` already placed.
+        let fill = |x: &mut Vec<f64>, from: f64, to: f64| {
+            let count = ((to - from) / h - 1e-9).ceil().max(1.0) as usize;
+            x.extend((1..=count).map(|i| from + (to - from) * i as f64 / count as f64));
+        };
+        let mut x = vec![-self.approach];
+        for (&start, &end) in mesh.element_start.iter().zip(&mesh.element_end) {
+            let last = x[x.len() - 1];
+            if start - last > 1e-9 * h {
+                fill(&mut x, last, start);
+            }
+            x.push(end);
+        }
+        if self.run_off > 0.0 {
+            fill(&mut x, self.deck_length, self.deck_length + self.run_off);
+        }
+        let lengths = x.windows(2).map(|w| w[1] - w[0]).collect();
+        Ok((x, lengths))
+    }
+
+    /// Whether the sleepers of `sleepers` meet a node of the rail over
+    /// `deck` at every spacing: the rule and the abscissa where one does
+    /// not.
+    pub fn sleeper_problem(&self, deck: &BeamSpec) -> Option<String> {
+        let mesh = Mesh::new(deck).ok()?;
+        let (node_x, _) = self.rail_nodes(&mesh).ok()?;
+        self.sleeper_nodes(&node_x).err()
     }
 
     /// Node abscissae, refusing lengths that are not whole elements.
@@ -321,8 +367,7 @@ impl RailOnDeck {
     /// The element's 8×8 stiffness on (rail w, ψ at both ends, deck w, ψ at
     /// both ends) in node order: rail bending, deck bending and the track
     /// on the span, rail bending and the ground off it.
-    pub(super) fn element(&self, on_deck: bool) -> [[f64; 8]; 8] {
-        let h = self.element_length;
+    pub(super) fn element(&self, on_deck: bool, h: f64) -> [[f64; 8]; 8] {
         let rail = element_stiffness(h, self.rail_bending_stiffness);
         let mut k = [[0.0; 8]; 8];
         place(&mut k, &rail, (0, 0));
@@ -376,6 +421,8 @@ fn whole_elements(name: &str, length: f64, h: f64) -> Result<usize, String> {
 pub(super) struct TrackLayout {
     /// Node abscissae from −approach to L + run-off (m).
     pub node_x: Vec<f64>,
+    /// Each element's length (m).
+    pub element_length: Vec<f64>,
     pub element_dofs: Vec<[Option<usize>; 8]>,
     /// Whether each element lies on a span of the deck (else on the ground).
     pub on_deck: Vec<bool>,
@@ -455,14 +502,14 @@ impl TrackLayout {
 
     /// The element holding `x` and the abscissa s ∈ [0, 1] in it; `x` off
     /// the rail is refused.
-    pub fn locate(&self, x: f64, h: f64) -> Result<(usize, f64), String> {
+    pub fn locate(&self, x: f64) -> Result<(usize, f64), String> {
         let elements = self.node_x.len() - 1;
         let e = self
             .node_x
             .partition_point(|&n| n <= x)
             .saturating_sub(1)
             .min(elements - 1);
-        let s = (x - self.node_x[e]) / h;
+        let s = (x - self.node_x[e]) / self.element_length[e];
         if !(0.0..=1.0).contains(&s) {
             return Err(format!(
                 "x = {x} m lies off the rail [{}, {}] m",

@@ -55,10 +55,9 @@ pub(super) type ElementMatrices = [[[f64; 8]; 8]; 3];
 
 impl TrackOnDeck {
     /// The element matrices of an element on the deck or off it.
-    pub(super) fn element(&self, on_deck: bool) -> ElementMatrices {
-        let h = self.layout.element_length;
+    pub(super) fn element(&self, on_deck: bool, h: f64) -> ElementMatrices {
         let (mut m, mut c) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
-        let k = self.layout.element(on_deck);
+        let k = self.layout.element(on_deck, h);
         place(&mut m, &element_mass(h, self.rail_mass_per_length), (0, 0));
         if on_deck {
             let deck_mass = element_mass(h, self.deck_mass_per_length);
@@ -171,9 +170,17 @@ impl TrackAssembly {
     /// `weights[0]` M + `weights[1]` C + `weights[2]` K, assembled.
     pub fn combination(&self, weights: [f64; 3]) -> Result<WideBand, String> {
         let mut band = WideBand::zeros(self.free_dofs(), self.half_bandwidth());
-        let matrices = [false, true].map(|deck| self.track.element(deck));
+        // Each element's matrices, computed anew only where its kind or
+        // length changes (every element alike on a uniform mesh).
+        let mut last: Option<(bool, f64, ElementMatrices)> = None;
         for (e, &deck) in self.layout.on_deck.iter().enumerate() {
-            let parts = &matrices[usize::from(deck)];
+            let h = self.layout.element_length[e];
+            let parts = match last {
+                Some((d, l, parts)) if d == deck && l == h => parts,
+                _ => self.track.element(deck, h),
+            };
+            last = Some((deck, h, parts));
+            let parts = &parts;
             let local = self.layout.element_dofs[e];
             for (p, row) in local.iter().enumerate() {
                 for (q, col) in local.iter().enumerate().take(p + 1) {
@@ -224,7 +231,7 @@ impl TrackAssembly {
     /// The element holding `x` and the abscissa s ∈ [0, 1] in it; `x` off
     /// the rail is refused.
     fn locate(&self, x: f64) -> Result<(usize, f64), String> {
-        self.layout.locate(x, self.track.layout.element_length)
+        self.layout.locate(x)
     }
 
     /// Add a force `force` (N, up positive) on the rail at `x` into the
@@ -232,7 +239,7 @@ impl TrackAssembly {
     pub fn add_rail_force(&self, x: f64, force: f64, out: &mut [f64]) -> Result<(), String> {
         let (e, s) = self.locate(x)?;
         let local = self.layout.element_dofs[e];
-        let shape = hermite(s, self.track.layout.element_length);
+        let shape = hermite(s, self.layout.element_length[e]);
         for (k, n) in [0, 1, 4, 5].into_iter().zip(shape) {
             if let Some(i) = local[k] {
                 out[i] += force * n;
@@ -248,7 +255,7 @@ impl TrackAssembly {
             return Ok(0.0);
         }
         let local = self.layout.element_dofs[e];
-        let shape = hermite(s, self.track.layout.element_length);
+        let shape = hermite(s, self.layout.element_length[e]);
         Ok([0, 1, 4, 5]
             .into_iter()
             .zip(shape)
@@ -459,7 +466,7 @@ impl TrackAssembly {
     fn rail_row(&self, x: f64) -> Result<SparseRow, String> {
         let (e, s) = self.locate(x)?;
         let local = self.layout.element_dofs[e];
-        let shape = hermite(s, self.track.layout.element_length);
+        let shape = hermite(s, self.layout.element_length[e]);
         Ok([0, 1, 4, 5]
             .into_iter()
             .zip(shape)

@@ -12,7 +12,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh};
 use crate::mesh::Mesh;
-use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SupportsSpec};
+use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SpringSpec, SupportsSpec};
 use crate::structure::dof_access::DofAccess;
 use crate::structure::rail_on_deck::RailOnDeck;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
@@ -65,7 +65,8 @@ impl TrackBeam {
             deck_damping,
         };
         let assembly = track.assemble_over(deck)?;
-        let rail = rail_spec(deck, on_deck, element_length, assembly.node_x.len() - 1);
+        let lengths = &assembly.layout.element_length;
+        let rail = rail_spec(deck, on_deck, &assembly.node_x, lengths);
         let mesh = HermiteBeam::new(&rail)?;
         let rail_dofs = rail_dofs(&mesh, &assembly)?;
         let not_definite =
@@ -249,17 +250,29 @@ impl TrackBeam {
     }
 }
 
-/// The rail as a free mesh over the whole track: the deck's element
-/// length, the rail's mass and bending stiffness, the deck's surface
-/// offset (the running surface's height in the bodies' frame).
-fn rail_spec(
-    deck: &BeamSpec,
-    on_deck: &OnDeckSpec,
-    element_length: f64,
-    elements: usize,
-) -> BeamSpec {
+/// The rail as a free mesh over the whole track at the assembly's nodes
+/// `node_x` with its element `lengths` (from the approach's start): the rail's mass and bending
+/// stiffness, the deck's surface offset (the running surface's height in
+/// the bodies' frame). Where the elements differ in length, a spring of
+/// zero stiffness at each inner node places the node there (the rail mesh
+/// is geometry only: its matrices are never used).
+fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, node_x: &[f64], lengths: &[f64]) -> BeamSpec {
+    let elements = node_x.len() - 1;
+    let element_length = lengths[0];
+    let uniform = lengths.iter().all(|&l| l == element_length);
+    let springs = (node_x[1..elements].iter())
+        .filter(|_| !uniform)
+        .map(|x| SpringSpec {
+            at: x - node_x[0],
+            ..SpringSpec::default()
+        })
+        .collect();
     BeamSpec {
-        length: element_length * elements as f64,
+        length: if uniform {
+            element_length * elements as f64
+        } else {
+            node_x[elements] - node_x[0]
+        },
         mass_per_length: on_deck.rail_mass_per_length,
         bending_stiffness: on_deck.rail_bending_stiffness,
         frequency: None,
@@ -269,7 +282,7 @@ fn rail_spec(
             left: EndSupport::Free,
             right: EndSupport::Free,
             intermediate: Vec::new(),
-            springs: Vec::new(),
+            springs,
         },
         damping: None,
         joints: Vec::new(),
@@ -277,11 +290,18 @@ fn rail_spec(
     }
 }
 
-/// The length of the deck's elements (validated to be one length under a
-/// rail: `scene::on_deck`).
+/// The length of the deck's elements where they are all one (the first's),
+/// else of its longest: the rail's elements on the approach, the run-off
+/// and the gaps are at most this long.
 pub fn deck_element_length(deck: &BeamSpec) -> Result<f64, String> {
     let mesh = Mesh::new(deck)?;
-    (mesh.element_length.first().copied()).ok_or_else(|| "the deck has no elements".into())
+    let first = (mesh.element_length.first().copied()).ok_or("the deck has no elements")?;
+    let longest = mesh.element_length.iter().copied().fold(first, f64::max);
+    Ok(if longest - first > 1e-9 * first {
+        longest
+    } else {
+        first
+    })
 }
 
 /// The assembly's index of every free DOF of the rail mesh: node by node,
@@ -313,8 +333,11 @@ impl TrackAssembly {
     /// element eigenproblems.
     fn element_frequency_bound(&self) -> Result<f64, String> {
         let mut highest = 0.0f64;
-        for deck in [false, true] {
-            let [m, _, k] = self.track.element(deck);
+        let mut lengths = self.layout.element_length.clone();
+        lengths.sort_by(f64::total_cmp);
+        lengths.dedup();
+        for (deck, h) in lengths.into_iter().flat_map(|h| [(false, h), (true, h)]) {
+            let [m, _, k] = self.track.element(deck, h);
             let n = if deck { 8 } else { 4 };
             // Off the deck the element has the rail's four DOFs: 0, 1, 4, 5.
             let pick = |p: usize| if deck { p } else { [0, 1, 4, 5][p] };
@@ -352,11 +375,11 @@ impl TrackAssembly {
         let mut seen = Vec::new();
         let mut highest = 0.0f64;
         for (e, group) in groups.into_iter().enumerate() {
-            let key = (layout.on_deck[e], group);
-            if key.1.is_empty() || seen.contains(&key) {
+            let key = (layout.on_deck[e], layout.element_length[e], group);
+            if key.2.is_empty() || seen.contains(&key) {
                 continue;
             }
-            highest = highest.max(self.group_frequency(&s, key.0, &key.1)?);
+            highest = highest.max(self.group_frequency(&s, (key.0, key.1), &key.2)?);
             seen.push(key);
         }
         Ok(highest)
@@ -368,10 +391,10 @@ impl TrackAssembly {
     fn group_frequency(
         &self,
         s: &crate::structure::track_sleepers::Sleepers,
-        deck: bool,
+        (deck, h): (bool, f64),
         group: &[(usize, Option<usize>)],
     ) -> Result<f64, String> {
-        let [m, _, k] = self.track.element(deck);
+        let [m, _, k] = self.track.element(deck, h);
         let slots: Vec<usize> = if deck {
             (0..8).collect()
         } else {
