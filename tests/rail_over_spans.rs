@@ -71,6 +71,7 @@ fn layout(track_stiffness: f64, approach: f64) -> RailOnDeck {
         approach,
         run_off: approach,
         element_length: H,
+        sleepers: None,
     }
 }
 
@@ -472,45 +473,105 @@ fn in_a_scene_a_glider_crosses_a_gap_between_two_spans_on_the_rail() {
 }
 
 #[test]
-fn a_deck_whose_elements_the_rail_cannot_continue_is_refused_naming_the_rule() {
-    // 87 elements over 20 m + 24 m give the spans elements of two lengths;
-    // spans of 20 m and 24 m 0.5 m apart in 44 elements of 1 m leave a gap
-    // that is not whole elements; springs under the deck are not the
-    // track's layer.
-    let uneven = two_span_scene(INTERMEDIATE, 1e8, (0.0, 0.0), 1e-3)
-        .replace("elements = 88", "elements = 87");
-    let gap = two_span_scene(
-        "[[beam.joints]]\nat = 20.0\nkind = \"separate\"\ngap = 0.5",
-        1e8,
-        (0.0, 0.0),
-        1e-3,
-    )
-    .replace("length = 44.0", "length = 44.5")
-    .replace("elements = 88", "elements = 44");
+fn springs_under_the_deck_are_refused_naming_the_rule() {
+    // Springs under the deck are not the track's layer.
     let springs = two_span_scene(
         "[beam.supports]\nintermediate = [20.0]\nsprings = [{ at = 30.0, vertical = 1e8 }]",
         1e8,
         (0.0, 0.0),
         1e-3,
     );
-    for (scene, expected) in [
-        (uneven, "beam.elements = 87: gives the deck elements of"),
-        (
-            gap,
-            "beam.joints[0].gap = 0.5: under a rail over the deck must be a whole number",
-        ),
-        (
-            springs,
-            "leave beam.supports.springs and beam.foundation out",
-        ),
-    ] {
-        let error = guideway::Scene::from_toml_str(&scene)
-            .unwrap_err()
-            .to_string();
-        println!("{error}");
-        assert!(
-            error.contains(expected),
-            "{expected:?} missing from {error}"
-        );
+    let error = guideway::Scene::from_toml_str(&springs)
+        .unwrap_err()
+        .to_string();
+    println!("{error}");
+    assert!(
+        error.contains("leave beam.supports.springs and beam.foundation out"),
+        "{error}"
+    );
+}
+
+/// The two continuous spans in 87 elements: 40 of 0.5 m over the first,
+/// 47 of 24/47 m over the second; the rail's nodes are the deck's.
+fn uneven_deck() -> BeamSpec {
+    BeamSpec {
+        elements: 87,
+        ..deck(Pier::Continuous)
     }
+}
+
+/// The node of `solution` nearest `x`, and its abscissa.
+fn nearest_node(solution: &StaticSolution, x: f64) -> (usize, f64) {
+    let distance = |n: &f64| (n - x).abs();
+    let (i, &at) = (solution.node_x.iter().enumerate())
+        .min_by(|a, b| distance(a.1).total_cmp(&distance(b.1)))
+        .expect("nodes");
+    (i, at)
+}
+
+#[test]
+fn over_spans_of_unequal_elements_a_stiff_layer_bends_as_one_two_span_beam() {
+    // Elements of 0.5 m and 0.5106 m; with approaches of 10 m and of
+    // 10.3 m (not whole elements: 21 of 0.4905 m) the rail on the ground
+    // restrains the ends by 2 EI_r β as in the uniform case.
+    let beta = (GROUND / (4.0 * RAIL_EI)).powf(0.25);
+    for (approach, end_spring, tolerance) in [
+        (0.0, 0.0, 1e-4),
+        (10.0, 2.0 * RAIL_EI * beta, 2e-4),
+        (10.3, 2.0 * RAIL_EI * beta, 2e-4),
+    ] {
+        let beam = TwoSpan {
+            ei: DECK_EI + RAIL_EI,
+            end_spring,
+        };
+        for xi in LOADS {
+            let probe = layout(1e13, approach)
+                .static_solution_over(&uneven_deck(), xi, LOAD)
+                .expect("solves");
+            let (_, at) = nearest_node(&probe, xi);
+            let solution = layout(1e13, approach)
+                .static_solution_over(&uneven_deck(), at, LOAD)
+                .expect("solves");
+            for x in READ.into_iter().chain([at]) {
+                let (node, x) = nearest_node(&solution, x);
+                let found = -solution.deck[node];
+                let what = format!("approach {approach} m, load at {at:.4} m, deck at {x:.4} m");
+                assert_within(found, beam.deflection(LOAD, at, x), tolerance, &what);
+            }
+            let bearings: f64 = solution.reactions.iter().map(|r| r.1).sum();
+            assert_within(bearings + solution.ground_force, LOAD, 1e-9, "balance");
+        }
+    }
+}
+
+#[test]
+fn in_a_scene_a_slow_glider_over_spans_of_unequal_elements_follows_their_influence_lines() {
+    // As the uniform scene, in 87 elements (0.5 m and 0.5106 m), which the
+    // rail's nodes follow.
+    let (speed, step) = (0.5, 0.02);
+    let scene = two_span_scene(INTERMEDIATE, 1e11, (-3.0, speed), step)
+        .replace("elements = 88", "elements = 87");
+    let rows = run_scene(
+        &scene,
+        &[
+            "glider.x",
+            "sensor.first.deflection",
+            "sensor.second.deflection",
+        ],
+    );
+    let composite = TwoSpan {
+        ei: DECK_EI + RAIL_EI,
+        end_spring: 0.0,
+    };
+    let weight = 10_000.0 * 9.81;
+    let peak = composite.deflection(weight, 10.0, 10.0);
+    let mut worst = 0.0f64;
+    for row in rows.iter().filter(|r| r[0] > 2.0 && r[0] < 42.0) {
+        for (k, sensor) in [10.0, 32.0].into_iter().enumerate() {
+            let expected = -composite.deflection(weight, row[0], sensor);
+            worst = worst.max((row[1 + k] - expected).abs() / peak);
+        }
+    }
+    println!("largest departure from the influence lines: {worst:.3e} of the peak");
+    assert!(worst < 5e-3, "{worst:e} of the peak");
 }

@@ -36,6 +36,7 @@ fn layout(track_stiffness: f64, element_length: f64) -> RailOnDeck {
         approach: 10.0,
         run_off: 10.0,
         element_length,
+        sleepers: None,
     }
 }
 
@@ -659,6 +660,8 @@ fn in_a_scene_a_slow_glider_follows_the_deck_influence_line() {
 
 #[test]
 fn a_rail_over_the_deck_that_the_model_cannot_hold_is_refused_naming_the_rule() {
+    // An approach of 4.5 m (not whole elements) is accepted since the
+    // rail's elements may differ in length (tests/rail_over_spans.rs).
     let scene = rail_scene(0.0, (1e4, 0.0, 1.0), 1e-3, 1.0)
         .replace("approach = 4.0", "approach = 4.5")
         .replace("integrator = \"hht\"", "integrator = \"rk4\"")
@@ -674,7 +677,6 @@ fn a_rail_over_the_deck_that_the_model_cannot_hold_is_refused_naming_the_rule() 
     for expected in [
         "track.on_deck.stiffness = 0.0",
         "track.on_deck.rail_mass_per_length = -1.0: must be finite and > 0",
-        "track.approach = 4.5: under a rail over the deck must be a whole number",
         "solver.integrator = rk4: the rail over the deck is stepped by HHT-α only",
         "sections",
     ] {

@@ -63,6 +63,8 @@ pub enum Quantity {
     SensorFoundationLoad(usize),
     /// The rail's deflection at sensor i, under a rail over the deck.
     SensorRailDeflection(usize),
+    /// The pad force of the sleeper nearest sensor i, on sleepers.
+    SensorRailSeatForce(usize),
     SensorAcceleration(usize),
     SectionMoment(usize),
     SectionShear(usize),
@@ -443,6 +445,15 @@ impl Catalogue {
                     Quantity::SensorRailDeflection(i),
                 );
             }
+            if beam.track().is_some_and(|t| t.has_sleepers()) {
+                self.real(
+                    format!("sensor.{name}.rail_seat_force"),
+                    "N",
+                    "rail-seat (pad) force of the sleeper nearest the sensor, compression \
+                     positive: -(k_pad (w_rail - w_sleeper) + c_pad (v_rail - v_sleeper))",
+                    Quantity::SensorRailSeatForce(i),
+                );
+            }
         }
         self.design(beam, sections, reactions);
     }
@@ -586,6 +597,9 @@ pub fn structure_value(
         Quantity::SensorRailDeflection(i) => beam
             .track()
             .map_or(f64::NAN, |t| t.rail_deflection(u, sensors[i])),
+        Quantity::SensorRailSeatForce(i) => beam
+            .track()
+            .map_or(f64::NAN, |t| t.rail_seat_force(u, v, sensors[i])),
         Quantity::SensorAcceleration(i) => {
             dynamics.map_or(f64::NAN, |b| b.acceleration_at(beam, sensors[i]))
         }
@@ -676,6 +690,7 @@ pub fn evaluate(
             | Quantity::SensorVelocity(_)
             | Quantity::SensorFoundationLoad(_)
             | Quantity::SensorRailDeflection(_)
+            | Quantity::SensorRailSeatForce(_)
             | Quantity::SensorAcceleration(_)
             | Quantity::SectionMoment(_)
             | Quantity::SectionShear(_)

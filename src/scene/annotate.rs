@@ -30,6 +30,10 @@ pub(super) const TABLE_NOTES: &[(&str, &str)] = &[
         "A rail over the deck on a layer, on the ground off it: the contacts run on the rail",
     ),
     (
+        "track.on_deck.sleepers",
+        "Discrete supports in place of the layer: sleepers on pads over the ballast",
+    ),
+    (
         "beam.damping",
         "Structural damping: Rayleigh, one of three shapes, or { ratio } alone in every mode",
     ),

@@ -17,6 +17,7 @@ mod validate;
 
 pub use crate::structure::profile::IrregularitySpec;
 pub use crate::vehicle::presets::{BodyKind, BogieSpec, MaglevSpec, SuspensionSpec};
+pub use crate::structure::track_sleepers::{SleeperPreset, SleepersSpec};
 pub use advice::advisories;
 pub use builtin::{builtin, builtins, fmu_builtins, template_file, templates, DEFAULT_SCENE};
 pub use contact_law::{ContactLawSpec, ResolvedLaw};
@@ -129,6 +130,10 @@ pub struct OnDeckSpec {
     /// The rail's bending stiffness EI (N m²) and mass per metre (kg/m).
     pub rail_bending_stiffness: f64,
     pub rail_mass_per_length: f64,
+    /// Discrete supports (pads, sleepers, ballast) in place of the layer
+    /// and the ground's layer.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sleepers: Option<SleepersSpec>,
 }
 
 impl OnDeckSpec {

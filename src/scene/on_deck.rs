@@ -1,12 +1,13 @@
 //! The rules of `[track.on_deck]` (the rail over the deck): its values,
 //! and what the rest of the scene must be for the rail-over-deck model to
-//! hold it (spans and joints in elements of one length, whole elements on
-//! the approach, the run-off and every gap, HHT-α on the full mesh); what
-//! it cannot do yet is refused with the reason.
+//! hold it (a deck on its supports only, sleepers at the rail's nodes,
+//! HHT-α on the full mesh); what it cannot do yet is refused with the
+//! reason.
 
 use super::{BodyKind, DampingSpec, IntegratorKind, Scene, StructureKind};
 use crate::mesh::Mesh;
 use crate::scene::error::Problem;
+use crate::structure::rail_on_deck::RailOnDeck;
 
 /// Most rail elements from the approach's start to the run-off's end: the
 /// beam's own bound (`validate::MAX_ELEMENTS`).
@@ -21,11 +22,14 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
     let mut fail = |path: &str, value: String, rule: &str| {
         out.push(Problem::new(format!("track.on_deck.{path}"), value, rule))
     };
+    // On sleepers the continuous layer is not built: its values are
+    // refused rather than silently unused.
+    let layer = spec.sleepers.is_none();
     for (path, value) in [
         ("rail_bending_stiffness", Some(spec.rail_bending_stiffness)),
         ("rail_mass_per_length", Some(spec.rail_mass_per_length)),
-        ("stiffness", Some(spec.stiffness())),
-        ("ground_stiffness", spec.ground_stiffness),
+        ("stiffness", Some(spec.stiffness()).filter(|_| layer)),
+        ("ground_stiffness", spec.ground_stiffness.filter(|_| layer)),
     ] {
         if let Some(x) = value.filter(|x| !(x.is_finite() && *x > 0.0)) {
             let rule = if path == "stiffness" && spec.stiffness.is_none() && spec.preset.is_none() {
@@ -44,14 +48,76 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
             fail(path, format!("{x:?}"), "must be finite and >= 0");
         }
     }
+    out.extend(sleeper_problems(scene));
     out.extend(layout_problems(scene));
     out.extend(unsupported(scene));
     out
 }
 
-/// A deck of spans and joints meshed in elements of one length that
-/// divides the approach, the run-off and every gap, without springs or a
-/// foundation of its own, and a rail of bounded size.
+/// The rules of `track.on_deck.sleepers`: every value given or preset and
+/// in its range, the continuous layer's fields left out, and the spacing
+/// a whole number of the deck's elements (sleepers sit at the rail's
+/// nodes).
+fn sleeper_problems(scene: &Scene) -> Vec<Problem> {
+    let Some(spec) = scene.track.on_deck.as_ref() else {
+        return Vec::new();
+    };
+    let Some(sleepers) = spec.sleepers else {
+        return Vec::new();
+    };
+    let mut out = Vec::new();
+    let layer = [
+        ("preset", spec.preset.map(|_| f64::NAN)),
+        ("stiffness", spec.stiffness),
+        ("damping", spec.damping),
+        ("ground_stiffness", spec.ground_stiffness),
+        ("ground_damping", spec.ground_damping),
+    ];
+    for (path, value) in layer {
+        if let Some(value) = value {
+            out.push(Problem::new(
+                format!("track.on_deck.{path}"),
+                format!("{value:?}"),
+                "is the continuous layer's: on sleepers the rail rests on them only; leave it \
+                 out (the pads' and the ballast's values are in track.on_deck.sleepers)",
+            ));
+        }
+    }
+    let resolved = sleepers.resolve();
+    for (name, value, rule) in resolved.problems() {
+        let path = format!("track.on_deck.sleepers.{name}");
+        out.push(Problem::new(path, format!("{value:?}"), rule));
+    }
+    if !(resolved.spacing > 0.0 && resolved.spacing.is_finite()) {
+        return out;
+    }
+    let Ok(element_length) = crate::structure::track_seam::deck_element_length(&scene.beam) else {
+        return out;
+    };
+    let rail = RailOnDeck {
+        deck_length: scene.beam.length,
+        deck_bending_stiffness: scene.beam.bending_stiffness,
+        rail_bending_stiffness: spec.rail_bending_stiffness,
+        track_stiffness: 0.0,
+        ground_stiffness: 0.0,
+        approach: scene.track.approach,
+        run_off: scene.track.run_off,
+        element_length,
+        sleepers: Some(resolved),
+    };
+    if let Some(rule) = rail.sleeper_problem(&scene.beam) {
+        out.push(Problem::new(
+            "track.on_deck.sleepers.spacing",
+            format!("{:?}", resolved.spacing),
+            rule,
+        ));
+    }
+    out
+}
+
+/// A deck without springs or a foundation of its own, and a rail of
+/// bounded size (the deck's elements, and the approach, the run-off and
+/// the gaps in elements of at most the deck's longest).
 fn layout_problems(scene: &Scene) -> Vec<Problem> {
     let (beam, track) = (&scene.beam, &scene.track);
     let mut out = Vec::new();
@@ -75,41 +141,11 @@ fn layout_problems(scene: &Scene) -> Vec<Problem> {
     let Ok(mesh) = Mesh::new(beam) else {
         return out;
     };
-    let h = mesh.element_length.first().copied().unwrap_or(f64::NAN);
-    if let Some(k) = (mesh.element_length.iter()).position(|l| (l - h).abs() > 1e-9 * h) {
-        out.push(Problem::new(
-            "beam.elements",
-            format!("{}", beam.elements),
-            format!(
-                "gives the deck elements of {h:?} m and, from x = {:?} m, of {:?} m: under a \
-                 rail every span between supports and joints must be a whole number of \
-                 elements of one length (the rail's mesh continues the deck's)",
-                mesh.element_start[k], mesh.element_length[k]
-            ),
-        ));
-        return out;
-    }
-    let gaps = beam.joints.iter().enumerate().filter(|(_, j)| j.gap > 0.0);
-    let lengths = [
-        ("track.approach".to_string(), track.approach),
-        ("track.run_off".to_string(), track.run_off),
-    ]
-    .into_iter()
-    .chain(gaps.map(|(i, j)| (format!("beam.joints[{i}].gap"), j.gap)));
-    for (path, length) in lengths {
-        let count = length / h;
-        if count.is_finite() && (count - count.round()).abs() > 1e-9 * count.max(1.0) {
-            out.push(Problem::new(
-                path,
-                format!("{length:?}"),
-                format!(
-                    "under a rail over the deck must be a whole number of the deck's elements \
-                     ({h:?} m): the rail's mesh continues the deck's"
-                ),
-            ));
-        }
-    }
-    let elements = (track.approach + beam.length + track.run_off) / h;
+    // The rail's elements off the deck are at most the deck's longest.
+    let h = mesh.element_length.iter().copied().fold(0.0, f64::max);
+    let gaps: f64 = beam.joints.iter().map(|j| j.gap).sum();
+    let off_deck = ((track.approach + track.run_off + gaps) / h).ceil();
+    let elements = mesh.element_length.len() as f64 + off_deck;
     if elements > MAX_RAIL_ELEMENTS {
         out.push(Problem::new(
             "track.approach",

@@ -11,5 +11,6 @@ pub mod reduced;
 pub mod seam;
 pub mod track_on_deck;
 pub mod track_seam;
+pub mod track_sleepers;
 
 pub use seam::Structure;

@@ -10,6 +10,7 @@
 use crate::beam::{element_mass, element_stiffness};
 use crate::mesh::Mesh;
 use crate::structure::beam::{BeamSpec, SupportsSpec};
+use crate::structure::track_sleepers::Sleepers;
 use crate::wide_band::WideBand;
 use nalgebra::Matrix4;
 
@@ -31,6 +32,9 @@ pub struct RailOnDeck {
     pub approach: f64,
     pub run_off: f64,
     pub element_length: f64,
+    /// Discrete supports in place of the continuous layer and ground
+    /// (`track_stiffness` and `ground_stiffness` then unused).
+    pub sleepers: Option<Sleepers>,
 }
 
 /// Deflections at the nodes and the forces that hold the assembly.
@@ -79,7 +83,7 @@ impl RailOnDeck {
         let layout = self.layout(deck)?;
         let mut stiffness = WideBand::zeros(layout.free, layout.half_bandwidth);
         for (e, local) in layout.element_dofs.iter().enumerate() {
-            let k = self.element(layout.on_deck[e]);
+            let k = self.element(layout.on_deck[e], layout.element_length[e]);
             for (p, row) in local.iter().enumerate() {
                 for (q, col) in local.iter().enumerate().take(p + 1) {
                     if let (Some(i), Some(j)) = (row, col) {
@@ -88,12 +92,16 @@ impl RailOnDeck {
                 }
             }
         }
+        if let Some(sleepers) = self.sleepers {
+            let springs = [sleepers.pad_stiffness, sleepers.ballast_stiffness, 0.0];
+            layout.add_seats(&mut stiffness, springs)?;
+        }
         let mut u = vec![0.0; layout.free];
-        let (e, s) = layout.locate(at, self.element_length)?;
+        let (e, s) = layout.locate(at)?;
         let local = layout.element_dofs[e];
         for (k, n) in [0, 1, 4, 5]
             .into_iter()
-            .zip(hermite(s, self.element_length))
+            .zip(hermite(s, layout.element_length[e]))
         {
             if let Some(i) = local[k] {
                 u[i] -= load * n;
@@ -120,10 +128,12 @@ impl RailOnDeck {
     fn forces(&self, layout: &TrackLayout, u: &[f64]) -> StaticSolution {
         let value = |dof: Option<usize>| dof.map_or(0.0, |i| u[i]);
         let (mut reactions, mut ground_force) = (Vec::<(f64, f64)>::new(), 0.0);
-        let h = self.element_length;
         let x = &layout.node_x;
         for (e, local) in layout.element_dofs.iter().enumerate() {
-            let q = local.map(value);
+            let (q, h) = (local.map(value), layout.element_length[e]);
+            if !layout.on_deck[e] && self.sleepers.is_some() {
+                continue;
+            }
             if !layout.on_deck[e] {
                 let integral = [h / 2.0, h * h / 12.0, h / 2.0, -h * h / 12.0];
                 let w: f64 = [0, 1, 4, 5]
@@ -134,18 +144,24 @@ impl RailOnDeck {
                 ground_force -= self.ground_stiffness * w;
                 continue;
             }
-            let k = self.element(true);
+            let k = self.element(true, h);
             for (p, node) in [(2, e), (6, e + 1)] {
                 if local[p].is_none() {
                     let force: f64 = k[p].iter().zip(&q).map(|(a, b)| a * b).sum();
-                    match reactions
-                        .iter_mut()
-                        .find(|r| (r.0 - x[node]).abs() < 1e-9 * h)
-                    {
-                        Some(r) => r.1 += force,
-                        None => reactions.push((x[node], force)),
-                    }
+                    add_reaction(&mut reactions, x[node], force, 1e-9 * h);
                 }
+            }
+        }
+        // A sleeper's ballast pushes on the ground, on a held deck DOF
+        // (a bearing's reaction) or on the deck (carried by its bearings).
+        let h = self.element_length;
+        let ballast = self.sleepers.map_or(0.0, |s| s.ballast_stiffness);
+        for seat in layout.seats.iter().filter(|seat| seat.base.is_none()) {
+            let force = -ballast * u[seat.dof];
+            if seat.on_deck {
+                add_reaction(&mut reactions, x[seat.node], force, 1e-9 * h);
+            } else {
+                ground_force += force;
             }
         }
         reactions.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -195,29 +211,30 @@ impl RailOnDeck {
             ));
         }
         let mesh = Mesh::new(deck)?;
-        let node_x = self.nodes()?;
+        let (node_x, element_length) = self.rail_nodes(&mesh)?;
         let tolerance = 1e-9 * h;
         let mut on_deck = vec![false; node_x.len() - 1];
         let mut deck_elements = vec![None; node_x.len() - 1];
-        for (k, (&start, &length)) in mesh
-            .element_start
-            .iter()
-            .zip(&mesh.element_length)
-            .enumerate()
-        {
-            let e = ((start + self.approach) / h).round();
-            let aligned = e >= 0.0 && (e * h - self.approach - start).abs() < tolerance;
-            if !aligned || (length - h).abs() > tolerance || e as usize >= on_deck.len() {
+        for (k, (&start, &end)) in (mesh.element_start.iter().zip(&mesh.element_end)).enumerate() {
+            let e = node_x.partition_point(|&x| x < start - tolerance);
+            let aligned = e + 1 < node_x.len()
+                && (node_x[e] - start).abs() < tolerance
+                && (node_x[e + 1] - end).abs() < tolerance;
+            if !aligned {
                 return Err(format!(
-                    "the deck's element from x = {start} m is {length} m long: under a rail \
-                     every span and gap of the deck must be a whole number of elements of \
-                     {h} m"
+                    "the deck's element from x = {start} m to {end} m is not one of the \
+                     rail's elements"
                 ));
             }
-            on_deck[e as usize] = true;
-            deck_elements[e as usize] = Some(mesh.element_dofs[k]);
+            on_deck[e] = true;
+            deck_elements[e] = Some(mesh.element_dofs[k]);
         }
-        let (numbering, rail_dofs, free) = number_dofs(&node_x, &mesh, tolerance)?;
+        let sleeper_at = self.sleeper_nodes(&node_x).map_err(|rule| {
+            let spacing = self.sleepers.map_or(f64::NAN, |s| s.spacing);
+            format!("track.on_deck.sleepers.spacing = {spacing:?} m {rule}")
+        })?;
+        let (numbering, rail_dofs, sleeper_dofs, free) =
+            number_dofs(&node_x, &mesh, &sleeper_at, tolerance)?;
         let element_dofs: Vec<[Option<usize>; 8]> = (0..node_x.len() - 1)
             .map(|e| {
                 let deck =
@@ -235,22 +252,103 @@ impl RailOnDeck {
                 ]
             })
             .collect();
+        let seats = seats(&sleeper_dofs, &element_dofs, &on_deck, &rail_dofs);
+        let seat_spans = seats.iter().map(|seat| {
+            let last = seat.base.unwrap_or(seat.dof).max(seat.dof);
+            last - seat.rail
+        });
         let half_bandwidth = element_dofs
             .iter()
             .map(|local| {
                 let present = local.iter().flatten();
                 present.clone().max().unwrap_or(&0) - present.min().unwrap_or(&0)
             })
+            .chain(seat_spans)
             .max()
             .unwrap_or(0);
         Ok(TrackLayout {
             node_x,
+            element_length,
             element_dofs,
             on_deck,
             rail_dofs,
+            seats,
             free,
             half_bandwidth,
         })
+    }
+
+    /// Whether a sleeper sits at each node: every `spacing` from the
+    /// rail's start, each at a node of the rail (none without sleepers);
+    /// else the rule, naming the abscissa without a node.
+    fn sleeper_nodes(&self, node_x: &[f64]) -> Result<Vec<bool>, String> {
+        let mut at = vec![false; node_x.len()];
+        let Some(sleepers) = self.sleepers else {
+            return Ok(at);
+        };
+        let (first, last) = (node_x[0], node_x[node_x.len() - 1]);
+        let spacing = sleepers.spacing;
+        let count = ((last - first) / spacing * (1.0 + 1e-12)).floor() as usize;
+        let shortest = (node_x.windows(2).map(|w| w[1] - w[0])).fold(f64::INFINITY, f64::min);
+        let tolerance = 1e-9 * shortest;
+        for j in 0..=count {
+            let x = first + j as f64 * spacing;
+            let node = node_x.partition_point(|&n| n < x - tolerance);
+            if node >= node_x.len() || (node_x[node] - x).abs() > tolerance {
+                return Err(format!(
+                    "puts a sleeper at x = {x:?} m, where the rail has no node: sleepers sit \
+                     at the rail's nodes, so the spacing must be a whole number of the rail's \
+                     elements (the shortest {shortest:?} m)"
+                ));
+            }
+            at[node] = true;
+        }
+        Ok(at)
+    }
+
+    /// The rail's nodes and element lengths over the deck's `mesh`: every
+    /// `element_length` from the approach's start where the deck's
+    /// elements are all of that length and the approach, the run-off and
+    /// the gaps whole numbers of them; else the deck's own nodes, and the
+    /// approach, the run-off and each gap in equal elements of at most
+    /// `element_length`.
+    fn rail_nodes(&self, mesh: &Mesh) -> Result<(Vec<f64>, Vec<f64>), String> {
+        let h = self.element_length;
+        let uniform = (mesh.element_length.iter()).all(|l| (l - h).abs() <= 1e-9 * h);
+        if let Some(nodes) = self.nodes().ok().filter(|_| uniform) {
+            let lengths = vec![h; nodes.len() - 1];
+            return Ok((nodes, lengths));
+        }
+        if !(h > 0.0 && h.is_finite()) {
+            return Err(format!("element_length = {h} m must be finite and > 0"));
+        }
+        // Up to `to` in equal elements of at most h, `from` already placed.
+        let fill = |x: &mut Vec<f64>, from: f64, to: f64| {
+            let count = ((to - from) / h - 1e-9).ceil().max(1.0) as usize;
+            x.extend((1..=count).map(|i| from + (to - from) * i as f64 / count as f64));
+        };
+        let mut x = vec![-self.approach];
+        for (&start, &end) in mesh.element_start.iter().zip(&mesh.element_end) {
+            let last = x[x.len() - 1];
+            if start - last > 1e-9 * h {
+                fill(&mut x, last, start);
+            }
+            x.push(end);
+        }
+        if self.run_off > 0.0 {
+            fill(&mut x, self.deck_length, self.deck_length + self.run_off);
+        }
+        let lengths = x.windows(2).map(|w| w[1] - w[0]).collect();
+        Ok((x, lengths))
+    }
+
+    /// Whether the sleepers of `sleepers` meet a node of the rail over
+    /// `deck` at every spacing: the rule and the abscissa where one does
+    /// not.
+    pub fn sleeper_problem(&self, deck: &BeamSpec) -> Option<String> {
+        let mesh = Mesh::new(deck).ok()?;
+        let (node_x, _) = self.rail_nodes(&mesh).ok()?;
+        self.sleeper_nodes(&node_x).err()
     }
 
     /// Node abscissae, refusing lengths that are not whole elements.
@@ -269,13 +367,17 @@ impl RailOnDeck {
     /// The element's 8×8 stiffness on (rail w, ψ at both ends, deck w, ψ at
     /// both ends) in node order: rail bending, deck bending and the track
     /// on the span, rail bending and the ground off it.
-    pub(super) fn element(&self, on_deck: bool) -> [[f64; 8]; 8] {
-        let h = self.element_length;
+    pub(super) fn element(&self, on_deck: bool, h: f64) -> [[f64; 8]; 8] {
         let rail = element_stiffness(h, self.rail_bending_stiffness);
         let mut k = [[0.0; 8]; 8];
         place(&mut k, &rail, (0, 0));
+        // On sleepers the rail rests on them only (`TrackLayout::add_seats`).
+        let (track, ground) = match self.sleepers {
+            Some(_) => (0.0, 0.0),
+            None => (self.track_stiffness, self.ground_stiffness),
+        };
         if on_deck {
-            let layer = element_mass(h, self.track_stiffness);
+            let layer = element_mass(h, track);
             place(
                 &mut k,
                 &element_stiffness(h, self.deck_bending_stiffness),
@@ -286,9 +388,18 @@ impl RailOnDeck {
             place(&mut k, &(-layer), (0, 2));
             place(&mut k, &(-layer), (2, 0));
         } else {
-            place(&mut k, &element_mass(h, self.ground_stiffness), (0, 0));
+            place(&mut k, &element_mass(h, ground), (0, 0));
         }
         k
+    }
+}
+
+/// Add `force` to the reaction at `x` (a new one where none is within
+/// `tolerance`).
+fn add_reaction(reactions: &mut Vec<(f64, f64)>, x: f64, force: f64, tolerance: f64) {
+    match reactions.iter_mut().find(|r| (r.0 - x).abs() < tolerance) {
+        Some(r) => r.1 += force,
+        None => reactions.push((x, force)),
     }
 }
 
@@ -310,26 +421,95 @@ fn whole_elements(name: &str, length: f64, h: f64) -> Result<usize, String> {
 pub(super) struct TrackLayout {
     /// Node abscissae from −approach to L + run-off (m).
     pub node_x: Vec<f64>,
+    /// Each element's length (m).
+    pub element_length: Vec<f64>,
     pub element_dofs: Vec<[Option<usize>; 8]>,
     /// Whether each element lies on a span of the deck (else on the ground).
     pub on_deck: Vec<bool>,
     /// The rail's (w, ψ) at each node.
     pub rail_dofs: Vec<[usize; 2]>,
+    /// The sleepers, from the rail's start (none on a continuous layer).
+    pub seats: Vec<Seat>,
     pub free: usize,
     pub half_bandwidth: usize,
 }
 
+/// A sleeper: its node, its DOF, the rail's w above it and the deck's w
+/// under it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct Seat {
+    pub node: usize,
+    pub dof: usize,
+    /// The rail's w at the sleeper's node.
+    pub rail: usize,
+    /// The deck's free w under it; `None` on the ground or on a held deck
+    /// DOF (a bearing).
+    pub base: Option<usize>,
+    /// Whether it rests on the deck (an element on either side is on it).
+    pub on_deck: bool,
+}
+
+/// The sleepers at the nodes of `sleeper_dofs`, each on the deck's w of
+/// the element to its right on the deck, else of the one to its left.
+fn seats(
+    sleeper_dofs: &[Option<usize>],
+    element_dofs: &[[Option<usize>; 8]],
+    on_deck: &[bool],
+    rail_dofs: &[[usize; 2]],
+) -> Vec<Seat> {
+    let deck_at = |e: Option<usize>, p: usize| {
+        e.filter(|&e| e < on_deck.len() && on_deck[e])
+            .map(|e| element_dofs[e][p])
+    };
+    let mut out = Vec::new();
+    for (node, dof) in sleeper_dofs.iter().enumerate() {
+        let Some(dof) = *dof else { continue };
+        let right = deck_at(Some(node), 2);
+        let left = deck_at(node.checked_sub(1), 6);
+        out.push(Seat {
+            node,
+            dof,
+            rail: rail_dofs[node][0],
+            base: right.or(left).flatten(),
+            on_deck: right.is_some() || left.is_some(),
+        });
+    }
+    out
+}
+
 impl TrackLayout {
+    /// Add every sleeper's `[pad, ballast, mass]` (stiffnesses, dampers or
+    /// masses: one of the three matrices, or their combination) into
+    /// `band`: the pad between the rail and the sleeper, the ballast
+    /// between the sleeper and the deck (or the ground), the mass on the
+    /// sleeper.
+    pub fn add_seats(
+        &self,
+        band: &mut WideBand,
+        [pad, ballast, mass]: [f64; 3],
+    ) -> Result<(), String> {
+        for seat in &self.seats {
+            band.add_symmetric(seat.rail, seat.rail, pad)?;
+            band.add_symmetric(seat.dof, seat.dof, pad + ballast + mass)?;
+            band.add_symmetric(seat.rail, seat.dof, -pad)?;
+            if let Some(base) = seat.base {
+                band.add_symmetric(base, base, ballast)?;
+                band.add_symmetric(seat.dof, base, -ballast)?;
+            }
+        }
+        Ok(())
+    }
+
     /// The element holding `x` and the abscissa s ∈ [0, 1] in it; `x` off
     /// the rail is refused.
-    pub fn locate(&self, x: f64, h: f64) -> Result<(usize, f64), String> {
+    pub fn locate(&self, x: f64) -> Result<(usize, f64), String> {
         let elements = self.node_x.len() - 1;
         let e = self
             .node_x
             .partition_point(|&n| n <= x)
             .saturating_sub(1)
             .min(elements - 1);
-        let s = (x - self.node_x[e]) / h;
+        let s = (x - self.node_x[e]) / self.element_length[e];
         if !(0.0..=1.0).contains(&s) {
             return Err(format!(
                 "x = {x} m lies off the rail [{}, {}] m",
@@ -340,16 +520,22 @@ impl TrackLayout {
     }
 }
 
-/// The deck DOFs' numbers in the assembly, the rail's (w, ψ) at each node
-/// and the count of free DOFs.
-type Numbering = (Vec<usize>, Vec<[usize; 2]>, usize);
+/// The deck DOFs' numbers in the assembly, the rail's (w, ψ) at each
+/// node, the sleeper's DOF at each node (if any) and the count of free
+/// DOFs.
+type Numbering = (Vec<usize>, Vec<[usize; 2]>, Vec<Option<usize>>, usize);
 
 /// Number the rail's DOFs and the deck's node by node: at each rail node
-/// its w and ψ, then the deck's free DOFs at that abscissa (two ψ where
-/// two spans meet or at a hinge) in the deck mesh's order, which runs
-/// along the track. Returns the deck DOFs' new numbers, the rail's and
-/// the count.
-fn number_dofs(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<Numbering, String> {
+/// its w and ψ, the sleeper's w where `sleeper_at`, then the deck's free
+/// DOFs at that abscissa (two ψ where two spans meet or at a hinge) in
+/// the deck mesh's order, which runs along the track. Returns the deck
+/// DOFs' new numbers, the rail's, the sleepers' and the count.
+fn number_dofs(
+    node_x: &[f64],
+    mesh: &Mesh,
+    sleeper_at: &[bool],
+    tolerance: f64,
+) -> Result<Numbering, String> {
     let mut deck_x = vec![f64::NAN; mesh.free_dofs];
     for (k, local) in mesh.element_dofs.iter().enumerate() {
         let ends = [mesh.element_start[k], mesh.element_end[k]];
@@ -361,10 +547,15 @@ fn number_dofs(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<Numbering,
     }
     let mut numbering = vec![usize::MAX; mesh.free_dofs];
     let mut rail = Vec::with_capacity(node_x.len());
+    let mut sleepers = vec![None; node_x.len()];
     let (mut next, mut d) = (0, 0);
-    for &x in node_x {
+    for (node, &x) in node_x.iter().enumerate() {
         rail.push([next, next + 1]);
         next += 2;
+        if sleeper_at[node] {
+            sleepers[node] = Some(next);
+            next += 1;
+        }
         while d < deck_x.len() && (deck_x[d] - x).abs() < tolerance {
             numbering[d] = next;
             next += 1;
@@ -377,7 +568,7 @@ fn number_dofs(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<Numbering,
             deck_x[d]
         ));
     }
-    Ok((numbering, rail, next))
+    Ok((numbering, rail, sleepers, next))
 }
 
 /// Add the 4×4 element matrix `m` into the 8×8 `k` at the blocks of
@@ -408,6 +599,7 @@ mod tests {
             approach: 10.0,
             run_off: 10.0,
             element_length: 0.25,
+            sleepers: None,
         }
     }
 

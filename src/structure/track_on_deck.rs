@@ -9,7 +9,7 @@
 
 use crate::beam::{element_mass, element_stiffness, Rayleigh};
 use crate::structure::beam::BeamSpec;
-use crate::structure::rail_on_deck::{hermite, place, RailOnDeck, TrackLayout};
+use crate::structure::rail_on_deck::{hermite, place, RailOnDeck, Seat, TrackLayout};
 use crate::wide_band::{WideBand, WideLdlt};
 use nalgebra::DMatrix;
 
@@ -43,7 +43,7 @@ pub struct TrackAssembly {
     pub track: TrackOnDeck,
     /// Node abscissae from −approach to L + run-off (m).
     pub node_x: Vec<f64>,
-    layout: TrackLayout,
+    pub(super) layout: TrackLayout,
     pub mass: WideBand,
     pub damping: WideBand,
     pub stiffness: WideBand,
@@ -55,10 +55,9 @@ pub(super) type ElementMatrices = [[[f64; 8]; 8]; 3];
 
 impl TrackOnDeck {
     /// The element matrices of an element on the deck or off it.
-    pub(super) fn element(&self, on_deck: bool) -> ElementMatrices {
-        let h = self.layout.element_length;
+    pub(super) fn element(&self, on_deck: bool, h: f64) -> ElementMatrices {
         let (mut m, mut c) = ([[0.0; 8]; 8], [[0.0; 8]; 8]);
-        let k = self.layout.element(on_deck);
+        let k = self.layout.element(on_deck, h);
         place(&mut m, &element_mass(h, self.rail_mass_per_length), (0, 0));
         if on_deck {
             let deck_mass = element_mass(h, self.deck_mass_per_length);
@@ -67,15 +66,24 @@ impl TrackOnDeck {
             let own =
                 deck_mass * self.deck_damping.mass + deck_stiffness * self.deck_damping.stiffness;
             place(&mut c, &own, (2, 2));
-            let layer = element_mass(h, self.track_damping);
+            let layer = element_mass(h, self.layer_damping()[0]);
             place(&mut c, &layer, (0, 0));
             place(&mut c, &layer, (2, 2));
             place(&mut c, &(-layer), (0, 2));
             place(&mut c, &(-layer), (2, 0));
         } else {
-            place(&mut c, &element_mass(h, self.ground_damping), (0, 0));
+            place(&mut c, &element_mass(h, self.layer_damping()[1]), (0, 0));
         }
         [m, c, k]
+    }
+
+    /// The continuous layer's dampers on the deck and on the ground: none
+    /// on sleepers (theirs are the pads' and the ballast's).
+    fn layer_damping(&self) -> [f64; 2] {
+        match self.layout.sleepers {
+            Some(_) => [0.0, 0.0],
+            None => [self.track_damping, self.ground_damping],
+        }
     }
 
     /// Assemble M, C and K over one simply supported span, refusing
@@ -89,15 +97,21 @@ impl TrackOnDeck {
     /// joints; its length `layout.deck_length`, its elements all of
     /// `layout.element_length`), the rail on the ground in its gaps.
     pub fn assemble_over(&self, deck: &BeamSpec) -> Result<TrackAssembly, String> {
+        // On sleepers the continuous layer and ground are not built.
+        let layer = match self.layout.sleepers {
+            Some(_) => None,
+            None => Some([
+                ("track_stiffness", self.layout.track_stiffness),
+                ("ground_stiffness", self.layout.ground_stiffness),
+            ]),
+        };
         let positive = [
             ("rail_mass_per_length", self.rail_mass_per_length),
             ("deck_mass_per_length", self.deck_mass_per_length),
             ("rail_bending_stiffness", self.layout.rail_bending_stiffness),
             ("deck_bending_stiffness", self.layout.deck_bending_stiffness),
-            ("track_stiffness", self.layout.track_stiffness),
-            ("ground_stiffness", self.layout.ground_stiffness),
         ];
-        for (name, value) in positive {
+        for (name, value) in positive.into_iter().chain(layer.into_iter().flatten()) {
             if !(value > 0.0 && value.is_finite()) {
                 return Err(format!("{name} = {value} must be finite and > 0"));
             }
@@ -109,6 +123,13 @@ impl TrackOnDeck {
             if !(value >= 0.0 && value.is_finite()) {
                 return Err(format!("{name} = {value} must be finite and >= 0"));
             }
+        }
+        if let Some((name, value, rule)) = self
+            .layout
+            .sleepers
+            .and_then(|s| s.problems().first().copied())
+        {
+            return Err(format!("sleepers.{name} = {value} {rule}"));
         }
         if !(deck.supports.springs.is_empty() && deck.foundation.is_none()) {
             return Err("a deck under a rail has no springs or foundation of its own".into());
@@ -149,9 +170,17 @@ impl TrackAssembly {
     /// `weights[0]` M + `weights[1]` C + `weights[2]` K, assembled.
     pub fn combination(&self, weights: [f64; 3]) -> Result<WideBand, String> {
         let mut band = WideBand::zeros(self.free_dofs(), self.half_bandwidth());
-        let matrices = [false, true].map(|deck| self.track.element(deck));
+        // Each element's matrices, computed anew only where its kind or
+        // length changes (every element alike on a uniform mesh).
+        let mut last: Option<(bool, f64, ElementMatrices)> = None;
         for (e, &deck) in self.layout.on_deck.iter().enumerate() {
-            let parts = &matrices[usize::from(deck)];
+            let h = self.layout.element_length[e];
+            let parts = match last {
+                Some((d, l, parts)) if d == deck && l == h => parts,
+                _ => self.track.element(deck, h),
+            };
+            last = Some((deck, h, parts));
+            let parts = &parts;
             let local = self.layout.element_dofs[e];
             for (p, row) in local.iter().enumerate() {
                 for (q, col) in local.iter().enumerate().take(p + 1) {
@@ -162,13 +191,47 @@ impl TrackAssembly {
                 }
             }
         }
+        if let Some(s) = self.track.layout.sleepers {
+            let [m, c, k] = weights;
+            let pad = c * s.pad_damping + k * s.pad_stiffness;
+            let ballast = c * s.ballast_damping + k * s.ballast_stiffness;
+            self.layout
+                .add_seats(&mut band, [pad, ballast, m * s.sleeper_mass])?;
+        }
         Ok(band)
+    }
+
+    /// The sleepers' DOFs, from the rail's start (none on a continuous
+    /// layer).
+    pub fn sleeper_dofs(&self) -> Vec<usize> {
+        self.layout.seats.iter().map(|seat| seat.dof).collect()
+    }
+
+    /// The sleepers' abscissae (m; none on a continuous layer).
+    pub fn sleeper_x(&self) -> Vec<f64> {
+        (self.layout.seats.iter())
+            .map(|seat| self.node_x[seat.node])
+            .collect()
+    }
+
+    /// The rail-seat (pad) force of the sleeper nearest `x` (N, compression
+    /// positive): −(k_p (w_r − w_s) + c_p (ẇ_r − ẇ_s)) from displacements
+    /// `u` and velocities `v`; refused on a continuous layer.
+    pub fn rail_seat_force(&self, x: f64, u: &[f64], v: &[f64]) -> Result<f64, String> {
+        let sleepers = (self.track.layout.sleepers)
+            .ok_or("the track has no sleepers: its rail-seat load is per metre")?;
+        let distance = |seat: &Seat| (self.node_x[seat.node] - x).abs();
+        let seat = (self.layout.seats.iter())
+            .min_by(|a, b| distance(a).total_cmp(&distance(b)))
+            .ok_or("the track has no sleepers")?;
+        let relative = |state: &[f64]| state[seat.rail] - state[seat.dof];
+        Ok(-(sleepers.pad_stiffness * relative(u) + sleepers.pad_damping * relative(v)))
     }
 
     /// The element holding `x` and the abscissa s ∈ [0, 1] in it; `x` off
     /// the rail is refused.
     fn locate(&self, x: f64) -> Result<(usize, f64), String> {
-        self.layout.locate(x, self.track.layout.element_length)
+        self.layout.locate(x)
     }
 
     /// Add a force `force` (N, up positive) on the rail at `x` into the
@@ -176,7 +239,7 @@ impl TrackAssembly {
     pub fn add_rail_force(&self, x: f64, force: f64, out: &mut [f64]) -> Result<(), String> {
         let (e, s) = self.locate(x)?;
         let local = self.layout.element_dofs[e];
-        let shape = hermite(s, self.track.layout.element_length);
+        let shape = hermite(s, self.layout.element_length[e]);
         for (k, n) in [0, 1, 4, 5].into_iter().zip(shape) {
             if let Some(i) = local[k] {
                 out[i] += force * n;
@@ -192,7 +255,7 @@ impl TrackAssembly {
             return Ok(0.0);
         }
         let local = self.layout.element_dofs[e];
-        let shape = hermite(s, self.track.layout.element_length);
+        let shape = hermite(s, self.layout.element_length[e]);
         Ok([0, 1, 4, 5]
             .into_iter()
             .zip(shape)
@@ -235,6 +298,9 @@ impl TrackAssembly {
     /// −(k_t (w_r − w_d) + c_t (ẇ_r − ẇ_d)) on the deck, −(k_g w_r + c_g
     /// ẇ_r) on the ground, from displacements `u` and velocities `v`.
     pub fn rail_seat_load(&self, x: f64, u: &[f64], v: &[f64]) -> Result<f64, String> {
+        if self.track.layout.sleepers.is_some() {
+            return Err("on sleepers the rail-seat load is each sleeper's: rail_seat_force".into());
+        }
         let (e, _) = self.locate(x)?;
         let relative = |state: &[f64]| -> Result<f64, String> {
             Ok(self.field(0, x, state)? - self.field(2, x, state)?)
@@ -400,7 +466,7 @@ impl TrackAssembly {
     fn rail_row(&self, x: f64) -> Result<SparseRow, String> {
         let (e, s) = self.locate(x)?;
         let local = self.layout.element_dofs[e];
-        let shape = hermite(s, self.track.layout.element_length);
+        let shape = hermite(s, self.layout.element_length[e]);
         Ok([0, 1, 4, 5]
             .into_iter()
             .zip(shape)

@@ -12,7 +12,7 @@ use nalgebra::{DMatrix, DVector};
 
 use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh};
 use crate::mesh::Mesh;
-use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SupportsSpec};
+use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SpringSpec, SupportsSpec};
 use crate::structure::dof_access::DofAccess;
 use crate::structure::rail_on_deck::RailOnDeck;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
@@ -56,6 +56,7 @@ impl TrackBeam {
                 approach,
                 run_off,
                 element_length,
+                sleepers: on_deck.sleepers.map(|s| s.resolve()),
             },
             rail_mass_per_length: on_deck.rail_mass_per_length,
             deck_mass_per_length: deck.mass_per_length,
@@ -64,7 +65,8 @@ impl TrackBeam {
             deck_damping,
         };
         let assembly = track.assemble_over(deck)?;
-        let rail = rail_spec(deck, on_deck, element_length, assembly.node_x.len() - 1);
+        let lengths = &assembly.layout.element_length;
+        let rail = rail_spec(deck, on_deck, &assembly.node_x, lengths);
         let mesh = HermiteBeam::new(&rail)?;
         let rail_dofs = rail_dofs(&mesh, &assembly)?;
         let not_definite =
@@ -229,21 +231,48 @@ impl TrackBeam {
     /// Whether any damper acts (the deck's, the track's, the ground's).
     pub fn is_damped(&self) -> bool {
         let track = &self.assembly.track;
-        !track.deck_damping.is_zero() || track.track_damping > 0.0 || track.ground_damping > 0.0
+        let sleepers =
+            (track.layout.sleepers).is_some_and(|s| s.pad_damping > 0.0 || s.ballast_damping > 0.0);
+        let layer = track.layout.sleepers.is_none()
+            && (track.track_damping > 0.0 || track.ground_damping > 0.0);
+        !track.deck_damping.is_zero() || layer || sleepers
+    }
+
+    /// Whether the rail rests on sleepers (else on a continuous layer).
+    pub fn has_sleepers(&self) -> bool {
+        self.assembly.track.layout.sleepers.is_some()
+    }
+
+    /// The rail-seat (pad) force of the sleeper nearest the deck's
+    /// abscissa `x` (N, compression positive; NaN without sleepers).
+    pub fn rail_seat_force(&self, u: &DVector<f64>, v: &DVector<f64>, x: f64) -> f64 {
+        (self.assembly.rail_seat_force(x, u.as_slice(), v.as_slice())).unwrap_or(f64::NAN)
     }
 }
 
-/// The rail as a free mesh over the whole track: the deck's element
-/// length, the rail's mass and bending stiffness, the deck's surface
-/// offset (the running surface's height in the bodies' frame).
-fn rail_spec(
-    deck: &BeamSpec,
-    on_deck: &OnDeckSpec,
-    element_length: f64,
-    elements: usize,
-) -> BeamSpec {
+/// The rail as a free mesh over the whole track at the assembly's nodes
+/// `node_x` with its element `lengths` (from the approach's start): the rail's mass and bending
+/// stiffness, the deck's surface offset (the running surface's height in
+/// the bodies' frame). Where the elements differ in length, a spring of
+/// zero stiffness at each inner node places the node there (the rail mesh
+/// is geometry only: its matrices are never used).
+fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, node_x: &[f64], lengths: &[f64]) -> BeamSpec {
+    let elements = node_x.len() - 1;
+    let element_length = lengths[0];
+    let uniform = lengths.iter().all(|&l| l == element_length);
+    let springs = (node_x[1..elements].iter())
+        .filter(|_| !uniform)
+        .map(|x| SpringSpec {
+            at: x - node_x[0],
+            ..SpringSpec::default()
+        })
+        .collect();
     BeamSpec {
-        length: element_length * elements as f64,
+        length: if uniform {
+            element_length * elements as f64
+        } else {
+            node_x[elements] - node_x[0]
+        },
         mass_per_length: on_deck.rail_mass_per_length,
         bending_stiffness: on_deck.rail_bending_stiffness,
         frequency: None,
@@ -253,7 +282,7 @@ fn rail_spec(
             left: EndSupport::Free,
             right: EndSupport::Free,
             intermediate: Vec::new(),
-            springs: Vec::new(),
+            springs,
         },
         damping: None,
         joints: Vec::new(),
@@ -261,11 +290,18 @@ fn rail_spec(
     }
 }
 
-/// The length of the deck's elements (validated to be one length under a
-/// rail: `scene::on_deck`).
+/// The length of the deck's elements where they are all one (the first's),
+/// else of its longest: the rail's elements on the approach, the run-off
+/// and the gaps are at most this long.
 pub fn deck_element_length(deck: &BeamSpec) -> Result<f64, String> {
     let mesh = Mesh::new(deck)?;
-    (mesh.element_length.first().copied()).ok_or_else(|| "the deck has no elements".into())
+    let first = (mesh.element_length.first().copied()).ok_or("the deck has no elements")?;
+    let longest = mesh.element_length.iter().copied().fold(first, f64::max);
+    Ok(if longest - first > 1e-9 * first {
+        longest
+    } else {
+        first
+    })
 }
 
 /// The assembly's index of every free DOF of the rail mesh: node by node,
@@ -297,8 +333,11 @@ impl TrackAssembly {
     /// element eigenproblems.
     fn element_frequency_bound(&self) -> Result<f64, String> {
         let mut highest = 0.0f64;
-        for deck in [false, true] {
-            let [m, _, k] = self.track.element(deck);
+        let mut lengths = self.layout.element_length.clone();
+        lengths.sort_by(f64::total_cmp);
+        lengths.dedup();
+        for (deck, h) in lengths.into_iter().flat_map(|h| [(false, h), (true, h)]) {
+            let [m, _, k] = self.track.element(deck, h);
             let n = if deck { 8 } else { 4 };
             // Off the deck the element has the rail's four DOFs: 0, 1, 4, 5.
             let pick = |p: usize| if deck { p } else { [0, 1, 4, 5][p] };
@@ -307,6 +346,85 @@ impl TrackAssembly {
                 crate::dense_modes::lowest_modes(dense(&m), dense(&k), n, "a rail element")?;
             highest = highest.max(omega.last().copied().unwrap_or(0.0));
         }
+        Ok(highest.max(self.sleeper_frequency_bound()?))
+    }
+
+    /// Irons' bound with the sleepers: each sleeper (its mass, pad and
+    /// ballast) joins the element that holds its base (else the one to its
+    /// right, the last node's the one to its left), so that the groups'
+    /// matrices sum to the assembly's; the highest eigenvalue of any group
+    /// bounds the assembly's.
+    fn sleeper_frequency_bound(&self) -> Result<f64, String> {
+        let Some(s) = self.track.layout.sleepers else {
+            return Ok(0.0);
+        };
+        let layout = &self.layout;
+        let elements = layout.on_deck.len();
+        // Per element: its sleepers as (rail w slot, deck w slot or ground).
+        let mut groups = vec![Vec::new(); elements];
+        for seat in &layout.seats {
+            let right = seat.node < elements && layout.element_dofs[seat.node][2] == seat.base;
+            let e = match seat.base {
+                Some(_) if right => seat.node,
+                Some(_) => seat.node - 1,
+                None => seat.node.min(elements - 1),
+            };
+            let (rail, deck) = if e == seat.node { (0, 2) } else { (4, 6) };
+            groups[e].push((rail, seat.base.map(|_| deck)));
+        }
+        let mut seen = Vec::new();
+        let mut highest = 0.0f64;
+        for (e, group) in groups.into_iter().enumerate() {
+            let key = (layout.on_deck[e], layout.element_length[e], group);
+            if key.2.is_empty() || seen.contains(&key) {
+                continue;
+            }
+            highest = highest.max(self.group_frequency(&s, (key.0, key.1), &key.2)?);
+            seen.push(key);
+        }
         Ok(highest)
+    }
+
+    /// The highest circular frequency of an element (on the deck or off
+    /// it) with the sleepers `group` ((rail w slot, deck w slot or the
+    /// ground) each) on its nodes.
+    fn group_frequency(
+        &self,
+        s: &crate::structure::track_sleepers::Sleepers,
+        (deck, h): (bool, f64),
+        group: &[(usize, Option<usize>)],
+    ) -> Result<f64, String> {
+        let [m, _, k] = self.track.element(deck, h);
+        let slots: Vec<usize> = if deck {
+            (0..8).collect()
+        } else {
+            vec![0, 1, 4, 5]
+        };
+        let n = slots.len() + group.len();
+        let position = |slot: usize| slots.iter().position(|&p| p == slot);
+        let dense = |a: &[[f64; 8]; 8]| {
+            DMatrix::from_fn(n, n, |i, j| match (slots.get(i), slots.get(j)) {
+                (Some(&p), Some(&q)) => a[p][q],
+                _ => 0.0,
+            })
+        };
+        let (mut mass, mut stiffness) = (dense(&m), dense(&k));
+        for (g, &(rail, base)) in group.iter().enumerate() {
+            let (r, d) = (position(rail).expect("a rail slot"), slots.len() + g);
+            mass[(d, d)] += s.sleeper_mass;
+            let mut spring = |a: usize, b: usize, value: f64| {
+                stiffness[(a, a)] += value;
+                stiffness[(b, b)] += value;
+                stiffness[(a, b)] -= value;
+                stiffness[(b, a)] -= value;
+            };
+            spring(r, d, s.pad_stiffness);
+            match base.and_then(position) {
+                Some(b) => spring(d, b, s.ballast_stiffness),
+                None => stiffness[(d, d)] += s.ballast_stiffness,
+            }
+        }
+        let (omega, _) = crate::dense_modes::lowest_modes(mass, stiffness, n, "a sleeper")?;
+        Ok(omega.last().copied().unwrap_or(0.0))
     }
 }
