@@ -397,6 +397,49 @@ impl BandLdlt {
         }
     }
 
+    /// `x = A⁻¹ b` with b's row i given by `rhs(i)`, each row of x handed
+    /// to `each(i, x_i)` from the last row to the first. The same operations
+    /// in the same order as filling b and `solve_in_place` (the same bits),
+    /// but the right-hand side is made inside the forward sweep and the rows
+    /// are used inside the backward one: a step of the implicit scheme then
+    /// passes over its vectors once each (issue 29), and the work fills the
+    /// sweeps' waits on the row before. `scratch` holds the forward sweep.
+    #[inline]
+    pub fn solve_rows(
+        &self,
+        scratch: &mut Vec<f64>,
+        rhs: impl Fn(usize) -> f64,
+        mut each: impl FnMut(usize, f64),
+    ) {
+        let n = self.size();
+        scratch.resize(n, 0.0);
+        if !self.dense_inverse.is_empty() {
+            for (i, x) in scratch.iter_mut().enumerate() {
+                *x = rhs(i);
+            }
+            self.solve_in_place(scratch);
+            for i in (0..n).rev() {
+                each(i, scratch[i]);
+            }
+            return;
+        }
+        let (mut z3, mut z2, mut z1) = (0.0, 0.0, 0.0);
+        for (i, (xi, l)) in scratch.iter_mut().zip(&self.lower).enumerate() {
+            let partial = rhs(i) - l[0] * z3 - l[1] * z2;
+            let z = partial - l[2] * z1;
+            *xi = z;
+            (z3, z2, z1) = (z2, z1, z);
+        }
+        let (mut y3, mut y2, mut y1) = (0.0, 0.0, 0.0);
+        let sweep = scratch.iter().zip(&self.below).zip(&self.inverse_pivot);
+        for (i, ((xi, b), d)) in sweep.enumerate().rev() {
+            let partial = *xi * d - b[2] * y3 - b[1] * y2;
+            let y = partial - b[0] * y1;
+            each(i, y);
+            (y3, y2, y1) = (y2, y1, y);
+        }
+    }
+
     /// `x ← A⁻¹ x` for a free-DOF vector.
     pub fn solve_mut(&self, x: &mut DVector<f64>) {
         self.solve_in_place(x.as_mut_slice());
@@ -530,6 +573,26 @@ pub(crate) mod tests {
                 seen.push(i);
                 assert_eq!(y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
             });
+            assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
+        }
+    }
+
+    #[test]
+    fn solving_by_rows_gives_the_bits_of_filling_then_solving() {
+        for n in [1usize, 2, 5, 8, 9, 10, 40] {
+            let factor = sample(n).ldlt().expect("SPD");
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.9 + 0.3).sin()).collect();
+            let mut expected = b.clone();
+            factor.solve_in_place(&mut expected);
+            let mut seen = Vec::new();
+            factor.solve_rows(
+                &mut Vec::new(),
+                |i| b[i],
+                |i, x| {
+                    assert_eq!(x.to_bits(), expected[i].to_bits(), "n = {n}, row {i}");
+                    seen.push(i);
+                },
+            );
             assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
         }
     }
