@@ -397,45 +397,48 @@ impl BandLdlt {
         }
     }
 
-    /// `x = A⁻¹ b` with b's row i given by `rhs(i)`, each row of x handed
-    /// to `each(i, x_i)` from the last row to the first. The same operations
-    /// in the same order as filling b and `solve_in_place` (the same bits),
-    /// but the right-hand side is made inside the forward sweep and the rows
-    /// are used inside the backward one: a step of the implicit scheme then
-    /// passes over its vectors once each (issue 29), and the work fills the
-    /// sweeps' waits on the row before. `scratch` holds the forward sweep.
+    /// `x = A⁻¹ b` with b's rows from `rhs` (first to last), each row of
+    /// x handed with its item of `rows` (one item per row) to
+    /// `each(x_i, item i)` from the last row to the first. The same
+    /// operations in the same order as filling b and `solve_in_place` (the
+    /// same bits), but the right-hand side is made inside the forward sweep
+    /// and the rows are used inside the backward one: a step of the
+    /// implicit scheme then passes over its vectors once each (issue 29),
+    /// and that work fills the sweeps' waits on the row before. `scratch`
+    /// holds the forward sweep.
     #[inline]
-    pub fn solve_rows(
+    pub fn solve_rows<R>(
         &self,
         scratch: &mut Vec<f64>,
-        rhs: impl Fn(usize) -> f64,
-        mut each: impl FnMut(usize, f64),
+        rhs: impl Iterator<Item = f64>,
+        rows: impl DoubleEndedIterator<Item = R> + ExactSizeIterator,
+        mut each: impl FnMut(f64, R),
     ) {
         let n = self.size();
-        scratch.resize(n, 0.0);
+        assert_eq!(rows.len(), n);
+        scratch.clear();
+        scratch.extend(rhs);
+        assert_eq!(scratch.len(), n);
         if !self.dense_inverse.is_empty() {
-            for (i, x) in scratch.iter_mut().enumerate() {
-                *x = rhs(i);
-            }
             self.solve_in_place(scratch);
-            for i in (0..n).rev() {
-                each(i, scratch[i]);
+            for (x, row) in scratch.iter().zip(rows).rev() {
+                each(*x, row);
             }
             return;
         }
         let (mut z3, mut z2, mut z1) = (0.0, 0.0, 0.0);
-        for (i, (xi, l)) in scratch.iter_mut().zip(&self.lower).enumerate() {
-            let partial = rhs(i) - l[0] * z3 - l[1] * z2;
+        for (xi, l) in scratch.iter_mut().zip(&self.lower) {
+            let partial = *xi - l[0] * z3 - l[1] * z2;
             let z = partial - l[2] * z1;
             *xi = z;
             (z3, z2, z1) = (z2, z1, z);
         }
         let (mut y3, mut y2, mut y1) = (0.0, 0.0, 0.0);
         let sweep = scratch.iter().zip(&self.below).zip(&self.inverse_pivot);
-        for (i, ((xi, b), d)) in sweep.enumerate().rev() {
+        for (((xi, b), d), row) in sweep.zip(rows).rev() {
             let partial = *xi * d - b[2] * y3 - b[1] * y2;
             let y = partial - b[0] * y1;
-            each(i, y);
+            each(y, row);
             (y3, y2, y1) = (y2, y1, y);
         }
     }
@@ -585,14 +588,11 @@ pub(crate) mod tests {
             let mut expected = b.clone();
             factor.solve_in_place(&mut expected);
             let mut seen = Vec::new();
-            factor.solve_rows(
-                &mut Vec::new(),
-                |i| b[i],
-                |i, x| {
-                    assert_eq!(x.to_bits(), expected[i].to_bits(), "n = {n}, row {i}");
-                    seen.push(i);
-                },
-            );
+            let rhs = b.iter().copied();
+            factor.solve_rows(&mut Vec::new(), rhs, 0..n, |x, i| {
+                assert_eq!(x.to_bits(), expected[i].to_bits(), "n = {n}, row {i}");
+                seen.push(i);
+            });
             assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
         }
     }

@@ -416,28 +416,43 @@ impl Hht {
         // the end state in its backward sweep: the bits of the vector
         // operations of `full_beam_step_by_vectors`, in one pass.
         let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
-        let (load, internal) = (self.load.as_slice(), self.predictor_internal.as_slice());
-        let (start_internal, start_load) =
-            (self.start_internal.as_slice(), start.beam_load.as_slice());
-        let rhs = |i: usize| {
-            let mut r = load[i] * (1.0 + alpha);
-            r += -(1.0 + alpha) * internal[i];
+        let terms = (self.load.as_slice().iter())
+            .zip(self.predictor_internal.as_slice())
+            .zip(
+                self.start_internal
+                    .as_slice()
+                    .iter()
+                    .zip(start.beam_load.as_slice()),
+            );
+        let rhs = terms.map(|((load, internal), (start_internal, start_load))| {
+            let mut r = load * (1.0 + alpha);
+            r += -(1.0 + alpha) * internal;
             if alpha != 0.0 {
-                r += alpha * start_internal[i];
-                r += -alpha * start_load[i];
+                r += alpha * start_internal;
+                r += -alpha * start_load;
             }
             r
-        };
-        let (u_weight, v_weight) = (beta * dt * dt, gamma * dt);
-        let (u_star, v_star) = (self.predictor_u.as_slice(), self.predictor_v.as_slice());
-        let u1 = end.beam_displacement.as_mut_slice();
-        let v1 = end.beam_velocity.as_mut_slice();
-        let a1 = end.beam_acceleration.as_mut_slice();
-        factor.solve_rows(&mut self.sweep, rhs, |i, a| {
-            u1[i] = u_weight * a + u_star[i];
-            v1[i] = v_weight * a + v_star[i];
-            a1[i] = a;
         });
+        let (u_weight, v_weight) = (beta * dt * dt, gamma * dt);
+        let ends = (end.beam_displacement.as_mut_slice().iter_mut())
+            .zip(end.beam_velocity.as_mut_slice().iter_mut())
+            .zip(end.beam_acceleration.as_mut_slice().iter_mut());
+        let stars = self
+            .predictor_u
+            .as_slice()
+            .iter()
+            .zip(self.predictor_v.as_slice());
+        let rows = ends.zip(stars);
+        factor.solve_rows(
+            &mut self.sweep,
+            rhs,
+            rows,
+            |a, (((u, v), acc), (u_star, v_star))| {
+                *u = u_weight * a + u_star;
+                *v = v_weight * a + v_star;
+                *acc = a;
+            },
+        );
     }
 
     /// The step's predictors u* = u0 + Δt v0 + Δt² (½ − β) a0 and
