@@ -125,27 +125,45 @@ pub fn envelope_of_loads(
     };
     let shifts = shifts(scene, beam, loads, (first, last), reads.len());
     let at_rest = DVector::zeros(beam.coordinates());
-    let mut response = BeamDynamics::at_rest(beam, at_rest, Vec::new());
+    let at_rest = || BeamDynamics::at_rest(beam, at_rest.clone(), Vec::new());
+    let mut responses: [BeamDynamics; 4] = std::array::from_fn(|_| at_rest());
     // A modal structure's outputs read as rows over its modes (one dot
     // product each); the mesh's as before.
     let rows = beam.modal().map(|_| ProbeReader::new(&reads, beam));
     let mut values = Vec::with_capacity(reads.len());
-    for &shift in &shifts {
-        let on_beam = loads
-            .iter()
-            .map(|&(x, normal)| (x + shift, normal))
-            .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
-            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
-        response.set_static_response(beam, stiffness.as_ref(), on_beam)?;
-        match &rows {
-            Some(reader) => reader.read(beam, &response, &mut values),
-            None => {
-                values.clear();
-                values.extend(reads.iter().map(|r| r.value(beam, &response)));
-            }
+    // Four positions at a time: their solves side by side.
+    for group in shifts.chunks(responses.len()) {
+        for (response, &shift) in responses.iter_mut().zip(group) {
+            let on_beam = loads
+                .iter()
+                .map(|&(x, normal)| (x + shift, normal))
+                .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
+                .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
+            response.set_static_loads(beam, stiffness.as_ref(), on_beam)?;
         }
-        for (peak, value) in peaks.iter_mut().zip(&values) {
-            *peak = peak.max(value.abs());
+        let group = &mut responses[..group.len()];
+        match (&stiffness, &mut *group) {
+            (Some(factor), [a, b, c, d]) => {
+                factor.solve_each([a, b, c, d].map(|response| response.displacement.as_mut_slice()))
+            }
+            (Some(factor), _) => {
+                for response in group.iter_mut() {
+                    factor.solve_mut(&mut response.displacement);
+                }
+            }
+            (None, _) => {}
+        }
+        for response in group.iter() {
+            match &rows {
+                Some(reader) => reader.read(beam, response, &mut values),
+                None => {
+                    values.clear();
+                    values.extend(reads.iter().map(|r| r.value(beam, response)));
+                }
+            }
+            for (peak, value) in peaks.iter_mut().zip(&values) {
+                *peak = peak.max(value.abs());
+            }
         }
     }
     Ok(StaticEnvelope {
