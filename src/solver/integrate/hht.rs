@@ -94,6 +94,42 @@ pub struct Hht {
     followers_used: Vec<ContactForce>,
 }
 
+/// One full integration by the band factor's fused solve
+/// (`BandLdlt::solve_rows`): the right-hand side (1 + α)(f − (C v* + K u*))
+/// + α (C v0 + K u0) − α f0 made row by row in its forward sweep from
+/// `terms` = [f, C v* + K u*, C v0 + K u0, f0], and u = u* + β Δt² a,
+/// v = v* + γ Δt a from `stars` = [u*, v*] in its backward sweep: the bits
+/// of `Hht::full_beam_step_by_vectors`' vector operations, in one pass.
+fn fused_band_step(
+    factor: &crate::band::BandLdlt,
+    ((alpha, beta, gamma), dt): ((f64, f64, f64), f64),
+    (terms, [u_star, v_star]): ([&[f64]; 4], [&[f64]; 2]),
+    sweep: &mut Vec<f64>,
+    end: &mut DynamicState,
+) {
+    let [load, internal, start_internal, start_load] = terms;
+    let terms = (load.iter().zip(internal)).zip(start_internal.iter().zip(start_load));
+    let rhs = terms.map(|((load, internal), (start_internal, start_load))| {
+        let mut r = load * (1.0 + alpha);
+        r += -(1.0 + alpha) * internal;
+        if alpha != 0.0 {
+            r += alpha * start_internal;
+            r += -alpha * start_load;
+        }
+        r
+    });
+    let (u_weight, v_weight) = (beta * dt * dt, gamma * dt);
+    let ends = (end.beam_displacement.as_mut_slice().iter_mut())
+        .zip(end.beam_velocity.as_mut_slice().iter_mut())
+        .zip(end.beam_acceleration.as_mut_slice().iter_mut());
+    let rows = ends.zip(u_star.iter().zip(v_star));
+    factor.solve_rows(sweep, rhs, rows, |a, (((u, v), acc), (u_star, v_star))| {
+        *u = u_weight * a + u_star;
+        *v = v_weight * a + v_star;
+        *acc = a;
+    });
+}
+
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
 fn effective_factor(
     system: &System,
@@ -412,47 +448,12 @@ impl Hht {
         let EffectiveFactor::Band(factor) = factor else {
             return self.full_beam_step_by_vectors(system, start, dt, end);
         };
-        // The right-hand side made row by row in the solve's forward sweep,
-        // the end state in its backward sweep: the bits of the vector
-        // operations of `full_beam_step_by_vectors`, in one pass.
-        let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
-        let terms = (self.load.as_slice().iter())
-            .zip(self.predictor_internal.as_slice())
-            .zip(
-                self.start_internal
-                    .as_slice()
-                    .iter()
-                    .zip(start.beam_load.as_slice()),
-            );
-        let rhs = terms.map(|((load, internal), (start_internal, start_load))| {
-            let mut r = load * (1.0 + alpha);
-            r += -(1.0 + alpha) * internal;
-            if alpha != 0.0 {
-                r += alpha * start_internal;
-                r += -alpha * start_load;
-            }
-            r
-        });
-        let (u_weight, v_weight) = (beta * dt * dt, gamma * dt);
-        let ends = (end.beam_displacement.as_mut_slice().iter_mut())
-            .zip(end.beam_velocity.as_mut_slice().iter_mut())
-            .zip(end.beam_acceleration.as_mut_slice().iter_mut());
-        let stars = self
-            .predictor_u
-            .as_slice()
-            .iter()
-            .zip(self.predictor_v.as_slice());
-        let rows = ends.zip(stars);
-        factor.solve_rows(
-            &mut self.sweep,
-            rhs,
-            rows,
-            |a, (((u, v), acc), (u_star, v_star))| {
-                *u = u_weight * a + u_star;
-                *v = v_weight * a + v_star;
-                *acc = a;
-            },
-        );
+        let weights = ((self.alpha, self.beta, self.gamma), dt);
+        let (load, internal) = (self.load.as_slice(), self.predictor_internal.as_slice());
+        let start_terms = (self.start_internal.as_slice(), start.beam_load.as_slice());
+        let terms = [load, internal, start_terms.0, start_terms.1];
+        let stars = [self.predictor_u.as_slice(), self.predictor_v.as_slice()];
+        fused_band_step(factor, weights, (terms, stars), &mut self.sweep, end);
     }
 
     /// The step's predictors u* = u0 + Δt v0 + Δt² (½ − β) a0 and
