@@ -125,33 +125,68 @@ pub fn envelope_of_loads(
     };
     let shifts = shifts(scene, beam, loads, (first, last), reads.len());
     let at_rest = DVector::zeros(beam.coordinates());
-    let mut response = BeamDynamics::at_rest(beam, at_rest, Vec::new());
-    // A modal structure's outputs read as rows over its modes (one dot
-    // product each); the mesh's as before.
+    let at_rest = || BeamDynamics::at_rest(beam, at_rest.clone(), Vec::new());
+    let mut responses: [BeamDynamics; 4] = std::array::from_fn(|_| at_rest());
     let rows = beam.modal().map(|_| ProbeReader::new(&reads, beam));
     let mut values = Vec::with_capacity(reads.len());
-    for &shift in &shifts {
-        let on_beam = loads
-            .iter()
-            .map(|&(x, normal)| (x + shift, normal))
-            .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
-            .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
-        response.set_static_response(beam, stiffness.as_ref(), on_beam)?;
-        match &rows {
-            Some(reader) => reader.read(beam, &response, &mut values),
-            None => {
-                values.clear();
-                values.extend(reads.iter().map(|r| r.value(beam, &response)));
-            }
+    // Four positions at a time: their solves side by side.
+    for group in shifts.chunks(responses.len()) {
+        for (response, &shift) in responses.iter_mut().zip(group) {
+            let on_beam = loads
+                .iter()
+                .map(|&(x, normal)| (x + shift, normal))
+                .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
+                .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
+            response.set_static_loads(beam, stiffness.as_ref(), on_beam)?;
         }
-        for (peak, value) in peaks.iter_mut().zip(&values) {
-            *peak = peak.max(value.abs());
+        let group = &mut responses[..group.len()];
+        solve_group(stiffness.as_ref(), group);
+        for response in group.iter() {
+            read_all((&reads, rows.as_ref()), beam, response, &mut values);
+            for (peak, value) in peaks.iter_mut().zip(&values) {
+                *peak = peak.max(value.abs());
+            }
         }
     }
     Ok(StaticEnvelope {
         peaks: reads.into_iter().map(|r| r.name).zip(peaks).collect(),
         positions: shifts.len(),
     })
+}
+
+/// Solves the load vectors `set_static_loads` left in `group`'s
+/// displacements, four side by side (a modal structure's are solved).
+fn solve_group(stiffness: Option<&crate::band::BandLdlt>, group: &mut [BeamDynamics]) {
+    let Some(factor) = stiffness else {
+        return;
+    };
+    match group {
+        [a, b, c, d] => {
+            factor.solve_each([a, b, c, d].map(|response| response.displacement.as_mut_slice()))
+        }
+        _ => {
+            for response in group.iter_mut() {
+                factor.solve_mut(&mut response.displacement);
+            }
+        }
+    }
+}
+
+/// Every read's value of `response` into `values`: on a modal structure
+/// as rows over its modes (one dot product each), on the mesh one by one.
+fn read_all(
+    (reads, rows): (&[Probe], Option<&ProbeReader>),
+    beam: &Beam,
+    response: &BeamDynamics,
+    values: &mut Vec<f64>,
+) {
+    match rows {
+        Some(reader) => reader.read(beam, response, values),
+        None => {
+            values.clear();
+            values.extend(reads.iter().map(|r| r.value(beam, response)));
+        }
+    }
 }
 
 /// Shifts of the load group: evenly spaced from the last load at x = 0 to

@@ -182,10 +182,12 @@ impl BeamDynamics {
         BeamDynamics::at_rest(beam, displacement, loads)
     }
 
-    /// This state at rest replaced by the static equilibrium under `loads`
-    /// (as `static_response_with`, in place: the envelope solves
-    /// thousands); a modal structure's (no factor) is its modes'.
-    fn set_static_response(
+    /// This state at rest under `loads`, as `static_response_with`: with a
+    /// stiffness factor the displacement holds their load vector, for the
+    /// caller to solve (the envelope solves thousands, four side by side:
+    /// `BandLdlt::solve_each`); a modal structure's (no factor) is its
+    /// modes' static response.
+    fn set_static_loads(
         &mut self,
         beam: &Beam,
         stiffness: Option<&crate::band::BandLdlt>,
@@ -194,10 +196,9 @@ impl BeamDynamics {
         self.loads.clear();
         self.loads.extend(loads);
         match stiffness {
-            Some(factor) => {
+            Some(_) => {
                 self.displacement.fill(0.0);
                 add_loads(beam, &self.loads, &mut self.displacement);
-                factor.solve_mut(&mut self.displacement);
             }
             None => {
                 self.displacement = beam.static_deflection(&load_vector(beam, &self.loads))?;

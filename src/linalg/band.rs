@@ -397,6 +397,86 @@ impl BandLdlt {
         }
     }
 
+    /// `x = A⁻¹ b` with b's rows from `rhs` (first to last), each row of
+    /// x handed with its item of `rows` (one item per row) to
+    /// `each(x_i, item i)` from the last row to the first. The same
+    /// operations in the same order as filling b and `solve_in_place` (the
+    /// same bits), but the right-hand side is made inside the forward sweep
+    /// and the rows are used inside the backward one: a step of the
+    /// implicit scheme then passes over its vectors once each (issue 29),
+    /// and that work fills the sweeps' waits on the row before. `scratch`
+    /// holds the forward sweep.
+    #[inline]
+    pub fn solve_rows<R>(
+        &self,
+        scratch: &mut Vec<f64>,
+        rhs: impl Iterator<Item = f64>,
+        rows: impl DoubleEndedIterator<Item = R> + ExactSizeIterator,
+        mut each: impl FnMut(f64, R),
+    ) {
+        let n = self.size();
+        assert_eq!(rows.len(), n);
+        scratch.clear();
+        scratch.extend(rhs);
+        assert_eq!(scratch.len(), n);
+        if !self.dense_inverse.is_empty() {
+            self.solve_in_place(scratch);
+            for (x, row) in scratch.iter().zip(rows).rev() {
+                each(*x, row);
+            }
+            return;
+        }
+        let (mut z3, mut z2, mut z1) = (0.0, 0.0, 0.0);
+        for (xi, l) in scratch.iter_mut().zip(&self.lower) {
+            let partial = *xi - l[0] * z3 - l[1] * z2;
+            let z = partial - l[2] * z1;
+            *xi = z;
+            (z3, z2, z1) = (z2, z1, z);
+        }
+        let (mut y3, mut y2, mut y1) = (0.0, 0.0, 0.0);
+        let sweep = scratch.iter().zip(&self.below).zip(&self.inverse_pivot);
+        for (((xi, b), d), row) in sweep.zip(rows).rev() {
+            let partial = *xi * d - b[2] * y3 - b[1] * y2;
+            let y = partial - b[0] * y1;
+            each(y, row);
+            (y3, y2, y1) = (y2, y1, y);
+        }
+    }
+
+    /// `solve_in_place` of K right-hand sides side by side: each column's
+    /// operations, in their order, are those of its own solve (the same
+    /// bits), but the columns' sweeps, each waiting at every row on the row
+    /// before, overlap. The static envelope solves thousands (issue 29).
+    pub fn solve_each<const K: usize>(&self, mut xs: [&mut [f64]; K]) {
+        let n = self.size();
+        assert!(xs.iter().all(|x| x.len() == n));
+        if !self.dense_inverse.is_empty() {
+            for x in xs {
+                self.solve_in_place(x);
+            }
+            return;
+        }
+        let mut z = [[0.0f64; 3]; K];
+        for (i, l) in self.lower.iter().enumerate() {
+            for (x, [z3, z2, z1]) in xs.iter_mut().zip(&mut z) {
+                let partial = x[i] - l[0] * *z3 - l[1] * *z2;
+                let next = partial - l[2] * *z1;
+                x[i] = next;
+                (*z3, *z2, *z1) = (*z2, *z1, next);
+            }
+        }
+        let mut y = [[0.0f64; 3]; K];
+        for i in (0..n).rev() {
+            let (b, d) = (&self.below[i], self.inverse_pivot[i]);
+            for (x, [y3, y2, y1]) in xs.iter_mut().zip(&mut y) {
+                let partial = x[i] * d - b[2] * *y3 - b[1] * *y2;
+                let next = partial - b[0] * *y1;
+                x[i] = next;
+                (*y3, *y2, *y1) = (*y2, *y1, next);
+            }
+        }
+    }
+
     /// `x ← A⁻¹ x` for a free-DOF vector.
     pub fn solve_mut(&self, x: &mut DVector<f64>) {
         self.solve_in_place(x.as_mut_slice());
@@ -531,6 +611,49 @@ pub(crate) mod tests {
                 assert_eq!(y, [expected[0][i], expected[1][i]], "n = {n}, row {i}");
             });
             assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
+        }
+    }
+
+    #[test]
+    fn solving_by_rows_gives_the_bits_of_filling_then_solving() {
+        for n in [1usize, 2, 5, 8, 9, 10, 40] {
+            let factor = sample(n).ldlt().expect("SPD");
+            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 0.9 + 0.3).sin()).collect();
+            let mut expected = b.clone();
+            factor.solve_in_place(&mut expected);
+            let mut seen = Vec::new();
+            let rhs = b.iter().copied();
+            factor.solve_rows(&mut Vec::new(), rhs, 0..n, |x, i| {
+                assert_eq!(x.to_bits(), expected[i].to_bits(), "n = {n}, row {i}");
+                seen.push(i);
+            });
+            assert_eq!(seen, (0..n).rev().collect::<Vec<_>>());
+        }
+    }
+
+    #[test]
+    fn solving_side_by_side_gives_the_bits_of_one_solve_each() {
+        for n in [1usize, 5, 8, 9, 10, 40] {
+            let factor = sample(n).ldlt().expect("SPD");
+            let column = |c: usize| -> Vec<f64> {
+                (0..n).map(|i| (i as f64 * 0.9 + c as f64).sin()).collect()
+            };
+            let mut xs: Vec<Vec<f64>> = (0..4).map(column).collect();
+            let expected: Vec<Vec<f64>> = (0..4)
+                .map(|c| {
+                    let mut x = column(c);
+                    factor.solve_in_place(&mut x);
+                    x
+                })
+                .collect();
+            let [a, b, c, d] = &mut xs[..] else {
+                unreachable!()
+            };
+            factor.solve_each([&mut a[..], &mut b[..], &mut c[..], &mut d[..]]);
+            let bits = |x: &[f64]| x.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            for (x, want) in xs.iter().zip(&expected) {
+                assert_eq!(bits(x), bits(want), "n = {n}");
+            }
         }
     }
 

@@ -16,7 +16,7 @@
 use crate::beam::EffectiveFactor;
 use nalgebra::{DVector, Vector3};
 
-use super::hht_energy::{step_dissipation, Buffers, Weights};
+use super::hht_energy::{step_dissipation, step_means, Buffers, Weights};
 use super::{
     contact_frames, follower_dissipation, loads_but_laws, DynamicState, HeldFollowers,
     IntegrationError, StepStart,
@@ -74,7 +74,11 @@ pub struct Hht {
     /// start and the step length `predictor_dt` alone): the same for every
     /// full integration of the step.
     predictor_dt: Option<f64>,
+    predictor_u: DVector<f64>,
+    predictor_v: DVector<f64>,
     predictor_internal: DVector<f64>,
+    /// The band solve's forward sweep (`BandLdlt::solve_rows`).
+    sweep: Vec<f64>,
     /// The step's first integration, which later ones correct by the
     /// response to their change of load (`beam_step`).
     base: Base,
@@ -88,6 +92,42 @@ pub struct Hht {
     /// integration.
     held_followers: Vec<bool>,
     followers_used: Vec<ContactForce>,
+}
+
+/// One full integration by the band factor's fused solve
+/// (`BandLdlt::solve_rows`): the right-hand side (1 + α)(f − (C v* + K u*))
+/// + α (C v0 + K u0) − α f0 made row by row in its forward sweep from
+/// `terms` = [f, C v* + K u*, C v0 + K u0, f0], and u = u* + β Δt² a,
+/// v = v* + γ Δt a from `stars` = [u*, v*] in its backward sweep: the bits
+/// of `Hht::full_beam_step_by_vectors`' vector operations, in one pass.
+fn fused_band_step(
+    factor: &crate::band::BandLdlt,
+    ((alpha, beta, gamma), dt): ((f64, f64, f64), f64),
+    (terms, [u_star, v_star]): ([&[f64]; 4], [&[f64]; 2]),
+    sweep: &mut Vec<f64>,
+    end: &mut DynamicState,
+) {
+    let [load, internal, start_internal, start_load] = terms;
+    let terms = (load.iter().zip(internal)).zip(start_internal.iter().zip(start_load));
+    let rhs = terms.map(|((load, internal), (start_internal, start_load))| {
+        let mut r = load * (1.0 + alpha);
+        r += -(1.0 + alpha) * internal;
+        if alpha != 0.0 {
+            r += alpha * start_internal;
+            r += -alpha * start_load;
+        }
+        r
+    });
+    let (u_weight, v_weight) = (beta * dt * dt, gamma * dt);
+    let ends = (end.beam_displacement.as_mut_slice().iter_mut())
+        .zip(end.beam_velocity.as_mut_slice().iter_mut())
+        .zip(end.beam_acceleration.as_mut_slice().iter_mut());
+    let rows = ends.zip(u_star.iter().zip(v_star));
+    factor.solve_rows(sweep, rhs, rows, |a, (((u, v), acc), (u_star, v_star))| {
+        *u = u_weight * a + u_star;
+        *v = v_weight * a + v_star;
+        *acc = a;
+    });
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -132,7 +172,10 @@ impl Hht {
             start_internal: z(),
             start_dissipation: 0.0,
             predictor_dt: None,
+            predictor_u: z(),
+            predictor_v: z(),
             predictor_internal: z(),
+            sweep: Vec::new(),
             end_dissipation: 0.0,
             books: true,
             held_followers: vec![false; system.contacts.len()],
@@ -306,10 +349,8 @@ impl Hht {
         }
         // Structural damping: the power at the mean velocity, which for the
         // trapezoidal scheme (α = 0) is exactly the energy the step removes.
-        self.work.copy_from(&start.beam_velocity);
-        self.work += &end.beam_velocity;
-        self.work.scale_mut(0.5);
-        end.beam_dissipated = start.beam_dissipated + dt * system.beam.damping_power(&self.work);
+        let mean_velocity = step_means((start, end), &mut self.energy);
+        end.beam_dissipated = start.beam_dissipated + dt * system.beam.damping_power(mean_velocity);
         // Trapezoidal rule for the dampers' dissipation over the step.
         end.dissipated =
             start.dissipated + 0.5 * dt * (self.start_dissipation + self.end_dissipation);
@@ -384,25 +425,73 @@ impl Hht {
         dt: f64,
         end: &mut DynamicState,
     ) {
-        let beam = &system.beam;
+        if self.predictor_dt != Some(dt) {
+            self.predict(system, start, dt);
+        }
+        let nominal = self.is_nominal(dt);
+        if !nominal && self.prepare_factor(system, dt).is_err() {
+            // Without a factor the step's result is NaN, which the
+            // iteration reports as a non-finite step.
+            for x in [
+                &mut end.beam_displacement,
+                &mut end.beam_velocity,
+                &mut end.beam_acceleration,
+            ] {
+                x.fill(f64::NAN);
+            }
+            return;
+        }
+        let factor = match (nominal, &self.other) {
+            (false, Some((_, factor))) => factor,
+            _ => &self.nominal.1,
+        };
+        let EffectiveFactor::Band(factor) = factor else {
+            return self.full_beam_step_by_vectors(system, start, dt, end);
+        };
+        let weights = ((self.alpha, self.beta, self.gamma), dt);
+        let (load, internal) = (self.load.as_slice(), self.predictor_internal.as_slice());
+        let start_terms = (self.start_internal.as_slice(), start.beam_load.as_slice());
+        let terms = [load, internal, start_terms.0, start_terms.1];
+        let stars = [self.predictor_u.as_slice(), self.predictor_v.as_slice()];
+        fused_band_step(factor, weights, (terms, stars), &mut self.sweep, end);
+    }
+
+    /// The step's predictors u* = u0 + Δt v0 + Δt² (½ − β) a0 and
+    /// v* = v0 + Δt (1 − γ) a0, and C v* + K u*: the same for every full
+    /// integration of the step.
+    fn predict(&mut self, system: &System, start: &DynamicState, dt: f64) {
         let (u0, v0, a0) = (
             &start.beam_displacement,
             &start.beam_velocity,
             &start.beam_acceleration,
         );
-        let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
-        let u1 = &mut end.beam_displacement;
+        let (beta, gamma) = (self.beta, self.gamma);
+        let u1 = &mut self.predictor_u;
         u1.copy_from(u0);
         u1.axpy(dt, v0, 1.0);
         u1.axpy(dt * dt * (0.5 - beta), a0, 1.0);
-        let v1 = &mut end.beam_velocity;
+        let v1 = &mut self.predictor_v;
         v1.copy_from(v0);
         v1.axpy(dt * (1.0 - gamma), a0, 1.0);
-        if self.predictor_dt != Some(dt) {
-            let internal = &mut self.predictor_internal;
-            beam.internal_forces(u1, v1, &mut self.scratch, internal);
-            self.predictor_dt = Some(dt);
-        }
+        let internal = &mut self.predictor_internal;
+        system
+            .beam
+            .internal_forces(u1, v1, &mut self.scratch, internal);
+        self.predictor_dt = Some(dt);
+    }
+
+    /// `full_beam_step` where the solve is not the plain band factor's
+    /// (modal, two-level and wide-band solves), by whole-vector operations.
+    fn full_beam_step_by_vectors(
+        &mut self,
+        system: &System,
+        start: &DynamicState,
+        dt: f64,
+        end: &mut DynamicState,
+    ) {
+        let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
+        end.beam_displacement.copy_from(&self.predictor_u);
+        end.beam_velocity.copy_from(&self.predictor_v);
         self.rhs.copy_from(&self.load);
         self.rhs.scale_mut(1.0 + alpha);
         self.rhs.axpy(-(1.0 + alpha), &self.predictor_internal, 1.0);

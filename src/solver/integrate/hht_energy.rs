@@ -63,7 +63,8 @@ impl Buffers {
     }
 }
 
-/// D of the step from `start` to `end` (J): the beam's and every body's.
+/// D of the step from `start` to `end` (J): the beam's and every body's;
+/// `step_means` has filled `buffers`' means.
 /// `tractive` holds each driven body's tractive force at the step's end as
 /// the balance books it (zero for free bodies).
 pub fn step_dissipation(
@@ -81,6 +82,31 @@ pub fn step_dissipation(
     beam + bodies
 }
 
+/// The step's mean displacement and velocity, (u₀ + u₁)/2 and
+/// (v₀ + v₁)/2, into `buffers` (one pass): `step_dissipation` reads them,
+/// and the structural damping's power is taken at the mean velocity.
+pub fn step_means<'a>(
+    (start, end): (&DynamicState, &DynamicState),
+    b: &'a mut Buffers,
+) -> &'a DVector<f64> {
+    // On slices: nalgebra's element iterators cost several times the sums.
+    let (u0, u1) = (
+        start.beam_displacement.as_slice(),
+        end.beam_displacement.as_slice(),
+    );
+    for (mean, (u0, u1)) in b.mean_u.as_mut_slice().iter_mut().zip(u0.iter().zip(u1)) {
+        *mean = (u0 + u1) * 0.5;
+    }
+    let (v0, v1) = (start.beam_velocity.as_slice(), end.beam_velocity.as_slice());
+    for (mean, (v0, v1)) in b.mean_v.as_mut_slice().iter_mut().zip(v0.iter().zip(v1)) {
+        *mean = (v0 + v1) * 0.5;
+    }
+    &b.mean_v
+}
+
+/// The beam's share; `step_means` has filled the buffers' means. Each
+/// vector expression is one pass, with the bits of nalgebra's operations
+/// one after the other.
 fn beam_dissipation(
     system: &System,
     w: Weights,
@@ -89,39 +115,40 @@ fn beam_dissipation(
     b: &mut Buffers,
 ) -> f64 {
     let beam = &system.beam;
-    let (u0, v0, a0) = (
-        &start.beam_displacement,
-        &start.beam_velocity,
-        &start.beam_acceleration,
-    );
-    let (u1, v1, a1) = (
-        &end.beam_displacement,
-        &end.beam_velocity,
-        &end.beam_acceleration,
-    );
-    b.mean_u.copy_from(u0);
-    b.mean_u += u1;
-    b.mean_u.scale_mut(0.5);
-    b.mean_v.copy_from(v0);
-    b.mean_v += v1;
-    b.mean_v.scale_mut(0.5);
+    let (u0, a0) = (&start.beam_displacement, &start.beam_acceleration);
+    let (u1, a1) = (&end.beam_displacement, &end.beam_acceleration);
     // F̄ − M a_γ = f̄ − (K ū + C v̄) − M a_γ (the internal forces are linear).
     beam.internal_forces(&b.mean_u, &b.mean_v, &mut b.scratch, &mut b.product);
-    b.vector.copy_from(a0);
-    b.vector.scale_mut(1.0 - w.gamma);
-    b.vector.axpy(w.gamma, a1, 1.0);
+    let (one_minus_gamma, gamma) = (1.0 - w.gamma, w.gamma);
+    let (a0, a1) = (a0.as_slice(), a1.as_slice());
+    for (x, (a0, a1)) in b.vector.as_mut_slice().iter_mut().zip(a0.iter().zip(a1)) {
+        *x = gamma * a1 + a0 * one_minus_gamma;
+    }
     beam.mass_times(&b.vector, &mut b.scratch);
-    b.product += &b.scratch;
-    b.vector.copy_from(&start.beam_load);
-    b.vector += &end.beam_load;
-    b.vector.scale_mut(0.5);
-    b.vector -= &b.product;
-    b.product.copy_from(u1);
-    b.product -= u0;
+    let loads = start
+        .beam_load
+        .as_slice()
+        .iter()
+        .zip(end.beam_load.as_slice());
+    let forces = b
+        .product
+        .as_mut_slice()
+        .iter_mut()
+        .zip(b.scratch.as_slice());
+    for (x, ((l0, l1), (p, s))) in b.vector.as_mut_slice().iter_mut().zip(loads.zip(forces)) {
+        *p += s;
+        *x = (l0 + l1) * 0.5 - *p;
+    }
+    let (u0, u1) = (u0.as_slice(), u1.as_slice());
+    for (p, (u0, u1)) in b.product.as_mut_slice().iter_mut().zip(u0.iter().zip(u1)) {
+        *p = u1 - u0;
+    }
     let work = b.product.dot(&b.vector);
     // Δa, for the quadratic terms.
-    b.vector.copy_from(a1);
-    b.vector -= a0;
+    for (x, (a0, a1)) in b.vector.as_mut_slice().iter_mut().zip(a0.iter().zip(a1)) {
+        *x = a1 - a0;
+    }
+    let (a0, a1) = (&start.beam_acceleration, &end.beam_acceleration);
     let (delta, kappa) = (w.delta(), w.kappa());
     let h2 = dt * dt;
     let acceleration_energy = beam.kinetic_energy(a1) - beam.kinetic_energy(a0);

@@ -14,7 +14,7 @@
 //! a train's operator on a long viaduct most of its step.
 
 use crate::band::BandLdlt;
-use crate::linalg::band_inverse::InverseBand;
+use crate::linalg::band_inverse::{InverseBand, Walks};
 use crate::system::System;
 
 use super::responses::ElementResponse;
@@ -31,6 +31,8 @@ pub(super) struct Condensed {
     /// The band, and the factor's reciprocal pivots it was computed from
     /// (compared at each build: a band of another factor is never used).
     inverse: Option<(InverseBand, Vec<f64>)>,
+    /// The column recurrences of the last build, for the next (`Walks`).
+    walks: Walks,
     /// The build's DOFs, increasing, and A⁻¹ among them (column-major).
     dofs: Vec<usize>,
     entries: Vec<f64>,
@@ -48,7 +50,8 @@ pub struct Work {
     pub bands: u64,
     /// Operator builds.
     pub builds: u64,
-    /// Rows the recurrences between the contacts walked, in all builds.
+    /// Rows the recurrences between the contacts walked, in all builds
+    /// (a column kept from the build before walks only its new rows).
     pub rows_walked: u64,
 }
 
@@ -69,6 +72,7 @@ impl Condensed {
         let (_, pivots) = factor.columns_below_and_inverse_pivots();
         if !matches!(&self.inverse, Some((_, kept)) if kept.as_slice() == pivots) {
             self.inverse = Some((InverseBand::new(factor), pivots.to_vec()));
+            self.walks.clear();
             self.work.bands += 1;
         }
         self.weights = (w_u, w_v);
@@ -90,7 +94,7 @@ impl Condensed {
         let m = self.dofs.len();
         self.entries.resize(m * m, 0.0);
         let (inverse, _) = self.inverse.as_ref().expect("computed above");
-        let walked = inverse.entries(&self.dofs, &mut self.entries);
+        let walked = inverse.entries(&self.dofs, &mut self.walks, &mut self.entries);
         self.work.builds += 1;
         self.work.rows_walked += walked as u64;
     }
