@@ -2,7 +2,7 @@
 //! approach and run-off ground), the rigid bodies, the force elements
 //! between them and the contacts of the contact bodies with the track.
 
-use nalgebra::{DVector, Vector2};
+use nalgebra::{DVector, Vector2, Vector3};
 
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
@@ -515,6 +515,22 @@ fn corner_frame(
         cos: n.y,
         sin: -n.x,
         on_beam: true,
+    })
+}
+
+/// The constant generalized force on each body: its weight, plus the
+/// applied force (fx, fy) on the driven body and the vehicles' constant
+/// forces on their first bodies (`forces`: body index, force).
+pub fn constant_forces<'a>(
+    system: &'a System,
+    forces: &'a [(usize, [f64; 2])],
+) -> impl Iterator<Item = Vector3<f64>> + 'a {
+    system.bodies.iter().enumerate().map(move |(b, body)| {
+        let weight = Vector3::new(0.0, -body.mass * system.gravity, 0.0);
+        match forces.iter().find(|(first, _)| *first == b) {
+            Some((_, f)) => weight + Vector3::new(f[0], f[1], 0.0),
+            None => weight,
+        }
     })
 }
 

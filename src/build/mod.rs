@@ -2,8 +2,6 @@
 //! force elements and contacts, where they start and the contact forces the
 //! first step's iteration starts from.
 
-use nalgebra::Vector3;
-
 use crate::beam::Beam;
 use crate::body::BodyState;
 use crate::contact::ContactForce;
@@ -153,21 +151,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
     })
 }
 
-/// The constant generalized force on each body: its weight, plus the
-/// applied force (fx, fy) on the driven body and the vehicles' constant
-/// forces on their first bodies (`forces`: body index, force).
-pub fn constant_forces<'a>(
-    system: &'a System,
-    forces: &'a [(usize, [f64; 2])],
-) -> impl Iterator<Item = Vector3<f64>> + 'a {
-    system.bodies.iter().enumerate().map(move |(b, body)| {
-        let weight = Vector3::new(0.0, -body.mass * system.gravity, 0.0);
-        match forces.iter().find(|(first, _)| *first == b) {
-            Some((_, f)) => weight + Vector3::new(f[0], f[1], 0.0),
-            None => weight,
-        }
-    })
-}
+pub use crate::system::constant_forces;
 
 /// The solver parameters of a scene: its step and iteration settings, the
 /// fixed tolerances and caps at their defaults.

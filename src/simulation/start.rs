@@ -11,11 +11,12 @@ use crate::integrate::{
     choose_integrator, contact_frames, contact_frames_at_bodies, loads, DynamicState,
 };
 use crate::outputs::catalogue;
-use crate::scene::{Scene, SpeedSpec, StartKind};
+use crate::scene::{Scene, StartKind};
 use crate::solver::stepper::{heaviest_and_deflection, RunSetup, Stepper};
 use crate::state::{ContactStatus, SimState};
 use crate::static_start::{place_on_profile, static_start};
 use crate::system::{System, TrackPart};
+use crate::vehicle::speed::SpeedSpec;
 
 impl Simulation {
     pub(super) fn build(scene: &Scene, open_ends: bool) -> Result<Simulation, String> {
@@ -198,7 +199,7 @@ fn no_start_point(
     u: &DVector<f64>,
     error: crate::integrate::IntegrationError,
 ) -> String {
-    use crate::report::fmt_number;
+    use crate::numbers::fmt_number;
     let crate::integrate::IntegrationError::LostContact { contact, x } = error else {
         return format!("{error:?}");
     };

@@ -8,14 +8,15 @@
 
 use nalgebra::{DVector, Vector2, Vector3};
 
-use crate::assemble::constant_forces;
 use crate::contact::ContactForce;
 use crate::integrate::{force_shape, DynamicState, ForceShape, Integrator};
 use crate::iteration::{ContactIteration, StepSolution};
-use crate::scene::{ForceProfile, SpeedSpec};
+use crate::solver::integrate::ForceProfile;
 use crate::solver::parameters::SolverParameters;
 use crate::state::SimState;
+use crate::system::constant_forces;
 use crate::system::System;
+use crate::vehicle::speed::SpeedSpec;
 
 /// Result of `advance_to`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -576,7 +577,7 @@ fn step_failure(system: &System, s: &SimState, e: crate::iteration::StepError) -
 }
 
 pub(crate) fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
-    use crate::report::fmt_number;
+    use crate::numbers::fmt_number;
     let deflection = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     format!(
         "the beam's displacements reach {} m under the bodies' weight, the heaviest being \
@@ -595,7 +596,7 @@ fn heaviest_body(system: &System) -> String {
     let (body, mass) = heaviest.map_or(("?", 0.0), |b| (b.name.as_str(), b.mass));
     format!(
         "{body} with a mass of {} kg",
-        crate::report::fmt_number(mass)
+        crate::numbers::fmt_number(mass)
     )
 }
 

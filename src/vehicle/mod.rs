@@ -5,3 +5,4 @@
 pub mod body;
 pub mod force_element;
 pub mod presets;
+pub mod speed;

@@ -95,8 +95,9 @@ pub struct Hht {
 }
 
 /// One full integration by the band factor's fused solve
-/// (`BandLdlt::solve_rows`): the right-hand side (1 + α)(f − (C v* + K u*))
-/// + α (C v0 + K u0) − α f0 made row by row in its forward sweep from
+/// (`BandLdlt::solve_rows`): the right-hand side
+/// (1 + α)(f − (C v* + K u*)) + α (C v0 + K u0) − α f0 made row by row in
+/// its forward sweep from
 /// `terms` = [f, C v* + K u*, C v0 + K u0, f0], and u = u* + β Δt² a,
 /// v = v* + γ Δt a from `stars` = [u*, v*] in its backward sweep: the bits
 /// of `Hht::full_beam_step_by_vectors`' vector operations, in one pass.
