@@ -1,3 +1,6 @@
+//! Unit tests of the design outputs: section forces and reactions of
+//! loaded beams against statics written by hand (P L / 4, lever rules).
+
 use super::*;
 use crate::scene::{BeamSpec, EndSupport, SupportsSpec};
 

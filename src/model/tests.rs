@@ -1,3 +1,6 @@
+//! Unit tests of the FMU model: the variable table, the call rules,
+//! stepping and roll-back, over a fake physics and the real scenes.
+
 use super::fake::{FakeDynamics, FAIL_FORCE, FINE_FORCE, FINE_STEP};
 use super::*;
 use crate::scene::BodyKind;

@@ -1,3 +1,6 @@
+//! Unit tests of the report sinks: CSV columns, the summary, plots and
+//! their legends, the streaming run.
+
 use super::*;
 use crate::scene::{builtin, Scene, DEFAULT_SCENE};
 use crate::simulation::OutputKind;

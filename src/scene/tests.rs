@@ -1,3 +1,6 @@
+//! Unit tests of the scene format: parsing, defaults, validation
+//! messages (field, value, rule) and the built-in scenes.
+
 use super::*;
 
 fn default_scene() -> Scene {
