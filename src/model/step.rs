@@ -226,35 +226,10 @@ impl<D: Dynamics> Model<D> {
                     curable,
                 }
             }
-            // Not one internal step done: a shorter communication step
-            // cannot help, only a larger budget or a smaller model.
-            Err(advance::Stop::OverBudget { reached, foreseen }) if reached <= start => {
-                let why = match foreseen {
-                    Some(why) => format!(" (refused up front: {why})"),
-                    None => String::new(),
-                };
-                StepOutcome::Failed {
-                    message: format!(
-                        "one internal step (solver.step = {step:e} s) takes longer than \
-                         solver.wall_time_budget = {} s{why}; {}; raise the budget, or make \
-                         the model smaller (beam.elements, contacts)",
-                        crate::numbers::fmt_number(self.wall_time_budget),
-                        rolled_back(),
-                    ),
-                    curable: false,
-                }
+            Err(advance::Stop::OverBudget { reached, foreseen }) => {
+                let budget = (budget, step);
+                over_budget(budget, (start, reached, foreseen), (t0, to), &rolled_back())
             }
-            Err(advance::Stop::OverBudget { reached, .. }) => StepOutcome::Failed {
-                message: format!(
-                    "the step took longer than solver.wall_time_budget = {} s (it had reached \
-                     t = {:e} s of {to:e} s); {}; use shorter communication steps or \
-                     a larger budget",
-                    crate::numbers::fmt_number(self.wall_time_budget),
-                    t0 + reached,
-                    rolled_back(),
-                ),
-                curable: true,
-            },
         };
         let outcome = match (outcome, self.estimator.as_mut()) {
             (StepOutcome::Completed, Some(estimator)) => {
@@ -298,6 +273,42 @@ impl<D: Dynamics> Model<D> {
         let outputs_in_table = self.output_count;
         self.outputs_now = outputs.filter(|v| v.len() == outputs_in_table);
         Ok(outcome)
+    }
+}
+
+/// A step stopped by `solver.wall_time_budget` (`budget`: the budget and
+/// the internal step). Not one internal step done (`reached` ≤ `start`):
+/// a shorter communication step cannot help, only a larger budget or a
+/// smaller model; otherwise shorter communication steps can.
+fn over_budget(
+    (budget, step): (f64, f64),
+    (start, reached, foreseen): (f64, f64, Option<String>),
+    (t0, to): (f64, f64),
+    rolled_back: &str,
+) -> StepOutcome {
+    let budget = crate::numbers::fmt_number(budget);
+    if reached <= start {
+        let why = match foreseen {
+            Some(why) => format!(" (refused up front: {why})"),
+            None => String::new(),
+        };
+        return StepOutcome::Failed {
+            message: format!(
+                "one internal step (solver.step = {step:e} s) takes longer than \
+                 solver.wall_time_budget = {budget} s{why}; {rolled_back}; raise the budget, \
+                 or make the model smaller (beam.elements, contacts)"
+            ),
+            curable: false,
+        };
+    }
+    StepOutcome::Failed {
+        message: format!(
+            "the step took longer than solver.wall_time_budget = {budget} s (it had reached \
+             t = {:e} s of {to:e} s); {rolled_back}; use shorter communication steps or \
+             a larger budget",
+            t0 + reached,
+        ),
+        curable: true,
     }
 }
 
