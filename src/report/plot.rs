@@ -267,13 +267,7 @@ fn speed_panel(title: &str, mut curves: Vec<Curve>) -> Panel {
         }
         y_label = format!("V - {v0:.4} m/s (mm/s)");
     }
-    Panel {
-        title: title.to_string(),
-        y_label,
-        y_decimals: Some(2),
-        curves,
-        flights: Vec::new(),
-    }
+    plain_panel(title, &y_label, Some(2), curves)
 }
 
 /// Every contact's normal force (its flights shaded), then the vertical
@@ -388,13 +382,8 @@ fn force_panels(
             .collect()
     };
     let (scale, y_label) = deflection_scale(scene);
-    let panel = |title: &str, y_label: String, curves: Vec<Curve>| Panel {
-        title: title.to_string(),
-        y_label,
-        y_decimals: Some(2),
-        curves,
-        flights: Vec::new(),
-    };
+    let panel =
+        |title: &str, y_label: String, curves| plain_panel(title, &y_label, Some(2), curves);
     let mut panels = vec![
         panel("Sensor deflection", y_label, columns(".deflection", scale)),
         panel(
