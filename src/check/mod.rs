@@ -721,8 +721,22 @@ fn comfort_verdict(r: &CheckResult, phi: f64) -> Verdict {
 
 /// Every assumption the report states.
 fn assumptions(r: &CheckResult) -> Vec<String> {
+    let mut out = model_assumptions(r);
+    out.extend(check_assumptions(r));
+    if !r.spec.is_continuous() && r.spec.span < 7.0 {
+        out.push(
+            "HSLM-B with N and d as given in settings.hslm_b (read off EN 1991-2 Figure E.8)."
+                .into(),
+        );
+    }
+    out
+}
+
+/// The model's assumptions: the beam, its damping, the speeds and the
+/// filtered acceleration.
+fn model_assumptions(r: &CheckResult) -> Vec<String> {
     let s = &r.spec.settings;
-    let mut out = vec![
+    vec![
         format!(
             "{} as an Euler–Bernoulli beam of {} Hermite elements per span; trains as \
              moving forces (no vehicle–bridge interaction, hence Δζ of §6.4.6.4); Newmark average \
@@ -752,6 +766,14 @@ fn assumptions(r: &CheckResult) -> Vec<String> {
          (Butterworth, 4th order forwards and backwards, −3 dB at the cut-off max(30 Hz, 1.5 f1, f3)); the \
          raw peak beside it."
             .into(),
+    ]
+}
+
+/// The checks' assumptions: the mass bounds, the National Annex's
+/// choices, the determinant length, the real trains and what is not coded.
+fn check_assumptions(r: &CheckResult) -> Vec<String> {
+    let s = &r.spec.settings;
+    vec![
         "Acceleration checked with the lower bound of the mass, load effects with every bound \
          (§6.4.6.3.2)."
             .into(),
@@ -788,14 +810,7 @@ fn assumptions(r: &CheckResult) -> Vec<String> {
         "Not coded: the flow chart's torsion and Annex F conditions, deck twist, the car-body acceleration of \
          vehicles."
             .into(),
-    ];
-    if !r.spec.is_continuous() && r.spec.span < 7.0 {
-        out.push(
-            "HSLM-B with N and d as given in settings.hslm_b (read off EN 1991-2 Figure E.8)."
-                .into(),
-        );
-    }
-    out
+    ]
 }
 
 /// The worst run (largest filtered acceleration) stepped again, its

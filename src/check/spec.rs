@@ -269,93 +269,76 @@ impl BridgeSpec {
 }
 
 impl Settings {
-    fn validate(&self, span: f64) -> Result<(), String> {
-        let s = "settings.";
-        within(
-            &format!("{s}acceleration_limit_ballasted"),
-            self.acceleration_limit_ballasted,
-            0.1,
-            50.0,
-            "m/s²",
-        )?;
-        within(
-            &format!("{s}acceleration_limit_direct_fastened"),
-            self.acceleration_limit_direct_fastened,
-            0.1,
-            50.0,
-            "m/s²",
-        )?;
-        within(
-            &format!("{s}classification_factor"),
-            self.classification_factor,
-            0.5,
-            2.0,
-            "",
-        )?;
-        within(
-            &format!("{s}speed_step"),
-            self.speed_step,
-            0.5,
-            100.0,
-            "km/h",
-        )?;
-        within(
-            &format!("{s}fine_speed_step"),
-            self.fine_speed_step,
-            0.1,
-            self.speed_step,
-            "km/h (not above speed_step)",
-        )?;
-        within(
-            &format!("{s}resonance_band"),
-            self.resonance_band,
-            0.0,
-            0.5,
-            "",
-        )?;
-        within(
-            &format!("{s}elements"),
-            self.elements as f64,
-            4.0,
-            400.0,
-            "",
-        )?;
-        within(&format!("{s}step"), self.step, 1e-5, 0.01, "s")?;
-        within(
-            &format!("{s}comfort_acceleration"),
-            self.comfort_acceleration,
-            0.1,
-            10.0,
-            "m/s²",
-        )?;
+    /// Each plain setting with its accepted range and unit words:
+    /// (name, value, min, max, unit).
+    fn ranges(&self) -> Vec<(&'static str, f64, f64, f64, &'static str)> {
+        let mut rows = vec![
+            (
+                "acceleration_limit_ballasted",
+                self.acceleration_limit_ballasted,
+                0.1,
+                50.0,
+                "m/s²",
+            ),
+            (
+                "acceleration_limit_direct_fastened",
+                self.acceleration_limit_direct_fastened,
+                0.1,
+                50.0,
+                "m/s²",
+            ),
+            (
+                "classification_factor",
+                self.classification_factor,
+                0.5,
+                2.0,
+                "",
+            ),
+            ("speed_step", self.speed_step, 0.5, 100.0, "km/h"),
+            (
+                "fine_speed_step",
+                self.fine_speed_step,
+                0.1,
+                self.speed_step,
+                "km/h (not above speed_step)",
+            ),
+            ("resonance_band", self.resonance_band, 0.0, 0.5, ""),
+            ("elements", self.elements as f64, 4.0, 400.0, ""),
+            ("step", self.step, 1e-5, 0.01, "s"),
+            (
+                "comfort_acceleration",
+                self.comfort_acceleration,
+                0.1,
+                10.0,
+                "m/s²",
+            ),
+        ];
         if let Some(ratio) = self.comfort_span_to_deflection {
-            within(
-                &format!("{s}comfort_span_to_deflection"),
+            rows.push((
+                "comfort_span_to_deflection",
                 ratio,
                 100.0,
                 10_000.0,
                 "(L/δ of EN 1990 Figure A2.3)",
-            )?;
+            ));
         }
-        match self.hslm_b {
-            Some(b) => {
-                within(
-                    &format!("{s}hslm_b.forces"),
-                    b.forces as f64,
-                    1.0,
-                    100.0,
-                    "",
-                )?;
-                within(&format!("{s}hslm_b.spacing"), b.spacing, 1.0, 10.0, "m")?;
-            }
-            None if span < 7.0 => {
-                return Err(format!(
-                    "span = {span} m < 7 m: EN 1991-2 Annex E asks for HSLM-B; give \
-                     settings.hslm_b = {{ forces = N, spacing = d }} read off Figure E.8 \
-                     for this span"
-                ))
-            }
-            None => {}
+        if let Some(b) = self.hslm_b {
+            rows.push(("hslm_b.forces", b.forces as f64, 1.0, 100.0, ""));
+            rows.push(("hslm_b.spacing", b.spacing, 1.0, 10.0, "m"));
+        }
+        rows
+    }
+
+    fn validate(&self, span: f64) -> Result<(), String> {
+        for (name, value, lo, hi, unit) in self.ranges() {
+            within(&format!("settings.{name}"), value, lo, hi, unit)?;
+        }
+        if self.hslm_b.is_none() && span < 7.0 {
+            return Err(format!(
+                "span = {span} m < 7 m: EN 1991-2 Annex E asks for HSLM-B; give \
+                 settings.hslm_b = {{ forces = N, spacing = d }} read off Figure E.8 \
+                 for this span"
+            ));
         }
         Ok(())
     }

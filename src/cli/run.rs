@@ -63,22 +63,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let interrupted = interrupt::install();
     let outputs = Outputs::stage(&args)?;
 
-    let cannot_simulate =
-        |m: String| Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name));
-    let mut simulation = Simulation::new(&scene).map_err(cannot_simulate)?;
-    let steps = check_run_length(&scene, args.max_steps, " (--max-steps N raises it)")
-        .map_err(cannot_simulate)?;
-    if outputs.nodes.is_some() {
-        let nodes = simulation.system().beam.node_x.len();
-        check_node_output(steps + 1, nodes).map_err(Failure::Usage)?;
-    }
-
-    if !args.quiet {
-        println!("{}", frequencies_line(&simulation.system().beam));
-        for advice in guideway::scene::advisories(&scene) {
-            eprintln!("note: {advice}");
-        }
-    }
+    let mut simulation = open_simulation(&scene, &args, &outputs)?;
     let pending = choice.or_else(|| {
         let choice = simulation.integrator_choice();
         let start = |r| error::start(&scene, r, choice, args.max_steps);
@@ -88,11 +73,7 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
     let vehicles = exits::vehicle_names(&scene);
     if outputs.csv.is_none() && outputs.plot.is_none() {
         let summary = !args.quiet || outputs.summary.is_some() || pending.is_some();
-        let mut read = read_columns(&sink, simulation.outputs(), &scene, summary);
-        for k in exits::exit_columns(&simulation, &vehicles) {
-            read[k] = true;
-        }
-        simulation.read_only(Some(&read));
+        read_only_what_is_read(&mut simulation, &sink, &scene, &vehicles, summary);
     }
     let mut progress = Progress::new(args.quiet);
     let on_step = progress.on_step(&interrupted);
@@ -126,6 +107,49 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
         }
         Err(error) => Err(failed(error, sink, outputs.csv, &scene)),
     }
+}
+
+/// The scene's simulation, refused with the reason when it cannot run or
+/// its run would exceed the step bound; its frequencies and advice
+/// printed unless quiet.
+fn open_simulation(
+    scene: &Scene,
+    args: &RunArgs,
+    outputs: &Outputs,
+) -> Result<Simulation, Failure> {
+    let cannot_simulate =
+        |m: String| Failure::Scene(format!("scene `{}` cannot be simulated: {m}", scene.name));
+    let simulation = Simulation::new(scene).map_err(cannot_simulate)?;
+    let steps = check_run_length(scene, args.max_steps, " (--max-steps N raises it)")
+        .map_err(cannot_simulate)?;
+    if outputs.nodes.is_some() {
+        let nodes = simulation.system().beam.node_x.len();
+        check_node_output(steps + 1, nodes).map_err(Failure::Usage)?;
+    }
+
+    if !args.quiet {
+        println!("{}", frequencies_line(&simulation.system().beam));
+        for advice in guideway::scene::advisories(scene) {
+            eprintln!("note: {advice}");
+        }
+    }
+    Ok(simulation)
+}
+
+/// Evaluate only the columns the summary, the sink and the exit watch read
+/// (a run with no CSV and no plot).
+fn read_only_what_is_read(
+    simulation: &mut Simulation,
+    sink: &Sink,
+    scene: &Scene,
+    vehicles: &[String],
+    summary: bool,
+) {
+    let mut read = read_columns(sink, simulation.outputs(), scene, summary);
+    for k in exits::exit_columns(simulation, vehicles) {
+        read[k] = true;
+    }
+    simulation.read_only(Some(&read));
 }
 
 /// `drive_into` with every node written to `staged` after each row (the

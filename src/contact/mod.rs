@@ -432,19 +432,7 @@ pub fn foot_point_on(
             field = (element, beam.element_field(element, u));
         }
         let axis = beam.axis_of_field(element, x, &field.1);
-        // Without a profile the axis is used untouched (same bits as before).
-        let [w, slope, curvature, third] = match profile {
-            None => axis,
-            Some(profile) => {
-                let r = profile.at(x);
-                [
-                    axis[0] + r[0],
-                    axis[1] + r[1],
-                    axis[2] + r[2],
-                    axis[3] + r[3],
-                ]
-            }
-        };
+        let [w, slope, curvature, third] = surface(axis, profile, x);
         let height = centre.y - w;
         // f(x) = (X − x) + (Y − w) w' = 0 and its first two derivatives.
         let residual = (centre.x - x) + height * slope;
@@ -453,15 +441,7 @@ pub fn foot_point_on(
         if !(derivative.is_finite() && residual.is_finite()) || derivative.abs() < 1e-12 {
             return Err(FootPointError { last_x: x });
         }
-        let newton = -residual / derivative;
-        // Halley's correction (cubic convergence: one iterate fewer from a
-        // warm start) where it is a small change of Newton's.
-        let ratio = 0.5 * newton * second / derivative;
-        let step = if ratio.abs() < 0.5 {
-            newton / (1.0 + ratio)
-        } else {
-            newton
-        };
+        let step = halley_step(residual, derivative, second);
         let trust = beam
             .element_length(element)
             .max(height.abs())
@@ -469,21 +449,60 @@ pub fn foot_point_on(
         let dx = step.clamp(-trust, trust);
         // Converged: the remaining correction is at round-off level.
         if dx.abs() <= 1e-14 * beam.length.max(1.0) {
-            let secant = (1.0 + slope * slope).sqrt();
-            return Ok(ContactFrame {
-                x,
-                shape: beam.shape(element, x),
-                deflection: w,
-                slope,
-                curvature,
-                cos: 1.0 / secant,
-                sin: slope / secant,
-                on_beam: true,
-            });
+            return Ok(frame_on_beam(beam, element, x, [w, slope, curvature]));
         }
         x += dx;
     }
     Err(FootPointError { last_x: x })
+}
+
+/// The surface's height and its three derivatives at `x`: the axis raised
+/// by the profile (without a profile the axis untouched, the same bits).
+#[inline(always)]
+fn surface(axis: [f64; 4], profile: Option<&Profile>, x: f64) -> [f64; 4] {
+    match profile {
+        None => axis,
+        Some(profile) => {
+            let r = profile.at(x);
+            [
+                axis[0] + r[0],
+                axis[1] + r[1],
+                axis[2] + r[2],
+                axis[3] + r[3],
+            ]
+        }
+    }
+}
+
+/// Newton's step on f with Halley's correction (cubic convergence: one
+/// iterate fewer from a warm start) where it is a small change of Newton's.
+#[inline(always)]
+fn halley_step(residual: f64, derivative: f64, second: f64) -> f64 {
+    let newton = -residual / derivative;
+    let ratio = 0.5 * newton * second / derivative;
+    if ratio.abs() < 0.5 {
+        newton / (1.0 + ratio)
+    } else {
+        newton
+    }
+}
+
+/// The converged frame at `x` on `element`, from the surface's height,
+/// slope and curvature there.
+#[inline(always)]
+fn frame_on_beam(beam: &Beam, element: usize, x: f64, surface: [f64; 3]) -> ContactFrame {
+    let [w, slope, curvature] = surface;
+    let secant = (1.0 + slope * slope).sqrt();
+    ContactFrame {
+        x,
+        shape: beam.shape(element, x),
+        deflection: w,
+        slope,
+        curvature,
+        cos: 1.0 / secant,
+        sin: slope / secant,
+        on_beam: true,
+    }
 }
 
 #[cfg(test)]

@@ -76,6 +76,17 @@ pub fn write_converge_plot(ladder: &Ladder, mesh: bool, path: &Path) -> Result<(
 
 type Area<'a> = DrawingArea<BitMapBackend<'a>, plotters::coord::Shift>;
 
+/// The points' x and y ranges (x0, x1, y0, y1); `None` when there are no
+/// points.
+fn bounds(curves: &[(String, Vec<(f64, f64)>)]) -> Option<(f64, f64, f64, f64)> {
+    let all = curves.iter().flat_map(|(_, p)| p);
+    let (x0, x1, y0, y1) = all.fold(
+        (f64::INFINITY, 0.0_f64, f64::INFINITY, 0.0_f64),
+        |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
+    );
+    (x0.is_finite() && y0.is_finite()).then_some((x0, x1, y0, y1))
+}
+
 /// A log–log panel of `curves`.
 fn panel(
     area: &Area,
@@ -84,14 +95,9 @@ fn panel(
     (xlabel, ylabel): (&str, &str),
 ) -> Result<(), String> {
     let err = |e: DrawingAreaErrorKind<_>| e.to_string();
-    let all = curves.iter().flat_map(|(_, p)| p);
-    let (x0, x1, y0, y1) = all.fold(
-        (f64::INFINITY, 0.0_f64, f64::INFINITY, 0.0_f64),
-        |(a, b, c, d), &(x, y)| (a.min(x), b.max(x), c.min(y), d.max(y)),
-    );
-    if !(x0.is_finite() && y0.is_finite()) {
+    let Some((x0, x1, y0, y1)) = bounds(curves) else {
         return Ok(());
-    }
+    };
     let mut builder = ChartBuilder::on(area);
     builder.margin(15);
     if text == Text::Labelled {
