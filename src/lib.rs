@@ -27,6 +27,7 @@ pub mod numbers;
 pub mod outputs;
 pub mod report;
 pub mod scene;
+pub mod signal;
 pub mod simulation;
 pub mod solver;
 pub mod state;

@@ -12,7 +12,7 @@ use serde::Serialize;
 
 use crate::moving_load::{Axle, Crossing, RealTrain, HSLM_TRAINS};
 use crate::scene::{DampingSpec, Scene, SectionSpec, SensorSpec, StructureKind};
-use crate::study::deck_filter::{cut_off, low_pass_zero_phase};
+use crate::signal::{cut_off, low_pass_zero_phase};
 use crate::study::sweep::{sweep, EnvelopeRow, Loads, SpeedUnit, DEFAULT_MAX_SWEEP_STEPS};
 use rules::*;
 pub use spec::{BridgeSpec, TrackKind};

@@ -21,6 +21,7 @@ use crate::contact_law::LawKind;
 use crate::profile::Profile;
 
 pub mod law;
+pub mod loads;
 
 /// What touches the track.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -15,7 +15,8 @@ use nalgebra::DVector;
 
 use super::probes::{probes, Probe, ProbeReader};
 use super::{BeamDynamics, PointLoad};
-use crate::assemble::{assemble, Assembly};
+use crate::assemble::{assemble, static_shares};
+use crate::band::BandLdlt;
 use crate::beam::Beam;
 use crate::moving_load::{is_moving_force_scene, scene_axles};
 use crate::scene::Scene;
@@ -72,18 +73,6 @@ fn static_loads(scene: &Scene) -> Result<(Beam, Vec<(f64, f64)>), String> {
     Ok((assembly.system.beam, loads))
 }
 
-/// The envelope's loads of an assembled scene, before its static start:
-/// (abscissa, downward force) of each contact's static share.
-pub fn static_shares(assembly: &Assembly) -> Vec<(f64, f64)> {
-    assembly
-        .system
-        .contacts
-        .iter()
-        .zip(&assembly.forces)
-        .map(|(c, f)| (assembly.bodies[c.body].position.x, f.normal))
-        .collect()
-}
-
 /// The static envelope of `loads` ((abscissa at the start, downward force))
 /// crossing `beam` together, read at `scene`'s sensors, sections and
 /// supports. Bounded: at most `MAX_POSITIONS` evenly spaced positions
@@ -107,22 +96,7 @@ pub fn envelope_of_loads(
             positions: 0,
         });
     }
-    // A modal structure's static response is its modes' (Ω⁻² Φᵀ r).
-    let stiffness = match beam.modal() {
-        Some(_) => None,
-        None => Some(beam.stiffness_factor().ok_or_else(|| {
-            // The scene rules already refuse supports that leave the beam
-            // free: what is left is rounding on a fine mesh.
-            let n = scene.beam.elements as f64;
-            format!(
-                "beam.elements = {}: the stiffness matrix cannot be factorised in double \
-                 precision (its condition number grows as elements⁴, about {:.0e} here), so \
-                 the loads have no static response; use fewer elements",
-                scene.beam.elements,
-                n.powi(4)
-            )
-        })?),
-    };
+    let stiffness = stiffness_factor(scene, beam)?;
     let shifts = shifts(scene, beam, loads, (first, last), reads.len());
     let at_rest = DVector::zeros(beam.coordinates());
     let at_rest = || BeamDynamics::at_rest(beam, at_rest.clone(), Vec::new());
@@ -154,19 +128,38 @@ pub fn envelope_of_loads(
     })
 }
 
+/// K's factor for the static solves; none on a modal structure, whose
+/// static response is its modes' (Ω⁻² Φᵀ r).
+fn stiffness_factor(scene: &Scene, beam: &Beam) -> Result<Option<BandLdlt>, String> {
+    if beam.modal().is_some() {
+        return Ok(None);
+    }
+    beam.stiffness_factor().map(Some).ok_or_else(|| {
+        // The scene rules already refuse supports that leave the beam
+        // free: what is left is rounding on a fine mesh.
+        let n = scene.beam.elements as f64;
+        format!(
+            "beam.elements = {}: the stiffness matrix cannot be factorised in double \
+             precision (its condition number grows as elements⁴, about {:.0e} here), so \
+             the loads have no static response; use fewer elements",
+            scene.beam.elements,
+            n.powi(4)
+        )
+    })
+}
+
 /// Solves the load vectors `set_static_loads` left in `group`'s
 /// displacements, four side by side (a modal structure's are solved).
-fn solve_group(stiffness: Option<&crate::band::BandLdlt>, group: &mut [BeamDynamics]) {
+fn solve_group(stiffness: Option<&BandLdlt>, group: &mut [BeamDynamics]) {
     let Some(factor) = stiffness else {
         return;
     };
     match group {
-        [a, b, c, d] => {
-            factor.solve_each([a, b, c, d].map(|response| response.displacement.as_mut_slice()))
-        }
+        [a, b, c, d] => factor
+            .solve_each([a, b, c, d].map(|response| response.displacement_mut().as_mut_slice())),
         _ => {
             for response in group.iter_mut() {
-                factor.solve_mut(&mut response.displacement);
+                factor.solve_mut(response.displacement_mut());
             }
         }
     }

@@ -8,16 +8,16 @@
 //! the Hermite shape functions (consistent nodal loads).
 
 mod crossing;
-mod hslm;
 mod run;
 mod trains;
 
+pub use crate::vehicle::hslm::{hslm, HslmTrain, HSLM_TRAINS};
 pub use crossing::{exit_time, run_end, static_peak, Crossing, Peaks};
-pub use hslm::{hslm, HslmTrain, HSLM_TRAINS};
 pub use run::{crossing_times, AxleEvent, ForceRun, ForceState, ForceVehicle, FORCES_ON_BEAM};
 pub use trains::RealTrain;
 
-use crate::scene::{BodyKind, BodySpec, Scene};
+use crate::scene::{BodySpec, Scene};
+pub use crate::vehicle::presets::is_moving_force_scene;
 
 /// One point force: its abscissa at t = 0 (m), its speed (m/s) and its
 /// vertical component (N, y up: a downward load is negative).
@@ -33,12 +33,6 @@ impl Axle {
     pub fn at(&self, t: f64) -> f64 {
         self.position + self.speed * t
     }
-}
-
-/// Whether the scene's vehicles are moving forces (validation has made
-/// them all moving forces or none).
-pub fn is_moving_force_scene(scene: &Scene) -> bool {
-    scene.body.kind == BodyKind::MovingForce
 }
 
 /// The axles of one moving-force vehicle: its train's, the first at

@@ -6,9 +6,9 @@
 use nalgebra::{DVector, Vector3};
 
 use crate::contact::{ContactForce, ContactFrame};
-use crate::integrate::{loads, DynamicState, FrameMemo};
+use crate::integrate::{loads, FrameMemo};
 use crate::state::SimState;
-use crate::system::{System, TrackPart};
+use crate::system::System;
 
 /// What the outputs read beside the system and the state: where the
 /// sensors and sections are, the frames of the last step (recalled, not
@@ -47,27 +47,7 @@ pub fn frames_now(
     state: &SimState,
     memo: &FrameMemo,
 ) -> Result<Vec<ContactFrame>, crate::integrate::IntegrationError> {
-    frames_of(system, &state.dynamic, &state.parts, memo)
-}
-
-/// The contact frames of the dynamic state `d`, each contact on its part
-/// `parts` of the track, from `memo` where they are the last step's.
-pub fn frames_of(
-    system: &System,
-    d: &DynamicState,
-    parts: &[TrackPart],
-    memo: &FrameMemo,
-) -> Result<Vec<ContactFrame>, crate::integrate::IntegrationError> {
-    let mut frames = Vec::new();
-    let located = (d.contact_x.as_slice(), parts);
-    memo.contact_frames(
-        system,
-        &d.beam_displacement,
-        &d.bodies,
-        located,
-        &mut frames,
-    )?;
-    Ok(frames)
+    memo.frames_of(system, &state.dynamic, &state.parts)
 }
 
 /// The contact forces of the last step.
@@ -114,12 +94,12 @@ pub fn beam_dynamics(
     system: &System,
     state: &SimState,
     memo: &FrameMemo,
-) -> Option<crate::design::BeamDynamics> {
+) -> Option<crate::structure::section_forces::BeamDynamics> {
     let d = &state.dynamic;
     let frames = frames_now(system, state, memo).ok()?;
     let beam = &system.beam;
-    let loads = crate::design::contact_loads(beam, &frames, &last_forces(state));
-    Some(crate::design::BeamDynamics::new(
+    let loads = crate::contact::loads::contact_loads(beam, &frames, &last_forces(state));
+    Some(crate::structure::section_forces::BeamDynamics::new(
         beam,
         d.beam_displacement.clone(),
         d.beam_velocity.clone(),

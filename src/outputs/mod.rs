@@ -477,7 +477,7 @@ impl Catalogue {
         if !reactions {
             return;
         }
-        for support in crate::design::supports(beam) {
+        for support in crate::structure::section_forces::supports(beam) {
             let name = &support.name;
             self.real(
                 format!("support.{name}.reaction"),
@@ -573,7 +573,7 @@ pub fn structure_catalogue(
 pub struct BeamNow<'a> {
     pub displacement: &'a nalgebra::DVector<f64>,
     pub velocity: &'a nalgebra::DVector<f64>,
-    pub dynamics: Option<&'a crate::design::BeamDynamics>,
+    pub dynamics: Option<&'a crate::structure::section_forces::BeamDynamics>,
 }
 
 /// The value of a structure's `quantity` (sensors, sections, supports,

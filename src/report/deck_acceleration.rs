@@ -1,13 +1,12 @@
 //! The deck accelerations of a run as EN 1991-2 §6.4.6.5(4) counts them:
 //! each sensor's acceleration is recorded at the steps of the run and, at
 //! its end, low-passed with zero phase at max(30 Hz, 1.5 f1, f3)
-//! (`study::deck_filter`, the same filter as the sweep's) before its peak
+//! (`signal`, the same filter as the sweep's) before its peak
 //! is read.
 
 use crate::beam::Beam;
 use crate::scene::Scene;
-use crate::study::deck_filter::{cut_off, low_pass_zero_phase, signed_peak};
-use crate::study::sweep::MAX_RECORDED_SAMPLES;
+use crate::signal::{cut_off, low_pass_zero_phase, signed_peak, MAX_RECORDED_SAMPLES};
 
 /// The sensors' acceleration records of a run on its step grid.
 pub struct DeckRecord {

@@ -126,7 +126,7 @@ impl Simulation {
     /// reference) on this simulation's beam: assembling the scene again
     /// would solve a modal beam's eigenproblem a second time.
     pub fn static_envelope(&self, scene: &Scene) -> Result<crate::design::StaticEnvelope, String> {
-        if crate::moving_load::is_moving_force_scene(scene) {
+        if crate::vehicle::presets::is_moving_force_scene(scene) {
             return crate::design::static_envelope(scene);
         }
         crate::design::envelope_of_loads(scene, &self.system.beam, &self.envelope_loads)
@@ -342,7 +342,7 @@ impl Simulation {
     /// The beam now under the contact forces of the last step, with the
     /// acceleration they give (design outputs); `None` when a contact
     /// point cannot be located.
-    pub fn beam_dynamics(&self) -> Option<crate::design::BeamDynamics> {
+    pub fn beam_dynamics(&self) -> Option<crate::structure::section_forces::BeamDynamics> {
         derived::beam_dynamics(
             &self.system,
             &self.state,

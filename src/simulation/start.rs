@@ -21,7 +21,7 @@ use crate::vehicle::speed::SpeedSpec;
 impl Simulation {
     pub(super) fn build(scene: &Scene, open_ends: bool) -> Result<Simulation, String> {
         let mut assembly = assemble(scene)?;
-        let envelope_loads = crate::design::static_shares(&assembly);
+        let envelope_loads = crate::build::static_shares(&assembly);
         assembly.system.track.open_ends = open_ends;
         let setup = run_setup(scene, &mut assembly);
         let applied: Vec<Vector3<f64>> =

@@ -1,16 +1,19 @@
-//! The flexible structure the vehicles cross: the seam (`Structure`) with
-//! its implementations (the Hermite beam, its modal reduction), and the
-//! track's irregularity profile.
+//! The flexible structure the vehicles cross: the seam (`Structure`, an
+//! enum over the kinds that implement `ops::StructureOps`: the Hermite
+//! beam, its modal reduction, the rail over the deck), and the track's
+//! irregularity profile.
 
 pub mod beam;
-pub mod dof_access;
 pub mod modal;
+mod ops;
 pub mod profile;
 pub mod rail_on_deck;
 pub mod reduced;
 pub mod seam;
+pub mod section_forces;
 pub mod track_on_deck;
 pub mod track_seam;
 pub mod track_sleepers;
+pub mod track_spec;
 
 pub use seam::Structure;

@@ -320,6 +320,7 @@ mod tests {
     use super::*;
     use crate::beam::start_value;
     use crate::structure::beam::{BeamSpec, DampingSpec, EndSupport, SupportsSpec};
+    use crate::structure::ops::StructureOps;
 
     fn beam(elements: usize, supports: SupportsSpec) -> HermiteBeam {
         HermiteBeam::new(&BeamSpec {

@@ -7,7 +7,7 @@ use nalgebra::DVector;
 
 use crate::beam::{EffectiveFactor, HermiteBeam};
 use crate::modal::{ModalBasis, ModeSelection};
-use crate::structure::dof_access::DofAccess;
+use crate::structure::ops::StructureOps;
 
 /// The beam reduced to the modes a selection keeps.
 pub struct ModalBeam {
@@ -33,14 +33,42 @@ impl ModalBeam {
     pub fn basis(&self) -> &ModalBasis {
         &self.basis
     }
+}
 
-    /// The number of kept modes: the entries of a state vector.
-    pub fn coordinates(&self) -> usize {
+/// Every operation on the kept modes' coordinates; the geometry, the
+/// modes and the damping flag are the mesh's (the defaults).
+impl StructureOps for ModalBeam {
+    fn mesh(&self) -> &HermiteBeam {
+        &self.mesh
+    }
+
+    /// The number of kept modes.
+    fn coordinates(&self) -> usize {
         self.basis.modes()
     }
 
+    fn dof_value(&self, dof: usize, q: &DVector<f64>) -> f64 {
+        self.basis.value(dof, q)
+    }
+
+    fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
+        self.basis.add_load(dof, scale, out);
+    }
+
+    fn stiffness_times(&self, q: &DVector<f64>, out: &mut DVector<f64>) {
+        self.basis.stiffness_times(q, out)
+    }
+
+    /// The identity: the modes are mass-normalised.
+    fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        out.copy_from(v)
+    }
+
+    /// The identity.
+    fn solve_mass(&self, _rhs: &mut DVector<f64>) {}
+
     /// The modal factor of I + `damping_weight` C + `stiffness_weight` Ω².
-    pub fn effective_factor(
+    fn effective_factor(
         &self,
         damping_weight: f64,
         stiffness_weight: f64,
@@ -53,8 +81,44 @@ impl ModalBeam {
         })
     }
 
+    fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
+        self.basis.static_deflection(load)
+    }
+
+    /// Diagonal in the modes but for the support dampers: no scratch needed.
+    fn internal_forces(
+        &self,
+        q: &DVector<f64>,
+        v: &DVector<f64>,
+        _scratch: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        self.basis.internal_forces(q, v, out)
+    }
+
+    fn accelerations(
+        &self,
+        state: (&DVector<f64>, &DVector<f64>),
+        load: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        self.basis.accelerations(state, load, out)
+    }
+
+    fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+        self.basis.kinetic_energy(v)
+    }
+
+    fn strain_energy(&self, q: &DVector<f64>) -> f64 {
+        self.basis.strain_energy(q)
+    }
+
+    fn damping_power(&self, v: &DVector<f64>) -> f64 {
+        self.basis.damping_power(v)
+    }
+
     /// Σ c (Φ Φᵀ)ᵢᵢ over the support dampers (1/s).
-    pub fn damper_rate_bound(&self) -> f64 {
+    fn damper_rate_bound(&self) -> f64 {
         self.mesh
             .damper_coefficients()
             .map(|(dof, c)| c * self.basis.inverse_mass_diagonal(dof))
@@ -63,17 +127,12 @@ impl ModalBeam {
 
     /// The highest kept circular frequency: the kept modes are exact
     /// eigenpairs.
-    pub fn highest_frequency(&self) -> f64 {
+    fn highest_frequency(&self) -> f64 {
         self.basis.omega().last().copied().unwrap_or(0.0)
     }
-}
 
-impl DofAccess for ModalBeam {
-    fn dof_value(&self, dof: usize, q: &DVector<f64>) -> f64 {
-        self.basis.value(dof, q)
-    }
-
-    fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
-        self.basis.add_load(dof, scale, out);
+    /// Reduced again from its mesh.
+    fn into_mesh(self) -> Result<HermiteBeam, String> {
+        Ok(self.mesh)
     }
 }

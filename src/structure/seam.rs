@@ -1,13 +1,16 @@
 //! The structure seam: the one type the system, the contacts and the
-//! integrators see, with its implementations (the full Hermite mesh, its
-//! modal reduction) behind an enum: static dispatch, one `match` per
-//! call, no `dyn` in the step.
+//! integrators see. Each kind of structure (the full Hermite mesh, its
+//! modal reduction, the rail over the deck) implements `StructureOps`
+//! (`structure/ops.rs`); `Structure` is the enum of the kinds and passes
+//! every call to the kind it holds through the one `each!` macro: static
+//! dispatch, one `match` per call, no `dyn` in the step. A new kind is
+//! one file implementing the trait, one variant here and one line in
+//! `each!` (and its place in `of_scene`).
 //!
 //! Geometry (node abscissae, elements, shapes, supports, segments) is the
-//! mesh's whatever the implementation, so `Structure` dereferences to the
-//! `HermiteBeam` for it. Every operation whose meaning depends on the
-//! state's coordinates (gathers, loads, products, factors, energies) is
-//! defined here; the mesh's own versions are private to `structure`, so a
+//! mesh's whatever the kind, so `Structure` dereferences to the kind's
+//! `HermiteBeam` for it. The operations whose meaning depends on the
+//! state's coordinates are the trait's, private to `structure`, so a
 //! caller cannot reach the full-mesh operation on a reduced structure.
 
 use std::ops::Deref;
@@ -16,10 +19,11 @@ use nalgebra::DVector;
 
 use crate::beam::{EffectiveFactor, Foundation, HermiteBeam, Modes, Shape, VelocityFreeBand};
 use crate::modal::{ModalBasis, ModeSelection};
-use crate::scene::{BeamSpec, TrackSpec};
-use crate::structure::dof_access::DofAccess;
+use crate::structure::beam::BeamSpec;
+use crate::structure::ops::StructureOps;
 use crate::structure::reduced::ModalBeam;
 use crate::structure::track_seam::TrackBeam;
+use crate::structure::track_spec::TrackSpec;
 
 /// The flexible structure under the vehicles.
 pub enum Structure {
@@ -32,7 +36,8 @@ pub enum Structure {
     Track(Box<TrackBeam>),
 }
 
-/// One expression per implementation: `each!(self, b => b.f(..))`.
+/// One expression per kind: `each!(self, b => b.f(..))`, `b` bound to the
+/// kind's implementation of `StructureOps`.
 macro_rules! each {
     ($self:expr, $b:ident => $e:expr) => {
         match $self {
@@ -46,13 +51,9 @@ macro_rules! each {
 impl Deref for Structure {
     type Target = HermiteBeam;
 
-    /// The mesh: geometry shared by every implementation.
+    /// The mesh: geometry shared by every kind.
     fn deref(&self) -> &HermiteBeam {
-        match self {
-            Structure::Hermite(mesh) => mesh,
-            Structure::Modal(modal) => &modal.mesh,
-            Structure::Track(track) => &track.mesh,
-        }
+        each!(self, b => b.mesh())
     }
 }
 
@@ -84,11 +85,7 @@ impl Structure {
     /// its state vectors are modal coordinates. A reduced structure is
     /// reduced again from its mesh.
     pub fn reduce_to_modes(self, selection: ModeSelection) -> Result<Structure, String> {
-        let mesh = match self {
-            Structure::Hermite(mesh) => mesh,
-            Structure::Modal(modal) => modal.mesh,
-            Structure::Track(_) => return Err(TRACK_NOT_MODAL.into()),
-        };
+        let mesh = each!(self, b => b.into_mesh())?;
         ModalBeam::new(mesh, selection).map(Structure::Modal)
     }
 
@@ -96,19 +93,16 @@ impl Structure {
     /// (a modal structure's only).
     pub fn modal_ratio(&self) -> Option<f64> {
         match self {
-            Structure::Hermite(_) | Structure::Track(_) => None,
-            Structure::Modal(modal) => modal.mesh.modal_ratio(),
+            Structure::Modal(modal) => modal.mesh().modal_ratio(),
+            _ => None,
         }
     }
 
     /// 2 ζ ωᵢ per kept mode when the scene gives one damping ratio ζ for
     /// every mode (a modal structure's only): C v = M Φ (2 ζ ω ⊙ q̇).
     pub fn modal_ratio_rates(&self) -> Option<DVector<f64>> {
-        let Structure::Modal(modal) = self else {
-            return None;
-        };
-        let ratio = modal.mesh.modal_ratio()?;
-        let omega = modal.basis().omega();
+        let ratio = self.modal_ratio()?;
+        let omega = self.modal()?.omega();
         Some(DVector::from_iterator(
             omega.len(),
             omega.iter().map(|w| 2.0 * ratio * w),
@@ -118,8 +112,8 @@ impl Structure {
     /// The kept modes when the structure is modal.
     pub fn modal(&self) -> Option<&ModalBasis> {
         match self {
-            Structure::Hermite(_) | Structure::Track(_) => None,
             Structure::Modal(modal) => Some(modal.basis()),
+            _ => None,
         }
     }
 
@@ -192,11 +186,7 @@ impl Structure {
     /// Transverse deflection w at `x` (m): the deck's at its abscissa `x`
     /// under a rail (the sensors read the deck; the contacts the rail).
     pub fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
-        if let Structure::Track(track) = self {
-            return track.deck_deflection(u, x);
-        }
-        let shape = self.shape(self.element_at(x), x);
-        self.dot(&shape, &shape.n, u)
+        each!(self, b => b.deflection(u, x))
     }
 
     /// Element `element`'s end forces K_e q(`u`) + M_e q(`a`) on its DOFs
@@ -216,33 +206,22 @@ impl Structure {
     }
 }
 
-/// The dynamics: products, factors, energies in the state's coordinates.
+/// The dynamics: products, factors, energies in the state's coordinates
+/// (`StructureOps` has what each means).
 impl Structure {
     /// `out = K u`.
     pub fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
-        match self {
-            Structure::Hermite(mesh) => mesh.stiffness_times(u, out),
-            Structure::Modal(modal) => modal.basis().stiffness_times(u, out),
-            Structure::Track(track) => track.stiffness_times(u, out),
-        }
+        each!(self, b => b.stiffness_times(u, out))
     }
 
     /// `out = M v` (the identity in modal coordinates).
     pub fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
-        match self {
-            Structure::Hermite(mesh) => mesh.mass_times(v, out),
-            Structure::Modal(_) => out.copy_from(v),
-            Structure::Track(track) => track.mass_times(v, out),
-        }
+        each!(self, b => b.mass_times(v, out))
     }
 
     /// `rhs ← M⁻¹ rhs` (the identity in modal coordinates).
     pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
-        match self {
-            Structure::Hermite(mesh) => mesh.solve_mass(rhs),
-            Structure::Modal(_) => {}
-            Structure::Track(track) => track.solve_mass(rhs),
-        }
+        each!(self, b => b.solve_mass(rhs))
     }
 
     /// The inverse of M + `damping_weight` C + `stiffness_weight` K, the
@@ -258,11 +237,7 @@ impl Structure {
     /// The static deflection u with K u = `load` (modal coordinates on a
     /// modal structure).
     pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
-        match self {
-            Structure::Hermite(mesh) => mesh.static_deflection(load),
-            Structure::Modal(modal) => modal.basis().static_deflection(load),
-            Structure::Track(track) => track.static_deflection(load),
-        }
+        each!(self, b => b.static_deflection(load))
     }
 
     /// `out = K u + C v`: the elastic and damping forces, using `scratch`.
@@ -273,11 +248,7 @@ impl Structure {
         scratch: &mut DVector<f64>,
         out: &mut DVector<f64>,
     ) {
-        match self {
-            Structure::Hermite(mesh) => mesh.internal_forces(u, v, scratch, out),
-            Structure::Modal(modal) => modal.basis().internal_forces(u, v, out),
-            Structure::Track(track) => track.internal_forces(u, v, scratch, out),
-        }
+        each!(self, b => b.internal_forces(u, v, scratch, out))
     }
 
     /// Accelerations `M⁻¹ (load − K u − C v)`.
@@ -287,48 +258,28 @@ impl Structure {
         load: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
-        match self {
-            Structure::Hermite(mesh) => mesh.accelerations(state, load, out),
-            Structure::Modal(modal) => modal.basis().accelerations(state, load, out),
-            Structure::Track(track) => track.accelerations(state, load, out),
-        }
+        each!(self, b => b.accelerations(state, load, out))
     }
 
     /// K, M's factor and α when the accelerations are `M⁻¹ (f − K u) − α v`
-    /// (`HermiteBeam::velocity_free_band`); `None` on a modal structure.
+    /// (`HermiteBeam::velocity_free_band`); `None` but on the full mesh.
     pub fn velocity_free_band(&self) -> Option<VelocityFreeBand<'_>> {
-        match self {
-            Structure::Hermite(mesh) => mesh.velocity_free_band(),
-            Structure::Modal(_) => None,
-            Structure::Track(_) => None,
-        }
+        each!(self, b => b.velocity_free_band())
     }
 
     /// ½ vᵀ M v.
     pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
-        match self {
-            Structure::Hermite(mesh) => mesh.kinetic_energy(v),
-            Structure::Modal(modal) => modal.basis().kinetic_energy(v),
-            Structure::Track(track) => track.kinetic_energy(v),
-        }
+        each!(self, b => b.kinetic_energy(v))
     }
 
     /// ½ uᵀ K u.
     pub fn strain_energy(&self, u: &DVector<f64>) -> f64 {
-        match self {
-            Structure::Hermite(mesh) => mesh.strain_energy(u),
-            Structure::Modal(modal) => modal.basis().strain_energy(u),
-            Structure::Track(track) => track.strain_energy(u),
-        }
+        each!(self, b => b.strain_energy(u))
     }
 
     /// Power dissipated by the structural damping, vᵀ C v (W).
     pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
-        match self {
-            Structure::Hermite(mesh) => mesh.damping_power(v),
-            Structure::Modal(modal) => modal.basis().damping_power(v),
-            Structure::Track(track) => track.damping_power(v),
-        }
+        each!(self, b => b.damping_power(v))
     }
 
     /// Σ c (M⁻¹)ᵢᵢ over the support dampers (1/s): at least the decay rate
@@ -346,40 +297,25 @@ impl Structure {
     /// Whether the structure has any damping: under a rail the deck's,
     /// the track's and the ground's (the rail mesh has none of its own).
     pub fn is_damped(&self) -> bool {
-        match self {
-            Structure::Track(track) => track.is_damped(),
-            _ => self.deref().is_damped(),
-        }
+        each!(self, b => b.is_damped())
     }
 
     /// The Winkler foundation under the beam; none under a rail over a
     /// deck (its track and ground layers are the assembly's).
     pub fn foundation(&self) -> Option<Foundation> {
-        match self {
-            Structure::Track(_) => None,
-            _ => self.deref().foundation(),
-        }
+        each!(self, b => b.foundation())
     }
 
     /// The lowest `count` natural modes; under a rail those of the coupled
     /// rail and deck (dense, `track_on_deck::MAX_DENSE_DOFS`), their shapes
     /// in the state's coordinates.
     pub fn modes(&self, count: usize) -> Result<Modes, String> {
-        match self {
-            Structure::Track(track) => {
-                let (omega, shapes) = track.assembly().modes(count)?;
-                Ok(Modes { omega, shapes })
-            }
-            _ => self.deref().modes(count),
-        }
+        each!(self, b => b.modes(count))
     }
 
     /// The lowest `count` natural circular frequencies (rad/s).
     pub fn frequencies(&self, count: usize) -> Result<Vec<f64>, String> {
-        match self {
-            Structure::Track(_) => self.modes(count).map(|m| m.omega),
-            _ => self.deref().frequencies(count),
-        }
+        each!(self, b => b.frequencies(count))
     }
 }
 

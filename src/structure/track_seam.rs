@@ -10,12 +10,14 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use crate::beam::{EffectiveFactor, HermiteBeam, Rayleigh};
+use crate::beam::{EffectiveFactor, Foundation, HermiteBeam, Modes, Rayleigh};
 use crate::mesh::Mesh;
-use crate::scene::{BeamSpec, EndSupport, OnDeckSpec, SpringSpec, SupportsSpec};
-use crate::structure::dof_access::DofAccess;
+use crate::structure::beam::{BeamSpec, EndSupport, SpringSpec, SupportsSpec};
+use crate::structure::ops::StructureOps;
 use crate::structure::rail_on_deck::RailOnDeck;
+use crate::structure::seam::TRACK_NOT_MODAL;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
+use crate::structure::track_spec::OnDeckSpec;
 use crate::wide_band::{WideBand, WideLdlt};
 
 /// The rail over the deck's spans, as the seam sees it.
@@ -96,13 +98,83 @@ impl TrackBeam {
         &self.assembly
     }
 
+    /// Deck deflection of `u` at the deck's abscissa `x` (NaN off it).
+    pub fn deck_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        let on = x >= 0.0 && x <= self.assembly.track.layout.deck_length;
+        let value = self.assembly.deck_deflection(x, u.as_slice());
+        value.ok().filter(|_| on).unwrap_or(f64::NAN)
+    }
+
+    /// Rail deflection of `u` at the deck's abscissa `x` (NaN off the rail).
+    pub fn rail_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        (self.assembly.rail_deflection(x, u.as_slice())).unwrap_or(f64::NAN)
+    }
+}
+
+/// The products on the interleaved DOFs.
+impl TrackBeam {
+    /// `out = band x`.
+    fn times(band: &WideBand, x: &DVector<f64>, out: &mut DVector<f64>) {
+        band.mul_to(x.as_slice(), out.as_mut_slice());
+    }
+
+    fn quadratic(band: &WideBand, x: &DVector<f64>) -> f64 {
+        let mut product = DVector::zeros(x.len());
+        Self::times(band, x, &mut product);
+        x.dot(&product)
+    }
+
+    /// Whether the rail rests on sleepers (else on a continuous layer).
+    pub fn has_sleepers(&self) -> bool {
+        self.assembly.track.layout.sleepers.is_some()
+    }
+
+    /// The rail-seat (pad) force of the sleeper nearest the deck's
+    /// abscissa `x` (N, compression positive; NaN without sleepers).
+    pub fn rail_seat_force(&self, u: &DVector<f64>, v: &DVector<f64>, x: f64) -> f64 {
+        (self.assembly.rail_seat_force(x, u.as_slice(), v.as_slice())).unwrap_or(f64::NAN)
+    }
+}
+
+/// The rail over the deck behind the seam: the state is the interleaved
+/// rail and deck DOFs of the wide-band assembly.
+impl StructureOps for TrackBeam {
+    fn mesh(&self) -> &HermiteBeam {
+        &self.mesh
+    }
+
+    /// The deck's deflection at the deck's abscissa `x`: the sensors read
+    /// the deck, the contacts the rail.
+    fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
+        self.deck_deflection(u, x)
+    }
+
+    /// None: the track's and the ground's layers are the assembly's.
+    fn foundation(&self) -> Option<Foundation> {
+        None
+    }
+
+    /// The coupled rail and deck's (dense, `track_on_deck::MAX_DENSE_DOFS`).
+    fn modes(&self, count: usize) -> Result<Modes, String> {
+        let (omega, shapes) = self.assembly().modes(count)?;
+        Ok(Modes { omega, shapes })
+    }
+
+    fn frequencies(&self, count: usize) -> Result<Vec<f64>, String> {
+        self.modes(count).map(|m| m.omega)
+    }
+
+    fn into_mesh(self) -> Result<HermiteBeam, String> {
+        Err(TRACK_NOT_MODAL.into())
+    }
+
     /// Entries of a state vector: every free DOF of rail and deck.
-    pub fn coordinates(&self) -> usize {
+    fn coordinates(&self) -> usize {
         self.assembly.free_dofs()
     }
 
     /// The wide-band factor of M + `damping_weight` C + `stiffness_weight` K.
-    pub fn effective_factor(
+    fn effective_factor(
         &self,
         damping_weight: f64,
         stiffness_weight: f64,
@@ -118,29 +190,15 @@ impl TrackBeam {
     }
 
     /// No support dampers: the track's and the ground's are distributed.
-    pub fn damper_rate_bound(&self) -> f64 {
+    fn damper_rate_bound(&self) -> f64 {
         0.0
     }
 
     /// The element-by-element bound of the highest circular frequency.
-    pub fn highest_frequency(&self) -> f64 {
+    fn highest_frequency(&self) -> f64 {
         self.highest_frequency
     }
 
-    /// Deck deflection of `u` at the deck's abscissa `x` (NaN off it).
-    pub fn deck_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
-        let on = x >= 0.0 && x <= self.assembly.track.layout.deck_length;
-        let value = self.assembly.deck_deflection(x, u.as_slice());
-        value.ok().filter(|_| on).unwrap_or(f64::NAN)
-    }
-
-    /// Rail deflection of `u` at the deck's abscissa `x` (NaN off the rail).
-    pub fn rail_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
-        (self.assembly.rail_deflection(x, u.as_slice())).unwrap_or(f64::NAN)
-    }
-}
-
-impl DofAccess for TrackBeam {
     fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
         u[self.rail_dofs[dof]]
     }
@@ -148,30 +206,22 @@ impl DofAccess for TrackBeam {
     fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>) {
         out[self.rail_dofs[dof]] += scale;
     }
-}
 
-/// The dynamics on the interleaved DOFs.
-impl TrackBeam {
-    /// `out = band x`.
-    fn times(band: &WideBand, x: &DVector<f64>, out: &mut DVector<f64>) {
-        band.mul_to(x.as_slice(), out.as_mut_slice());
-    }
-
-    pub fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
+    fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
         Self::times(&self.assembly.stiffness, u, out);
     }
 
-    pub fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+    fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
         Self::times(&self.assembly.mass, v, out);
     }
 
-    pub fn solve_mass(&self, rhs: &mut DVector<f64>) {
+    fn solve_mass(&self, rhs: &mut DVector<f64>) {
         self.mass_factor.solve_in_place(rhs.as_mut_slice());
     }
 
     /// K u = `load`, with one step of iterative refinement (the deck's
     /// EI/h³ against the ground's k h, as in `rail_on_deck`).
-    pub fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
+    fn static_deflection(&self, load: &DVector<f64>) -> Result<DVector<f64>, String> {
         let mut u = load.clone();
         self.stiffness_factor.solve_in_place(u.as_mut_slice());
         let mut residual = DVector::zeros(u.len());
@@ -183,7 +233,7 @@ impl TrackBeam {
     }
 
     /// `out = K u + C v`, using `scratch`.
-    pub fn internal_forces(
+    fn internal_forces(
         &self,
         u: &DVector<f64>,
         v: &DVector<f64>,
@@ -196,7 +246,7 @@ impl TrackBeam {
     }
 
     /// `M⁻¹ (load − K u − C v)`.
-    pub fn accelerations(
+    fn accelerations(
         &self,
         (u, v): (&DVector<f64>, &DVector<f64>),
         load: &DVector<f64>,
@@ -210,43 +260,26 @@ impl TrackBeam {
         self.solve_mass(out);
     }
 
-    fn quadratic(band: &WideBand, x: &DVector<f64>) -> f64 {
-        let mut product = DVector::zeros(x.len());
-        Self::times(band, x, &mut product);
-        x.dot(&product)
-    }
-
-    pub fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
+    fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
         0.5 * Self::quadratic(&self.assembly.mass, v)
     }
 
-    pub fn strain_energy(&self, u: &DVector<f64>) -> f64 {
+    fn strain_energy(&self, u: &DVector<f64>) -> f64 {
         0.5 * Self::quadratic(&self.assembly.stiffness, u)
     }
 
-    pub fn damping_power(&self, v: &DVector<f64>) -> f64 {
+    fn damping_power(&self, v: &DVector<f64>) -> f64 {
         Self::quadratic(&self.assembly.damping, v)
     }
 
     /// Whether any damper acts (the deck's, the track's, the ground's).
-    pub fn is_damped(&self) -> bool {
+    fn is_damped(&self) -> bool {
         let track = &self.assembly.track;
         let sleepers =
             (track.layout.sleepers).is_some_and(|s| s.pad_damping > 0.0 || s.ballast_damping > 0.0);
         let layer = track.layout.sleepers.is_none()
             && (track.track_damping > 0.0 || track.ground_damping > 0.0);
         !track.deck_damping.is_zero() || layer || sleepers
-    }
-
-    /// Whether the rail rests on sleepers (else on a continuous layer).
-    pub fn has_sleepers(&self) -> bool {
-        self.assembly.track.layout.sleepers.is_some()
-    }
-
-    /// The rail-seat (pad) force of the sleeper nearest the deck's
-    /// abscissa `x` (N, compression positive; NaN without sleepers).
-    pub fn rail_seat_force(&self, u: &DVector<f64>, v: &DVector<f64>, x: f64) -> f64 {
-        (self.assembly.rail_seat_force(x, u.as_slice(), v.as_slice())).unwrap_or(f64::NAN)
     }
 }
 

@@ -3,7 +3,7 @@
 //! run every design output's peak (at the sensors, sections and supports)
 //! and its dynamic amplification against the static envelope of the same
 //! forces on the same structure; the deck acceleration also as EN 1991-2
-//! §6.4.6.5(4) counts it (`deck_filter`).
+//! §6.4.6.5(4) counts it (`crate::signal`).
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
@@ -14,7 +14,7 @@ use crate::moving_load::{
     exit_time, run_end, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain,
 };
 use crate::scene::{Scene, SensorSpec};
-use crate::study::deck_filter::{cut_off, low_pass_zero_phase, signed_peak};
+use crate::signal::{cut_off, low_pass_zero_phase, signed_peak};
 
 /// Speeds per sweep.
 pub const MAX_SPEEDS: usize = 10_000;
@@ -23,9 +23,7 @@ pub const MAX_STEPS_PER_RUN: u64 = 10_000_000;
 /// Steps of a whole sweep by default (about a minute of CPU on a 20-element
 /// beam; the full HSLM sweep of README takes 5 million).
 pub const DEFAULT_MAX_SWEEP_STEPS: u64 = 200_000_000;
-/// Acceleration samples one run keeps for the filtered peak (steps ×
-/// sensors; 8 bytes each: 200 MB).
-pub const MAX_RECORDED_SAMPLES: u64 = 25_000_000;
+pub use crate::signal::MAX_RECORDED_SAMPLES;
 
 /// The unit the speeds of a sweep are given in.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

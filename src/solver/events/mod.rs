@@ -68,7 +68,7 @@ impl Step<'_> {
         d: &DynamicState,
     ) -> Result<Vec<crate::contact::ContactFrame>, crate::integrate::IntegrationError> {
         let memo = self.work.iteration.frame_memo();
-        crate::outputs::derived::frames_of(self.system, d, &self.state.parts, memo)
+        memo.frames_of(self.system, d, &self.state.parts)
     }
 
     /// The contact frames of the current state.

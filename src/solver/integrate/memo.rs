@@ -11,7 +11,7 @@
 
 use nalgebra::{DVector, Vector2};
 
-use super::IntegrationError;
+use super::{DynamicState, IntegrationError};
 use crate::body::BodyState;
 use crate::contact::ContactFrame;
 use crate::system::{System, TrackPart};
@@ -105,6 +105,27 @@ impl FrameMemo {
             }
             None => super::contact_frames(system, u, bodies, located, frames),
         }
+    }
+
+    /// The contact frames of the dynamic state `d`, each contact on its
+    /// part `parts` of the track, from the kept frames where they are
+    /// this configuration's.
+    pub fn frames_of(
+        &self,
+        system: &System,
+        d: &DynamicState,
+        parts: &[TrackPart],
+    ) -> Result<Vec<ContactFrame>, IntegrationError> {
+        let mut frames = Vec::new();
+        let located = (d.contact_x.as_slice(), parts);
+        self.contact_frames(
+            system,
+            &d.beam_displacement,
+            &d.bodies,
+            located,
+            &mut frames,
+        )?;
+        Ok(frames)
     }
 }
 

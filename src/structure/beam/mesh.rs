@@ -12,7 +12,7 @@
 
 use std::ops::Range;
 
-use super::{BeamSpec, EndSupport, JointKind};
+use super::{BeamSpec, EndSupport, JointKind, SpringSpec};
 
 /// One smooth piece of the track's surface: a beam, or the part of a beam
 /// between its ends and hinges; its abscissae and its elements.
@@ -326,6 +326,8 @@ impl Layout {
             .collect()
     }
 
+    /// The mesh of the laid-out nodes: the free DOFs numbered node by
+    /// node, each element's DOFs, the rotations and the elastic supports.
     fn finish(self, spec: &BeamSpec) -> Result<Mesh, String> {
         let mut free = vec![None; self.global_dofs];
         let mut free_dofs = 0;
@@ -340,63 +342,7 @@ impl Layout {
         }
         let mut springs = Vec::new();
         for (i, spring) in spec.supports.springs.iter().enumerate() {
-            let path = format!("beam.supports.springs[{i}]");
-            let nodes = self.nodes_at(spring.at);
-            let node = match nodes.as_slice() {
-                [node] => self.nodes[*node],
-                [] => {
-                    return Err(format!(
-                        "{path}.at = {} m lies on no beam (in a rail gap)",
-                        spring.at
-                    ))
-                }
-                _ => {
-                    return Err(format!(
-                        "{path}.at = {} m is where two separate beams meet; give the joint a \
-                         gap to tell their ends apart",
-                        spring.at
-                    ))
-                }
-            };
-            let vertical = (node.w, spring.vertical, spring.vertical_damping, "vertical");
-            let rotational = (
-                node.psi_left,
-                spring.rotational,
-                spring.rotational_damping,
-                "rotational",
-            );
-            if node.psi_left != node.psi_right
-                && (spring.rotational != 0.0 || spring.rotational_damping != 0.0)
-            {
-                return Err(format!(
-                    "{path}.rotational = {} at a hinge (x = {} m): a hinge has two rotations, \
-                     so a rotational spring there is ambiguous; leave it 0",
-                    spring.rotational, spring.at
-                ));
-            }
-            for (dof, stiffness, damping, what) in [vertical, rotational] {
-                if stiffness == 0.0 && damping == 0.0 {
-                    continue;
-                }
-                let Some(dof) = free[dof] else {
-                    return Err(format!(
-                        "{path}: its {what} spring or damper acts where a support already holds \
-                         the {} (x = {} m); leave {what} and {what}_damping 0 there, or make the \
-                         support free",
-                        if what == "vertical" {
-                            "deflection"
-                        } else {
-                            "rotation"
-                        },
-                        spring.at
-                    ));
-                };
-                springs.push(GroundSpring {
-                    dof,
-                    stiffness,
-                    damping,
-                });
-            }
+            self.ground_springs(i, spring, &free, &mut springs)?;
         }
         let element_dofs = self
             .elements
@@ -432,5 +378,73 @@ impl Layout {
             rotation_dofs,
             springs,
         })
+    }
+
+    /// The one node at `at` a support spring (`path`) acts on.
+    fn spring_node(&self, path: &str, at: f64) -> Result<Node, String> {
+        match self.nodes_at(at).as_slice() {
+            [node] => Ok(self.nodes[*node]),
+            [] => Err(format!(
+                "{path}.at = {at} m lies on no beam (in a rail gap)"
+            )),
+            _ => Err(format!(
+                "{path}.at = {at} m is where two separate beams meet; give the joint a gap to \
+                 tell their ends apart"
+            )),
+        }
+    }
+
+    /// The ground springs and dampers of support spring `i` (`spec`) on
+    /// the free DOFs `free`, pushed onto `springs`; refused where it lies
+    /// on no beam, on two, at a hinge's rotation or on a held DOF.
+    fn ground_springs(
+        &self,
+        i: usize,
+        spring: &SpringSpec,
+        free: &[Option<usize>],
+        springs: &mut Vec<GroundSpring>,
+    ) -> Result<(), String> {
+        let path = format!("beam.supports.springs[{i}]");
+        let node = self.spring_node(&path, spring.at)?;
+        let vertical = (node.w, spring.vertical, spring.vertical_damping, "vertical");
+        let rotational = (
+            node.psi_left,
+            spring.rotational,
+            spring.rotational_damping,
+            "rotational",
+        );
+        if node.psi_left != node.psi_right
+            && (spring.rotational != 0.0 || spring.rotational_damping != 0.0)
+        {
+            return Err(format!(
+                "{path}.rotational = {} at a hinge (x = {} m): a hinge has two rotations, \
+                 so a rotational spring there is ambiguous; leave it 0",
+                spring.rotational, spring.at
+            ));
+        }
+        for (dof, stiffness, damping, what) in [vertical, rotational] {
+            if stiffness == 0.0 && damping == 0.0 {
+                continue;
+            }
+            let Some(dof) = free[dof] else {
+                return Err(format!(
+                    "{path}: its {what} spring or damper acts where a support already holds \
+                     the {} (x = {} m); leave {what} and {what}_damping 0 there, or make the \
+                     support free",
+                    if what == "vertical" {
+                        "deflection"
+                    } else {
+                        "rotation"
+                    },
+                    spring.at
+                ));
+            };
+            springs.push(GroundSpring {
+                dof,
+                stiffness,
+                damping,
+            });
+        }
+        Ok(())
     }
 }

@@ -10,10 +10,12 @@ use crate::band::{BandLdlt, SymBand};
 use crate::bending::Bending;
 use crate::mesh::{GroundSpring, Mesh, Segment};
 use crate::modal::ModalFactor;
+use crate::structure::ops::StructureOps;
 use nalgebra::{DMatrix, DVector, Matrix4, SymmetricEigen};
 use two_level::{CoarseMesh, Effective, FineMesh, TwoLevelFactor, PLAIN_FACTOR_ERROR};
 
 pub mod bending;
+mod dynamics;
 pub mod mesh;
 mod spec;
 mod subspace;
@@ -252,33 +254,40 @@ pub(crate) fn element_mass(len: f64, mu: f64) -> Matrix4<f64> {
     ) * c
 }
 
+/// The consistent mass and stiffness band matrices of `mesh` (with the
+/// Winkler `foundation`'s k ∫ NᵀN dx and the support springs in K).
+fn assemble_bands(mesh: &Mesh, spec: &BeamSpec, foundation: f64) -> (SymBand, SymBand) {
+    let mut mass = SymBand::zeros(mesh.free_dofs);
+    let mut stiffness = SymBand::zeros(mesh.free_dofs);
+    for (&len, dofs) in mesh.element_length.iter().zip(&mesh.element_dofs) {
+        let me = element_mass(len, spec.mass_per_length);
+        let mut ke = element_stiffness(len, spec.bending_stiffness);
+        if foundation > 0.0 {
+            // The Winkler foundation's consistent matrix k ∫ NᵀN dx.
+            ke += element_mass(len, foundation);
+        }
+        for a in 0..4 {
+            for b in 0..=a {
+                if let (Some(i), Some(j)) = (dofs[a], dofs[b]) {
+                    mass.add_symmetric(i, j, me[(a, b)]);
+                    stiffness.add_symmetric(i, j, ke[(a, b)]);
+                }
+            }
+        }
+    }
+    for spring in &mesh.springs {
+        stiffness.add_symmetric(spring.dof, spring.dof, spring.stiffness);
+    }
+    (mass, stiffness)
+}
+
 impl HermiteBeam {
     /// Assemble the beam of a (validated) spec.
     pub fn new(spec: &BeamSpec) -> Result<HermiteBeam, String> {
         let mesh = Mesh::new(spec)?;
         let free_dofs = mesh.free_dofs;
-        let mut mass = SymBand::zeros(free_dofs);
-        let mut stiffness = SymBand::zeros(free_dofs);
         let foundation = spec.foundation.map_or(0.0, |f| f.stiffness());
-        for (&len, dofs) in mesh.element_length.iter().zip(&mesh.element_dofs) {
-            let me = element_mass(len, spec.mass_per_length);
-            let mut ke = element_stiffness(len, spec.bending_stiffness);
-            if foundation > 0.0 {
-                // The Winkler foundation's consistent matrix k ∫ NᵀN dx.
-                ke += element_mass(len, foundation);
-            }
-            for a in 0..4 {
-                for b in 0..=a {
-                    if let (Some(i), Some(j)) = (dofs[a], dofs[b]) {
-                        mass.add_symmetric(i, j, me[(a, b)]);
-                        stiffness.add_symmetric(i, j, ke[(a, b)]);
-                    }
-                }
-            }
-        }
-        for spring in &mesh.springs {
-            stiffness.add_symmetric(spring.dof, spring.dof, spring.stiffness);
-        }
+        let (mass, stiffness) = assemble_bands(&mesh, spec, foundation);
         let mass_factor = mass
             .ldlt()
             .ok_or("beam mass matrix is not positive definite")?;
@@ -305,7 +314,7 @@ impl HermiteBeam {
             segment_ends[segment.elements.end - 1].1 = true;
         }
         let min_element_length = element_length.iter().copied().fold(f64::INFINITY, f64::min);
-        let mut beam = HermiteBeam {
+        let beam = HermiteBeam {
             length: spec.length,
             surface_offset: spec.surface_offset,
             mass_per_length: spec.mass_per_length,
@@ -326,29 +335,37 @@ impl HermiteBeam {
             elementwise_products: false,
             mass_factor,
             damping: Rayleigh::default(),
-            modal_ratio: match spec.damping {
-                Some(DampingSpec::Modal { ratio }) => Some(ratio),
-                _ => None,
-            },
+            modal_ratio: None,
             foundation_rate: foundation / spec.mass_per_length,
-            foundation: spec.foundation.map(|f| Foundation {
-                stiffness: f.stiffness(),
-                damping: f.damping(),
-            }),
+            foundation: None,
         };
-        beam.damping = beam.rayleigh(spec.damping.as_ref())?;
+        beam.with_damping(spec)
+    }
+
+    /// The beam with the spec's damping, modal ratio and foundation, and
+    /// its way of taking K u.
+    fn with_damping(mut self, spec: &BeamSpec) -> Result<HermiteBeam, String> {
+        self.modal_ratio = match spec.damping {
+            Some(DampingSpec::Modal { ratio }) => Some(ratio),
+            _ => None,
+        };
+        self.foundation = spec.foundation.map(|f| Foundation {
+            stiffness: f.stiffness(),
+            damping: f.damping(),
+        });
+        self.damping = self.rayleigh(spec.damping.as_ref())?;
         if let Some(damping) = spec.foundation.map(|f| f.damping()) {
             // With a uniform mass per length, c ∫ NᵀN dx is exactly
             // (c / μ) M: the foundation's damper is mass-proportional.
-            beam.damping.mass += damping / spec.mass_per_length;
+            self.damping.mass += damping / spec.mass_per_length;
         }
         // The band's K u of a smooth field is off by about ε (L/h)⁴ of
         // itself: harmless up to a few thousand elements (the dynamics
         // then stay bit for bit as before), not beyond (at 100,000 it gave
         // the first mode a negative stiffness). The element sum costs
         // about twice the band product.
-        beam.elementwise_products = beam.length / beam.min_element_length > ELEMENTWISE_RATIO;
-        Ok(beam)
+        self.elementwise_products = self.length / self.min_element_length > ELEMENTWISE_RATIO;
+        Ok(self)
     }
 
     /// The Rayleigh coefficients of a (validated) damping spec.
@@ -612,97 +629,6 @@ impl HermiteBeam {
         [w, dw, ddw, dddw]
     }
 
-    /// Entries of a state vector of the full mesh: its free DOFs.
-    pub(in crate::structure) fn coordinates(&self) -> usize {
-        self.free_dofs
-    }
-
-    /// Value on free DOF `dof` of the field a state vector `u` describes.
-    pub(in crate::structure) fn dof_value(&self, dof: usize, u: &DVector<f64>) -> f64 {
-        u[dof]
-    }
-
-    /// `out += scale` × a unit load on free DOF `dof`, in the structure's
-    /// coordinates.
-    pub(in crate::structure) fn add_dof_load(
-        &self,
-        dof: usize,
-        scale: f64,
-        out: &mut DVector<f64>,
-    ) {
-        out[dof] += scale;
-    }
-
-    /// The field of state vector `u` on the four DOFs `dofs` of an element
-    /// (0 where held).
-    pub(in crate::structure) fn gather(
-        &self,
-        dofs: &[Option<usize>; 4],
-        u: &DVector<f64>,
-    ) -> [f64; 4] {
-        // Reads `u` directly: the foot-point search gathers at every
-        // iterate, and a match per entry doubled its cost.
-        let mut local = [0.0; 4];
-        for (value, dof) in local.iter_mut().zip(dofs) {
-            if let Some(i) = *dof {
-                *value = u[i];
-            }
-        }
-        local
-    }
-
-    /// Dot a row of `shape`'s values with the field of state vector `u`.
-    pub(in crate::structure) fn dot(&self, shape: &Shape, row: &[f64; 4], u: &DVector<f64>) -> f64 {
-        shape.dot(row, u)
-    }
-
-    /// `dot` of two rows of `shape` with the same `u`.
-    pub(in crate::structure) fn dot_rows(
-        &self,
-        shape: &Shape,
-        (first, second): (&[f64; 4], &[f64; 4]),
-        u: &DVector<f64>,
-    ) -> (f64, f64) {
-        (shape.dot(first, u), shape.dot(second, u))
-    }
-
-    /// `scatter` of two loads at `shape`, `scale_1 row_1 + scale_2 row_2`.
-    pub(in crate::structure) fn scatter_rows(
-        &self,
-        shape: &Shape,
-        (first, scale_1): (&[f64; 4], f64),
-        (second, scale_2): (&[f64; 4], f64),
-        out: &mut DVector<f64>,
-    ) {
-        shape.scatter(first, scale_1, out);
-        shape.scatter(second, scale_2, out);
-    }
-
-    /// Add the load `scale * row` at `shape` into state vector `out`.
-    pub(in crate::structure) fn scatter(
-        &self,
-        shape: &Shape,
-        row: &[f64; 4],
-        scale: f64,
-        out: &mut DVector<f64>,
-    ) {
-        shape.scatter(row, scale, out);
-    }
-
-    /// `out = K u`.
-    pub(in crate::structure) fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
-        if self.elementwise_products {
-            self.bending.times(u, out)
-        } else {
-            self.stiffness.mul_to(u.as_slice(), out.as_mut_slice())
-        }
-    }
-
-    /// `out = M v`.
-    pub(in crate::structure) fn mass_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
-        self.mass.mul_to(v.as_slice(), out.as_mut_slice())
-    }
-
     /// LDLᵀ factor of M + `damping_weight` C + `stiffness_weight` K, the
     /// effective matrix of implicit schemes.
     pub fn factor_effective(
@@ -725,17 +651,6 @@ impl HermiteBeam {
                      {stiffness_weight:e} K is not positive definite"
             )
         })
-    }
-
-    /// The inverse of M + `damping_weight` C + `stiffness_weight` K: the
-    /// band factor (with the coarse correction on fine meshes).
-    pub(in crate::structure) fn effective_factor(
-        &self,
-        damping_weight: f64,
-        stiffness_weight: f64,
-    ) -> Result<EffectiveFactor, String> {
-        let band = self.factor_effective(damping_weight, stiffness_weight)?;
-        Ok(self.accurate_factor(band, damping_weight, stiffness_weight))
     }
 
     /// The band factor of M + `damping_weight` C + `stiffness_weight` K,
@@ -780,6 +695,20 @@ impl HermiteBeam {
             stiffness: stiffness_weight + damping_weight * c.stiffness,
             damping: damping_weight,
         };
+        let Some(coarse) = self.coarse_effective(&mesh, &operator).ldlt() else {
+            return EffectiveFactor::Band(band);
+        };
+        let mut two_level = TwoLevelFactor::new(band, coarse, mesh, operator);
+        if two_level.calibrate() <= PLAIN_FACTOR_ERROR {
+            return EffectiveFactor::Band(two_level.into_band());
+        }
+        EffectiveFactor::TwoLevel(Box::new(two_level))
+    }
+
+    /// The effective matrix `operator` on the coarse mesh `mesh`: its
+    /// elements' M and K weighted as the operator's, the springs and their
+    /// dampers on their coarse nodes.
+    fn coarse_effective(&self, mesh: &CoarseMesh, operator: &Effective) -> SymBand {
         let mut coarse = SymBand::zeros(mesh.size());
         for element in &mesh.elements {
             let me = element_mass(element.length, self.mass_per_length);
@@ -797,17 +726,10 @@ impl HermiteBeam {
             let i = mesh
                 .coarse_dof(spring.dof)
                 .expect("springs are coarse nodes");
-            let value = operator.stiffness * spring.stiffness + damping_weight * spring.damping;
+            let value = operator.stiffness * spring.stiffness + operator.damping * spring.damping;
             coarse.add_symmetric(i, i, value);
         }
-        let Some(coarse) = coarse.ldlt() else {
-            return EffectiveFactor::Band(band);
-        };
-        let mut two_level = TwoLevelFactor::new(band, coarse, mesh, operator);
-        if two_level.calibrate() <= PLAIN_FACTOR_ERROR {
-            return EffectiveFactor::Band(two_level.into_band());
-        }
-        EffectiveFactor::TwoLevel(Box::new(two_level))
+        coarse
     }
 
     /// The support dampers as (free DOF, coefficient): what a modal
@@ -827,53 +749,6 @@ impl HermiteBeam {
         &self.stiffness
     }
 
-    /// The static deflection u with K u = `load`, through the band LDLᵀ
-    /// factor of K (refused when the supports leave a rigid-body motion).
-    pub(in crate::structure) fn static_deflection(
-        &self,
-        load: &DVector<f64>,
-    ) -> Result<DVector<f64>, String> {
-        // The scene rules refuse supports that leave the beam free: what is
-        // left is rounding on a fine mesh (the condition grows as n⁴).
-        let factor = self.stiffness.ldlt().ok_or_else(|| {
-            let n = self.elements();
-            format!(
-                "beam.elements = {n}: the stiffness matrix cannot be factorised in double \
-                 precision (its condition number grows as elements⁴, about {:.0e} here), so \
-                 solver.start = \"static\" has no static deflection; use fewer elements",
-                (n as f64).powi(4)
-            )
-        })?;
-        let mut u = load.clone();
-        factor.solve_mut(&mut u);
-        Ok(u)
-    }
-
-    /// `out = K u + C v`: the beam's elastic and damping forces, using
-    /// `scratch` for u + β v.
-    pub(in crate::structure) fn internal_forces(
-        &self,
-        u: &DVector<f64>,
-        v: &DVector<f64>,
-        scratch: &mut DVector<f64>,
-        out: &mut DVector<f64>,
-    ) {
-        let c = self.damping;
-        if c.is_zero() {
-            self.stiffness_times(u, out);
-        } else {
-            // K u + C v = K (u + β v) + α M v.
-            scratch.copy_from(u);
-            scratch.axpy(c.stiffness, v, 1.0);
-            self.stiffness_times(scratch, out);
-            self.mass_times(v, scratch);
-            out.axpy(c.mass, scratch, 1.0);
-        }
-        for spring in self.dampers() {
-            out[spring.dof] += spring.damping * v[spring.dof];
-        }
-    }
-
     /// Whether the structure dissipates: Rayleigh damping or support dampers.
     pub fn is_damped(&self) -> bool {
         !self.damping.is_zero() || self.dampers().next().is_some()
@@ -891,140 +766,12 @@ impl HermiteBeam {
             .sum()
     }
 
-    /// Σ c (M⁻¹)ᵢᵢ over the support dampers (1/s): at least the decay rate
-    /// of any mode they damp (the explicit scheme's stability limit).
-    pub(in crate::structure) fn damper_rate_bound(&self) -> f64 {
-        self.dampers()
-            .map(|s| s.damping * self.inverse_mass_diagonal(s.dof))
-            .sum()
-    }
-
     /// (M⁻¹)ᵢᵢ, by one band solve.
     fn inverse_mass_diagonal(&self, i: usize) -> f64 {
         let mut e = DVector::zeros(self.free_dofs);
         e[i] = 1.0;
         self.solve_mass(&mut e);
         e[i]
-    }
-
-    /// Power dissipated by the structural damping, vᵀ C v (W).
-    pub(in crate::structure) fn damping_power(&self, v: &DVector<f64>) -> f64 {
-        let c = self.damping;
-        let supports = self.damper_power(v);
-        if c.is_zero() {
-            return supports;
-        }
-        let x = v.as_slice();
-        c.mass * self.mass.quadratic_form(x)
-            + c.stiffness * self.bending.quadratic_form(v)
-            + supports
-    }
-
-    /// K, M's factor and α when the accelerations are
-    /// `M⁻¹ (f − K u) − α v` with K u from the band: the velocity enters
-    /// only after the mass solve (no stiffness-proportional damping, no
-    /// support dampers), so an explicit scheme may solve two stages whose
-    /// displacements are known at once (`BandLdlt::solve_residual_pair`).
-    /// `None` where K u is taken element by element.
-    pub(in crate::structure) fn velocity_free_band(&self) -> Option<VelocityFreeBand<'_>> {
-        let free = !self.elementwise_products;
-        let velocity_free = self.damping.stiffness == 0.0 && self.dampers().next().is_none();
-        (free && velocity_free).then_some(VelocityFreeBand {
-            stiffness: &self.stiffness,
-            mass_factor: &self.mass_factor,
-            mass_damping: self.damping.mass,
-        })
-    }
-
-    /// `rhs ← M⁻¹ rhs`.
-    pub(in crate::structure) fn solve_mass(&self, rhs: &mut DVector<f64>) {
-        self.mass_factor.solve_mut(rhs);
-    }
-
-    /// Nodal accelerations `M⁻¹ (load − K u − C v)`.
-    pub(in crate::structure) fn accelerations(
-        &self,
-        (u, v): (&DVector<f64>, &DVector<f64>),
-        load: &DVector<f64>,
-        out: &mut DVector<f64>,
-    ) {
-        let c = self.damping;
-        // M⁻¹ (f − K (u + β v)) − α v: one mass solve, no product with M;
-        // K (u + β v) = K u + β K v, accumulated in `out` without scratch.
-        self.stiffness_times(u, out);
-        out.zip_apply(load, |a, f| *a = f - *a);
-        if c.stiffness != 0.0 {
-            if self.elementwise_products {
-                self.bending.add_times(-c.stiffness, v, out);
-            } else {
-                self.stiffness
-                    .mul_add_to(-c.stiffness, v.as_slice(), out.as_mut_slice());
-            }
-        }
-        for spring in self.dampers() {
-            out[spring.dof] -= spring.damping * v[spring.dof];
-        }
-        self.solve_mass(out);
-        if c.mass != 0.0 {
-            out.axpy(-c.mass, v, 1.0);
-        }
-    }
-
-    /// ½ vᵀ M v.
-    pub(in crate::structure) fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
-        0.5 * self.mass.quadratic_form(v.as_slice())
-    }
-
-    /// ½ uᵀ K u.
-    pub(in crate::structure) fn strain_energy(&self, u: &DVector<f64>) -> f64 {
-        0.5 * self.bending.quadratic_form(u)
-    }
-
-    /// Highest natural circular frequency of the assembled beam (rad/s),
-    /// never below the true one and within about 1e-4 of it.
-    ///
-    /// λ_max of K x = λ M x is bracketed: below by the Rayleigh quotient of a
-    /// few power iterations from the mesh's zigzag mode, above by the
-    /// highest free-free element eigenvalue (the assembled spectrum never
-    /// exceeds the elements', `max_element_frequency`) plus the support
-    /// springs' bound. The bracket is
-    /// narrowed by bisection, each trial σ tested by factoring σ M − K:
-    /// every LDLᵀ pivot positive ⇔ σ M − K positive definite ⇔ σ > λ_max
-    /// (Sylvester's law of inertia). The upper end is always a σ that
-    /// passed (or the element bound), so the result is an upper bound of
-    /// ω_max: a step limit from it is safe. Each test costs one band
-    /// factorization, O(elements).
-    pub(in crate::structure) fn highest_frequency(&self) -> f64 {
-        const RELATIVE_WIDTH: f64 = 1e-4;
-        // Support springs add to K: Rayleigh quotients add, and a spring k
-        // on DOF i alone reaches at most k (M⁻¹)ᵢᵢ.
-        let springs: f64 = self
-            .springs
-            .iter()
-            .map(|s| s.stiffness * self.inverse_mass_diagonal(s.dof))
-            .sum();
-        let bound = self.max_element_frequency().powi(2) + springs + self.foundation_rate;
-        let mut upper = bound * (1.0 + 1e-12);
-        // f64::max drops a NaN: a failed quotient leaves the bracket at 0.
-        let mut lower = self.rayleigh_lower_bound().min(upper).max(0.0);
-        // Try just above the lower end first: usually the bracket closes at once.
-        let first = lower * (1.0 + 0.5 * RELATIVE_WIDTH);
-        if first < upper {
-            if self.exceeds_spectrum(first) {
-                upper = first;
-            } else {
-                lower = first;
-            }
-        }
-        while upper - lower > RELATIVE_WIDTH * upper {
-            let middle = 0.5 * (lower + upper);
-            if self.exceeds_spectrum(middle) {
-                upper = middle;
-            } else {
-                lower = middle;
-            }
-        }
-        upper.sqrt()
     }
 
     /// Whether σ M − K is positive definite, i.e. σ exceeds every eigenvalue.

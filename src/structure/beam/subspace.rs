@@ -12,7 +12,7 @@
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 use super::{HermiteBeam, ELEMENTWISE_RATIO};
-use crate::band::SymBand;
+use crate::band::{BandLdlt, SymBand};
 
 /// Largest n·p² (free DOFs times the squared subspace size) the subspace
 /// iteration is run for: about a second of work per iteration.
@@ -53,41 +53,8 @@ pub(crate) fn lowest(
     let (mass, stiffness) = (beam.mass_band(), beam.stiffness_band());
     let n = mass.size();
     let p = (2 * k).max(k + 8).min(n);
-    let work = n as f64 * (p * p) as f64;
-    if n * p > MAX_SUBSPACE_ENTRIES {
-        return Err(format!(
-            "{k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
-             (n·p = {}); at most {MAX_SUBSPACE_ENTRIES} (fewer modes or elements)",
-            n * p
-        ));
-    }
-    if work > MAX_SUBSPACE_WORK {
-        return Err(format!(
-            "{k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
-             (n·p² = {work:.1e}); at most {MAX_SUBSPACE_WORK:.0e} (fewer modes or elements)"
-        ));
-    }
-    let ratio = beam.length / beam.min_element_length;
-    if ratio > ELEMENTWISE_RATIO {
-        return Err(format!(
-            "the beam is {ratio:.0} of its shortest elements long; beyond {ELEMENTWISE_RATIO} the \
-             band stiffness fixes a low mode's ω² only to about ε (L/h)⁴ of itself, so natural \
-             modes are computed up to that ratio (fewer elements)"
-        ));
-    }
-    // K itself when the supports hold the beam; shifted by s M otherwise
-    // (the eigenvectors are the same, the Ritz values use K alone).
-    let (mut factor, mut shift) = match stiffness.ldlt() {
-        Some(f) => (f, 0.0),
-        None => {
-            let shift = 1e-6 * beam.max_element_frequency().powi(2);
-            let factor = mass
-                .combine(shift, stiffness, 1.0)
-                .ldlt()
-                .ok_or("beam stiffness K + s M is not positive definite")?;
-            (factor, shift)
-        }
-    };
+    refuse_beyond_bounds(beam, (n, k, p))?;
+    let (mut factor, mut shift) = stiffness_factor(beam)?;
     let mut x = DMatrix::from_fn(n, p, start_value);
     let mut previous = vec![f64::INFINITY; k];
     let (mut y, mut mx) = (DMatrix::zeros(n, p), DMatrix::zeros(n, p));
@@ -107,15 +74,7 @@ pub(crate) fn lowest(
         // vectors every column is mode 1 to within λ₁/λ_p (1e-8 for 120
         // vectors): the Gram matrix squares that below ε, and only an
         // explicit M-orthonormalization keeps the other directions.
-        let (lambda, ritz) = rayleigh_ritz(&y, &mx, mass, shift)
-            .or_else(|_| {
-                scale_to_unit_mass_norm(&mut y, &mut mx, mass);
-                rayleigh_ritz(&y, &mx, mass, shift)
-            })
-            .or_else(|_| {
-                mass_orthonormalize(&mut y, &mut mx, mass);
-                rayleigh_ritz(&y, &mx, mass, shift)
-            })?;
+        let (lambda, ritz) = robust_rayleigh_ritz(&mut y, &mut mx, mass, shift)?;
         x = ritz;
         // A shift far above the wanted eigenvalues slows the iteration to
         // a crawl: once, move it down to the k-th Ritz value (an upper
@@ -144,6 +103,77 @@ pub(crate) fn lowest(
         "the subspace iteration for {k} modes did not converge in \
          {MAX_SUBSPACE_ITERATIONS} iterations (clustered frequencies; ask for fewer modes)"
     ))
+}
+
+/// Refuses a subspace of `p` vectors for `k` modes of `n` free DOFs
+/// beyond the memory and work bounds, and a beam whose band stiffness
+/// cannot fix a low mode.
+fn refuse_beyond_bounds(
+    beam: &HermiteBeam,
+    (n, k, p): (usize, usize, usize),
+) -> Result<(), String> {
+    let work = n as f64 * (p * p) as f64;
+    if n * p > MAX_SUBSPACE_ENTRIES {
+        return Err(format!(
+            "{k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
+             (n·p = {}); at most {MAX_SUBSPACE_ENTRIES} (fewer modes or elements)",
+            n * p
+        ));
+    }
+    if work > MAX_SUBSPACE_WORK {
+        return Err(format!(
+            "{k} modes of a beam of {n} free DOFs need a subspace of {p} vectors \
+             (n·p² = {work:.1e}); at most {MAX_SUBSPACE_WORK:.0e} (fewer modes or elements)"
+        ));
+    }
+    let ratio = beam.length / beam.min_element_length;
+    if ratio > ELEMENTWISE_RATIO {
+        return Err(format!(
+            "the beam is {ratio:.0} of its shortest elements long; beyond {ELEMENTWISE_RATIO} the \
+             band stiffness fixes a low mode's ω² only to about ε (L/h)⁴ of itself, so natural \
+             modes are computed up to that ratio (fewer elements)"
+        ));
+    }
+    Ok(())
+}
+
+/// The factor the iteration solves with: K itself when the supports hold
+/// the beam, K + s M with a small shift s otherwise; and s.
+fn stiffness_factor(beam: &HermiteBeam) -> Result<(BandLdlt, f64), String> {
+    let (mass, stiffness) = (beam.mass_band(), beam.stiffness_band());
+    // K itself when the supports hold the beam; shifted by s M otherwise
+    // (the eigenvectors are the same, the Ritz values use K alone).
+    Ok(match stiffness.ldlt() {
+        Some(f) => (f, 0.0),
+        None => {
+            let shift = 1e-6 * beam.max_element_frequency().powi(2);
+            let factor = mass
+                .combine(shift, stiffness, 1.0)
+                .ldlt()
+                .ok_or("beam stiffness K + s M is not positive definite")?;
+            (factor, shift)
+        }
+    })
+}
+
+/// The Rayleigh–Ritz step on the subspace `y` (with M y in `mx`), with the
+/// columns scaled to unit M-norm, then M-orthonormalized, where the Gram
+/// matrix loses rank.
+fn robust_rayleigh_ritz(
+    y: &mut DMatrix<f64>,
+    mx: &mut DMatrix<f64>,
+    mass: &SymBand,
+    shift: f64,
+) -> Result<(Vec<f64>, DMatrix<f64>), String> {
+    rayleigh_ritz(y, mx, mass, shift)
+        .or_else(|_| {
+            scale_to_unit_mass_norm(y, mx, mass);
+            rayleigh_ritz(y, mx, mass, shift)
+        })
+        .or_else(|_| {
+            mass_orthonormalize(y, mx, mass);
+            rayleigh_ritz(y, mx, mass, shift)
+        })
 }
 
 /// The largest change of a wanted Ritz value since the last iteration, as

@@ -96,28 +96,37 @@ fn hermite(s: f64, len: f64) -> ([f64; 4], [f64; 4]) {
     )
 }
 
-impl CoarseMesh {
-    pub fn new(fine: &FineMesh) -> CoarseMesh {
-        let n = fine.element_dofs.len();
-        let per_coarse = n.div_ceil(COARSE_ELEMENTS).max(1);
-        // A node between fine elements e and e + 1 may be skipped only if
-        // it is plain: shared, free, no spring, no gap.
-        let plain = |e: usize| {
-            let (left, right) = (fine.element_dofs[e], fine.element_dofs[e + 1]);
-            left[2..] == right[..2]
-                && left[2..]
-                    .iter()
-                    .all(|d| d.is_some_and(|d| !fine.special_dofs.contains(&d)))
-                && fine.element_end[e] == fine.element_start[e + 1]
-        };
-        let mut groups = Vec::new();
-        let mut first = 0;
-        for e in 0..n {
-            if e + 1 == n || e + 1 - first >= per_coarse || !plain(e) {
-                groups.push(first..=e);
-                first = e + 1;
-            }
+/// The runs of fine elements each coarse element spans: at most
+/// `per_coarse` elements each, broken at every node that is not plain.
+fn coarse_groups(fine: &FineMesh) -> Vec<std::ops::RangeInclusive<usize>> {
+    let n = fine.element_dofs.len();
+    let per_coarse = n.div_ceil(COARSE_ELEMENTS).max(1);
+    // A node between fine elements e and e + 1 may be skipped only if
+    // it is plain: shared, free, no spring, no gap.
+    let plain = |e: usize| {
+        let (left, right) = (fine.element_dofs[e], fine.element_dofs[e + 1]);
+        left[2..] == right[..2]
+            && left[2..]
+                .iter()
+                .all(|d| d.is_some_and(|d| !fine.special_dofs.contains(&d)))
+            && fine.element_end[e] == fine.element_start[e + 1]
+    };
+    let mut groups = Vec::new();
+    let mut first = 0;
+    for e in 0..n {
+        if e + 1 == n || e + 1 - first >= per_coarse || !plain(e) {
+            groups.push(first..=e);
+            first = e + 1;
         }
+    }
+    groups
+}
+
+impl CoarseMesh {
+    /// The coarse mesh of `fine`: each group of its elements
+    /// (`coarse_groups`) one coarse element.
+    pub fn new(fine: &FineMesh) -> CoarseMesh {
+        let groups = coarse_groups(fine);
         let mut fine_of: Vec<usize> = groups
             .iter()
             .flat_map(|g| {

@@ -126,22 +126,32 @@ impl Shape {
                 }
                 Shape::Table(TableSpline::new(points))
             }
-            IrregularitySpec::Random {
-                ref spectrum,
-                ref class,
-                seed,
-                shortest_wavelength,
-                longest_wavelength,
-                spacing,
-            } => {
-                let spectrum = Spectrum::from_name(spectrum, class.as_deref())?;
-                let spacing = IrregularitySpec::random_spacing(shortest_wavelength, spacing);
-                let band = (shortest_wavelength, longest_wavelength);
-                let grid =
-                    Grid::of_band(spacing, band).ok_or("a random profile has too many samples")?;
-                Shape::Random(spectrum::generate(&spectrum, &grid, u64::from(seed)))
-            }
+            IrregularitySpec::Random { .. } => Shape::random(spec)?,
         })
+    }
+
+    /// A random profile's samples, generated once from its spectrum.
+    fn random(spec: &IrregularitySpec) -> Result<Shape, String> {
+        let IrregularitySpec::Random {
+            ref spectrum,
+            ref class,
+            seed,
+            shortest_wavelength,
+            longest_wavelength,
+            spacing,
+        } = *spec
+        else {
+            return Err("not a random profile".into());
+        };
+        let spectrum = Spectrum::from_name(spectrum, class.as_deref())?;
+        let spacing = IrregularitySpec::random_spacing(shortest_wavelength, spacing);
+        let band = (shortest_wavelength, longest_wavelength);
+        let grid = Grid::of_band(spacing, band).ok_or("a random profile has too many samples")?;
+        Ok(Shape::Random(spectrum::generate(
+            &spectrum,
+            &grid,
+            u64::from(seed),
+        )))
     }
 
     fn at(&self, x: f64) -> Value {

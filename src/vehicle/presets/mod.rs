@@ -14,7 +14,7 @@ mod wheel;
 
 pub use bogie_vehicle::{BogieSpec, BOGIE_HEIGHTS};
 pub use maglev_vehicle::{MaglevSpec, MAGLEV_HEIGHT, MAX_MAGNETS};
-pub use moving_force::MOVING_FORCE_REFUSAL;
+pub use moving_force::{is_moving_force_scene, MOVING_FORCE_REFUSAL};
 pub use parts::{Vehicle, GUIDE_STIFFNESS_RATIO};
 pub use sprung_mass::{SuspensionSpec, SPRUNG_HEIGHT};
 

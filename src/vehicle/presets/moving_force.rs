@@ -4,13 +4,20 @@
 
 use super::{Block, Preset, Reach, Vehicle};
 use crate::beam::Beam;
-use crate::scene::{fmt_f64, quoted, BodySpec, Checks};
+use crate::scene::{fmt_f64, quoted, BodyKind, BodySpec, Checks, Scene};
 
 /// Why a scene of moving forces has no system of bodies and contacts.
 pub const MOVING_FORCE_REFUSAL: &str =
     "body.kind = \"moving_force\": a moving force has no body for the contact \
      iteration to move; `guideway run SCENE` and `guideway sweep SCENE` run it as a \
      crossing of prescribed forces (the library's moving_load::ForceRun and Crossing)";
+
+/// Whether the scene's vehicles are moving forces (validation has made
+/// them all moving forces or none): the run is then a crossing of
+/// prescribed forces, not a system of bodies.
+pub fn is_moving_force_scene(scene: &Scene) -> bool {
+    scene.body.kind == BodyKind::MovingForce
+}
 
 pub struct MovingForce;
 
@@ -24,7 +31,7 @@ impl Preset for MovingForce {
         let Some(name) = &body.train else {
             return;
         };
-        if crate::moving_load::hslm(name).is_none() {
+        if crate::vehicle::hslm::hslm(name).is_none() {
             checks.fail(
                 format!("{prefix}.train"),
                 quoted(name),
@@ -45,7 +52,7 @@ impl Preset for MovingForce {
 
     /// A train's axles trail behind its first by the train's length.
     fn reach(spec: &BodySpec) -> Option<Reach> {
-        let train = spec.train.as_deref().and_then(crate::moving_load::hslm);
+        let train = spec.train.as_deref().and_then(crate::vehicle::hslm::hslm);
         Some(Reach {
             ahead: 0.0,
             behind: train.map_or(0.0, |t| t.length()),

@@ -1,8 +1,8 @@
-//! Unit tests of the design outputs: section forces and reactions of
+//! Unit tests of the internal forces: section forces and reactions of
 //! loaded beams against statics written by hand (P L / 4, lever rules).
 
 use super::*;
-use crate::scene::{BeamSpec, EndSupport, SupportsSpec};
+use crate::structure::beam::{BeamSpec, EndSupport, SupportsSpec};
 
 const L: f64 = 24.0;
 const EI: f64 = 1e9;

@@ -1,4 +1,6 @@
-//! Deck acceleration as EN 1991-2 §6.4.6.5(4) counts it: only frequencies
+//! Signal processing of a run's records: the deck acceleration as
+//! EN 1991-2 §6.4.6.5(4) counts it, for the run's summary (report) and the
+//! speed sweeps (study). Only frequencies
 //! up to max(30 Hz, 1.5 f1, f3) are taken into account, so the record is
 //! low-passed there with zero phase (a Butterworth filter run forwards and
 //! backwards) before its peak is read.
@@ -8,6 +10,10 @@
 //! offers a zero-phase (forward–backward) Butterworth filter.
 
 use std::f64::consts::PI;
+
+/// Acceleration samples one run keeps for the filtered peak (steps ×
+/// sensors; 8 bytes each: 200 MB).
+pub const MAX_RECORDED_SAMPLES: u64 = 25_000_000;
 
 /// Butterworth order of each pass (the forward–backward pair has twice the
 /// order, zero phase, and the magnitude of one pass squared).
