@@ -414,14 +414,14 @@ def write_report(out, args, date, load, exudyn, opensees, refs, floors):
              "taken seconds apart, rather than the absolute times). Every configuration ran "
              "once per round, the codes alternating, the order reversed every other round, "
              "together with the process floor (`/bin/true`, `guideway --version`).", ""]
-    rows, paired = [], {}
+    rows, paired = [], {"solve": {}, "process": {}}
     if exudyn:
         exudyn_lines, rows = exudyn.report(floors)
         lines += exudyn_lines
     if opensees:
-        paired = opensees_bench.pairs(opensees, refs, Config.median_process)
-        lines += opensees_bench.report_lines(opensees, refs, paired, Config.median_process,
-                                             floors)
+        paired = {"solve": opensees_bench.pairs(opensees, refs, Config.median_solve),
+                  "process": opensees_bench.pairs(opensees, refs, Config.median_process)}
+        lines += opensees_bench.report_lines(opensees, refs, paired, floors)
     lines += ["![error against time](peers.png)", ""]
     (out / "peers.md").write_text("\n".join(lines) + "\n")
     plot(out / "peers.png", date, exudyn, opensees, refs)

@@ -202,14 +202,19 @@ def test_each_opensees_run_gets_the_cheapest_guideway_run_as_accurate_within_the
 def test_the_ratio_rows_and_summary_take_each_round_apart():
     o = case_run("opensees", "mf", "o", 1e-4, [1.0, 2.0, 3.0], [0.5, 0.6, 0.9])
     g = case_run("guideway", "mf", "g", 1e-4, [0.01, 0.01, 0.1], [0.001, 0.002, 0.003])
+    h = case_run("guideway", "mf", "h", 1e-5, [0.5, 0.5, 0.5], [0.1, 0.1, 0.1])
     floors = [None, case_run("floor", "", "v", 0, [0.002, 0.004, 0.003], [None] * 3)]
-    # solve per round: 500, 300, 300; process: 100, 200, 30; floor: 500, 500, 1000
-    paired = {"mf": [(o, g)], "sm": [(o, None)]}
-    rows = opensees_bench.ratio_lines(paired, Config.median_process, floors)
+    # g: solve per round 500, 300, 300; process 100, 200, 30 (and CPU);
+    # h: solve 5, 6, 9; process 2, 4, 6; floor: 500, 500, 1000
+    paired = {"solve": {"mf": [(o, h)], "sm": [(o, None)]},
+              "process": {"mf": [(o, g)], "sm": [(o, None)]}}
+    rows = opensees_bench.ratio_lines(paired, floors)
     row = next(r for r in rows if r.startswith("| mf |"))
-    assert "| 300× [300, 500] | 100× [30, 200] |" in row and row.endswith("| 500× [500, 1000] |")
-    assert any(r.startswith("| sm | o | none as accurate") for r in rows)
-    assert opensees_bench.summary(paired) == {"mf": (300.0, 300.0, 100.0, 100.0)}
+    assert row.replace(" ", "") == (
+        "|mf|o|1.00e-04|h|1.00e-05|6×[5,9]|g|1.00e-04|100×[30,200]|100×[30,200]|500×[500,1000]|")
+    none = next(r for r in rows if r.startswith("| sm |"))
+    assert none.count("|") == row.count("|") and "none as accurate" in none
+    assert opensees_bench.summary(paired) == {"mf": pytest.approx((6.0, 6.0, 100.0, 100.0))}
 
 
 def test_the_case_scenes_are_the_cases():
