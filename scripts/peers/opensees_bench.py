@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from . import references
-from .timing import Config, cheapest_as_accurate, pairings, ratios, spread
+from .timing import Config, pairings, ratios, spread
 
 HERE = Path(__file__).resolve().parent
 MODELS = HERE / "opensees_models.py"
