@@ -1,12 +1,14 @@
-"""scripts/bench_peers.py's own logic, without running Exudyn: the scene
+"""scripts/bench_peers.py's own logic, without running a peer: the scene
 edits, the parsing of the runs' results, the pairing rule, the order of a
-round."""
+round, the ratios; the OpenSees half's references, shape functions and
+pairing within the reference's resolution."""
 
 import json
 import sys
 import tomllib
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 from conftest import ROOT
@@ -122,3 +124,107 @@ def test_a_timed_run_is_killed_at_its_bound_and_a_failure_is_an_error():
     with pytest.raises(bench_peers.subprocess.CalledProcessError):
         bench_peers.run_bounded(["false"], 5.0)
     bench_peers.run_bounded(["true"], 5.0)
+
+
+# The OpenSees half: references, shape functions, pairing within the
+# reference's resolution, the ratio rows, on numbers whose answer is known.
+
+from peers import opensees_bench, opensees_models, references  # noqa: E402
+from peers.timing import Config  # noqa: E402
+
+
+def test_a_slow_force_at_midspan_deflects_the_beam_as_the_static_closed_form():
+    # α = 0.001: the series' midspan deflection when the force is at
+    # midspan is the static P L³ / (48 EI) (within α², and the series' tail).
+    case = dict(length=24.0, mass_per_length=1250.0, bending_stiffness=1e9, force=600e3)
+    omega1 = (3.141592653589793 / 24.0) ** 2 * (1e9 / 1250.0) ** 0.5
+    case["speed"] = 0.001 * omega1 * 24.0 / 3.141592653589793
+    half = 12.0 / case["speed"]
+    static = 600e3 * 24.0**3 / (48.0 * 1e9)
+    assert references.fryba_midspan(case, [half])[0] == pytest.approx(-static, rel=1e-4)
+    assert references.green(24.0, 1e9, 12.0, 12.0) == pytest.approx(static / 600e3, rel=1e-12)
+    assert references.green(24.0, 1e9, 6.0, 18.0) == references.green(24.0, 1e9, 18.0, 6.0)
+    with pytest.raises(ValueError, match="resonance"):
+        references.fryba_midspan(dict(case, speed=omega1 * 24.0 / 3.141592653589793), [0.1])
+
+
+def test_the_history_error_is_the_largest_difference_over_the_passage_over_the_peak():
+    times = [0.0, 0.1, 0.2, 0.3, 0.4]
+    reference = lambda t: -2.0 * np.asarray(t)  # noqa: E731
+    values = [0.0, -0.2, -0.41, -0.6, 5.0]  # the last row is past the passage
+    assert references.history_error(times, values, reference, 0.3) == pytest.approx(0.01 / 0.6)
+    with pytest.raises(ValueError, match="no row"):
+        references.history_error([0.5], [0.0], reference, 0.3)
+
+
+def test_hermite_shape_functions_interpolate_a_cubic_and_share_a_load():
+    length, elements = 24.0, 8
+    cubic = lambda x: 1e-3 * x**3 - 0.02 * x**2 + 0.1 * x  # noqa: E731
+    slope = lambda x: 3e-3 * x**2 - 0.04 * x + 0.1  # noqa: E731
+    for x in (0.0, 1.3, 12.0, 17.9, 24.0):
+        e, shape, dshape = opensees_models.hermite(x, length, elements)
+        nodes = [e * 3.0, (e + 1) * 3.0]
+        dofs = [cubic(nodes[0]), slope(nodes[0]), cubic(nodes[1]), slope(nodes[1])]
+        assert sum(s * d for s, d in zip(shape, dofs)) == pytest.approx(cubic(x), abs=1e-12)
+        assert sum(s * d for s, d in zip(dshape, dofs)) == pytest.approx(slope(x), abs=1e-12)
+        # The nodal forces add up to the force, their moments about x to nothing.
+        assert shape[0] + shape[2] == pytest.approx(1.0)
+        moment = shape[1] + shape[3] + shape[0] * (nodes[0] - x) + shape[2] * (nodes[1] - x)
+        assert moment == pytest.approx(0.0, abs=1e-12)
+
+
+def case_run(code, case, label, error, process, solve):
+    config = Config(code, label, [], None, 8, 0.001)
+    config.case, config.error = case, error
+    config.process, config.solve, config.cpu = process, solve, process
+    return config
+
+
+def test_each_opensees_run_gets_the_cheapest_guideway_run_as_accurate_within_the_resolution():
+    runs = [case_run("opensees", "mf", "o-a", 7.434986480e-5, [1.0], [0.5]),
+            case_run("opensees", "mf", "o-b", 1e-3, [0.5], [0.1]),
+            case_run("guideway", "mf", "g-same", 7.434986489e-5, [0.02], [0.005]),
+            case_run("guideway", "mf", "g-fine", 1e-6, [0.05], [0.02]),
+            case_run("guideway", "mf", "g-coarse", 9e-4, [0.01], [0.001]),
+            case_run("opensees", "sm", "o-c", 1e-7, [2.0], [1.0]),
+            case_run("guideway", "sm", "g-other-case", 1e-8, [0.01], [0.001])]
+    refs = {"mf": SimpleNamespace(resolution=1e-9), "sm": SimpleNamespace(resolution=0.0)}
+    paired = opensees_bench.pairs(runs, refs, Config.median_process)
+    names = {k: [(o.label, g.label if g else None) for o, g in v] for k, v in paired.items()}
+    # An error larger by less than the resolution counts as equal; runs
+    # of another case are never candidates.
+    assert names == {"mf": [("o-b", "g-coarse"), ("o-a", "g-same")], "sm": [("o-c", "g-other-case")]}
+    refs["mf"].resolution = 0.0
+    strict = opensees_bench.pairs(runs, refs, Config.median_process)["mf"]
+    assert [(o.label, g.label) for o, g in strict] == [("o-b", "g-coarse"), ("o-a", "g-fine")]
+
+
+def test_the_ratio_rows_and_summary_take_each_round_apart():
+    o = case_run("opensees", "mf", "o", 1e-4, [1.0, 2.0, 3.0], [0.5, 0.6, 0.9])
+    g = case_run("guideway", "mf", "g", 1e-4, [0.01, 0.01, 0.1], [0.001, 0.002, 0.003])
+    h = case_run("guideway", "mf", "h", 1e-5, [0.5, 0.5, 0.5], [0.1, 0.1, 0.1])
+    floors = [None, case_run("floor", "", "v", 0, [0.002, 0.004, 0.003], [None] * 3)]
+    # g: solve per round 500, 300, 300; process 100, 200, 30 (and CPU);
+    # h: solve 5, 6, 9; process 2, 4, 6; floor: 500, 500, 1000
+    paired = {"solve": {"mf": [(o, h)], "sm": [(o, None)]},
+              "process": {"mf": [(o, g)], "sm": [(o, None)]}}
+    rows = opensees_bench.ratio_lines(paired, floors)
+    row = next(r for r in rows if r.startswith("| mf |"))
+    assert row.replace(" ", "") == (
+        "|mf|o|1.00e-04|h|1.00e-05|6×[5,9]|g|1.00e-04|100×[30,200]|100×[30,200]|500×[500,1000]|")
+    none = next(r for r in rows if r.startswith("| sm |"))
+    assert none.count("|") == row.count("|") and "none as accurate" in none
+    assert opensees_bench.summary(paired) == {"mf": pytest.approx((6.0, 6.0, 100.0, 100.0))}
+
+
+def test_the_case_scenes_are_the_cases():
+    for name, case in opensees_bench.CASES.items():
+        scene = tomllib.loads(opensees_bench.scene_text(name, 16, 0.001))
+        assert scene["beam"]["elements"] == 16 and scene["solver"]["step"] == 0.001
+        assert scene["beam"]["bending_stiffness"] == case["bending_stiffness"]
+        assert scene["sensors"][0]["position"] == case["length"] / 2
+        assert scene["body"]["initial_speed"] == case["speed"]
+    sprung = tomllib.loads(opensees_bench.scene_text("sprung_mass", 8, 0.001))
+    assert sprung["body"]["suspension"]["unsprung_mass"] == 0.0
+    assert opensees_bench.step_of("moving_force", 250) == pytest.approx(
+        opensees_bench.passage(opensees_bench.CASES["moving_force"]) / 250)
