@@ -16,6 +16,10 @@ const TUNING: &[(&str, &str)] = &[
         "probes x modes up to which the design outputs are read as rows (32 MB); past it through the DOFs, the same values",
     ),
     (
+        "MAX_INFLUENCE_ENTRIES",
+        "entries of K⁻¹'s rows (16 MiB) up to which the static envelope reads its outputs through influence rows; past it a solve per load position, the same values up to rounding",
+    ),
+    (
         "MAX_SECANT_STEPS",
         "secant steps of beam.frequency's EI search on springs; past them the scene is refused naming the field",
     ),

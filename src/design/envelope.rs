@@ -20,6 +20,7 @@ use crate::band::BandLdlt;
 use crate::beam::Beam;
 use crate::moving_load::{is_moving_force_scene, scene_axles};
 use crate::scene::Scene;
+use crate::structure::Structure;
 
 /// Fewest load positions of a crossing.
 const MIN_POSITIONS: usize = 2_000;
@@ -87,7 +88,6 @@ pub fn envelope_of_loads(
         .into_iter()
         .filter(Probe::is_static)
         .collect();
-    let mut peaks = vec![0.0f64; reads.len()];
     let first = loads.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
     let last = loads.iter().map(|l| l.0).fold(f64::NEG_INFINITY, f64::max);
     if reads.is_empty() || !first.is_finite() {
@@ -98,30 +98,13 @@ pub fn envelope_of_loads(
     }
     let stiffness = stiffness_factor(scene, beam)?;
     let shifts = shifts(scene, beam, loads, (first, last), reads.len());
-    let at_rest = DVector::zeros(beam.coordinates());
-    let at_rest = || BeamDynamics::at_rest(beam, at_rest.clone(), Vec::new());
-    let mut responses: [BeamDynamics; 4] = std::array::from_fn(|_| at_rest());
-    let rows = beam.modal().map(|_| ProbeReader::new(&reads, beam));
-    let mut values = Vec::with_capacity(reads.len());
-    // Four positions at a time: their solves side by side.
-    for group in shifts.chunks(responses.len()) {
-        for (response, &shift) in responses.iter_mut().zip(group) {
-            let on_beam = loads
-                .iter()
-                .map(|&(x, normal)| (x + shift, normal))
-                .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
-                .map(|(x, normal)| PointLoad::vertical(beam, x, -normal));
-            response.set_static_loads(beam, stiffness.as_ref(), on_beam)?;
-        }
-        let group = &mut responses[..group.len()];
-        solve_group(stiffness.as_ref(), group);
-        for response in group.iter() {
-            read_all((&reads, rows.as_ref()), beam, response, &mut values);
-            for (peak, value) in peaks.iter_mut().zip(&values) {
-                *peak = peak.max(value.abs());
-            }
-        }
-    }
+    let influence = stiffness
+        .as_ref()
+        .and_then(|factor| Influence::new(beam, factor, &reads, loads.len()));
+    let peaks = match influence {
+        Some(influence) => influence_peaks(beam, &influence, &reads, loads, &shifts),
+        None => solved_peaks(beam, stiffness.as_ref(), &reads, loads, &shifts)?,
+    };
     Ok(StaticEnvelope {
         peaks: reads.into_iter().map(|r| r.name).zip(peaks).collect(),
         positions: shifts.len(),
@@ -146,6 +129,152 @@ fn stiffness_factor(scene: &Scene, beam: &Beam) -> Result<Option<BandLdlt>, Stri
             n.powi(4)
         )
     })
+}
+
+/// The loads at `shift` from their start that are on the beam.
+fn placed<'a>(
+    beam: &'a Beam,
+    loads: &'a [(f64, f64)],
+    shift: f64,
+) -> impl Iterator<Item = PointLoad> + 'a {
+    loads
+        .iter()
+        .map(move |&(x, normal)| (x + shift, normal))
+        .filter(|&(x, _)| (0.0..=beam.length).contains(&x))
+        .map(|(x, normal)| PointLoad::vertical(beam, x, -normal))
+}
+
+/// The largest |value| of each read over the positions `shifts`, the
+/// structure's static response solved at each (K factored once).
+fn solved_peaks(
+    beam: &Beam,
+    stiffness: Option<&BandLdlt>,
+    reads: &[Probe],
+    loads: &[(f64, f64)],
+    shifts: &[f64],
+) -> Result<Vec<f64>, String> {
+    let mut peaks = vec![0.0f64; reads.len()];
+    let at_rest = DVector::zeros(beam.coordinates());
+    let at_rest = || BeamDynamics::at_rest(beam, at_rest.clone(), Vec::new());
+    let mut responses: [BeamDynamics; 4] = std::array::from_fn(|_| at_rest());
+    let rows = beam.modal().map(|_| ProbeReader::new(reads, beam));
+    let mut values = Vec::with_capacity(reads.len());
+    // Four positions at a time: their solves side by side.
+    for group in shifts.chunks(responses.len()) {
+        for (response, &shift) in responses.iter_mut().zip(group) {
+            response.set_static_loads(beam, stiffness, placed(beam, loads, shift))?;
+        }
+        let group = &mut responses[..group.len()];
+        solve_group(stiffness, group);
+        for response in group.iter() {
+            read_all((reads, rows.as_ref()), beam, response, &mut values);
+            for (peak, value) in peaks.iter_mut().zip(&values) {
+                *peak = peak.max(value.abs());
+            }
+        }
+    }
+    Ok(peaks)
+}
+
+/// Most entries of K⁻¹ the influence rows keep (16 MiB).
+const MAX_INFLUENCE_ENTRIES: usize = 2_000_000;
+
+/// K⁻¹'s rows at the DOFs the reads look at on a full mesh: with them a
+/// position's displacements there are a sum over the loads' few DOFs
+/// (Maxwell–Betti: the read DOFs' influence lines), one solve per read DOF
+/// instead of one per position. Equal to the solve's up to rounding (the
+/// same sum in another order).
+struct Influence {
+    /// The free DOFs the reads' values depend on, ascending.
+    dofs: Vec<usize>,
+    /// `rows[i * dofs.len() + j]` = (K⁻¹)ᵢ,dofs[j] (K symmetric: the column).
+    rows: Vec<f64>,
+}
+
+impl Influence {
+    /// The rows of `factor` (K's) at `reads`' DOFs on a full mesh, when a
+    /// position's sum over `loads` loads (four DOFs each) costs less than a
+    /// solve (about 16 multiply-adds a DOF) and the rows fit
+    /// `MAX_INFLUENCE_ENTRIES`; `None` otherwise (solve each position).
+    fn new(beam: &Beam, factor: &BandLdlt, reads: &[Probe], loads: usize) -> Option<Influence> {
+        if !matches!(beam, Structure::Hermite(_)) {
+            return None;
+        }
+        let mut dofs: Vec<usize> = reads
+            .iter()
+            .flat_map(|read| read.elements(beam))
+            .flatten()
+            .flat_map(|element| beam.element_dofs(element).iter().flatten().copied())
+            .collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        let n = beam.coordinates();
+        let cheaper = 4 * loads * dofs.len() <= 16 * n;
+        if !cheaper || dofs.len() * n > MAX_INFLUENCE_ENTRIES {
+            return None;
+        }
+        let width = dofs.len();
+        let mut rows = vec![0.0; n * width];
+        let mut column = vec![0.0; n];
+        for (j, &dof) in dofs.iter().enumerate() {
+            column.fill(0.0);
+            column[dof] = 1.0;
+            factor.solve_in_place(&mut column);
+            for (row, value) in rows.chunks_exact_mut(width).zip(&column) {
+                row[j] = *value;
+            }
+        }
+        Some(Influence { dofs, rows })
+    }
+
+    /// `u` at the read DOFs under `loads` (their consistent load vector, as
+    /// `add_loads`, times K⁻¹'s rows there); `at` is scratch of one entry a
+    /// read DOF. The other entries of `u` are left as they are.
+    fn displace(&self, beam: &Beam, loads: &[PointLoad], at: &mut [f64], u: &mut DVector<f64>) {
+        let width = self.dofs.len();
+        at.fill(0.0);
+        for load in loads {
+            let shape = beam.shape(load.element, load.x);
+            for (k, dof) in shape.dofs.iter().enumerate() {
+                let Some(i) = *dof else { continue };
+                let scale = shape.n[k] * load.force + shape.dn[k] * load.couple;
+                let row = &self.rows[i * width..(i + 1) * width];
+                for (a, r) in at.iter_mut().zip(row) {
+                    *a += scale * r;
+                }
+            }
+        }
+        for (&dof, &value) in self.dofs.iter().zip(at.iter()) {
+            u[dof] = value;
+        }
+    }
+}
+
+/// `solved_peaks` through the influence rows: each position's reads from
+/// the displacements at their DOFs (zero elsewhere: no read looks there).
+fn influence_peaks(
+    beam: &Beam,
+    influence: &Influence,
+    reads: &[Probe],
+    loads: &[(f64, f64)],
+    shifts: &[f64],
+) -> Vec<f64> {
+    let mut peaks = vec![0.0f64; reads.len()];
+    let zero = DVector::zeros(beam.coordinates());
+    let mut response = BeamDynamics::at_rest(beam, zero, Vec::new());
+    let mut at = vec![0.0; influence.dofs.len()];
+    let mut values = Vec::with_capacity(reads.len());
+    for &shift in shifts {
+        let (on_beam, u) = response.static_parts_mut();
+        on_beam.clear();
+        on_beam.extend(placed(beam, loads, shift));
+        influence.displace(beam, on_beam, &mut at, u);
+        read_all((reads, None), beam, &response, &mut values);
+        for (peak, value) in peaks.iter_mut().zip(&values) {
+            *peak = peak.max(value.abs());
+        }
+    }
+    peaks
 }
 
 /// Solves the load vectors `set_static_loads` left in `group`'s
@@ -215,4 +344,97 @@ fn shifts(
     let exact_cap = (MAX_WORK / per_position.max(1)).saturating_sub(even);
     shifts.extend(exact.take(MAX_POSITIONS.min(exact_cap)));
     shifts
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SPAN: f64 = 24.0;
+    const EI: f64 = 1e9;
+    const P: f64 = 600e3;
+
+    /// Moving forces over `beam` (a TOML `[beam]` body with its supports)
+    /// with the reactions and `reads` (TOML sensors and sections).
+    fn scene(beam: &str, reads: &str) -> Scene {
+        Scene::from_toml_str(&format!(
+            "name = \"influence\"\ngravity = 10.0\nreactions = true\n\
+             [beam]\nmass_per_length = 1250.0\nbending_stiffness = {EI}\n\
+             surface_offset = 0.0\n{beam}\n\
+             [body]\nname = \"force\"\nkind = \"moving_force\"\nmass = 60000.0\n\
+             initial_position = 0.0\ninitial_speed = 10.0\n\
+             {reads}\n[solver]\nstep = 0.001\n"
+        ))
+        .expect("scene is valid")
+    }
+
+    /// (reads, loads, shifts, beam) of `scene` with `loads` as the envelope
+    /// takes them.
+    fn parts(scene: &Scene, loads: &[(f64, f64)]) -> (Vec<Probe>, Vec<f64>, Beam) {
+        let beam = Beam::new(&scene.beam).unwrap();
+        let reads: Vec<Probe> = probes(scene, &beam)
+            .into_iter()
+            .filter(Probe::is_static)
+            .collect();
+        let first = loads.iter().map(|l| l.0).fold(f64::INFINITY, f64::min);
+        let last = loads.iter().map(|l| l.0).fold(f64::NEG_INFINITY, f64::max);
+        let shifts = shifts(scene, &beam, loads, (first, last), reads.len());
+        (reads, shifts, beam)
+    }
+
+    #[test]
+    fn the_influence_rows_give_the_solved_peaks_up_to_rounding() {
+        // Three uneven spans, a clamped end, a vertical and a rotational
+        // spring, sections inside elements and on a support, four loads.
+        let beam = "length = 70.0\nelements = 35\n[beam.supports]\nleft = \"clamped\"\n\
+                    right = \"free\"\nintermediate = [20.0, 44.0]\n\
+                    [[beam.supports.springs]]\nat = 70.0\nvertical = 2e8\nrotational = 5e9\n";
+        let reads = "[[sensors]]\nname = \"a\"\nposition = 9.3\n\
+                     [[sensors]]\nname = \"b\"\nposition = 60.0\n\
+                     [[sections]]\nname = \"s\"\nposition = 31.7\n\
+                     [[sections]]\nname = \"t\"\nposition = 44.0\n";
+        let scene = scene(beam, reads);
+        let loads = [(0.0, P), (-2.5, P), (-17.5, 0.8 * P), (-20.0, 0.8 * P)];
+        let (reads, shifts, beam) = parts(&scene, &loads);
+        let factor = beam.stiffness_factor().unwrap();
+        let influence = Influence::new(&beam, &factor, &reads, loads.len()).expect("taken");
+        let fast = influence_peaks(&beam, &influence, &reads, &loads, &shifts);
+        let solved = solved_peaks(&beam, Some(&factor), &reads, &loads, &shifts).unwrap();
+        assert_eq!(fast.len(), 12);
+        for ((read, fast), solved) in reads.iter().zip(&fast).zip(&solved) {
+            let error = (fast - solved).abs() / solved.abs();
+            assert!(error < 1e-12, "{}: {fast} vs {solved}", read.name);
+        }
+    }
+
+    #[test]
+    fn a_two_span_beams_support_moment_follows_its_influence_line() {
+        // Two equal spans L, a load P at a in the first: the middle support
+        // carries the moment −P a (L² − a²) / 4L² (three-moment equation)
+        // and the reaction P (a/2L)(3 − a²/L²); the second span mirrors it.
+        let beam = format!(
+            "length = {}\nelements = 16\n[beam.supports]\nintermediate = [{SPAN}]\n",
+            2.0 * SPAN
+        );
+        let reads = format!("[[sections]]\nname = \"middle\"\nposition = {SPAN}\n");
+        let scene = scene(&beam, &reads);
+        let envelope = static_envelope(&scene).unwrap();
+        let (_, shifts, _) = parts(&scene, &[(0.0, P)]);
+        let on_span = |x: f64| if x <= SPAN { x } else { 2.0 * SPAN - x };
+        let moment = |a: f64| P * a * (SPAN * SPAN - a * a) / (4.0 * SPAN * SPAN);
+        let reaction = |a: f64| P * a / (2.0 * SPAN) * (3.0 - a * a / (SPAN * SPAN));
+        let on_beam = shifts.iter().filter(|x| (0.0..=2.0 * SPAN).contains(*x));
+        let (mut peak_moment, mut peak_reaction) = (0.0f64, 0.0f64);
+        for &x in on_beam {
+            peak_moment = peak_moment.max(moment(on_span(x)));
+            peak_reaction = peak_reaction.max(reaction(on_span(x)));
+        }
+        let close = |found: f64, expected: f64| (found - expected).abs() <= 1e-9 * expected;
+        let found = envelope.peaks["section.middle.moment"];
+        assert!(close(found, peak_moment), "{found} vs {peak_moment}");
+        // Near P L / (6√3), the continuous maximum at a = L/√3.
+        assert!((peak_moment / (P * SPAN / (6.0 * 3f64.sqrt())) - 1.0).abs() < 1e-5);
+        let found = envelope.peaks["support.intermediate1.reaction"];
+        assert!(close(found, peak_reaction), "{found} vs {peak_reaction}");
+    }
 }

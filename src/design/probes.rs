@@ -56,6 +56,23 @@ impl Probe {
         }
     }
 
+    /// The elements whose DOFs the value reads on a mesh: a point's or a
+    /// section's element, a support's elements either side of its node
+    /// (its springs act on that node's DOFs).
+    pub(super) fn elements(&self, beam: &Beam) -> [Option<usize>; 2] {
+        match self.read {
+            Read::Reaction(node) | Read::SupportMoment(node) => [
+                node.checked_sub(1),
+                (node < beam.elements()).then_some(node),
+            ],
+            Read::Deflection(x)
+            | Read::Velocity(x)
+            | Read::Acceleration(x)
+            | Read::Moment(x)
+            | Read::Shear(x) => [Some(beam.element_at(x)), None],
+        }
+    }
+
     /// Whether the output has a static counterpart (velocity and
     /// acceleration have none): the DAF is defined for it.
     pub fn is_static(&self) -> bool {

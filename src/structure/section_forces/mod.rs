@@ -201,6 +201,13 @@ impl BeamDynamics {
         }
     }
 
+    /// The loads and the displacement of a response at rest, for a caller
+    /// that finds the static displacement its own way (the envelope's
+    /// influence rows).
+    pub(crate) fn static_parts_mut(&mut self) -> (&mut Vec<PointLoad>, &mut DVector<f64>) {
+        (&mut self.loads, &mut self.displacement)
+    }
+
     /// The free DOFs' displacements.
     pub fn displacement(&self) -> &DVector<f64> {
         &self.displacement
