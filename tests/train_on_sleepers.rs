@@ -1,21 +1,27 @@
 //! A train on sleepers (issue 24): the eight Hertz coaches of
 //! `scenes/train-8-coaches-20m-300-sleepers.toml` on two rails over
 //! ballasted sleepers at 0.5 m, cut when the first two coaches have crossed
-//! the deck. The issue's criteria for a well-posed model: the peak filtered
-//! deck acceleration, the peak wheel force and the peak rail-seat force move
-//! by less than 2 % at half the step and at twice the elements, no wheelset
-//! lifts off, and no wheel force exceeds twice the static wheel load (the
-//! track is smooth).
+//! the deck, at two rail elements a sleeper bay (with one, the Hermite
+//! rail misses its bending under a wheel between sleepers and the wheel
+//! force moves by 1.8 % at the first doubling: docs/structures.md, "A
+//! train on sleepers"). The issue's criteria for a well-posed model: the
+//! peak filtered deck acceleration, the peak wheel force and the peak
+//! rail-seat force move by less than 2 % at half the step and at twice the
+//! elements, no wheelset lifts off, and no wheel force exceeds twice the
+//! static wheel load (the track is smooth).
 
 use guideway::report::{drive, RunSummary, SummaryEvent};
 use guideway::Scene;
 use guideway::Simulation;
 
-/// The shipped scene, cut at 0.6 s (the first two coaches past the deck).
+/// The shipped scene, cut at 0.6 s (the first two coaches past the deck),
+/// at two elements a sleeper bay.
 fn sleeper_scene() -> Scene {
     let text = include_str!("../scenes/train-8-coaches-20m-300-sleepers.toml")
         .replace("end_time = 2.6", "end_time = 0.6");
-    Scene::from_toml_str(&text).expect("a valid scene")
+    let mut scene = Scene::from_toml_str(&text).expect("a valid scene");
+    scene.beam.elements *= 2;
+    scene
 }
 
 /// The run's summary and its lift-off count.
