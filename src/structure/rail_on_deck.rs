@@ -388,14 +388,14 @@ fn whole_elements(name: &str, length: f64, h: f64) -> Result<usize, String> {
     }
 }
 
+/// Per rail element, whether it lies on the deck, and the deck element's
+/// DOFs (in the deck mesh's numbering) under it.
+type DeckUnderRail = (Vec<bool>, Vec<Option<[Option<usize>; 4]>>);
+
 /// Which rail elements lie on the deck and the deck element's DOFs (in
 /// the deck mesh's numbering) under each; refused where a deck element is
 /// not one of the rail's.
-fn deck_under_rail(
-    node_x: &[f64],
-    mesh: &Mesh,
-    tolerance: f64,
-) -> Result<(Vec<bool>, Vec<Option<[Option<usize>; 4]>>), String> {
+fn deck_under_rail(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<DeckUnderRail, String> {
     let mut on_deck = vec![false; node_x.len() - 1];
     let mut deck_elements = vec![None; node_x.len() - 1];
     for (k, (&start, &end)) in (mesh.element_start.iter().zip(&mesh.element_end)).enumerate() {
