@@ -8,6 +8,13 @@
 //! those unrolled loops for a bandwidth read from the matrix. Hand-written
 //! for the same reason as `band` (no crate factors a band matrix without
 //! index arrays or a system LAPACK).
+//!
+//! Each row also keeps its profile, the first column an entry was added
+//! at: a rail off the deck couples three places, not the interleave's
+//! seven, and the product, the factor and the solve skip the zeros before
+//! it. The factor's fill stays inside the profile, and the skipped terms
+//! are exact zeros added at the start of each sum, so the results are the
+//! full band's to the bit.
 
 /// A symmetric matrix stored by rows of its lower band: row i holds
 /// A(i, i − b), …, A(i, i) (entries before the first column are zero).
@@ -16,6 +23,9 @@ pub struct WideBand {
     half_bandwidth: usize,
     /// Row-major, `half_bandwidth + 1` entries per row, the diagonal last.
     rows: Vec<f64>,
+    /// Per row, the first column any entry was added at (the row's own
+    /// index where none was): every entry before it is zero.
+    first: Vec<usize>,
 }
 
 impl WideBand {
@@ -24,6 +34,7 @@ impl WideBand {
         WideBand {
             half_bandwidth,
             rows: vec![0.0; n * (half_bandwidth + 1)],
+            first: (0..n).collect(),
         }
     }
 
@@ -53,6 +64,7 @@ impl WideBand {
         }
         let at = self.index(row, col);
         self.rows[at] += value;
+        self.first[row] = self.first[row].min(col);
         Ok(())
     }
 
@@ -66,19 +78,21 @@ impl WideBand {
         }
     }
 
-    /// `out = A x`: each stored entry of the lower band once, for its own
-    /// row and its mirror (the product is most of a rail-over-deck step).
+    /// `out = A x`: each stored entry of the row's profile once, for its
+    /// own row and its mirror (the product is most of a rail-over-deck
+    /// step), on slices so that the loop has no index checks.
     pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
         let (n, b) = (self.size(), self.half_bandwidth);
         assert!(x.len() == n && out.len() == n);
         out.fill(0.0);
-        for (i, row) in self.rows.chunks_exact(b + 1).enumerate() {
+        for (i, (row, &first)) in self.rows.chunks_exact(b + 1).zip(&self.first).enumerate() {
             // row[k] = A(i, i − b + k); row[b] the diagonal.
-            let mut sum = row[b] * x[i];
-            for (k, a) in row.iter().enumerate().take(b).skip(b.saturating_sub(i)) {
-                let j = i + k - b;
-                sum += a * x[j];
-                out[j] += a * x[i];
+            let xi = x[i];
+            let mut sum = row[b] * xi;
+            let (before, mirror) = (&x[first..i], &mut out[first..i]);
+            for ((a, xj), oj) in row[b - (i - first)..b].iter().zip(before).zip(mirror) {
+                sum += a * xj;
+                *oj += a * xi;
             }
             out[i] += sum;
         }
@@ -93,12 +107,13 @@ impl WideBand {
             half_bandwidth: b,
             lower: vec![0.0; n * b],
             pivot: vec![0.0; n],
+            first: self.first.clone(),
         };
         for i in 0..n {
-            let first = i.saturating_sub(b);
+            let first = self.first[i];
             for j in first..i {
-                // Σ over m < j within both rows' bands: L(i,m) D(m) L(j,m).
-                let shared = first.max(j.saturating_sub(b));
+                // Σ over m < j within both rows' profiles: L(i,m) D(m) L(j,m).
+                let shared = first.max(self.first[j]);
                 let sum: f64 = (shared..j)
                     .map(|m| factor.l(i, m) * factor.pivot[m] * factor.l(j, m))
                     .sum();
@@ -119,13 +134,15 @@ impl WideBand {
 }
 
 /// A = L D Lᵀ of a positive definite `WideBand`: L unit lower triangular
-/// with A's half-bandwidth.
+/// with A's half-bandwidth and profile.
 #[derive(Debug, Clone, PartialEq)]
 pub struct WideLdlt {
     half_bandwidth: usize,
     /// Row i: L(i, i − b), …, L(i, i − 1).
     lower: Vec<f64>,
     pivot: Vec<f64>,
+    /// A's profile, which is L's: row i is zero before column `first[i]`.
+    first: Vec<usize>,
 }
 
 impl WideLdlt {
@@ -139,25 +156,31 @@ impl WideLdlt {
         self.lower[i * b + b - (i - m)]
     }
 
+    /// Row i of L within its profile: L(i, first[i]), …, L(i, i − 1).
+    fn profile_row(&self, i: usize) -> &[f64] {
+        let b = self.half_bandwidth;
+        &self.lower[i * b + b - (i - self.first[i])..(i + 1) * b]
+    }
+
     /// `x ← A⁻¹ x`: L z = x, D y = z, Lᵀ x = y; Lᵀ by rows of L, each
-    /// final entry of x subtracted from those above it.
+    /// final entry of x subtracted from those above it; each row over its
+    /// profile only.
     pub fn solve_in_place(&self, x: &mut [f64]) {
-        let (n, b) = (self.size(), self.half_bandwidth);
-        assert_eq!(x.len(), n);
-        let row = |i: usize| &self.lower[i * b..(i + 1) * b];
-        for i in 0..n {
-            let sum: f64 = (b.saturating_sub(i)..b)
-                .map(|k| row(i)[k] * x[i + k - b])
-                .sum();
-            x[i] -= sum;
+        assert_eq!(x.len(), self.size());
+        for (i, &first) in self.first.iter().enumerate() {
+            let (before, rest) = x.split_at_mut(i);
+            let terms = self.profile_row(i).iter().zip(&before[first..]);
+            let sum: f64 = terms.map(|(l, x)| l * x).sum();
+            rest[0] -= sum;
         }
         for (xi, d) in x.iter_mut().zip(&self.pivot) {
             *xi /= d;
         }
-        for i in (0..n).rev() {
-            let xi = x[i];
-            for k in b.saturating_sub(i)..b {
-                x[i + k - b] -= row(i)[k] * xi;
+        for (i, &first) in self.first.iter().enumerate().rev() {
+            let (before, rest) = x.split_at_mut(i);
+            let xi = rest[0];
+            for (l, xj) in self.profile_row(i).iter().zip(&mut before[first..]) {
+                *xj -= l * xi;
             }
         }
     }
@@ -209,6 +232,110 @@ mod tests {
         a.mul_to(&x, &mut back);
         let residual = (DVector::from_vec(back) - rhs).amax();
         assert!(residual < 1e-12, "residual {residual:e}");
+    }
+
+    /// A rail alone on the approach (two DOFs a node: each element couples
+    /// four places), then interleaved with a deck (four a node), then
+    /// alone again, in one band of half-bandwidth 7: rows of three profiles.
+    fn rail_then_deck_then_rail() -> WideBand {
+        let widths = [2, 2, 2, 2, 4, 4, 4, 4, 4, 2, 2, 2, 2];
+        let starts: Vec<usize> = (widths.iter())
+            .scan(0, |at, w| {
+                let start = *at;
+                *at += w;
+                Some(start)
+            })
+            .collect();
+        let n = starts[widths.len() - 1] + 2;
+        let mut a = WideBand::zeros(n, 7);
+        for e in 0..widths.len() - 1 {
+            let dofs: Vec<usize> = (starts[e]..starts[e] + widths[e].min(widths[e + 1]))
+                .chain(starts[e + 1]..starts[e + 1] + widths[e].min(widths[e + 1]))
+                .collect();
+            for (p, &i) in dofs.iter().enumerate() {
+                for (q, &j) in dofs.iter().enumerate().take(p + 1) {
+                    let value = ((p * 5 + q * 3 + e) % 13) as f64 * 0.1 - 0.6;
+                    a.add_symmetric(i, j, value).expect("in band");
+                }
+            }
+        }
+        for i in 0..n {
+            a.add_symmetric(i, i, 12.0 + (i % 5) as f64)
+                .expect("diagonal");
+        }
+        a
+    }
+
+    /// The full band's product, factor and solve (every row over its whole
+    /// band, as before the profile), for the bit-for-bit comparison.
+    fn full_band_product_and_solve(a: &WideBand, x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+        let (n, b) = (a.size(), a.half_bandwidth);
+        let mut product = vec![0.0; n];
+        for (i, row) in a.rows.chunks_exact(b + 1).enumerate() {
+            let mut sum = row[b] * x[i];
+            for (k, value) in row.iter().enumerate().take(b).skip(b.saturating_sub(i)) {
+                sum += value * x[i + k - b];
+                product[i + k - b] += value * x[i];
+            }
+            product[i] += sum;
+        }
+        let (mut lower, mut pivot) = (vec![0.0; n * b], vec![0.0; n]);
+        for i in 0..n {
+            let first = i.saturating_sub(b);
+            for j in first..i {
+                let shared = first.max(j.saturating_sub(b));
+                let sum: f64 = (shared..j)
+                    .map(|m| lower[i * b + b - (i - m)] * pivot[m] * lower[j * b + b - (j - m)])
+                    .sum();
+                lower[i * b + b - (i - j)] = (a.get(i, j) - sum) / pivot[j];
+            }
+            let sum: f64 = (first..i)
+                .map(|m| lower[i * b + b - (i - m)].powi(2) * pivot[m])
+                .sum();
+            pivot[i] = a.get(i, i) - sum;
+        }
+        let mut y = x.to_vec();
+        for i in 0..n {
+            let sum: f64 = (b.saturating_sub(i)..b)
+                .map(|k| lower[i * b + k] * y[i + k - b])
+                .sum();
+            y[i] -= sum;
+        }
+        for (yi, d) in y.iter_mut().zip(&pivot) {
+            *yi /= d;
+        }
+        for i in (0..n).rev() {
+            for k in b.saturating_sub(i)..b {
+                y[i + k - b] -= lower[i * b + k] * y[i];
+            }
+        }
+        (product, y)
+    }
+
+    #[test]
+    fn over_each_rows_profile_the_product_and_solve_are_the_full_bands_to_the_bit() {
+        let a = rail_then_deck_then_rail();
+        let n = a.size();
+        assert!(a
+            .first
+            .iter()
+            .enumerate()
+            .any(|(i, &f)| i >= 7 && f > i - 7));
+        let x: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 * 0.37 - 1.9).collect();
+        let (product, solution) = full_band_product_and_solve(&a, &x);
+        let mut fast = vec![0.0; n];
+        a.mul_to(&x, &mut fast);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&fast), bits(&product));
+        let mut solved = x.clone();
+        a.ldlt().expect("spd").solve_in_place(&mut solved);
+        assert_eq!(bits(&solved), bits(&solution));
+        let dense_solution = dense(&a)
+            .cholesky()
+            .expect("spd")
+            .solve(&DVector::from_vec(x));
+        let error = (DVector::from_vec(solved) - &dense_solution).amax();
+        assert!(error < 1e-12 * dense_solution.amax(), "error {error:e}");
     }
 
     #[test]

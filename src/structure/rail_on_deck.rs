@@ -213,22 +213,7 @@ impl RailOnDeck {
         let mesh = Mesh::new(deck)?;
         let (node_x, element_length) = self.rail_nodes(&mesh)?;
         let tolerance = 1e-9 * h;
-        let mut on_deck = vec![false; node_x.len() - 1];
-        let mut deck_elements = vec![None; node_x.len() - 1];
-        for (k, (&start, &end)) in (mesh.element_start.iter().zip(&mesh.element_end)).enumerate() {
-            let e = node_x.partition_point(|&x| x < start - tolerance);
-            let aligned = e + 1 < node_x.len()
-                && (node_x[e] - start).abs() < tolerance
-                && (node_x[e + 1] - end).abs() < tolerance;
-            if !aligned {
-                return Err(format!(
-                    "the deck's element from x = {start} m to {end} m is not one of the \
-                     rail's elements"
-                ));
-            }
-            on_deck[e] = true;
-            deck_elements[e] = Some(mesh.element_dofs[k]);
-        }
+        let (on_deck, deck_elements) = deck_under_rail(&node_x, &mesh, tolerance)?;
         let sleeper_at = self.sleeper_nodes(&node_x).map_err(|rule| {
             let spacing = self.sleepers.map_or(f64::NAN, |s| s.spacing);
             format!("track.on_deck.sleepers.spacing = {spacing:?} m {rule}")
@@ -253,19 +238,7 @@ impl RailOnDeck {
             })
             .collect();
         let seats = seats(&sleeper_dofs, &element_dofs, &on_deck, &rail_dofs);
-        let seat_spans = seats.iter().map(|seat| {
-            let last = seat.base.unwrap_or(seat.dof).max(seat.dof);
-            last - seat.rail
-        });
-        let half_bandwidth = element_dofs
-            .iter()
-            .map(|local| {
-                let present = local.iter().flatten();
-                present.clone().max().unwrap_or(&0) - present.min().unwrap_or(&0)
-            })
-            .chain(seat_spans)
-            .max()
-            .unwrap_or(0);
+        let half_bandwidth = half_bandwidth(&element_dofs, &seats);
         Ok(TrackLayout {
             node_x,
             element_length,
@@ -413,6 +386,51 @@ fn whole_elements(name: &str, length: f64, h: f64) -> Result<usize, String> {
             "{name} = {length} m must be a whole number of elements of {h} m"
         ))
     }
+}
+
+/// Per rail element, whether it lies on the deck, and the deck element's
+/// DOFs (in the deck mesh's numbering) under it.
+type DeckUnderRail = (Vec<bool>, Vec<Option<[Option<usize>; 4]>>);
+
+/// Which rail elements lie on the deck and the deck element's DOFs (in
+/// the deck mesh's numbering) under each; refused where a deck element is
+/// not one of the rail's.
+fn deck_under_rail(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<DeckUnderRail, String> {
+    let mut on_deck = vec![false; node_x.len() - 1];
+    let mut deck_elements = vec![None; node_x.len() - 1];
+    for (k, (&start, &end)) in (mesh.element_start.iter().zip(&mesh.element_end)).enumerate() {
+        let e = node_x.partition_point(|&x| x < start - tolerance);
+        let aligned = e + 1 < node_x.len()
+            && (node_x[e] - start).abs() < tolerance
+            && (node_x[e + 1] - end).abs() < tolerance;
+        if !aligned {
+            return Err(format!(
+                "the deck's element from x = {start} m to {end} m is not one of the \
+                 rail's elements"
+            ));
+        }
+        on_deck[e] = true;
+        deck_elements[e] = Some(mesh.element_dofs[k]);
+    }
+    Ok((on_deck, deck_elements))
+}
+
+/// The widest reach of any element's DOFs or any sleeper's (rail w to
+/// its own DOF and its base): the assembly's half-bandwidth.
+fn half_bandwidth(element_dofs: &[[Option<usize>; 8]], seats: &[Seat]) -> usize {
+    let seat_spans = seats.iter().map(|seat| {
+        let last = seat.base.unwrap_or(seat.dof).max(seat.dof);
+        last - seat.rail
+    });
+    element_dofs
+        .iter()
+        .map(|local| {
+            let present = local.iter().flatten();
+            present.clone().max().unwrap_or(&0) - present.min().unwrap_or(&0)
+        })
+        .chain(seat_spans)
+        .max()
+        .unwrap_or(0)
 }
 
 /// The rail's nodes, each element's eight DOFs (`place` order; `None`
