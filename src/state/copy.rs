@@ -3,10 +3,9 @@
 //! fresh `clone` allocates each of the state's vectors (`clone_from` of a
 //! derived `Clone` does too).
 
-use super::{not_finite, ContactStatus, SimState};
+use super::{not_finite, ContactStatus, DynamicState, SimState};
 use crate::body::BodyState;
 use crate::contact::ContactForce;
-use crate::integrate::DynamicState;
 use nalgebra::{DVector, Vector3};
 
 /// `into = from`, in `into`'s storage when the lengths match.

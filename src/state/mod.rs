@@ -7,15 +7,17 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactForce;
-use crate::integrate::DynamicState;
-use crate::solver::parameters::SolverParameters;
 use crate::system::{System, TrackPart};
 
 mod consistency;
 mod copy;
+mod dynamic;
 
-/// Events kept per run; later ones are counted, not kept.
-pub const MAX_EVENTS: usize = SolverParameters::DEFAULT.max_events;
+pub use dynamic::DynamicState;
+
+/// Events kept per run; later ones are counted, not kept (the solver's
+/// `SolverParameters::max_events` is this bound).
+pub const MAX_EVENTS: usize = 10_000;
 
 /// What happened to a contact.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]

@@ -11,7 +11,6 @@ mod profile;
 mod rk4;
 
 use nalgebra::{DVector, Vector2, Vector3};
-use serde::{Deserialize, Serialize};
 
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
@@ -23,43 +22,9 @@ pub use hht::Hht;
 pub use memo::FrameMemo;
 pub use profile::{force_shape, ForceProfile, ForceShape};
 pub use rk4::Rk4;
-
-/// Positions and velocities of everything that moves, plus each contact's
-/// foot point (kept as the warm start of the next foot-point search).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DynamicState {
-    pub beam_displacement: DVector<f64>,
-    pub beam_velocity: DVector<f64>,
-    /// Beam accelerations at the end of the last step, and each body's
-    /// (ẍ, ÿ, θ̈): the implicit scheme carries them (RK4 does not use them).
-    pub beam_acceleration: DVector<f64>,
-    pub body_accelerations: Vec<Vector3<f64>>,
-    /// The loads at the end of the last step: the contact load vector on the
-    /// beam's free DOFs, and each body's generalized force (F_x, F_y,
-    /// torque), applied forces and force elements included. HHT-α weighs
-    /// them against the next step's (its forces act at t_{n+1+α}).
-    pub beam_load: DVector<f64>,
-    pub body_loads: Vec<Vector3<f64>>,
-    pub bodies: Vec<BodyState>,
-    pub contact_x: Vec<f64>,
-    /// Energy dissipated by the force elements' dampers since t = 0 (J),
-    /// integrated with the step.
-    pub dissipated: f64,
-    /// Energy dissipated by the beam's structural damping since t = 0 (J),
-    /// integrated with the step.
-    #[serde(default)]
-    pub beam_dissipated: f64,
-    /// Work of the tractive forces that hold the driven bodies' speeds since
-    /// t = 0 (J), integrated with the step.
-    #[serde(default)]
-    pub tractive_work: f64,
-    /// Energy removed by the integrator's numerical damping since t = 0
-    /// (J), step by step: HHT-α's from the scheme's discrete energy
-    /// identity, RK4's from the beam's energy against the work of its loads
-    /// (see `rk4::beam_dissipation`).
-    #[serde(default)]
-    pub numerical_dissipation: f64,
-}
+// The state a step advances is the state's (state/), named here too for
+// the integrators and the iteration.
+pub use crate::state::DynamicState;
 
 /// What one step starts from: the state, its contact frames (the same for
 /// every iteration of the step), the constant forces on each body (applied
