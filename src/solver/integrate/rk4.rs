@@ -8,7 +8,10 @@
 
 use nalgebra::{DVector, Vector3};
 
-use super::{contact_frames, loads, DynamicState, ForceShape, IntegrationError, StepStart};
+use super::{
+    contact_frames, loads, rk4_step_limit, DynamicState, ForceProfile, ForceShape,
+    IntegrationError, StepStart, TimeIntegrator,
+};
 use crate::band::DENSE_LIMIT;
 use crate::beam::VelocityFreeBand;
 use crate::body::BodyState;
@@ -37,6 +40,67 @@ pub struct Rk4 {
     /// integration of the step): computed at its first, cleared by
     /// `begin_step`.
     start_energy: Option<f64>,
+}
+
+impl TimeIntegrator for Rk4 {
+    const NAME: &'static str = "rk4";
+    const TITLE: &'static str = "explicit RK4";
+    // Each step starts afresh from its start state.
+    const CARRIES_STEP_END: bool = false;
+    const FITS_FORCE_SHAPE: bool = true;
+    // Force elements are evaluated in its stages.
+    const LAGS_FORCE_LAWS: bool = false;
+    const STEPS_TRACK_ON_DECK: bool = false;
+
+    fn build(system: &System, _step: f64, _damping: f64) -> Result<(Rk4, String), String> {
+        let rk4 = Rk4::new(system.beam.coordinates(), system.bodies.len());
+        Ok((rk4, "rk4 (explicit)".to_string()))
+    }
+
+    fn stable_step(system: &System) -> Option<f64> {
+        Some(rk4_step_limit(system))
+    }
+
+    /// Fourth order with the quadratic force profile; the held and linear
+    /// profiles limit it to second (docs/error-estimates.md).
+    fn order(profile: ForceProfile) -> f64 {
+        if profile == ForceProfile::Quadratic {
+            4.0
+        } else {
+            2.0
+        }
+    }
+
+    fn begin_step(&mut self, _system: &System, _dt: f64) -> Result<(), IntegrationError> {
+        Rk4::begin_step(self);
+        Ok(())
+    }
+
+    fn step(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        forces: &[ContactForce],
+        end: &mut DynamicState,
+    ) -> Result<(), IntegrationError> {
+        Rk4::step(self, system, from, forces, end)
+    }
+
+    /// The held force's weights: (Δt, Δt²/2).
+    fn body_weights(&self, dt: f64) -> (f64, f64) {
+        (dt, 0.5 * dt * dt)
+    }
+
+    fn beam_response(
+        &mut self,
+        system: &System,
+        load: &DVector<f64>,
+        dt: f64,
+        displacement: &mut DVector<f64>,
+        velocity: &mut DVector<f64>,
+    ) {
+        Rk4::beam_response(self, system, load, dt, displacement, velocity)
+    }
 }
 
 /// The bodies through the stages: their stage states, the stage's loads
