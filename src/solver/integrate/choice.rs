@@ -1,27 +1,12 @@
 //! Which integrator a scene runs, and why (for `auto`).
 
-use super::{
-    BodyState, ContactForce, DynamicState, ForceProfile, Hht, IntegrationError, Rk4, StepStart,
-    TimeIntegrator, Vector3,
-};
+use super::{Hht, Integrator, IntegratorKind, Rk4, TimeIntegrator};
 use crate::solver::spec::SolverSpec;
 use crate::system::System;
-use nalgebra::{Complex, DVector};
-use serde::{Deserialize, Serialize};
-
-// The integrators: one line each (its scene name is the variant's in
-// lowercase; its file implements `TimeIntegrator`).
-integrators! {
-    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
-    #[default]
-    Rk4 => Rk4,
-    /// HHT-α for the beam (implicit, unconditionally stable), damping
-    /// `numerical_damping`.
-    Hht => Hht,
-}
+use nalgebra::Complex;
 
 /// An integrator and what runs in words, or why it cannot run.
-type Built = Result<(Integrator, String), String>;
+pub(super) type Built = Result<(Integrator, String), String>;
 
 type Complex64 = Complex<f64>;
 
@@ -156,7 +141,7 @@ pub fn auto_pick(words: &str, damping: f64) -> (IntegratorKind, f64) {
 }
 
 /// `S` for `system`, refused where `step` is beyond its stability limit.
-fn build_within_limit<S: TimeIntegrator>(
+pub(super) fn build_within_limit<S: TimeIntegrator>(
     system: &System,
     step: f64,
     damping: f64,

@@ -1,32 +1,41 @@
 //! Time integration of beam and bodies over one step with the contact forces
 //! held: the paper's explicit RK4, or HHT-α (implicit, unconditionally
-//! stable for the beam) for stiff meshes. Both serve the same contact-force
-//! iteration through `Integrator`.
+//! stable for the beam) for stiff meshes. Each implements `TimeIntegrator`
+//! (its step and its answers to the capability queries) and serves the
+//! contact-force iteration through `Integrator`, generated from the one
+//! list below.
 
 #[macro_use]
-mod dispatch; // first: `integrators!`, which choice.rs invokes
+mod dispatch; // first: `integrators!`, used below
 mod choice;
-mod hht;
 mod hht_energy;
 mod hht_scheme;
 mod memo;
 mod profile;
-mod rk4;
+
+// The integrators, one line each: its variant (whose lowercase is its
+// scene name) and its module and type, which implements `TimeIntegrator`.
+integrators! {
+    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
+    #[default]
+    Rk4 => rk4::Rk4,
+    /// HHT-α for the beam (implicit, unconditionally stable), damping
+    /// `numerical_damping`.
+    Hht => hht::Hht,
+}
 
 use nalgebra::{DVector, Vector2, Vector3};
+use serde::{Deserialize, Serialize};
 
 use crate::body::BodyState;
 use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::add_element_forces;
 use crate::system::{System, TrackPart};
 
-pub use choice::{
-    auto_pick, choose_integrator, rk4_step_limit, Integrator, IntegratorKind, AUTO_MIN_DAMPING,
-};
-pub use hht::Hht;
+pub use choice::{auto_pick, choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
+use choice::{build_within_limit, Built};
 pub use memo::FrameMemo;
 pub use profile::{force_shape, ForceProfile, ForceShape};
-pub use rk4::Rk4;
 // The state a step advances is the state's (state/), named here too for
 // the integrators and the iteration.
 pub use crate::state::DynamicState;
@@ -257,7 +266,7 @@ pub fn follower_forces(
 /// described, its step, and the capability queries the stepper, the
 /// iteration, the chooser and validation ask instead of its name. A new
 /// integrator is one file implementing this and one line in the list of
-/// `choice.rs` (`integrators!`).
+/// integrators (`integrators!`, above).
 pub trait TimeIntegrator: Sized {
     /// Its name in a scene (`solver.integrator`), which also starts its
     /// description.
