@@ -16,10 +16,10 @@ const LAYERS: &[&[&str]] = &[
     &["vehicle"],
     &["contact"],
     &["system"],
-    // One layer: the stepper advances a `SimState`, and the state holds the
-    // integrator's `DynamicState`. Moving `DynamicState` into state/ would
-    // put the state below the solver.
-    &["solver", "state"],
+    // The state (with the `DynamicState` an integrator advances) lies
+    // below the solver that advances it.
+    &["state"],
+    &["solver"],
     &["energy"],
     &["outputs"],
     &["scene"],

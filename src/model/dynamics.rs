@@ -168,15 +168,11 @@ impl Dynamics for Simulation {
         let scheme = |s: &Simulation| s.integrator_choice().split(';').next().map(str::to_owned);
         scheme(self) == scheme(companion)
     }
-    /// RK4 with the quadratic force profile is fourth order; the held and
-    /// linear profiles and HHT-α second (docs/error-estimates.md).
+    /// The integrator's order with the run's force profile (RK4 with the
+    /// quadratic profile is fourth order; the held and linear profiles and
+    /// HHT-α second: docs/error-estimates.md).
     fn order_in_time(&self) -> f64 {
-        let rk4 = self.integrator_choice().starts_with("rk4");
-        if rk4 && self.force_profile() == crate::scene::ForceProfile::Quadratic {
-            4.0
-        } else {
-            2.0
-        }
+        self.integrator_order()
     }
 }
 

@@ -116,14 +116,7 @@ impl Catalogue {
     }
 
     fn body(&mut self, system: &System, b: usize) {
-        let body = &system.bodies[b];
-        let n = &body.name;
-        // A body over massless followers pitches like a car body: its
-        // angle is not a wheel's rolling angle.
-        let is_contact_body = system
-            .contacts
-            .iter()
-            .any(|c| c.body == b && c.follower.is_none());
+        let n = &system.bodies[b].name;
         self.real(
             format!("{n}.x"),
             "m",
@@ -148,6 +141,15 @@ impl Catalogue {
             "vertical velocity of the body's centre",
             Quantity::Vy(b),
         );
+        self.body_accelerations(system, b);
+        self.body_rotation(system, b);
+        self.nominal_speeds(system, b);
+    }
+
+    /// A body's accelerations: where it is coupled (the FMU's inputs), or
+    /// its vertical one where anything but a contact acts on it.
+    fn body_accelerations(&mut self, system: &System, b: usize) {
+        let n = &system.bodies[b].name;
         let coupled = system.couplings.contains(&b);
         if coupled {
             self.real(
@@ -169,6 +171,19 @@ impl Catalogue {
                 Quantity::Ay(b),
             );
         }
+    }
+
+    /// A turning body's pitch, angular velocity and acceleration.
+    fn body_rotation(&mut self, system: &System, b: usize) {
+        let body = &system.bodies[b];
+        let n = &body.name;
+        let coupled = system.couplings.contains(&b);
+        // A body over massless followers pitches like a car body: its
+        // angle is not a wheel's rolling angle.
+        let is_contact_body = system
+            .contacts
+            .iter()
+            .any(|c| c.body == b && c.follower.is_none());
         if body.turns() && (!is_contact_body || coupled) {
             self.real(
                 format!("{n}.pitch"),
@@ -193,6 +208,11 @@ impl Catalogue {
                 Quantity::AngularAcceleration(b),
             );
         }
+    }
+
+    /// The nominal speed of each contact of body `b`.
+    fn nominal_speeds(&mut self, system: &System, b: usize) {
+        let n = &system.bodies[b].name;
         for (c, contact) in system.contacts.iter().enumerate() {
             if contact.body == b {
                 // Several followers share their body: each its own speed.
@@ -366,6 +386,12 @@ impl Catalogue {
                 Quantity::GravityWork,
             );
         }
+        self.works(system);
+    }
+
+    /// The works of the forces on the system, the losses, and the balance.
+    fn works(&mut self, system: &System) {
+        let e = |s: &str| format!("energy.{s}");
         self.real(
             e("external_work"),
             "J",
@@ -617,6 +643,100 @@ pub fn structure_value(
     })
 }
 
+/// What an output reads beyond the numbers the state holds: each a
+/// derived quantity computed once per evaluation where an output needs it
+/// (an output whose need is not computed would read NaN).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Needs {
+    /// The contact frames now (`derived::frames_now`).
+    pub frames: bool,
+    /// The bodies' accelerations under the last forces
+    /// (`derived::body_accelerations`).
+    pub body_accelerations: bool,
+    /// The beam's accelerations and loads under the last contact forces
+    /// (`derived::beam_dynamics`, one mass solve per row).
+    pub beam_dynamics: bool,
+    /// The springs' potential energy (`energy::spring`).
+    pub spring_energy: bool,
+    /// The energy the steps remove, booked by the integrator step by step
+    /// (not computable at the end: see `Simulation::read_only`).
+    pub energy_books: bool,
+}
+
+impl Needs {
+    const NONE: Needs = Needs {
+        frames: false,
+        body_accelerations: false,
+        beam_dynamics: false,
+        spring_energy: false,
+        energy_books: false,
+    };
+    const FRAMES: Needs = Needs {
+        frames: true,
+        ..Needs::NONE
+    };
+    const BODY_ACCELERATIONS: Needs = Needs {
+        body_accelerations: true,
+        ..Needs::NONE
+    };
+    const BEAM_DYNAMICS: Needs = Needs {
+        beam_dynamics: true,
+        ..Needs::NONE
+    };
+    const SPRING_ENERGY: Needs = Needs {
+        spring_energy: true,
+        ..Needs::NONE
+    };
+    const ENERGY_BOOKS: Needs = Needs {
+        energy_books: true,
+        ..Needs::NONE
+    };
+
+    /// What any of `quantities` needs.
+    pub fn of(quantities: &[Quantity]) -> Needs {
+        let either = |a: Needs, b: Needs| Needs {
+            frames: a.frames || b.frames,
+            body_accelerations: a.body_accelerations || b.body_accelerations,
+            beam_dynamics: a.beam_dynamics || b.beam_dynamics,
+            spring_energy: a.spring_energy || b.spring_energy,
+            energy_books: a.energy_books || b.energy_books,
+        };
+        quantities
+            .iter()
+            .map(Quantity::needs)
+            .fold(Needs::NONE, either)
+    }
+}
+
+impl Quantity {
+    /// What this quantity reads beyond the state's own numbers. One
+    /// exhaustive match (no `_` arm): a new quantity must answer here.
+    pub fn needs(&self) -> Needs {
+        use Quantity::*;
+        match self {
+            NominalSpeed(_) => Needs::FRAMES,
+            Ax(_) | Ay(_) | AngularAcceleration(_) => Needs::BODY_ACCELERATIONS,
+            SensorAcceleration(_) | SectionMoment(_) | SectionShear(_) => Needs::BEAM_DYNAMICS,
+            Reaction(_) | ReactionMoment(_) => Needs::BEAM_DYNAMICS,
+            SpringEnergy => Needs::SPRING_ENERGY,
+            Dissipated | BeamDamping | NumericalDissipation => Needs::ENERGY_BOOKS,
+            Balance => Needs {
+                spring_energy: true,
+                ..Needs::ENERGY_BOOKS
+            },
+            X(_) | Y(_) | Vx(_) | Vy(_) | Angle(_) | AngularVelocity(_) => Needs::NONE,
+            ContactPosition(_) | TangentialForce(_) | NormalForce(_) | OnBeam(_) => Needs::NONE,
+            ContactClosed(_) | Gap(_) | MagnetAirGap(_) | MagnetCurrent(_) => Needs::NONE,
+            ImpulseTangential(_) | ImpulseNormal(_) | Irregularity(_) => Needs::NONE,
+            Sensor(_) | SensorVelocity(_) | SensorFoundationLoad(_) => Needs::NONE,
+            SensorRailDeflection(_) | SensorRailSeatForce(_) => Needs::NONE,
+            BodyKinetic | BeamKinetic | BeamStrain | GravityWork | ExternalWork => Needs::NONE,
+            TractiveWork | ImpactLoss | VelocityError | GapError => Needs::NONE,
+            Iterations | PositionIterations => Needs::NONE,
+        }
+    }
+}
+
 /// The value in `state` of each quantity of `quantities` into `values`.
 pub fn evaluate(
     system: &System,
@@ -625,68 +745,87 @@ pub fn evaluate(
     quantities: &[Quantity],
     values: &mut [f64],
 ) {
-    let d = &state.dynamic;
-    let beam = &system.beam;
-    let needs_frames = quantities
-        .iter()
-        .any(|q| matches!(q, Quantity::NominalSpeed(_)));
-    let frames = needs_frames.then(|| frames_now(system, state, probes.frames).ok());
-    let needs_beam = quantities.iter().any(needs_beam_dynamics);
-    let beam_dynamics = needs_beam
-        .then(|| beam_dynamics(system, state, probes.frames))
-        .flatten();
-    let needs_accelerations = quantities.iter().any(|q| {
-        matches!(
-            q,
-            Quantity::Ax(_) | Quantity::Ay(_) | Quantity::AngularAcceleration(_)
-        )
-    });
-    let accelerations = needs_accelerations.then(|| body_accelerations(system, state, probes));
-    let mut spring_energy = None;
-    let mut spring_energy = || *spring_energy.get_or_insert_with(|| energy::spring(system, state));
-    // Under a rail over the deck the system's abscissa starts at the
-    // approach; the outputs keep the scene's (the deck's x = 0).
-    let origin = system.beam.track().map(|t| t.deck_start());
-    let scene_x = |x: f64| origin.map_or(x, |o| x - o);
+    let now = Now::new(system, state, probes, Needs::of(quantities));
     for (value, quantity) in values.iter_mut().zip(quantities) {
-        *value = match *quantity {
-            Quantity::X(b) => scene_x(d.bodies[b].position.x),
+        *value = now.value(*quantity);
+    }
+}
+
+/// A state and what its outputs need derived from it (`Needs`), computed
+/// once for all the outputs of one evaluation.
+struct Now<'a> {
+    system: &'a System,
+    state: &'a SimState,
+    probes: &'a Probes<'a>,
+    frames: Option<Vec<crate::contact::ContactFrame>>,
+    accelerations: Option<Vec<nalgebra::Vector3<f64>>>,
+    beam_dynamics: Option<crate::design::BeamDynamics>,
+    spring_energy: f64,
+    /// Under a rail over the deck the system's abscissa starts at the
+    /// approach; the outputs keep the scene's (the deck's x = 0).
+    origin: Option<f64>,
+}
+
+impl<'a> Now<'a> {
+    fn new(system: &'a System, state: &'a SimState, probes: &'a Probes, needs: Needs) -> Self {
+        let frames = needs
+            .frames
+            .then(|| frames_now(system, state, probes.frames).ok());
+        let beam_dynamics = needs
+            .beam_dynamics
+            .then(|| beam_dynamics(system, state, probes.frames));
+        let accelerations = needs
+            .body_accelerations
+            .then(|| body_accelerations(system, state, probes));
+        let spring_energy = if needs.spring_energy {
+            energy::spring(system, state)
+        } else {
+            f64::NAN
+        };
+        Now {
+            system,
+            state,
+            probes,
+            frames: frames.flatten(),
+            accelerations,
+            beam_dynamics: beam_dynamics.flatten(),
+            spring_energy,
+            origin: system.beam.track().map(|t| t.deck_start()),
+        }
+    }
+
+    fn scene_x(&self, x: f64) -> f64 {
+        self.origin.map_or(x, |o| x - o)
+    }
+
+    fn value(&self, quantity: Quantity) -> f64 {
+        let (d, state) = (&self.state.dynamic, self.state);
+        let acceleration = |b: usize| self.accelerations.as_ref().map(|a| a[b]);
+        let nan = f64::NAN;
+        match quantity {
+            Quantity::X(b) => self.scene_x(d.bodies[b].position.x),
             Quantity::Y(b) => d.bodies[b].position.y,
             Quantity::Vx(b) => d.bodies[b].velocity.x,
             Quantity::Vy(b) => d.bodies[b].velocity.y,
-            Quantity::Ax(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].x),
-            Quantity::Ay(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].y),
-            Quantity::AngularAcceleration(b) => accelerations.as_ref().map_or(f64::NAN, |a| a[b].z),
+            Quantity::Ax(b) => acceleration(b).map_or(nan, |a| a.x),
+            Quantity::Ay(b) => acceleration(b).map_or(nan, |a| a.y),
+            Quantity::AngularAcceleration(b) => acceleration(b).map_or(nan, |a| a.z),
             Quantity::Angle(b) => d.bodies[b].angle,
             Quantity::AngularVelocity(b) => d.bodies[b].angular_velocity,
-            Quantity::NominalSpeed(c) => match frames.as_ref().and_then(|f| f.as_ref()) {
-                Some(frames) => {
-                    let contact = &system.contacts[c];
-                    let point = contact.point(&d.bodies[contact.body]);
-                    frames[c].nominal_speed(beam, contact.radius(), &point, &d.beam_velocity)
-                }
-                None => f64::NAN,
-            },
-            Quantity::ContactPosition(c) => scene_x(d.contact_x[c]),
+            Quantity::NominalSpeed(c) => self.nominal_speed(c),
+            Quantity::ContactPosition(c) => self.scene_x(d.contact_x[c]),
             Quantity::TangentialForce(c) => state.force_history[c][0].tangential,
             Quantity::NormalForce(c) => state.force_history[c][0].normal,
             Quantity::OnBeam(c) => f64::from(u8::from(state.parts[c].on_structure())),
             Quantity::ContactClosed(c) => f64::from(u8::from(!state.contacts[c].open)),
             Quantity::Gap(c) => state.contacts[c].gap,
-            Quantity::MagnetAirGap(c) => {
-                magnet(system, c).map_or(f64::NAN, |(_, s0)| s0 - state.contacts[c].gap)
-            }
-            Quantity::MagnetCurrent(c) => magnet(system, c).map_or(f64::NAN, |(load, s0)| {
-                let force = state.force_history[c][0].normal;
-                crate::contact_law::magnet_relative_current(load, s0, force, -state.contacts[c].gap)
-            }),
+            Quantity::MagnetAirGap(_) | Quantity::MagnetCurrent(_) => self.magnet_value(quantity),
             Quantity::ImpulseTangential(c) => state.contacts[c].impulse[0],
             Quantity::ImpulseNormal(c) => state.contacts[c].impulse[1],
-            Quantity::Irregularity(c) => system
-                .profile
-                .as_ref()
-                .map_or(0.0, |p| p.at(d.contact_x[c])[0]),
-            q @ (Quantity::Sensor(_)
+            Quantity::Irregularity(c) => {
+                (self.system.profile.as_ref()).map_or(0.0, |p| p.at(d.contact_x[c])[0])
+            }
+            Quantity::Sensor(_)
             | Quantity::SensorVelocity(_)
             | Quantity::SensorFoundationLoad(_)
             | Quantity::SensorRailDeflection(_)
@@ -697,17 +836,70 @@ pub fn evaluate(
             | Quantity::Reaction(_)
             | Quantity::ReactionMoment(_)
             | Quantity::BeamKinetic
-            | Quantity::BeamStrain) => {
-                let now = BeamNow {
-                    displacement: &d.beam_displacement,
-                    velocity: &d.beam_velocity,
-                    dynamics: beam_dynamics.as_ref(),
-                };
-                let probes = (probes.sensors, probes.sections);
-                structure_value(beam, &now, probes, q).unwrap_or(f64::NAN)
+            | Quantity::BeamStrain => self.structure_value(quantity),
+            Quantity::BodyKinetic
+            | Quantity::SpringEnergy
+            | Quantity::Dissipated
+            | Quantity::BeamDamping
+            | Quantity::GravityWork
+            | Quantity::ExternalWork
+            | Quantity::TractiveWork
+            | Quantity::ImpactLoss
+            | Quantity::NumericalDissipation
+            | Quantity::Balance
+            | Quantity::VelocityError
+            | Quantity::GapError
+            | Quantity::Iterations
+            | Quantity::PositionIterations => self.run_value(quantity),
+        }
+    }
+
+    /// A contact's nominal speed (eq. 24) at its frame now.
+    fn nominal_speed(&self, c: usize) -> f64 {
+        let Some(frames) = &self.frames else {
+            return f64::NAN;
+        };
+        let d = &self.state.dynamic;
+        let contact = &self.system.contacts[c];
+        let point = contact.point(&d.bodies[contact.body]);
+        let (beam, radius) = (&self.system.beam, contact.radius());
+        frames[c].nominal_speed(beam, radius, &point, &d.beam_velocity)
+    }
+
+    /// An EMS magnet's air gap or current.
+    fn magnet_value(&self, quantity: Quantity) -> f64 {
+        let (system, state) = (self.system, self.state);
+        match quantity {
+            Quantity::MagnetAirGap(c) => {
+                magnet(system, c).map_or(f64::NAN, |(_, s0)| s0 - state.contacts[c].gap)
             }
+            Quantity::MagnetCurrent(c) => magnet(system, c).map_or(f64::NAN, |(load, s0)| {
+                let force = state.force_history[c][0].normal;
+                crate::contact_law::magnet_relative_current(load, s0, force, -state.contacts[c].gap)
+            }),
+            _ => f64::NAN,
+        }
+    }
+
+    /// A structure's output (see `structure_value`).
+    fn structure_value(&self, quantity: Quantity) -> f64 {
+        let d = &self.state.dynamic;
+        let now = BeamNow {
+            displacement: &d.beam_displacement,
+            velocity: &d.beam_velocity,
+            dynamics: self.beam_dynamics.as_ref(),
+        };
+        let probes = (self.probes.sensors, self.probes.sections);
+        structure_value(&self.system.beam, &now, probes, quantity).unwrap_or(f64::NAN)
+    }
+
+    /// The run's energies and the solver's counts.
+    fn run_value(&self, quantity: Quantity) -> f64 {
+        let (system, state, probes) = (self.system, self.state, self.probes);
+        let d = &state.dynamic;
+        match quantity {
             Quantity::BodyKinetic => energy::body_kinetic(system, state),
-            Quantity::SpringEnergy => spring_energy(),
+            Quantity::SpringEnergy => self.spring_energy,
             Quantity::Dissipated => probes.booked(d.dissipated),
             Quantity::BeamDamping => probes.booked(d.beam_dissipated),
             Quantity::GravityWork => state.gravity_work,
@@ -716,27 +908,15 @@ pub fn evaluate(
             Quantity::ImpactLoss => state.impact_loss,
             Quantity::NumericalDissipation => probes.booked(d.numerical_dissipation),
             Quantity::Balance => {
-                probes.booked(energy::balance_with(system, state, spring_energy()))
+                probes.booked(energy::balance_with(system, state, self.spring_energy))
             }
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,
             Quantity::Iterations => state.last_iterations as f64,
             Quantity::PositionIterations => state.last_position_iterations as f64,
-        };
+            _ => f64::NAN,
+        }
     }
-}
-
-/// Whether `quantity` is read from the beam's accelerations and loads
-/// (`derived::beam_dynamics`, one mass solve per row).
-fn needs_beam_dynamics(quantity: &Quantity) -> bool {
-    matches!(
-        quantity,
-        Quantity::SensorAcceleration(_)
-            | Quantity::SectionMoment(_)
-            | Quantity::SectionShear(_)
-            | Quantity::Reaction(_)
-            | Quantity::ReactionMoment(_)
-    )
 }
 
 /// Contact `c`'s magnet law, if it has one: its static load F₀ (N) and

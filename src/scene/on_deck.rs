@@ -4,7 +4,7 @@
 //! HHT-α on the full mesh); what it cannot do yet is refused with the
 //! reason.
 
-use super::{BodyKind, DampingSpec, IntegratorKind, Scene, StructureKind};
+use super::{BodyKind, DampingSpec, Scene, StructureKind};
 use crate::mesh::Mesh;
 use crate::scene::error::Problem;
 use crate::structure::rail_on_deck::RailOnDeck;
@@ -163,7 +163,7 @@ fn layout_problems(scene: &Scene) -> Vec<Problem> {
 fn unsupported(scene: &Scene) -> Vec<Problem> {
     let mut out = Vec::new();
     let solver = &scene.solver;
-    if solver.integrator != IntegratorKind::Hht {
+    if !solver.integrator.steps_track_on_deck() {
         out.push(Problem::new(
             "solver.integrator",
             format!("{:?}", solver.integrator).to_lowercase(),

@@ -5,8 +5,7 @@
 
 use super::fields::Rule;
 use super::{
-    BodyKind, DampingSpec, EndSupport, ForceProfile, FoundationSpec, IntegratorKind, JointKind,
-    Scene, SceneError,
+    BodyKind, DampingSpec, EndSupport, ForceProfile, FoundationSpec, JointKind, Scene, SceneError,
 };
 use crate::scene::error::Problem;
 use std::collections::HashSet;
@@ -984,7 +983,7 @@ fn check_solver(checks: &mut Checks, scene: &Scene) {
     }
     // HHT-α's unknown is its end-of-step force: a shaped profile would be
     // silently ignored, so it is refused (under `auto` it serves the RK4 runs).
-    if solver.integrator == IntegratorKind::Hht && solver.force_profile != ForceProfile::Held {
+    if !solver.integrator.fits_force_shape() && solver.force_profile != ForceProfile::Held {
         checks.fail(
             "solver.force_profile",
             format!("{:?}", solver.force_profile).to_lowercase(),

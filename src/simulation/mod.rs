@@ -116,6 +116,13 @@ impl Simulation {
         &self.integrator_choice
     }
 
+    /// The integrator's order of accuracy in time with the run's force
+    /// profile.
+    pub fn integrator_order(&self) -> f64 {
+        let integrator = self.stepper.iteration().integrator();
+        integrator.order(self.setup.force_profile)
+    }
+
     /// The outputs this scene has, in a fixed order.
     pub fn outputs(&self) -> &[OutputInfo] {
         &self.outputs

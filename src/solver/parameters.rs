@@ -57,7 +57,7 @@ impl SolverParameters {
             max_iterations: 50,
         },
         start_up_divisions: 8.0,
-        max_events: 10_000,
+        max_events: crate::state::MAX_EVENTS,
         max_extrapolation_gain: 50.0,
         resting_speed: 1e-2,
         restart_passes: 6,

@@ -43,62 +43,77 @@ pub fn static_start(
 ) -> Result<DVector<f64>, String> {
     let n = system.beam.coordinates();
     let mut u = DVector::zeros(n);
-    let at_rest = DVector::zeros(n);
-    let mut frames = Vec::new();
-    let mut beam_load = DVector::zeros(n);
-    let mut body_loads = vec![Vector3::zeros(); bodies.len()];
+    let mut work = Work {
+        at_rest: DVector::zeros(n),
+        frames: Vec::new(),
+        beam_load: DVector::zeros(n),
+        body_loads: vec![Vector3::zeros(); bodies.len()],
+    };
     let carried: Vec<f64> = system
         .contacts
         .iter()
         .map(|c| c.follower.map_or(0.0, |f| f.preload))
         .collect();
     for _ in 0..PASSES {
-        locate(system, &u, bodies, &mut frames)?;
-        settle_on_surface(system, bodies, &frames);
-        reset_rests(system, bodies);
-        rest_attached_followers(system, bodies, &frames, &carried);
-        let free = vec![ContactForce::default(); forces.len()];
-        loads(
-            system,
-            &frames,
-            &free,
-            applied,
-            bodies,
-            &at_rest,
-            &mut beam_load,
-            &mut body_loads,
-        );
-        preload_compliant_contacts(system, &frames, &body_loads);
-        carry_loads(system, &frames, &body_loads, forces);
-        loads(
-            system,
-            &frames,
-            forces,
-            applied,
-            bodies,
-            &at_rest,
-            &mut beam_load,
-            &mut body_loads,
-        );
-        u = system.beam.static_deflection(&beam_load)?;
+        u = one_pass(system, (bodies, forces, applied), &u, &carried, &mut work)?;
     }
-    locate(system, &u, bodies, &mut frames)?;
-    settle_on_surface(system, bodies, &frames);
-    follow_surface(system, bodies, &frames);
+    let Work { frames, .. } = &mut work;
+    locate(system, &u, bodies, frames)?;
+    settle_on_surface(system, bodies, frames);
+    follow_surface(system, bodies, frames);
     reset_rests(system, bodies);
-    rest_attached_followers(system, bodies, &frames, &carried);
-    loads(
-        system,
-        &frames,
-        forces,
-        applied,
-        bodies,
-        &at_rest,
-        &mut beam_load,
-        &mut body_loads,
-    );
-    balance_horizontally(system, &mut body_loads);
+    rest_attached_followers(system, bodies, frames, &carried);
+    work.loads(system, forces, applied, bodies);
+    balance_horizontally(system, &mut work.body_loads);
     Ok(u)
+}
+
+/// The static start's vectors, kept from pass to pass.
+struct Work {
+    /// The beam's velocity (zero: at rest) that a follower's law reads.
+    at_rest: DVector<f64>,
+    frames: Vec<ContactFrame>,
+    beam_load: DVector<f64>,
+    body_loads: Vec<Vector3<f64>>,
+}
+
+impl Work {
+    /// Every load for the contact `forces` at the frames.
+    fn loads(
+        &mut self,
+        system: &System,
+        forces: &[ContactForce],
+        applied: &[Vector3<f64>],
+        bodies: &[BodyState],
+    ) {
+        let (beam_load, body_loads) = (&mut self.beam_load, &mut self.body_loads);
+        let (frames, at_rest) = (&self.frames, &self.at_rest);
+        loads(
+            system, frames, forces, applied, bodies, at_rest, beam_load, body_loads,
+        );
+    }
+}
+
+/// One pass of the fixed-point iteration from the deflection `u`: the
+/// bodies onto the surface, the forces that carry them, and the beam's
+/// deflection under those forces (returned).
+fn one_pass(
+    system: &mut System,
+    (bodies, forces, applied): (&mut [BodyState], &mut [ContactForce], &[Vector3<f64>]),
+    u: &DVector<f64>,
+    carried: &[f64],
+    work: &mut Work,
+) -> Result<DVector<f64>, String> {
+    locate(system, u, bodies, &mut work.frames)?;
+    settle_on_surface(system, bodies, &work.frames);
+    reset_rests(system, bodies);
+    rest_attached_followers(system, bodies, &work.frames, carried);
+    let free = vec![ContactForce::default(); forces.len()];
+    work.loads(system, &free, applied, bodies);
+    preload_compliant_contacts(system, &work.frames, &work.body_loads);
+    carry_loads(system, &work.frames, &work.body_loads, forces);
+    work.loads(system, forces, applied, bodies);
+    system.beam.static_deflection(&work.beam_load)
 }
 
 /// A start at rest on a track with irregularities: each contact body moved

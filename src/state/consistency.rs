@@ -8,7 +8,6 @@
 //! stepped on with an energy balance off by a factor of 300.
 
 use super::SimState;
-use crate::integrate::contact_frames;
 use crate::system::System;
 
 /// A recomputed gap may differ from the stored one by the foot point's own
@@ -28,16 +27,19 @@ impl SimState {
         let state = self;
         check_times(state)?;
         let d = &state.dynamic;
-        let mut frames = Vec::new();
-        let located = (d.contact_x.as_slice(), state.parts.as_slice());
-        contact_frames(
-            system,
-            &d.beam_displacement,
-            &d.bodies,
-            located,
-            &mut frames,
-        )
-        .map_err(|_| "the state's contact points do not lie on its track".to_string())?;
+        // Every contact's frame (a follower's too: each must lie on the
+        // track), searched from its stored foot point on its stored part.
+        let frames = system
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(c, contact)| {
+                let centre = &contact.point(&d.bodies[contact.body]).position;
+                let u = &d.beam_displacement;
+                system.contact_frame(u, centre, d.contact_x[c], state.parts[c])
+            })
+            .collect::<Result<Vec<_>, _>>()
+            .map_err(|_| "the state's contact points do not lie on its track".to_string())?;
         let slack = 10.0 * gap_tolerance + GAP_SLACK;
         for (c, contact) in system.contacts.iter().enumerate() {
             if contact.follower.is_some() {

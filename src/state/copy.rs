@@ -3,10 +3,9 @@
 //! fresh `clone` allocates each of the state's vectors (`clone_from` of a
 //! derived `Clone` does too).
 
-use super::{not_finite, ContactStatus, SimState};
+use super::{not_finite, ContactStatus, DynamicState, SimState};
 use crate::body::BodyState;
 use crate::contact::ContactForce;
-use crate::integrate::DynamicState;
 use nalgebra::{DVector, Vector3};
 
 /// `into = from`, in `into`'s storage when the lengths match.
@@ -108,6 +107,25 @@ impl SimState {
         self.last_applied.clone_from(last_applied);
         self.pending_restart.clone_from(pending_restart);
     }
+}
+
+/// 0 when every scalar of `s` that a checked copy sums is finite, NaN
+/// otherwise.
+fn scalars_not_finite(s: &SimState) -> f64 {
+    not_finite(&[
+        s.time,
+        s.external_work,
+        s.gravity_work,
+        s.initial_energy,
+        s.last_velocity_error,
+        s.last_gap_error,
+        s.exit_time.unwrap_or(0.0),
+        s.impact_loss,
+        s.step_history[0],
+        s.step_history[1],
+        s.body_force[0],
+        s.body_force[1],
+    ])
 }
 
 /// `into = from` in `into`'s storage where the lengths match, with the sum
@@ -226,11 +244,44 @@ impl SimState {
     /// step's roll-back, and checks it (a restore must accept it). On Err
     /// `self` holds the refused state.
     pub fn copy_checked_from(&mut self, source: &SimState, step: f64) -> Result<(), String> {
+        let nan = self.copy_lists_summing(source) + scalars_not_finite(source);
+        self.copy_rest_from(source);
+        if nan != 0.0 {
+            // The search names the number (and an Err whatever it finds).
+            source.check_values(step)?;
+            return Err("the state holds a non-finite number".into());
+        }
+        source.check_lengths_and_time(step)
+    }
+
+    /// The lists of numbers copied, with the sum that is 0 when their
+    /// numbers are finite (NaN otherwise: `not_finite`).
+    fn copy_lists_summing(&mut self, source: &SimState) -> f64 {
+        let forces = |f: &[ContactForce; 3]| {
+            not_finite(&[
+                f[0].tangential,
+                f[0].normal,
+                f[1].tangential,
+                f[1].normal,
+                f[2].tangential,
+                f[2].normal,
+            ])
+        };
+        let status = |c: &ContactStatus| not_finite(&[c.gap, c.impulse[0], c.impulse[1]]);
+        self.dynamic.copy_summing_from(&source.dynamic)
+            + copy_summing(&mut self.force_history, &source.force_history, forces)
+            + copy_summing(&mut self.events, &source.events, |e| not_finite(&[e.time]))
+            + copy_summing(&mut self.contacts, &source.contacts, status)
+    }
+
+    /// Every field but the lists of `copy_lists_summing` (each named, so
+    /// that a new field cannot be forgotten here).
+    fn copy_rest_from(&mut self, source: &SimState) {
         let SimState {
             time,
             grid_step,
-            dynamic,
-            force_history,
+            dynamic: _,
+            force_history: _,
             step_history,
             body_force,
             external_work,
@@ -243,44 +294,15 @@ impl SimState {
             steps,
             total_iterations,
             parts,
-            events,
+            events: _,
             events_dropped,
             exit_time,
-            contacts,
+            contacts: _,
             impact_loss,
             coupling_loads,
             last_applied,
             pending_restart,
         } = source;
-        let forces = |f: &[ContactForce; 3]| {
-            not_finite(&[
-                f[0].tangential,
-                f[0].normal,
-                f[1].tangential,
-                f[1].normal,
-                f[2].tangential,
-                f[2].normal,
-            ])
-        };
-        let status = |c: &ContactStatus| not_finite(&[c.gap, c.impulse[0], c.impulse[1]]);
-        let nan = self.dynamic.copy_summing_from(dynamic)
-            + copy_summing(&mut self.force_history, force_history, forces)
-            + copy_summing(&mut self.events, events, |e| not_finite(&[e.time]))
-            + copy_summing(&mut self.contacts, contacts, status)
-            + not_finite(&[
-                *time,
-                *external_work,
-                *gravity_work,
-                *initial_energy,
-                *last_velocity_error,
-                *last_gap_error,
-                exit_time.unwrap_or(0.0),
-                *impact_loss,
-                step_history[0],
-                step_history[1],
-                body_force[0],
-                body_force[1],
-            ]);
         self.time = *time;
         self.grid_step = *grid_step;
         self.step_history = *step_history;
@@ -301,12 +323,6 @@ impl SimState {
         self.coupling_loads.clone_from(coupling_loads);
         self.last_applied.clone_from(last_applied);
         self.pending_restart.clone_from(pending_restart);
-        if nan != 0.0 {
-            // The search names the number (and an Err whatever it finds).
-            source.check_values(step)?;
-            return Err("the state holds a non-finite number".into());
-        }
-        source.check_lengths_and_time(step)
     }
 }
 

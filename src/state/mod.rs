@@ -7,15 +7,17 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 use crate::contact::ContactForce;
-use crate::integrate::DynamicState;
-use crate::solver::parameters::SolverParameters;
 use crate::system::{System, TrackPart};
 
 mod consistency;
 mod copy;
+mod dynamic;
 
-/// Events kept per run; later ones are counted, not kept.
-pub const MAX_EVENTS: usize = SolverParameters::DEFAULT.max_events;
+pub use dynamic::DynamicState;
+
+/// Events kept per run; later ones are counted, not kept (the solver's
+/// `SolverParameters::max_events` is this bound).
+pub const MAX_EVENTS: usize = 10_000;
 
 /// What happened to a contact.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -116,8 +118,20 @@ impl SimState {
     /// serialized FMU state) must satisfy before anything is sized by it.
     pub fn check_values(&self, step: f64) -> Result<(), String> {
         self.check_lengths()?;
+        // One branch-free sum over every number first (this runs after every
+        // FMU step); the number is looked for only when there is one.
+        if self.not_finite_sum() != 0.0 {
+            if let Some(x) = self.first_not_finite() {
+                return Err(format!("the state holds a non-finite number ({x})"));
+            }
+        }
+        self.check_time(step)
+    }
+
+    /// The state's scalars that `check_values` checks.
+    fn scalars(&self) -> [f64; 12] {
         let d = &self.dynamic;
-        let scalars = [
+        [
             self.time,
             self.external_work,
             self.gravity_work,
@@ -130,16 +144,20 @@ impl SimState {
             d.tractive_work,
             d.numerical_dissipation,
             self.impact_loss,
-        ];
-        let beam = [
-            &d.beam_displacement,
-            &d.beam_velocity,
-            &d.beam_acceleration,
-            &d.beam_load,
-        ];
-        // One branch-free sum over every number first (this runs after every
-        // FMU step); the number is looked for only when there is one.
-        let mut nan = not_finite(&scalars)
+        ]
+    }
+
+    /// The beam's vectors.
+    fn beam_vectors(&self) -> [&nalgebra::DVector<f64>; 4] {
+        let d = &self.dynamic;
+        let (u, v) = (&d.beam_displacement, &d.beam_velocity);
+        [u, v, &d.beam_acceleration, &d.beam_load]
+    }
+
+    /// 0 when every number of the state is finite, NaN otherwise.
+    fn not_finite_sum(&self) -> f64 {
+        let d = &self.dynamic;
+        let mut nan = not_finite(&self.scalars())
             + not_finite(&self.step_history)
             + not_finite(&self.body_force)
             + not_finite(&d.contact_x);
@@ -158,37 +176,29 @@ impl SimState {
         for v in d.body_accelerations.iter().chain(&d.body_loads) {
             nan += not_finite(v.as_slice());
         }
-        for v in beam {
+        for v in self.beam_vectors() {
             nan += not_finite(v.as_slice());
         }
-        let finite = nan == 0.0;
-        if !finite {
-            let forces = self
-                .force_history
-                .iter()
-                .flatten()
-                .flat_map(|f| [f.tangential, f.normal]);
-            let generalized = d.body_accelerations.iter().chain(&d.body_loads).flatten();
-            let mut all = scalars
-                .into_iter()
-                .chain(self.step_history)
-                .chain(self.body_force)
-                .chain(d.contact_x.iter().copied())
-                .chain(self.events.iter().map(|e| e.time))
-                .chain(
-                    self.contacts
-                        .iter()
-                        .flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]),
-                )
-                .chain(d.bodies.iter().flat_map(crate::body::BodyState::numbers))
-                .chain(forces)
-                .chain(generalized.copied())
-                .chain(beam.into_iter().flatten().copied());
-            if let Some(x) = all.find(|x| !x.is_finite()) {
-                return Err(format!("the state holds a non-finite number ({x})"));
-            }
-        }
-        self.check_time(step)
+        nan
+    }
+
+    /// The first number of the state that is not finite.
+    fn first_not_finite(&self) -> Option<f64> {
+        let d = &self.dynamic;
+        let forces = (self.force_history.iter().flatten()).flat_map(|f| [f.tangential, f.normal]);
+        let generalized = d.body_accelerations.iter().chain(&d.body_loads).flatten();
+        let statuses = (self.contacts.iter()).flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]);
+        let mut all = (self.scalars().into_iter())
+            .chain(self.step_history)
+            .chain(self.body_force)
+            .chain(d.contact_x.iter().copied())
+            .chain(self.events.iter().map(|e| e.time))
+            .chain(statuses)
+            .chain(d.bodies.iter().flat_map(crate::body::BodyState::numbers))
+            .chain(forces)
+            .chain(generalized.copied())
+            .chain(self.beam_vectors().into_iter().flatten().copied());
+        all.find(|x| !x.is_finite())
     }
 
     /// `check_values` but the numbers' finiteness (`copy_checked_from`

@@ -64,13 +64,9 @@ pub fn pin_integrator(scene: &mut Scene, integrator_choice: &str) {
     if scene.solver.integrator != IntegratorKind::Auto {
         return;
     }
-    if integrator_choice.starts_with("hht") {
-        scene.solver.integrator = IntegratorKind::Hht;
-        let least = crate::integrate::AUTO_MIN_DAMPING;
-        scene.solver.numerical_damping = scene.solver.numerical_damping.max(least);
-    } else {
-        scene.solver.integrator = IntegratorKind::Rk4;
-    }
+    let damping = scene.solver.numerical_damping;
+    (scene.solver.integrator, scene.solver.numerical_damping) =
+        crate::integrate::auto_pick(integrator_choice, damping);
 }
 
 /// The summary rows of a run feed, nothing else.

@@ -1,25 +1,12 @@
 //! Which integrator a scene runs, and why (for `auto`).
 
-use super::{Hht, Integrator, Rk4};
+use super::{Hht, Integrator, IntegratorKind, Rk4, TimeIntegrator};
 use crate::solver::spec::SolverSpec;
 use crate::system::System;
 use nalgebra::Complex;
-use serde::{Deserialize, Serialize};
 
-/// The scene's `solver.integrator`: which scheme advances the bodies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum IntegratorKind {
-    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
-    #[default]
-    Rk4,
-    /// HHT-α for the beam (implicit, unconditionally stable), damping
-    /// `numerical_damping`.
-    Hht,
-    /// RK4 where `step` is within its stability limit for the mesh, HHT-α
-    /// otherwise.
-    Auto,
-}
+/// An integrator and what runs in words, or why it cannot run.
+pub(super) type Built = Result<(Integrator, String), String>;
 
 type Complex64 = Complex<f64>;
 
@@ -118,57 +105,65 @@ fn ray_limit(direction: Complex64) -> f64 {
 pub const AUTO_MIN_DAMPING: f64 = 0.1;
 
 /// The integrator of `solver` for `system`, and what runs in words.
-pub fn choose_integrator(
-    system: &System,
-    solver: &SolverSpec,
-) -> Result<(Integrator, String), String> {
-    let step = solver.step;
-    let damping = solver.numerical_damping;
-    let hht = |damping: f64, why: String| -> Result<(Integrator, String), String> {
-        let integrator = Hht::new(system, damping, step)?;
-        Ok((
-            Integrator::Hht(Box::new(integrator)),
-            format!("hht (implicit HHT-α, α = {}){why}", 0.0 - damping),
-        ))
-    };
-    match solver.integrator {
-        IntegratorKind::Hht => hht(damping, String::new()),
-        IntegratorKind::Rk4 | IntegratorKind::Auto => {
-            let limit = rk4_step_limit(system);
-            let free = system.beam.coordinates();
-            if step <= limit {
-                let why = if solver.integrator == IntegratorKind::Auto {
-                    format!("; auto: the step is within RK4's stability limit {limit:.3e} s")
-                } else {
-                    String::new()
-                };
-                return Ok((
-                    Integrator::Rk4(Box::new(Rk4::new(free, system.bodies.len()))),
-                    format!("rk4 (explicit){why}"),
-                ));
-            }
-            if solver.integrator == IntegratorKind::Auto {
-                // Undamped HHT lets the contact force oscillate from step to
-                // step at high speed (a spurious early lift-off at 150 m/s on
-                // 8 elements, report/stress.md): auto damps at least a little.
-                return hht(
-                    damping.max(AUTO_MIN_DAMPING),
-                    format!("; auto: RK4 would need a step of at most {limit:.3e} s for this mesh"),
-                );
-            }
-            Err(format!(
-                "solver.step = {step} s is beyond the stability limit of explicit RK4 \
-                 for this mesh: elements of {:.4} m give the beam a highest frequency of \
-                 {:.1} rad/s (Rayleigh damping alpha = {:e}, beta = {:e}), so the step must \
-                 not exceed {limit:.3e} s; shorten solver.step, \
-                 use fewer elements, or set solver.integrator = \"hht\" or \"auto\"",
-                system.beam.min_element_length(),
-                system.beam.highest_frequency(),
-                system.beam.damping().mass,
-                system.beam.damping().stiffness,
-            ))
-        }
+pub fn choose_integrator(system: &System, solver: &SolverSpec) -> Built {
+    let (step, damping) = (solver.step, solver.numerical_damping);
+    match solver.integrator.build(system, step, damping) {
+        Some(built) => built,
+        None => auto(system, step, damping),
     }
+}
+
+/// `auto`: RK4 where the step is within its stability limit, HHT-α (damped
+/// at least `AUTO_MIN_DAMPING`) otherwise.
+fn auto(system: &System, step: f64, damping: f64) -> Built {
+    let limit = rk4_step_limit(system);
+    if step <= limit {
+        let (rk4, words) = Rk4::build(system, step, damping)?;
+        let why = format!("; auto: the step is within RK4's stability limit {limit:.3e} s");
+        return Ok((Integrator::Rk4(Box::new(rk4)), words + &why));
+    }
+    // Undamped HHT lets the contact force oscillate from step to step at
+    // high speed (a spurious early lift-off at 150 m/s on 8 elements,
+    // report/stress.md): auto damps at least a little.
+    let (hht, words) = Hht::build(system, step, damping.max(AUTO_MIN_DAMPING))?;
+    let why = format!("; auto: RK4 would need a step of at most {limit:.3e} s for this mesh");
+    Ok((Integrator::Hht(Box::new(hht)), words + &why))
+}
+
+/// The integrator and numerical damping `auto` ran a run with, from its
+/// description `words` (the scene's `damping` otherwise): what a
+/// companion run pins so that it runs the same scheme.
+pub fn auto_pick(words: &str, damping: f64) -> (IntegratorKind, f64) {
+    match IntegratorKind::described_in(words).unwrap_or_default() {
+        IntegratorKind::Hht => (IntegratorKind::Hht, damping.max(AUTO_MIN_DAMPING)),
+        kind => (kind, damping),
+    }
+}
+
+/// `S` for `system`, refused where `step` is beyond its stability limit.
+pub(super) fn build_within_limit<S: TimeIntegrator>(
+    system: &System,
+    step: f64,
+    damping: f64,
+) -> Result<(S, String), String> {
+    match S::stable_step(system) {
+        Some(limit) if step > limit => Err(beyond_limit(system, step, limit, S::TITLE)),
+        _ => S::build(system, step, damping),
+    }
+}
+
+fn beyond_limit(system: &System, step: f64, limit: f64, title: &str) -> String {
+    format!(
+        "solver.step = {step} s is beyond the stability limit of {title} \
+         for this mesh: elements of {:.4} m give the beam a highest frequency of \
+         {:.1} rad/s (Rayleigh damping alpha = {:e}, beta = {:e}), so the step must \
+         not exceed {limit:.3e} s; shorten solver.step, \
+         use fewer elements, or set solver.integrator = \"hht\" or \"auto\"",
+        system.beam.min_element_length(),
+        system.beam.highest_frequency(),
+        system.beam.damping().mass,
+        system.beam.damping().stiffness,
+    )
 }
 
 #[cfg(test)]

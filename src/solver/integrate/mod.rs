@@ -1,14 +1,28 @@
 //! Time integration of beam and bodies over one step with the contact forces
 //! held: the paper's explicit RK4, or HHT-α (implicit, unconditionally
-//! stable for the beam) for stiff meshes. Both serve the same contact-force
-//! iteration through `Integrator`.
+//! stable for the beam) for stiff meshes. Each implements `TimeIntegrator`
+//! (its step and its answers to the capability queries) and serves the
+//! contact-force iteration through `Integrator`, generated from the one
+//! list below.
 
+#[macro_use]
+mod dispatch; // first: `integrators!`, used below
 mod choice;
-mod hht;
 mod hht_energy;
+mod hht_scheme;
 mod memo;
 mod profile;
-mod rk4;
+
+// The integrators, one line each: its variant (whose lowercase is its
+// scene name) and its module and type, which implements `TimeIntegrator`.
+integrators! {
+    /// Classical fourth-order Runge-Kutta, the paper's scheme (explicit).
+    #[default]
+    Rk4 => rk4::Rk4,
+    /// HHT-α for the beam (implicit, unconditionally stable), damping
+    /// `numerical_damping`.
+    Hht => hht::Hht,
+}
 
 use nalgebra::{DVector, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
@@ -18,48 +32,13 @@ use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::add_element_forces;
 use crate::system::{System, TrackPart};
 
-pub use choice::{choose_integrator, rk4_step_limit, IntegratorKind, AUTO_MIN_DAMPING};
-pub use hht::Hht;
+pub use choice::{auto_pick, choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
+use choice::{build_within_limit, Built};
 pub use memo::FrameMemo;
 pub use profile::{force_shape, ForceProfile, ForceShape};
-pub use rk4::Rk4;
-
-/// Positions and velocities of everything that moves, plus each contact's
-/// foot point (kept as the warm start of the next foot-point search).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct DynamicState {
-    pub beam_displacement: DVector<f64>,
-    pub beam_velocity: DVector<f64>,
-    /// Beam accelerations at the end of the last step, and each body's
-    /// (ẍ, ÿ, θ̈): the implicit scheme carries them (RK4 does not use them).
-    pub beam_acceleration: DVector<f64>,
-    pub body_accelerations: Vec<Vector3<f64>>,
-    /// The loads at the end of the last step: the contact load vector on the
-    /// beam's free DOFs, and each body's generalized force (F_x, F_y,
-    /// torque), applied forces and force elements included. HHT-α weighs
-    /// them against the next step's (its forces act at t_{n+1+α}).
-    pub beam_load: DVector<f64>,
-    pub body_loads: Vec<Vector3<f64>>,
-    pub bodies: Vec<BodyState>,
-    pub contact_x: Vec<f64>,
-    /// Energy dissipated by the force elements' dampers since t = 0 (J),
-    /// integrated with the step.
-    pub dissipated: f64,
-    /// Energy dissipated by the beam's structural damping since t = 0 (J),
-    /// integrated with the step.
-    #[serde(default)]
-    pub beam_dissipated: f64,
-    /// Work of the tractive forces that hold the driven bodies' speeds since
-    /// t = 0 (J), integrated with the step.
-    #[serde(default)]
-    pub tractive_work: f64,
-    /// Energy removed by the integrator's numerical damping since t = 0
-    /// (J), step by step: HHT-α's from the scheme's discrete energy
-    /// identity, RK4's from the beam's energy against the work of its loads
-    /// (see `rk4::beam_dissipation`).
-    #[serde(default)]
-    pub numerical_dissipation: f64,
-}
+// The state a step advances is the state's (state/), named here too for
+// the integrators and the iteration.
+pub use crate::state::DynamicState;
 
 /// What one step starts from: the state, its contact frames (the same for
 /// every iteration of the step), the constant forces on each body (applied
@@ -283,149 +262,95 @@ pub fn follower_forces(
     }
 }
 
-/// The time integrator of a simulation.
-pub enum Integrator {
-    Rk4(Box<Rk4>),
-    Hht(Box<Hht>),
-}
+/// What an integrator is to the rest of guideway: how it is built and
+/// described, its step, and the capability queries the stepper, the
+/// iteration, the chooser and validation ask instead of its name. A new
+/// integrator is one file implementing this and one line in the list of
+/// integrators (`integrators!`, above).
+pub trait TimeIntegrator: Sized {
+    /// Its name in a scene (`solver.integrator`), which also starts its
+    /// description.
+    const NAME: &'static str;
+    /// How a refusal of its step names it ("explicit RK4").
+    const TITLE: &'static str;
+    /// Whether it carries each step's end accelerations and contact forces
+    /// into the next step, so that it must restart where a contact switches
+    /// surfaces or meets an impact.
+    const CARRIES_STEP_END: bool;
+    /// Whether its stages sample the contact force's shape within a step,
+    /// so that a shaped `force_profile` means something (and needs
+    /// start-up steps); otherwise only the held profile is accepted.
+    const FITS_FORCE_SHAPE: bool;
+    /// Whether the force elements are evaluated at a predicted end
+    /// configuration that the iteration must refine, rather than in the
+    /// scheme's own stages.
+    const LAGS_FORCE_LAWS: bool;
+    /// Whether it steps the rail layer over the deck (whose effective
+    /// matrix is built for it).
+    const STEPS_TRACK_ON_DECK: bool;
 
-impl Integrator {
+    /// The integrator for `system` on steps of `step` with numerical
+    /// damping `damping` (where it has any), and its description.
+    fn build(system: &System, step: f64, damping: f64) -> Result<(Self, String), String>;
+    /// The largest stable step for `system` (s); None: stable at any step.
+    fn stable_step(system: &System) -> Option<f64>;
+    /// Its order of accuracy in time with the force profile `profile`.
+    fn order(profile: ForceProfile) -> f64;
+
     /// Called once before the iterations of each step of `dt`.
-    pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
-        match self {
-            Integrator::Rk4(rk4) => {
-                rk4.begin_step();
-                Ok(())
-            }
-            Integrator::Hht(hht) => hht.begin_step(system, dt),
-        }
-    }
-
+    fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError>;
     /// Advance from `from` over its step with `forces` held, into `end`.
-    pub fn step(
+    fn step(
         &mut self,
         system: &System,
         from: &StepStart,
         forces: &[ContactForce],
         end: &mut DynamicState,
-    ) -> Result<(), IntegrationError> {
-        match self {
-            Integrator::Rk4(rk4) => rk4.step(system, from, forces, end),
-            Integrator::Hht(hht) => hht.step(system, from, forces, end),
-        }
-    }
-
-    /// Whether the scheme carries each step's end accelerations and contact
-    /// forces into the next step, so that it must restart where a contact
-    /// switches surfaces or meets an impact (HHT-α; RK4 starts each step
-    /// afresh).
-    pub fn carries_step_end(&self) -> bool {
-        matches!(self, Integrator::Hht(_))
-    }
-
-    /// Whether the scheme takes the contact force's shape within a step
-    /// from the converged means of the last steps (RK4's stages sample it;
-    /// HHT-α, which sees only a step's ends, holds it), so that a shaped
-    /// profile needs start-up steps.
-    pub fn fits_force_shape(&self) -> bool {
-        matches!(self, Integrator::Rk4(_))
-    }
-
-    /// Whether the force elements are evaluated at a predicted end
-    /// configuration that the iteration must refine (HHT-α), rather than
-    /// in the scheme's own stages (RK4).
-    pub fn lags_force_laws(&self) -> bool {
-        matches!(self, Integrator::Hht(_))
-    }
-
+    ) -> Result<(), IntegrationError>;
     /// Called once after the iterations of a step that converged, with its
-    /// last integration in `end`: what only the accepted step needs (HHT-α's
-    /// energy bookkeeping; RK4 keeps its own with every integration).
-    pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
-        if let Integrator::Hht(hht) = self {
-            hht.finish_step(system, from, end);
-        }
-    }
-
-    /// Book the energy the steps remove (dampers, structural and numerical
-    /// damping), or not (HHT-α; RK4 books it in its stages, always).
-    pub fn keep_energy_books(&mut self, on: bool) {
-        if let Integrator::Hht(hht) = self {
-            hht.keep_energy_books(on);
-        }
-    }
-
+    /// last integration in `end`: what only the accepted step needs.
+    fn finish_step(&mut self, _system: &System, _from: &StepStart, _end: &mut DynamicState) {}
+    /// Book the energy the steps remove, or not (a scheme that books it
+    /// in its stages always does).
+    fn keep_energy_books(&mut self, _on: bool) {}
     /// Whether the steps' energy is booked (see `keep_energy_books`).
-    pub fn keeps_energy_books(&self) -> bool {
-        match self {
-            Integrator::Rk4(_) => true,
-            Integrator::Hht(hht) => hht.keeps_energy_books(),
-        }
+    fn keeps_energy_books(&self) -> bool {
+        true
     }
-
     /// From the next integration on, the compliant followers' forces
     /// (`held`, per contact) are the ones the iteration gives, not their
-    /// laws' at the predicted end (HHT-α; RK4 evaluates them in its stages).
-    pub fn hold_followers(&mut self, held: &[bool]) {
-        if let Integrator::Hht(hht) = self {
-            hht.hold_followers(held);
-        }
+    /// laws' at the predicted end (a scheme that lags its force laws).
+    fn hold_followers(&mut self, _held: &[bool]) {}
+    /// Every follower's force in the last integration (empty where the
+    /// scheme evaluates them in its stages).
+    fn held_follower_forces(&self) -> &[ContactForce] {
+        &[]
     }
-
-    /// Every follower's force in the last integration (HHT-α; empty for RK4).
-    pub fn held_follower_forces(&self) -> &[ContactForce] {
-        match self {
-            Integrator::Rk4(_) => &[],
-            Integrator::Hht(hht) => hht.follower_forces_used(),
-        }
+    /// Lagged force laws: the force elements' loads on each body in the
+    /// last integration and the bodies the next evaluates them at; None
+    /// where the scheme evaluates them in its stages.
+    fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
+        None
     }
-
-    /// HHT-α's lagged force laws: the force elements' loads on each body in
-    /// the last integration and the bodies the next evaluates them at (see
-    /// `Hht::body_predictions`); None for RK4, which evaluates them in its
-    /// stages.
-    pub fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
-        match self {
-            Integrator::Rk4(_) => None,
-            Integrator::Hht(hht) => Some(hht.body_predictions()),
-        }
-    }
-
     /// How a body's end-of-step velocity and position respond to the
-    /// force at the end of the step, per unit of acceleration it causes:
-    /// (Δt, Δt²/2) for RK4's held force, (γ Δt, β Δt²) for HHT-α.
-    pub fn body_weights(&self, dt: f64) -> (f64, f64) {
-        match self {
-            Integrator::Rk4(_) => (dt, 0.5 * dt * dt),
-            Integrator::Hht(hht) => hht.body_weights(dt),
-        }
+    /// force at the end of the step, per unit of acceleration it causes.
+    fn body_weights(&self, dt: f64) -> (f64, f64);
+    /// The band factor and weights the beam's responses on the nominal
+    /// step are made of, where they are a plain band solve; else None.
+    fn nominal_band_response(&self) -> Option<(&crate::band::BandLdlt, f64, f64)> {
+        None
     }
-
-    /// HHT-α's `Hht::nominal_band_response`: the band factor and weights
-    /// its beam responses on the nominal step are made of; None for RK4.
-    pub fn nominal_band_response(&self) -> Option<(&crate::band::BandLdlt, f64, f64)> {
-        match self {
-            Integrator::Rk4(_) => None,
-            Integrator::Hht(hht) => hht.nominal_band_response(),
-        }
-    }
-
     /// Displacement and velocity of the beam alone after `dt` under a
     /// constant `load`, from rest: the step's response to a unit contact
     /// load, from which the iteration builds its Delassus operator.
-    pub fn beam_response(
+    fn beam_response(
         &mut self,
         system: &System,
         load: &DVector<f64>,
         dt: f64,
         displacement: &mut DVector<f64>,
         velocity: &mut DVector<f64>,
-    ) {
-        match self {
-            Integrator::Rk4(rk4) => rk4.beam_response(system, load, dt, displacement, velocity),
-            Integrator::Hht(hht) => hht.beam_response(system, load, dt, displacement, velocity),
-        }
-    }
+    );
 }
 
 #[cfg(test)]

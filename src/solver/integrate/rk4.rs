@@ -8,7 +8,10 @@
 
 use nalgebra::{DVector, Vector3};
 
-use super::{contact_frames, loads, DynamicState, ForceShape, IntegrationError, StepStart};
+use super::{
+    contact_frames, loads, rk4_step_limit, DynamicState, ForceProfile, ForceShape,
+    IntegrationError, StepStart, TimeIntegrator,
+};
 use crate::band::DENSE_LIMIT;
 use crate::beam::VelocityFreeBand;
 use crate::body::BodyState;
@@ -37,6 +40,67 @@ pub struct Rk4 {
     /// integration of the step): computed at its first, cleared by
     /// `begin_step`.
     start_energy: Option<f64>,
+}
+
+impl TimeIntegrator for Rk4 {
+    const NAME: &'static str = "rk4";
+    const TITLE: &'static str = "explicit RK4";
+    // Each step starts afresh from its start state.
+    const CARRIES_STEP_END: bool = false;
+    const FITS_FORCE_SHAPE: bool = true;
+    // Force elements are evaluated in its stages.
+    const LAGS_FORCE_LAWS: bool = false;
+    const STEPS_TRACK_ON_DECK: bool = false;
+
+    fn build(system: &System, _step: f64, _damping: f64) -> Result<(Rk4, String), String> {
+        let rk4 = Rk4::new(system.beam.coordinates(), system.bodies.len());
+        Ok((rk4, "rk4 (explicit)".to_string()))
+    }
+
+    fn stable_step(system: &System) -> Option<f64> {
+        Some(rk4_step_limit(system))
+    }
+
+    /// Fourth order with the quadratic force profile; the held and linear
+    /// profiles limit it to second (docs/error-estimates.md).
+    fn order(profile: ForceProfile) -> f64 {
+        if profile == ForceProfile::Quadratic {
+            4.0
+        } else {
+            2.0
+        }
+    }
+
+    fn begin_step(&mut self, _system: &System, _dt: f64) -> Result<(), IntegrationError> {
+        Rk4::begin_step(self);
+        Ok(())
+    }
+
+    fn step(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        forces: &[ContactForce],
+        end: &mut DynamicState,
+    ) -> Result<(), IntegrationError> {
+        Rk4::step(self, system, from, forces, end)
+    }
+
+    /// The held force's weights: (Δt, Δt²/2).
+    fn body_weights(&self, dt: f64) -> (f64, f64) {
+        (dt, 0.5 * dt * dt)
+    }
+
+    fn beam_response(
+        &mut self,
+        system: &System,
+        load: &DVector<f64>,
+        dt: f64,
+        displacement: &mut DVector<f64>,
+        velocity: &mut DVector<f64>,
+    ) {
+        Rk4::beam_response(self, system, load, dt, displacement, velocity)
+    }
 }
 
 /// The bodies through the stages: their stage states, the stage's loads
@@ -209,29 +273,55 @@ impl Rk4 {
         band: VelocityFreeBand,
         end: &mut DynamicState,
     ) -> Result<PowerSums, IntegrationError> {
+        let n = stages.from.state.beam_displacement.len();
+        // Out of `self` while the stages borrow it (and back on failure too).
+        let mut paired = (self.paired.take()).unwrap_or_else(|| Box::new(PairedStages::new(n)));
+        let mut sums = PowerSums::default();
+        let solved = self
+            .first_pair(stages, &band, &mut paired, &mut sums, end)
+            .and_then(|()| self.second_pair(stages, &band, &mut paired, &mut sums, end));
+        let beam = &stages.system.beam;
+        let PairedStages { v, loads, .. } = &*paired;
+        let v0 = &stages.from.state.beam_velocity;
+        let velocities = [v0, &v[0], &v[1], &v[2]];
+        if solved.is_ok() {
+            for ((weight, v), f) in WEIGHT.iter().zip(velocities).zip(loads) {
+                sums.beam_dissipation += weight * beam.damping_power(v);
+                sums.beam_load += weight * f.dot(v);
+            }
+        }
+        self.paired = Some(paired);
+        solved.map(|()| sums)
+    }
+
+    /// Stages 0 and 1 of `paired_stages`: their loads, then one paired
+    /// solve for a₀ and a₁, giving v₁, v₂, u₂, u₃ and the sums' first terms.
+    #[inline(always)]
+    fn first_pair(
+        &mut self,
+        stages: &Stages,
+        band: &VelocityFreeBand,
+        paired: &mut PairedStages,
+        sums: &mut PowerSums,
+        end: &mut DynamicState,
+    ) -> Result<(), IntegrationError> {
         let (start, dt) = (stages.from.state, stages.from.dt);
         let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
-        let n = u0.len();
-        let paired = self
-            .paired
-            .get_or_insert_with(|| Box::new(PairedStages::new(n)));
         let PairedStages {
             u: [u1, u2, u3],
-            v: [v1, v2, v3],
-            loads: [f0, f1, f2, f3],
+            v: [v1, v2, _],
+            loads: [f0, f1, _, _],
             scratch,
-        } = &mut **paired;
+        } = paired;
         let bodies = &mut self.bodies;
-        let mut sums = PowerSums::default();
         let (h1, h) = (STAGE_TIME[0] * dt, STAGE_TIME[2] * dt);
         let alpha = band.mass_damping;
-
         let frames = stages.frames(0, u0, bodies, &mut self.frames, end)?;
-        stages.loads(0, (frames, v0), bodies, f0, &mut sums);
+        stages.loads(0, (frames, v0), bodies, f0, sums);
         bodies.advance(&start.bodies, h1);
         set_sum(u1, u0, h1, v0);
         let frames = stages.frames(1, u1, bodies, &mut self.frames, end)?;
-        stages.loads(1, (frames, v0), bodies, f1, &mut sums);
+        stages.loads(1, (frames, v0), bodies, f1, sums);
         bodies.advance(&start.bodies, STAGE_TIME[1] * dt);
         let columns = (
             [u0.as_slice(), u1.as_slice()],
@@ -240,11 +330,7 @@ impl Rk4 {
         let start_rows = u0.as_slice().iter().zip(v0.as_slice());
         let stage_u = u2.as_mut_slice().iter_mut().zip(u3.as_mut_slice());
         let stage_v = v1.as_mut_slice().iter_mut().zip(v2.as_mut_slice());
-        let sums_uv = self
-            .sum_u
-            .as_mut_slice()
-            .iter_mut()
-            .zip(self.sum_v.as_mut_slice());
+        let sums_uv = (self.sum_u.as_mut_slice().iter_mut()).zip(self.sum_v.as_mut_slice());
         let rows = start_rows.zip(stage_u).zip(stage_v).zip(sums_uv);
         band.mass_factor.solve_residual_pair(
             band.stiffness,
@@ -262,16 +348,40 @@ impl Rk4 {
                 *u3 = u0 + h * *v2;
             },
         );
+        Ok(())
+    }
+
+    /// Stages 2 and 3 of `paired_stages`: their loads, then one paired
+    /// solve for a₂ and a₃, giving v₃ and the end of the step.
+    #[inline(always)]
+    fn second_pair(
+        &mut self,
+        stages: &Stages,
+        band: &VelocityFreeBand,
+        paired: &mut PairedStages,
+        sums: &mut PowerSums,
+        end: &mut DynamicState,
+    ) -> Result<(), IntegrationError> {
+        let (start, dt) = (stages.from.state, stages.from.dt);
+        let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
+        let PairedStages {
+            u: [_, u2, u3],
+            v: [_, v2, v3],
+            loads: [_, _, f2, f3],
+            scratch,
+        } = paired;
+        let bodies = &mut self.bodies;
+        let (w, h) = (dt / 6.0, STAGE_TIME[2] * dt);
+        let alpha = band.mass_damping;
         let frames = stages.frames(2, u2, bodies, &mut self.frames, end)?;
-        stages.loads(2, (frames, v0), bodies, f2, &mut sums);
+        stages.loads(2, (frames, v0), bodies, f2, sums);
         bodies.advance(&start.bodies, h);
         let frames = stages.frames(3, u3, bodies, &mut self.frames, end)?;
-        stages.loads(3, (frames, v0), bodies, f3, &mut sums);
+        stages.loads(3, (frames, v0), bodies, f3, sums);
         let columns = (
             [u2.as_slice(), u3.as_slice()],
             [f2.as_slice(), f3.as_slice()],
         );
-        let w = dt / 6.0;
         let start_rows = u0.as_slice().iter().zip(v0.as_slice());
         let stage_v = v2.as_slice().iter().zip(v3.as_mut_slice());
         let sums_uv = self.sum_u.as_slice().iter().zip(self.sum_v.as_slice());
@@ -293,13 +403,7 @@ impl Rk4 {
                 *end_v = v0 + w * sv;
             },
         );
-        let beam = &stages.system.beam;
-        let velocities = [v0, &*v1, &*v2, &*v3];
-        for ((weight, v), f) in WEIGHT.iter().zip(velocities).zip([&*f0, &*f1, &*f2, &*f3]) {
-            sums.beam_dissipation += weight * beam.damping_power(v);
-            sums.beam_load += weight * f.dot(v);
-        }
-        Ok(sums)
+        Ok(())
     }
 
     /// Displacement and velocity of the beam alone after `dt` under a constant
