@@ -123,6 +123,75 @@ impl Rule {
     }
 }
 
+impl Field {
+    /// How many holders of this field `scene` has: the scene itself (one),
+    /// each sensor or each vehicle; none for a row no getter reads.
+    pub fn holders(&self, scene: &Scene) -> usize {
+        match self.access {
+            Access::None => 0,
+            Access::Scene(..) => 1,
+            Access::Sensor(..) => scene.sensors.len(),
+            Access::Vehicle(..) => 1 + scene.vehicles.len(),
+        }
+    }
+
+    /// The value of holder `k` (the scene; sensor `k`; vehicle `k`, see
+    /// `vehicle`), `None` where the holder or its field is absent.
+    pub fn value(&self, scene: &Scene, k: usize) -> Option<f64> {
+        match self.access {
+            Access::None => None,
+            Access::Scene(get, _) => get(scene),
+            Access::Sensor(get, _) => scene.sensors.get(k).and_then(get),
+            Access::Vehicle(get, _) => vehicle(scene, k).and_then(get),
+        }
+    }
+
+    /// Write `x` into holder `k`; false (nothing written) where the holder
+    /// or its field is absent.
+    pub fn set(&self, scene: &mut Scene, k: usize, x: f64) -> bool {
+        if self.value(scene, k).is_none() {
+            return false;
+        }
+        match self.access {
+            Access::None => return false,
+            Access::Scene(_, set) => set(scene, x),
+            Access::Sensor(_, set) => set(&mut scene.sensors[k], x),
+            Access::Vehicle(_, set) => set(vehicle_mut(scene, k).expect("present"), x),
+        }
+        true
+    }
+
+    /// The FMU's name of holder `k`'s value: the path for the scene's own
+    /// fields, `sensor.<name>.<field>` and `<vehicle name>.<field>` for the
+    /// others (what `fmu_name_pattern` writes on the reference page).
+    pub fn fmu_name(&self, scene: &Scene, k: usize) -> String {
+        let rest = |prefix: &str| self.path.strip_prefix(prefix).unwrap_or(self.path);
+        match self.access {
+            Access::Sensor(..) => format!("sensor.{}.{}", scene.sensors[k].name, rest("sensors.")),
+            Access::Vehicle(..) => {
+                let name = vehicle(scene, k).map_or("", |v| v.name.as_str());
+                format!("{name}.{}", rest("body."))
+            }
+            Access::None | Access::Scene(..) => self.path.to_string(),
+        }
+    }
+}
+
+/// Vehicle `k` of `scene` (0: `[body]`, k: `vehicles[k-1]`).
+pub fn vehicle(scene: &Scene, k: usize) -> Option<&BodySpec> {
+    match k {
+        0 => Some(&scene.body),
+        k => scene.vehicles.get(k - 1),
+    }
+}
+
+fn vehicle_mut(scene: &mut Scene, k: usize) -> Option<&mut BodySpec> {
+    match k {
+        0 => Some(&mut scene.body),
+        k => scene.vehicles.get_mut(k - 1),
+    }
+}
+
 /// The row of `path` (`vehicles.*` read as `body.*`).
 pub fn field(path: &str) -> Option<&'static Field> {
     let body_path;
