@@ -805,4 +805,65 @@ mod tests {
             assert!(!names[..i].contains(n), "{n} twice");
         }
     }
+
+    /// Every built-in scene and every scene file shipped in `scenes/` (a
+    /// sprung mass, a maglev vehicle and a train on the rail among them).
+    fn every_shipped_scene() -> Vec<Scene> {
+        let builtins = crate::scene::builtins().iter();
+        let mut scenes: Vec<Scene> = builtins
+            .map(|(name, _)| crate::scene::builtin(name).unwrap())
+            .collect();
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        for file in std::fs::read_dir(dir).unwrap() {
+            let path = file.unwrap().path();
+            scenes.push(Scene::load(path.to_str().unwrap()).unwrap());
+        }
+        scenes
+    }
+
+    /// The field table and the FMU cannot drift apart (issue 23, step 9):
+    /// every parameter of every shipped scene is a row of the table, named,
+    /// in units, described and bounded as the row says (or the train's
+    /// speed, or the FMU's own setting), and every row with a description
+    /// and an access is a parameter of some shipped scene.
+    #[test]
+    fn parameters_are_the_rows_of_the_field_table() {
+        let mut exported = vec![false; FIELDS.len()];
+        for scene in every_shipped_scene() {
+            let t = VariableTable::new(&scene, &[]);
+            for v in t.variables() {
+                let (field, holder) = match v.role {
+                    Role::Parameter(Param::Field { field, holder }) => (field, holder),
+                    Role::Parameter(Param::TrainSpeed) => {
+                        assert_eq!(v.name, "train.initial_speed");
+                        continue;
+                    }
+                    Role::Setting(_) => continue,
+                    Role::Input(_) | Role::Output(_) => {
+                        assert_ne!(v.causality, Causality::Parameter, "{}", v.name);
+                        continue;
+                    }
+                };
+                let f = &FIELDS[field];
+                exported[field] = true;
+                assert_eq!(v.name, f.fmu_name(&scene, holder), "{}", scene.name);
+                assert!(v.name.ends_with(f.path.rsplit('.').next().unwrap()));
+                assert_eq!(v.unit, unit(f.unit), "{}", v.name);
+                assert_eq!(v.description, f.doc, "{}", v.name);
+                let (lo, hi) = f.rule.bounds(scene.track.approach);
+                let bounds = match (v.min, v.max) {
+                    (Some(Value::Real(a)), Some(Value::Real(b))) => (a, b),
+                    (Some(Value::Integer(a)), Some(Value::Integer(b))) => (a.into(), b.into()),
+                    other => panic!("{}: bounds {other:?}", v.name),
+                };
+                assert_eq!(bounds, (lo, hi), "{}", v.name);
+                let start = param_value(&scene, Param::Field { field, holder });
+                assert_eq!(v.start, Some(start), "{}", v.name);
+            }
+        }
+        for (f, seen) in FIELDS.iter().zip(exported) {
+            let documented = !f.doc.is_empty() && !matches!(f.access, Access::None);
+            assert_eq!(seen, documented, "{}: a parameter of some scene", f.path);
+        }
+    }
 }

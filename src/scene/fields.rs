@@ -1546,8 +1546,9 @@ pub fn field_notes_markdown() -> String {
          `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites it. \
          The rules in full are in [Scenes, every field](scenes.md#every-field). \
          A train's `[[vehicles]]` take the fields of `[body]`; the FMU \
-         parameter column names the fields an FMU exports today (of `[body]` \
-         only, [The FMU](fmu.md)).\n\n\
+         parameter column names the parameter an FMU exports for the field \
+         (for every vehicle and every sensor that has it; \
+         [The FMU](fmu-reference.md)).\n\n\
          | table | what it holds |\n|---|---|\n",
     );
     for (path, note) in super::annotate::TABLE_NOTES {
