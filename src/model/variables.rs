@@ -375,7 +375,8 @@ impl Builder<'_> {
     fn scene_params(&mut self) {
         let mut first_vehicle_done = false;
         for (field, f) in FIELDS.iter().enumerate() {
-            if !matches!(f.access, Access::Scene(..) | Access::Sensor(..)) {
+            let scene_row = matches!(f.access, Access::Scene(..) | Access::Sensor(..));
+            if !scene_row || f.doc.is_empty() {
                 continue;
             }
             if !first_vehicle_done && !f.path.starts_with("beam.") {

@@ -66,8 +66,9 @@ pub enum Rule {
     Words,
 }
 
-/// How an FMU reads and writes a numeric field (`None` from the getter:
-/// absent in this scene, so no parameter).
+/// How the table reads and writes a numeric field (`None` from the getter:
+/// absent in this scene): validation checks the rule of every value it
+/// reads, and a row with a `doc` is an FMU parameter.
 #[derive(Debug, Clone, Copy)]
 pub enum Access {
     None,
@@ -247,7 +248,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "m/s^2, downward on every body; 0 in the paper's scenes",
         doc: "",
-        access: Access::None,
+        access: Access::Scene(|s| Some(s.gravity), |s, x| s.gravity = x),
     },
     Field {
         path: "track.approach",
@@ -256,7 +257,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "m, rigid ground before the beam (x < 0)",
         doc: "",
-        access: Access::None,
+        access: Access::Scene(|s| Some(s.track.approach), |s, x| s.track.approach = x),
     },
     Field {
         path: "track.run_off",
@@ -265,7 +266,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "m, rigid ground after the beam (x > L)",
         doc: "",
-        access: Access::None,
+        access: Access::Scene(|s| Some(s.track.run_off), |s, x| s.track.run_off = x),
     },
     Field {
         path: "track.on_deck.preset",
@@ -1578,6 +1579,7 @@ pub fn field_notes_markdown() -> String {
 fn fmu_name_pattern(f: &Field) -> String {
     let rest = |prefix: &str| f.path.strip_prefix(prefix).unwrap_or(f.path);
     match f.access {
+        _ if f.doc.is_empty() && !matches!(f.access, Access::Vehicle(..)) => String::new(),
         Access::None => String::new(),
         Access::Scene(..) => format!("`{}`", f.path),
         // every vehicle's, where it has the field (src/model/variables.rs)
