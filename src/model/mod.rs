@@ -105,6 +105,15 @@ pub struct Snapshot<S> {
     input_history: Option<extrapolate::InputHistory>,
 }
 
+/// What `Model::set` changes, written into the model only once every
+/// value has passed.
+struct Staged {
+    scene: Scene,
+    inputs: Vec<f64>,
+    budget: f64,
+    params_changed: bool,
+}
+
 pub struct Model<D: Dynamics> {
     table: VariableTable,
     start_scene: Scene,
@@ -595,65 +604,74 @@ impl<D: Dynamics> Model<D> {
     /// initialization is left, inputs at any time, outputs never.
     pub fn set(&mut self, vrs: &[u32], values: &[Value]) -> Result<(), ModelError> {
         self.changing();
-        let mut scene = self.scene.clone();
-        let mut inputs = self.inputs.clone();
-        let mut budget = self.wall_time_budget;
-        let mut params_changed = false;
+        let mut staged = Staged {
+            scene: self.scene.clone(),
+            inputs: self.inputs.clone(),
+            budget: self.wall_time_budget,
+            params_changed: false,
+        };
         for (&vr, &value) in vrs.iter().zip(values) {
-            let ty = match value {
-                Value::Real(_) => VarType::Real,
-                Value::Integer(_) => VarType::Integer,
-                Value::Boolean(_) => VarType::Boolean,
-            };
-            let v = self.variable(vr, ty)?;
-            let shown = match value {
-                Value::Real(x) => format!("{x:?}"),
-                Value::Integer(n) => format!("{n}"),
-                Value::Boolean(b) => format!("{b}"),
-            };
-            let refuse = |rule: &str| err(format!("cannot set {} = {shown}: {rule}", v.name));
-            match v.role {
-                Role::Output(_) => return refuse("it is an output"),
-                Role::Parameter(_) | Role::Setting(_) if self.phase == Phase::Running => {
-                    return refuse(
-                        "it is a fixed parameter, settable only before initialization mode is left",
-                    )
-                }
-                Role::Parameter(p) => {
-                    if let Err(rule) = set_param(&mut scene, p, value) {
-                        return refuse(&rule);
-                    }
-                    params_changed = true;
-                }
-                Role::Setting(Setting::WallTimeBudget) => match value {
-                    Value::Real(x) if x.is_finite() && x > 0.0 => budget = x,
-                    _ => return refuse("must be a finite number of seconds > 0"),
-                },
-                // The scene's rule for the same forces (body.force_x/_y).
-                Role::Input(i) => match value {
-                    Value::Real(x) if x.abs() <= MAX_MAGNITUDE => inputs[i.index()] = x,
-                    _ => {
-                        return refuse(&format!(
-                            "must be finite and within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
-                        ))
-                    }
-                },
-            }
+            self.stage(vr, value, &mut staged)?;
         }
         // Only the body forces (inputs 0 and 1) go into the build of the
         // state at t = 0 (`ensure_sim`); coupling loads are applied to it
         // (its contacts carrying them: `Simulation::set_coupling_loads`).
-        let build_inputs_changed = inputs[..2] != self.inputs[..2];
-        self.scene = scene;
-        self.inputs = inputs;
-        self.wall_time_budget = budget;
+        let build_inputs_changed = staged.inputs[..2] != self.inputs[..2];
+        self.scene = staged.scene;
+        self.inputs = staged.inputs;
+        self.wall_time_budget = staged.budget;
         // Before initialization is left the state at t = 0 follows the
         // parameters and the body forces: rebuild it on demand.
-        if params_changed || (build_inputs_changed && self.phase == Phase::Configuring) {
+        if staged.params_changed || (build_inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
             apply_inputs(sim, &self.inputs);
             self.loads_ramped = false;
+        }
+        Ok(())
+    }
+
+    /// Check `value` for variable `vr` and write it into `staged`, or
+    /// refuse naming the variable, the value and the rule.
+    fn stage(&self, vr: u32, value: Value, staged: &mut Staged) -> Result<(), ModelError> {
+        let ty = match value {
+            Value::Real(_) => VarType::Real,
+            Value::Integer(_) => VarType::Integer,
+            Value::Boolean(_) => VarType::Boolean,
+        };
+        let v = self.variable(vr, ty)?;
+        let shown = match value {
+            Value::Real(x) => format!("{x:?}"),
+            Value::Integer(n) => format!("{n}"),
+            Value::Boolean(b) => format!("{b}"),
+        };
+        let refuse = |rule: &str| err(format!("cannot set {} = {shown}: {rule}", v.name));
+        match v.role {
+            Role::Output(_) => return refuse("it is an output"),
+            Role::Parameter(_) | Role::Setting(_) if self.phase == Phase::Running => {
+                return refuse(
+                    "it is a fixed parameter, settable only before initialization mode is left",
+                )
+            }
+            Role::Parameter(p) => {
+                if let Err(rule) = set_param(&mut staged.scene, p, value) {
+                    return refuse(&rule);
+                }
+                staged.params_changed = true;
+            }
+            Role::Setting(Setting::WallTimeBudget) => match value {
+                Value::Real(x) if x.is_finite() && x > 0.0 => staged.budget = x,
+                _ => return refuse("must be a finite number of seconds > 0"),
+            },
+            // The scene's rule for the same forces (body.force_x/_y).
+            Role::Input(i) => match value {
+                Value::Real(x) if x.abs() <= MAX_MAGNITUDE => staged.inputs[i.index()] = x,
+                _ => {
+                    return refuse(&format!(
+                        "must be finite and within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
+                    ))
+                }
+            },
         }
         Ok(())
     }

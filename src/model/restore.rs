@@ -2,7 +2,7 @@
 //! state: checked to be a state of this model before anything is built from
 //! it, and all or nothing.
 
-use crate::scene::MAX_MAGNITUDE;
+use crate::scene::{Scene, MAX_MAGNITUDE};
 
 use super::{
     apply_inputs, err, first_non_finite, param_value, set_param, validate, Dynamics, Model,
@@ -16,53 +16,13 @@ impl<D: Dynamics> Model<D> {
     /// rule (checked before any vector is sized by them), the whole scene
     /// valid once running; finite inputs and times.
     pub fn check_snapshot(&self, snap: &Snapshot<D::State>) -> Result<(), ModelError> {
-        let theirs = &snap.scene;
         let refuse = |why: String| err(format!("the state does not fit this model: {why}"));
-        if theirs.sensors.len() != self.start_scene.sensors.len() {
-            return refuse(format!(
-                "it has {} sensors, this model {}",
-                theirs.sensors.len(),
-                self.start_scene.sensors.len()
-            ));
-        }
-        let mut mine = self.start_scene.clone();
-        for v in self.table.variables() {
-            if let Role::Parameter(p) = v.role {
-                let value = param_value(theirs, p);
-                if let Err(rule) = set_param(&mut mine, p, value) {
-                    return refuse(format!("{} = {value:?}: {rule}", v.name));
-                }
-            }
-        }
-        if mine != *theirs {
-            return refuse("its scene differs from this model's in more than parameters".into());
-        }
+        self.scene_fits(&snap.scene).or_else(refuse)?;
         if snap.phase == Phase::Running {
-            validate(theirs)
+            validate(&snap.scene)
                 .map_err(|e| ModelError(format!("the state's scene is invalid: {e}")))?;
         }
-        if snap.inputs.len() != self.inputs.len() {
-            return refuse(format!(
-                "it has {} inputs, this model {}",
-                snap.inputs.len(),
-                self.inputs.len()
-            ));
-        }
-        if !snap.start_time.is_finite() {
-            return refuse("its start time is not finite".into());
-        }
-        // The rule fmi2SetReal applies to an input: a state must not carry
-        // in what the setter refuses.
-        if let Some((i, x)) = (snap.inputs.iter().enumerate())
-            .find(|(_, x)| !(x.is_finite() && x.abs() <= MAX_MAGNITUDE))
-        {
-            return refuse(format!(
-                "its input {i} = {x:e} is not finite or not within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
-            ));
-        }
-        if let Some(history) = &snap.input_history {
-            history.check(self.inputs.len()).or_else(refuse)?;
-        }
+        self.inputs_fit(snap).or_else(refuse)?;
         if (snap.phase == Phase::Running) != snap.sim.is_some() {
             return refuse(format!(
                 "phase {:?} with the dynamics' state {}",
@@ -73,6 +33,59 @@ impl<D: Dynamics> Model<D> {
                     "missing"
                 }
             ));
+        }
+        Ok(())
+    }
+
+    /// Whether `theirs` is this model's scene with at most the parameters
+    /// changed, each within its rule; else why not.
+    fn scene_fits(&self, theirs: &Scene) -> Result<(), String> {
+        if theirs.sensors.len() != self.start_scene.sensors.len() {
+            return Err(format!(
+                "it has {} sensors, this model {}",
+                theirs.sensors.len(),
+                self.start_scene.sensors.len()
+            ));
+        }
+        let mut mine = self.start_scene.clone();
+        for v in self.table.variables() {
+            if let Role::Parameter(p) = v.role {
+                let value = param_value(theirs, p);
+                if let Err(rule) = set_param(&mut mine, p, value) {
+                    return Err(format!("{} = {value:?}: {rule}", v.name));
+                }
+            }
+        }
+        if mine != *theirs {
+            return Err("its scene differs from this model's in more than parameters".into());
+        }
+        Ok(())
+    }
+
+    /// Whether the snapshot's inputs, their history and its start time are
+    /// what the setters would accept; else why not.
+    fn inputs_fit(&self, snap: &Snapshot<D::State>) -> Result<(), String> {
+        if snap.inputs.len() != self.inputs.len() {
+            return Err(format!(
+                "it has {} inputs, this model {}",
+                snap.inputs.len(),
+                self.inputs.len()
+            ));
+        }
+        if !snap.start_time.is_finite() {
+            return Err("its start time is not finite".into());
+        }
+        // The rule fmi2SetReal applies to an input: a state must not carry
+        // in what the setter refuses.
+        if let Some((i, x)) = (snap.inputs.iter().enumerate())
+            .find(|(_, x)| !(x.is_finite() && x.abs() <= MAX_MAGNITUDE))
+        {
+            return Err(format!(
+                "its input {i} = {x:e} is not finite or not within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
+            ));
+        }
+        if let Some(history) = &snap.input_history {
+            history.check(self.inputs.len())?;
         }
         Ok(())
     }

@@ -2,12 +2,14 @@
 //! before anything runs, the advance under the wall-time budget, roll-back
 //! and the classification of failures (see `advance`).
 
+use super::estimate::Estimator;
 use super::extrapolate::{InputHistory, Ramp};
 use super::{
     advance, apply_inputs, err, DiscardedStep, Dynamics, Model, ModelError, Phase, StepOutcome,
     MAX_INTERNAL_STEPS_PER_CALL, MAX_RUN_STEPS,
 };
 use crate::outputs::non_finite_output;
+use crate::scene::Scene;
 use crate::simulation::Advance;
 
 impl<D: Dynamics> Model<D> {
@@ -204,76 +206,120 @@ impl<D: Dynamics> Model<D> {
             self.rollback.invalidate();
         }
         let (saved, next) = self.rollback.start(sim);
-        let rolled_back = || format!("step rolled back to t = {now} s");
         let target = snap_to_grid(to - t0, step);
         let started = std::time::Instant::now();
         let advanced =
             advance::advance_within(sim, target, step, budget, (until_event, ramp.as_ref()));
-        let mut ended_at_event = false;
-        let outcome = match advanced {
-            Ok((Advance::Reached, at_event)) => {
-                ended_at_event = at_event;
-                StepOutcome::Completed
-            }
-            Ok((Advance::Exited { time }, _)) => StepOutcome::Exited { time: t0 + time },
-            Err(advance::Stop::Solver(e)) => {
-                let (curable, cure) = match advance::curable(sim, start, saved, probe) {
-                    Ok(m) => (true, m),
-                    Err(m) => (false, m),
-                };
-                StepOutcome::Failed {
-                    message: format!("solver failed {e}; {}; {cure}", rolled_back()),
-                    curable,
-                }
-            }
-            Err(advance::Stop::OverBudget { reached, foreseen }) => {
-                let budget = (budget, step);
-                over_budget(budget, (start, reached, foreseen), (t0, to), &rolled_back())
-            }
-        };
-        let outcome = match (outcome, self.estimator.as_mut()) {
-            (StepOutcome::Completed, Some(estimator)) => {
-                // (what the main run left of the budget; none left is 0,
-                // not the unbounded budget a negative one would read as)
-                let left = (budget - started.elapsed().as_secs_f64()).max(0.0);
-                let span = (sim.time(), step, left);
-                match estimator.estimate(&self.scene, sim, saved, span, start) {
-                    Ok(()) => StepOutcome::Completed,
-                    Err(problem) => StepOutcome::Failed {
-                        message: format!("{problem}; {}", rolled_back()),
-                        curable: true,
-                    },
-                }
-            }
-            (outcome, _) => outcome,
-        };
-        let (outcome, outputs) = check_reached(sim, outcome, t0, rolled_back, spare, next);
-        let outputs = match (outputs, &self.estimator) {
-            (Some(mut values), Some(estimator)) => {
-                values.extend_from_slice(estimator.values());
-                Some(values)
-            }
-            (outputs, _) => outputs,
-        };
+        let ended_at_event = matches!(advanced, Ok((Advance::Reached, true)));
+        let span = (start, probe, now);
+        let outcome = classify(advanced, (sim, saved), span, (budget, step), (t0, to));
+        // (what the main run left of the budget; none left is 0, not the
+        // unbounded budget a negative one would read as)
+        let left = (budget - started.elapsed().as_secs_f64()).max(0.0);
+        let estimator = self.estimator.as_mut();
+        let span = (start, step, left, now);
+        let outcome = estimated(outcome, estimator, &self.scene, (sim, saved), span);
+        let (outcome, outputs) = check_reached(sim, outcome, t0, || rolled_back(now), spare, next);
+        let outputs = outputs.map(|values| with_estimates(values, self.estimator.as_ref()));
         self.ended_at_event = ended_at_event && outcome == StepOutcome::Completed;
         if let StepOutcome::Failed { .. } = outcome {
             sim.restore(saved)
                 .map_err(|e| ModelError(format!("cannot roll back the failed step: {e}")))?;
             self.rollback.restored();
         } else {
-            self.rollback.completed();
-            self.loads_ramped = ramp.is_some();
-            self.input_history = Some(InputHistory {
-                time: now,
-                values: self.inputs.clone(),
-            });
-            self.input_derivatives.clear();
+            self.completed(now, ramp.is_some());
         }
         // (Of the table's length: otherwise the getters' own check speaks.)
         let outputs_in_table = self.output_count;
         self.outputs_now = outputs.filter(|v| v.len() == outputs_in_table);
         Ok(outcome)
     }
+
+    /// Keep a completed step (from communication time `now`; `ramped`:
+    /// under a ramp of the inputs): its roll-back copy, and the inputs as
+    /// the next step's history.
+    fn completed(&mut self, now: f64, ramped: bool) {
+        self.rollback.completed();
+        self.loads_ramped = ramped;
+        self.input_history = Some(InputHistory {
+            time: now,
+            values: self.inputs.clone(),
+        });
+        self.input_derivatives.clear();
+    }
+}
+
+/// What the step's advance came to: completed, exited, or failed (a solver
+/// failure asks `curable` whether a shorter step gets further, probing from
+/// `start` by `probe`; an overrun of the budget says what to change; `now`:
+/// the communication time the step began at).
+fn classify<D: Dynamics>(
+    advanced: Result<(Advance, bool), advance::Stop>,
+    (sim, saved): (&mut D, &D::State),
+    (start, probe, now): (f64, f64, f64),
+    (budget, step): (f64, f64),
+    (t0, to): (f64, f64),
+) -> StepOutcome {
+    match advanced {
+        Ok((Advance::Reached, _)) => StepOutcome::Completed,
+        Ok((Advance::Exited { time }, _)) => StepOutcome::Exited { time: t0 + time },
+        Err(advance::Stop::Solver(e)) => {
+            let (curable, cure) = match advance::curable(sim, start, saved, probe) {
+                Ok(m) => (true, m),
+                Err(m) => (false, m),
+            };
+            StepOutcome::Failed {
+                message: format!("solver failed {e}; {}; {cure}", rolled_back(now)),
+                curable,
+            }
+        }
+        Err(advance::Stop::OverBudget { reached, foreseen }) => {
+            let budget = (budget, step);
+            over_budget(
+                budget,
+                (start, reached, foreseen),
+                (t0, to),
+                &rolled_back(now),
+            )
+        }
+    }
+}
+
+/// A completed step with its error estimated, when the scene asks for an
+/// estimate: failed (curable) where no companion could run it. `span`: the
+/// step's start (dynamics time), the internal step, the wall time left and
+/// the communication time the step began at.
+fn estimated<D: Dynamics>(
+    outcome: StepOutcome,
+    estimator: Option<&mut Estimator<D>>,
+    scene: &Scene,
+    (sim, saved): (&D, &D::State),
+    (start, step, left, now): (f64, f64, f64, f64),
+) -> StepOutcome {
+    let (StepOutcome::Completed, Some(estimator)) = (&outcome, estimator) else {
+        return outcome;
+    };
+    let span = (sim.time(), step, left);
+    match estimator.estimate(scene, sim, saved, span, start) {
+        Ok(()) => StepOutcome::Completed,
+        Err(problem) => StepOutcome::Failed {
+            message: format!("{problem}; {}", rolled_back(now)),
+            curable: true,
+        },
+    }
+}
+
+/// The outputs followed by the error estimates, if any.
+fn with_estimates<D: Dynamics>(mut values: Vec<f64>, estimator: Option<&Estimator<D>>) -> Vec<f64> {
+    if let Some(estimator) = estimator {
+        values.extend_from_slice(estimator.values());
+    }
+    values
+}
+
+/// The words of a roll-back to communication time `now`.
+fn rolled_back(now: f64) -> String {
+    format!("step rolled back to t = {now} s")
 }
 
 /// A step stopped by `solver.wall_time_budget` (`budget`: the budget and

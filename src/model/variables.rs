@@ -5,8 +5,8 @@
 //! One table feeds modelDescription.xml, the getters and setters and the
 //! FMU's documentation page, so they cannot disagree.
 
-use crate::scene::fields::{self, Access, FIELDS};
-use crate::scene::{BodySpec, Scene, MAX_MAGNITUDE, MIN_MAGNITUDE};
+use crate::scene::fields::{self, Access, Field, Rule, FIELDS};
+use crate::scene::{BodyKind, Scene, MAX_MAGNITUDE};
 use crate::simulation::{OutputInfo, OutputKind};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -63,23 +63,13 @@ impl VarType {
 /// A scene value that is exported as a parameter.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Param {
-    BeamLength,
-    BeamMassPerLength,
-    BeamBendingStiffness,
-    BeamSurfaceOffset,
-    BeamElements,
-    /// Row `field` of the scene's field table (`scene::fields::FIELDS`, a
-    /// `body.*` row) of vehicle `vehicle` (0: `[body]`, k: `vehicles[k-1]`).
-    Vehicle {
-        vehicle: usize,
-        field: usize,
-    },
-    /// The initial speed of every vehicle at once (a train's speed).
+    /// Row `field` of the scene's field table (`scene::fields::FIELDS`) of
+    /// holder `holder`: the scene itself, sensor `holder` or vehicle
+    /// `holder` (0: `[body]`, k: `vehicles[k-1]`), as the row's access says.
+    Field { field: usize, holder: usize },
+    /// The initial speed of every vehicle at once (a train's speed; no
+    /// field of the scene file, so no row of the table).
     TrainSpeed,
-    SensorPosition(usize),
-    SolverStep,
-    SolverVelocityTolerance,
-    SolverGapTolerance,
 }
 
 /// Which input a variable is.
@@ -182,157 +172,48 @@ pub struct VariableTable {
 }
 
 impl VariableTable {
-    /// Build the table of `scene`, whose simulation has `outputs`.
+    /// Build the table of `scene`, whose simulation has `outputs`: the
+    /// parameters of the field table, the train's speed, the inputs, the
+    /// outputs and the FMU's own setting, in the order of their value
+    /// references (which are a public interface: keep them).
     pub fn new(scene: &Scene, outputs: &[OutputInfo]) -> VariableTable {
         let mut b = Builder {
             vars: Vec::new(),
             scene,
         };
-        let body = &scene.body.name;
-
-        use Param::*;
-        b.param("beam.length", BeamLength, "m", "length of the beam");
-        b.param(
-            "beam.mass_per_length",
-            BeamMassPerLength,
-            "kg/m",
-            "mass per unit length",
-        );
-        b.param(
-            "beam.bending_stiffness",
-            BeamBendingStiffness,
-            "N.m2",
-            "bending stiffness EI",
-        );
-        b.param(
-            "beam.surface_offset",
-            BeamSurfaceOffset,
-            "m",
-            "distance from the neutral axis to the top surface",
-        );
-        b.param(
-            "beam.elements",
-            BeamElements,
-            "",
-            "number of Hermite cubic beam elements",
-        );
-        // The first vehicle's basic fields keep their place (and value
-        // references); every other numeric field of every vehicle follows
-        // the solver's parameters.
-        b.vehicle_params(0, |path| FMU_FIRST_FIELDS.contains(&path));
-        for (i, s) in scene.sensors.iter().enumerate() {
-            b.param(
-                &format!("sensor.{}.position", s.name),
-                SensorPosition(i),
-                "m",
-                "abscissa of the sensor along the beam",
-            );
-        }
-        b.param("solver.step", SolverStep, "s", "fixed internal time step");
-        // (moving forces have no contact iteration to tolerate errors of)
-        if !crate::moving_load::is_moving_force_scene(scene) {
-            b.param(
-                "solver.velocity_tolerance",
-                SolverVelocityTolerance,
-                "m/s",
-                "tolerance on the velocity error |e|",
-            );
-            b.param(
-                "solver.gap_tolerance",
-                SolverGapTolerance,
-                "m",
-                "tolerance on the gap error |g|",
-            );
-        }
-
+        b.scene_params();
         if !scene.vehicles.is_empty() {
-            b.param(
-                "train.initial_speed",
-                TrainSpeed,
-                "m/s",
-                "initial travel speed of every vehicle at once (each vehicle's own \
-                 initial_speed, set after it, overrides it)",
-            );
+            b.train_speed();
         }
         for vehicle in 0..=scene.vehicles.len() {
             b.vehicle_params(vehicle, |path| {
                 vehicle > 0 || !FMU_FIRST_FIELDS.contains(&path)
             });
         }
-
         // Moving forces are prescribed (their magnitude is the vehicle's
         // weight or train's axle loads): there is no body to push.
         if !crate::moving_load::is_moving_force_scene(scene) {
-            b.input(
-                &format!("{body}.force_x"),
-                Input::ForceX,
-                "horizontal force on the body's centre",
-            );
-            b.input(
-                &format!("{body}.force_y"),
-                Input::ForceY,
-                "vertical force on the body's centre",
-            );
+            b.body_force_inputs();
         }
-
         for (port, name) in scene.couplings.iter().enumerate() {
             let turns = outputs
                 .iter()
                 .any(|o| o.name == format!("{name}.angular_velocity"));
             b.coupling_inputs(name, port, turns);
         }
-
-        for (i, o) in outputs.iter().enumerate() {
-            let (ty, variability) = match o.kind {
-                OutputKind::Real => (VarType::Real, Variability::Continuous),
-                OutputKind::Integer => (VarType::Integer, Variability::Discrete),
-            };
-            b.push(Variable {
-                name: o.name.clone(),
-                value_reference: 0,
-                causality: Causality::Output,
-                variability,
-                ty,
-                unit: unit(o.unit),
-                description: o.description.clone(),
-                start: None,
-                role: Role::Output(i),
-                display_unit: display_unit(&o.name, o.unit),
-                min: None,
-                max: None,
-                nominal: None,
-                // A co-simulation output is the state at the communication
-                // point: an input set there acts over the next step only.
-                dependencies: Some(Vec::new()),
-                initial_dependencies: None,
-            });
-        }
-
-        // Last, so that the value references of the scene's variables do not
-        // depend on it.
-        b.push(Variable {
-            name: "solver.wall_time_budget".into(),
-            value_reference: 0,
-            causality: Causality::Parameter,
-            variability: Variability::Fixed,
-            ty: VarType::Real,
-            unit: unit("s"),
-            description: "wall-clock time one fmi2DoStep may take; beyond it the step is rolled \
-                          back and discarded"
-                .into(),
-            start: Some(Value::Real(crate::model::DEFAULT_WALL_TIME_BUDGET)),
-            role: Role::Setting(Setting::WallTimeBudget),
-            display_unit: None,
-            // "> 0", as Model::set checks it
-            min: Some(Value::Real(f64::from_bits(1))),
-            max: None,
-            nominal: None,
-            dependencies: None,
-            initial_dependencies: None,
-        });
-
+        b.outputs(outputs);
+        // Last, so that the value references of the scene's variables do
+        // not depend on it.
+        b.wall_time_budget();
         let mut table = VariableTable { variables: b.vars };
-        for v in &mut table.variables {
+        table.set_starts(scene);
+        table
+    }
+
+    /// Start values (parameters, inputs) from `scene`, and the nominal
+    /// magnitudes of the Reals among them.
+    fn set_starts(&mut self, scene: &Scene) {
+        for v in &mut self.variables {
             if let Role::Parameter(p) = v.role {
                 v.start = Some(param_value(scene, p));
             }
@@ -343,7 +224,6 @@ impl VariableTable {
                 v.nominal = nominal(x);
             }
         }
-        table
     }
 
     /// Declare the nominal magnitudes of the outputs from their values at
@@ -438,98 +318,6 @@ fn nominal(x: f64) -> Option<f64> {
     (p.is_finite() && p > 0.0).then_some(p)
 }
 
-/// The rule a parameter's value must satisfy; also its declared bounds.
-#[derive(Debug, Clone, Copy, PartialEq)]
-enum Rule {
-    /// Real, > 0.
-    Positive,
-    /// Real, >= 0.
-    NonNegative,
-    /// Real, any finite value.
-    Finite,
-    /// Integer in the inclusive range.
-    Count(i32, i32),
-    /// Real, >= the bound (a start on the approach: -track.approach).
-    AtLeast(f64),
-    /// Real, within the inclusive range.
-    Between(f64, f64),
-}
-
-/// The rule of `p` in `scene` (some bounds come from fields that are no
-/// parameters, such as the approach's length).
-fn rule(p: Param, scene: &Scene) -> Rule {
-    use Param::*;
-    match p {
-        BeamElements => Rule::Count(1, MAX_ELEMENTS),
-        Vehicle { field, .. } => table_rule(FIELDS[field].rule, scene),
-        BeamSurfaceOffset | SensorPosition(_) => Rule::NonNegative,
-        TrainSpeed => Rule::Finite,
-        BeamLength
-        | BeamMassPerLength
-        | BeamBendingStiffness
-        | SolverStep
-        | SolverVelocityTolerance
-        | SolverGapTolerance => Rule::Positive,
-    }
-}
-
-/// The FMU's rule for a field-table rule (`Words` and `Elements` rows are
-/// no vehicle parameters).
-fn table_rule(rule: fields::Rule, scene: &Scene) -> Rule {
-    match rule {
-        fields::Rule::Positive => Rule::Positive,
-        fields::Rule::NonNegative => Rule::NonNegative,
-        fields::Rule::UnitInterval => Rule::Between(0.0, 1.0),
-        fields::Rule::OnTrack => Rule::AtLeast(-scene.track.approach),
-        fields::Rule::Finite | fields::Rule::Words | fields::Rule::Elements => Rule::Finite,
-    }
-}
-
-impl Rule {
-    /// Inclusive (min, max) in FMI terms, with the scene's magnitude rule
-    /// (|x| <= MAX_MAGNITUDE, and >= MIN_MAGNITUDE where it must be > 0),
-    /// so that every value within the declared bounds passes.
-    fn bounds(self) -> (Option<Value>, Option<Value>) {
-        let real = |lo: f64| (Some(Value::Real(lo)), Some(Value::Real(MAX_MAGNITUDE)));
-        match self {
-            Rule::Positive => real(MIN_MAGNITUDE),
-            Rule::NonNegative => real(0.0),
-            Rule::Finite => real(-MAX_MAGNITUDE),
-            Rule::AtLeast(lo) => real(lo.max(-MAX_MAGNITUDE)),
-            Rule::Between(lo, hi) => (Some(Value::Real(lo)), Some(Value::Real(hi))),
-            Rule::Count(lo, hi) => (Some(Value::Integer(lo)), Some(Value::Integer(hi))),
-        }
-    }
-
-    /// `value` if it passes, else the rule in words.
-    fn check(self, value: Value) -> Result<Value, String> {
-        match (self, value) {
-            (Rule::Count(lo, hi), Value::Integer(n)) if (lo..=hi).contains(&n) => Ok(value),
-            (Rule::Count(lo, hi), Value::Integer(_)) => {
-                Err(format!("must be an integer in {lo}..={hi}"))
-            }
-            (Rule::Count(..), _) => Err("must be an Integer".into()),
-            (_, Value::Real(x)) if !x.is_finite() => Err("must be finite".into()),
-            (Rule::Positive, Value::Real(x)) if x <= 0.0 => Err("must be > 0".into()),
-            (Rule::NonNegative, Value::Real(x)) if x < 0.0 => Err("must be >= 0".into()),
-            (Rule::AtLeast(lo), Value::Real(x)) if x < lo => Err(format!(
-                "must be >= {lo} (-track.approach: the start of the track)"
-            )),
-            (Rule::Between(lo, hi), Value::Real(x)) if !(lo..=hi).contains(&x) => {
-                Err(format!("must lie in [{lo}, {hi}]"))
-            }
-            (Rule::Positive, Value::Real(x)) if x < MIN_MAGNITUDE => Err(format!(
-                "must be >= {MIN_MAGNITUDE:e} (the magnitude limit)"
-            )),
-            (_, Value::Real(x)) if x.abs() > MAX_MAGNITUDE => Err(format!(
-                "must be within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
-            )),
-            (_, Value::Real(_)) => Ok(value),
-            _ => Err("must be a Real".into()),
-        }
-    }
-}
-
 struct Builder<'a> {
     vars: Vec<Variable>,
     /// The scene whose variables these are (some rules depend on it).
@@ -541,13 +329,19 @@ impl Builder<'_> {
         v.value_reference = self.vars.len() as u32;
         self.vars.push(v);
     }
-    fn param(&mut self, name: &str, p: Param, u: &str, description: &str) {
-        let ty = if p == Param::BeamElements {
-            VarType::Integer
-        } else {
-            VarType::Real
+
+    /// A parameter named `name` under rule `rule` (Integer under
+    /// `Rule::Elements`, Real otherwise; bounds: the rule's).
+    fn param(&mut self, name: &str, p: Param, rule: Rule, u: &str, description: &str) {
+        let (lo, hi) = rule.bounds(self.scene.track.approach);
+        let (ty, min, max) = match rule {
+            Rule::Elements => (
+                VarType::Integer,
+                Value::Integer(lo as i32),
+                Value::Integer(hi as i32),
+            ),
+            _ => (VarType::Real, Value::Real(lo), Value::Real(hi)),
         };
-        let (min, max) = rule(p, self.scene).bounds();
         self.push(Variable {
             name: name.to_string(),
             value_reference: 0,
@@ -559,39 +353,80 @@ impl Builder<'_> {
             start: None,
             role: Role::Parameter(p),
             display_unit: display_unit(name, u),
-            min,
-            max,
+            min: Some(min),
+            max: Some(max),
             nominal: None,
             dependencies: None,
             initial_dependencies: None,
         });
     }
-    /// Vehicle `k`'s numeric fields of the field table (those it has, with
-    /// an FMU description) whose path after `body.` passes `which`: in the
-    /// order of `FMU_FIRST_FIELDS` first, then the table's.
+
+    /// Holder `holder` of table row `field` as a parameter.
+    fn field_param(&mut self, field: usize, holder: usize) {
+        let f = &FIELDS[field];
+        let name = f.fmu_name(self.scene, holder);
+        let p = Param::Field { field, holder };
+        self.param(&name, p, f.rule, f.unit, f.doc);
+    }
+
+    /// The scene's own and its sensors' rows, in the table's order, each
+    /// for every holder it exports; the first vehicle's basic fields come
+    /// right after the beam's (their value references predate the table).
+    fn scene_params(&mut self) {
+        let mut first_vehicle_done = false;
+        for (field, f) in FIELDS.iter().enumerate() {
+            let scene_row = matches!(f.access, Access::Scene(..) | Access::Sensor(..));
+            if !scene_row || f.doc.is_empty() {
+                continue;
+            }
+            if !first_vehicle_done && !f.path.starts_with("beam.") {
+                self.vehicle_params(0, |path| FMU_FIRST_FIELDS.contains(&path));
+                first_vehicle_done = true;
+            }
+            for holder in 0..f.holders(self.scene) {
+                if exported(self.scene, f, holder) {
+                    self.field_param(field, holder);
+                }
+            }
+        }
+    }
+
+    /// Vehicle `k`'s exported fields whose path after `body.` passes
+    /// `which`: in the order of `FMU_FIRST_FIELDS` first, then the table's.
     fn vehicle_params(&mut self, k: usize, which: impl Fn(&str) -> bool) {
-        let Some(spec) = vehicle_spec(self.scene, k) else {
-            return;
-        };
         let rows = FIELDS.iter().enumerate().filter_map(|(i, f)| {
             let rest = f.path.strip_prefix("body.")?;
-            let Access::Vehicle(get, _) = f.access else {
-                return None;
-            };
-            let applies = applies_to(spec, rest);
-            (!f.doc.is_empty() && get(spec).is_some() && which(rest) && applies)
-                .then_some((i, rest))
+            let vehicle_row = matches!(f.access, Access::Vehicle(..));
+            (vehicle_row && which(rest) && exported(self.scene, f, k)).then_some((i, rest))
         });
         let mut rows: Vec<(usize, &str)> = rows.collect();
         let first = |rest: &str| FMU_FIRST_FIELDS.iter().position(|&p| p == rest);
         rows.sort_by_key(|&(i, rest)| (first(rest).unwrap_or(usize::MAX), i));
-        let name = spec.name.clone();
-        for (field, rest) in rows {
-            let f = &FIELDS[field];
-            let p = Param::Vehicle { vehicle: k, field };
-            self.param(&format!("{name}.{rest}"), p, f.unit, f.doc);
+        for (field, _) in rows {
+            self.field_param(field, k);
         }
     }
+
+    fn train_speed(&mut self) {
+        self.param(
+            "train.initial_speed",
+            Param::TrainSpeed,
+            Rule::Finite,
+            "m/s",
+            "initial travel speed of every vehicle at once (each vehicle's own \
+             initial_speed, set after it, overrides it)",
+        );
+    }
+
+    /// The applied force on `[body]`'s centre (its `force_x`, `force_y`).
+    fn body_force_inputs(&mut self) {
+        let body = &self.scene.body.name;
+        let x = format!("{body}.force_x");
+        let y = format!("{body}.force_y");
+        self.input(&x, Input::ForceX, "horizontal force on the body's centre");
+        self.input(&y, Input::ForceY, "vertical force on the body's centre");
+    }
+
     /// The coupling port's inputs on body `name`: the force, and the
     /// moment on a body that turns.
     fn coupling_inputs(&mut self, name: &str, port: usize, turns: bool) {
@@ -611,6 +446,7 @@ impl Builder<'_> {
             v.display_unit = display_unit(&name, u);
         }
     }
+
     fn input(&mut self, name: &str, i: Input, description: &str) {
         self.push(Variable {
             name: name.to_string(),
@@ -631,96 +467,131 @@ impl Builder<'_> {
             initial_dependencies: None,
         });
     }
-}
 
-/// Current value of a parameter in `scene`.
-pub fn param_value(scene: &Scene, p: Param) -> Value {
-    use Param::*;
-    let r = match p {
-        BeamLength => scene.beam.length,
-        BeamMassPerLength => scene.beam.mass_per_length,
-        BeamBendingStiffness => scene.beam.bending_stiffness,
-        BeamSurfaceOffset => scene.beam.surface_offset,
-        BeamElements => return Value::Integer(scene.beam.elements.min(i32::MAX as usize) as i32),
-        Vehicle { vehicle, field } => match (FIELDS[field].access, vehicle_spec(scene, vehicle)) {
-            (Access::Vehicle(get, _), Some(spec)) => get(spec).unwrap_or(0.0),
-            _ => 0.0,
-        },
-        TrainSpeed => scene.body.initial_speed,
-        SensorPosition(i) => scene.sensors[i].position,
-        SolverStep => scene.solver.step,
-        SolverVelocityTolerance => scene.solver.velocity_tolerance,
-        SolverGapTolerance => scene.solver.gap_tolerance,
-    };
-    Value::Real(r)
-}
-
-/// Check `value` against the rule of parameter `p`, then write it into
-/// `scene`. On error the scene is unchanged and the message states the rule.
-pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String> {
-    use Param::*;
-    let x = match rule(p, scene).check(value)? {
-        Value::Integer(n) => {
-            // Only `beam.elements` is an Integer, and its rule keeps n >= 1.
-            scene.beam.elements = n as usize;
-            return Ok(());
+    /// Every output of the simulation, in its order.
+    fn outputs(&mut self, outputs: &[OutputInfo]) {
+        for (i, o) in outputs.iter().enumerate() {
+            let (ty, variability) = match o.kind {
+                OutputKind::Real => (VarType::Real, Variability::Continuous),
+                OutputKind::Integer => (VarType::Integer, Variability::Discrete),
+            };
+            self.push(Variable {
+                name: o.name.clone(),
+                value_reference: 0,
+                causality: Causality::Output,
+                variability,
+                ty,
+                unit: unit(o.unit),
+                description: o.description.clone(),
+                start: None,
+                role: Role::Output(i),
+                display_unit: display_unit(&o.name, o.unit),
+                min: None,
+                max: None,
+                nominal: None,
+                // A co-simulation output is the state at the communication
+                // point: an input set there acts over the next step only.
+                dependencies: Some(Vec::new()),
+                initial_dependencies: None,
+            });
         }
-        Value::Real(x) => x,
-        Value::Boolean(_) => return Err("must be a Real".into()),
-    };
+    }
+
+    fn wall_time_budget(&mut self) {
+        self.push(Variable {
+            name: "solver.wall_time_budget".into(),
+            value_reference: 0,
+            causality: Causality::Parameter,
+            variability: Variability::Fixed,
+            ty: VarType::Real,
+            unit: unit("s"),
+            description: "wall-clock time one fmi2DoStep may take; beyond it the step is rolled \
+                          back and discarded"
+                .into(),
+            start: Some(Value::Real(crate::model::DEFAULT_WALL_TIME_BUDGET)),
+            role: Role::Setting(Setting::WallTimeBudget),
+            display_unit: None,
+            // "> 0", as Model::set checks it
+            min: Some(Value::Real(f64::from_bits(1))),
+            max: None,
+            nominal: None,
+            dependencies: None,
+            initial_dependencies: None,
+        });
+    }
+}
+
+/// Whether holder `k` of row `f` is a parameter of `scene`: present, with
+/// an FMU description, and read by the scene's physics. A moving force is
+/// prescribed: it reads its place, its speed and (without a train, whose
+/// axle loads are fixed) its mass, whose weight is its force; it has no
+/// body's fields and no contact iteration to tolerate errors of.
+fn exported(scene: &Scene, f: &Field, k: usize) -> bool {
+    if f.doc.is_empty() || f.value(scene, k).is_none() {
+        return false;
+    }
+    let moving_force = match f.access {
+        Access::Vehicle(..) => fields::vehicle(scene, k).expect("present").kind,
+        _ => scene.body.kind,
+    } == BodyKind::MovingForce;
+    if !moving_force {
+        return true;
+    }
+    match f.path {
+        "solver.velocity_tolerance" | "solver.gap_tolerance" => false,
+        "body.initial_position" | "body.initial_speed" => true,
+        "body.mass" => fields::vehicle(scene, k).is_some_and(|v| v.train.is_none()),
+        path => !path.starts_with("body."),
+    }
+}
+
+/// The rule of parameter `p` (the field table's).
+fn rule(p: Param) -> Rule {
     match p {
-        BeamLength => scene.beam.length = x,
-        BeamMassPerLength => scene.beam.mass_per_length = x,
-        BeamBendingStiffness => scene.beam.bending_stiffness = x,
-        BeamSurfaceOffset => scene.beam.surface_offset = x,
-        Vehicle { vehicle, field } => {
-            let spec = vehicle_spec_mut(scene, vehicle);
-            match (FIELDS[field].access, spec) {
-                (Access::Vehicle(_, set), Some(spec)) => set(spec, x),
-                _ => return Err("is not a field of this scene's vehicles".into()),
+        Param::Field { field, .. } => FIELDS[field].rule,
+        Param::TrainSpeed => Rule::Finite,
+    }
+}
+
+/// Current value of a parameter in `scene` (Integer for an element count).
+pub fn param_value(scene: &Scene, p: Param) -> Value {
+    let x = match p {
+        Param::Field { field, holder } => FIELDS[field].value(scene, holder).unwrap_or(0.0),
+        Param::TrainSpeed => scene.body.initial_speed,
+    };
+    match rule(p) {
+        Rule::Elements => Value::Integer(x.min(i32::MAX as f64) as i32),
+        _ => Value::Real(x),
+    }
+}
+
+/// Check `value` against the rule of parameter `p` (the field table's, in
+/// its words), then write it into `scene`. On error the scene is unchanged
+/// and the message states the rule.
+pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String> {
+    let rule = rule(p);
+    let x = match (rule, value) {
+        (Rule::Elements, Value::Integer(n)) => f64::from(n),
+        (Rule::Elements, _) => return Err("must be an Integer".into()),
+        (_, Value::Real(x)) => x,
+        _ => return Err("must be a Real".into()),
+    };
+    if let Some(words) = rule.problem(x, scene.track.approach) {
+        return Err(words);
+    }
+    match p {
+        Param::Field { field, holder } => {
+            if !FIELDS[field].set(scene, holder, x) {
+                return Err("is not a field of this scene".into());
             }
         }
-        TrainSpeed => {
+        Param::TrainSpeed => {
             let set = fields::initial_speed_setter();
             set(&mut scene.body, x);
             scene.vehicles.iter_mut().for_each(|v| set(v, x));
         }
-        SensorPosition(i) => scene.sensors[i].position = x,
-        SolverStep => scene.solver.step = x,
-        SolverVelocityTolerance => scene.solver.velocity_tolerance = x,
-        SolverGapTolerance => scene.solver.gap_tolerance = x,
-        BeamElements => return Err("must be an Integer".into()),
     }
     Ok(())
-}
-
-/// Vehicle `k` of `scene` (0: `[body]`, k: `vehicles[k-1]`).
-fn vehicle_spec(scene: &Scene, k: usize) -> Option<&BodySpec> {
-    match k {
-        0 => Some(&scene.body),
-        k => scene.vehicles.get(k - 1),
-    }
-}
-
-fn vehicle_spec_mut(scene: &mut Scene, k: usize) -> Option<&mut BodySpec> {
-    match k {
-        0 => Some(&mut scene.body),
-        k => scene.vehicles.get_mut(k - 1),
-    }
-}
-
-/// Whether vehicle field `rest` (`body.<rest>`) is a parameter of `spec`:
-/// a moving force has a place, a speed and (without a train, whose axle
-/// loads are fixed) a mass whose weight is its force; no body's fields.
-fn applies_to(spec: &BodySpec, rest: &str) -> bool {
-    if spec.kind != crate::scene::BodyKind::MovingForce {
-        return true;
-    }
-    match rest {
-        "initial_position" | "initial_speed" => true,
-        "mass" => spec.train.is_none(),
-        _ => false,
-    }
 }
 
 /// The first vehicle's fields that come first among the parameters, in
@@ -733,9 +604,6 @@ const FMU_FIRST_FIELDS: [&str; 5] = [
     "initial_speed",
 ];
 
-/// Upper bound on `beam.elements`: the scene's rule.
-const MAX_ELEMENTS: i32 = crate::scene::MAX_ELEMENTS as i32;
-
 fn input_start(scene: &Scene, i: Input) -> f64 {
     start_inputs(scene)[i.index()]
 }
@@ -745,7 +613,7 @@ mod tests {
     use super::*;
     use crate::model::fake::FakeDynamics;
     use crate::model::Dynamics;
-    use crate::scene::BodyKind;
+    use crate::scene::MIN_MAGNITUDE;
     use crate::simulation::Steppable;
 
     fn table(kind: BodyKind) -> VariableTable {
@@ -878,10 +746,16 @@ mod tests {
         assert!(set_param(&mut scene, mass, Value::Real(-1.0))
             .unwrap_err()
             .contains("> 0"));
-        assert!(set_param(&mut scene, Param::BeamLength, Value::Real(f64::NAN)).is_err());
-        assert!(set_param(&mut scene, Param::BeamElements, Value::Integer(0)).is_err());
+        let t = table(BodyKind::Wheel);
+        let length = param_of(&t, "beam.length");
+        let elements = param_of(&t, "beam.elements");
+        let refused = |scene: &mut Scene, p, x| set_param(scene, p, x).unwrap_err();
+        assert!(refused(&mut scene, length, Value::Real(f64::NAN)).contains("finite"));
+        assert!(refused(&mut scene, length, Value::Integer(3)).contains("a Real"));
+        assert!(refused(&mut scene, elements, Value::Integer(0)).contains(">= 1"));
+        assert!(refused(&mut scene, elements, Value::Real(8.0)).contains("an Integer"));
         assert_eq!(scene, before);
-        set_param(&mut scene, Param::BeamElements, Value::Integer(8)).unwrap();
+        set_param(&mut scene, elements, Value::Integer(8)).unwrap();
         assert_eq!(scene.beam.elements, 8);
     }
 
@@ -930,6 +804,67 @@ mod tests {
         let names: Vec<&str> = t.variables().iter().map(|v| v.name.as_str()).collect();
         for (i, n) in names.iter().enumerate() {
             assert!(!names[..i].contains(n), "{n} twice");
+        }
+    }
+
+    /// Every built-in scene and every scene file shipped in `scenes/` (a
+    /// sprung mass, a maglev vehicle and a train on the rail among them).
+    fn every_shipped_scene() -> Vec<Scene> {
+        let builtins = crate::scene::builtins().iter();
+        let mut scenes: Vec<Scene> = builtins
+            .map(|(name, _)| crate::scene::builtin(name).unwrap())
+            .collect();
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+        for file in std::fs::read_dir(dir).unwrap() {
+            let path = file.unwrap().path();
+            scenes.push(Scene::load(path.to_str().unwrap()).unwrap());
+        }
+        scenes
+    }
+
+    /// The field table and the FMU cannot drift apart (issue 23, step 9):
+    /// every parameter of every shipped scene is a row of the table, named,
+    /// in units, described and bounded as the row says (or the train's
+    /// speed, or the FMU's own setting), and every row with a description
+    /// and an access is a parameter of some shipped scene.
+    #[test]
+    fn parameters_are_the_rows_of_the_field_table() {
+        let mut exported = vec![false; FIELDS.len()];
+        for scene in every_shipped_scene() {
+            let t = VariableTable::new(&scene, &[]);
+            for v in t.variables() {
+                let (field, holder) = match v.role {
+                    Role::Parameter(Param::Field { field, holder }) => (field, holder),
+                    Role::Parameter(Param::TrainSpeed) => {
+                        assert_eq!(v.name, "train.initial_speed");
+                        continue;
+                    }
+                    Role::Setting(_) => continue,
+                    Role::Input(_) | Role::Output(_) => {
+                        assert_ne!(v.causality, Causality::Parameter, "{}", v.name);
+                        continue;
+                    }
+                };
+                let f = &FIELDS[field];
+                exported[field] = true;
+                assert_eq!(v.name, f.fmu_name(&scene, holder), "{}", scene.name);
+                assert!(v.name.ends_with(f.path.rsplit('.').next().unwrap()));
+                assert_eq!(v.unit, unit(f.unit), "{}", v.name);
+                assert_eq!(v.description, f.doc, "{}", v.name);
+                let (lo, hi) = f.rule.bounds(scene.track.approach);
+                let bounds = match (v.min, v.max) {
+                    (Some(Value::Real(a)), Some(Value::Real(b))) => (a, b),
+                    (Some(Value::Integer(a)), Some(Value::Integer(b))) => (a.into(), b.into()),
+                    other => panic!("{}: bounds {other:?}", v.name),
+                };
+                assert_eq!(bounds, (lo, hi), "{}", v.name);
+                let start = param_value(&scene, Param::Field { field, holder });
+                assert_eq!(v.start, Some(start), "{}", v.name);
+            }
+        }
+        for (f, seen) in FIELDS.iter().zip(exported) {
+            let documented = !f.doc.is_empty() && !matches!(f.access, Access::None);
+            assert_eq!(seen, documented, "{}: a parameter of some scene", f.path);
         }
     }
 }

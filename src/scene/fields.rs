@@ -66,8 +66,9 @@ pub enum Rule {
     Words,
 }
 
-/// How an FMU reads and writes a numeric field (`None` from the getter:
-/// absent in this scene, so no parameter).
+/// How the table reads and writes a numeric field (`None` from the getter:
+/// absent in this scene): validation checks the rule of every value it
+/// reads, and a row with a `doc` is an FMU parameter.
 #[derive(Debug, Clone, Copy)]
 pub enum Access {
     None,
@@ -120,6 +121,75 @@ impl Rule {
             Rule::OnTrack => ((-approach).max(-MAX_MAGNITUDE), MAX_MAGNITUDE),
             Rule::Finite | Rule::Words => (-MAX_MAGNITUDE, MAX_MAGNITUDE),
         }
+    }
+}
+
+impl Field {
+    /// How many holders of this field `scene` has: the scene itself (one),
+    /// each sensor or each vehicle; none for a row no getter reads.
+    pub fn holders(&self, scene: &Scene) -> usize {
+        match self.access {
+            Access::None => 0,
+            Access::Scene(..) => 1,
+            Access::Sensor(..) => scene.sensors.len(),
+            Access::Vehicle(..) => 1 + scene.vehicles.len(),
+        }
+    }
+
+    /// The value of holder `k` (the scene; sensor `k`; vehicle `k`, see
+    /// `vehicle`), `None` where the holder or its field is absent.
+    pub fn value(&self, scene: &Scene, k: usize) -> Option<f64> {
+        match self.access {
+            Access::None => None,
+            Access::Scene(get, _) => get(scene),
+            Access::Sensor(get, _) => scene.sensors.get(k).and_then(get),
+            Access::Vehicle(get, _) => vehicle(scene, k).and_then(get),
+        }
+    }
+
+    /// Write `x` into holder `k`; false (nothing written) where the holder
+    /// or its field is absent.
+    pub fn set(&self, scene: &mut Scene, k: usize, x: f64) -> bool {
+        if self.value(scene, k).is_none() {
+            return false;
+        }
+        match self.access {
+            Access::None => return false,
+            Access::Scene(_, set) => set(scene, x),
+            Access::Sensor(_, set) => set(&mut scene.sensors[k], x),
+            Access::Vehicle(_, set) => set(vehicle_mut(scene, k).expect("present"), x),
+        }
+        true
+    }
+
+    /// The FMU's name of holder `k`'s value: the path for the scene's own
+    /// fields, `sensor.<name>.<field>` and `<vehicle name>.<field>` for the
+    /// others (what `fmu_name_pattern` writes on the reference page).
+    pub fn fmu_name(&self, scene: &Scene, k: usize) -> String {
+        let rest = |prefix: &str| self.path.strip_prefix(prefix).unwrap_or(self.path);
+        match self.access {
+            Access::Sensor(..) => format!("sensor.{}.{}", scene.sensors[k].name, rest("sensors.")),
+            Access::Vehicle(..) => {
+                let name = vehicle(scene, k).map_or("", |v| v.name.as_str());
+                format!("{name}.{}", rest("body."))
+            }
+            Access::None | Access::Scene(..) => self.path.to_string(),
+        }
+    }
+}
+
+/// Vehicle `k` of `scene` (0: `[body]`, k: `vehicles[k-1]`).
+pub fn vehicle(scene: &Scene, k: usize) -> Option<&BodySpec> {
+    match k {
+        0 => Some(&scene.body),
+        k => scene.vehicles.get(k - 1),
+    }
+}
+
+fn vehicle_mut(scene: &mut Scene, k: usize) -> Option<&mut BodySpec> {
+    match k {
+        0 => Some(&mut scene.body),
+        k => scene.vehicles.get_mut(k - 1),
     }
 }
 
@@ -178,7 +248,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "m/s^2, downward on every body; 0 in the paper's scenes",
         doc: "",
-        access: Access::None,
+        access: Access::Scene(|s| Some(s.gravity), |s, x| s.gravity = x),
     },
     Field {
         path: "track.approach",
@@ -187,7 +257,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "m, rigid ground before the beam (x < 0)",
         doc: "",
-        access: Access::None,
+        access: Access::Scene(|s| Some(s.track.approach), |s, x| s.track.approach = x),
     },
     Field {
         path: "track.run_off",
@@ -196,7 +266,7 @@ pub const FIELDS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "m, rigid ground after the beam (x > L)",
         doc: "",
-        access: Access::None,
+        access: Access::Scene(|s| Some(s.track.run_off), |s, x| s.track.run_off = x),
     },
     Field {
         path: "track.on_deck.preset",
@@ -1477,8 +1547,9 @@ pub fn field_notes_markdown() -> String {
          `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites it. \
          The rules in full are in [Scenes, every field](scenes.md#every-field). \
          A train's `[[vehicles]]` take the fields of `[body]`; the FMU \
-         parameter column names the fields an FMU exports today (of `[body]` \
-         only, [The FMU](fmu.md)).\n\n\
+         parameter column names the parameter an FMU exports for the field \
+         (for every vehicle and every sensor that has it; \
+         [The FMU](fmu-reference.md)).\n\n\
          | table | what it holds |\n|---|---|\n",
     );
     for (path, note) in super::annotate::TABLE_NOTES {
@@ -1508,6 +1579,7 @@ pub fn field_notes_markdown() -> String {
 fn fmu_name_pattern(f: &Field) -> String {
     let rest = |prefix: &str| f.path.strip_prefix(prefix).unwrap_or(f.path);
     match f.access {
+        _ if f.doc.is_empty() && !matches!(f.access, Access::Vehicle(..)) => String::new(),
         Access::None => String::new(),
         Access::Scene(..) => format!("`{}`", f.path),
         // every vehicle's, where it has the field (src/model/variables.rs)

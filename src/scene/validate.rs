@@ -3,7 +3,7 @@
 //! Every rule is checked and every broken one reported, so that a person can
 //! fix a scene file in one pass.
 
-use super::fields::Rule;
+use super::fields::{Access, Rule, FIELDS};
 use super::{
     BodyKind, DampingSpec, EndSupport, ForceProfile, FoundationSpec, JointKind, Scene, SceneError,
 };
@@ -185,12 +185,35 @@ fn check_ratio(checks: &mut Checks, path: &str, ratio: f64) {
     }
 }
 
+/// Every number of the scene itself that the field table reads whose path
+/// starts with one of `prefixes`, against its row's rule in the row's
+/// words (by part of the scene, so that problems keep the file's order);
+/// the checks of each part add the rules that tie fields to each other.
+fn check_scene_fields(checks: &mut Checks, scene: &Scene, prefixes: &[&str]) {
+    for f in FIELDS {
+        let Access::Scene(get, _) = f.access else {
+            continue;
+        };
+        if !prefixes.iter().any(|p| f.path.starts_with(p)) {
+            continue;
+        }
+        let Some(x) = get(scene) else { continue };
+        if let Some(words) = f.rule.problem(x, scene.track.approach) {
+            // (a count reads as one: `0`, not `0.0`)
+            let shown = match f.rule {
+                Rule::Elements => format!("{x}"),
+                _ => fmt_f64(x),
+            };
+            checks.fail(f.path, shown, words);
+        }
+    }
+}
+
 /// Returns whether the beam length is usable for range checks elsewhere.
 fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
     let beam = &scene.beam;
-    let length_ok = checks.positive("beam.length", beam.length);
-    checks.positive("beam.mass_per_length", beam.mass_per_length);
-    checks.positive("beam.bending_stiffness", beam.bending_stiffness);
+    check_scene_fields(checks, scene, &["beam."]);
+    let length_ok = Rule::Positive.problem(beam.length, 0.0).is_none();
     if let Some(f1) = beam.frequency {
         // Reading a scene turns f1 into EI; a scene built in code gives EI.
         checks.fail(
@@ -199,23 +222,25 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
             "is read from a scene file only; give beam.bending_stiffness here",
         );
     }
-    checks.non_negative("beam.surface_offset", beam.surface_offset);
     if let Some(foundation) = &beam.foundation {
         check_foundation(checks, foundation);
-    }
-    if beam.elements < 1 {
-        checks.fail("beam.elements", beam.elements.to_string(), "must be >= 1");
-    } else if beam.elements > MAX_ELEMENTS {
-        checks.fail(
-            "beam.elements",
-            beam.elements.to_string(),
-            format!("must be <= {MAX_ELEMENTS}"),
-        );
     }
     if let Some(damping) = &beam.damping {
         check_damping(checks, damping);
     }
 
+    check_intermediate_supports(checks, scene, length_ok);
+    check_springs(checks, scene, length_ok);
+    check_joints(checks, scene, length_ok);
+    check_leftward_over_joints(checks, scene);
+    check_held(checks, scene);
+    length_ok
+}
+
+/// Intermediate supports: at most `MAX_INTERMEDIATE_SUPPORTS`, strictly
+/// inside the beam, increasing.
+fn check_intermediate_supports(checks: &mut Checks, scene: &Scene, length_ok: bool) {
+    let beam = &scene.beam;
     let supports = &beam.supports;
     let mut previous: Option<f64> = None;
     let count = supports.intermediate.len();
@@ -256,10 +281,12 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
         }
         previous = Some(x);
     }
+}
 
-    check_springs(checks, scene, length_ok);
-    check_joints(checks, scene, length_ok);
-    check_leftward_over_joints(checks, scene);
+/// The supports, springs, joints and foundation hold the beam against
+/// rigid motion.
+fn check_held(checks: &mut Checks, scene: &Scene) {
+    let (beam, supports) = (&scene.beam, &scene.beam.supports);
     let held = |end: EndSupport| match end {
         EndSupport::Pinned => 1,
         EndSupport::Clamped => 2,
@@ -304,7 +331,6 @@ fn check_beam(checks: &mut Checks, scene: &Scene) -> bool {
             "must hold the beam against rigid motion (e.g. two pinned ends, or one clamped end)",
         );
     }
-    length_ok
 }
 
 /// A Winkler foundation: a positive modulus (given or from the preset), a
@@ -419,6 +445,12 @@ fn check_joints(checks: &mut Checks, scene: &Scene, length_ok: bool) {
         previous_end = Some(end);
     }
     check_gap_crossing(checks, scene);
+    check_supports_off_gaps(checks, scene);
+}
+
+/// No intermediate support in a rail gap or at a separate joint's end.
+fn check_supports_off_gaps(checks: &mut Checks, scene: &Scene) {
+    let joints = &scene.beam.joints;
     for (i, &x) in scene.beam.supports.intermediate.iter().enumerate() {
         let separate_end = joints
             .iter()
@@ -565,23 +597,7 @@ fn check_body(
     length_ok: bool,
 ) {
     let path = |field: &str| format!("{prefix}.{field}");
-    checks.name_length(&path("name"), &body.name);
-    if !is_identifier(&body.name) {
-        checks.fail(
-            path("name"),
-            quoted(&body.name),
-            "must be an identifier: a letter or '_' followed by letters, digits or '_'",
-        );
-    } else if RESERVED_BODY_NAMES.contains(&body.name.as_str()) {
-        checks.fail(
-            path("name"),
-            quoted(&body.name),
-            format!(
-                "is reserved for the simulation's own outputs ({})",
-                RESERVED_BODY_NAMES.join(", ")
-            ),
-        );
-    }
+    check_body_name(checks, &path("name"), &body.name);
     checks.positive(&path("mass"), body.mass);
     crate::vehicle::presets::check(checks, prefix, body);
     check_wheelsets_on_track(checks, prefix, body, scene);
@@ -617,6 +633,28 @@ fn check_body(
     checks.finite(&path("force_y"), body.force_y);
     check_flight(checks, scene, prefix, body);
     check_contact_law(checks, prefix, body);
+}
+
+/// A vehicle's name: an identifier of at most `MAX_NAME_CHARS`, not one the
+/// simulation's own outputs use.
+fn check_body_name(checks: &mut Checks, path: &str, name: &str) {
+    checks.name_length(path, name);
+    if !is_identifier(name) {
+        checks.fail(
+            path,
+            quoted(name),
+            "must be an identifier: a letter or '_' followed by letters, digits or '_'",
+        );
+    } else if RESERVED_BODY_NAMES.contains(&name) {
+        checks.fail(
+            path,
+            quoted(name),
+            format!(
+                "is reserved for the simulation's own outputs ({})",
+                RESERVED_BODY_NAMES.join(", ")
+            ),
+        );
+    }
 }
 
 /// A compliant contact law on contact bodies with mass: refused with
@@ -795,10 +833,8 @@ fn check_wheelsets_on_track(
 /// Gravity and the rigid ground: finite, non-negative lengths; ground
 /// meets the beam only at an end whose deflection is held.
 fn check_track(checks: &mut Checks, scene: &Scene) {
-    checks.non_negative("gravity", scene.gravity);
+    check_scene_fields(checks, scene, &["gravity", "track."]);
     let track = &scene.track;
-    checks.non_negative("track.approach", track.approach);
-    checks.non_negative("track.run_off", track.run_off);
     let supports = &scene.beam.supports;
     for (path, length, end) in [
         ("track.approach", track.approach, supports.left),
@@ -951,9 +987,7 @@ fn check_sections(checks: &mut Checks, scene: &Scene, length_ok: bool) {
 
 fn check_solver(checks: &mut Checks, scene: &Scene) {
     let solver = &scene.solver;
-    checks.positive("solver.step", solver.step);
-    checks.positive("solver.velocity_tolerance", solver.velocity_tolerance);
-    checks.positive("solver.gap_tolerance", solver.gap_tolerance);
+    check_scene_fields(checks, scene, &["solver."]);
     if let Some(rtol) = solver.tolerance {
         if checks.positive("solver.tolerance", rtol) && rtol >= 1.0 {
             checks.fail(
