@@ -147,6 +147,44 @@ impl SymBand {
         sum
     }
 
+    /// How many pivots of the LDLᵀ factor (without pivoting) are negative:
+    /// by Sylvester's law of inertia the count of negative eigenvalues.
+    /// `None` when a pivot is zero or not finite (the count is then not
+    /// defined by the factor: shift the matrix a little).
+    pub fn negative_pivots(&self) -> Option<usize> {
+        let n = self.size();
+        // The last three rows of L and D are all a row needs.
+        let mut lower = [[0.0f64; 3]; 4];
+        let mut pivot = [0.0f64; 4];
+        let mut negative = 0;
+        for i in 0..n {
+            let a = &self.rows[i];
+            let first = i.saturating_sub(3);
+            let mut l = [0.0f64; 3];
+            for j in first..i {
+                let mut s = a[3 - (i - j)];
+                for m in first..j {
+                    if j - m <= 3 {
+                        s -= l[3 - (i - m)] * pivot[m % 4] * lower[j % 4][3 - (j - m)];
+                    }
+                }
+                l[3 - (i - j)] = s / pivot[j % 4];
+            }
+            let mut d = a[3];
+            for m in first..i {
+                let lim = l[3 - (i - m)];
+                d -= lim * lim * pivot[m % 4];
+            }
+            if d == 0.0 || !d.is_finite() {
+                return None;
+            }
+            negative += usize::from(d < 0.0);
+            lower[i % 4] = l;
+            pivot[i % 4] = d;
+        }
+        Some(negative)
+    }
+
     /// LDLᵀ factor without pivoting; `None` unless every pivot is positive
     /// and finite (the matrix is then positive definite, by Sylvester's law
     /// of inertia).

@@ -79,7 +79,7 @@ impl DeckRecord {
         let to_hz = 0.5 / std::f64::consts::PI;
         let beam = Beam::new(&scene.beam).ok()?;
         let f: Vec<f64> = beam
-            .frequencies(3)
+            .cut_off_frequencies(3)
             .ok()?
             .iter()
             .map(|w| w * to_hz)

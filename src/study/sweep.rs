@@ -320,7 +320,11 @@ impl DeckRecord {
             })
             .collect::<Result<Vec<usize>, String>>()?;
         let to_hz = 0.5 / std::f64::consts::PI;
-        let f: Vec<f64> = beam.frequencies(3)?.iter().map(|w| w * to_hz).collect();
+        let f: Vec<f64> = beam
+            .cut_off_frequencies(3)?
+            .iter()
+            .map(|w| w * to_hz)
+            .collect();
         let third = f.get(2).or(f.last()).copied().unwrap_or(0.0);
         Ok(DeckRecord {
             accelerations,

@@ -18,6 +18,7 @@ pub mod bending;
 mod dynamics;
 pub mod mesh;
 mod spec;
+mod sturm;
 mod subspace;
 pub mod two_level;
 pub use spec::{
@@ -449,6 +450,20 @@ impl HermiteBeam {
             return Ok(self.modes(count)?.omega);
         }
         Ok(subspace::lowest(self, count.min(self.free_dofs), Wanted::Frequencies)?.0)
+    }
+
+    /// The lowest `count` circular frequencies (rad/s) for a filter's
+    /// cut-off: beyond the dense eigenproblem by bisection on Sturm counts
+    /// (`sturm.rs`), which clustered frequencies (many equal spans) do not
+    /// slow down as they slow the subspace iteration. Their error is
+    /// rounding relative to the highest frequency of the mesh (about
+    /// 1e-16 λ_max absolute in λ): ample for a cut-off, not for damping
+    /// ratios tied to a mode (`frequencies`).
+    pub fn cut_off_frequencies(&self, count: usize) -> Result<Vec<f64>, String> {
+        if count == 0 || self.dense_for(count) {
+            return Ok(self.modes(count)?.omega);
+        }
+        sturm::lowest_frequencies(&self.mass, &self.stiffness, count.min(self.free_dofs))
     }
 
     /// Whether `count` modes come from the dense eigenproblem.
@@ -928,6 +943,47 @@ mod tests {
             foundation: None,
             damping: None,
         }
+    }
+
+    /// Twelve equal pinned spans: their first frequency is one span's (each
+    /// span bends as if simply supported, neighbours in opposite senses),
+    /// Euler–Bernoulli's (π/l)²√(EI/m) within the mesh's error, and the
+    /// bisection's first three agree with the dense eigenproblem's.
+    #[test]
+    fn equal_spans_share_the_first_frequency_of_one_span() {
+        let spans = 12;
+        let span = 24.0 / spans as f64;
+        let spec = BeamSpec {
+            supports: SupportsSpec {
+                intermediate: (1..spans).map(|k| k as f64 * span).collect(),
+                ..SupportsSpec::default()
+            },
+            ..paper_beam(8 * spans)
+        };
+        let beam = Beam::new(&spec).expect("continuous beam");
+        assert!(!beam.dense_for(3), "the test is meant for the bisection");
+        let omega = beam.cut_off_frequencies(3).expect("frequencies");
+        let dense = beam.dense_modes(3).expect("dense modes").omega;
+        for (w, d) in omega.iter().zip(&dense) {
+            assert!((w - d).abs() <= 1e-9 * d, "{omega:?} against {dense:?}");
+        }
+        let one = Beam::new(&BeamSpec {
+            length: span,
+            ..paper_beam(8)
+        })
+        .expect("one span");
+        let single = one.dense_modes(1).expect("one span's mode").omega[0];
+        assert!(
+            (omega[0] - single).abs() <= 1e-9 * single,
+            "{} vs {single}",
+            omega[0]
+        );
+        let exact = (std::f64::consts::PI / span).powi(2) * (1e9f64 / 1250.0).sqrt();
+        assert!(
+            (omega[0] - exact).abs() <= 1e-4 * exact,
+            "{} vs {exact}",
+            omega[0]
+        );
     }
 
     /// Damping given by modes on a mesh beyond the dense eigenproblem's
