@@ -759,7 +759,7 @@ struct Now<'a> {
     probes: &'a Probes<'a>,
     frames: Option<Vec<crate::contact::ContactFrame>>,
     accelerations: Option<Vec<nalgebra::Vector3<f64>>>,
-    beam_dynamics: Option<crate::design::BeamDynamics>,
+    beam_dynamics: Option<crate::structure::section_forces::BeamDynamics>,
     spring_energy: f64,
     /// Under a rail over the deck the system's abscissa starts at the
     /// approach; the outputs keep the scene's (the deck's x = 0).
