@@ -24,6 +24,37 @@ pub const HALF_BANDWIDTH: usize = 3;
 /// one loop beat the band sweeps' edge cases when n is this small.
 pub const DENSE_LIMIT: usize = 8;
 
+/// Row `i` of LDLᵀ without pivoting: L(i, j) for j = i−3..i at places
+/// 3 − (i − j), and the pivot D(i), from the matrix's row `a` and the
+/// earlier rows' (L, D, 1/D) as `earlier(m)` gives them.
+#[inline(always)]
+fn ldlt_row(
+    a: &[f64; 4],
+    i: usize,
+    earlier: impl Fn(usize) -> ([f64; 3], f64, f64),
+) -> ([f64; 3], f64) {
+    let first = i.saturating_sub(3);
+    // L(i, j) for j = first..i, left to right.
+    let mut l = [0.0f64; 3];
+    for j in first..i {
+        let mut s = a[3 - (i - j)];
+        let (lower_j, _, inverse_pivot_j) = earlier(j);
+        // Σ over m < j within both rows' bands: L(i,m) D(m) L(j,m).
+        for m in first..j {
+            if j - m <= 3 {
+                s -= l[3 - (i - m)] * earlier(m).1 * lower_j[3 - (j - m)];
+            }
+        }
+        l[3 - (i - j)] = s * inverse_pivot_j;
+    }
+    let mut d = a[3];
+    for m in first..i {
+        let lim = l[3 - (i - m)];
+        d -= lim * lim * earlier(m).1;
+    }
+    (l, d)
+}
+
 /// A symmetric matrix whose row i holds A(i, i−3), A(i, i−2), A(i, i−1),
 /// A(i, i) (entries before the first column are zero).
 #[derive(Debug, Clone, PartialEq)]
@@ -152,35 +183,16 @@ impl SymBand {
     /// `None` when a pivot is zero or not finite (the count is then not
     /// defined by the factor: shift the matrix a little).
     pub fn negative_pivots(&self) -> Option<usize> {
-        let n = self.size();
         // The last three rows of L and D are all a row needs.
-        let mut lower = [[0.0f64; 3]; 4];
-        let mut pivot = [0.0f64; 4];
+        let mut kept = [([0.0f64; 3], 0.0f64, 0.0f64); 4];
         let mut negative = 0;
-        for i in 0..n {
-            let a = &self.rows[i];
-            let first = i.saturating_sub(3);
-            let mut l = [0.0f64; 3];
-            for j in first..i {
-                let mut s = a[3 - (i - j)];
-                for m in first..j {
-                    if j - m <= 3 {
-                        s -= l[3 - (i - m)] * pivot[m % 4] * lower[j % 4][3 - (j - m)];
-                    }
-                }
-                l[3 - (i - j)] = s / pivot[j % 4];
-            }
-            let mut d = a[3];
-            for m in first..i {
-                let lim = l[3 - (i - m)];
-                d -= lim * lim * pivot[m % 4];
-            }
+        for (i, a) in self.rows.iter().enumerate() {
+            let (l, d) = ldlt_row(a, i, |m| kept[m % 4]);
             if d == 0.0 || !d.is_finite() {
                 return None;
             }
             negative += usize::from(d < 0.0);
-            lower[i % 4] = l;
-            pivot[i % 4] = d;
+            kept[i % 4] = (l, d, 1.0 / d);
         }
         Some(negative)
     }
@@ -193,26 +205,8 @@ impl SymBand {
         let mut lower = vec![[0.0f64; 3]; n];
         let mut pivot = vec![0.0f64; n];
         let mut inverse_pivot = vec![0.0f64; n];
-        for i in 0..n {
-            let a = &self.rows[i];
-            let first = i.saturating_sub(3);
-            // L(i, j) for j = first..i, left to right: place 3 − (i − j).
-            let mut l = [0.0f64; 3];
-            for j in first..i {
-                let mut s = a[3 - (i - j)];
-                // Σ over m < j within both rows' bands: L(i,m) D(m) L(j,m).
-                for m in first..j {
-                    if j - m <= 3 {
-                        s -= l[3 - (i - m)] * pivot[m] * lower[j][3 - (j - m)];
-                    }
-                }
-                l[3 - (i - j)] = s * inverse_pivot[j];
-            }
-            let mut d = a[3];
-            for m in first..i {
-                let lim = l[3 - (i - m)];
-                d -= lim * lim * pivot[m];
-            }
+        for (i, a) in self.rows.iter().enumerate() {
+            let (l, d) = ldlt_row(a, i, |m| (lower[m], pivot[m], inverse_pivot[m]));
             if !(d > 0.0 && d.is_finite()) {
                 return None;
             }
