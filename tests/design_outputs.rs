@@ -240,7 +240,7 @@ fn the_simulations_static_envelope_is_the_scenes() {
         modal,
     ] {
         let sim = Simulation::new(&scene).expect("scene builds");
-        let own = sim.static_envelope(&scene).expect("envelope");
+        let own = guideway::design::envelope_of_run(&sim, &scene).expect("envelope");
         let assembled = guideway::design::static_envelope(&scene).expect("envelope");
         assert!(!own.peaks.is_empty(), "{}", scene.name);
         assert_eq!(own.peaks, assembled.peaks, "{}", scene.name);

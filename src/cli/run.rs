@@ -91,7 +91,8 @@ pub(super) fn run(args: RunArgs) -> Result<(), Failure> {
             let integrator = simulation.integrator_choice().to_string();
             let events = SummaryEvent::list(&simulation);
             let run = (integrator, events, exits);
-            let envelope = |scene: &Scene| simulation.static_envelope(scene).ok();
+            let envelope =
+                |scene: &Scene| guideway::design::envelope_of_run(&simulation, scene).ok();
             let finished = (&streamed, run, envelope);
             let quiet = args.quiet;
             if let Some((summary, study)) = finish(sink, outputs, finished, &scene, quiet, pending)?

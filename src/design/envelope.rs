@@ -20,6 +20,7 @@ use crate::band::BandLdlt;
 use crate::beam::Beam;
 use crate::moving_load::{is_moving_force_scene, scene_axles};
 use crate::scene::Scene;
+use crate::simulation::Simulation;
 use crate::structure::Structure;
 
 /// Fewest load positions of a crossing.
@@ -56,6 +57,21 @@ impl StaticEnvelope {
 pub fn static_envelope(scene: &Scene) -> Result<StaticEnvelope, String> {
     let (beam, loads) = static_loads(scene)?;
     envelope_of_loads(scene, &beam, &loads)
+}
+
+/// The static envelope of `scene` (the summary's amplification reference)
+/// on `simulation`'s beam, with the loads it took before its static start:
+/// assembling the scene again would solve a modal beam's eigenproblem a
+/// second time.
+pub fn envelope_of_run(simulation: &Simulation, scene: &Scene) -> Result<StaticEnvelope, String> {
+    if is_moving_force_scene(scene) {
+        return static_envelope(scene);
+    }
+    envelope_of_loads(
+        scene,
+        &simulation.system().beam,
+        simulation.envelope_loads(),
+    )
 }
 
 /// The beam of `scene` and its loads: (abscissa at the start, downward

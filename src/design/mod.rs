@@ -11,7 +11,7 @@ pub use crate::contact::loads::contact_loads;
 pub use crate::structure::section_forces::{
     load_vector, supports, BeamDynamics, PointLoad, SectionForces, Support,
 };
-pub use envelope::{envelope_of_loads, static_envelope, StaticEnvelope};
+pub use envelope::{envelope_of_loads, envelope_of_run, static_envelope, StaticEnvelope};
 pub use probes::{probes, DesignPeaks, Probe, ProbeReader};
 
 // The envelope's loads are the assembly's static shares (`build`).

@@ -129,14 +129,11 @@ impl Simulation {
     }
 
     /// The assembled system (bodies, force elements, contacts, beam).
-    /// The static envelope of `scene` (the summary's amplification
-    /// reference) on this simulation's beam: assembling the scene again
-    /// would solve a modal beam's eigenproblem a second time.
-    pub fn static_envelope(&self, scene: &Scene) -> Result<crate::design::StaticEnvelope, String> {
-        if crate::vehicle::presets::is_moving_force_scene(scene) {
-            return crate::design::static_envelope(scene);
-        }
-        crate::design::envelope_of_loads(scene, &self.system.beam, &self.envelope_loads)
+    /// The static envelope's loads: (abscissa at the start, downward
+    /// force) of each contact's static share, taken before the static start
+    /// moved the bodies (`design::envelope_of_run` reads them).
+    pub fn envelope_loads(&self) -> &[(f64, f64)] {
+        &self.envelope_loads
     }
 
     pub fn system(&self) -> &System {

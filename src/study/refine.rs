@@ -99,7 +99,7 @@ pub fn summarise(scene: &Scene, max_steps: u64) -> Result<RunSummary, String> {
     let streamed = drive_into(scene, &mut watch, &mut sink, |_| ControlFlow::Continue(()))
         .map_err(stream_error_message)?;
     let vehicle_exits = watch.finish();
-    let envelope = |s: &Scene| simulation.static_envelope(s).ok();
+    let envelope = |s: &Scene| crate::design::envelope_of_run(&simulation, s).ok();
     let mut summary = sink.0.finish_with(
         streamed.exit_time,
         streamed.solve_time.as_secs_f64(),
