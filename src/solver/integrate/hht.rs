@@ -249,16 +249,7 @@ impl Hht {
     ) -> Result<(), IntegrationError> {
         let (start, dt) = (from.state, from.dt);
         if !self.has_prediction {
-            self.predicted_u.copy_from(&start.beam_displacement);
-            self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
-            self.predicted_v.copy_from(&start.beam_velocity);
-            self.predicted_bodies.clear();
-            self.predicted_bodies
-                .extend(start.bodies.iter().map(|b| BodyState {
-                    position: b.position + dt * b.velocity,
-                    angle: b.angle + dt * b.angular_velocity,
-                    ..*b
-                }));
+            self.predict_from(start, dt);
         }
         // Load frames and force elements: the predicted end configuration.
         self.guesses.clear();
@@ -303,12 +294,34 @@ impl Hht {
         for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
             *x = frame.x;
         }
+        self.keep_prediction(end);
+        Ok(())
+    }
+
+    /// The first integration's predicted end: the start moved on at its
+    /// velocities.
+    #[inline]
+    fn predict_from(&mut self, start: &DynamicState, dt: f64) {
+        self.predicted_u.copy_from(&start.beam_displacement);
+        self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
+        self.predicted_v.copy_from(&start.beam_velocity);
+        self.predicted_bodies.clear();
+        self.predicted_bodies
+            .extend(start.bodies.iter().map(|b| BodyState {
+                position: b.position + dt * b.velocity,
+                angle: b.angle + dt * b.angular_velocity,
+                ..*b
+            }));
+    }
+
+    /// The next integration's predicted end: this one's.
+    #[inline]
+    fn keep_prediction(&mut self, end: &DynamicState) {
         self.predicted_u.copy_from(&end.beam_displacement);
         self.predicted_v.copy_from(&end.beam_velocity);
         self.predicted_bodies.clear();
         self.predicted_bodies.extend_from_slice(&end.bodies);
         self.has_prediction = true;
-        Ok(())
     }
 
     /// The start's terms of every integration of the step: C v0 + K u0

@@ -1197,67 +1197,79 @@ impl ContactIteration {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
             if residual <= settings.velocity_tolerance {
-                let settled = self.settled(system, end, settings.velocity_tolerance);
-                let tolerance = settings.velocity_tolerance;
-                if self.laws_settled(system, (from.dt, tolerance), end, (settled, iterations)) {
+                if self.laws_settled_after(system, from, settings, end, iterations)? {
                     return Ok((iterations, residual));
-                }
-                if iterations >= settings.max_iterations {
-                    // The contacts converged; the force laws' fixed point
-                    // did not: report the bodies' last velocity change.
-                    return Err(StepError::NotConverged {
-                        stage: FORCE_LAW_STAGE,
-                        iterations,
-                        residual: self.settle_change,
-                        tolerance: settings.velocity_tolerance,
-                    });
                 }
                 continue;
             }
             let first = *first_residual.get_or_insert(residual);
-            if iterations >= 3 && residual > 10.0 * first {
-                return Err(StepError::Diverged {
-                    stage: "velocity",
-                    iterations,
-                    first,
-                    last: residual,
-                });
-            }
-            if iterations >= settings.max_iterations {
-                return Err(StepError::NotConverged {
-                    stage: "velocity",
-                    iterations,
-                    residual,
-                    tolerance: settings.velocity_tolerance,
-                });
-            }
-            if !self.delassus.built {
-                self.build_delassus(system, from.frames, from.dt, Part::Velocity)?;
-            }
-            let lags = self.lags_laws(system, from.dt);
+            velocity_progress(settings, iterations, first, residual)?;
+            self.correct_velocity_forces(system, from, end)?;
+        }
+    }
+
+    /// With the contacts' velocities converged: whether the force laws'
+    /// fixed point has settled too; refused once `max_iterations` are spent
+    /// (the bodies' last velocity change reported).
+    fn laws_settled_after(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        settings: &IterationSettings,
+        end: &mut DynamicState,
+        iterations: u32,
+    ) -> Result<bool, StepError> {
+        let tolerance = settings.velocity_tolerance;
+        let settled = self.settled(system, end, tolerance);
+        if self.laws_settled(system, (from.dt, tolerance), end, (settled, iterations)) {
+            return Ok(true);
+        }
+        if iterations >= settings.max_iterations {
+            return Err(StepError::NotConverged {
+                stage: FORCE_LAW_STAGE,
+                iterations,
+                residual: self.settle_change,
+                tolerance,
+            });
+        }
+        Ok(false)
+    }
+
+    /// One correction of the contact forces by the velocity operator (eq.
+    /// 16), anticipating the force laws' change where they lag.
+    fn correct_velocity_forces(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        end: &mut DynamicState,
+    ) -> Result<(), StepError> {
+        if !self.delassus.built {
+            self.build_delassus(system, from.frames, from.dt, Part::Velocity)?;
+        }
+        let lags = self.lags_laws(system, from.dt);
+        self.delassus
+            .velocity
+            .apply(&self.error, &mut self.correction);
+        if lags {
+            self.anticipate_laws(system, from.dt, end);
             self.delassus
                 .velocity
                 .apply(&self.error, &mut self.correction);
-            if lags {
-                self.anticipate_laws(system, from.dt, end);
-                self.delassus
-                    .velocity
-                    .apply(&self.error, &mut self.correction);
-            }
-            let correction = &self.correction;
-            for (c, contact) in system.contacts.iter().enumerate() {
-                let offset = self.offsets[c];
-                if contact.rolls() {
-                    self.forces[c].tangential -= correction[offset];
-                    self.forces[c].normal -= correction[offset + 1];
-                } else {
-                    self.forces[c].normal -= correction[offset];
-                }
-            }
-            if lags {
-                self.predict_bodies(system, from.dt, end);
+        }
+        let correction = &self.correction;
+        for (c, contact) in system.contacts.iter().enumerate() {
+            let offset = self.offsets[c];
+            if contact.rolls() {
+                self.forces[c].tangential -= correction[offset];
+                self.forces[c].normal -= correction[offset + 1];
+            } else {
+                self.forces[c].normal -= correction[offset];
             }
         }
+        if lags {
+            self.predict_bodies(system, from.dt, end);
+        }
+        Ok(())
     }
 
     /// Whether the bodies' end velocities have settled. HHT-α evaluates the
@@ -1325,6 +1337,33 @@ impl ContactIteration {
         }
         Ok((iterations, gap))
     }
+}
+
+/// The velocity stage refused when it diverges (after three integrations,
+/// ten times its first residual) or spends `max_iterations`.
+fn velocity_progress(
+    settings: &IterationSettings,
+    iterations: u32,
+    first: f64,
+    residual: f64,
+) -> Result<(), StepError> {
+    if iterations >= 3 && residual > 10.0 * first {
+        return Err(StepError::Diverged {
+            stage: "velocity",
+            iterations,
+            first,
+            last: residual,
+        });
+    }
+    if iterations >= settings.max_iterations {
+        return Err(StepError::NotConverged {
+            stage: "velocity",
+            iterations,
+            residual,
+            tolerance: settings.velocity_tolerance,
+        });
+    }
+    Ok(())
 }
 
 #[cfg(test)]
