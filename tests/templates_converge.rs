@@ -7,6 +7,8 @@
 //! with 223 kN, and its filtered peak moved by 7.8 % at half the step
 //! (docs/vehicles.md, "Which model for which question").
 
+mod common;
+
 use guideway::report::{drive, RunSummary, SummaryEvent};
 use guideway::scene::builtin;
 use guideway::{Scene, Simulation};
@@ -45,10 +47,7 @@ fn the_eight_coach_benchmark_on_hertz_contacts_converges_without_lift_off() {
     half.solver.step *= 0.5;
     let mut finer = scene.clone();
     finer.beam.elements *= 2;
-    // The static wheelset load: the coach over its four wheelsets plus a
-    // wheelset's own weight and its bogie's share.
-    let bogie = scene.body.bogie.as_ref().expect("a bogie vehicle");
-    let static_load = 9.81 * (scene.body.mass / 4.0 + bogie.bogie_mass / 2.0 + bogie.wheelset_mass);
+    let static_load = common::static_wheelset_load(&scene);
     let (base, base_lifts) = run(&scene);
     let (acceleration, force) = peaks(&base);
     println!("Δt: filtered deck acceleration {acceleration:.5} m/s², force {force:.1} N, static {static_load:.1} N");

@@ -10,6 +10,8 @@
 //! elements, no wheelset lifts off, and no wheel force exceeds twice the
 //! static wheel load (the track is smooth).
 
+mod common;
+
 use guideway::report::{drive, RunSummary, SummaryEvent};
 use guideway::Scene;
 use guideway::Simulation;
@@ -59,10 +61,7 @@ fn eight_coaches_on_ballasted_sleepers_converge_without_lift_off() {
     half.solver.step *= 0.5;
     let mut finer = scene.clone();
     finer.beam.elements *= 2;
-    // The static wheelset load: the coach over its four wheelsets plus a
-    // wheelset's own weight and its bogie's share.
-    let bogie = scene.body.bogie.as_ref().expect("a bogie vehicle");
-    let static_load = 9.81 * (scene.body.mass / 4.0 + bogie.bogie_mass / 2.0 + bogie.wheelset_mass);
+    let static_load = common::static_wheelset_load(&scene);
     let (base, base_lifts) = run(&scene);
     let base_peaks = peaks(&base);
     println!("Δt: {base_peaks:?} (filtered deck acceleration, wheel force, rail-seat force)");

@@ -165,3 +165,11 @@ wheel_radius = 0.45
 wheelset_inertia = 700.0"#
     )
 }
+
+/// The static load on one wheelset of `scene`'s first (bogie) vehicle: the
+/// coach over its four wheelsets plus its bogie's share and the
+/// wheelset's own weight, under the scene's gravity.
+pub fn static_wheelset_load(scene: &Scene) -> f64 {
+    let bogie = scene.body.bogie.as_ref().expect("a bogie vehicle");
+    scene.gravity * (scene.body.mass / 4.0 + bogie.bogie_mass / 2.0 + bogie.wheelset_mass)
+}
