@@ -319,3 +319,93 @@ fn the_rail_elements_a_bay_are_refused_naming_field_and_value() {
         );
     }
 }
+
+/// The rail seat's two masses: m_r (the rail's mass per sleeper) on the
+/// pad k_p over m_s on the ballast k_b; ω² solves m_r m_s ω⁴ − (m_r (k_p +
+/// k_b) + m_s k_p) ω² + k_p k_b = 0, and the mode's sleeper amplitude per
+/// rail amplitude is k_p / (k_p + k_b − m_s ω²).
+fn two_mass(m_r: f64, s: &Sleepers) -> [(f64, f64); 2] {
+    let (kp, kb, ms) = (s.pad_stiffness, s.ballast_stiffness, s.sleeper_mass);
+    let (a, b, c) = (m_r * ms, m_r * (kp + kb) + ms * kp, kp * kb);
+    let root = (b * b - 4.0 * a * c).sqrt();
+    [(b - root) / (2.0 * a), (b + root) / (2.0 * a)].map(|w2| (w2.sqrt(), kp / (kp + kb - ms * w2)))
+}
+
+/// A rigid rail (EI 1e15 N m²: β L = 0.33 over its 30 m) on 51 undamped
+/// sleepers at 0.6 m, 33 of them on a rigid deck (EI 1e20 N m², 1e6
+/// kg/m: its first mode at 39 kHz) in 1 m elements, off its nodes but for
+/// one in five, the others on the ground; the sleepers symmetric about
+/// the rail's middle, so the rail's translation is a mode. Started in
+/// each closed-form mode, it oscillates at that frequency (HHT α = 0,
+/// T/400 a step: period error (ωΔt)²/12 = 2e-5) and keeps its amplitude:
+/// the sleepers' masses and springs on the deck are the seat's.
+#[test]
+fn sleepers_on_a_deck_off_its_nodes_vibrate_at_the_rail_seats_two_mass_frequencies() {
+    let s = Sleepers {
+        pad_damping: 0.0,
+        ballast_damping: 0.0,
+        ..sleepers(2)
+    };
+    let mut spec = track(s, 1e20, 1.0, 5.0);
+    spec.layout.rail_bending_stiffness = 1e15;
+    spec.deck_mass_per_length = 1e6;
+    let assembly = spec.assemble().expect("assembles");
+    let on_deck = (assembly.sleeper_x().iter())
+        .filter(|x| **x > 0.0 && **x < SPAN)
+        .count();
+    let count = assembly.sleeper_dofs().len();
+    assert_eq!((count, on_deck), (51, 33));
+    let rail_mass = RAIL_MU * 30.0;
+    for (omega, ratio) in two_mass(rail_mass / count as f64, &s) {
+        let amplitude = 1e-3;
+        let mut u = assembly.nodal_field(&|_| [amplitude, 0.0], &|_| [0.0, 0.0]);
+        for dof in assembly.sleeper_dofs() {
+            u[dof] = ratio * amplitude;
+        }
+        let n = u.len();
+        let mut a = vec![0.0; n];
+        assembly.stiffness.mul_to(&u, &mut a);
+        a.iter_mut().for_each(|x| *x = -*x);
+        assembly
+            .mass
+            .ldlt()
+            .expect("definite")
+            .solve_in_place(&mut a);
+        let mut state = guideway::structure::track_on_deck::TrackState {
+            u,
+            v: vec![0.0; n],
+            a,
+        };
+        let period = 2.0 * PI / omega;
+        let dt = period / 400.0;
+        let hht = assembly.hht(dt, 0.0).expect("stepper");
+        let zero = vec![0.0; n];
+        let mut rail = Vec::new();
+        for _ in 0..2000 {
+            hht.advance(&assembly, &mut state, (&zero, &zero));
+            rail.push(
+                assembly
+                    .rail_deflection(10.3, &state.u)
+                    .expect("on the rail"),
+            );
+        }
+        let crossings: Vec<f64> = (1..rail.len())
+            .filter(|&i| rail[i - 1] < 0.0 && rail[i] >= 0.0)
+            .map(|i| dt * (i as f64 - 1.0 + rail[i - 1] / (rail[i - 1] - rail[i])))
+            .collect();
+        let found = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+        let peak = rail.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        println!(
+            "two-mass mode {:.3} Hz: period {found:.6e} s against {period:.6e} s ({:.1e}); \
+             peak {peak:.6e} m",
+            omega / (2.0 * PI),
+            (found / period - 1.0).abs()
+        );
+        assert!(crossings.len() >= 4, "{} crossings", crossings.len());
+        assert!(
+            (found / period - 1.0).abs() < 1e-3,
+            "{found:e} vs {period:e}"
+        );
+        assert!((peak / amplitude - 1.0).abs() < 1e-3, "{peak:e}");
+    }
+}

@@ -4,8 +4,9 @@
 //! spans) and on the deck through the track's stiffness, the rail's and
 //! the deck's DOFs interleaved node by node so that the coupled stiffness
 //! is a narrow band (`wide_band`; half-bandwidth 7 on one span, 8 where two
-//! spans meet at a node). Static loads only; `track_on_deck` adds the
-//! masses and dampers for the dynamics.
+//! spans meet at a node); on sleepers the deck's elements apart from the
+//! rail's, numbered by abscissa (`sleeper_layout`). Static loads only;
+//! `track_on_deck` adds the masses and dampers for the dynamics.
 
 use crate::beam::{element_mass, element_stiffness};
 use crate::mesh::Mesh;

@@ -22,6 +22,10 @@ const AT_NODE: f64 = 1e-9;
 /// leave the band's factor ill-conditioned).
 const SHORTEST_REST: f64 = 0.1;
 
+/// A rail's node abscissae, its element lengths and whether a sleeper
+/// sits at each node.
+type RailAtSleepers = (Vec<f64>, Vec<f64>, Vec<bool>);
+
 /// The rail's nodes from `start` to `end`, their element lengths and
 /// whether a sleeper sits at each: every `spacing` from `start`, with
 /// `per_bay` equal elements between two sleepers; after the last whole
@@ -32,7 +36,7 @@ pub(super) fn rail_at_sleepers(
     (start, end): (f64, f64),
     spacing: f64,
     per_bay: usize,
-) -> Result<(Vec<f64>, Vec<f64>, Vec<bool>), String> {
+) -> Result<RailAtSleepers, String> {
     if per_bay == 0 {
         return Err("track.on_deck.sleepers.rail_elements_per_bay = 0 must be >= 1".into());
     }
