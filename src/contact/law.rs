@@ -37,7 +37,12 @@ pub enum LawKind {
     Suspension,
     /// Hertz: P = C_H (δ₀ + rest − g)^{3/2}, δ₀ = (preload / C_H)^{2/3}, so
     /// that it carries its preload at g = rest (N/m^1.5).
-    Hertz { coefficient: f64 },
+    /// `compression_at`: δ₀ for a preload, (preload, δ₀), kept so that a
+    /// force evaluation takes no power for it (`hertz_offset`).
+    Hertz {
+        coefficient: f64,
+        compression_at: (f64, f64),
+    },
     /// The linearised EMS magnet: the suspension's law capped at `max_force`
     /// (N); its stiffness and damping are the controller's k_e, c_e; its
     /// nominal air gap s₀ (m) gives the air gap and current outputs.
@@ -80,7 +85,7 @@ impl ResolvedLaw {
             ResolvedLaw::Rigid => return Ok(None),
             ResolvedLaw::Hertz { coefficient } => {
                 let sunk = hertz_compression(coefficient, share);
-                let kind = LawKind::Hertz { coefficient };
+                let kind = LawKind::hertz(coefficient, share);
                 (kind, 0.0, 0.0, radius - sunk, sunk).into()
             }
             ResolvedLaw::Ems {
@@ -122,6 +127,23 @@ impl From<(LawKind, f64, f64, f64, f64)> for CompliantFollower {
 }
 
 impl LawKind {
+    /// Hertz's law of coefficient C_H (N/m^1.5), its δ₀ kept for `preload`.
+    pub fn hertz(coefficient: f64, preload: f64) -> LawKind {
+        LawKind::Hertz {
+            coefficient,
+            compression_at: (preload, hertz_compression(coefficient, preload)),
+        }
+    }
+
+    /// The same law with what it keeps for its preload brought to
+    /// `preload` (after the static start has changed it).
+    pub fn at_preload(self, preload: f64) -> LawKind {
+        match self {
+            LawKind::Hertz { coefficient, .. } => LawKind::hertz(coefficient, preload),
+            other => other,
+        }
+    }
+
     /// Normal force (N, compression positive) of `follower` at gap `gap`
     /// and rate `rate`, before the cut at zero: negative where the law
     /// would pull (the follower is slack, its contact open).
@@ -131,10 +153,14 @@ impl LawKind {
         match *self {
             LawKind::Suspension => linear,
             LawKind::Magnet { max_force, .. } => linear.min(max_force),
-            LawKind::Hertz { coefficient } => {
+            LawKind::Hertz {
+                coefficient,
+                compression_at,
+            } => {
                 // Signed, so that the slack side is negative (a lift-off's
                 // instant is where it crosses zero).
-                let compression = hertz_compression(coefficient, f.preload) + f.rest - gap;
+                let offset = hertz_offset(coefficient, compression_at, f.preload);
+                let compression = offset + f.rest - gap;
                 compression.signum() * coefficient * compression.abs().powf(1.5) - f.damping * rate
             }
         }
@@ -150,9 +176,12 @@ impl LawKind {
                 let delta = (gap - f.rest).min(f.preload / f.stiffness);
                 0.5 * f.stiffness * delta * delta - f.preload * delta
             }
-            LawKind::Hertz { coefficient } => {
+            LawKind::Hertz {
+                coefficient,
+                compression_at,
+            } => {
                 // ∫ C_H δ^{3/2} dδ from the undeformed contact.
-                let offset = hertz_compression(coefficient, f.preload);
+                let offset = hertz_offset(coefficient, compression_at, f.preload);
                 let compression = (offset + f.rest - gap).max(0.0);
                 0.4 * coefficient * compression.powf(2.5)
             }
@@ -198,6 +227,18 @@ pub fn hertz_coefficient(
 /// Compression δ (m) at which a Hertz contact carries `load` (N).
 pub fn hertz_compression(coefficient: f64, load: f64) -> f64 {
     (load / coefficient).powf(2.0 / 3.0)
+}
+
+/// `hertz_compression(coefficient, preload)`, from `compression_at` =
+/// (its preload, its δ₀) where that preload is this one: the same bits
+/// without one of the law's two powers (4 % of the built-in eight-coach
+/// train's instructions, docs/performance.md).
+fn hertz_offset(coefficient: f64, (kept_for, kept): (f64, f64), preload: f64) -> f64 {
+    if kept_for == preload {
+        kept
+    } else {
+        hertz_compression(coefficient, preload)
+    }
 }
 
 /// Hertz's contact stiffness dP/dδ linearised at `load` (N/m):
