@@ -314,6 +314,30 @@ mod tests {
     }
 
     #[test]
+    fn hertzs_stiffness_at_a_gap_is_the_linearised_one_at_its_force_and_zero_when_open() {
+        // A follower of Hertz's law carrying 6e4 N at rest; at the gap where
+        // it carries 9e4 N, −∂P/∂g is (3/2) C_H^{2/3} P^{1/3} at 9e4 N, and
+        // the force there is δ^{3/2}'s to a rounding.
+        let c = hertz_coefficient(0.46, 0.3, STEEL.0, STEEL.1);
+        let (preload, load) = (6.0e4, 9.0e4);
+        let follower = crate::contact::Follower {
+            stiffness: 0.0,
+            damping: 0.0,
+            preload,
+            rest: 0.45,
+            attachment: nalgebra::Vector2::zeros(),
+            kind: LawKind::hertz(c, preload),
+        };
+        let gap = 0.45 + hertz_compression(c, preload) - hertz_compression(c, load);
+        let k = follower.kind.stiffness(&follower, gap);
+        assert!((k / hertz_stiffness(c, load) - 1.0).abs() < 1e-12, "{k}");
+        assert!((follower.force(gap, 0.0) / load - 1.0).abs() < 1e-12);
+        let open = 0.45 + hertz_compression(c, preload) + 1e-6;
+        assert_eq!(follower.kind.stiffness(&follower, open), 0.0);
+        assert_eq!(follower.force(open, 0.0), 0.0);
+    }
+
+    #[test]
     fn the_controller_must_beat_the_magnets_negative_stiffness() {
         let (k, c) = magnet_equivalent(4.0e4, 0.01, 100.0, 0.5);
         assert_eq!(k, 0.0);
