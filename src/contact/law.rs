@@ -37,7 +37,12 @@ pub enum LawKind {
     Suspension,
     /// Hertz: P = C_H (δ₀ + rest − g)^{3/2}, δ₀ = (preload / C_H)^{2/3}, so
     /// that it carries its preload at g = rest (N/m^1.5).
-    Hertz { coefficient: f64 },
+    /// `compression_at`: δ₀ for a preload, (preload, δ₀), kept so that a
+    /// force evaluation takes no power for it (`hertz_offset`).
+    Hertz {
+        coefficient: f64,
+        compression_at: (f64, f64),
+    },
     /// The linearised EMS magnet: the suspension's law capped at `max_force`
     /// (N); its stiffness and damping are the controller's k_e, c_e; its
     /// nominal air gap s₀ (m) gives the air gap and current outputs.
@@ -80,7 +85,7 @@ impl ResolvedLaw {
             ResolvedLaw::Rigid => return Ok(None),
             ResolvedLaw::Hertz { coefficient } => {
                 let sunk = hertz_compression(coefficient, share);
-                let kind = LawKind::Hertz { coefficient };
+                let kind = LawKind::hertz(coefficient, share);
                 (kind, 0.0, 0.0, radius - sunk, sunk).into()
             }
             ResolvedLaw::Ems {
@@ -122,6 +127,23 @@ impl From<(LawKind, f64, f64, f64, f64)> for CompliantFollower {
 }
 
 impl LawKind {
+    /// Hertz's law of coefficient C_H (N/m^1.5), its δ₀ kept for `preload`.
+    pub fn hertz(coefficient: f64, preload: f64) -> LawKind {
+        LawKind::Hertz {
+            coefficient,
+            compression_at: (preload, hertz_compression(coefficient, preload)),
+        }
+    }
+
+    /// The same law with what it keeps for its preload brought to
+    /// `preload` (after the static start has changed it).
+    pub fn at_preload(self, preload: f64) -> LawKind {
+        match self {
+            LawKind::Hertz { coefficient, .. } => LawKind::hertz(coefficient, preload),
+            other => other,
+        }
+    }
+
     /// Normal force (N, compression positive) of `follower` at gap `gap`
     /// and rate `rate`, before the cut at zero: negative where the law
     /// would pull (the follower is slack, its contact open).
@@ -131,11 +153,19 @@ impl LawKind {
         match *self {
             LawKind::Suspension => linear,
             LawKind::Magnet { max_force, .. } => linear.min(max_force),
-            LawKind::Hertz { coefficient } => {
+            LawKind::Hertz {
+                coefficient,
+                compression_at,
+            } => {
                 // Signed, so that the slack side is negative (a lift-off's
                 // instant is where it crosses zero).
-                let compression = hertz_compression(coefficient, f.preload) + f.rest - gap;
-                compression.signum() * coefficient * compression.abs().powf(1.5) - f.damping * rate
+                let offset = hertz_offset(coefficient, compression_at, f.preload);
+                let compression = offset + f.rest - gap;
+                // δ √δ for δ^{3/2}: within a rounding of the power, at a
+                // fifth of its instructions (the law is evaluated twice an
+                // integration for every wheel).
+                let depth = compression.abs();
+                compression.signum() * coefficient * (depth * depth.sqrt()) - f.damping * rate
             }
         }
     }
@@ -150,9 +180,12 @@ impl LawKind {
                 let delta = (gap - f.rest).min(f.preload / f.stiffness);
                 0.5 * f.stiffness * delta * delta - f.preload * delta
             }
-            LawKind::Hertz { coefficient } => {
+            LawKind::Hertz {
+                coefficient,
+                compression_at,
+            } => {
                 // ∫ C_H δ^{3/2} dδ from the undeformed contact.
-                let offset = hertz_compression(coefficient, f.preload);
+                let offset = hertz_offset(coefficient, compression_at, f.preload);
                 let compression = (offset + f.rest - gap).max(0.0);
                 0.4 * coefficient * compression.powf(2.5)
             }
@@ -164,6 +197,22 @@ impl LawKind {
                 let held = delta.max(saturation);
                 0.5 * f.stiffness * held * held - f.preload * held - max_force * (delta - held)
             }
+        }
+    }
+
+    /// The law's stiffness −∂P/∂g at gap `gap` (N/m): the spring's, zero
+    /// where Hertz's contact is open; a magnet's held below its cap.
+    pub fn stiffness(&self, follower: &Follower, gap: f64) -> f64 {
+        match *self {
+            LawKind::Hertz {
+                coefficient,
+                compression_at,
+            } => {
+                let offset = hertz_offset(coefficient, compression_at, follower.preload);
+                let compression = (offset + follower.rest - gap).max(0.0);
+                1.5 * coefficient * compression.sqrt()
+            }
+            _ => follower.stiffness,
         }
     }
 
@@ -198,6 +247,18 @@ pub fn hertz_coefficient(
 /// Compression δ (m) at which a Hertz contact carries `load` (N).
 pub fn hertz_compression(coefficient: f64, load: f64) -> f64 {
     (load / coefficient).powf(2.0 / 3.0)
+}
+
+/// `hertz_compression(coefficient, preload)`, from `compression_at` =
+/// (its preload, its δ₀) where that preload is this one: the same bits
+/// without one of the law's two powers (4 % of the built-in eight-coach
+/// train's instructions, docs/performance.md).
+fn hertz_offset(coefficient: f64, (kept_for, kept): (f64, f64), preload: f64) -> f64 {
+    if kept_for == preload {
+        kept
+    } else {
+        hertz_compression(coefficient, preload)
+    }
 }
 
 /// Hertz's contact stiffness dP/dδ linearised at `load` (N/m):
@@ -250,6 +311,30 @@ mod tests {
         let load = 7.0e4;
         let delta = hertz_compression(c, load);
         assert!((hertz_stiffness(c, load) * delta / load - 1.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn hertzs_stiffness_at_a_gap_is_the_linearised_one_at_its_force_and_zero_when_open() {
+        // A follower of Hertz's law carrying 6e4 N at rest; at the gap where
+        // it carries 9e4 N, −∂P/∂g is (3/2) C_H^{2/3} P^{1/3} at 9e4 N, and
+        // the force there is δ^{3/2}'s to a rounding.
+        let c = hertz_coefficient(0.46, 0.3, STEEL.0, STEEL.1);
+        let (preload, load) = (6.0e4, 9.0e4);
+        let follower = crate::contact::Follower {
+            stiffness: 0.0,
+            damping: 0.0,
+            preload,
+            rest: 0.45,
+            attachment: nalgebra::Vector2::zeros(),
+            kind: LawKind::hertz(c, preload),
+        };
+        let gap = 0.45 + hertz_compression(c, preload) - hertz_compression(c, load);
+        let k = follower.kind.stiffness(&follower, gap);
+        assert!((k / hertz_stiffness(c, load) - 1.0).abs() < 1e-12, "{k}");
+        assert!((follower.force(gap, 0.0) / load - 1.0).abs() < 1e-12);
+        let open = 0.45 + hertz_compression(c, preload) + 1e-6;
+        assert_eq!(follower.kind.stiffness(&follower, open), 0.0);
+        assert_eq!(follower.force(open, 0.0), 0.0);
     }
 
     #[test]

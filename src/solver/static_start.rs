@@ -216,6 +216,7 @@ fn preload_compliant_contacts(
             continue;
         }
         follower.preload -= body_loads[body].y / frame.normal().y;
+        follower.kind = follower.kind.at_preload(follower.preload);
     }
 }
 

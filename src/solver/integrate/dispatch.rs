@@ -125,6 +125,11 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::hold_followers(&mut **s, held), )* }
             }
 
+            /// See `TimeIntegrator::predict_with_accelerations`.
+            pub fn predict_with_accelerations(&mut self, on: bool) {
+                match self { $( Integrator::$variant(s) => TimeIntegrator::predict_with_accelerations(&mut **s, on), )* }
+            }
+
             /// See `TimeIntegrator::held_follower_forces`.
             pub fn held_follower_forces(&self) -> &[ContactForce] {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::held_follower_forces(&**s), )* }

@@ -56,6 +56,9 @@ pub struct Hht {
     /// integration (at the prediction it was given).
     law_loads: Vec<Vector3<f64>>,
     has_prediction: bool,
+    /// Whether the first prediction takes the start's accelerations
+    /// (`predict_from`).
+    pub(super) predicts_accelerations: bool,
     frames: Vec<ContactFrame>,
     guesses: Vec<f64>,
     load: DVector<f64>,
@@ -161,6 +164,7 @@ impl Hht {
             predicted_bodies: Vec::new(),
             law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
+            predicts_accelerations: false,
             frames: Vec::new(),
             guesses: Vec::new(),
             load: z(),
@@ -299,18 +303,39 @@ impl Hht {
     }
 
     /// The first integration's predicted end: the start moved on at its
-    /// velocities.
+    /// velocities, or (`predicts_accelerations`) at its accelerations.
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
         self.predicted_u.copy_from(&start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         self.predicted_v.copy_from(&start.beam_velocity);
         self.predicted_bodies.clear();
+        if self.predicts_accelerations {
+            return self.predict_accelerated(start, dt);
+        }
         self.predicted_bodies
             .extend(start.bodies.iter().map(|b| BodyState {
                 position: b.position + dt * b.velocity,
                 angle: b.angle + dt * b.angular_velocity,
                 ..*b
+            }));
+    }
+
+    /// `predict_from`'s second half with the start's accelerations: the
+    /// compliant laws and force elements are then taken where the step
+    /// ends to O(Δt³), not O(Δt²), and the step's first residual is
+    /// smaller (`iteration::followers`).
+    fn predict_accelerated(&mut self, start: &DynamicState, dt: f64) {
+        let half = 0.5 * dt * dt;
+        self.predicted_u.axpy(half, &start.beam_acceleration, 1.0);
+        self.predicted_v.axpy(dt, &start.beam_acceleration, 1.0);
+        let accelerated = start.bodies.iter().zip(&start.body_accelerations);
+        self.predicted_bodies
+            .extend(accelerated.map(|(b, a)| BodyState {
+                position: b.position + dt * b.velocity + half * a.xy(),
+                angle: b.angle + dt * b.angular_velocity + half * a.z,
+                velocity: b.velocity + dt * a.xy(),
+                angular_velocity: b.angular_velocity + dt * a.z,
             }));
     }
 

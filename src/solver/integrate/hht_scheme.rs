@@ -62,6 +62,10 @@ impl TimeIntegrator for Hht {
         Hht::hold_followers(self, held)
     }
 
+    fn predict_with_accelerations(&mut self, on: bool) {
+        self.predicts_accelerations = on;
+    }
+
     fn held_follower_forces(&self) -> &[ContactForce] {
         self.follower_forces_used()
     }

@@ -321,6 +321,10 @@ pub trait TimeIntegrator: Sized {
     /// (`held`, per contact) are the ones the iteration gives, not their
     /// laws' at the predicted end (a scheme that lags its force laws).
     fn hold_followers(&mut self, _held: &[bool]) {}
+    /// Whether a step's first integration predicts its end with the
+    /// start's accelerations (u0 + Δt v0 + ½Δt² a0, v0 + Δt a0) rather
+    /// than at constant velocity (a scheme that lags its force laws).
+    fn predict_with_accelerations(&mut self, _on: bool) {}
     /// Every follower's force in the last integration (empty where the
     /// scheme evaluates them in its stages).
     fn held_follower_forces(&self) -> &[ContactForce] {

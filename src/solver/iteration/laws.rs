@@ -24,7 +24,7 @@ use crate::system::System;
 
 /// A body's generalized acceleration under a generalized force; a driven
 /// body's horizontal motion is imposed, so it does not answer.
-fn response(body: &RigidBody, q: &Vector3<f64>) -> Vector3<f64> {
+pub(super) fn response(body: &RigidBody, q: &Vector3<f64>) -> Vector3<f64> {
     let x = if body.drive.is_some() {
         0.0
     } else {

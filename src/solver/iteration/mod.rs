@@ -536,7 +536,7 @@ pub struct ContactIteration {
 
 impl ContactIteration {
     /// `nominal_step`: the fixed step whose unit-load responses are cached.
-    pub fn new(integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
+    pub fn new(mut integrator: Integrator, system: &System, nominal_step: f64) -> ContactIteration {
         let free_dofs = system.beam.coordinates();
         let (offsets, rows) = system.row_offsets();
         let followers: Vec<bool> = system
@@ -549,6 +549,9 @@ impl ContactIteration {
             contacts_of_body[contact.body].push(c);
         }
         let secant = followers::Secant::new(system, integrator.lags_force_laws());
+        // Settled on residuals (`followers`), a step gains an integration
+        // from a first prediction nearer its end.
+        integrator.predict_with_accelerations(secant.every());
         ContactIteration {
             integrator,
             load: DVector::zeros(free_dofs),
