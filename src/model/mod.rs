@@ -188,7 +188,7 @@ struct DiscardedStep {
 /// paths (`beam.*`, `solver.*`) are the same.
 pub fn variable_name(scene: &Scene, path: &str) -> String {
     if let Some(rest) = path.strip_prefix("body.") {
-        return format!("{}.{rest}", scene.body.name);
+        return format!("{}.{rest}", scene.vehicles[0].name);
     }
     if let Some(rest) = path.strip_prefix("sensors[") {
         if let Some((index, field)) = rest.split_once("].") {
@@ -233,7 +233,7 @@ thread_local! {
 /// Hand the input values (`Input::index` order) to the dynamics: the
 /// applied force on `[body]`, then the coupling ports' loads.
 fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
-    sim.set_body_force(inputs[0], inputs[1]);
+    sim.set_vehicle_force(0, [inputs[0], inputs[1]]);
     sim.set_coupling_loads(&coupling_loads(inputs));
 }
 
@@ -409,8 +409,8 @@ impl<D: Dynamics> Model<D> {
             // Built with the inputs as the scene's forces, so that the
             // state at t = 0 (the contact force) balances them.
             let mut scene = self.scene.clone();
-            scene.body.force_x = self.inputs[0];
-            scene.body.force_y = self.inputs[1];
+            scene.vehicles[0].force_x = self.inputs[0];
+            scene.vehicles[0].force_y = self.inputs[1];
             let mut sim =
                 D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
             apply_inputs(&mut sim, &self.inputs);

@@ -20,11 +20,11 @@ impl<D: Dynamics> Model<D> {
     /// per-call limits.
     pub(super) fn check_run_length(&self) -> Result<(), ModelError> {
         let (scene, step) = (&self.scene, self.scene.solver.step);
-        let v0 = scene.body.initial_speed;
+        let v0 = scene.vehicles[0].initial_speed;
         let to_exit = if v0 > 0.0 {
-            (scene.beam.length - scene.body.initial_position) / v0
+            (scene.beam.length - scene.vehicles[0].initial_position) / v0
         } else {
-            scene.body.initial_position / -v0
+            scene.vehicles[0].initial_position / -v0
         };
         let ends = [
             self.stop_time

@@ -101,8 +101,8 @@ impl Input {
 /// applied force on `[body]`, no coupling load.
 pub fn start_inputs(scene: &Scene) -> Vec<f64> {
     let mut inputs = vec![0.0; 2 + 3 * scene.couplings.len()];
-    inputs[0] = scene.body.force_x;
-    inputs[1] = scene.body.force_y;
+    inputs[0] = scene.vehicles[0].force_x;
+    inputs[1] = scene.vehicles[0].force_y;
     inputs
 }
 
@@ -182,10 +182,10 @@ impl VariableTable {
             scene,
         };
         b.scene_params();
-        if !scene.vehicles.is_empty() {
+        if scene.vehicles.len() > 1 {
             b.train_speed();
         }
-        for vehicle in 0..=scene.vehicles.len() {
+        for vehicle in 0..scene.vehicles.len() {
             b.vehicle_params(vehicle, |path| {
                 vehicle > 0 || !FMU_FIRST_FIELDS.contains(&path)
             });
@@ -420,7 +420,7 @@ impl Builder<'_> {
 
     /// The applied force on `[body]`'s centre (its `force_x`, `force_y`).
     fn body_force_inputs(&mut self) {
-        let body = &self.scene.body.name;
+        let body = &self.scene.vehicles[0].name;
         let x = format!("{body}.force_x");
         let y = format!("{body}.force_y");
         self.input(&x, Input::ForceX, "horizontal force on the body's centre");
@@ -532,7 +532,7 @@ fn exported(scene: &Scene, f: &Field, k: usize) -> bool {
     }
     let moving_force = match f.access {
         Access::Vehicle(..) => fields::vehicle(scene, k).expect("present").kind,
-        _ => scene.body.kind,
+        _ => scene.vehicles[0].kind,
     } == BodyKind::MovingForce;
     if !moving_force {
         return true;
@@ -557,7 +557,7 @@ fn rule(p: Param) -> Rule {
 pub fn param_value(scene: &Scene, p: Param) -> Value {
     let x = match p {
         Param::Field { field, holder } => FIELDS[field].value(scene, holder).unwrap_or(0.0),
-        Param::TrainSpeed => scene.body.initial_speed,
+        Param::TrainSpeed => scene.vehicles[0].initial_speed,
     };
     match rule(p) {
         Rule::Elements => Value::Integer(x.min(i32::MAX as f64) as i32),
@@ -587,7 +587,6 @@ pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String
         }
         Param::TrainSpeed => {
             let set = fields::initial_speed_setter();
-            set(&mut scene.body, x);
             scene.vehicles.iter_mut().for_each(|v| set(v, x));
         }
     }
@@ -775,10 +774,10 @@ mod tests {
         let stiffness = param_of(&t, "coach2.bogie.primary_stiffness");
         let mut changed = scene.clone();
         set_param(&mut changed, stiffness, Value::Real(2.5e6)).unwrap();
-        let bogie = |s: &Scene, k: usize| s.vehicles[k].bogie.unwrap();
+        let bogie = |s: &Scene, k: usize| s.vehicles[k + 1].bogie.unwrap();
         assert_eq!(bogie(&changed, 0).primary_stiffness, 2.5e6);
         assert_eq!(bogie(&changed, 1), bogie(&scene, 1));
-        assert_eq!(changed.body, scene.body);
+        assert_eq!(changed.vehicles[0], scene.vehicles[0]);
         // refused by its rule, the scene left alone
         let before = changed.clone();
         assert!(set_param(&mut changed, stiffness, Value::Real(-1.0)).is_err());
@@ -796,10 +795,7 @@ mod tests {
             Value::Real(6.0),
         )
         .unwrap();
-        let speeds: Vec<f64> = std::iter::once(&changed.body)
-            .chain(&changed.vehicles)
-            .map(|v| v.initial_speed)
-            .collect();
+        let speeds: Vec<f64> = changed.vehicles.iter().map(|v| v.initial_speed).collect();
         assert_eq!(speeds, [7.0, 7.0, 6.0]);
         let names: Vec<&str> = t.variables().iter().map(|v| v.name.as_str()).collect();
         for (i, n) in names.iter().enumerate() {
