@@ -202,14 +202,14 @@ impl<D: Dynamics> Model<D> {
         );
         if ramp.is_none() && self.loads_ramped {
             // The last step left a ramp's loads: back to the held inputs.
-            apply_inputs(sim, &self.inputs);
+            apply_inputs(sim, &self.inputs, self.scene.vehicles.len());
             self.rollback.invalidate();
         }
         let (saved, next) = self.rollback.start(sim);
         let target = snap_to_grid(to - t0, step);
         let started = std::time::Instant::now();
-        let advanced =
-            advance::advance_within(sim, target, step, budget, (until_event, ramp.as_ref()));
+        let ramp = ramp.as_ref().map(|r| (r, self.scene.vehicles.len()));
+        let advanced = advance::advance_within(sim, target, step, budget, (until_event, ramp));
         let ended_at_event = matches!(advanced, Ok((Advance::Reached, true)));
         let span = (start, probe, now);
         let outcome = classify(advanced, (sim, saved), span, (budget, step), (t0, to));

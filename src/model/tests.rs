@@ -933,3 +933,41 @@ fn a_train_speed_and_each_vehicle_s_own_reach_the_dynamics() {
         );
     }
 }
+
+/// Every vehicle has its own force inputs (issue 23), started at its
+/// scene's forces: on rigid ground a glider (no tangential contact force)
+/// pushed by `second.force_x` = F gains F t / m of speed, the other
+/// vehicle none.
+#[test]
+fn every_vehicle_s_force_inputs_push_that_vehicle_only() {
+    use crate::Simulation;
+    let mut scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
+    scene.track.approach = 2000.0;
+    scene.vehicles[0].initial_position = -1500.0;
+    let mut second = scene.vehicles[0].clone();
+    second.name = "second".into();
+    second.initial_position = -1000.0;
+    second.force_y = -500e3;
+    scene.vehicles.push(second);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    let vr = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().value_reference;
+    let start = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().start;
+    assert_eq!(start(&m, "second.force_y"), Some(Value::Real(-500e3)));
+    assert_eq!(start(&m, "glider.force_y"), Some(Value::Real(-600e3)));
+    let (push, mass, time) = (1500.0, 3000.0, 0.5);
+    m.set(&[vr(&m, "second.force_x")], &[Value::Real(push)])
+        .unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, time).unwrap();
+    let speeds = [vr(&m, "glider.vx"), vr(&m, "second.vx")];
+    let read = m.get(VarType::Real, &speeds).unwrap();
+    let [Value::Real(first), Value::Real(pushed)] = read[..] else {
+        panic!("{read:?}")
+    };
+    assert!((first - 10.0).abs() < 1e-9, "{first}");
+    let expected = 10.0 + push / mass * time;
+    assert!(
+        (pushed - expected).abs() < 1e-9,
+        "{pushed} against {expected}"
+    );
+}
