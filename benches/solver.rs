@@ -34,7 +34,7 @@ fn simulation(elements: usize, integrator: IntegratorKind) -> (Simulation, f64) 
     loop {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, step);
         scene.beam.elements = elements;
-        scene.body.initial_position = 6.0;
+        scene.vehicles[0].initial_position = 6.0;
         scene.solver.integrator = integrator;
         if let Ok(sim) = Simulation::new(&scene) {
             return (sim, step);

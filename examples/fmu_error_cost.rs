@@ -20,7 +20,7 @@ fn main() {
     let steps: u32 = args.get(2).and_then(|a| a.parse().ok()).expect(usage);
     let h: f64 = args.get(3).map_or(0.01, |a| a.parse().expect(usage));
     let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-    scene.body.initial_position = 1.0;
+    scene.vehicles[0].initial_position = 1.0;
     scene.error_estimate = on;
     let mut model = Model::<Simulation>::new(scene).expect("the paper's scene builds");
     model.initialize().expect("it initializes");

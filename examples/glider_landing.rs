@@ -24,11 +24,11 @@ fn main() {
         });
     }
     scene.solver.end_time = Some(0.2);
-    let mut glider = Scene::lee1994(BodyKind::Glider, 0.0, step).body;
+    let mut glider = Scene::lee1994(BodyKind::Glider, 0.0, step).vehicles[0].clone();
     glider.name = "glider".into();
     glider.initial_position = 12.0;
     glider.initial_height = 0.2;
-    scene.vehicles = vec![glider];
+    scene.vehicles.push(glider);
     scene.validate().expect("valid");
     let mut sim = Simulation::new(&scene).expect("builds");
     let grid = (0.2 / step).round() as u64;

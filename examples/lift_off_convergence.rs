@@ -33,11 +33,11 @@ fn glider_onto_the_beam() {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 100.0, step);
         scene.beam.elements = elements;
         scene.solver.integrator = IntegratorKind::Auto;
-        let mut glider = Scene::lee1994(BodyKind::Glider, 0.0, step).body;
+        let mut glider = Scene::lee1994(BodyKind::Glider, 0.0, step).vehicles[0].clone();
         glider.name = "glider".into();
         glider.initial_position = 12.0;
         glider.initial_height = 0.2;
-        scene.vehicles = vec![glider];
+        scene.vehicles.push(glider);
         scene.validate().expect("valid");
         let mut sim = Simulation::new(&scene).expect("builds");
         let mut k = 0u64;

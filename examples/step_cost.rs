@@ -33,7 +33,7 @@ fn main() {
     let mut sim = loop {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, step);
         scene.beam.elements = elements;
-        scene.body.initial_position = 6.0;
+        scene.vehicles[0].initial_position = 6.0;
         scene.solver.integrator = integrator;
         if let Ok(sim) = Simulation::new(&scene) {
             break sim;

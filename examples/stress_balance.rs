@@ -12,7 +12,7 @@ use guideway::{Scene, Simulation};
 /// without its irregularity unless `rough`.
 fn scene(step: f64, e: f64, rough: bool) -> Scene {
     let mut scene = common::rough_coach_scene("rough-track-300", "C", 2026, step, "rk4");
-    scene.body.restitution = e;
+    scene.vehicles[0].restitution = e;
     if !rough {
         scene.track.irregularities.clear();
     }

@@ -10,7 +10,7 @@ fn scene(end_time: Option<f64>) -> Scene {
     let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
     scene.track.approach = 10.0;
     scene.track.run_off = 30.0;
-    scene.body.initial_position = -5.0;
+    scene.vehicles[0].initial_position = -5.0;
     scene.solver.end_time = end_time;
     scene.validate().expect("valid");
     scene

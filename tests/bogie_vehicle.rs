@@ -147,7 +147,7 @@ fn energy_balance_holds_as_a_bogie_vehicle_crosses_the_beam() {
 
 /// The same coach on rolling wheelsets (r = 0.45 m, J = 700 kg m²).
 fn on_wheels(mut scene: Scene) -> Scene {
-    let bogie = scene.body.bogie.as_mut().expect("a bogie vehicle");
+    let bogie = scene.vehicles[0].bogie.as_mut().expect("a bogie vehicle");
     bogie.wheel_radius = Some(0.45);
     bogie.wheelset_inertia = Some(700.0);
     scene.validate().expect("valid scene");

@@ -433,7 +433,7 @@ fn rigid_massive_wheelsets_are_advised_the_well_posed_law_and_bad_laws_are_refus
     let hertz = eight_coaches(20, 5.0e-4);
     assert!(guideway::scene::advisories(&hertz).is_empty());
     let mut rigid = hertz.clone();
-    for spec in std::iter::once(&mut rigid.body).chain(&mut rigid.vehicles) {
+    for spec in rigid.vehicles.iter_mut() {
         spec.contact_law = None;
     }
     let advice = guideway::scene::advisories(&rigid);

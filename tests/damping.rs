@@ -20,7 +20,7 @@ fn damped_free_beam(integrator: IntegratorKind, step: f64) -> Scene {
         modes: [1, 3],
     });
     scene.track.approach = 5.0;
-    scene.body.initial_position = -3.0;
+    scene.vehicles[0].initial_position = -3.0;
     scene.solver.integrator = integrator;
     scene.solver.numerical_damping = 0.0;
     scene

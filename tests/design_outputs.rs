@@ -45,7 +45,7 @@ fn free_vibration_in_mode_one_has_acceleration_minus_omega_squared_deflection() 
     let mut scene = paper_scene(BodyKind::Wheel, 0.0, 1e-3);
     scene.beam.elements = 20;
     scene.track.approach = 5.0;
-    scene.body.initial_position = -3.0;
+    scene.vehicles[0].initial_position = -3.0;
     scene.solver.integrator = IntegratorKind::Hht;
     let beam = Beam::new(&scene.beam).unwrap();
     let modes = beam.modes(1).unwrap();
@@ -114,7 +114,7 @@ fn velocity_and_acceleration_outputs_integrate_to_the_deflection() {
 fn parked_wheel() -> Scene {
     let mut scene = paper_scene(BodyKind::Wheel, 0.0, 1e-3);
     scene.beam.elements = 8;
-    scene.body.initial_position = 12.0;
+    scene.vehicles[0].initial_position = 12.0;
     scene.solver.start = guideway::scene::StartKind::Static;
     scene.solver.end_time = Some(0.01);
     scene.solver.integrator = IntegratorKind::Hht;

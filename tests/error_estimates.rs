@@ -351,7 +351,7 @@ fn run_with_error_writes_the_estimates_into_the_summary_json() {
 fn rtol_on_the_mesh_meets_the_tolerance_against_a_finer_mesh() {
     let mut scene = builtin("train-3-coaches-2x25-5").expect("built-in");
     scene.solver.end_time = Some(4.0);
-    for vehicle in std::iter::once(&mut scene.body).chain(&mut scene.vehicles) {
+    for vehicle in scene.vehicles.iter_mut() {
         let bogie = vehicle.bogie.as_mut().expect("bogie vehicles");
         bogie.wheelset_mass = 0.0;
         bogie.wheel_radius = None;

@@ -315,7 +315,7 @@ fn the_follower_keeps_the_energy_balance() {
 #[test]
 fn a_negative_unsprung_mass_is_refused_with_the_field_named() {
     let mut scene = ground_scene();
-    scene.body.suspension.as_mut().unwrap().unsprung_mass = -1.0;
+    scene.vehicles[0].suspension.as_mut().unwrap().unsprung_mass = -1.0;
     let message = scene.validate().unwrap_err().to_string();
     assert!(
         message.contains("body.suspension.unsprung_mass"),
@@ -357,7 +357,7 @@ fn the_follower_rolls_from_the_approach_over_the_beam_onto_the_run_off() {
         let mut scene = beam_scene(0.0);
         scene.track.approach = 10.0;
         scene.track.run_off = 30.0;
-        scene.body.initial_position = -5.0;
+        scene.vehicles[0].initial_position = -5.0;
         scene.solver.end_time = Some(1.5);
         if hht {
             scene = with_hht(scene, 0.0, 1.0e-4);
@@ -456,7 +456,7 @@ fn the_follower_with_hht_keeps_the_energy_balance() {
     // the energy its numerical damping removes.
     for (damping, numerical) in [(0.0, 0.0), (DAMPING, 0.0), (DAMPING, 0.1)] {
         let mut scene = with_hht(beam_scene(0.0), numerical, 1.0e-4);
-        scene.body.suspension.as_mut().unwrap().damping = damping;
+        scene.vehicles[0].suspension.as_mut().unwrap().damping = damping;
         let names = [
             "energy.balance",
             "energy.gravity_work",
@@ -500,8 +500,8 @@ fn a_follower_at_rest_on_the_statically_deflected_beam_stays_at_rest() {
     let static_w = SPRUNG * GRAVITY * LENGTH.powi(3) / (48.0 * 8.5347e10);
     for hht in [false, true] {
         let mut scene = beam_scene(0.0);
-        scene.body.initial_position = 0.5 * LENGTH;
-        scene.body.initial_speed = 0.0;
+        scene.vehicles[0].initial_position = 0.5 * LENGTH;
+        scene.vehicles[0].initial_speed = 0.0;
         scene.solver.start = guideway::scene::StartKind::Static;
         scene.solver.end_time = Some(1.0);
         if hht {
@@ -643,10 +643,10 @@ fn a_follower_dropped_from_above_the_track_lands_and_bounces_as_the_oscillator()
     use guideway::simulation::EventKind::{Landing, LiftOff};
     let mut scene = ground_scene_with(0.0);
     scene.track.irregularities.clear();
-    scene.body.initial_speed = 0.0;
+    scene.vehicles[0].initial_speed = 0.0;
     let s = SPRUNG * GRAVITY / STIFFNESS;
     let h = 0.1;
-    scene.body.initial_height = h;
+    scene.vehicles[0].initial_height = h;
     let mut sim = Simulation::new(&scene).expect("builds");
     let all: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
     let state = all.iter().position(|n| n == "contact.state").unwrap();
@@ -688,9 +688,9 @@ fn a_follower_started_above_its_rest_within_its_spring_oscillates_about_it() {
     // harmonically about the rest with amplitude h.
     let mut scene = ground_scene_with(0.0);
     scene.track.irregularities.clear();
-    scene.body.initial_speed = 0.0;
+    scene.vehicles[0].initial_speed = 0.0;
     let h = 0.02;
-    scene.body.initial_height = h;
+    scene.vehicles[0].initial_height = h;
     scene.solver.end_time = Some(1.0);
     let (times, out) = histories(&scene, &["car.y", "contact.normal_force"]);
     let omega = (STIFFNESS / SPRUNG).sqrt();
@@ -720,14 +720,13 @@ fn followers_on_ground(bodies: &[(&str, f64, f64)], hht: bool) -> Scene {
         )
         .collect();
     let spec = |&(name, start, speed): &(&str, f64, f64)| {
-        let mut spec = scene.body.clone();
+        let mut spec = scene.vehicles[0].clone();
         spec.name = name.into();
         spec.initial_position = start;
         spec.initial_speed = speed;
         spec
     };
-    scene.vehicles = bodies[1..].iter().map(spec).collect();
-    scene.body = spec(&bodies[0]);
+    scene.vehicles = bodies.iter().map(spec).collect();
     if hht {
         scene = with_hht(scene, 0.0, 5.0e-4);
     }
@@ -800,8 +799,8 @@ fn two_followers_far_apart_are_two_single_followers() {
 fn a_follower_too_stiff_for_the_hht_step_fails_with_a_message_not_a_panic() {
     // k β Δt² / M ≈ 1e3: the fixed point of the force law cannot settle.
     let mut scene = with_hht(beam_scene(0.0), 0.0, 2.5e-3);
-    scene.body.mass = 100.0;
-    let suspension = scene.body.suspension.as_mut().unwrap();
+    scene.vehicles[0].mass = 100.0;
+    let suspension = scene.vehicles[0].suspension.as_mut().unwrap();
     suspension.stiffness = 1e9;
     suspension.damping = 1e7;
     let mut sim = Simulation::new(&scene).expect("builds");

@@ -58,10 +58,10 @@ fn series_midspan(t: f64) -> f64 {
 /// run to `end_time`.
 fn scene(end_time: Option<f64>) -> Scene {
     let mut scene = Scene::lee1994(guideway::scene::BodyKind::MovingForce, speed(), 0.0);
-    scene.body.inertia = None;
-    scene.body.radius = None;
-    scene.body.mass = 1.0; // no gravity: the force is force_y alone
-    scene.body.force_y = -FORCE;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
+    scene.vehicles[0].mass = 1.0; // no gravity: the force is force_y alone
+    scene.vehicles[0].force_y = -FORCE;
     scene.beam.elements = 40;
     scene.beam.surface_offset = 0.0;
     scene.solver.step = LENGTH / speed() / 4000.0;

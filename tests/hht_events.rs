@@ -62,7 +62,7 @@ fn wheel_crossing(elements: usize, step: f64) -> Scene {
     scene.beam.elements = elements;
     scene.track.approach = 5.0;
     scene.track.run_off = 10.0;
-    scene.body.initial_position = -2.0;
+    scene.vehicles[0].initial_position = -2.0;
     scene.solver.end_time = Some(2.8);
     scene
 }
@@ -189,8 +189,8 @@ fn a_plastic_landing_under_hht_does_not_raise_the_balance() {
     for alpha in [0.0, -0.1] {
         let mut scene = Scene::lee1994(BodyKind::Glider, 0.0, 2.5e-3);
         scene.beam.elements = 16;
-        scene.body.initial_position = 12.0;
-        scene.body.initial_height = 0.2;
+        scene.vehicles[0].initial_position = 12.0;
+        scene.vehicles[0].initial_height = 0.2;
         scene.solver.end_time = Some(0.2);
         let run = run(&hht(scene, alpha));
         let sim = &run.sim;

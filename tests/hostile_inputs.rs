@@ -372,7 +372,7 @@ fn a_coach_too_heavy_for_a_contact_point_is_named_with_its_mass() {
 
 /// The run of `scene` with its first coach at 1e15 kg fails naming it.
 fn assert_a_1e15_kg_first_coach_is_named(mut scene: Scene) {
-    scene.body.mass = 1e15;
+    scene.vehicles[0].mass = 1e15;
     let mut sim = guideway::Simulation::new(&scene).unwrap();
     let error = sim.advance_to(0.1).unwrap_err().to_string();
     assert!(

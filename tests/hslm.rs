@@ -114,10 +114,10 @@ fn check_train(index: usize) {
     // As a scene's moving force: the first axle at initial_position, the
     // others behind it, all at the train's speed.
     let mut scene = Scene::load("lee1994-glider-30").expect("built-in");
-    scene.body.kind = BodyKind::MovingForce;
-    scene.body.force_y = 0.0;
-    scene.body.train = Some(name.to_lowercase());
-    scene.body.initial_position = 1.0;
+    scene.vehicles[0].kind = BodyKind::MovingForce;
+    scene.vehicles[0].force_y = 0.0;
+    scene.vehicles[0].train = Some(name.to_lowercase());
+    scene.vehicles[0].initial_position = 1.0;
     scene
         .validate()
         .expect("a moving-force train scene is valid");
@@ -154,11 +154,11 @@ train_tests! {
 #[test]
 fn unknown_trains_and_trains_on_bodies_are_refused() {
     let mut scene = Scene::load("lee1994-glider-30").expect("built-in");
-    scene.body.train = Some("HSLM-A11".into());
+    scene.vehicles[0].train = Some("HSLM-A11".into());
     let message = scene.validate().unwrap_err().to_string();
     assert!(message.contains("body.train"), "{message}");
-    scene.body.kind = BodyKind::MovingForce;
-    scene.body.force_y = 0.0;
+    scene.vehicles[0].kind = BodyKind::MovingForce;
+    scene.vehicles[0].force_y = 0.0;
     let message = scene.validate().unwrap_err().to_string();
     assert!(message.contains("HSLM-A1 … HSLM-A10"), "{message}");
 }
@@ -166,7 +166,7 @@ fn unknown_trains_and_trains_on_bodies_are_refused() {
 #[test]
 fn a_moving_force_scene_is_refused_by_the_contact_simulation_with_the_way_out() {
     let mut scene = Scene::load("lee1994-glider-30").expect("built-in");
-    scene.body.kind = BodyKind::MovingForce;
+    scene.vehicles[0].kind = BodyKind::MovingForce;
     scene.validate().expect("valid");
     let message = guideway::Simulation::new(&scene).err().expect("refused");
     assert!(message.contains("guideway sweep"), "{message}");

@@ -17,8 +17,8 @@ const GRAVITY: f64 = 9.81;
 fn sine_scene() -> Scene {
     let mut scene = Scene::lee1994(BodyKind::Glider, SPEED, 0.0005);
     scene.gravity = GRAVITY;
-    scene.body.mass = MASS;
-    scene.body.force_y = 0.0;
+    scene.vehicles[0].mass = MASS;
+    scene.vehicles[0].force_y = 0.0;
     scene.beam.surface_offset = 0.0;
     scene.track.approach = 200.0;
     scene.track.irregularities = vec![IrregularitySpec::Sine {
@@ -26,7 +26,7 @@ fn sine_scene() -> Scene {
         wavelength: WAVELENGTH,
         phase: 0.3,
     }];
-    scene.body.initial_position = -190.0;
+    scene.vehicles[0].initial_position = -190.0;
     scene.solver.end_time = Some(4.0);
     scene.validate().expect("valid");
     scene
@@ -287,7 +287,7 @@ fn a_table_is_read_beside_the_scene_and_kept_inline() {
     assert_eq!(profile.at(-5.0), [0.0; 4]);
     assert!((value("glider.y") - 0.6).abs() < 1e-12);
     let mut on_slope = scene.clone();
-    on_slope.body.initial_position = -1.0;
+    on_slope.vehicles[0].initial_position = -1.0;
     let sim = Simulation::new(&on_slope).unwrap();
     sim.output_values(&mut values);
     let value = |n: &str| values[names.iter().position(|x| x == n).unwrap()];
@@ -490,7 +490,7 @@ fn a_wheel_rolls_over_a_sine_from_the_approach_onto_the_beam_and_off_keeping_the
         wavelength: 4.0,
         phase: 0.0,
     }];
-    scene.body.initial_position = -5.0;
+    scene.vehicles[0].initial_position = -5.0;
     scene.solver.end_time = Some(4.0);
     let mut sim = Simulation::new(&scene).unwrap();
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
@@ -562,9 +562,9 @@ fn a_track_longer_than_a_random_profiles_period_is_refused() {
 #[test]
 fn an_irregularity_under_moving_forces_is_refused_saying_what_to_use() {
     let mut scene = sine_scene();
-    scene.body.kind = BodyKind::MovingForce;
-    scene.body.inertia = None;
-    scene.body.radius = None;
+    scene.vehicles[0].kind = BodyKind::MovingForce;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
     let message = scene.validate().unwrap_err().to_string();
     for needed in ["track.irregularities", "sprung_mass", "1 + φ''"] {
         assert!(message.contains(needed), "{needed}: {message}");

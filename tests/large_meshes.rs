@@ -51,7 +51,7 @@ fn a_wheel_set_down_mid_beam_on_65536_elements_converges_at_once() {
     // the whole step again at every iterate let its rounding move the
     // contact (the velocity stage stalled at 8e-2 m/s after 50 iterates).
     let mut scene = fine_scene(65_536);
-    scene.body.initial_position = 6.0;
+    scene.vehicles[0].initial_position = 6.0;
     let mut sim = Simulation::new(&scene).expect("builds");
     for step in 1..=2 {
         sim.advance_to(step as f64 * 0.0025).expect("converges");
@@ -96,7 +96,7 @@ fn exit_on_16384_elements_is_located() {
     // step), the exit agrees with the same run on 1,024 elements.
     let exit = |elements: usize| {
         let mut scene = fine_scene(elements);
-        scene.body.initial_position = 23.9;
+        scene.vehicles[0].initial_position = 23.9;
         run_to_exit(&scene)
     };
     let (fine, coarse) = (exit(16_384), exit(1_024));

@@ -9,11 +9,11 @@ use guideway::{Advance, Simulation};
 fn drop_scene(kind: BodyKind, height: f64, restitution: f64) -> Scene {
     let mut scene = Scene::lee1994(kind, 10.0, 0.001);
     scene.gravity = 9.81;
-    scene.body.force_y = 0.0;
+    scene.vehicles[0].force_y = 0.0;
     scene.track.approach = 100.0;
-    scene.body.initial_position = -90.0;
-    scene.body.initial_height = height;
-    scene.body.restitution = restitution;
+    scene.vehicles[0].initial_position = -90.0;
+    scene.vehicles[0].initial_height = height;
+    scene.vehicles[0].restitution = restitution;
     scene.solver.end_time = Some(1.0);
     scene.validate().expect("valid");
     scene
@@ -52,7 +52,7 @@ fn landings(sim: &Simulation) -> usize {
 fn bounce(kind: BodyKind, restitution: f64) -> (f64, usize, Simulation) {
     let height = 0.1;
     let scene = drop_scene(kind, height, restitution);
-    let rest = scene.body.radius.unwrap_or(0.0) + scene.beam.surface_offset;
+    let rest = scene.vehicles[0].radius.unwrap_or(0.0) + scene.beam.surface_offset;
     let mut after = None;
     // First landing at t = √(2h/g) = 0.143 s; the next at 0.143 (1 + 2e) s.
     let sim = run(&scene, 0.2, |sim| {
@@ -98,7 +98,7 @@ fn half_elastic_bounce_reaches_e_squared_of_the_height() {
 fn plastic_landing_stays_on_the_ground() {
     for kind in [BodyKind::Wheel, BodyKind::Glider] {
         let scene = drop_scene(kind, 0.1, 0.0);
-        let rest = scene.body.radius.unwrap_or(0.0) + scene.beam.surface_offset;
+        let rest = scene.vehicles[0].radius.unwrap_or(0.0) + scene.beam.surface_offset;
         let sim = run(&scene, 0.5, |_| {});
         let events: Vec<_> = sim.events().iter().map(|e| e.kind).collect();
         assert_eq!(events, [EventKind::Landing], "{kind:?}");
@@ -257,11 +257,11 @@ fn energy_balance_with_impacts_holds_at_the_papers_step_under_auto() {
 fn glider_over_vibrating_beam(elements: usize, step: f64) -> Scene {
     let mut scene = paper_scene(100.0, elements, step);
     scene.solver.end_time = Some(0.2);
-    let mut glider = Scene::lee1994(BodyKind::Glider, 0.0, step).body;
+    let mut glider = Scene::lee1994(BodyKind::Glider, 0.0, step).vehicles[0].clone();
     glider.name = "glider".into();
     glider.initial_position = 12.0;
     glider.initial_height = 0.2;
-    scene.vehicles = vec![glider];
+    scene.vehicles.push(glider);
     scene.validate().expect("valid");
     scene
 }

@@ -118,7 +118,7 @@ fn real_fields(scene: &Scene) -> usize {
 fn set_real(scene: &mut Scene, k: usize, x: f64) -> &'static str {
     let k = k % real_fields(scene);
     let (b, s) = (&mut scene.beam, &mut scene.solver);
-    let body = &mut scene.body;
+    let body = &mut scene.vehicles[0];
     let fixed: [(&'static str, &mut f64); 12] = [
         ("beam.length", &mut b.length),
         ("beam.mass_per_length", &mut b.mass_per_length),
@@ -142,7 +142,7 @@ fn set_real(scene: &mut Scene, k: usize, x: f64) -> &'static str {
         0 => scene.solver.numerical_damping = x,
         1 => scene.solver.end_time = Some(x),
         // a glider has no inertia or radius: setting one is itself an edit
-        2 => scene.body.inertia = Some(x),
+        2 => scene.vehicles[0].inertia = Some(x),
         i if i - 3 < scene.sensors.len() => scene.sensors[i - 3].position = x,
         i => scene.beam.supports.intermediate[i - 3 - scene.sensors.len()] = x,
     }

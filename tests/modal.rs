@@ -223,7 +223,7 @@ fn the_modal_fields_are_validated_by_name() {
     );
     let text = problem(|s| {
         *s = modal(s.clone(), 2);
-        s.body.kind = BodyKind::MovingForce;
+        s.vehicles[0].kind = BodyKind::MovingForce;
     });
     assert!(
         text.contains("solver.structure") && text.contains("moving_force"),

@@ -79,10 +79,10 @@ fn series_peak(from: f64, to: f64) -> f64 {
 /// `end_time`.
 fn scene(end_time: Option<f64>) -> Scene {
     let mut scene = Scene::lee1994(BodyKind::MovingForce, speed(), 0.0);
-    scene.body.inertia = None;
-    scene.body.radius = None;
-    scene.body.mass = 1.0; // no gravity: the force is force_y alone
-    scene.body.force_y = -FORCE;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
+    scene.vehicles[0].mass = 1.0; // no gravity: the force is force_y alone
+    scene.vehicles[0].force_y = -FORCE;
     scene.beam.elements = 40;
     scene.beam.surface_offset = 0.0;
     scene.sensors[0].position = 0.5 * LENGTH;
@@ -155,17 +155,17 @@ fn a_two_axle_run_is_the_sum_of_its_one_axle_runs() {
         ratio: 0.02,
         modes: [1, 3],
     });
-    both.body.initial_position = 7.0;
-    let mut second = both.body.clone();
+    both.vehicles[0].initial_position = 7.0;
+    let mut second = both.vehicles[0].clone();
     second.name = "second".into();
     second.initial_position = 0.0;
     second.force_y = -0.4 * FORCE;
     both.vehicles.push(second.clone());
     both.validate().expect("valid");
     let mut first_alone = both.clone();
-    first_alone.vehicles.clear();
+    first_alone.vehicles.truncate(1);
     let mut second_alone = first_alone.clone();
-    second_alone.body = second;
+    second_alone.vehicles[0] = second;
     let (sum, a, b) = (run(&both).0, run(&first_alone).0, run(&second_alone).0);
     assert_eq!(sum.time, a.time);
     assert_eq!(sum.time, b.time);

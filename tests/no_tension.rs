@@ -283,9 +283,9 @@ fn dropped_glider() -> Scene {
     let mut scene = Scene::lee1994(guideway::scene::BodyKind::Glider, 0.0, 1e-3);
     scene.gravity = GRAVITY;
     scene.beam.surface_offset = 0.0;
-    scene.body.force_y = 0.0;
-    scene.body.initial_position = 12.0;
-    scene.body.initial_height = HEIGHT;
+    scene.vehicles[0].force_y = 0.0;
+    scene.vehicles[0].initial_position = 12.0;
+    scene.vehicles[0].initial_height = HEIGHT;
     scene.solver.end_time = Some(0.12);
     scene.validate().expect("valid");
     scene

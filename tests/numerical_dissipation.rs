@@ -12,8 +12,8 @@ fn free_vibration(damping: f64, structural: Option<DampingSpec>, rough: bool) ->
     let mut scene = Scene::lee1994(BodyKind::Glider, 1.0, 0.0025);
     scene.beam.elements = 16;
     scene.beam.damping = structural;
-    scene.body.force_y = 0.0;
-    scene.body.initial_position = -50.0;
+    scene.vehicles[0].force_y = 0.0;
+    scene.vehicles[0].initial_position = -50.0;
     scene.track.approach = 60.0;
     scene.solver.integrator = IntegratorKind::Hht;
     scene.solver.numerical_damping = damping;
@@ -151,8 +151,8 @@ fn rk4_in_one_mode(mode: usize, omega_dt: f64) -> (Simulation, f64) {
     let step = omega_dt / modes.omega[highest];
     let mut scene = Scene::lee1994(BodyKind::Glider, 0.0, step);
     scene.beam.elements = 8;
-    scene.body.force_y = 0.0;
-    scene.body.initial_position = -50.0;
+    scene.vehicles[0].force_y = 0.0;
+    scene.vehicles[0].initial_position = -50.0;
     scene.track.approach = 60.0;
     scene.solver.integrator = IntegratorKind::Rk4;
     scene.validate().expect("valid");

@@ -47,7 +47,7 @@ fn without_run_off_the_wheel_leaves_the_structure_and_the_run_goes_on() {
     }
     assert_eq!(output(&sim, "contact.on_beam"), 0.0);
     // On the ground the wheel carries its load, level with the supports.
-    let load = -scene.body.force_y;
+    let load = -scene.vehicles[0].force_y;
     assert!((output(&sim, "contact.normal_force") - load).abs() < 1e-6 * load);
     let (r, h) = (0.3, scene.beam.surface_offset);
     let y = output(&sim, "wheel.y");

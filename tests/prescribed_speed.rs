@@ -33,7 +33,7 @@ struct Crossing {
 
 fn crossing(name: &str) -> Crossing {
     let mut scene = Scene::load(name).expect("built-in scene");
-    scene.body.prescribed_speed = Some(SpeedSpec::Constant(scene.body.initial_speed));
+    scene.vehicles[0].prescribed_speed = Some(SpeedSpec::Constant(scene.vehicles[0].initial_speed));
     scene.solver.velocity_tolerance = VELOCITY_TOLERANCE;
     scene.solver.gap_tolerance = GAP_TOLERANCE;
     scene.solver.step /= STEP_REFINEMENT;
@@ -85,7 +85,7 @@ fn tractive_work_is_the_energy_left_at_100_m_per_s() {
 #[test]
 fn a_speed_table_is_followed_and_held_after_its_last_row() {
     let mut scene = Scene::load("lee1994-glider-30").expect("built-in scene");
-    scene.body.prescribed_speed = Some(SpeedSpec::Table(vec![[0.0, 30.0], [0.3, 20.0]]));
+    scene.vehicles[0].prescribed_speed = Some(SpeedSpec::Table(vec![[0.0, 30.0], [0.3, 20.0]]));
     let run = run_to_exit(&scene);
     // 0.3 s of deceleration covers 7.5 m; the rest at 20 m/s. (The exit
     // is the foot point's, a few mm from the centre on the tilted beam.)

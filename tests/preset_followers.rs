@@ -448,7 +448,7 @@ fn the_energy_balance_holds_for_followers_under_a_bogie_and_a_maglev_vehicle() {
     let mut cases = Vec::new();
     for damping in [0.0, 2.0e4] {
         let mut scene = crossing(0.0);
-        let bogie = scene.body.bogie.as_mut().unwrap();
+        let bogie = scene.vehicles[0].bogie.as_mut().unwrap();
         bogie.primary_damping = damping;
         bogie.secondary_damping = damping;
         cases.push((format!("bogie, c = {damping}, RK4"), scene.clone()));
@@ -457,7 +457,7 @@ fn the_energy_balance_holds_for_followers_under_a_bogie_and_a_maglev_vehicle() {
             with_hht(scene, 1e-4),
         ));
         let mut scene = maglev(0.0, 2, 11.0, speed, (50.0 - 1.0 - 10.5 - 11.0) / speed);
-        scene.body.maglev.as_mut().unwrap().damping = damping;
+        scene.vehicles[0].maglev.as_mut().unwrap().damping = damping;
         cases.push((format!("maglev, c = {damping}, RK4"), scene));
     }
     for (label, scene) in cases {
@@ -538,7 +538,7 @@ fn slack_followers_under_a_dropped_bogie_vehicle_are_open_until_they_land() {
     // undamped, the vehicle bounces and the followers lift off again.
     let mut scene = coach(0.0, 1, 12.5, 0.0, 0.4);
     scene.solver.start = StartKind::Rest;
-    scene.body.initial_height = 0.2;
+    scene.vehicles[0].initial_height = 0.2;
     let contacts: Vec<String> = (1..=4).map(|i| format!("coach_wheelset{i}")).collect();
     let mut wanted: Vec<String> = Vec::new();
     for c in &contacts {
@@ -594,12 +594,12 @@ fn bad_follower_fields_are_refused_naming_field_and_value() {
         message
     };
     let mut scene = coach(0.0, 1, 12.5, 0.0, 1.0);
-    scene.body.bogie.as_mut().unwrap().wheelset_mass = -1.0;
+    scene.vehicles[0].bogie.as_mut().unwrap().wheelset_mass = -1.0;
     refused(&scene, "body.bogie.wheelset_mass", "-1");
-    scene.body.bogie.as_mut().unwrap().wheelset_mass = 1e-300;
+    scene.vehicles[0].bogie.as_mut().unwrap().wheelset_mass = 1e-300;
     refused(&scene, "body.bogie.wheelset_mass", "1e-300");
     // A follower does not roll: no wheel wheelsets without mass.
-    let bogie = scene.body.bogie.as_mut().unwrap();
+    let bogie = scene.vehicles[0].bogie.as_mut().unwrap();
     bogie.wheelset_mass = 0.0;
     bogie.wheel_radius = Some(0.45);
     bogie.wheelset_inertia = Some(700.0);
@@ -607,9 +607,9 @@ fn bad_follower_fields_are_refused_naming_field_and_value() {
     assert!(message.contains("does not roll"), "{message}");
 
     let mut scene = maglev(0.0, 1, 12.5, 0.0, 1.0);
-    scene.body.maglev.as_mut().unwrap().magnet_mass = f64::NAN;
+    scene.vehicles[0].maglev.as_mut().unwrap().magnet_mass = f64::NAN;
     refused(&scene, "body.maglev.magnet_mass", "NaN");
-    scene.body.maglev.as_mut().unwrap().magnet_mass = -600.0;
+    scene.vehicles[0].maglev.as_mut().unwrap().magnet_mass = -600.0;
     refused(&scene, "body.maglev.magnet_mass", "-600");
     // And through the scene text.
     let text = "name = \"m\"\n[body]\nname = \"car\"\nkind = \"maglev_vehicle\"\nmass = 1.0\n\

@@ -268,8 +268,8 @@ fn a_wheel_moving_left_over_joints_is_refused_before_the_run() {
     // right end at −10 m/s) is refused up front, naming the field and the
     // way out.
     let mut scene = two_spans(GAP, 8, 2.5e-4, IntegratorKind::Rk4);
-    scene.body.initial_position = 2.0 * SPAN;
-    scene.body.initial_speed = -10.0;
+    scene.vehicles[0].initial_position = 2.0 * SPAN;
+    scene.vehicles[0].initial_speed = -10.0;
     let message = scene.validate().unwrap_err().to_string();
     println!("{message}");
     assert!(message.contains("body.initial_speed = -10"), "{message}");
@@ -337,7 +337,7 @@ fn a_wheel_crosses_a_joint_on_a_sine_profile_with_either_integrator() {
         let mut scene = two_spans(GAP, 8, 2.5e-4, integrator);
         // From the approach, so that the wheel starts on the profile.
         scene.track.approach = 10.0;
-        scene.body.initial_position = -5.0;
+        scene.vehicles[0].initial_position = -5.0;
         scene.track.irregularities = vec![IrregularitySpec::Sine {
             amplitude,
             wavelength,

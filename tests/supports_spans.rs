@@ -313,7 +313,7 @@ fn scenes_with_joints_and_springs_are_validated() {
     assert!(found[0].2.contains("radius"), "{found:?}");
 
     let glider = guideway::Scene {
-        body: paper_scene(BodyKind::Glider, 10.0, 1e-3).body,
+        vehicles: paper_scene(BodyKind::Glider, 10.0, 1e-3).vehicles,
         ..scene.clone()
     };
     let found = problems(&glider);

@@ -40,7 +40,7 @@ fn scene() -> Scene {
 /// §6.4.6.5(4)'s cut-off from the beam's own f1 and f3.
 fn single_run(scene: &Scene, train: &str, speed: f64) -> Vec<(String, f64)> {
     let beam = Beam::new(&scene.beam).unwrap();
-    let mut spec = scene.body.clone();
+    let mut spec = scene.vehicles[0].clone();
     spec.train = Some(train.into());
     spec.initial_speed = speed;
     let axles: Vec<Axle> = vehicle_axles(&spec, scene.gravity);
@@ -124,7 +124,7 @@ fn envelope_rows_are_the_single_runs_maxima() {
         let expected: Vec<&str> = single.iter().map(|s| s.0.as_str()).collect();
         assert_eq!(names, expected, "the row has every design output");
         let mut with_train = scene.clone();
-        with_train.body.train = Some(row.train.clone());
+        with_train.vehicles[0].train = Some(row.train.clone());
         let statics = static_envelope(&with_train).unwrap();
         for (d, (name, peak)) in row.design.iter().zip(&single) {
             let what = format!("{} at {} km/h: {name}", row.train, row.speed);

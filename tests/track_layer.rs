@@ -257,7 +257,7 @@ contact_law = {{ preset = "wheel-rail" }}
 "#,
         force = -P
     );
-    scene.body = toml::from_str(&toml).expect("wheel body");
+    scene.vehicles[0] = toml::from_str(&toml).expect("wheel body");
     scene.validate().expect("valid scene");
     let mut sim = guideway::Simulation::new(&scene).expect("simulation");
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();

@@ -48,7 +48,7 @@ fn energy_balance_of_a_bogie_vehicle_train_over_a_two_span_bridge() {
         alpha: 0.6,
         beta: 0.0,
     });
-    for vehicle in std::iter::once(&mut damped.body).chain(&mut damped.vehicles) {
+    for vehicle in damped.vehicles.iter_mut() {
         let bogie = vehicle.bogie.as_mut().expect("coaches");
         bogie.primary_damping = 2.0e4;
         bogie.secondary_damping = 4.5e4;

@@ -273,7 +273,7 @@ fn maglev_crawler() -> String {
 /// its own end time) and check every body's final horizontal speed.
 fn check_driven(scene: &mut Scene, end: Option<f64>) {
     let table = |v: f64| SpeedSpec::Table(vec![[0.0, v], [0.2, 1.4 * v]]);
-    for v in std::iter::once(&mut scene.body).chain(&mut scene.vehicles) {
+    for v in scene.vehicles.iter_mut() {
         v.prescribed_speed = Some(table(v.initial_speed));
     }
     let end = end.or(scene.solver.end_time).unwrap_or(0.3);
@@ -287,7 +287,7 @@ fn check_driven(scene: &mut Scene, end: Option<f64>) {
     let mut values = vec![0.0; names.len()];
     sim.output_values(&mut values);
     let mut checked = 0;
-    for v in std::iter::once(&scene.body).chain(&scene.vehicles) {
+    for v in scene.vehicles.iter() {
         let held = 1.4 * v.initial_speed;
         for body in v.body_names() {
             let k = names.iter().position(|n| *n == format!("{body}.vx"));

@@ -5,7 +5,7 @@ use guideway::scene::{BodyKind, BodySpec};
 use guideway::{Advance, Scene, Simulation};
 
 fn paper_wheel(name: &str, position: f64, speed: f64) -> BodySpec {
-    let mut spec = Scene::lee1994(BodyKind::Wheel, speed, 0.0025).body;
+    let mut spec = Scene::lee1994(BodyKind::Wheel, speed, 0.0025).vehicles[0].clone();
     spec.name = name.to_string();
     spec.initial_position = position;
     spec
@@ -15,8 +15,7 @@ fn ground_scene(bodies: &[BodySpec]) -> Scene {
     let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
     scene.gravity = 9.81;
     scene.track.approach = 2000.0;
-    scene.body = bodies[0].clone();
-    scene.vehicles = bodies[1..].to_vec();
+    scene.vehicles = bodies.to_vec();
     scene.solver.end_time = Some(2.0);
     scene.validate().expect("valid");
     scene
@@ -86,7 +85,7 @@ fn two_wheels_on_one_span_load_each_other_and_keep_the_energy_balance() {
     // once, coupled through it (the block Delassus operator's off-diagonal
     // blocks).
     let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-    scene.vehicles = vec![paper_wheel("second", 6.0, 10.0)];
+    scene.vehicles.push(paper_wheel("second", 6.0, 10.0));
     // Without run-off the first wheel to leave the beam would leave the
     // track and end the run.
     scene.track.run_off = 30.0;

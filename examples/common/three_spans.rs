@@ -23,15 +23,15 @@ pub fn wheels_on_three_spans(
     scene.solver.numerical_damping = 0.1;
     scene.sensors[0].position = 37.5;
     let spacing = 50.0 / contacts as f64;
-    let template = scene.body.clone();
-    let mut wheels = (0..contacts).map(|i| {
+    let template = scene.vehicles[0].clone();
+    let wheels = (0..contacts).map(|i| {
         let mut body = template.clone();
         body.name = format!("wheel{}", i + 1);
         body.force_y = -2e5;
         body.initial_position = 0.5 + spacing * i as f64;
         body
     });
-    scene.body = wheels.next().expect("at least one contact");
     scene.vehicles = wheels.collect();
+    assert!(!scene.vehicles.is_empty(), "at least one contact");
     scene
 }

@@ -56,10 +56,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         restitution: Vec::new(),
         open: Vec::new(),
     };
-    for (v, spec) in std::iter::once(&scene.body)
-        .chain(&scene.vehicles)
-        .enumerate()
-    {
+    for (v, spec) in scene.vehicles.iter().enumerate() {
         let vehicle = vehicle(spec, &assembly.system.beam, scene.gravity)?;
         assembly.add_vehicle(v, spec, vehicle);
     }

@@ -374,7 +374,7 @@ fn read_columns(
 ) -> Vec<bool> {
     let names: Vec<String> = outputs.iter().map(|o| o.name.clone()).collect();
     let mut read = vec![false; names.len()];
-    let position = output_names::travel_position(&names, &scene.body.name);
+    let position = output_names::travel_position(&names, &scene.vehicles[0].name);
     let summary_columns = if summary {
         sink.summary.columns()
     } else {

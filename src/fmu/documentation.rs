@@ -133,7 +133,7 @@ each one alone).</p>
 /// functions' prefix, `fmi2` or `fmi3`).
 fn subject(scene: &Scene, p: &str) -> String {
     if is_moving_force_scene(scene) {
-        let vehicles = 1 + scene.vehicles.len();
+        let vehicles = scene.vehicles.len();
         return format!(
             r#"<p>{vehicles} vehicle(s) of moving forces (prescribed point loads at constant
 speed: single forces or HSLM trains) cross a beam of {length} m ({elements}
@@ -192,12 +192,12 @@ fn kind_words(vehicle: &BodySpec) -> String {
 /// "A wheel of 5750 kg moves" for one vehicle, "3 vehicles move" else.
 fn what_moves(scene: &Scene) -> String {
     match scene.vehicles.len() {
-        0 => format!(
+        1 => format!(
             "A {} of {} kg moves",
-            kind_words(&scene.body),
-            scene.body.mass
+            kind_words(&scene.vehicles[0]),
+            scene.vehicles[0].mass
         ),
-        n => format!("{} vehicles (below) move", n + 1),
+        n => format!("{n} vehicles (below) move"),
     }
 }
 
@@ -205,11 +205,12 @@ fn what_moves(scene: &Scene) -> String {
 /// brings into the model (whose outputs and coupling ports carry their
 /// names); nothing for a one-body scene, which the sentence above says.
 fn vehicle_table(scene: &Scene) -> String {
-    if scene.vehicles.is_empty() && scene.body.body_names().len() <= 1 {
+    if scene.vehicles.len() == 1 && scene.vehicles[0].body_names().len() <= 1 {
         return String::new();
     }
     let rows: String = scene
-        .every_vehicle()
+        .vehicles
+        .iter()
         .map(|v| {
             let bodies: Vec<String> = v
                 .body_names()

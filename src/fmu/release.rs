@@ -121,12 +121,12 @@ pub fn build(out: &Path, cdylib: &Path, changelog: &str, replace: bool) -> Resul
 /// so that a vehicle model of the user's own can ride on it. None for
 /// scenes of several vehicles or with couplings already.
 pub fn coupling_variant(scene: &Scene) -> Option<Scene> {
-    let one_body = scene.vehicles.is_empty() && scene.couplings.is_empty();
-    let kind = matches!(scene.body.kind, BodyKind::Wheel | BodyKind::Glider);
+    let one_body = scene.vehicles.len() == 1 && scene.couplings.is_empty();
+    let kind = matches!(scene.vehicles[0].kind, BodyKind::Wheel | BodyKind::Glider);
     (one_body && kind).then(|| {
         let mut coupled = scene.clone();
         coupled.name = format!("{}-coupling", scene.name);
-        coupled.couplings = vec![scene.body.name.clone()];
+        coupled.couplings = vec![scene.vehicles[0].name.clone()];
         coupled
     })
 }
@@ -186,7 +186,7 @@ fn collect_files(root: &Path, dir: &Path, out: &mut Vec<String>) -> Result<(), S
 }
 
 fn body_text(scene: &Scene) -> &'static str {
-    scene.body.kind.description()
+    scene.vehicles[0].kind.description()
 }
 
 /// The cross-check `ReadMe.txt` of one model.
@@ -222,7 +222,7 @@ fn readme(scenes: &[Scene]) -> String {
             "| `{}.fmu` | {} | {} | {} | {} |",
             model_identifier(&scene.name),
             body_text(scene),
-            scene.body.initial_speed,
+            scene.vehicles[0].initial_speed,
             scene.solver.step,
             scene.description
         )
@@ -282,7 +282,10 @@ mod tests {
             let scene = builtin(name).unwrap();
             let coupled = coupling_variant(&scene).expect("a wheel or glider scene");
             coupled.validate().unwrap();
-            assert_eq!(coupled.couplings, std::slice::from_ref(&scene.body.name));
+            assert_eq!(
+                coupled.couplings,
+                std::slice::from_ref(&scene.vehicles[0].name)
+            );
             assert_ne!(
                 model_identifier(&coupled.name),
                 model_identifier(&scene.name)

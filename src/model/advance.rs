@@ -32,14 +32,15 @@ pub enum Stop {
 /// not yet reached, stop. With `until_event`, the chunks are single steps
 /// and the advance ends (`Reached`, short of `target`) after the one in
 /// which a simulation event happened; the flag returned says whether it did.
-/// With a `ramp`, the chunks are single internal steps, each under the
+/// With a `ramp` (and the scene's number of vehicles, whose forces lead
+/// the inputs), the chunks are single internal steps, each under the
 /// ramp's mean inputs over it.
 pub fn advance_within<D: Dynamics>(
     sim: &mut D,
     target: f64,
     step: f64,
     budget: f64,
-    (until_event, ramp): (bool, Option<&Ramp>),
+    (until_event, ramp): (bool, Option<(&Ramp, usize)>),
 ) -> Result<(Advance, bool), Stop> {
     let budget = Duration::try_from_secs_f64(budget).unwrap_or(Duration::MAX);
     let started = Instant::now();
@@ -64,13 +65,13 @@ fn advance_chunks<D: Dynamics>(
     target: f64,
     step: f64,
     (started, budget): (Instant, Duration),
-    (until_event, ramp): (bool, Option<&Ramp>),
+    (until_event, ramp): (bool, Option<(&Ramp, usize)>),
 ) -> Result<(Advance, bool), Stop> {
     let mut loads = Vec::new();
     let mut to = |sim: &mut D, end: f64| {
-        if let Some(ramp) = ramp {
+        if let Some((ramp, vehicles)) = ramp {
             ramp.mean_over(sim.time(), end, &mut loads);
-            apply_inputs(sim, &loads);
+            apply_inputs(sim, &loads, vehicles);
         }
         sim.advance_to(end)
     };

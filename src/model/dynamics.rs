@@ -18,7 +18,8 @@ pub trait Dynamics: Steppable + Sized {
 
     /// Build the model a (valid) scene asks for.
     fn build(scene: &Scene) -> Result<Self, String>;
-    fn set_body_force(&mut self, fx: f64, fy: f64);
+    /// The applied force (fx, fy) on vehicle `vehicle`'s first body.
+    fn set_vehicle_force(&mut self, vehicle: usize, force: [f64; 2]);
     /// The coupling ports' additional loads (fx, fy, moment), one per port.
     fn set_coupling_loads(&mut self, _loads: &[[f64; 3]]) {}
     fn exit_time(&self) -> Option<f64>;
@@ -101,8 +102,8 @@ impl Dynamics for Simulation {
     fn build(scene: &Scene) -> Result<Self, String> {
         Simulation::new_open_ended(scene)
     }
-    fn set_body_force(&mut self, fx: f64, fy: f64) {
-        Simulation::set_body_force(self, fx, fy)
+    fn set_vehicle_force(&mut self, vehicle: usize, force: [f64; 2]) {
+        Simulation::set_vehicle_force(self, vehicle, force)
     }
     fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
         Simulation::set_coupling_loads(self, loads)

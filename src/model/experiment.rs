@@ -87,11 +87,11 @@ mod tests {
         scene.solver.end_time = Some(0.7);
         assert_eq!(default_stop_time(&scene), 0.7);
         scene.solver.end_time = None;
-        scene.body.initial_speed = 0.0;
+        scene.vehicles[0].initial_speed = 0.0;
         assert_eq!(default_stop_time(&scene), 1.0);
         // moving left from x = 6 m at 3 m/s: out at 2 s
-        scene.body.initial_speed = -3.0;
-        scene.body.initial_position = 6.0;
+        scene.vehicles[0].initial_speed = -3.0;
+        scene.vehicles[0].initial_position = 6.0;
         let stop = default_stop_time(&scene);
         assert!((stop - 2.0 - 3.0 * fundamental_period(&scene)).abs() < 1e-12);
     }

@@ -52,18 +52,18 @@ impl Dynamics for FakeDynamics {
     type State = FakeState;
 
     fn build(scene: &Scene) -> Result<Self, String> {
-        let b = &scene.body.name;
+        let b = &scene.vehicles[0].name;
         let mut outputs = vec![
             real(format!("{b}.x"), "m", "abscissa of the body's centre"),
             real(format!("{b}.vx"), "m/s", "horizontal velocity"),
         ];
-        let radius = (scene.body.kind == BodyKind::Wheel).then(|| {
+        let radius = (scene.vehicles[0].kind == BodyKind::Wheel).then(|| {
             outputs.push(real(
                 format!("{b}.angular_velocity"),
                 "rad/s",
                 "angular velocity",
             ));
-            scene.body.radius.unwrap_or(1.0)
+            scene.vehicles[0].radius.unwrap_or(1.0)
         });
         for s in &scene.sensors {
             outputs.push(real(
@@ -80,23 +80,26 @@ impl Dynamics for FakeDynamics {
         });
         Ok(FakeDynamics {
             outputs,
-            mass: scene.body.mass,
+            mass: scene.vehicles[0].mass,
             length: scene.beam.length,
             step: scene.solver.step,
             radius,
-            force: (scene.body.force_x, scene.body.force_y),
+            force: (scene.vehicles[0].force_x, scene.vehicles[0].force_y),
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
             state: FakeState {
                 time: 0.0,
-                x: scene.body.initial_position,
-                vx: scene.body.initial_speed,
+                x: scene.vehicles[0].initial_position,
+                vx: scene.vehicles[0].initial_speed,
                 steps: 0,
                 exit_time: None,
             },
         })
     }
-    fn set_body_force(&mut self, fx: f64, fy: f64) {
-        self.force = (fx, fy);
+    /// The fake has one body: vehicle 0's.
+    fn set_vehicle_force(&mut self, vehicle: usize, [fx, fy]: [f64; 2]) {
+        if vehicle == 0 {
+            self.force = (fx, fy);
+        }
     }
     fn exit_time(&self) -> Option<f64> {
         self.state.exit_time

@@ -79,7 +79,7 @@ impl Dynamics for ForceDynamics {
         })
     }
     /// The forces are prescribed: a moving-force FMU has no force inputs.
-    fn set_body_force(&mut self, _fx: f64, _fy: f64) {}
+    fn set_vehicle_force(&mut self, _vehicle: usize, _force: [f64; 2]) {}
     /// Open-ended: the run never ends at an exit.
     fn exit_time(&self) -> Option<f64> {
         None

@@ -188,7 +188,7 @@ struct DiscardedStep {
 /// paths (`beam.*`, `solver.*`) are the same.
 pub fn variable_name(scene: &Scene, path: &str) -> String {
     if let Some(rest) = path.strip_prefix("body.") {
-        return format!("{}.{rest}", scene.body.name);
+        return format!("{}.{rest}", scene.vehicles[0].name);
     }
     if let Some(rest) = path.strip_prefix("sensors[") {
         if let Some((index, field)) = rest.split_once("].") {
@@ -231,18 +231,19 @@ thread_local! {
 }
 
 /// Hand the input values (`Input::index` order) to the dynamics: the
-/// applied force on `[body]`, then the coupling ports' loads.
-fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64]) {
-    sim.set_body_force(inputs[0], inputs[1]);
-    sim.set_coupling_loads(&coupling_loads(inputs));
+/// applied force on each of the scene's `vehicles`, then the coupling
+/// ports' loads.
+fn apply_inputs<D: Dynamics>(sim: &mut D, inputs: &[f64], vehicles: usize) {
+    let (forces, loads) = inputs.split_at((2 * vehicles).min(inputs.len()));
+    for (vehicle, force) in forces.chunks_exact(2).enumerate() {
+        sim.set_vehicle_force(vehicle, [force[0], force[1]]);
+    }
+    sim.set_coupling_loads(&coupling_loads(loads));
 }
 
-/// The coupling ports' loads among the inputs (after the two body forces).
-fn coupling_loads(inputs: &[f64]) -> Vec<[f64; 3]> {
-    inputs[2..]
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect()
+/// The coupling ports' loads: the inputs after the vehicles' forces.
+fn coupling_loads(loads: &[f64]) -> Vec<[f64; 3]> {
+    loads.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect()
 }
 
 /// An output's value `x` as a variable of type `ty`.
@@ -409,11 +410,12 @@ impl<D: Dynamics> Model<D> {
             // Built with the inputs as the scene's forces, so that the
             // state at t = 0 (the contact force) balances them.
             let mut scene = self.scene.clone();
-            scene.body.force_x = self.inputs[0];
-            scene.body.force_y = self.inputs[1];
+            for (vehicle, force) in scene.vehicles.iter_mut().zip(self.inputs.chunks_exact(2)) {
+                (vehicle.force_x, vehicle.force_y) = (force[0], force[1]);
+            }
             let mut sim =
                 D::build(&scene).map_err(|e| ModelError(format!("cannot build the model: {e}")))?;
-            apply_inputs(&mut sim, &self.inputs);
+            apply_inputs(&mut sim, &self.inputs, scene.vehicles.len());
             self.sim = Some(sim);
         }
         Ok(self.sim.as_mut().expect("just built"))
@@ -595,7 +597,7 @@ impl<D: Dynamics> Model<D> {
         match role {
             Role::Parameter(p) => param_value(&self.scene, p),
             Role::Setting(Setting::WallTimeBudget) => Value::Real(self.wall_time_budget),
-            Role::Input(i) => Value::Real(self.inputs[i.index()]),
+            Role::Input(i) => Value::Real(self.inputs[i.index(self.scene.vehicles.len())]),
             Role::Output(k) => output_value(outputs[k], ty),
         }
     }
@@ -613,10 +615,11 @@ impl<D: Dynamics> Model<D> {
         for (&vr, &value) in vrs.iter().zip(values) {
             self.stage(vr, value, &mut staged)?;
         }
-        // Only the body forces (inputs 0 and 1) go into the build of the
-        // state at t = 0 (`ensure_sim`); coupling loads are applied to it
-        // (its contacts carrying them: `Simulation::set_coupling_loads`).
-        let build_inputs_changed = staged.inputs[..2] != self.inputs[..2];
+        // Only the vehicles' forces (the first inputs) go into the build of
+        // the state at t = 0 (`ensure_sim`); coupling loads are applied to
+        // it (its contacts carrying them: `Simulation::set_coupling_loads`).
+        let forces = 2 * self.scene.vehicles.len();
+        let build_inputs_changed = staged.inputs[..forces] != self.inputs[..forces];
         self.scene = staged.scene;
         self.inputs = staged.inputs;
         self.wall_time_budget = staged.budget;
@@ -625,7 +628,7 @@ impl<D: Dynamics> Model<D> {
         if staged.params_changed || (build_inputs_changed && self.phase == Phase::Configuring) {
             self.sim = None;
         } else if let Some(sim) = self.sim.as_mut() {
-            apply_inputs(sim, &self.inputs);
+            apply_inputs(sim, &self.inputs, self.scene.vehicles.len());
             self.loads_ramped = false;
         }
         Ok(())
@@ -665,7 +668,9 @@ impl<D: Dynamics> Model<D> {
             },
             // The scene's rule for the same forces (body.force_x/_y).
             Role::Input(i) => match value {
-                Value::Real(x) if x.abs() <= MAX_MAGNITUDE => staged.inputs[i.index()] = x,
+                Value::Real(x) if x.abs() <= MAX_MAGNITUDE => {
+                    staged.inputs[i.index(staged.scene.vehicles.len())] = x
+                }
                 _ => {
                     return refuse(&format!(
                         "must be finite and within ±{MAX_MAGNITUDE:e} (the magnitude limit)"
@@ -706,7 +711,7 @@ impl<D: Dynamics> Model<D> {
             if !(value.is_finite() && value.abs() <= MAX_MAGNITUDE) {
                 return refuse(&format!("must be finite and within ±{MAX_MAGNITUDE:e}"));
             }
-            let d = given[i.index()].get_or_insert([0.0, 0.0]);
+            let d = given[i.index(self.scene.vehicles.len())].get_or_insert([0.0, 0.0]);
             d[(order - 1) as usize] = value;
         }
         self.input_derivatives = given;
@@ -764,11 +769,6 @@ impl<D: Dynamics> Model<D> {
     /// ...) of the last step, in words; each is handed out once.
     pub fn take_events(&mut self) -> Vec<String> {
         std::mem::take(&mut self.new_events)
-    }
-
-    /// Input values as they are now: (force_x, force_y).
-    pub fn input_values(&self) -> (f64, f64) {
-        (self.inputs[0], self.inputs[1])
     }
 }
 

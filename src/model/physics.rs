@@ -66,8 +66,8 @@ impl Dynamics for SceneDynamics {
             <Simulation as Dynamics>::build(scene).map(SceneDynamics::Vehicles)
         }
     }
-    fn set_body_force(&mut self, fx: f64, fy: f64) {
-        either!(self, d => Dynamics::set_body_force(d, fx, fy))
+    fn set_vehicle_force(&mut self, vehicle: usize, force: [f64; 2]) {
+        either!(self, d => Dynamics::set_vehicle_force(d, vehicle, force))
     }
     fn set_coupling_loads(&mut self, loads: &[[f64; 3]]) {
         either!(self, d => Dynamics::set_coupling_loads(d, loads))

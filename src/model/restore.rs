@@ -155,7 +155,7 @@ impl<D: Dynamics> Model<D> {
                 .map_err(|e| ModelError(format!("cannot rebuild the model: {e}")))?,
         };
         let fitted = sim.restore(state).and_then(|()| {
-            apply_inputs(&mut sim, &snap.inputs);
+            apply_inputs(&mut sim, &snap.inputs, snap.scene.vehicles.len());
             match first_non_finite(&sim) {
                 Some(bad) => Err(bad),
                 None if !sim.time().is_finite() => Err(format!("its time is {}", sim.time())),
@@ -168,7 +168,7 @@ impl<D: Dynamics> Model<D> {
                 if let Some(old) = old {
                     sim.restore(&old)
                         .map_err(|e| ModelError(format!("cannot put the model back: {e}")))?;
-                    apply_inputs(&mut sim, &self.inputs);
+                    apply_inputs(&mut sim, &self.inputs, self.scene.vehicles.len());
                     self.sim = Some(sim);
                 }
                 err(format!("cannot restore the state: {e}"))

@@ -22,7 +22,9 @@ pub const MAGIC: &[u8; 8] = b"GWSTATE\0";
 // Version 2: the physics state holds lists of bodies and contacts.
 // Version 3: each contact's status (open or closed, gap, last impact) and
 // the energy lost in impacts.
-pub const FORMAT_VERSION: u32 = 3;
+// Version 4: each vehicle's applied force (the state's `vehicle_forces`,
+// the model's inputs two per vehicle).
+pub const FORMAT_VERSION: u32 = 4;
 
 pub fn encode<T: Serialize>(guid: &str, payload: &T) -> Result<Vec<u8>, String> {
     let body = rmp_serde::to_vec_named(payload).map_err(|e| format!("cannot encode state: {e}"))?;

@@ -20,11 +20,11 @@ impl<D: Dynamics> Model<D> {
     /// per-call limits.
     pub(super) fn check_run_length(&self) -> Result<(), ModelError> {
         let (scene, step) = (&self.scene, self.scene.solver.step);
-        let v0 = scene.body.initial_speed;
+        let v0 = scene.vehicles[0].initial_speed;
         let to_exit = if v0 > 0.0 {
-            (scene.beam.length - scene.body.initial_position) / v0
+            (scene.beam.length - scene.vehicles[0].initial_position) / v0
         } else {
-            scene.body.initial_position / -v0
+            scene.vehicles[0].initial_position / -v0
         };
         let ends = [
             self.stop_time
@@ -202,14 +202,14 @@ impl<D: Dynamics> Model<D> {
         );
         if ramp.is_none() && self.loads_ramped {
             // The last step left a ramp's loads: back to the held inputs.
-            apply_inputs(sim, &self.inputs);
+            apply_inputs(sim, &self.inputs, self.scene.vehicles.len());
             self.rollback.invalidate();
         }
         let (saved, next) = self.rollback.start(sim);
         let target = snap_to_grid(to - t0, step);
         let started = std::time::Instant::now();
-        let advanced =
-            advance::advance_within(sim, target, step, budget, (until_event, ramp.as_ref()));
+        let ramp = ramp.as_ref().map(|r| (r, self.scene.vehicles.len()));
+        let advanced = advance::advance_within(sim, target, step, budget, (until_event, ramp));
         let ended_at_event = matches!(advanced, Ok((Advance::Reached, true)));
         let span = (start, probe, now);
         let outcome = classify(advanced, (sim, saved), span, (budget, step), (t0, to));

@@ -7,6 +7,7 @@
 //! limit) is tried the other way; a variable that cannot be moved at all is
 //! declared a dependency of every output, which is always true to say.
 
+use super::variables::Input;
 use super::{Dynamics, Model, Role, Value, VarType, VariableTable};
 use crate::scene::Scene;
 
@@ -75,7 +76,7 @@ fn moved_outputs<D: Dynamics>(
     // inputs × vehicles, issue 30). Anything else starts from a reset.
     let coupling = matches!(
         model.table().get(vr).map(|v| v.role),
-        Some(Role::Input(i)) if i.index() >= 2
+        Some(Role::Input(Input::Coupling { .. }))
     );
     let mut changed = None;
     for value in moves(start) {

@@ -440,14 +440,14 @@ fn a_restored_state_must_be_a_state_of_this_model() {
     let cases: [(Forge, &str); 10] = [
         (|s| s.scene.beam.elements = 10_000_000, "beam.elements"),
         (|s| s.scene.beam.elements = usize::MAX, "beam.elements"),
-        (|s| s.scene.body.mass = -3000.0, "wheel.mass"),
+        (|s| s.scene.vehicles[0].mass = -3000.0, "wheel.mass"),
         (
             |s| s.scene.sensors[0].position = 1e9,
             "sensor.midspan.position",
         ),
         (|s| s.scene.sensors.clear(), "sensors"),
         (
-            |s| s.scene.body.kind = BodyKind::Glider,
+            |s| s.scene.vehicles[0].kind = BodyKind::Glider,
             "more than parameters",
         ),
         (
@@ -468,7 +468,7 @@ fn a_restored_state_must_be_a_state_of_this_model() {
         assert_eq!(m.phase(), Phase::Running);
     }
     // a parameter changed within its rule is a state of this model
-    let snap = forged(&m, |s| s.scene.body.mass = 6000.0);
+    let snap = forged(&m, |s| s.scene.vehicles[0].mass = 6000.0);
     m.restore(&snap).unwrap();
 }
 
@@ -672,7 +672,7 @@ fn a_coupling_load_set_during_initialization_is_carried_at_t_0() {
     let mut scene = Scene::lee1994(BodyKind::Glider, 30.0, 0.005);
     scene.couplings = vec!["glider".into()];
     // (the paper's scene loads the glider by its force, not by gravity)
-    let (mass, g) = (scene.body.mass, 9.81);
+    let (mass, g) = (scene.vehicles[0].mass, 9.81);
     let car = 10.0 * mass * g;
     let mut m = Model::<Simulation>::new(scene).unwrap();
     let vr = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().value_reference;
@@ -839,7 +839,7 @@ fn inputs_are_extrapolated_along_their_last_two_communication_points() {
     // which has no history and holds F(0) = 0: a (T² - H²)/2.
     let (a, h, n) = (1000.0, 0.05, 8);
     let t_end = h * n as f64;
-    let mass = match model(BodyKind::Glider).scene().body.mass {
+    let mass = match model(BodyKind::Glider).scene().vehicles[0].mass {
         m if m > 0.0 => m,
         m => panic!("mass {m}"),
     };
@@ -857,7 +857,7 @@ fn inputs_are_extrapolated_along_their_last_two_communication_points() {
 fn input_derivatives_sent_by_the_master_make_the_first_step_exact_too() {
     let (a, h, n) = (1000.0, 0.05, 8);
     let t_end = h * n as f64;
-    let mass = model(BodyKind::Glider).scene().body.mass;
+    let mass = model(BodyKind::Glider).scene().vehicles[0].mass;
     let gained = velocity_gain_under_a_force_ramp(a, h, n, true);
     let expected = a * t_end * t_end / 2.0 / mass;
     assert!(
@@ -932,4 +932,42 @@ fn a_train_speed_and_each_vehicle_s_own_reach_the_dynamics() {
             "{name}: {vx} m/s, set {speed}"
         );
     }
+}
+
+/// Every vehicle has its own force inputs (issue 23), started at its
+/// scene's forces: on rigid ground a glider (no tangential contact force)
+/// pushed by `second.force_x` = F gains F t / m of speed, the other
+/// vehicle none.
+#[test]
+fn every_vehicle_s_force_inputs_push_that_vehicle_only() {
+    use crate::Simulation;
+    let mut scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
+    scene.track.approach = 2000.0;
+    scene.vehicles[0].initial_position = -1500.0;
+    let mut second = scene.vehicles[0].clone();
+    second.name = "second".into();
+    second.initial_position = -1000.0;
+    second.force_y = -500e3;
+    scene.vehicles.push(second);
+    let mut m = Model::<Simulation>::new(scene).unwrap();
+    let vr = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().value_reference;
+    let start = |m: &Model<Simulation>, n: &str| m.table().by_name(n).unwrap().start;
+    assert_eq!(start(&m, "second.force_y"), Some(Value::Real(-500e3)));
+    assert_eq!(start(&m, "glider.force_y"), Some(Value::Real(-600e3)));
+    let (push, mass, time) = (1500.0, 3000.0, 0.5);
+    m.set(&[vr(&m, "second.force_x")], &[Value::Real(push)])
+        .unwrap();
+    m.initialize().unwrap();
+    m.do_step(0.0, time).unwrap();
+    let speeds = [vr(&m, "glider.vx"), vr(&m, "second.vx")];
+    let read = m.get(VarType::Real, &speeds).unwrap();
+    let [Value::Real(first), Value::Real(pushed)] = read[..] else {
+        panic!("{read:?}")
+    };
+    assert!((first - 10.0).abs() < 1e-9, "{first}");
+    let expected = 10.0 + push / mass * time;
+    assert!(
+        (pushed - expected).abs() < 1e-9,
+        "{pushed} against {expected}"
+    );
 }

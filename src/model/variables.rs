@@ -75,35 +75,32 @@ pub enum Param {
 /// Which input a variable is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Input {
-    ForceX,
-    ForceY,
+    /// Component `axis` (0: x, 1: y) of the applied force on vehicle
+    /// `vehicle` (`scene.vehicles[vehicle]`'s `force_x`, `force_y`).
+    Force { vehicle: usize, axis: usize },
     /// Component `axis` (0: force x, 1: force y, 2: moment) of the
     /// additional load on coupling point `port` (`scene.couplings[port]`).
-    Coupling {
-        port: usize,
-        axis: usize,
-    },
+    Coupling { port: usize, axis: usize },
 }
 
 impl Input {
-    /// Where the input's value is held in the model's input vector:
-    /// force_x, force_y, then three per coupling port.
-    pub fn index(self) -> usize {
+    /// Where the input's value is held in the model's input vector of a
+    /// scene of `vehicles` vehicles: two forces per vehicle, then three
+    /// loads per coupling port.
+    pub fn index(self, vehicles: usize) -> usize {
         match self {
-            Input::ForceX => 0,
-            Input::ForceY => 1,
-            Input::Coupling { port, axis } => 2 + 3 * port + axis,
+            Input::Force { vehicle, axis } => 2 * vehicle + axis,
+            Input::Coupling { port, axis } => 2 * vehicles + 3 * port + axis,
         }
     }
 }
 
-/// The inputs' start values in the order of `Input::index`: the scene's
-/// applied force on `[body]`, no coupling load.
+/// The inputs' start values in the order of `Input::index`: each
+/// vehicle's applied force from the scene, no coupling load.
 pub fn start_inputs(scene: &Scene) -> Vec<f64> {
-    let mut inputs = vec![0.0; 2 + 3 * scene.couplings.len()];
-    inputs[0] = scene.body.force_x;
-    inputs[1] = scene.body.force_y;
-    inputs
+    let forces = scene.vehicles.iter().flat_map(|v| [v.force_x, v.force_y]);
+    let loads = std::iter::repeat_n(0.0, 3 * scene.couplings.len());
+    forces.chain(loads).collect()
 }
 
 /// A parameter of the FMU itself, not of the scene.
@@ -173,27 +170,29 @@ pub struct VariableTable {
 
 impl VariableTable {
     /// Build the table of `scene`, whose simulation has `outputs`: the
-    /// parameters of the field table, the train's speed, the inputs, the
-    /// outputs and the FMU's own setting, in the order of their value
-    /// references (which are a public interface: keep them).
+    /// scene's own parameters of the field table, the train's speed, each
+    /// vehicle's parameters (every vehicle alike, in the table's order),
+    /// the inputs, the outputs and the FMU's own setting, in the order of
+    /// their value references (a public interface: a change is a new
+    /// version).
     pub fn new(scene: &Scene, outputs: &[OutputInfo]) -> VariableTable {
         let mut b = Builder {
             vars: Vec::new(),
             scene,
         };
         b.scene_params();
-        if !scene.vehicles.is_empty() {
+        if scene.vehicles.len() > 1 {
             b.train_speed();
         }
-        for vehicle in 0..=scene.vehicles.len() {
-            b.vehicle_params(vehicle, |path| {
-                vehicle > 0 || !FMU_FIRST_FIELDS.contains(&path)
-            });
+        for vehicle in 0..scene.vehicles.len() {
+            b.vehicle_params(vehicle);
         }
         // Moving forces are prescribed (their magnitude is the vehicle's
         // weight or train's axle loads): there is no body to push.
         if !crate::moving_load::is_moving_force_scene(scene) {
-            b.body_force_inputs();
+            for vehicle in 0..scene.vehicles.len() {
+                b.force_inputs(vehicle);
+            }
         }
         for (port, name) in scene.couplings.iter().enumerate() {
             let turns = outputs
@@ -370,18 +369,12 @@ impl Builder<'_> {
     }
 
     /// The scene's own and its sensors' rows, in the table's order, each
-    /// for every holder it exports; the first vehicle's basic fields come
-    /// right after the beam's (their value references predate the table).
+    /// for every holder it exports.
     fn scene_params(&mut self) {
-        let mut first_vehicle_done = false;
         for (field, f) in FIELDS.iter().enumerate() {
             let scene_row = matches!(f.access, Access::Scene(..) | Access::Sensor(..));
             if !scene_row || f.doc.is_empty() {
                 continue;
-            }
-            if !first_vehicle_done && !f.path.starts_with("beam.") {
-                self.vehicle_params(0, |path| FMU_FIRST_FIELDS.contains(&path));
-                first_vehicle_done = true;
             }
             for holder in 0..f.holders(self.scene) {
                 if exported(self.scene, f, holder) {
@@ -391,19 +384,12 @@ impl Builder<'_> {
         }
     }
 
-    /// Vehicle `k`'s exported fields whose path after `body.` passes
-    /// `which`: in the order of `FMU_FIRST_FIELDS` first, then the table's.
-    fn vehicle_params(&mut self, k: usize, which: impl Fn(&str) -> bool) {
-        let rows = FIELDS.iter().enumerate().filter_map(|(i, f)| {
-            let rest = f.path.strip_prefix("body.")?;
-            let vehicle_row = matches!(f.access, Access::Vehicle(..));
-            (vehicle_row && which(rest) && exported(self.scene, f, k)).then_some((i, rest))
-        });
-        let mut rows: Vec<(usize, &str)> = rows.collect();
-        let first = |rest: &str| FMU_FIRST_FIELDS.iter().position(|&p| p == rest);
-        rows.sort_by_key(|&(i, rest)| (first(rest).unwrap_or(usize::MAX), i));
-        for (field, _) in rows {
-            self.field_param(field, k);
+    /// Vehicle `k`'s exported fields, in the table's order.
+    fn vehicle_params(&mut self, k: usize) {
+        for (field, f) in FIELDS.iter().enumerate() {
+            if matches!(f.access, Access::Vehicle(..)) && exported(self.scene, f, k) {
+                self.field_param(field, k);
+            }
         }
     }
 
@@ -418,13 +404,15 @@ impl Builder<'_> {
         );
     }
 
-    /// The applied force on `[body]`'s centre (its `force_x`, `force_y`).
-    fn body_force_inputs(&mut self) {
-        let body = &self.scene.body.name;
-        let x = format!("{body}.force_x");
-        let y = format!("{body}.force_y");
-        self.input(&x, Input::ForceX, "horizontal force on the body's centre");
-        self.input(&y, Input::ForceY, "vertical force on the body's centre");
+    /// The applied force on the centre of vehicle `vehicle`'s first body
+    /// (its `force_x`, `force_y`).
+    fn force_inputs(&mut self, vehicle: usize) {
+        let name = &self.scene.vehicles[vehicle].name;
+        let x = format!("{name}.force_x");
+        let y = format!("{name}.force_y");
+        let force = |axis| Input::Force { vehicle, axis };
+        self.input(&x, force(0), "horizontal force on the body's centre");
+        self.input(&y, force(1), "vertical force on the body's centre");
     }
 
     /// The coupling port's inputs on body `name`: the force, and the
@@ -531,9 +519,11 @@ fn exported(scene: &Scene, f: &Field, k: usize) -> bool {
         return false;
     }
     let moving_force = match f.access {
-        Access::Vehicle(..) => fields::vehicle(scene, k).expect("present").kind,
-        _ => scene.body.kind,
-    } == BodyKind::MovingForce;
+        Access::Vehicle(..) => {
+            fields::vehicle(scene, k).expect("present").kind == BodyKind::MovingForce
+        }
+        _ => crate::moving_load::is_moving_force_scene(scene),
+    };
     if !moving_force {
         return true;
     }
@@ -557,7 +547,8 @@ fn rule(p: Param) -> Rule {
 pub fn param_value(scene: &Scene, p: Param) -> Value {
     let x = match p {
         Param::Field { field, holder } => FIELDS[field].value(scene, holder).unwrap_or(0.0),
-        Param::TrainSpeed => scene.body.initial_speed,
+        // Every vehicle's is the same until one is set on its own.
+        Param::TrainSpeed => scene.vehicles.first().map_or(0.0, |v| v.initial_speed),
     };
     match rule(p) {
         Rule::Elements => Value::Integer(x.min(i32::MAX as f64) as i32),
@@ -587,25 +578,14 @@ pub fn set_param(scene: &mut Scene, p: Param, value: Value) -> Result<(), String
         }
         Param::TrainSpeed => {
             let set = fields::initial_speed_setter();
-            set(&mut scene.body, x);
             scene.vehicles.iter_mut().for_each(|v| set(v, x));
         }
     }
     Ok(())
 }
 
-/// The first vehicle's fields that come first among the parameters, in
-/// this order (their value references predate the field table).
-const FMU_FIRST_FIELDS: [&str; 5] = [
-    "mass",
-    "inertia",
-    "radius",
-    "initial_position",
-    "initial_speed",
-];
-
 fn input_start(scene: &Scene, i: Input) -> f64 {
-    start_inputs(scene)[i.index()]
+    start_inputs(scene)[i.index(scene.vehicles.len())]
 }
 
 #[cfg(test)]
@@ -775,10 +755,10 @@ mod tests {
         let stiffness = param_of(&t, "coach2.bogie.primary_stiffness");
         let mut changed = scene.clone();
         set_param(&mut changed, stiffness, Value::Real(2.5e6)).unwrap();
-        let bogie = |s: &Scene, k: usize| s.vehicles[k].bogie.unwrap();
+        let bogie = |s: &Scene, k: usize| s.vehicles[k + 1].bogie.unwrap();
         assert_eq!(bogie(&changed, 0).primary_stiffness, 2.5e6);
         assert_eq!(bogie(&changed, 1), bogie(&scene, 1));
-        assert_eq!(changed.body, scene.body);
+        assert_eq!(changed.vehicles[0], scene.vehicles[0]);
         // refused by its rule, the scene left alone
         let before = changed.clone();
         assert!(set_param(&mut changed, stiffness, Value::Real(-1.0)).is_err());
@@ -796,14 +776,42 @@ mod tests {
             Value::Real(6.0),
         )
         .unwrap();
-        let speeds: Vec<f64> = std::iter::once(&changed.body)
-            .chain(&changed.vehicles)
-            .map(|v| v.initial_speed)
-            .collect();
+        let speeds: Vec<f64> = changed.vehicles.iter().map(|v| v.initial_speed).collect();
         assert_eq!(speeds, [7.0, 7.0, 6.0]);
         let names: Vec<&str> = t.variables().iter().map(|v| v.name.as_str()).collect();
         for (i, n) in names.iter().enumerate() {
             assert!(!names[..i].contains(n), "{n} twice");
+        }
+    }
+
+    /// Every vehicle's parameters in the table's order, the same rows for
+    /// vehicles of one kind, and force inputs on each (issue 23: the first
+    /// vehicle is not special).
+    #[test]
+    fn every_vehicle_has_the_same_rows_in_the_table_s_order() {
+        let scene = Scene::load("train-3-coaches-2x25-5").unwrap();
+        let t = VariableTable::new(&scene, &[]);
+        let rows = |vehicle: usize| -> Vec<usize> {
+            let rows = t.variables().iter().filter_map(|v| match v.role {
+                Role::Parameter(Param::Field { field, holder }) if holder == vehicle => {
+                    matches!(FIELDS[field].access, Access::Vehicle(..)).then_some(field)
+                }
+                _ => None,
+            });
+            rows.collect()
+        };
+        let first = rows(0);
+        assert!(first.windows(2).all(|w| w[0] < w[1]), "{first:?}");
+        assert!(first.len() > 5, "{first:?}");
+        assert_eq!(rows(1), first);
+        assert_eq!(rows(2), first);
+        for v in &scene.vehicles {
+            for (axis, force) in [(0, v.force_x), (1, v.force_y)] {
+                let name = format!("{}.{}", v.name, ["force_x", "force_y"][axis]);
+                let input = t.by_name(&name).unwrap_or_else(|| panic!("{name}"));
+                assert_eq!(input.causality, Causality::Input, "{name}");
+                assert_eq!(input.start, Some(Value::Real(force)), "{name}");
+            }
         }
     }
 

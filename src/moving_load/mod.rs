@@ -61,7 +61,8 @@ pub fn vehicle_axles(spec: &BodySpec, gravity: f64) -> Vec<Axle> {
 /// Every axle of a moving-force scene ([body] and [[vehicles]]).
 pub fn scene_axles(scene: &Scene) -> Vec<Axle> {
     scene
-        .every_vehicle()
+        .vehicles
+        .iter()
         .flat_map(|spec| vehicle_axles(spec, scene.gravity))
         .collect()
 }

@@ -73,7 +73,8 @@ impl ForceRun {
         }
         let beam = Beam::new(&scene.beam)?;
         let vehicles: Vec<ForceVehicle> = scene
-            .every_vehicle()
+            .vehicles
+            .iter()
             .map(|spec| ForceVehicle {
                 name: spec.name.clone(),
                 axles: vehicle_axles(spec, scene.gravity),

@@ -67,7 +67,7 @@ impl ExitPlan {
 
 /// The names of `scene`'s vehicles: `[body]`, then each of `[[vehicles]]`.
 pub fn vehicle_names(scene: &crate::scene::Scene) -> Vec<String> {
-    scene.every_vehicle().map(|v| v.name.clone()).collect()
+    scene.vehicles.iter().map(|v| v.name.clone()).collect()
 }
 
 /// The output columns an `ExitWatch` of `simulation` reads (to be computed

@@ -110,7 +110,7 @@ pub fn draw(scene: &Scene, trace: &Trace, path: &Path, text: Text) -> Result<(),
 /// Fig. 10), seconds for vehicles, trains and moving forces (their length,
 /// not the span's, sets the time scale); and the axis label.
 fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
-    let speed = scene.body.initial_speed;
+    let speed = scene.vehicles[0].initial_speed;
     let one_body = !has_vehicles(scene) && !crate::moving_load::is_moving_force_scene(scene);
     if speed > 0.0 && one_body {
         let scale = speed / scene.beam.length;
@@ -127,7 +127,7 @@ fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
 /// supported span under the body's load P = |force_y|.
 pub fn static_deflection(scene: &Scene) -> f64 {
     let beam = &scene.beam;
-    scene.body.force_y.abs() * beam.length.powi(3) / (48.0 * beam.bending_stiffness)
+    scene.vehicles[0].force_y.abs() * beam.length.powi(3) / (48.0 * beam.bending_stiffness)
 }
 
 /// What the sensor deflections are divided by, and the axis label: the
@@ -322,7 +322,7 @@ fn body_panels(trace: &Trace, x: &[f64], flights: Vec<(f64, f64)>) -> Vec<Panel>
 /// have a nominal speed of their own, not one for the vehicle). Columns
 /// the trace lacks are left out.
 fn speed_columns(scene: &Scene, trace: &Trace) -> (&'static str, Vec<String>) {
-    let vehicles = scene.every_vehicle();
+    let vehicles = scene.vehicles.iter();
     let columns: Vec<String> = vehicles
         .filter_map(|vehicle| {
             let nominal = output_names::nominal_speed(&vehicle.name);
@@ -404,9 +404,9 @@ fn force_panels(
 }
 
 fn has_vehicles(scene: &Scene) -> bool {
-    !scene.vehicles.is_empty()
+    scene.vehicles.len() > 1
         || !matches!(
-            scene.body.kind,
+            scene.vehicles[0].kind,
             crate::scene::BodyKind::Wheel | crate::scene::BodyKind::Glider
         )
 }
@@ -654,7 +654,7 @@ mod tests {
         let labels: Vec<&str> = speed.curves.iter().map(|c| c.label.as_str()).collect();
         assert_eq!(labels, ["coach1.vx", "coach2.vx"]);
         // A constant speed is drawn as its departure from the start, mm/s.
-        let v0 = scene.body.initial_speed;
+        let v0 = scene.vehicles[0].initial_speed;
         assert_eq!(speed.y_label, format!("V - {v0:.4} m/s (mm/s)"));
         for curve in &speed.curves {
             assert_eq!(curve.points.len(), 5, "{}", curve.label);

@@ -39,7 +39,7 @@ pub fn stop_time(scene: &Scene) -> Result<f64, String> {
         RunEnd::NoExit => Err(format!(
             "body.initial_speed = {:?} and no vehicle moves: a run without solver.end_time \
              ends when the last contact leaves the beam, so a vehicle must start moving",
-            scene.body.initial_speed
+            scene.vehicles[0].initial_speed
         )),
     }
 }
@@ -218,8 +218,8 @@ fn progress_fraction(
     start_time: f64,
     stop: f64,
 ) -> impl Fn(f64, &[f64]) -> f64 {
-    let position = output_names::travel_position(names, &scene.body.name);
-    let start_position = scene.body.initial_position;
+    let position = output_names::travel_position(names, &scene.vehicles[0].name);
+    let start_position = scene.vehicles[0].initial_position;
     let travel = scene.beam.length - start_position;
     move |time: f64, values: &[f64]| {
         let by_time = (time - start_time) / (stop - start_time);

@@ -191,7 +191,7 @@ impl SummaryBuilder {
             deck: DeckRecord::new(names, scene.solver.step),
             envelope_of: (!design.is_empty()).then(|| scene.clone()),
             scene: scene.name.clone(),
-            speed: find(&output_names::nominal_speed(&scene.body.name)),
+            speed: find(&output_names::nominal_speed(&scene.vehicles[0].name)),
             peak_deflection: vec![None; sensors.len()],
             sensors,
             energy: find(output_names::ENERGY_BALANCE),

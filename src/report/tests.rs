@@ -204,7 +204,7 @@ fn plot_into_a_missing_directory_is_an_error_not_a_panic() {
 fn stop_time_defaults_to_ten_rigid_beam_travel_times() {
     let mut scene = scene();
     assert_eq!(stop_time(&scene), Ok(10.0 * 24.0 / 10.0));
-    scene.body.initial_speed = 0.0;
+    scene.vehicles[0].initial_speed = 0.0;
     let error = stop_time(&scene).unwrap_err();
     assert!(error.contains("body.initial_speed = 0.0"), "{error}");
     assert!(error.contains("solver.end_time"), "{error}");
@@ -466,10 +466,10 @@ fn the_run_length_is_refused_beyond_the_limit_and_below_the_time_resolution() {
         e.contains("9.6e3 steps") && e.ends_with("limit of 9599 steps (raise it)"),
         "{e}"
     );
-    scene.body.initial_speed = 1e14;
+    scene.vehicles[0].initial_speed = 1e14;
     let e = check_run_length(&scene, u64::MAX, "").unwrap_err();
     assert!(e.contains("no step would be taken"), "{e}");
-    scene.body.initial_speed = 5e-324;
+    scene.vehicles[0].initial_speed = 5e-324;
     assert!(
         check_run_length(&scene, u64::MAX, "").is_err(),
         "an infinite run"
@@ -483,7 +483,7 @@ fn summary_lists_each_contacts_entry_and_exit() {
     let mut scene = scene();
     scene.track.approach = 5.0;
     scene.track.run_off = 30.0;
-    scene.body.initial_position = -5.0;
+    scene.vehicles[0].initial_position = -5.0;
     scene.solver.end_time = Some(3.0);
     let mut sim = Simulation::new(&scene).unwrap();
     sim.advance_to(3.0).unwrap();

@@ -20,7 +20,8 @@ use super::{BodyKind, BodySpec, ResolvedLaw, Scene};
 /// proposing the well-posed law.
 pub fn advisories(scene: &Scene) -> Vec<String> {
     let vehicles: Vec<&BodySpec> = scene
-        .every_vehicle()
+        .vehicles
+        .iter()
         .filter(|spec| rigid_massive_contacts(spec))
         .collect();
     let mut lines = Vec::new();

@@ -132,7 +132,7 @@ impl Field {
             Access::None => 0,
             Access::Scene(..) => 1,
             Access::Sensor(..) => scene.sensors.len(),
-            Access::Vehicle(..) => 1 + scene.vehicles.len(),
+            Access::Vehicle(..) => scene.vehicles.len(),
         }
     }
 
@@ -178,19 +178,13 @@ impl Field {
     }
 }
 
-/// Vehicle `k` of `scene` (0: `[body]`, k: `vehicles[k-1]`).
+/// Vehicle `k` of `scene` (`vehicle_path(k)` in its file).
 pub fn vehicle(scene: &Scene, k: usize) -> Option<&BodySpec> {
-    match k {
-        0 => Some(&scene.body),
-        k => scene.vehicles.get(k - 1),
-    }
+    scene.vehicles.get(k)
 }
 
 fn vehicle_mut(scene: &mut Scene, k: usize) -> Option<&mut BodySpec> {
-    match k {
-        0 => Some(&mut scene.body),
-        k => scene.vehicles.get_mut(k - 1),
-    }
+    scene.vehicles.get_mut(k)
 }
 
 /// The row of `path` (`vehicles.*` read as `body.*`).
@@ -1656,7 +1650,7 @@ mod tests {
             };
             let got = match f.access {
                 Access::Scene(get, _) => get(&scene),
-                Access::Vehicle(get, _) => get(&scene.body),
+                Access::Vehicle(get, _) => get(&scene.vehicles[0]),
                 _ => continue,
             };
             // None: the field's table (bogie, maglev) is not in MINIMAL.
@@ -1679,8 +1673,8 @@ mod tests {
                     (get(&scene), get(&changed))
                 }
                 Access::Vehicle(get, set) => {
-                    set(&mut changed.body, 7.0);
-                    (get(&scene.body), get(&changed.body))
+                    set(&mut changed.vehicles[0], 7.0);
+                    (get(&scene.vehicles[0]), get(&changed.vehicles[0]))
                 }
                 _ => continue,
             };

@@ -43,17 +43,11 @@ pub fn contact_rows(body: &BodySpec) -> usize {
 /// Every broken product limit and every name used twice.
 pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
     let mut problems = Vec::new();
-    let vehicles = scene.every_vehicle();
-    let rows = vehicles
-        .clone()
-        .fold(0usize, |sum, v| sum.saturating_add(contact_rows(v)));
+    let rows = (scene.vehicles.iter()).fold(0usize, |sum, v| sum.saturating_add(contact_rows(v)));
     if rows > MAX_CONTACT_ROWS {
         problems.push(Problem::new(
             "vehicles",
-            format!(
-                "{} vehicles with {rows} contact rows",
-                scene.vehicles.len() + 1
-            ),
+            format!("{} vehicles with {rows} contact rows", scene.vehicles.len()),
             format!(
                 "the contacts of all vehicles together must give at most {MAX_CONTACT_ROWS} \
                  rows of the contact iteration (a wheel 2, a bogie vehicle 8, a maglev \
@@ -77,13 +71,7 @@ fn duplicate_names(scene: &Scene) -> Vec<Problem> {
     // (two vehicles of one name are `validate`'s rule already).
     let mut owner: HashMap<String, (String, bool)> = HashMap::new();
     let mut problems = Vec::new();
-    let vehicles = std::iter::once(("body".to_string(), &scene.body)).chain(
-        scene
-            .vehicles
-            .iter()
-            .enumerate()
-            .map(|(k, v)| (format!("vehicles[{k}]"), v)),
-    );
+    let vehicles = super::validate::bodies_with_paths(scene);
     for (path, vehicle) in vehicles {
         // A moving force has no bodies, but its name still names outputs.
         let mut names = vehicle.body_names();

@@ -38,48 +38,159 @@ pub use validate::{
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// A complete, self-contained description of one simulation.
+/// A complete, self-contained description of one simulation, as the rest
+/// of the program sees it: the file's `[body]` is vehicle 0 of
+/// `vehicles`, each `[[vehicles]]` entry the next one (`SceneFile` is the
+/// file's own shape).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(from = "SceneFile", into = "SceneFile")]
 pub struct Scene {
     /// Short identifier, used as the FMU's model name.
     pub name: String,
     /// One line saying what the scene is.
-    #[serde(default)]
     pub description: String,
-    /// Acceleration of gravity (m/s², acting downward on every body); the
-    /// paper's scenes set 0 and load the body with `force_y` instead.
-    #[serde(default = "default_gravity")]
+    /// Acceleration of gravity (m/s², downward on every body).
     pub gravity: f64,
     pub beam: BeamSpec,
     /// Rigid ground before and after the beam.
-    #[serde(default, skip_serializing_if = "TrackSpec::is_default")]
     pub track: TrackSpec,
-    pub body: BodySpec,
-    /// More vehicles on the track, each like `[body]`; their applied forces
-    /// are constant (the FMU's force inputs act on `[body]`).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Every vehicle on the track, in the file's order: `[body]`, then each
+    /// of `[[vehicles]]` (`vehicle_path` names their fields). Validation
+    /// refuses an empty list.
     pub vehicles: Vec<BodySpec>,
-    #[serde(default)]
     pub sensors: Vec<SensorSpec>,
     /// Sections where the bending moment and the shear are reported.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub sections: Vec<SectionSpec>,
     /// Report every support's reaction (and a clamp's moment).
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub reactions: bool,
-    /// FMU outputs with the running error estimate in time of each
-    /// sensor's deflection and acceleration (docs/error-estimates.md).
-    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    /// FMU outputs with the running error estimate in time.
     pub error_estimate: bool,
-    #[serde(default)]
     pub solver: SolverSpec,
-    /// Bodies (by name: `wheel`, `car_unsprung`, `train_bogie1`, ...) that
-    /// are coupling points of the FMU: each gets inputs for an additional
-    /// force and moment and outputs of its motion (see
-    /// docs/coupling.md).
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    /// Bodies (by name) that are coupling points of the FMU.
     pub couplings: Vec<String>,
+}
+
+/// The path a scene file names vehicle `k`'s fields by: `body` for the
+/// file's `[body]` (vehicle 0), `vehicles[k-1]` for the others.
+pub fn vehicle_path(k: usize) -> String {
+    match k {
+        0 => "body".to_string(),
+        k => format!("vehicles[{}]", k - 1),
+    }
+}
+
+/// A scene file's shape: `[body]` and the `[[vehicles]]` after it, read
+/// into `Scene::vehicles` as one list (users' files keep their `[body]`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SceneFile {
+    name: String,
+    #[serde(default)]
+    description: String,
+    /// The paper's scenes set 0 and load the body with `force_y` instead.
+    #[serde(default = "default_gravity")]
+    gravity: f64,
+    beam: BeamSpec,
+    #[serde(default, skip_serializing_if = "TrackSpec::is_default")]
+    track: TrackSpec,
+    /// Required in a file (the missing-field error names it); `None` only
+    /// when written from a scene without vehicles.
+    #[serde(
+        deserialize_with = "required_body",
+        skip_serializing_if = "Option::is_none"
+    )]
+    body: Option<BodySpec>,
+    /// More vehicles on the track, each like `[body]`.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    vehicles: Vec<BodySpec>,
+    #[serde(default)]
+    sensors: Vec<SensorSpec>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    sections: Vec<SectionSpec>,
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    reactions: bool,
+    /// (docs/error-estimates.md)
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    error_estimate: bool,
+    #[serde(default)]
+    solver: SolverSpec,
+    /// Each gets inputs for an additional force and moment and outputs of
+    /// its motion (docs/coupling.md).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    couplings: Vec<String>,
+}
+
+fn required_body<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<BodySpec>, D::Error> {
+    BodySpec::deserialize(d).map(Some)
+}
+
+impl From<SceneFile> for Scene {
+    fn from(file: SceneFile) -> Scene {
+        let SceneFile {
+            name,
+            description,
+            gravity,
+            beam,
+            track,
+            body,
+            vehicles,
+            sensors,
+            sections,
+            reactions,
+            error_estimate,
+            solver,
+            couplings,
+        } = file;
+        Scene {
+            name,
+            description,
+            gravity,
+            beam,
+            track,
+            vehicles: body.into_iter().chain(vehicles).collect(),
+            sensors,
+            sections,
+            reactions,
+            error_estimate,
+            solver,
+            couplings,
+        }
+    }
+}
+
+impl From<Scene> for SceneFile {
+    fn from(scene: Scene) -> SceneFile {
+        let Scene {
+            name,
+            description,
+            gravity,
+            beam,
+            track,
+            vehicles,
+            sensors,
+            sections,
+            reactions,
+            error_estimate,
+            solver,
+            couplings,
+        } = scene;
+        let mut vehicles = vehicles.into_iter();
+        SceneFile {
+            name,
+            description,
+            gravity,
+            beam,
+            track,
+            body: vehicles.next(),
+            vehicles: vehicles.collect(),
+            sensors,
+            sections,
+            reactions,
+            error_estimate,
+            solver,
+            couplings,
+        }
+    }
 }
 
 // The beam's parameters are the structure's (structure/beam/spec.rs).
@@ -273,7 +384,7 @@ impl Scene {
                 joints: Vec::new(),
                 foundation: None,
             },
-            body: BodySpec {
+            vehicles: vec![BodySpec {
                 name: name.to_string(),
                 kind,
                 mass: 3000.0,
@@ -291,9 +402,8 @@ impl Scene {
                 restitution: 0.0,
                 initial_height: 0.0,
                 contact_law: None,
-            },
+            }],
             track: TrackSpec::default(),
-            vehicles: Vec::new(),
             sensors: vec![SensorSpec {
                 name: "midspan".into(),
                 position: 12.0,
@@ -309,15 +419,11 @@ impl Scene {
         }
     }
 
-    /// Every vehicle: `[body]`, then each of `[[vehicles]]`.
-    pub fn every_vehicle(&self) -> impl Iterator<Item = &BodySpec> + Clone {
-        std::iter::once(&self.body).chain(&self.vehicles)
-    }
-
     /// The names of every body of the scene, vehicle by vehicle (what a
     /// coupling may name).
     pub fn body_names(&self) -> Vec<String> {
-        self.every_vehicle()
+        self.vehicles
+            .iter()
             .flat_map(BodySpec::body_names)
             .collect()
     }

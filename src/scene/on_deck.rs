@@ -216,7 +216,8 @@ fn unsupported(scene: &Scene) -> Vec<Problem> {
         ));
     }
     if scene
-        .every_vehicle()
+        .vehicles
+        .iter()
         .any(|v| v.kind == BodyKind::MovingForce)
     {
         out.push(Problem::new(

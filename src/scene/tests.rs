@@ -52,8 +52,8 @@ fn builtins_are_the_papers_cases() {
     ];
     for (name, kind, speed, step) in expect {
         let scene = builtin(name).unwrap();
-        assert_eq!(scene.body.kind, kind, "{name}");
-        assert_eq!(scene.body.initial_speed, speed, "{name}");
+        assert_eq!(scene.vehicles[0].kind, kind, "{name}");
+        assert_eq!(scene.vehicles[0].initial_speed, speed, "{name}");
         assert_eq!(scene.solver.step, step, "{name}");
         assert_eq!(scene.beam.elements, 2, "{name}");
         assert_eq!(scene.beam.length, 24.0, "{name}");
@@ -90,8 +90,11 @@ fn a_minimal_scene_gets_the_documented_defaults() {
     assert_eq!(scene.solver.gap_tolerance, 1e-5);
     assert_eq!(scene.solver.max_iterations, 50);
     assert!(scene.sensors.is_empty());
-    assert_eq!(scene.body.initial_position, 0.0);
-    assert_eq!((scene.body.force_x, scene.body.force_y), (0.0, 0.0));
+    assert_eq!(scene.vehicles[0].initial_position, 0.0);
+    assert_eq!(
+        (scene.vehicles[0].force_x, scene.vehicles[0].force_y),
+        (0.0, 0.0)
+    );
     assert_eq!(scene.description, "");
 }
 
@@ -155,13 +158,13 @@ fn numbers_must_be_finite() {
         "finite",
     );
     assert_single_problem(
-        |s| s.body.force_y = f64::NEG_INFINITY,
+        |s| s.vehicles[0].force_y = f64::NEG_INFINITY,
         "body.force_y",
         "-inf",
         "finite",
     );
     assert_single_problem(
-        |s| s.body.force_x = f64::NAN,
+        |s| s.vehicles[0].force_x = f64::NAN,
         "body.force_x",
         "NaN",
         "finite",
@@ -229,19 +232,19 @@ fn supports_must_hold_the_beam() {
 #[test]
 fn body_name_is_an_identifier_and_not_reserved() {
     assert_single_problem(
-        |s| s.body.name = "front wheel".into(),
+        |s| s.vehicles[0].name = "front wheel".into(),
         "body.name",
         "\"front wheel\"",
         "identifier",
     );
     assert_single_problem(
-        |s| s.body.name = "1wheel".into(),
+        |s| s.vehicles[0].name = "1wheel".into(),
         "body.name",
         "\"1wheel\"",
         "identifier",
     );
     assert_single_problem(
-        |s| s.body.name = "energy".into(),
+        |s| s.vehicles[0].name = "energy".into(),
         "body.name",
         "\"energy\"",
         "reserved",
@@ -250,28 +253,43 @@ fn body_name_is_an_identifier_and_not_reserved() {
 
 #[test]
 fn body_mass_must_be_positive() {
-    assert_single_problem(|s| s.body.mass = 0.0, "body.mass", "0.0", "> 0");
+    assert_single_problem(|s| s.vehicles[0].mass = 0.0, "body.mass", "0.0", "> 0");
 }
 
 #[test]
 fn wheel_requires_positive_inertia_and_radius() {
     assert_single_problem(
-        |s| s.body.inertia = None,
+        |s| s.vehicles[0].inertia = None,
         "body.inertia",
         "missing",
         "a wheel needs",
     );
-    assert_single_problem(|s| s.body.radius = Some(-0.3), "body.radius", "-0.3", "> 0");
-    assert_single_problem(|s| s.body.radius = None, "body.radius", "missing", "> 0");
-    assert_single_problem(|s| s.body.inertia = Some(0.0), "body.inertia", "0.0", "> 0");
+    assert_single_problem(
+        |s| s.vehicles[0].radius = Some(-0.3),
+        "body.radius",
+        "-0.3",
+        "> 0",
+    );
+    assert_single_problem(
+        |s| s.vehicles[0].radius = None,
+        "body.radius",
+        "missing",
+        "> 0",
+    );
+    assert_single_problem(
+        |s| s.vehicles[0].inertia = Some(0.0),
+        "body.inertia",
+        "0.0",
+        "> 0",
+    );
 }
 
 #[test]
 fn glider_must_not_have_inertia_or_radius() {
     let mut glider = builtin("lee1994-glider-30").unwrap();
     glider.validate().unwrap();
-    glider.body.inertia = Some(135.0);
-    glider.body.radius = Some(0.3);
+    glider.vehicles[0].inertia = Some(135.0);
+    glider.vehicles[0].radius = Some(0.3);
     let Err(SceneError::Invalid { problems }) = glider.validate() else {
         panic!("a glider with a radius must be invalid");
     };
@@ -283,32 +301,32 @@ fn glider_must_not_have_inertia_or_radius() {
 #[test]
 fn start_must_lie_on_the_beam() {
     assert_single_problem(
-        |s| s.body.initial_position = -1.0,
+        |s| s.vehicles[0].initial_position = -1.0,
         "body.initial_position",
         "-1.0",
         "0 <= x < beam.length = 24.0",
     );
     assert_single_problem(
-        |s| s.body.initial_position = 24.0,
+        |s| s.vehicles[0].initial_position = 24.0,
         "body.initial_position",
         "24.0",
         "0 <= x < beam.length",
     );
     let mut scene = default_scene();
-    scene.body.initial_position = 23.9;
+    scene.vehicles[0].initial_position = 23.9;
     scene.validate().unwrap();
 }
 
 #[test]
 fn initial_speed_must_be_finite_and_may_be_zero() {
     assert_single_problem(
-        |s| s.body.initial_speed = f64::NAN,
+        |s| s.vehicles[0].initial_speed = f64::NAN,
         "body.initial_speed",
         "NaN",
         "finite",
     );
     let mut scene = default_scene();
-    scene.body.initial_speed = 0.0;
+    scene.vehicles[0].initial_speed = 0.0;
     scene.validate().unwrap();
 }
 
@@ -387,7 +405,7 @@ fn scene_name_is_usable_as_a_file_name() {
 fn every_problem_is_reported_each_on_its_own_line() {
     let mut scene = default_scene();
     scene.beam.bending_stiffness = -1e9;
-    scene.body.mass = 0.0;
+    scene.vehicles[0].mass = 0.0;
     scene.solver.step = f64::NAN;
     scene.sensors[0].position = 30.0;
     let error = scene.validate().unwrap_err();
@@ -528,7 +546,7 @@ fn parsed_scenes_are_validated() {
 #[test]
 fn load_finds_builtins_and_files() {
     assert_eq!(
-        Scene::load("lee1994-glider-30").unwrap().body.kind,
+        Scene::load("lee1994-glider-30").unwrap().vehicles[0].kind,
         BodyKind::Glider
     );
 
@@ -565,7 +583,7 @@ fn annotated_toml_reads_back_to_the_same_scene() {
     let mut varied = default_scene();
     varied.solver.end_time = Some(0.25);
     varied.beam.supports.intermediate = vec![8.0, 16.5];
-    varied.body.force_x = 1.5e-4;
+    varied.vehicles[0].force_x = 1.5e-4;
     varied.sensors.push(SensorSpec {
         name: "quarter".into(),
         position: 6.0,
@@ -596,19 +614,21 @@ fn every_real_field_has_a_magnitude_limit() {
             s.beam.bending_stiffness = x
         }),
         ("beam.surface_offset", |s, x| s.beam.surface_offset = x),
-        ("body.mass", |s, x| s.body.mass = x),
-        ("body.inertia", |s, x| s.body.inertia = Some(x)),
-        ("body.radius", |s, x| s.body.radius = Some(x)),
-        ("body.initial_speed", |s, x| s.body.initial_speed = x),
-        ("body.force_x", |s, x| s.body.force_x = x),
-        ("body.force_y", |s, x| s.body.force_y = x),
+        ("body.mass", |s, x| s.vehicles[0].mass = x),
+        ("body.inertia", |s, x| s.vehicles[0].inertia = Some(x)),
+        ("body.radius", |s, x| s.vehicles[0].radius = Some(x)),
+        ("body.initial_speed", |s, x| s.vehicles[0].initial_speed = x),
+        ("body.force_x", |s, x| s.vehicles[0].force_x = x),
+        ("body.force_y", |s, x| s.vehicles[0].force_y = x),
         ("solver.step", |s, x| s.solver.step = x),
         ("solver.velocity_tolerance", |s, x| {
             s.solver.velocity_tolerance = x
         }),
         ("solver.gap_tolerance", |s, x| s.solver.gap_tolerance = x),
         ("solver.end_time", |s, x| s.solver.end_time = Some(x)),
-        ("body.initial_position", |s, x| s.body.initial_position = x),
+        ("body.initial_position", |s, x| {
+            s.vehicles[0].initial_position = x
+        }),
     ];
     for (path, edit) in fields {
         let problems = problems_after(|s| edit(s, 1e16));
@@ -627,7 +647,7 @@ fn every_real_field_has_a_magnitude_limit() {
     }
     // at the limits, accepted
     let mut scene = default_scene();
-    scene.body.force_y = -MAX_MAGNITUDE;
+    scene.vehicles[0].force_y = -MAX_MAGNITUDE;
     scene.solver.gap_tolerance = MIN_MAGNITUDE;
     scene.validate().unwrap();
 }
@@ -636,7 +656,7 @@ fn every_real_field_has_a_magnitude_limit() {
 fn names_and_text_have_length_limits_and_xml_legal_characters() {
     let long = "a".repeat(MAX_NAME_CHARS + 1);
     assert_single_problem(
-        |s| s.body.name = long.clone(),
+        |s| s.vehicles[0].name = long.clone(),
         "body.name",
         "\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa\"... (65 characters)",
         "more than the limit of 64",
@@ -685,12 +705,12 @@ fn a_long_list_of_problems_is_cut_in_the_message() {
 #[test]
 fn sprung_mass_needs_its_suspension_and_others_refuse_one() {
     let mut scene = default_scene();
-    scene.body.kind = BodyKind::SprungMass;
-    scene.body.inertia = None;
-    scene.body.radius = None;
+    scene.vehicles[0].kind = BodyKind::SprungMass;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
     let problems = scene.validate().unwrap_err().to_string();
     assert!(problems.contains("body.suspension"), "{problems}");
-    scene.body.suspension = Some(crate::scene::SuspensionSpec {
+    scene.vehicles[0].suspension = Some(crate::scene::SuspensionSpec {
         stiffness: 1e6,
         damping: -1.0,
         unsprung_mass: 50.0,
@@ -699,7 +719,7 @@ fn sprung_mass_needs_its_suspension_and_others_refuse_one() {
     assert!(problems.contains("body.suspension.damping"), "{problems}");
     assert_single_problem(
         |s| {
-            s.body.suspension = Some(crate::scene::SuspensionSpec {
+            s.vehicles[0].suspension = Some(crate::scene::SuspensionSpec {
                 stiffness: 1e6,
                 damping: 0.0,
                 unsprung_mass: 50.0,
@@ -731,20 +751,20 @@ fn bogie() -> crate::scene::BogieSpec {
 #[test]
 fn bogie_vehicle_needs_its_bogie_and_others_refuse_one() {
     let mut scene = default_scene();
-    scene.body.kind = BodyKind::BogieVehicle;
-    scene.body.inertia = None;
-    scene.body.radius = None;
+    scene.vehicles[0].kind = BodyKind::BogieVehicle;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
     let problems = scene.validate().unwrap_err().to_string();
     assert!(problems.contains("body.bogie"), "{problems}");
     assert!(problems.contains("missing"), "{problems}");
-    scene.body.initial_position = scene.beam.length / 2.0;
-    scene.body.bogie = Some(bogie());
+    scene.vehicles[0].initial_position = scene.beam.length / 2.0;
+    scene.vehicles[0].bogie = Some(bogie());
     // Wheelsets at 12 ± 10 m on the 24 m beam.
     scene.validate().expect("a valid bogie vehicle");
     let mut bad = bogie();
     bad.primary_damping = -1.0;
     bad.bogie_half_distance = 1.0;
-    scene.body.bogie = Some(bad);
+    scene.vehicles[0].bogie = Some(bad);
     let problems = scene.validate().unwrap_err().to_string();
     assert!(
         problems.contains("body.bogie.primary_damping"),
@@ -756,7 +776,7 @@ fn bogie_vehicle_needs_its_bogie_and_others_refuse_one() {
     );
     assert!(problems.contains("axle_half_distance = 1.25"), "{problems}");
     assert_single_problem(
-        |s| s.body.bogie = Some(bogie()),
+        |s| s.vehicles[0].bogie = Some(bogie()),
         "body.bogie",
         "present",
         "bogie_vehicle",
@@ -766,11 +786,11 @@ fn bogie_vehicle_needs_its_bogie_and_others_refuse_one() {
 #[test]
 fn bogie_vehicle_wheelsets_must_start_on_the_track() {
     let mut scene = default_scene();
-    scene.body.kind = BodyKind::BogieVehicle;
-    scene.body.inertia = None;
-    scene.body.radius = None;
-    scene.body.bogie = Some(bogie());
-    scene.body.initial_position = 0.0;
+    scene.vehicles[0].kind = BodyKind::BogieVehicle;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
+    scene.vehicles[0].bogie = Some(bogie());
+    scene.vehicles[0].initial_position = 0.0;
     let problems = scene.validate().unwrap_err().to_string();
     assert!(problems.contains("body.initial_position"), "{problems}");
     assert!(problems.contains("off the track"), "{problems}");
@@ -798,9 +818,9 @@ fn gravity_and_track_lengths_are_checked() {
     // With an approach, a body may start on it.
     let mut scene = default_scene();
     scene.track.approach = 10.0;
-    scene.body.initial_position = -10.0;
+    scene.vehicles[0].initial_position = -10.0;
     scene.validate().unwrap();
-    scene.body.initial_position = -10.5;
+    scene.vehicles[0].initial_position = -10.5;
     let problems = scene.validate().unwrap_err().to_string();
     assert!(problems.contains("-track.approach = -10.0"), "{problems}");
 }
@@ -864,13 +884,13 @@ fn damping_round_trips_through_toml_in_each_shape() {
 /// A valid bogie vehicle at midspan of the default beam.
 fn bogie_scene(edit: impl FnOnce(&mut crate::scene::BogieSpec)) -> Scene {
     let mut scene = default_scene();
-    scene.body.kind = BodyKind::BogieVehicle;
-    scene.body.inertia = None;
-    scene.body.radius = None;
-    scene.body.initial_position = scene.beam.length / 2.0;
+    scene.vehicles[0].kind = BodyKind::BogieVehicle;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
+    scene.vehicles[0].initial_position = scene.beam.length / 2.0;
     let mut b = bogie();
     edit(&mut b);
-    scene.body.bogie = Some(b);
+    scene.vehicles[0].bogie = Some(b);
     scene
 }
 
@@ -912,13 +932,13 @@ fn maglev() -> crate::scene::MaglevSpec {
 #[test]
 fn maglev_vehicle_needs_its_magnets_on_the_track() {
     let mut scene = default_scene();
-    scene.body.kind = BodyKind::MaglevVehicle;
-    scene.body.inertia = None;
-    scene.body.radius = None;
-    scene.body.initial_position = 12.0;
+    scene.vehicles[0].kind = BodyKind::MaglevVehicle;
+    scene.vehicles[0].inertia = None;
+    scene.vehicles[0].radius = None;
+    scene.vehicles[0].initial_position = 12.0;
     let problems = scene.validate().unwrap_err().to_string();
     assert!(problems.contains("body.maglev"), "{problems}");
-    scene.body.maglev = Some(maglev());
+    scene.vehicles[0].maglev = Some(maglev());
     scene.validate().expect("a valid maglev vehicle");
     for (edit, path, value) in [
         (
@@ -937,13 +957,13 @@ fn maglev_vehicle_needs_its_magnets_on_the_track() {
     ] {
         let mut m = maglev();
         edit(&mut m);
-        scene.body.maglev = Some(m);
+        scene.vehicles[0].maglev = Some(m);
         let problems = scene.validate().unwrap_err().to_string();
         assert!(problems.contains(path), "{problems}");
         assert!(problems.contains(value), "{problems}");
     }
     assert_single_problem(
-        |s| s.body.maglev = Some(maglev()),
+        |s| s.vehicles[0].maglev = Some(maglev()),
         "body.maglev",
         "present",
         "maglev_vehicle",
@@ -973,16 +993,16 @@ fn couplings_must_name_bodies_of_the_scene_once() {
 fn body_names_are_the_assembled_systems() {
     let wheel = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
     let mut sprung = Scene::lee1994(BodyKind::SprungMass, 10.0, 0.0025);
-    sprung.body.name = "car".into();
-    sprung.body.suspension = Some(SuspensionSpec {
+    sprung.vehicles[0].name = "car".into();
+    sprung.vehicles[0].suspension = Some(SuspensionSpec {
         stiffness: 1e6,
         damping: 0.0,
         unsprung_mass: 50.0,
     });
     let mut bogie = Scene::lee1994(BodyKind::BogieVehicle, 10.0, 0.0025);
-    bogie.body.name = "coach".into();
-    bogie.body.initial_position = 12.0;
-    bogie.body.bogie = Some(BogieSpec {
+    bogie.vehicles[0].name = "coach".into();
+    bogie.vehicles[0].initial_position = 12.0;
+    bogie.vehicles[0].bogie = Some(BogieSpec {
         car_inertia: 1e6,
         bogie_mass: 2000.0,
         bogie_inertia: 3000.0,
@@ -1019,4 +1039,26 @@ fn a_shaped_force_profile_is_refused_with_hht_and_kept_with_auto() {
     scene.solver.integrator = IntegratorKind::Auto;
     scene.solver.force_profile = ForceProfile::Linear;
     scene.validate().unwrap();
+}
+
+/// A file's `[body]` is vehicle 0 of the one list, each `[[vehicles]]`
+/// entry the next (issue 23); the scene writes back the same blocks, and
+/// a scene without vehicles is refused at `body`.
+#[test]
+fn the_body_block_is_vehicle_zero_of_one_list() {
+    let mut scene = default_scene();
+    let mut second = scene.vehicles[0].clone();
+    second.name = "second".into();
+    second.initial_position = 6.0;
+    scene.vehicles.push(second);
+    let text = scene.to_toml_string();
+    assert_eq!(text.matches("[body]").count(), 1, "{text}");
+    assert_eq!(text.matches("[[vehicles]]").count(), 1, "{text}");
+    let body_at = text.find("[body]").unwrap();
+    assert!(text[body_at..].contains(&format!("name = \"{}\"", scene.vehicles[0].name)));
+    let reread = Scene::from_toml_str(&text).unwrap();
+    assert_eq!(reread, scene);
+    let names: Vec<&str> = reread.vehicles.iter().map(|v| v.name.as_str()).collect();
+    assert_eq!(names, [scene.vehicles[0].name.as_str(), "second"]);
+    assert_single_problem(|s| s.vehicles.clear(), "body", "missing", "needs a vehicle");
 }

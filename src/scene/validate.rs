@@ -467,11 +467,10 @@ fn check_supports_off_gaps(checks: &mut Checks, scene: &Scene) {
 }
 
 /// Only wheels cross rail gaps, and only gaps narrower than their radius.
-/// `body` and every `vehicles[k]`, each with the path its fields are named by.
-fn bodies_with_paths(scene: &Scene) -> impl Iterator<Item = (String, &super::BodySpec)> {
+/// Every vehicle, each with the path its fields are named by.
+pub(super) fn bodies_with_paths(scene: &Scene) -> impl Iterator<Item = (String, &super::BodySpec)> {
     let vehicles = scene.vehicles.iter().enumerate();
-    std::iter::once(("body".to_string(), &scene.body))
-        .chain(vehicles.map(|(k, v)| (format!("vehicles[{k}]"), v)))
+    vehicles.map(|(k, v)| (super::vehicle_path(k), v))
 }
 
 fn check_gap_crossing(checks: &mut Checks, scene: &Scene) {
@@ -564,19 +563,24 @@ pub(crate) fn in_gap(scene: &Scene, x: f64) -> bool {
 }
 
 fn check_bodies(checks: &mut Checks, scene: &Scene, length_ok: bool) {
-    check_body(checks, scene, "body", &scene.body, length_ok);
-    if scene.vehicles.len() > MAX_VEHICLES {
+    let Some(first) = scene.vehicles.first() else {
+        checks.fail("body", "missing", "a scene needs a vehicle ([body])");
+        return;
+    };
+    check_body(checks, scene, "body", first, length_ok);
+    let besides_body = scene.vehicles.len() - 1;
+    if besides_body > MAX_VEHICLES {
         checks.fail(
             "vehicles",
-            format!("{} vehicles", scene.vehicles.len()),
+            format!("{besides_body} vehicles"),
             format!("at most {MAX_VEHICLES} besides [body]"),
         );
         return;
     }
     check_moving_forces_alone(checks, scene);
-    let mut names = HashSet::from([scene.body.name.as_str()]);
-    for (i, vehicle) in scene.vehicles.iter().enumerate() {
-        let prefix = format!("vehicles[{i}]");
+    let mut names = HashSet::from([first.name.as_str()]);
+    for (k, vehicle) in scene.vehicles.iter().enumerate().skip(1) {
+        let prefix = super::vehicle_path(k);
         check_body(checks, scene, &prefix, vehicle, length_ok);
         if !names.insert(vehicle.name.as_str()) {
             checks.fail(
@@ -767,7 +771,8 @@ fn check_prescribed_speed(checks: &mut Checks, prefix: &str, body: &super::BodyS
 /// Moving forces run without bodies: a scene has only moving forces or
 /// none, and no irregularity (a force of fixed magnitude cannot feel one).
 fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
-    let moving = scene.body.kind == BodyKind::MovingForce;
+    let body_kind = scene.vehicles.first().map(|v| v.kind);
+    let moving = body_kind == Some(BodyKind::MovingForce);
     if moving && !scene.track.irregularities.is_empty() {
         checks.fail(
             "track.irregularities",
@@ -779,10 +784,10 @@ fn check_moving_forces_alone(checks: &mut Checks, scene: &Scene) {
              irregularities (1 + φ'')",
         );
     }
-    for (i, vehicle) in scene.vehicles.iter().enumerate() {
+    for (k, vehicle) in scene.vehicles.iter().enumerate().skip(1) {
         if (vehicle.kind == BodyKind::MovingForce) != moving {
             checks.fail(
-                format!("vehicles[{i}].kind"),
+                format!("{}.kind", super::vehicle_path(k)),
                 format!("{:?}", vehicle.kind),
                 "moving forces run without bodies: every vehicle is a moving_force if \
                  [body] is one, and none otherwise",
@@ -862,7 +867,7 @@ fn check_couplings(checks: &mut Checks, scene: &Scene) {
         );
         return;
     }
-    if count == 0 || scene.vehicles.len() > MAX_VEHICLES {
+    if count == 0 || scene.vehicles.len() > MAX_VEHICLES + 1 {
         return;
     }
     let bodies: HashSet<String> = scene.body_names().into_iter().collect();
@@ -1068,7 +1073,7 @@ fn check_structure(checks: &mut Checks, scene: &Scene) {
         }
         _ => {}
     }
-    if scene.body.kind == BodyKind::MovingForce {
+    if crate::vehicle::presets::is_moving_force_scene(scene) {
         checks.fail(
             "solver.structure",
             "\"modal\"",
@@ -1107,7 +1112,7 @@ fn check_every_mode_damping(checks: &mut Checks, scene: &Scene, ratio: f64) {
             most / 2 - 1,
             scene.beam.elements
         ))
-    } else if scene.body.kind == BodyKind::MovingForce {
+    } else if crate::vehicle::presets::is_moving_force_scene(scene) {
         Some(
             "alone (the same ratio in every mode) is not taken by moving forces on the \
              full mesh (they step its nodal DOFs): give Rayleigh damping \

@@ -204,10 +204,14 @@ impl Simulation {
         self.state.initial_energy
     }
 
-    /// Set the applied force on the driven body's centre (N), held until changed.
-    pub fn set_body_force(&mut self, fx: f64, fy: f64) {
-        self.state.body_force = [fx, fy];
-        self.setup.vehicle_forces[0].1 = [fx, fy];
+    /// Set the applied force (N) on the centre of vehicle `vehicle`'s
+    /// first body, held until changed; a vehicle the model lacks is
+    /// ignored.
+    pub fn set_vehicle_force(&mut self, vehicle: usize, force: [f64; 2]) {
+        if let Some(held) = self.state.vehicle_forces.get_mut(vehicle) {
+            *held = force;
+            self.setup.vehicle_forces[vehicle].1 = force;
+        }
     }
 
     /// Set the additional loads (fx, fy in N, moment in N m) on the
@@ -308,7 +312,10 @@ impl Simulation {
     pub fn restore(&mut self, state: &SimState) -> Result<(), String> {
         self.check_restorable(state)?;
         self.state = state.clone();
-        self.setup.vehicle_forces[0].1 = state.body_force;
+        let forces = self.setup.vehicle_forces.iter_mut();
+        forces
+            .zip(&state.vehicle_forces)
+            .for_each(|(f, &held)| f.1 = held);
         Ok(())
     }
 
@@ -316,6 +323,13 @@ impl Simulation {
     /// this model's and the bodies where its contacts say they are.
     pub fn check_restorable(&self, state: &SimState) -> Result<(), String> {
         check_shape(&self.system, state)?;
+        let vehicles = self.setup.vehicle_forces.len();
+        if state.vehicle_forces.len() != vehicles {
+            return Err(format!(
+                "the state has {} vehicle forces but this model has {vehicles} vehicles",
+                state.vehicle_forces.len()
+            ));
+        }
         state.check_consistent(&self.system, self.params.iteration.gap_tolerance)
     }
 

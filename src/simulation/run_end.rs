@@ -26,7 +26,8 @@ pub fn run_end(scene: &Scene) -> RunEnd {
         return RunEnd::EndTime(t);
     }
     let exits = scene
-        .every_vehicle()
+        .vehicles
+        .iter()
         .filter_map(|v| travel_to_exit(v, scene.beam.length));
     let last = exits.reduce(|a, b| if exit_time(b) > exit_time(a) { b } else { a });
     match last {
@@ -70,8 +71,8 @@ mod tests {
     #[test]
     fn the_last_vehicle_to_leave_ends_the_run() {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-        assert_eq!(scene.body.initial_position, 0.0);
-        let mut rear = scene.body.clone();
+        assert_eq!(scene.vehicles[0].initial_position, 0.0);
+        let mut rear = scene.vehicles[0].clone();
         rear.initial_position = -6.0;
         scene.vehicles.push(rear);
         let end = run_end(&scene);
@@ -100,8 +101,8 @@ mod tests {
     #[test]
     fn a_vehicle_running_back_leaves_at_the_start_and_one_at_rest_never() {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-        scene.body.initial_position = 12.0;
-        scene.body.initial_speed = -4.0;
+        scene.vehicles[0].initial_position = 12.0;
+        scene.vehicles[0].initial_speed = -4.0;
         assert_eq!(
             run_end(&scene),
             RunEnd::LastExit {
@@ -109,7 +110,7 @@ mod tests {
                 speed: 4.0
             }
         );
-        scene.body.initial_speed = 0.0;
+        scene.vehicles[0].initial_speed = 0.0;
         assert_eq!(run_end(&scene), RunEnd::NoExit);
         assert!(crate::report::stop_time(&scene).is_err());
     }
@@ -121,9 +122,9 @@ mod tests {
     #[test]
     fn a_maglev_car_leaves_when_its_rear_magnet_does() {
         let mut scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
-        scene.body.kind = BodyKind::MaglevVehicle;
-        scene.body.initial_position = 6.0;
-        scene.body.maglev = Some(crate::scene::MaglevSpec {
+        scene.vehicles[0].kind = BodyKind::MaglevVehicle;
+        scene.vehicles[0].initial_position = 6.0;
+        scene.vehicles[0].maglev = Some(crate::scene::MaglevSpec {
             car_inertia: 1.5e6,
             magnets: 4,
             magnet_spacing: 3.0,
@@ -141,7 +142,7 @@ mod tests {
             }
         );
         // Running back, the front magnet leaves last, after x₀ + 4.5 m.
-        scene.body.initial_speed = -10.0;
+        scene.vehicles[0].initial_speed = -10.0;
         assert_eq!(
             run_end(&scene),
             RunEnd::LastExit {

@@ -38,8 +38,8 @@ impl Simulation {
                 .unzip();
         let step = scene.solver.step;
         let stepper = Stepper::new(integrator, &system, step, &assembly.open, &dynamic);
-        let body_force = setup.vehicle_forces[0].1;
-        let start = (dynamic, assembly.forces.as_slice(), body_force);
+        let vehicle_forces = (setup.vehicle_forces.iter()).map(|&(_, f)| f).collect();
+        let start = (dynamic, assembly.forces.as_slice(), vehicle_forces);
         let state = state_at_start(&system, start, step, &assembly.open)?;
         let mut simulation = Simulation {
             sensors: scene.sensors.iter().map(|s| s.position).collect(),
@@ -60,13 +60,12 @@ impl Simulation {
     }
 }
 
-/// How the run drives the system: the vehicles' forces (the driven body's
-/// from `body.force_x/y`), the prescribed speeds, the restitutions, when
-/// the run ends and the force profile.
+/// How the run drives the system: the vehicles' forces (each vehicle's
+/// `force_x/y`), the prescribed speeds, the restitutions, when the run
+/// ends and the force profile.
 fn run_setup(scene: &Scene, assembly: &mut Assembly) -> RunSetup {
-    let mut vehicle_forces = std::mem::take(&mut assembly.vehicle_forces);
+    let vehicle_forces = std::mem::take(&mut assembly.vehicle_forces);
     let drives = driven_bodies(scene, &vehicle_forces, assembly.system.bodies.len());
-    vehicle_forces[0].1 = [scene.body.force_x, scene.body.force_y];
     RunSetup {
         vehicle_forces,
         drives,
@@ -102,11 +101,11 @@ fn start_displacement(
 }
 
 /// The run's state at t = 0 from its dynamic state, the contact forces
-/// and the driven body's force; each contact on the part of the track it
+/// and the vehicles' applied forces; each contact on the part of the track it
 /// starts on, open where `open` says.
 fn state_at_start(
     system: &System,
-    (dynamic, forces, body_force): (DynamicState, &[ContactForce], [f64; 2]),
+    (dynamic, forces, vehicle_forces): (DynamicState, &[ContactForce], Vec<[f64; 2]>),
     step: f64,
     open: &[bool],
 ) -> Result<SimState, String> {
@@ -120,7 +119,7 @@ fn state_at_start(
         dynamic,
         force_history: forces.iter().map(|&f| [f; 3]).collect(),
         step_history: [step; 2],
-        body_force,
+        vehicle_forces,
         external_work: 0.0,
         gravity_work: 0.0,
         initial_energy: 0.0,
@@ -153,7 +152,8 @@ fn driven_bodies(
     let firsts: Vec<usize> = vehicle_forces.iter().map(|&(b, _)| b).collect();
     let ends = firsts.iter().skip(1).copied().chain([bodies]);
     scene
-        .every_vehicle()
+        .vehicles
+        .iter()
         .zip(firsts.iter().zip(ends))
         .filter_map(|(spec, (&first, end))| Some((spec.prescribed_speed.clone()?, first..end)))
         .flat_map(|(speed, range)| range.map(move |b| (b, speed.clone())))

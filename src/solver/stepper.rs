@@ -56,12 +56,12 @@ pub struct JointImpact {
 }
 
 /// How the run drives the system beside its state, fixed at the build
-/// (the driven body's force is the state's `body_force`, copied into
-/// `vehicle_forces[0]` whenever it is set).
+/// (the vehicles' forces are the state's `vehicle_forces`, copied here
+/// whenever they are set).
 #[derive(Debug, Clone)]
 pub struct RunSetup {
-    /// The first body of each vehicle and the constant force on it; the
-    /// first is the driven body, whose force is `SimState::body_force`.
+    /// The first body of each vehicle and the force on it, held until
+    /// changed (`SimState::vehicle_forces`).
     pub vehicle_forces: Vec<(usize, [f64; 2])>,
     /// The bodies driven at a prescribed speed, and their speeds.
     pub drives: Vec<(usize, SpeedSpec)>,

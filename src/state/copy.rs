@@ -62,7 +62,7 @@ impl SimState {
             dynamic,
             force_history,
             step_history,
-            body_force,
+            vehicle_forces,
             external_work,
             gravity_work,
             initial_energy,
@@ -87,7 +87,7 @@ impl SimState {
         self.dynamic.copy_from(dynamic);
         self.force_history.clone_from(force_history);
         self.step_history = *step_history;
-        self.body_force = *body_force;
+        self.vehicle_forces.clone_from(vehicle_forces);
         self.external_work = *external_work;
         self.gravity_work = *gravity_work;
         self.initial_energy = *initial_energy;
@@ -123,8 +123,6 @@ fn scalars_not_finite(s: &SimState) -> f64 {
         s.impact_loss,
         s.step_history[0],
         s.step_history[1],
-        s.body_force[0],
-        s.body_force[1],
     ])
 }
 
@@ -272,6 +270,9 @@ impl SimState {
             + copy_summing(&mut self.force_history, &source.force_history, forces)
             + copy_summing(&mut self.events, &source.events, |e| not_finite(&[e.time]))
             + copy_summing(&mut self.contacts, &source.contacts, status)
+            + copy_summing(&mut self.vehicle_forces, &source.vehicle_forces, |f| {
+                not_finite(f)
+            })
     }
 
     /// Every field but the lists of `copy_lists_summing` (each named, so
@@ -283,7 +284,7 @@ impl SimState {
             dynamic: _,
             force_history: _,
             step_history,
-            body_force,
+            vehicle_forces: _,
             external_work,
             gravity_work,
             initial_energy,
@@ -306,7 +307,6 @@ impl SimState {
         self.time = *time;
         self.grid_step = *grid_step;
         self.step_history = *step_history;
-        self.body_force = *body_force;
         self.external_work = *external_work;
         self.gravity_work = *gravity_work;
         self.initial_energy = *initial_energy;
@@ -412,7 +412,7 @@ mod tests {
             ("exit time", |s, x| s.exit_time = Some(x)),
             ("impact loss", |s, x| s.impact_loss = x),
             ("step history", |s, x| s.step_history[1] = x),
-            ("body force", |s, x| s.body_force[0] = x),
+            ("vehicle force", |s, x| s.vehicle_forces[0][0] = x),
             ("dissipated", |s, x| s.dynamic.dissipated = x),
             ("beam dissipated", |s, x| s.dynamic.beam_dissipated = x),
             ("tractive work", |s, x| s.dynamic.tractive_work = x),

@@ -75,8 +75,9 @@ pub struct SimState {
     /// history the next step's initial guess is extrapolated from.
     pub force_history: Vec<[ContactForce; 3]>,
     pub step_history: [f64; 2],
-    /// The applied force on the driven body (the FMU's inputs).
-    pub body_force: [f64; 2],
+    /// The applied force (fx, fy) on each vehicle's first body, held
+    /// until changed (the FMU's inputs).
+    pub vehicle_forces: Vec<[f64; 2]>,
     pub external_work: f64,
     pub gravity_work: f64,
     pub initial_energy: f64,
@@ -159,7 +160,7 @@ impl SimState {
         let d = &self.dynamic;
         let mut nan = not_finite(&self.scalars())
             + not_finite(&self.step_history)
-            + not_finite(&self.body_force)
+            + not_finite(self.vehicle_forces.as_flattened())
             + not_finite(&d.contact_x);
         for e in &self.events {
             nan += not_finite(&[e.time]);
@@ -190,7 +191,7 @@ impl SimState {
         let statuses = (self.contacts.iter()).flat_map(|c| [c.gap, c.impulse[0], c.impulse[1]]);
         let mut all = (self.scalars().into_iter())
             .chain(self.step_history)
-            .chain(self.body_force)
+            .chain(self.vehicle_forces.iter().flatten().copied())
             .chain(d.contact_x.iter().copied())
             .chain(self.events.iter().map(|e| e.time))
             .chain(statuses)
@@ -302,7 +303,8 @@ pub fn check_shape(system: &System, state: &SimState) -> Result<(), String> {
             state.last_applied.len()
         ));
     }
-    let loads = state.coupling_loads.iter().flatten();
+    let loads =
+        (state.coupling_loads.iter().flatten()).chain(state.vehicle_forces.iter().flatten());
     let applied = state.last_applied.iter().flat_map(|v| v.iter());
     if !loads.chain(applied).all(|x| x.is_finite()) {
         return Err("the state has a load that is not finite".into());

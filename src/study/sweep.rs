@@ -201,7 +201,7 @@ fn sweep_loads(scene: &Scene, beam: &Beam, loads: &Loads) -> Result<Vec<Load>, S
         Loads::Trains(trains) => trains
             .iter()
             .map(|t| {
-                let mut spec = scene.body.clone();
+                let mut spec = scene.vehicles[0].clone();
                 spec.train = Some(t.name.to_string());
                 (t.name.to_string(), vehicle_axles(&spec, scene.gravity))
             })
@@ -209,8 +209,8 @@ fn sweep_loads(scene: &Scene, beam: &Beam, loads: &Loads) -> Result<Vec<Load>, S
         Loads::Axles(trains) => trains
             .iter()
             .map(|(name, offsets)| {
-                let start = scene.body.initial_position;
-                let speed = scene.body.initial_speed;
+                let start = scene.vehicles[0].initial_position;
+                let speed = scene.vehicles[0].initial_speed;
                 let axles = offsets
                     .iter()
                     .map(|&(offset, force)| Axle {

@@ -47,12 +47,12 @@ impl SpeedPlan {
     /// The plan of sweeping `scene` over `speeds` (m/s); refused when its
     /// first vehicle does not move (nothing to scale).
     pub fn new(scene: &Scene, speeds: &[f64]) -> Result<SpeedPlan, String> {
-        let reference = scene.body.initial_speed.abs();
+        let reference = scene.vehicles[0].initial_speed.abs();
         if !(reference > 0.0 && reference.is_finite()) {
             return Err(format!(
                 "body.initial_speed = {}: a sweep scales every vehicle's speed by \
                  speed / |body.initial_speed|, so the first vehicle must move",
-                scene.body.initial_speed
+                scene.vehicles[0].initial_speed
             ));
         }
         let end = match scene.solver.end_time {
@@ -68,7 +68,7 @@ impl SpeedPlan {
             // Over the free vibration a faster run goes further: the track
             // grows by what the fastest vehicle travels beyond the scene's.
             let extra = |v: &BodySpec| tail * v.initial_speed.abs() * (fastest - 1.0).max(0.0);
-            for v in scene.every_vehicle() {
+            for v in scene.vehicles.iter() {
                 if v.initial_speed > 0.0 {
                     run_off = run_off.max(scene.track.run_off + extra(v));
                 } else {
@@ -103,7 +103,7 @@ fn last_exit(scene: &Scene) -> Option<f64> {
 pub fn scene_at_speed(scene: &Scene, plan: &SpeedPlan, speed: f64) -> Scene {
     let factor = speed / plan.reference;
     let mut at = scene.clone();
-    for v in std::iter::once(&mut at.body).chain(&mut at.vehicles) {
+    for v in at.vehicles.iter_mut() {
         v.initial_speed *= factor;
         v.prescribed_speed = v.prescribed_speed.take().map(|s| match s {
             SpeedSpec::Constant(u) => SpeedSpec::Constant(u * factor),
@@ -236,7 +236,7 @@ mod tests {
     #[test]
     fn the_free_vibration_lasts_as_long_at_every_speed() {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
-        let mut rear = scene.body.clone();
+        let mut rear = scene.vehicles[0].clone();
         rear.name = "rear".into();
         rear.initial_position = -6.0;
         scene.vehicles.push(rear);
@@ -253,10 +253,13 @@ mod tests {
         let fast = scene_at_speed(&scene, &plan, 20.0);
         assert_eq!(fast.solver.end_time, Some(2.5));
         assert_eq!(
-            (fast.body.initial_speed, fast.vehicles[0].initial_speed),
+            (
+                fast.vehicles[0].initial_speed,
+                fast.vehicles[1].initial_speed
+            ),
             (20.0, 20.0)
         );
-        assert_eq!(fast.vehicles[0].initial_position, -6.0);
+        assert_eq!(fast.vehicles[1].initial_position, -6.0);
         let slow = scene_at_speed(&scene, &plan, 5.0);
         assert_eq!(slow.solver.end_time, Some(7.0));
         assert_eq!(slow.track.run_off, 25.0, "one track for the whole sweep");
@@ -268,21 +271,21 @@ mod tests {
     #[test]
     fn other_ends_and_speed_tables_follow_the_distance() {
         let mut scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
-        scene.body.prescribed_speed = Some(SpeedSpec::Table(vec![[0.0, 10.0], [1.0, 12.0]]));
+        scene.vehicles[0].prescribed_speed = Some(SpeedSpec::Table(vec![[0.0, 10.0], [1.0, 12.0]]));
         scene.solver.end_time = Some(1.2);
         let plan = SpeedPlan::new(&scene, &[40.0]).unwrap();
         assert_eq!(plan.end, SweepEnd::SameDistance(1.2));
         let fast = scene_at_speed(&scene, &plan, 40.0);
         assert_eq!(fast.solver.end_time, Some(0.3));
         assert_eq!(
-            fast.body.prescribed_speed,
+            fast.vehicles[0].prescribed_speed,
             Some(SpeedSpec::Table(vec![[0.0, 40.0], [0.25, 48.0]]))
         );
         assert_eq!(fast.track, scene.track);
         scene.solver.end_time = None;
         let plan = SpeedPlan::new(&scene, &[40.0]).unwrap();
         assert_eq!(scene_at_speed(&scene, &plan, 40.0).solver.end_time, None);
-        scene.body.initial_speed = 0.0;
+        scene.vehicles[0].initial_speed = 0.0;
         let refused = SpeedPlan::new(&scene, &[40.0]).unwrap_err();
         assert!(refused.contains("body.initial_speed = 0"), "{refused}");
     }

@@ -144,7 +144,7 @@ pub struct Reference {
 
 fn static_deflection(scene: &Scene) -> f64 {
     let l = scene.beam.length;
-    scene.body.force_y.abs() * l * l * l / (48.0 * scene.beam.bending_stiffness)
+    scene.vehicles[0].force_y.abs() * l * l * l / (48.0 * scene.beam.bending_stiffness)
 }
 
 fn rms_difference(a: &[f64], b: &[f64], scale: f64) -> f64 {

@@ -44,7 +44,7 @@ pub fn paper_scene(kind: BodyKind, speed: f64, step: f64) -> Scene {
 pub fn run_to_exit(scene: &Scene) -> RunFigures {
     let mut sim = Simulation::new(scene).expect("scene builds");
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
-    let body = &scene.body.name;
+    let body = &scene.vehicles[0].name;
     let at = |n: &str| names.iter().position(|x| x == n).unwrap();
     let (speed, balance) = (at(&format!("{body}.nominal_speed")), at("energy.balance"));
     let midspan = names.iter().position(|x| x == "sensor.midspan.deflection");
@@ -170,6 +170,6 @@ wheelset_inertia = 700.0"#
 /// coach over its four wheelsets plus its bogie's share and the
 /// wheelset's own weight, under the scene's gravity.
 pub fn static_wheelset_load(scene: &Scene) -> f64 {
-    let bogie = scene.body.bogie.as_ref().expect("a bogie vehicle");
-    scene.gravity * (scene.body.mass / 4.0 + bogie.bogie_mass / 2.0 + bogie.wheelset_mass)
+    let bogie = scene.vehicles[0].bogie.as_ref().expect("a bogie vehicle");
+    scene.gravity * (scene.vehicles[0].mass / 4.0 + bogie.bogie_mass / 2.0 + bogie.wheelset_mass)
 }

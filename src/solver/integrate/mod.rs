@@ -366,11 +366,11 @@ pub(crate) mod fixtures {
     pub fn two_paper_wheels() -> Scene {
         let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
         scene.beam.elements = 4;
-        scene.body.initial_position = 3.0;
-        let mut second = scene.body.clone();
+        scene.vehicles[0].initial_position = 3.0;
+        let mut second = scene.vehicles[0].clone();
         second.name = "second".into();
         second.initial_position = 15.5;
-        scene.vehicles = vec![second];
+        scene.vehicles.push(second);
         scene
     }
 }

@@ -16,7 +16,7 @@ pub const MOVING_FORCE_REFUSAL: &str =
 /// them all moving forces or none): the run is then a crossing of
 /// prescribed forces, not a system of bodies.
 pub fn is_moving_force_scene(scene: &Scene) -> bool {
-    scene.body.kind == BodyKind::MovingForce
+    (scene.vehicles.iter()).any(|v| v.kind == BodyKind::MovingForce)
 }
 
 pub struct MovingForce;
