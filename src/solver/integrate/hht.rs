@@ -17,6 +17,7 @@ use crate::beam::EffectiveFactor;
 use nalgebra::{DVector, Vector3};
 
 use super::hht_energy::{step_dissipation, step_means, Buffers, Weights};
+use super::step_end::EndForces;
 use super::{
     contact_frames, follower_dissipation, loads_but_laws, DynamicState, HeldFollowers,
     IntegrationError, StepStart,
@@ -92,6 +93,9 @@ pub struct Hht {
     /// integration.
     held_followers: Vec<bool>,
     followers_used: Vec<ContactForce>,
+    /// K u + C v at the last accepted step's end: the next step's start
+    /// terms and the output rows of that state recall it.
+    end_forces: EndForces,
 }
 
 /// One full integration by the band factor's fused solve
@@ -181,6 +185,7 @@ impl Hht {
             books: true,
             held_followers: vec![false; system.contacts.len()],
             followers_used: vec![ContactForce::default(); system.contacts.len()],
+            end_forces: EndForces::default(),
             base: Base {
                 known: false,
                 dt: 0.0,
@@ -330,8 +335,13 @@ impl Hht {
         let start = from.state;
         if self.alpha != 0.0 {
             let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
-            let beam = &system.beam;
-            beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
+            match self.end_forces.recall((u0, v0)) {
+                Some(kept) => self.start_internal.copy_from(kept),
+                None => {
+                    let beam = &system.beam;
+                    beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
+                }
+            }
         }
         if self.books {
             self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
@@ -355,6 +365,14 @@ impl Hht {
     /// converged, instead of at every iterate.
     pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
         let (start, dt) = (from.state, from.dt);
+        // The next step's start needs K u + C v of this end where α ≠ 0.
+        match self.alpha != 0.0 {
+            true => {
+                let state = (&end.beam_displacement, &end.beam_velocity);
+                self.end_forces.keep(system, state, false, &mut self.scratch);
+            }
+            false => self.end_forces.forget(),
+        }
         if !self.books {
             end.beam_dissipated = start.beam_dissipated;
             end.dissipated = start.dissipated;
@@ -557,6 +575,11 @@ impl Hht {
             return end_force;
         }
         0.0
+    }
+
+    /// K u + C v at the last accepted step's end, kept (see `EndForces`).
+    pub fn end_forces(&self) -> &EndForces {
+        &self.end_forces
     }
 
     /// See `Integrator::hold_followers`.
