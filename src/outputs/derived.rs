@@ -103,7 +103,8 @@ pub fn beam_dynamics(
     let beam = &system.beam;
     let loads = crate::contact::loads::contact_loads(beam, &frames, &last_forces(state));
     let (u, v) = (&d.beam_displacement, &d.beam_velocity);
-    let internal = end_forces.and_then(|kept| kept.recall((u, v)));
+    let readable = beam.accelerations_read_internal_forces();
+    let internal = (end_forces.filter(|_| readable)).and_then(|kept| kept.recall((u, v)));
     Some(crate::structure::section_forces::BeamDynamics::new(
         beam,
         (u.clone(), v.clone()),

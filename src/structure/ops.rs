@@ -132,6 +132,12 @@ pub(in crate::structure) trait StructureOps {
         self.damping_times(v, damping);
     }
 
+    /// Whether `accelerations_from_internal` gives `accelerations`' bits
+    /// (else it does nothing, and the internal forces need not be found).
+    fn accelerations_read_internal_forces(&self) -> bool {
+        false
+    }
+
     /// `accelerations` from the state's internal forces `internal` =
     /// K u + C v, where they are how `accelerations` forms them (the same
     /// bits): false, `out` untouched, where they are not.

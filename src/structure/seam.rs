@@ -266,6 +266,11 @@ impl Structure {
         each!(self, b => b.internal_and_damping_forces(state, damping, out))
     }
 
+    /// Whether `accelerations_from_internal` gives `accelerations`' bits.
+    pub fn accelerations_read_internal_forces(&self) -> bool {
+        each!(self, b => b.accelerations_read_internal_forces())
+    }
+
     /// `accelerations` from the internal forces K u + C v of the state,
     /// where that gives its bits; false (nothing done) elsewhere.
     pub fn accelerations_from_internal(

@@ -259,6 +259,10 @@ impl StructureOps for TrackBeam {
         self.internal_forces(u, v, damping, out);
     }
 
+    fn accelerations_read_internal_forces(&self) -> bool {
+        true
+    }
+
     /// `accelerations` is M⁻¹ (load − (K u + C v)) with the internal
     /// forces of `internal_forces`.
     fn accelerations_from_internal(
