@@ -91,6 +91,11 @@ impl EndForces {
         same.then_some(&self.internal)
     }
 
+    /// K u + C v at the kept state (whatever it is: see `recall`).
+    pub(super) fn internal(&self) -> &DVector<f64> {
+        &self.internal
+    }
+
     /// C v at the kept state, where it was kept with it.
     pub fn damping(&self) -> Option<&DVector<f64>> {
         self.damping.as_ref().filter(|_| self.kept)
