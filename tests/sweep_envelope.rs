@@ -62,7 +62,7 @@ fn single_run(scene: &Scene, train: &str, speed: f64) -> Vec<(String, f64)> {
             .map(|a| PointLoad::vertical(&beam, a.at(t), a.force))
             .collect();
         let (u, v, _) = crossing.state();
-        let state = BeamDynamics::new(&beam, u.clone(), v.clone(), loads);
+        let state = BeamDynamics::new(&beam, (u.clone(), v.clone()), loads, None);
         for s in &scene.sensors {
             let x = s.position;
             take(

@@ -183,20 +183,37 @@ impl SymBand {
     /// `None` when a pivot is zero or not finite (the count is then not
     /// defined by the factor: shift the matrix a little).
     pub fn negative_pivots(&self) -> Option<usize> {
-        // The last three rows of L and D are all a row needs.
-        let mut kept = [([0.0f64; 3], 0.0f64, 0.0f64); 4];
-        let mut negative = 0;
-        for (i, a) in self.rows.iter().enumerate() {
-            let (l, d) = ldlt_row(a, i, |m| kept[m % 4]);
-            if d == 0.0 || !d.is_finite() {
-                return None;
-            }
-            negative += usize::from(d < 0.0);
-            kept[i % 4] = (l, d, 1.0 / d);
-        }
-        Some(negative)
+        negative_pivots_of_rows(self.rows.iter().copied())
     }
 
+    /// `negative_pivots` of a A + b B, each row formed as `combine` forms
+    /// it (the same bits) and dropped: no matrix is allocated (a Sturm
+    /// bisection counts dozens of shifts).
+    pub fn combined_negative_pivots(&self, a: f64, other: &SymBand, b: f64) -> Option<usize> {
+        assert_eq!(self.size(), other.size());
+        let rows = (self.rows.iter().zip(&other.rows))
+            .map(|(x, y)| [0, 1, 2, 3].map(|k| a * x[k] + b * y[k]));
+        negative_pivots_of_rows(rows)
+    }
+}
+
+/// `SymBand::negative_pivots` of the band with these rows.
+fn negative_pivots_of_rows(rows: impl Iterator<Item = [f64; 4]>) -> Option<usize> {
+    // The last three rows of L and D are all a row needs.
+    let mut kept = [([0.0f64; 3], 0.0f64, 0.0f64); 4];
+    let mut negative = 0;
+    for (i, a) in rows.enumerate() {
+        let (l, d) = ldlt_row(&a, i, |m| kept[m % 4]);
+        if d == 0.0 || !d.is_finite() {
+            return None;
+        }
+        negative += usize::from(d < 0.0);
+        kept[i % 4] = (l, d, 1.0 / d);
+    }
+    Some(negative)
+}
+
+impl SymBand {
     /// LDLᵀ factor without pivoting; `None` unless every pivot is positive
     /// and finite (the matrix is then positive definite, by Sylvester's law
     /// of inertia).
@@ -556,6 +573,40 @@ impl BandLdlt {
 pub(crate) mod tests {
     use super::*;
     use nalgebra::DMatrix;
+
+    #[test]
+    fn the_combined_count_is_the_formed_combinations() {
+        let n = 40;
+        let a = sample(n);
+        let mut b = SymBand::zeros(n);
+        for i in 0..n {
+            b.add_symmetric(i, i, 1.0 + 0.01 * i as f64);
+        }
+        let dense = |m: &SymBand| {
+            DMatrix::from_fn(n, n, |i, j| {
+                let (r, c) = (i.max(j), i.min(j));
+                if r - c > 3 {
+                    0.0
+                } else {
+                    m.rows[r][3 - (r - c)]
+                }
+            })
+        };
+        let mut seen = std::collections::BTreeSet::new();
+        for sigma in [0.0, 4.0, 6.0, 7.0, 8.0, 9.0, 10.0, 12.0, 40.0] {
+            let formed = a.combine(1.0, &b, -sigma);
+            let count = a.combined_negative_pivots(1.0, &b, -sigma);
+            assert_eq!(count, formed.negative_pivots(), "σ = {sigma}");
+            // A pivot lost to cancellation has no count (both say so).
+            let Some(count) = count else { continue };
+            // Sylvester: the negative eigenvalues of the dense A − σ B.
+            let eigen = dense(&formed).symmetric_eigen().eigenvalues;
+            let below = eigen.iter().filter(|&&l| l < 0.0).count();
+            assert_eq!(count, below, "σ = {sigma}");
+            seen.insert(below);
+        }
+        assert!(seen.len() >= 4, "{seen:?}");
+    }
 
     /// A random-ish SPD band matrix: diagonally dominant (the band
     /// inverse's tests use it too).

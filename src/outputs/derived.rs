@@ -6,7 +6,7 @@
 use nalgebra::{DVector, Vector3};
 
 use crate::contact::{ContactForce, ContactFrame};
-use crate::integrate::{loads, FrameMemo};
+use crate::integrate::{loads, EndForces, FrameMemo};
 use crate::state::SimState;
 use crate::system::System;
 
@@ -20,6 +20,8 @@ pub struct Probes<'a> {
     /// Abscissae of the sections whose moment and shear are outputs (m).
     pub sections: &'a [f64],
     pub frames: &'a FrameMemo,
+    /// K u + C v of the last step's end, where the integrator kept them.
+    pub end_forces: Option<&'a EndForces>,
     /// False where a step was solved without the energy bookkeeping: the
     /// energy totals no longer hold, and are reported as NaN.
     pub booked: bool,
@@ -89,20 +91,24 @@ pub fn body_accelerations(system: &System, state: &SimState, probes: &Probes) ->
 
 /// The beam in `state` under the contact forces of the last step, with
 /// the acceleration they give (design outputs); `None` when a contact
-/// point cannot be located.
+/// point cannot be located. The internal forces K u + C v are recalled
+/// from `end_forces` where they are this state's.
 pub fn beam_dynamics(
     system: &System,
     state: &SimState,
-    memo: &FrameMemo,
+    (memo, end_forces): (&FrameMemo, Option<&EndForces>),
 ) -> Option<crate::structure::section_forces::BeamDynamics> {
     let d = &state.dynamic;
     let frames = frames_now(system, state, memo).ok()?;
     let beam = &system.beam;
     let loads = crate::contact::loads::contact_loads(beam, &frames, &last_forces(state));
+    let (u, v) = (&d.beam_displacement, &d.beam_velocity);
+    let readable = beam.accelerations_read_internal_forces();
+    let internal = (end_forces.filter(|_| readable)).and_then(|kept| kept.recall((u, v)));
     Some(crate::structure::section_forces::BeamDynamics::new(
         beam,
-        d.beam_displacement.clone(),
-        d.beam_velocity.clone(),
+        (u.clone(), v.clone()),
         loads,
+        internal,
     ))
 }

@@ -773,7 +773,7 @@ impl<'a> Now<'a> {
             .then(|| frames_now(system, state, probes.frames).ok());
         let beam_dynamics = needs
             .beam_dynamics
-            .then(|| beam_dynamics(system, state, probes.frames));
+            .then(|| beam_dynamics(system, state, (probes.frames, probes.end_forces)));
         let accelerations = needs
             .body_accelerations
             .then(|| body_accelerations(system, state, probes));

@@ -344,6 +344,7 @@ impl Simulation {
             sensors: &self.sensors,
             sections: &self.sections,
             frames: self.stepper.iteration().frame_memo(),
+            end_forces: self.stepper.iteration().integrator().end_forces(),
             booked: self.stepper.booked(),
             start_applied: match self.state.last_applied.len() {
                 0 => self.constant_forces(),
@@ -361,11 +362,9 @@ impl Simulation {
     /// acceleration they give (design outputs); `None` when a contact
     /// point cannot be located.
     pub fn beam_dynamics(&self) -> Option<crate::structure::section_forces::BeamDynamics> {
-        derived::beam_dynamics(
-            &self.system,
-            &self.state,
-            self.stepper.iteration().frame_memo(),
-        )
+        let iteration = self.stepper.iteration();
+        let kept = (iteration.frame_memo(), iteration.integrator().end_forces());
+        derived::beam_dynamics(&self.system, &self.state, kept)
     }
 
     /// Advance to `target` with internal steps on the grid k·`solver.step`,

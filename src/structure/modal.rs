@@ -202,6 +202,12 @@ impl ModalBasis {
         }
     }
 
+    /// `out = C v`: the damping forces.
+    pub fn damping_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        out.fill(0.0);
+        self.add_damping(v, 1.0, out);
+    }
+
     /// `out = Ω² q + C v`: the elastic and damping forces.
     pub fn internal_forces(&self, q: &DVector<f64>, v: &DVector<f64>, out: &mut DVector<f64>) {
         self.stiffness_times(q, out);

@@ -116,6 +116,40 @@ pub(in crate::structure) trait StructureOps {
         out: &mut DVector<f64>,
     );
 
+    /// `out = C v`: the damping forces alone.
+    fn damping_times(&self, v: &DVector<f64>, out: &mut DVector<f64>);
+
+    /// `out = K u + C v`, the bits of `internal_forces`, and `damping =
+    /// C v` (by default two passes; a kind whose internal forces sum the
+    /// two products shares C v).
+    fn internal_and_damping_forces(
+        &self,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        damping: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        self.internal_forces(u, v, damping, out);
+        self.damping_times(v, damping);
+    }
+
+    /// Whether `accelerations_from_internal` gives `accelerations`' bits
+    /// (else it does nothing, and the internal forces need not be found).
+    fn accelerations_read_internal_forces(&self) -> bool {
+        false
+    }
+
+    /// `accelerations` from the state's internal forces `internal` =
+    /// K u + C v, where they are how `accelerations` forms them (the same
+    /// bits): false, `out` untouched, where they are not.
+    fn accelerations_from_internal(
+        &self,
+        _load: &DVector<f64>,
+        _internal: &DVector<f64>,
+        _out: &mut DVector<f64>,
+    ) -> bool {
+        false
+    }
+
     /// Accelerations `M⁻¹ (load − K u − C v)`.
     fn accelerations(
         &self,

@@ -96,6 +96,10 @@ impl StructureOps for ModalBeam {
         self.basis.internal_forces(q, v, out)
     }
 
+    fn damping_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        self.basis.damping_times(v, out)
+    }
+
     fn accelerations(
         &self,
         state: (&DVector<f64>, &DVector<f64>),

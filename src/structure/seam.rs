@@ -251,6 +251,37 @@ impl Structure {
         each!(self, b => b.internal_forces(u, v, scratch, out))
     }
 
+    /// `out = C v`: the damping forces alone.
+    pub fn damping_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        each!(self, b => b.damping_times(v, out))
+    }
+
+    /// `out = K u + C v` (the bits of `internal_forces`) and `damping = C v`.
+    pub fn internal_and_damping_forces(
+        &self,
+        state: (&DVector<f64>, &DVector<f64>),
+        damping: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        each!(self, b => b.internal_and_damping_forces(state, damping, out))
+    }
+
+    /// Whether `accelerations_from_internal` gives `accelerations`' bits.
+    pub fn accelerations_read_internal_forces(&self) -> bool {
+        each!(self, b => b.accelerations_read_internal_forces())
+    }
+
+    /// `accelerations` from the internal forces K u + C v of the state,
+    /// where that gives its bits; false (nothing done) elsewhere.
+    pub fn accelerations_from_internal(
+        &self,
+        load: &DVector<f64>,
+        internal: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) -> bool {
+        each!(self, b => b.accelerations_from_internal(load, internal, out))
+    }
+
     /// Accelerations `M⁻¹ (load − K u − C v)`.
     pub fn accelerations(
         &self,

@@ -246,6 +246,38 @@ impl StructureOps for TrackBeam {
         *out += &*scratch;
     }
 
+    fn damping_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        Self::times(&self.assembly.damping, v, out);
+    }
+
+    /// `internal_forces`, its C v kept in `damping`.
+    fn internal_and_damping_forces(
+        &self,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        damping: &mut DVector<f64>,
+        out: &mut DVector<f64>,
+    ) {
+        self.internal_forces(u, v, damping, out);
+    }
+
+    fn accelerations_read_internal_forces(&self) -> bool {
+        true
+    }
+
+    /// `accelerations` is M⁻¹ (load − (K u + C v)) with the internal
+    /// forces of `internal_forces`.
+    fn accelerations_from_internal(
+        &self,
+        load: &DVector<f64>,
+        internal: &DVector<f64>,
+        out: &mut DVector<f64>,
+    ) -> bool {
+        out.copy_from(load);
+        *out -= internal;
+        self.solve_mass(out);
+        true
+    }
+
     /// `M⁻¹ (load − K u − C v)`.
     fn accelerations(
         &self,
@@ -256,9 +288,7 @@ impl StructureOps for TrackBeam {
         let mut scratch = DVector::zeros(u.len());
         let mut internal = DVector::zeros(u.len());
         self.internal_forces(u, v, &mut scratch, &mut internal);
-        out.copy_from(load);
-        *out -= internal;
-        self.solve_mass(out);
+        self.accelerations_from_internal(load, &internal, out);
     }
 
     fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {

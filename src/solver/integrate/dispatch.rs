@@ -135,6 +135,11 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::held_follower_forces(&**s), )* }
             }
 
+            /// See `TimeIntegrator::end_forces`.
+            pub fn end_forces(&self) -> Option<&EndForces> {
+                match self { $( Integrator::$variant(s) => TimeIntegrator::end_forces(&**s), )* }
+            }
+
             /// See `TimeIntegrator::body_predictions`.
             pub fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::body_predictions(&mut **s), )* }

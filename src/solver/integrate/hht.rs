@@ -16,7 +16,8 @@
 use crate::beam::EffectiveFactor;
 use nalgebra::{DVector, Vector3};
 
-use super::hht_energy::{step_dissipation, step_means, Buffers, Weights};
+use super::hht_energy::{step_dissipation, StepEnds, Weights};
+use super::step_end::EndForces;
 use super::{
     contact_frames, follower_dissipation, loads_but_laws, DynamicState, HeldFollowers,
     IntegrationError, StepStart,
@@ -67,7 +68,9 @@ pub struct Hht {
     scratch: DVector<f64>,
     /// Each body's tractive force at the end of the step (zero if free).
     tractive: Vec<f64>,
-    energy: Buffers,
+    /// The products at the last steps' ends: the books' terms, HHT-α's
+    /// next C v₀ + K u₀ and the output rows' internal forces.
+    ends: StepEnds,
     /// Terms of the step's start, the same for every integration of the
     /// step: computed at its first (`start_known`), not at every iterate.
     start_known: bool,
@@ -172,7 +175,7 @@ impl Hht {
             work: z(),
             scratch: z(),
             tractive: vec![0.0; system.bodies.len()],
-            energy: Buffers::new(system.beam.coordinates()),
+            ends: StepEnds::default(),
             start_known: false,
             start_internal: z(),
             start_dissipation: 0.0,
@@ -355,8 +358,13 @@ impl Hht {
         let start = from.state;
         if self.alpha != 0.0 {
             let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
-            let beam = &system.beam;
-            beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
+            match self.ends.end_forces().recall((u0, v0)) {
+                Some(kept) => self.start_internal.copy_from(kept),
+                None => {
+                    let beam = &system.beam;
+                    beam.internal_forces(u0, v0, &mut self.scratch, &mut self.start_internal);
+                }
+            }
         }
         if self.books {
             self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
@@ -381,15 +389,14 @@ impl Hht {
     pub fn finish_step(&mut self, system: &System, from: &StepStart, end: &mut DynamicState) {
         let (start, dt) = (from.state, from.dt);
         if !self.books {
+            // The next step's start needs K u + C v of this end where α ≠ 0.
+            let keep = self.alpha != 0.0;
+            (self.ends).keep_end_forces(system, end, keep, &mut self.scratch);
             end.beam_dissipated = start.beam_dissipated;
             end.dissipated = start.dissipated;
             end.numerical_dissipation = start.numerical_dissipation;
             return;
         }
-        // Structural damping: the power at the mean velocity, which for the
-        // trapezoidal scheme (α = 0) is exactly the energy the step removes.
-        let mean_velocity = step_means((start, end), &mut self.energy);
-        end.beam_dissipated = start.beam_dissipated + dt * system.beam.damping_power(mean_velocity);
         // Trapezoidal rule for the dampers' dissipation over the step.
         end.dissipated =
             start.dissipated + 0.5 * dt * (self.start_dissipation + self.end_dissipation);
@@ -397,14 +404,16 @@ impl Hht {
             beta: self.beta,
             gamma: self.gamma,
         };
-        let numerical = step_dissipation(
+        // Structural damping: the power at the mean velocity, which for the
+        // trapezoidal scheme (α = 0) is exactly the energy the step removes.
+        let (structural, numerical) = step_dissipation(
             system,
             weights,
-            dt,
+            (dt, &self.tractive),
             (start, end),
-            &self.tractive,
-            &mut self.energy,
+            (&mut self.ends, &mut self.scratch),
         );
+        end.beam_dissipated = start.beam_dissipated + structural;
         end.numerical_dissipation = start.numerical_dissipation + numerical;
     }
 
@@ -582,6 +591,11 @@ impl Hht {
             return end_force;
         }
         0.0
+    }
+
+    /// K u + C v at the last accepted step's end, kept (see `EndForces`).
+    pub fn end_forces(&self) -> &EndForces {
+        self.ends.end_forces()
     }
 
     /// See `Integrator::hold_followers`.

@@ -18,9 +18,15 @@
 //! The contact forces enter F̄ and M a_γ on beam and body alike, with the
 //! same weights, so their share of D is their work on the contact's
 //! relative motion, as the balance's.
+//!
+//! The beam's terms are sums over its entries of products taken at the
+//! step's two ends only (K u + C v, C v, M a: `StepEnds`), each end's
+//! computed once and recalled as the next step's start: K ū + C v̄ and
+//! M a_γ are the same linear combinations of the ends' products.
 
 use nalgebra::{DVector, Vector3};
 
+use super::step_end::{same_bits, EndForces};
 use super::DynamicState;
 use crate::system::System;
 
@@ -41,125 +47,184 @@ impl Weights {
     }
 }
 
-/// Work buffers of the beam's share, one per vector (reused every step).
-pub struct Buffers {
-    mean_u: DVector<f64>,
-    mean_v: DVector<f64>,
-    vector: DVector<f64>,
+/// M a and ½ aᵀ M a at one acceleration a, with a's copy to recognise
+/// it by.
+#[derive(Debug, Clone, Default)]
+struct Inertia {
+    acceleration: DVector<f64>,
     product: DVector<f64>,
-    scratch: DVector<f64>,
+    energy: f64,
+    kept: bool,
 }
 
-impl Buffers {
-    pub fn new(free_dofs: usize) -> Buffers {
-        let z = || DVector::zeros(free_dofs);
-        Buffers {
-            mean_u: z(),
-            mean_v: z(),
-            vector: z(),
-            product: z(),
-            scratch: z(),
+impl Inertia {
+    fn keep(&mut self, system: &System, a: &DVector<f64>) {
+        for x in [&mut self.acceleration, &mut self.product] {
+            if x.len() != a.len() {
+                *x = DVector::zeros(a.len());
+            }
         }
+        self.acceleration.copy_from(a);
+        system.beam.mass_times(a, &mut self.product);
+        self.energy = 0.5 * a.dot(&self.product);
+        self.kept = true;
+    }
+
+    fn is_of(&self, a: &DVector<f64>) -> bool {
+        self.kept && same_bits(&self.acceleration, a)
     }
 }
 
-/// D of the step from `start` to `end` (J): the beam's and every body's;
-/// `step_means` has filled `buffers`' means.
-/// `tractive` holds each driven body's tractive force at the step's end as
-/// the balance books it (zero for free bodies).
+/// The structure's products at a step's two ends, from which the books
+/// take every term: K u + C v and C v (`EndForces`), M a and ½ aᵀ M a
+/// (`Inertia`). A step's end is the next step's start, so each step
+/// computes its end's alone (three products: K u, C v, M a) and recalls
+/// its start's; HHT-α's own C v₀ + K u₀ is recalled too (`end_forces`).
+#[derive(Debug, Clone, Default)]
+pub struct StepEnds {
+    end: EndForces,
+    start: EndForces,
+    end_inertia: Inertia,
+    start_inertia: Inertia,
+}
+
+impl StepEnds {
+    /// K u + C v at the last accepted step's end, where kept.
+    pub fn end_forces(&self) -> &EndForces {
+        &self.end
+    }
+
+    /// Keep K u + C v at the end of a step whose books are not kept
+    /// (HHT-α's next start reads them), or forget the last (`keep` false).
+    pub fn keep_end_forces(
+        &mut self,
+        system: &System,
+        end: &DynamicState,
+        keep: bool,
+        scratch: &mut DVector<f64>,
+    ) {
+        match keep {
+            true => {
+                let state = (&end.beam_displacement, &end.beam_velocity);
+                self.end.keep(system, state, false, scratch);
+            }
+            false => self.end.forget(),
+        }
+    }
+
+    /// The products of the step from `start` to `end`: the start's
+    /// recalled where it is the last end's state, the end's computed.
+    fn prepare(
+        &mut self,
+        system: &System,
+        (start, end): (&DynamicState, &DynamicState),
+        scratch: &mut DVector<f64>,
+    ) {
+        let damped = system.beam.is_damped();
+        let (u0, v0) = (&start.beam_displacement, &start.beam_velocity);
+        let recalled = self.end.recall((u0, v0)).is_some();
+        match recalled && (self.end.damping().is_some() || !damped) {
+            true => std::mem::swap(&mut self.start, &mut self.end),
+            false => self.start.keep(system, (u0, v0), damped, scratch),
+        }
+        if self.end_inertia.is_of(&start.beam_acceleration) {
+            std::mem::swap(&mut self.start_inertia, &mut self.end_inertia);
+        } else {
+            self.start_inertia.keep(system, &start.beam_acceleration);
+        }
+        let state = (&end.beam_displacement, &end.beam_velocity);
+        self.end.keep(system, state, damped, scratch);
+        self.end_inertia.keep(system, &end.beam_acceleration);
+    }
+}
+
+/// The step's energies: what the beam's structural damping removes,
+/// Δt v̄ᵀ C v̄, and D (J) of the step from `start` to `end`, the beam's and
+/// every body's. `tractive` holds each driven body's tractive force at the
+/// step's end as the balance books it (zero for free bodies).
 pub fn step_dissipation(
     system: &System,
     w: Weights,
-    dt: f64,
+    (dt, tractive): (f64, &[f64]),
     (start, end): (&DynamicState, &DynamicState),
-    tractive: &[f64],
-    buffers: &mut Buffers,
-) -> f64 {
-    let beam = beam_dissipation(system, w, dt, (start, end), buffers);
+    (ends, scratch): (&mut StepEnds, &mut DVector<f64>),
+) -> (f64, f64) {
+    ends.prepare(system, (start, end), scratch);
+    let (damping, beam) = beam_dissipation(w, dt, (start, end), ends);
     let bodies: f64 = (0..system.bodies.len())
         .map(|b| body_dissipation(system, b, w, dt, (start, end), tractive[b]))
         .sum();
-    beam + bodies
+    (dt * damping, beam + bodies)
 }
 
-/// The step's mean displacement and velocity, (u₀ + u₁)/2 and
-/// (v₀ + v₁)/2, into `buffers` (one pass): `step_dissipation` reads them,
-/// and the structural damping's power is taken at the mean velocity.
-pub fn step_means<'a>(
-    (start, end): (&DynamicState, &DynamicState),
-    b: &'a mut Buffers,
-) -> &'a DVector<f64> {
-    // On slices: nalgebra's element iterators cost several times the sums.
-    let (u0, u1) = (
-        start.beam_displacement.as_slice(),
-        end.beam_displacement.as_slice(),
-    );
-    for (mean, (u0, u1)) in b.mean_u.as_mut_slice().iter_mut().zip(u0.iter().zip(u1)) {
-        *mean = (u0 + u1) * 0.5;
-    }
-    let (v0, v1) = (start.beam_velocity.as_slice(), end.beam_velocity.as_slice());
-    for (mean, (v0, v1)) in b.mean_v.as_mut_slice().iter_mut().zip(v0.iter().zip(v1)) {
-        *mean = (v0 + v1) * 0.5;
-    }
-    &b.mean_v
+/// The sums of the beam's share over its entries: Δuᵀ (F̄ − M a_γ),
+/// Δaᵀ M Δa, Δaᵀ C v̄ and v̄ᵀ C v̄.
+#[derive(Default)]
+struct Sums {
+    work: f64,
+    increment: f64,
+    damping: f64,
+    power: f64,
 }
 
-/// The beam's share; `step_means` has filled the buffers' means. Each
-/// vector expression is one pass, with the bits of nalgebra's operations
-/// one after the other.
+/// The beam's (v̄ᵀ C v̄, share of D), in one pass over the entries from
+/// the products at the two ends (`ends`, prepared): K ū + C v̄ is the
+/// mean of the ends' internal forces and M a_γ the weighted sum of their
+/// inertia forces, the matrices being constant.
 fn beam_dissipation(
-    system: &System,
     w: Weights,
     dt: f64,
     (start, end): (&DynamicState, &DynamicState),
-    b: &mut Buffers,
-) -> f64 {
-    let beam = &system.beam;
-    let (u0, a0) = (&start.beam_displacement, &start.beam_acceleration);
-    let (u1, a1) = (&end.beam_displacement, &end.beam_acceleration);
-    // F̄ − M a_γ = f̄ − (K ū + C v̄) − M a_γ (the internal forces are linear).
-    beam.internal_forces(&b.mean_u, &b.mean_v, &mut b.scratch, &mut b.product);
-    let (one_minus_gamma, gamma) = (1.0 - w.gamma, w.gamma);
-    let (a0, a1) = (a0.as_slice(), a1.as_slice());
-    for (x, (a0, a1)) in b.vector.as_mut_slice().iter_mut().zip(a0.iter().zip(a1)) {
-        *x = gamma * a1 + a0 * one_minus_gamma;
-    }
-    beam.mass_times(&b.vector, &mut b.scratch);
-    let loads = start
-        .beam_load
-        .as_slice()
-        .iter()
-        .zip(end.beam_load.as_slice());
-    let forces = b
-        .product
-        .as_mut_slice()
-        .iter_mut()
-        .zip(b.scratch.as_slice());
-    for (x, ((l0, l1), (p, s))) in b.vector.as_mut_slice().iter_mut().zip(loads.zip(forces)) {
-        *p += s;
-        *x = (l0 + l1) * 0.5 - *p;
-    }
-    let (u0, u1) = (u0.as_slice(), u1.as_slice());
-    for (p, (u0, u1)) in b.product.as_mut_slice().iter_mut().zip(u0.iter().zip(u1)) {
-        *p = u1 - u0;
-    }
-    let work = b.product.dot(&b.vector);
-    // Δa, for the quadratic terms.
-    for (x, (a0, a1)) in b.vector.as_mut_slice().iter_mut().zip(a0.iter().zip(a1)) {
-        *x = a1 - a0;
-    }
-    let (a0, a1) = (&start.beam_acceleration, &end.beam_acceleration);
+    ends: &StepEnds,
+) -> (f64, f64) {
+    let (i0, i1) = (ends.start.internal(), ends.end.internal());
+    let (m0, m1) = (&ends.start_inertia, &ends.end_inertia);
+    let sums = match (ends.start.damping(), ends.end.damping()) {
+        (Some(c0), Some(c1)) => sums(w, (start, end), (i0, i1), (m0, m1), Some((c0, c1))),
+        _ => sums(w, (start, end), (i0, i1), (m0, m1), None),
+    };
     let (delta, kappa) = (w.delta(), w.kappa());
-    let h2 = dt * dt;
-    let acceleration_energy = beam.kinetic_energy(a1) - beam.kinetic_energy(a0);
-    let increment = 2.0 * beam.kinetic_energy(&b.vector);
-    let mut damping = 0.0;
-    if beam.is_damped() && delta != 0.0 {
-        b.mean_u.fill(0.0);
-        beam.internal_forces(&b.mean_u, &b.mean_v, &mut b.scratch, &mut b.product);
-        damping = b.vector.dot(&b.product);
+    let acceleration_energy = m1.energy - m0.energy;
+    let quadratic = acceleration_energy + kappa * sums.increment + sums.damping;
+    (sums.power, sums.work + delta * dt * dt * quadratic)
+}
+
+/// `Sums` over the entries, with C v at the ends where the beam is damped.
+fn sums<'a>(
+    w: Weights,
+    (start, end): (&'a DynamicState, &'a DynamicState),
+    (i0, i1): (&'a DVector<f64>, &'a DVector<f64>),
+    (m0, m1): (&'a Inertia, &'a Inertia),
+    damping: Option<(&'a DVector<f64>, &'a DVector<f64>)>,
+) -> Sums {
+    let (one_minus_gamma, gamma) = (1.0 - w.gamma, w.gamma);
+    let n = start.beam_displacement.len();
+    // Slices cut to one length: the loops index them without checks.
+    let of = |x: &'a DVector<f64>| &x.as_slice()[..n];
+    let (u0, u1) = (of(&start.beam_displacement), of(&end.beam_displacement));
+    let (a0, a1) = (of(&start.beam_acceleration), of(&end.beam_acceleration));
+    let (f0, f1) = (of(&start.beam_load), of(&end.beam_load));
+    let (p0, p1) = (of(&m0.product), of(&m1.product));
+    let (i0, i1) = (of(i0), of(i1));
+    let mut s = Sums::default();
+    for i in 0..n {
+        let (du, da) = (u1[i] - u0[i], a1[i] - a0[i]);
+        let load = 0.5 * (f0[i] + f1[i]);
+        let internal = 0.5 * (i0[i] + i1[i]);
+        s.work += du * (load - internal - (one_minus_gamma * p0[i] + gamma * p1[i]));
+        s.increment += da * (p1[i] - p0[i]);
     }
-    work + delta * h2 * (acceleration_energy + kappa * increment + damping)
+    if let Some((c0, c1)) = damping {
+        let (v0, v1) = (of(&start.beam_velocity), of(&end.beam_velocity));
+        let (c0, c1) = (of(c0), of(c1));
+        for i in 0..n {
+            let mean_v = 0.5 * (v0[i] + v1[i]);
+            let c_mean_v = 0.5 * (c0[i] + c1[i]);
+            s.damping += (a1[i] - a0[i]) * c_mean_v;
+            s.power += mean_v * c_mean_v;
+        }
+    }
+    s
 }
 
 /// Body `b`'s share, over (x, y) and, for a body that turns, θ. A driven
@@ -206,6 +271,108 @@ fn body_dissipation(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Two states of the built-in `scene`'s system whose beam vectors
+    /// are smooth fields of unrelated shapes (no step relates them).
+    fn two_states(scene: &str) -> (crate::Simulation, DynamicState, DynamicState) {
+        let scene = super::super::step_end::scene_named(scene);
+        let sim = crate::Simulation::new(&scene).unwrap();
+        let mut start = sim.state().dynamic;
+        let mut end = start.clone();
+        let field = |scale: f64, k: f64| {
+            move |i: usize| scale * ((k * i as f64).sin() + 0.3 * (0.7 * k * i as f64).cos())
+        };
+        for (state, k) in [(&mut start, 0.13), (&mut end, 0.29)] {
+            let fill = |x: &mut DVector<f64>, f: &dyn Fn(usize) -> f64| {
+                x.iter_mut().enumerate().for_each(|(i, v)| *v = f(i))
+            };
+            fill(&mut state.beam_displacement, &field(1e-3, k));
+            fill(&mut state.beam_velocity, &field(2e-2, 1.3 * k));
+            fill(&mut state.beam_acceleration, &field(3.0, 1.7 * k));
+            fill(&mut state.beam_load, &field(4e4, 0.5 * k));
+        }
+        (sim, start, end)
+    }
+
+    /// D's beam share and v̄ᵀ C v̄ by the products of the step's means
+    /// (K ū + C v̄, M a_γ, ½ aᵀ M a of a₀, a₁ and Δa, C v̄), as the books
+    /// took them before they read the ends' products.
+    fn by_the_means(
+        system: &System,
+        w: Weights,
+        dt: f64,
+        (s, e): (&DynamicState, &DynamicState),
+    ) -> (f64, f64) {
+        let beam = &system.beam;
+        let mean = |a: &DVector<f64>, b: &DVector<f64>| (a + b) * 0.5;
+        let (u, v) = (
+            mean(&s.beam_displacement, &e.beam_displacement),
+            mean(&s.beam_velocity, &e.beam_velocity),
+        );
+        let n = u.len();
+        let (mut internal, mut scratch, mut c_v) =
+            (DVector::zeros(n), DVector::zeros(n), DVector::zeros(n));
+        beam.internal_forces(&u, &v, &mut scratch, &mut internal);
+        beam.internal_forces(&DVector::zeros(n), &v, &mut scratch, &mut c_v);
+        let applied = &s.beam_acceleration * (1.0 - w.gamma) + &e.beam_acceleration * w.gamma;
+        let mut inertia = DVector::zeros(n);
+        beam.mass_times(&applied, &mut inertia);
+        let forces = mean(&s.beam_load, &e.beam_load) - internal - inertia;
+        let work = (&e.beam_displacement - &s.beam_displacement).dot(&forces);
+        let da = &e.beam_acceleration - &s.beam_acceleration;
+        let energy = |a: &DVector<f64>| beam.kinetic_energy(a);
+        let quadratic = energy(&e.beam_acceleration) - energy(&s.beam_acceleration)
+            + w.kappa() * 2.0 * energy(&da)
+            + da.dot(&c_v);
+        (v.dot(&c_v), work + w.delta() * dt * dt * quadratic)
+    }
+
+    #[test]
+    fn the_ends_products_give_the_means_books_up_to_rounding() {
+        let alpha: f64 = -0.1;
+        let w = Weights {
+            beta: 0.25 * (1.0 - alpha) * (1.0 - alpha),
+            gamma: 0.5 - alpha,
+        };
+        let dt = 2.5e-4;
+        for scene in [
+            "train-8-coaches-20m-300-rail",
+            "train-8-coaches-20m-300-hertz",
+        ] {
+            let (sim, start, end) = two_states(scene);
+            let system = sim.system();
+            let (power, beam) = by_the_means(system, w, dt, (&start, &end));
+            let mut ends = StepEnds::default();
+            let mut scratch = DVector::zeros(start.beam_displacement.len());
+            ends.prepare(system, (&start, &end), &mut scratch);
+            let (new_power, new_beam) = beam_dissipation(w, dt, (&start, &end), &ends);
+            assert!(power > 0.0 && beam.abs() > 0.0, "{scene}: {power}, {beam}");
+            assert!(
+                (new_power - power).abs() <= 1e-12 * power,
+                "{scene}: {new_power} against {power}"
+            );
+            assert!(
+                (new_beam - beam).abs() <= 1e-12 * beam.abs(),
+                "{scene}: {new_beam} against {beam}"
+            );
+            // The next step recalls this end's products as its start's.
+            let mut next = end.clone();
+            next.beam_displacement *= 1.1;
+            ends.prepare(system, (&end, &next), &mut scratch);
+            let (recalled, kept) = (ends.start.internal().clone(), &ends.start_inertia.product);
+            let mut internal = DVector::zeros(scratch.len());
+            system.beam.internal_forces(
+                &end.beam_displacement,
+                &end.beam_velocity,
+                &mut scratch,
+                &mut internal,
+            );
+            assert_eq!(recalled, internal, "{scene}");
+            let mut inertia = DVector::zeros(scratch.len());
+            system.beam.mass_times(&end.beam_acceleration, &mut inertia);
+            assert_eq!(kept, &inertia, "{scene}");
+        }
+    }
 
     #[test]
     fn hht_constants_give_the_known_delta_and_kappa() {

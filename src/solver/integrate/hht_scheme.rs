@@ -70,6 +70,10 @@ impl TimeIntegrator for Hht {
         self.follower_forces_used()
     }
 
+    fn end_forces(&self) -> Option<&super::EndForces> {
+        Some(Hht::end_forces(self))
+    }
+
     fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
         Some(Hht::body_predictions(self))
     }

@@ -12,6 +12,7 @@ mod hht_energy;
 mod hht_scheme;
 mod memo;
 mod profile;
+mod step_end;
 
 // The integrators, one line each: its variant (whose lowercase is its
 // scene name) and its module and type, which implements `TimeIntegrator`.
@@ -36,6 +37,7 @@ pub use choice::{auto_pick, choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING}
 use choice::{build_within_limit, Built};
 pub use memo::FrameMemo;
 pub use profile::{force_shape, ForceProfile, ForceShape};
+pub use step_end::EndForces;
 // The state a step advances is the state's (state/), named here too for
 // the integrators and the iteration.
 pub use crate::state::DynamicState;
@@ -329,6 +331,11 @@ pub trait TimeIntegrator: Sized {
     /// scheme evaluates them in its stages).
     fn held_follower_forces(&self) -> &[ContactForce] {
         &[]
+    }
+    /// K u + C v at the last accepted step's end, where the scheme keeps
+    /// them (see `EndForces`); None where it does not.
+    fn end_forces(&self) -> Option<&EndForces> {
+        None
     }
     /// Lagged force laws: the force elements' loads on each body in the
     /// last integration and the bodies the next evaluates them at; None

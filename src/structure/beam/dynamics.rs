@@ -148,6 +148,27 @@ impl StructureOps for HermiteBeam {
         }
     }
 
+    /// `out = C v = α M v + β K v` and the support dampers' forces.
+    fn damping_times(&self, v: &DVector<f64>, out: &mut DVector<f64>) {
+        let c = self.damping;
+        if c.is_zero() {
+            out.fill(0.0);
+        } else {
+            self.mass_times(v, out);
+            out.scale_mut(c.mass);
+            if c.stiffness != 0.0 {
+                if self.elementwise_products {
+                    self.bending.add_times(c.stiffness, v, out);
+                } else {
+                    (self.stiffness).mul_add_to(c.stiffness, v.as_slice(), out.as_mut_slice());
+                }
+            }
+        }
+        for spring in self.dampers() {
+            out[spring.dof] += spring.damping * v[spring.dof];
+        }
+    }
+
     /// Σ c (M⁻¹)ᵢᵢ over the support dampers (1/s): at least the decay rate
     /// of any mode they damp (the explicit scheme's stability limit).
     fn damper_rate_bound(&self) -> f64 {

@@ -22,7 +22,7 @@ const MAX_DOUBLINGS: usize = 1100;
 fn count_below(mass: &SymBand, stiffness: &SymBand, sigma: f64) -> Result<usize, String> {
     let mut shifted = sigma;
     for _ in 0..8 {
-        if let Some(count) = stiffness.combine(1.0, mass, -shifted).negative_pivots() {
+        if let Some(count) = stiffness.combined_negative_pivots(1.0, mass, -shifted) {
             return Ok(count);
         }
         shifted = shifted * (1.0 + 4.0 * f64::EPSILON) + f64::MIN_POSITIVE;

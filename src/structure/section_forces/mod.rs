@@ -82,16 +82,22 @@ pub struct BeamDynamics {
 impl BeamDynamics {
     /// The state (u, v) under `loads`, its acceleration from the equation
     /// of motion (not the integrator's: RK4 keeps none, HHT-α's balances
-    /// the loads at t_{n+1+α}).
+    /// the loads at t_{n+1+α}), with the state's internal forces K u + C v
+    /// where they are known (`internal`; used where that gives the bits of
+    /// computing them, `Beam::accelerations_from_internal`).
     pub fn new(
         beam: &Beam,
-        displacement: DVector<f64>,
-        velocity: DVector<f64>,
+        (displacement, velocity): (DVector<f64>, DVector<f64>),
         loads: Vec<PointLoad>,
+        internal: Option<&DVector<f64>>,
     ) -> BeamDynamics {
         let r = load_vector(beam, &loads);
         let mut acceleration = DVector::zeros(beam.coordinates());
-        beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
+        let recalled = internal
+            .is_some_and(|forces| beam.accelerations_from_internal(&r, forces, &mut acceleration));
+        if !recalled {
+            beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
+        }
         Self::with_acceleration(beam, (displacement, velocity, acceleration), loads)
     }
 

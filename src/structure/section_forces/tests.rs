@@ -156,7 +156,10 @@ fn mode_one(beam: &Beam) -> (f64, BeamDynamics) {
     let shape = modes.shapes.column(0).into_owned();
     let u = &shape * (0.01 / beam.deflection(&shape, L / 2.0));
     let zero = DVector::zeros(beam.free_dofs());
-    (modes.omega[0], BeamDynamics::new(beam, u, zero, Vec::new()))
+    (
+        modes.omega[0],
+        BeamDynamics::new(beam, (u, zero), Vec::new(), None),
+    )
 }
 
 #[test]

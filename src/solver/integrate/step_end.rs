@@ -1,0 +1,150 @@
+//! The structure's products at an accepted step's end state, kept for
+//! what reads that same state again: the next step's start (HHT-α's
+//! C v₀ + K u₀, the energy books' start terms) and the output rows of the
+//! state (the design outputs' accelerations). A product of the same
+//! matrix and the same vector is the same bits, so recalling it where the
+//! state's bits are the ones it was taken at is exact; any other state
+//! (an event, a restart, a restored state) misses and is computed afresh.
+
+use nalgebra::DVector;
+
+use crate::system::System;
+
+/// K u + C v at one state (u, v), the state's copy to recognise it by.
+#[derive(Debug, Clone, Default)]
+pub struct EndForces {
+    displacement: DVector<f64>,
+    velocity: DVector<f64>,
+    /// K u + C v, as `Structure::internal_forces` gives it.
+    internal: DVector<f64>,
+    /// The damping forces C v alone, where asked for (`keep`).
+    damping: Option<DVector<f64>>,
+    kept: bool,
+}
+
+/// Whether `a` and `b` hold the same bits (on slices: nalgebra's element
+/// iterators cost several times the comparison).
+pub(super) fn same_bits(a: &DVector<f64>, b: &DVector<f64>) -> bool {
+    let (a, b) = (a.as_slice(), b.as_slice());
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())
+}
+
+/// A built-in scene, or one of `scenes/` by its name (tests).
+#[cfg(test)]
+pub(super) fn scene_named(name: &str) -> crate::Scene {
+    match name {
+        "train-8-coaches-20m-300-rail" => {
+            let text = include_str!("../../../scenes/train-8-coaches-20m-300-rail.toml");
+            crate::Scene::from_toml_str(text).unwrap()
+        }
+        _ => crate::scene::builtin(name).unwrap(),
+    }
+}
+
+impl EndForces {
+    /// K u + C v (and, with `damping`, C v) at (u, v), kept; `scratch`
+    /// is the products' work vector.
+    pub fn keep(
+        &mut self,
+        system: &System,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        damping: bool,
+        scratch: &mut DVector<f64>,
+    ) {
+        let n = u.len();
+        for x in [
+            &mut self.displacement,
+            &mut self.velocity,
+            &mut self.internal,
+        ] {
+            if x.len() != n {
+                *x = DVector::zeros(n);
+            }
+        }
+        self.displacement.copy_from(u);
+        self.velocity.copy_from(v);
+        let beam = &system.beam;
+        match damping {
+            true => {
+                let c = self.damping.get_or_insert_with(|| DVector::zeros(n));
+                if c.len() != n {
+                    *c = DVector::zeros(n);
+                }
+                beam.internal_and_damping_forces((u, v), c, &mut self.internal);
+            }
+            false => {
+                self.damping = None;
+                beam.internal_forces(u, v, scratch, &mut self.internal);
+            }
+        }
+        self.kept = true;
+    }
+
+    /// Forget the kept state (the next recall misses).
+    pub fn forget(&mut self) {
+        self.kept = false;
+    }
+
+    /// K u + C v if (u, v) is the kept state, bit for bit.
+    pub fn recall(&self, (u, v): (&DVector<f64>, &DVector<f64>)) -> Option<&DVector<f64>> {
+        let same = self.kept && same_bits(&self.displacement, u) && same_bits(&self.velocity, v);
+        same.then_some(&self.internal)
+    }
+
+    /// K u + C v at the kept state (whatever it is: see `recall`).
+    pub(super) fn internal(&self) -> &DVector<f64> {
+        &self.internal
+    }
+
+    /// C v at the kept state, where it was kept with it.
+    pub fn damping(&self) -> Option<&DVector<f64>> {
+        self.damping.as_ref().filter(|_| self.kept)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::assemble::assemble;
+
+    #[test]
+    fn the_kept_forces_are_recalled_only_at_their_state_and_are_a_new_products_bits() {
+        let scene = scene_named("train-8-coaches-20m-300-rail");
+        let system = assemble(&scene).unwrap().system;
+        let n = system.beam.coordinates();
+        let u = DVector::from_fn(n, |i, _| 1e-3 * (0.37 * i as f64).sin());
+        let v = DVector::from_fn(n, |i, _| 2e-2 * (0.11 * i as f64).cos());
+        let mut scratch = DVector::zeros(n);
+        let mut expected = DVector::zeros(n);
+        system
+            .beam
+            .internal_forces(&u, &v, &mut scratch, &mut expected);
+        let mut memo = EndForces::default();
+        assert!(memo.recall((&u, &v)).is_none());
+        for damping in [false, true] {
+            memo.keep(&system, (&u, &v), damping, &mut scratch);
+            let recalled = memo.recall((&u, &v)).unwrap();
+            assert!(same_bits(recalled, &expected));
+            assert_eq!(memo.damping().is_some(), damping);
+        }
+        // C v alone: the internal forces at u = 0.
+        let mut c_v = DVector::zeros(n);
+        let zero = DVector::zeros(n);
+        system
+            .beam
+            .internal_forces(&zero, &v, &mut scratch, &mut c_v);
+        let kept = memo.damping().unwrap();
+        assert!((kept - &c_v).norm() <= 1e-12 * c_v.norm() && c_v.norm() > 0.0);
+        let mut moved = v.clone();
+        moved[n / 2] = f64::from_bits(moved[n / 2].to_bits() + 1); // one ulp
+        assert!(memo.recall((&u, &moved)).is_none());
+        let mut negative_zero = u.clone();
+        negative_zero[0] = -0.0;
+        assert!(
+            memo.recall((&negative_zero, &v)).is_none(),
+            "u[0] = +0.0 kept"
+        );
+        memo.forget();
+        assert!(memo.recall((&u, &v)).is_none());
+    }
+}
