@@ -3,7 +3,7 @@
 //! inputs, states the FMU made itself, duplicate names, forged states,
 //! pipes and devices, unbounded reads, table paths and messages.
 
-mod common;
+use crate::common;
 use common::cli::{arg, guideway, stderr};
 use guideway::scene::{builtin, MAX_CONTACT_ROWS};
 use guideway::Scene;

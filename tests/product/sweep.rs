@@ -1,7 +1,7 @@
 //! `guideway sweep`, run as a user would: bad speed ranges are refused with
 //! the rule they break; the envelope has one row per speed and train.
 
-mod common;
+use crate::common;
 use common::cli::{guideway, refusal, stderr};
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/bridge25_hslm.toml");

@@ -6,7 +6,7 @@
 //! generated pages (`docs/scene-fields.md`, `docs/cli-help.md`, the
 //! annotated example in `docs/scenes.md`) instead of comparing them.
 
-mod common;
+use crate::common;
 use guideway::scene::field_notes_markdown;
 use guideway::Scene;
 use std::collections::{BTreeSet, HashMap};

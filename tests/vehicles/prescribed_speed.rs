@@ -3,7 +3,7 @@
 //! the speed; its work is what the beam keeps after the wheel has left (the
 //! Timoshenko paradox), apart from what the wheel itself carries away.
 
-mod common;
+use crate::common;
 use common::run_to_exit;
 use guideway::scene::SpeedSpec;
 use guideway::Scene;

@@ -5,7 +5,7 @@
 //! the paper's RK4 and with HHT-α (which restarts from consistent loads and
 //! accelerations where the contact switches surfaces).
 
-mod common;
+use crate::common;
 use common::paper_scene;
 use guideway::scene::{BodyKind, IntegratorKind, IrregularitySpec, JointKind, JointSpec, Scene};
 use guideway::{Advance, Simulation};

@@ -1,6 +1,6 @@
 //! The `guideway` binary, run as a user would.
 
-mod common;
+use crate::common;
 use common::cli::{guideway, refusal, stderr, stdout};
 use guideway::scene::{builtin, builtins};
 use guideway::Scene;

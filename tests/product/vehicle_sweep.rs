@@ -5,7 +5,7 @@
 //! of its whole weight; every vehicle kind holds a prescribed speed on
 //! every one of its bodies.
 
-mod common;
+use crate::common;
 use common::cli::guideway_ok;
 use std::collections::BTreeMap;
 use std::path::Path;

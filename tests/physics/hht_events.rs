@@ -3,7 +3,7 @@
 //! each step's end force and accelerations into the next; at every such
 //! change it restarts from a consistent state (`src/solver/events/switch.rs`).
 
-mod common;
+use crate::common;
 
 use guideway::scene::{BodyKind, IntegratorKind, Scene};
 use guideway::simulation::EventKind;

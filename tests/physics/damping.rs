@@ -1,7 +1,7 @@
 //! Rayleigh structural damping (issue 11 item 1): the free decay of the
 //! paper's beam and the energy balance of a wheel crossing a damped beam.
 
-mod common;
+use crate::common;
 use common::{paper_scene, run_to_exit};
 use guideway::beam::Beam;
 use guideway::scene::{BodyKind, DampingSpec, IntegratorKind};

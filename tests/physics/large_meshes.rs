@@ -16,7 +16,7 @@
 //! The stiffness is now applied element by element (`guideway::bending`)
 //! and the solves corrected on a coarse mesh (`guideway::two_level`).
 
-mod common;
+use crate::common;
 use common::{paper_scene, run_to_exit};
 use guideway::scene::{BodyKind, IntegratorKind, Scene};
 use guideway::{Advance, Simulation};

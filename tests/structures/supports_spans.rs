@@ -2,7 +2,7 @@
 //! deflections and frequencies against closed forms, and the energy
 //! balance with support dampers.
 
-mod common;
+use crate::common;
 use common::{paper_scene, run_to_exit};
 use guideway::beam::Beam;
 use guideway::scene::{

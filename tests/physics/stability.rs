@@ -1,7 +1,7 @@
 //! The explicit scheme refuses steps beyond its stability limit, and the
 //! solution converges with the mesh.
 
-mod common;
+use crate::common;
 use common::{paper_scene, run_to_exit};
 use guideway::scene::{BodyKind, IntegratorKind};
 use guideway::simulation::EventKind;

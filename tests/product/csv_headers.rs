@@ -3,7 +3,7 @@
 //! (issue 26 item 6: pandas renames a repeated column, `csv.DictReader`
 //! keeps only the last).
 
-mod common;
+use crate::common;
 use common::cli::guideway_ok;
 use std::collections::HashSet;
 use std::path::Path;

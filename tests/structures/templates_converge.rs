@@ -7,7 +7,7 @@
 //! with 223 kN, and its filtered peak moved by 7.8 % at half the step
 //! (docs/vehicles.md, "Which model for which question").
 
-mod common;
+use crate::common;
 
 use guideway::report::{drive, RunSummary, SummaryEvent};
 use guideway::scene::builtin;

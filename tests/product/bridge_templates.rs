@@ -2,7 +2,7 @@
 //! bridge engineer starts from are built-ins, listed by `guideway scenes`,
 //! shown by `--show`, and they run (the sweep template with `sweep`).
 
-mod common;
+use crate::common;
 use common::cli::guideway_ok;
 use guideway::scene::{builtin, builtins, template_file, templates, Scene};
 

@@ -3,7 +3,7 @@
 //! values, XML-illegal text, name and size limits, output files, exit codes.
 
 use common::cli::{arg, guideway, refusal, stderr};
-mod common;
+use crate::common;
 use common::model_description;
 use guideway::scene::builtin;
 use std::io::Read;

@@ -704,7 +704,7 @@ struct RailTrainPeaks {
 fn rail_train(elements: usize, step: f64) -> RailTrainPeaks {
     use guideway::simulation::EventKind;
     use guideway::study::deck_filter::{cut_off, low_pass_zero_phase, peak_magnitude};
-    let text = include_str!("../scenes/train-8-coaches-20m-300-rail.toml")
+    let text = include_str!("../../scenes/train-8-coaches-20m-300-rail.toml")
         .replace("elements = 20", &format!("elements = {elements}"))
         .replace("step = 0.00025", &format!("step = {step:?}"));
     let scene = guideway::Scene::from_toml_str(&text).expect("a valid scene");

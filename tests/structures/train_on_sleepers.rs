@@ -10,7 +10,7 @@
 //! elements, no wheelset lifts off, and no wheel force exceeds twice the
 //! static wheel load (the track is smooth).
 
-mod common;
+use crate::common;
 
 use guideway::report::{drive, RunSummary, SummaryEvent};
 use guideway::Scene;
@@ -19,7 +19,7 @@ use guideway::Simulation;
 /// The shipped scene, cut at 0.6 s (the first two coaches past the deck),
 /// at two elements a sleeper bay.
 fn sleeper_scene() -> Scene {
-    let text = include_str!("../scenes/train-8-coaches-20m-300-sleepers.toml")
+    let text = include_str!("../../scenes/train-8-coaches-20m-300-sleepers.toml")
         .replace("end_time = 2.6", "end_time = 0.6");
     let mut scene = Scene::from_toml_str(&text).expect("a valid scene");
     scene.beam.elements *= 2;

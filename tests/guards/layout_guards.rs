@@ -1,10 +1,11 @@
 //! Guards for the redesign (issue 23): every built-in scene, run for a few
 //! hundred steps, must give the same bits in every output at every step as
-//! the recording checked in under `tests/guards/` (G1), and the same list of
-//! output names (G2). A move of code that changes a single bit fails here.
+//! the recording checked in under `tests/guards/recordings/` (G1), and the
+//! same list of output names (G2). A move of code that changes a single bit
+//! fails here.
 //!
 //! To record again after a change of the outputs made on purpose:
-//! `GUIDEWAY_RECORD_GUARDS=1 cargo test --release --test layout_guards`
+//! `GUIDEWAY_RECORD_GUARDS=1 cargo test --release --test guards layout_guards`
 //! (and say in the commit why the bits changed).
 
 use guideway::moving_load::{is_moving_force_scene, ForceRun};
@@ -110,7 +111,7 @@ fn build(scene: &Scene, mode: Mode) -> Box<dyn Steppable> {
 
 fn guard_path(file: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/guards")
+        .join("tests/guards/recordings")
         .join(file)
 }
 

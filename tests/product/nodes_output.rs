@@ -2,7 +2,7 @@
 //! acceleration at every row of the run, streamed; refused up front beyond
 //! its bound.
 
-mod common;
+use crate::common;
 use common::cli::{guideway, refusal, stderr};
 use guideway::scene::{BodyKind, IntegratorKind};
 use guideway::Scene;

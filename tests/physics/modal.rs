@@ -2,7 +2,7 @@
 //! beam in its lowest k modes reproduces the full model when every mode
 //! is kept, converges to it as k grows, and keeps the energy balance.
 
-mod common;
+use crate::common;
 use common::{paper_scene, run_to_exit, RunFigures};
 use guideway::scene::{BodyKind, DampingSpec, IntegratorKind, JointKind, JointSpec, StructureKind};
 use guideway::{Scene, Simulation};

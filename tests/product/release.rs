@@ -1,6 +1,6 @@
 //! `guideway release`: versioned, reproducible, with notes and checksums.
 
-mod common;
+use crate::common;
 use common::model_description;
 use guideway::fmu::{self, release};
 use guideway::scene::{builtin, fmu_builtins};

@@ -2,7 +2,7 @@
 //! acceptance figures. Each tolerance is the one the acceptance criteria
 //! state, or says why it is what it is.
 
-mod common;
+use crate::common;
 use common::{paper_scene, run_to_exit};
 use guideway::scene::BodyKind;
 

@@ -8,7 +8,7 @@ use guideway::{Scene, Simulation};
 
 /// The built-in rail scene, cut at `end_time`, at `velocity_tolerance`.
 fn rail_scene(end_time: f64, velocity_tolerance: f64) -> Scene {
-    let text = include_str!("../scenes/train-8-coaches-20m-300-rail.toml")
+    let text = include_str!("../../scenes/train-8-coaches-20m-300-rail.toml")
         .replace("end_time = 2.6", &format!("end_time = {end_time:?}"))
         .replace(
             "velocity_tolerance = 1e-7",

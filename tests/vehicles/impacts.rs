@@ -2,7 +2,7 @@
 //! landing and closed contact) and the stress case of issue 15: a coach
 //! bouncing (e = 0.9) on a rough random track at 300 km/h.
 
-mod common;
+use crate::common;
 
 use guideway::impact::{kinetic_energy, resolve, Part};
 use guideway::integrate::contact_frames;

@@ -1,7 +1,7 @@
 //! Design outputs (issue 11 item 5): the sensors' velocity and
 //! acceleration, checked against the state they are read from.
 
-mod common;
+use crate::common;
 use common::paper_scene;
 use guideway::beam::Beam;
 use guideway::scene::{BodyKind, IntegratorKind, Scene};
