@@ -2,7 +2,7 @@
 //! current, its links resolve, its command synopses match `guideway --help`
 //! and its kind lists match the scene format.
 //!
-//! `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites the
+//! `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test guards docs::` rewrites the
 //! generated pages (`docs/scene-fields.md`, `docs/cli-help.md`, the
 //! annotated example in `docs/scenes.md`) instead of comparing them.
 
@@ -64,7 +64,7 @@ fn check_generated(relative: &str, expected: &str) {
     let committed = std::fs::read_to_string(&path).unwrap_or_default();
     assert!(
         committed == expected,
-        "{relative} is out of date: GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs rewrites it"
+        "{relative} is out of date: GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test guards docs:: rewrites it"
     );
 }
 
@@ -253,7 +253,7 @@ fn command_help_page() -> String {
         "# Command help\n\n\
          The output of `guideway --help` and `guideway <command> --help`, \
          generated: do not edit by hand; \
-         `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites it. \
+         `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test guards docs::` rewrites it. \
          How the commands behave: [The command line](cli.md).\n",
     );
     page += &format!("\n## guideway\n\n```text\n{}```\n", guideway(&["--help"]));

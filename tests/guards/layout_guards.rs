@@ -5,7 +5,7 @@
 //! fails here.
 //!
 //! To record again after a change of the outputs made on purpose:
-//! `GUIDEWAY_RECORD_GUARDS=1 cargo test --release --test guards layout_guards`
+//! `GUIDEWAY_RECORD_GUARDS=1 cargo test --release --test guards layout_guards::`
 //! (and say in the commit why the bits changed).
 
 use guideway::moving_load::{is_moving_force_scene, ForceRun};

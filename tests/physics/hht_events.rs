@@ -236,7 +236,7 @@ fn the_remaining_drift_at_250_ms_is_second_order_in_the_step() {
     );
 }
 
-/// The stress case of `tests/impacts.rs` (a coach on rolling wheelsets,
+/// The stress case of `tests/vehicles/impacts.rs` (a coach on rolling wheelsets,
 /// e = 0.9, at 300 km/h from the approach over Yang & Yau's 25 m bridge
 /// onto the run-off) on an ISO 8608 class A profile (seed 3), with `auto`
 /// at 50 µs: HHT-α (RK4's limit is 14.5 µs on this mesh).

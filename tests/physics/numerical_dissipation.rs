@@ -173,7 +173,7 @@ fn rk4_dissipation_is_its_amplification_factor_on_each_mode() {
     // for the resolved modes. That loss is `energy.numerical_dissipation`
     // under RK4, and the balance with it holds to round-off; the impacts
     // that excite a mesh's highest modes made it most of the stress
-    // case's drift before it was booked (tests/impacts.rs).
+    // case's drift before it was booked (tests/vehicles/impacts.rs).
     for (mode, omega_dt) in [(0, 6f64.sqrt()), (0, 2.0), (1, 2.4)] {
         let (mut sim, y) = rk4_in_one_mode(mode, omega_dt);
         // The glider stands still: all the energy is the beam's.

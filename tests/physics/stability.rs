@@ -46,7 +46,7 @@ fn tensile_contact_force_lifts_the_wheel_off() {
     // Far above the beam's critical speed (about 117 m/s) the contact force
     // of a bilateral contact would turn tensile near the exit (from about
     // 150 m/s). Two elements are too coarse to show it; eight at a stable
-    // step do: the contact opens instead (tests/lift_off.rs follows the
+    // step do: the contact opens instead (tests/vehicles/lift_off.rs follows the
     // flight), and no normal force is ever tensile.
     let mut scene = paper_scene(BodyKind::Wheel, 300.0, 1e-4);
     scene.beam.elements = 8;

@@ -154,7 +154,7 @@ fn assert_estimates_follow_order(
     }
 }
 
-/// Sprung mass (the scene of tests/error_sprung_mass.rs, HHT-α).
+/// Sprung mass (the scene of tests/physics/error_sprung_mass.rs, HHT-α).
 fn sprung_mass(step: f64) -> Scene {
     Scene::from_toml_str(&format!(
         r#"

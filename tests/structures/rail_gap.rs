@@ -371,7 +371,7 @@ fn a_wheel_crosses_a_joint_on_a_sine_profile_with_either_integrator() {
 
 /// Mesh and step convergence of the crossing (README's table).
 #[test]
-#[ignore = "a table for README: cargo test --release --test rail_gap -- --ignored --nocapture"]
+#[ignore = "a table for README: cargo test --release --test structures rail_gap:: -- --ignored --nocapture"]
 fn convergence_table() {
     println!("| integrator | elements per span | step (s) | normal impulse (N s) | impact loss (J) | balance drift | exit speed (m/s) |");
     println!("|---|---|---|---|---|---|---|");

@@ -661,7 +661,7 @@ fn in_a_scene_a_slow_glider_follows_the_deck_influence_line() {
 #[test]
 fn a_rail_over_the_deck_that_the_model_cannot_hold_is_refused_naming_the_rule() {
     // An approach of 4.5 m (not whole elements) is accepted since the
-    // rail's elements may differ in length (tests/rail_over_spans.rs).
+    // rail's elements may differ in length (tests/structures/rail_over_spans.rs).
     let scene = rail_scene(0.0, (1e4, 0.0, 1.0), 1e-3, 1.0)
         .replace("approach = 4.0", "approach = 4.5")
         .replace("integrator = \"hht\"", "integrator = \"rk4\"")

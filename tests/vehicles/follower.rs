@@ -1,7 +1,7 @@
 //! The massless follower (`sprung_mass` with `unsprung_mass = 0`): on rigid
 //! ground over a cosine dip it is the base-excited single-DOF oscillator,
 //! solved here independently; on Yang & Yau's beam (the case of
-//! tests/sprung_mass.rs) the sprung mass over a glider of decreasing mass
+//! tests/physics/sprung_mass.rs) the sprung mass over a glider of decreasing mass
 //! converges to it.
 
 use guideway::{Advance, Scene, Simulation};
@@ -200,7 +200,7 @@ const LENGTH: f64 = 25.0;
 const BEAM_STEP: f64 = 1.25e-5;
 
 /// Yang & Yau's sprung mass crossing their 25 m beam at 100 km/h (the case
-/// of tests/sprung_mass.rs), over a contact body of `unsprung` kg (0: the
+/// of tests/physics/sprung_mass.rs), over a contact body of `unsprung` kg (0: the
 /// follower).
 fn beam_scene(unsprung: f64) -> Scene {
     Scene::from_toml_str(&format!(

@@ -9,7 +9,7 @@ const MAGNET: f64 = 600.0;
 /// The `ems` preset's nominal air gap s₀ (m).
 const NOMINAL_GAP: f64 = 0.01;
 
-/// The car of `tests/contact_laws.rs` standing on rigid ground (the
+/// The car of `tests/vehicles/contact_laws.rs` standing on rigid ground (the
 /// approach) on eight magnets on the `ems` preset, started at rest where
 /// each magnet carries its share of the weight.
 fn levitated() -> Scene {

@@ -2,7 +2,7 @@
 //! (`wheelset_mass = 0`) and `maglev_vehicle` (`magnet_mass = 0`) presets,
 //! on the beam section of Yang & Yau (1997) (EI = 2.943e10 N/m² × 2.90 m⁴,
 //! m̄ = 2303 kg/m), with the coach and maglev data of
-//! `tests/bogie_vehicle.rs` and `tests/maglev_vehicle.rs`.
+//! `tests/vehicles/bogie_vehicle.rs` and `tests/vehicles/maglev_vehicle.rs`.
 
 use guideway::scene::{IntegratorKind, StartKind};
 use guideway::simulation::EventKind;

@@ -89,7 +89,7 @@ fn three_coaches_on_wheels_run_from_the_approach_onto_the_run_off() {
         drift / work
     );
     // The corners at the bridge's ends cost energy to first order in the
-    // step (tests/bogie_vehicle.rs): at the scene's step (2e-4 s) the
+    // step (tests/vehicles/bogie_vehicle.rs): at the scene's step (2e-4 s) the
     // drift is 5.4e-5 of the work (2026-11-22).
     assert!(drift < 1e-4 * work, "drift {drift} J of {work} J");
 }
