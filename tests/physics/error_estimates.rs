@@ -4,6 +4,7 @@
 //! maglev flagged "not converged"; `--rtol` on a train within its tolerance
 //! of a converged reference.
 
+use crate::common::fryba::{omega1, EI, FORCE, LENGTH, MASS};
 use guideway::beam::Beam;
 use guideway::moving_load::{Axle, Crossing};
 use guideway::scene::{builtin, BeamSpec, Scene, SupportsSpec};
@@ -33,15 +34,6 @@ fn estimate_of<'a>(estimates: &'a [Estimate], name: &str) -> &'a Estimate {
         .iter()
         .find(|e| e.name == name)
         .unwrap_or_else(|| panic!("no figure {name}"))
-}
-
-const LENGTH: f64 = 24.0;
-const MASS: f64 = 1250.0;
-const EI: f64 = 1e9;
-const FORCE: f64 = 600e3;
-
-fn omega1() -> f64 {
-    (PI / LENGTH).powi(2) * (EI / MASS).sqrt()
 }
 
 /// Frýba's series (1972, ch. 1) for the midspan deflection (down positive)

@@ -11,16 +11,9 @@ use guideway::study::convergence::Estimate;
 use guideway::study::refine::{error_study, Refinement};
 use std::f64::consts::PI;
 
-const LENGTH: f64 = 25.0;
-const EI: f64 = 2.943e10 * 2.90;
-const MASS_PER_LENGTH: f64 = 2303.0;
-const SPRUNG: f64 = 5750.0;
-/// The contact's unsprung mass (the literature's contact is massless; a
-/// small one keeps the contact a body of its own in both models).
-const UNSPRUNG: f64 = 57.5;
-const STIFFNESS: f64 = 1.595e6;
-const SPEED: f64 = 100.0 / 3.6;
-const GRAVITY: f64 = 9.81;
+use crate::common::yang_yau::{EI, LENGTH, MASS_PER_LENGTH, SPEED, SPRUNG, STIFFNESS, UNSPRUNG};
+use crate::common::GRAVITY;
+
 const MODES: usize = 30;
 
 /// The scene at `step` (s): 20 elements, midspan sensor, run to the exit.

@@ -13,45 +13,19 @@
 
 use guideway::scene::Scene;
 use guideway::study::sweep::{sweep, Loads, SpeedUnit};
+
+use crate::common::fryba::{self, FORCE, LENGTH};
 use std::f64::consts::PI;
 
-const LENGTH: f64 = 24.0;
-const MASS: f64 = 1250.0;
-const EI: f64 = 1e9;
-const FORCE: f64 = 600e3;
 const ALPHA: f64 = 1.5;
 
-fn omega1() -> f64 {
-    (PI / LENGTH).powi(2) * (EI / MASS).sqrt()
-}
-
 fn speed() -> f64 {
-    ALPHA * omega1() * LENGTH / PI
+    fryba::speed(ALPHA)
 }
 
 /// Midspan deflection over v₀ (down positive) at `t`, 200 terms.
 fn series_midspan(t: f64) -> f64 {
-    let (w1, exit) = (omega1(), LENGTH / speed());
-    let omega = ALPHA * w1;
-    (1..=200)
-        .map(|j| {
-            let jf = j as f64;
-            let mode = (jf * PI / 2.0).sin();
-            let wj = jf * jf * w1;
-            let d = jf * jf * (jf * jf - ALPHA * ALPHA);
-            let q = |t: f64| ((jf * omega * t).sin() - ALPHA / jf * (wj * t).sin()) / d;
-            let q_dot = |t: f64| {
-                (jf * omega * (jf * omega * t).cos() - ALPHA / jf * wj * (wj * t).cos()) / d
-            };
-            let value = if t <= exit {
-                q(t)
-            } else {
-                let s = t - exit;
-                q(exit) * (wj * s).cos() + q_dot(exit) / wj * (wj * s).sin()
-            };
-            value * mode
-        })
-        .sum()
+    fryba::series_midspan_with_free_vibration(ALPHA, t)
 }
 
 /// One force of 600 kN at α = 1.5 on the paper's 24 m beam (40 elements),
@@ -80,8 +54,7 @@ fn swept_peak(scene: &Scene) -> f64 {
         u64::MAX,
     )
     .expect("the sweep runs");
-    let v0 = 2.0 * FORCE * LENGTH.powi(3) / (PI.powi(4) * EI);
-    rows[0].peak_deflection / v0
+    rows[0].peak_deflection / fryba::v0()
 }
 
 /// The largest |series| over [0, end] sampled every 1/20 000 of it.
@@ -94,7 +67,7 @@ fn series_peak(end: f64) -> f64 {
 #[test]
 fn the_sweep_runs_the_free_vibration_to_end_time_at_alpha_1_5() {
     let exit = LENGTH / speed();
-    let period = 2.0 * PI / omega1();
+    let period = 2.0 * PI / fryba::omega1();
     let end = exit + 1.5 * period;
     let (during, after) = (series_peak(exit), series_peak(end));
     eprintln!("series: {during:.5} v0 during the passage, {after:.5} v0 with the free vibration");

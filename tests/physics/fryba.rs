@@ -16,10 +16,8 @@ use guideway::moving_load::{Axle, Crossing};
 use guideway::scene::{BeamSpec, SupportsSpec};
 use std::f64::consts::PI;
 
-const LENGTH: f64 = 24.0;
-const MASS: f64 = 1250.0;
-const EI: f64 = 1e9;
-const FORCE: f64 = 600e3;
+use crate::common::fryba::{omega1, v0, EI, FORCE, LENGTH, MASS};
+
 /// Fine mesh and step: 40 elements, 4000 steps per crossing.
 const ELEMENTS: usize = 40;
 const STEPS: usize = 4000;
@@ -38,14 +36,6 @@ fn beam() -> Beam {
         foundation: None,
     })
     .expect("beam builds")
-}
-
-fn omega1() -> f64 {
-    (PI / LENGTH).powi(2) * (EI / MASS).sqrt()
-}
-
-fn static_v0() -> f64 {
-    2.0 * FORCE * LENGTH.powi(3) / (PI.powi(4) * EI)
 }
 
 /// Frýba's series at midspan (down positive), 200 terms.
@@ -68,7 +58,7 @@ fn series_midspan(alpha: f64, t: f64) -> f64 {
             term * mode
         })
         .sum::<f64>()
-        * static_v0()
+        * v0()
 }
 
 /// guideway's midspan deflection (down positive) at every step of the
@@ -95,7 +85,7 @@ fn crossing_midspan(alpha: f64) -> Vec<f64> {
 fn at_the_critical_speed_the_force_leaves_a_deflection_of_pi_over_two_v0() {
     let samples = crossing_midspan(1.0);
     let at_exit = *samples.last().unwrap();
-    let expected = PI / 2.0 * static_v0();
+    let expected = PI / 2.0 * v0();
     let error = (at_exit - expected).abs() / expected;
     eprintln!(
         "alpha = 1: midspan at exit {at_exit:.6} m, (pi/2) v0 = {expected:.6} m, error {error:.2e}"
@@ -115,7 +105,7 @@ fn the_largest_deflection_over_the_crossing_matches_the_series() {
         eprintln!(
             "alpha = {alpha}: largest midspan deflection {computed:.6} m, series {series:.6} m \
              ({:.4} v0), error {error:.2e}",
-            series / static_v0()
+            series / v0()
         );
         assert!(error <= 0.005, "alpha = {alpha}: error {error:.3e}");
     }

@@ -19,52 +19,21 @@ use guideway::scene::{BodyKind, Scene, SectionSpec};
 use guideway::study::sweep::{sweep, Loads, SpeedUnit};
 use std::f64::consts::PI;
 
-const LENGTH: f64 = 24.0;
-const MASS: f64 = 1250.0;
-const EI: f64 = 1e9;
-const FORCE: f64 = 600e3;
+use crate::common::fryba::{self, omega1, v0, FORCE, LENGTH};
+
 const ALPHA: f64 = 1.5;
 
-fn omega1() -> f64 {
-    (PI / LENGTH).powi(2) * (EI / MASS).sqrt()
-}
-
 fn speed() -> f64 {
-    ALPHA * omega1() * LENGTH / PI
+    fryba::speed(ALPHA)
 }
 
 fn exit() -> f64 {
     LENGTH / speed()
 }
 
-/// Frýba's v₀ = 2 P L³ / (π⁴ EI), the first mode's static midspan
-/// deflection (1.5 % under P L³ / 48 EI), the unit of the figures.
-fn v0() -> f64 {
-    2.0 * FORCE * LENGTH.powi(3) / (PI.powi(4) * EI)
-}
-
 /// Midspan deflection over v₀ (down positive) at `t`, 200 modes.
 fn series_midspan(t: f64) -> f64 {
-    let w1 = omega1();
-    let omega = ALPHA * w1;
-    (1..=200)
-        .map(|j| {
-            let jf = j as f64;
-            let wj = jf * jf * w1;
-            let d = jf * jf * (jf * jf - ALPHA * ALPHA);
-            let q = |t: f64| ((jf * omega * t).sin() - ALPHA / jf * (wj * t).sin()) / d;
-            let q_dot = |t: f64| {
-                (jf * omega * (jf * omega * t).cos() - ALPHA / jf * wj * (wj * t).cos()) / d
-            };
-            let value = if t <= exit() {
-                q(t)
-            } else {
-                let s = t - exit();
-                q(exit()) * (wj * s).cos() + q_dot(exit()) / wj * (wj * s).sin()
-            };
-            value * (jf * PI / 2.0).sin()
-        })
-        .sum()
+    fryba::series_midspan_with_free_vibration(ALPHA, t)
 }
 
 /// The largest |series| over [from, to], sampled 20 000 times.

@@ -7,14 +7,9 @@
 
 use guideway::{Advance, Scene, Simulation};
 
-const LENGTH: f64 = 25.0;
-const EI: f64 = 2.943e10 * 2.90;
-const MASS_PER_LENGTH: f64 = 2303.0;
-const SPRUNG: f64 = 5750.0;
-const UNSPRUNG: f64 = 57.5;
-const STIFFNESS: f64 = 1.595e6;
-const SPEED: f64 = 100.0 / 3.6;
-const GRAVITY: f64 = 9.81;
+use crate::common::yang_yau::{EI, LENGTH, MASS_PER_LENGTH, SPEED, SPRUNG, STIFFNESS, UNSPRUNG};
+use crate::common::{largest_difference, peak, GRAVITY};
+
 const STEP: f64 = 1.25e-5;
 
 fn scene(damping: f64) -> Scene {
@@ -169,17 +164,6 @@ impl Modal {
         }
         (midspan, acceleration)
     }
-}
-
-fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-fn peak(a: &[f64]) -> f64 {
-    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
 }
 
 fn check_against_modal(damping: f64) {

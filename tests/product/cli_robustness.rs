@@ -2,8 +2,8 @@
 //! user (or an attacker) would: bounded work and memory, Ctrl-C, non-finite
 //! values, XML-illegal text, name and size limits, output files, exit codes.
 
-use common::cli::{arg, guideway, refusal, stderr};
 use crate::common;
+use common::cli::{arg, guideway, refusal, stderr};
 use common::model_description;
 use guideway::scene::builtin;
 use std::io::Read;

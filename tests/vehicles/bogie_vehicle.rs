@@ -6,9 +6,10 @@
 use guideway::simulation::EventKind;
 use guideway::{Advance, Scene, Simulation};
 
-const GRAVITY: f64 = 9.81;
+use crate::common::{coach_bogie_on_gliders, largest_acceleration, GRAVITY};
 
 fn scene(length: f64, position: f64, speed: f64, start: &str, step: f64, end_time: f64) -> Scene {
+    let bogie = coach_bogie_on_gliders("body", 0.0, 0.0);
     Scene::from_toml_str(&format!(
         r#"
 name = "bogie"
@@ -28,17 +29,7 @@ kind = "bogie_vehicle"
 mass = 38884.0
 initial_position = {position:?}
 initial_speed = {speed:?}
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 0.0
-secondary_stiffness = 5.3e5
-secondary_damping = 0.0
+{bogie}
 [[sensors]]
 name = "midspan"
 position = {:?}
@@ -52,15 +43,6 @@ end_time = {end_time:?}
         length / 2.0
     ))
     .expect("valid scene")
-}
-
-/// The largest component of any body's (ẍ, ÿ, θ̈), in units of g.
-fn largest_acceleration(sim: &Simulation) -> f64 {
-    sim.body_accelerations()
-        .iter()
-        .flat_map(|a| a.iter().map(|x| x.abs()).collect::<Vec<_>>())
-        .fold(0.0, f64::max)
-        / GRAVITY
 }
 
 #[test]

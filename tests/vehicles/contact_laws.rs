@@ -10,7 +10,7 @@ use guideway::simulation::EventKind;
 use guideway::{Advance, Scene, Simulation};
 use std::f64::consts::PI;
 
-const GRAVITY: f64 = 9.81;
+use crate::common::{coach_bogie_on_gliders, GRAVITY};
 /// A 0.46 m wheel on a 0.3 m rail head, steel (E = 210 GPa, ν = 0.3).
 const WHEEL_RADIUS: f64 = 0.46;
 
@@ -381,18 +381,9 @@ initial_position = {x:?}
 initial_speed = 83.3333
 [{sub}.contact_law]
 preset = "wheel-rail"
-[{sub}.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 20000.0
-secondary_stiffness = 5.3e5
-secondary_damping = 45000.0
+{bogie}
 "#,
+            bogie = coach_bogie_on_gliders(sub, 20000.0, 45000.0),
             n = i + 1,
             x = -11.0 - 24.0 * i as f64
         );

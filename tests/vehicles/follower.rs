@@ -6,10 +6,10 @@
 
 use guideway::{Advance, Scene, Simulation};
 
-const SPRUNG: f64 = 5750.0;
-const STIFFNESS: f64 = 1.595e6;
+use crate::common::yang_yau::{LENGTH, SPRUNG, STIFFNESS};
+use crate::common::{largest_difference, peak, GRAVITY};
+
 const DAMPING: f64 = 2.0e4;
-const GRAVITY: f64 = 9.81;
 /// Height of the sprung mass above its contact point at rest (assemble.rs).
 const HEIGHT: f64 = 1.0;
 
@@ -140,17 +140,6 @@ fn histories(scene: &Scene, names: &[&str]) -> (Vec<f64>, Vec<Vec<f64>>) {
     (times, out)
 }
 
-fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-fn peak(a: &[f64]) -> f64 {
-    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
-}
-
 #[test]
 fn follower_on_rigid_ground_is_the_base_excited_oscillator() {
     let scene = ground_scene();
@@ -196,7 +185,6 @@ fn follower_on_rigid_ground_is_the_base_excited_oscillator() {
     }
 }
 
-const LENGTH: f64 = 25.0;
 const BEAM_STEP: f64 = 1.25e-5;
 
 /// Yang & Yau's sprung mass crossing their 25 m beam at 100 km/h (the case

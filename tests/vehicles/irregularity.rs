@@ -10,7 +10,7 @@ const AMPLITUDE: f64 = 0.002;
 const WAVELENGTH: f64 = 4.0;
 const SPEED: f64 = 20.0;
 const MASS: f64 = 3000.0;
-const GRAVITY: f64 = 9.81;
+use crate::common::{coach_bogie_on_gliders, GRAVITY};
 
 /// A glider (no tangential force) at 20 m/s on 200 m of rigid approach
 /// carrying a 2 mm sine of 4 m wavelength, under its weight alone.
@@ -371,7 +371,7 @@ fn each_wheelset_of_a_bogie_vehicle_meets_the_dip_at_its_own_position() {
     // wheelset (10 and 7.5 m either side of the car's centre) reads the
     // dip as it passes it, and at that instant its own force departs most
     // from the static one.
-    let scene = Scene::from_toml_str(
+    let scene = Scene::from_toml_str(&format!(
         r#"
 name = "bogie-dip"
 [beam]
@@ -393,23 +393,14 @@ kind = "bogie_vehicle"
 mass = 38884.0
 initial_position = -80.0
 initial_speed = 20.0
-[body.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 2.0e4
-secondary_stiffness = 5.3e5
-secondary_damping = 1.0e4
+{bogie}
 [solver]
 step = 0.0005
 integrator = "hht"
 end_time = 3.0
 "#,
-    )
+        bogie = coach_bogie_on_gliders("body", 2.0e4, 1.0e4)
+    ))
     .unwrap();
     let mut sim = Simulation::new(&scene).unwrap();
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();

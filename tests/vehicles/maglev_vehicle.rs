@@ -4,7 +4,7 @@
 
 use guideway::{Advance, Scene, Simulation};
 
-const GRAVITY: f64 = 9.81;
+use crate::common::{largest_acceleration, GRAVITY};
 
 /// A maglev car on a beam of `spans` continuous 25 m spans.
 fn scene(spans: usize, position: f64, speed: f64, damping: f64, end_time: f64) -> Scene {
@@ -47,15 +47,6 @@ end_time = {end_time:?}
         10 * spans,
     ))
     .expect("valid scene")
-}
-
-/// The largest component of any body's (ẍ, ÿ, θ̈), in units of g.
-fn largest_acceleration(sim: &Simulation) -> f64 {
-    sim.body_accelerations()
-        .iter()
-        .flat_map(|a| a.iter().map(|x| x.abs()).collect::<Vec<_>>())
-        .fold(0.0, f64::max)
-        / GRAVITY
 }
 
 #[test]

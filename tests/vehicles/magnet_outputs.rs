@@ -3,7 +3,7 @@
 
 use guideway::{Scene, Simulation};
 
-const GRAVITY: f64 = 9.81;
+use crate::common::GRAVITY;
 const CAR: f64 = 30000.0;
 const MAGNET: f64 = 600.0;
 /// The `ems` preset's nominal air gap s₀ (m).

@@ -7,7 +7,7 @@
 
 use guideway::{Advance, Scene, Simulation};
 
-const GRAVITY: f64 = 9.81;
+use crate::common::{coach_bogie_on_gliders, GRAVITY};
 
 /// The least normal force over every contact and grid point of a run of
 /// `scene` to its end time, with the contact and the time it came at,
@@ -139,18 +139,9 @@ kind = "bogie_vehicle"
 mass = 38884.0
 initial_position = {x:?}
 initial_speed = 83.3333
-[{sub}.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 20000.0
-secondary_stiffness = 5.3e5
-secondary_damping = 45000.0
+{bogie}
 "#,
+            bogie = coach_bogie_on_gliders(sub, 20000.0, 45000.0),
             n = i + 1,
             x = -11.0 - 24.0 * i as f64
         );

@@ -8,8 +8,9 @@ use guideway::scene::{IntegratorKind, StartKind};
 use guideway::simulation::EventKind;
 use guideway::{Advance, Scene, Simulation};
 
-const GRAVITY: f64 = 9.81;
-const EI: f64 = 2.943e10 * 2.90;
+use crate::common::yang_yau::EI;
+use crate::common::{largest_acceleration, largest_difference, peak, GRAVITY};
+
 /// The coach: car body, bogie, axle and bogie half distances.
 const CAR: f64 = 38884.0;
 const BOGIE: f64 = 2400.0;
@@ -114,15 +115,6 @@ fn with_hht(mut scene: Scene, step: f64) -> Scene {
     scene.solver.numerical_damping = 0.0;
     scene.solver.step = step;
     scene
-}
-
-/// The largest component of any body's (ẍ, ÿ, θ̈), in units of g.
-fn largest_acceleration(sim: &Simulation) -> f64 {
-    sim.body_accelerations()
-        .iter()
-        .flat_map(|a| a.iter().map(|x| x.abs()).collect::<Vec<_>>())
-        .fold(0.0, f64::max)
-        / GRAVITY
 }
 
 fn names(sim: &Simulation) -> Vec<String> {
@@ -352,17 +344,6 @@ fn without_the_static_start_the_bogie_vehicle_on_followers_moves() {
         worst = worst.max(largest_acceleration(&sim));
     }
     assert!(worst > 1e-3, "largest body acceleration {worst:e} g");
-}
-
-fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max)
-}
-
-fn peak(a: &[f64]) -> f64 {
-    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
 }
 
 /// The coach from the static start, rear wheelset 0.5 m into a 2 × 25 m
