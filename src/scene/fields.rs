@@ -345,9 +345,31 @@ pub const FIELDS: &[Field] = &[
         unit: "m",
         default: Default::Absent,
         rule: Rule::Positive,
-        note: "m, between sleepers, a whole number of the rail's elements, > 0 (else the preset's)",
+        note: "m, between sleepers, > 0 (else the preset's); a whole number of the deck's \
+               elements unless rail_elements_per_bay is given",
         doc: "",
         access: Access::None,
+    },
+    Field {
+        path: "track.on_deck.sleepers.rail_elements_per_bay",
+        unit: "",
+        default: Default::Absent,
+        rule: Rule::Elements,
+        note: "rail elements between two sleepers, the rail meshed at the sleepers and the deck \
+               on its own mesh, >= 1 (absent: the rail's nodes are the deck's)",
+        doc: "",
+        access: Access::Scene(
+            |s| {
+                let sleepers = s.track.on_deck.as_ref()?.sleepers?;
+                sleepers.rail_elements_per_bay.map(|n| n as f64)
+            },
+            |s, x| {
+                let sleepers = s.track.on_deck.as_mut().and_then(|d| d.sleepers.as_mut());
+                if let Some(sleepers) = sleepers {
+                    sleepers.rail_elements_per_bay = Some(x as usize);
+                }
+            },
+        ),
     },
     Field {
         path: "track.on_deck.sleepers.pad_stiffness",

@@ -1,6 +1,7 @@
 //! The rules of `[track.on_deck]` (the rail over the deck): its values,
 //! and what the rest of the scene must be for the rail-over-deck model to
-//! hold it (a deck on its supports only, sleepers at the rail's nodes,
+//! hold it (a deck on its supports only, sleepers at the rail's nodes
+//! unless the rail is meshed at them,
 //! HHT-α on the full mesh); what it cannot do yet is refused with the
 //! reason.
 
@@ -57,7 +58,7 @@ pub(super) fn problems(scene: &Scene) -> Vec<Problem> {
 /// The rules of `track.on_deck.sleepers`: every value given or preset and
 /// in its range, the continuous layer's fields left out, and the spacing
 /// a whole number of the deck's elements (sleepers sit at the rail's
-/// nodes).
+/// nodes) unless `rail_elements_per_bay` meshes the rail at the sleepers.
 fn sleeper_problems(scene: &Scene) -> Vec<Problem> {
     let Some(spec) = scene.track.on_deck.as_ref() else {
         return Vec::new();
@@ -88,7 +89,10 @@ fn sleeper_problems(scene: &Scene) -> Vec<Problem> {
         let path = format!("track.on_deck.sleepers.{name}");
         out.push(Problem::new(path, format!("{value:?}"), rule));
     }
-    if !(resolved.spacing > 0.0 && resolved.spacing.is_finite()) {
+    // A rail meshed at the sleepers has a node at each whatever the deck's.
+    if !(resolved.spacing > 0.0 && resolved.spacing.is_finite())
+        || resolved.rail_elements_per_bay.is_some()
+    {
         return out;
     }
     let Ok(element_length) = crate::structure::track_seam::deck_element_length(&scene.beam) else {
@@ -141,15 +145,32 @@ fn layout_problems(scene: &Scene) -> Vec<Problem> {
     let Ok(mesh) = Mesh::new(beam) else {
         return out;
     };
-    // The rail's elements off the deck are at most the deck's longest.
-    let h = mesh.element_length.iter().copied().fold(0.0, f64::max);
+    // The rail's elements off the deck are at most the deck's longest; on
+    // sleepers with `rail_elements_per_bay`, spacing / that count.
+    let mut h = mesh.element_length.iter().copied().fold(0.0, f64::max);
     let gaps: f64 = beam.joints.iter().map(|j| j.gap).sum();
     let off_deck = ((track.approach + track.run_off + gaps) / h).ceil();
-    let elements = mesh.element_length.len() as f64 + off_deck;
+    let mut elements = mesh.element_length.len() as f64 + off_deck;
+    let mut field = (
+        "track.approach".to_string(),
+        format!("{:?}", track.approach),
+    );
+    let sleepers = track.on_deck.and_then(|d| d.sleepers).map(|s| s.resolve());
+    if let Some(s) = sleepers.filter(|s| s.spacing > 0.0) {
+        if let Some(per_bay) = s.rail_elements_per_bay.filter(|n| *n > 0) {
+            h = s.spacing / per_bay as f64;
+            elements = ((track.approach + beam.length + track.run_off) / h).ceil();
+            let path = "track.on_deck.sleepers.rail_elements_per_bay";
+            field = (
+                path.into(),
+                format!("{per_bay} (spacing {:?} m)", s.spacing),
+            );
+        }
+    }
     if elements > MAX_RAIL_ELEMENTS {
         out.push(Problem::new(
-            "track.approach",
-            format!("{:?}", track.approach),
+            field.0,
+            field.1,
             format!(
                 "the rail from the approach to the run-off would have {elements:.0} elements \
                  of {h:?} m, more than {MAX_RAIL_ELEMENTS}"

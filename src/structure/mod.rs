@@ -11,6 +11,7 @@ pub mod rail_on_deck;
 pub mod reduced;
 pub mod seam;
 pub mod section_forces;
+mod sleeper_layout;
 pub mod track_on_deck;
 pub mod track_seam;
 pub mod track_sleepers;

@@ -4,12 +4,14 @@
 //! spans) and on the deck through the track's stiffness, the rail's and
 //! the deck's DOFs interleaved node by node so that the coupled stiffness
 //! is a narrow band (`wide_band`; half-bandwidth 7 on one span, 8 where two
-//! spans meet at a node). Static loads only; `track_on_deck` adds the
-//! masses and dampers for the dynamics.
+//! spans meet at a node); on sleepers the deck's elements apart from the
+//! rail's, numbered by abscissa (`sleeper_layout`). Static loads only;
+//! `track_on_deck` adds the masses and dampers for the dynamics.
 
 use crate::beam::{element_mass, element_stiffness};
 use crate::mesh::Mesh;
 use crate::structure::beam::{BeamSpec, SupportsSpec};
+use crate::structure::sleeper_layout::{deck_at, layout_apart, rail_at_sleepers};
 use crate::structure::track_sleepers::Sleepers;
 use crate::wide_band::WideBand;
 use nalgebra::Matrix4;
@@ -52,6 +54,9 @@ pub struct StaticSolution {
     pub ground_force: f64,
 }
 
+/// An element's 8×8 mass, damping and stiffness (`place` order).
+pub(super) type ElementMatrices = [[[f64; 8]; 8]; 3];
+
 /// Hermite cubics (w₁, ψ₁, w₂, ψ₂) at s ∈ [0, 1] of an element of length h.
 pub(super) fn hermite(s: f64, h: f64) -> [f64; 4] {
     let (s2, s3) = (s * s, s * s * s);
@@ -81,21 +86,14 @@ impl RailOnDeck {
         load: f64,
     ) -> Result<StaticSolution, String> {
         let layout = self.layout(deck)?;
-        let mut stiffness = WideBand::zeros(layout.free, layout.half_bandwidth);
-        for (e, local) in layout.element_dofs.iter().enumerate() {
-            let k = self.element(layout.on_deck[e], layout.element_length[e]);
-            for (p, row) in local.iter().enumerate() {
-                for (q, col) in local.iter().enumerate().take(p + 1) {
-                    if let (Some(i), Some(j)) = (row, col) {
-                        stiffness.add_symmetric(*i, *j, k[p][q])?;
-                    }
-                }
-            }
-        }
-        if let Some(sleepers) = self.sleepers {
-            let springs = [sleepers.pad_stiffness, sleepers.ballast_stiffness, 0.0];
-            layout.add_seats(&mut stiffness, springs)?;
-        }
+        let zero = [[0.0; 8]; 8];
+        let springs =
+            (self.sleepers).map_or([0.0; 3], |s| [s.pad_stiffness, s.ballast_stiffness, 0.0]);
+        let stiffness = layout.assemble(
+            &|on_deck, h| [zero, zero, self.element(on_deck, h)],
+            [0.0, 0.0, 1.0],
+            springs,
+        )?;
         let mut u = vec![0.0; layout.free];
         let (e, s) = layout.locate(at)?;
         let local = layout.element_dofs[e];
@@ -129,9 +127,12 @@ impl RailOnDeck {
         let value = |dof: Option<usize>| dof.map_or(0.0, |i| u[i]);
         let (mut reactions, mut ground_force) = (Vec::<(f64, f64)>::new(), 0.0);
         let x = &layout.node_x;
+        // On sleepers the rail's elements carry nothing to the deck or
+        // the ground: the sleepers do (`seat_forces`).
+        let rail_only = layout.deck_apart();
         for (e, local) in layout.element_dofs.iter().enumerate() {
             let (q, h) = (local.map(value), layout.element_length[e]);
-            if !layout.on_deck[e] && self.sleepers.is_some() {
+            if rail_only {
                 continue;
             }
             if !layout.on_deck[e] {
@@ -152,20 +153,14 @@ impl RailOnDeck {
                 }
             }
         }
-        // A sleeper's ballast pushes on the ground, on a held deck DOF
-        // (a bearing's reaction) or on the deck (carried by its bearings).
-        let h = self.element_length;
-        let ballast = self.sleepers.map_or(0.0, |s| s.ballast_stiffness);
-        for seat in layout.seats.iter().filter(|seat| seat.base.is_none()) {
-            let force = -ballast * u[seat.dof];
-            if seat.on_deck {
-                add_reaction(&mut reactions, x[seat.node], force, 1e-9 * h);
-            } else {
-                ground_force += force;
-            }
+        if rail_only {
+            ground_force += self.seat_forces(layout, u, &mut reactions);
         }
         reactions.sort_by(|a, b| a.0.total_cmp(&b.0));
         let deck_at = |n: usize| {
+            if rail_only {
+                return layout.deck_field(x[n], u);
+            }
             let right =
                 (n < layout.on_deck.len() && layout.on_deck[n]).then(|| layout.element_dofs[n][2]);
             let left = (n > 0 && layout.on_deck[n - 1]).then(|| layout.element_dofs[n - 1][6]);
@@ -178,6 +173,46 @@ impl RailOnDeck {
             reactions,
             ground_force,
         }
+    }
+
+    /// On sleepers, the deck's reactions into `reactions` (K q of each
+    /// deck element at its held w, and the part of each ballast force the
+    /// shape functions put on a held w) and the ground's force on the
+    /// sleepers off the deck (returned).
+    fn seat_forces(&self, layout: &TrackLayout, u: &[f64], reactions: &mut Vec<(f64, f64)>) -> f64 {
+        let value = |dof: Option<usize>| dof.map_or(0.0, |i| u[i]);
+        let tolerance = 1e-9 * self.element_length;
+        for element in &layout.deck {
+            let q = element.dofs.map(value);
+            let k = self.element(true, element.length);
+            for (p, at) in [(0, element.start), (2, element.end)] {
+                if element.dofs[p].is_none() {
+                    let row = [2, 3, 6, 7].map(|c| k[[2, 3, 6, 7][p]][c]);
+                    let force: f64 = row.iter().zip(&q).map(|(a, b)| a * b).sum();
+                    add_reaction(reactions, at, force, tolerance);
+                }
+            }
+        }
+        // A sleeper's ballast pushes on the ground, or on the deck element
+        // under it: on its held w a bearing's reaction, on its free DOFs
+        // carried by the deck to its bearings.
+        let ballast = self.sleepers.map_or(0.0, |s| s.ballast_stiffness);
+        let mut ground_force = 0.0;
+        for seat in &layout.seats {
+            let base: f64 = layout.seat_base(seat).map(|(i, n)| n * u[i]).sum();
+            let force = -ballast * (u[seat.dof] - base);
+            let Some((k, shape)) = seat.deck else {
+                ground_force += force;
+                continue;
+            };
+            let element = &layout.deck[k];
+            for (p, at) in [(0, element.start), (2, element.end)] {
+                if element.dofs[p].is_none() && shape[p] != 0.0 {
+                    add_reaction(reactions, at, shape[p] * force, tolerance);
+                }
+            }
+        }
+        ground_force
     }
 
     /// The deck of one simply supported span of `deck_length` in elements
@@ -211,15 +246,13 @@ impl RailOnDeck {
             ));
         }
         let mesh = Mesh::new(deck)?;
+        if let Some(sleepers) = self.sleepers {
+            return self.layout_on_sleepers(&sleepers, &mesh);
+        }
         let (node_x, element_length) = self.rail_nodes(&mesh)?;
         let tolerance = 1e-9 * h;
         let (on_deck, deck_elements) = deck_under_rail(&node_x, &mesh, tolerance)?;
-        let sleeper_at = self.sleeper_nodes(&node_x).map_err(|rule| {
-            let spacing = self.sleepers.map_or(f64::NAN, |s| s.spacing);
-            format!("track.on_deck.sleepers.spacing = {spacing:?} m {rule}")
-        })?;
-        let (numbering, rail_dofs, sleeper_dofs, free) =
-            number_dofs(&node_x, &mesh, &sleeper_at, tolerance)?;
+        let (numbering, rail_dofs, free) = number_dofs(&node_x, &mesh, tolerance)?;
         let element_dofs: Vec<[Option<usize>; 8]> = (0..node_x.len() - 1)
             .map(|e| {
                 let deck =
@@ -237,18 +270,52 @@ impl RailOnDeck {
                 ]
             })
             .collect();
-        let seats = seats(&sleeper_dofs, &element_dofs, &on_deck, &rail_dofs);
-        let half_bandwidth = half_bandwidth(&element_dofs, &seats);
+        let half_bandwidth = half_bandwidth(&element_dofs);
         Ok(TrackLayout {
             node_x,
             element_length,
             element_dofs,
             on_deck,
             rail_dofs,
-            seats,
+            seats: Vec::new(),
+            deck: Vec::new(),
             free,
             half_bandwidth,
         })
+    }
+
+    /// The layout on `sleepers`: the rail meshed at the deck's nodes (the
+    /// sleepers sitting there) or, with `rail_elements_per_bay`, at the
+    /// sleepers; the deck on its own elements under it.
+    fn layout_on_sleepers(&self, sleepers: &Sleepers, mesh: &Mesh) -> Result<TrackLayout, String> {
+        let (rail, sleeper_at) = match sleepers.rail_elements_per_bay {
+            Some(per_bay) => {
+                let ends = (-self.approach, self.deck_length + self.run_off);
+                let (x, lengths, at) = rail_at_sleepers(ends, sleepers.spacing, per_bay)?;
+                ((x, lengths), at)
+            }
+            None => {
+                let (x, lengths) = self.rail_nodes(mesh)?;
+                let at = self.sleeper_nodes(&x).map_err(|rule| {
+                    format!(
+                        "track.on_deck.sleepers.spacing = {:?} m {rule}",
+                        sleepers.spacing
+                    )
+                })?;
+                ((x, lengths), at)
+            }
+        };
+        // The deck's element matrices take its elements' lengths as the
+        // rail's did where the rail's nodes were the deck's.
+        let h = self.element_length;
+        let uniform = (mesh.element_length.iter()).all(|l| (l - h).abs() <= 1e-9 * h);
+        let deck_lengths: Vec<f64> = (0..mesh.element_length.len())
+            .map(|k| match uniform {
+                true => h,
+                false => mesh.element_end[k] - mesh.element_start[k],
+            })
+            .collect();
+        Ok(layout_apart(rail, &sleeper_at, mesh, &deck_lengths))
     }
 
     /// Whether a sleeper sits at each node: every `spacing` from the
@@ -271,7 +338,9 @@ impl RailOnDeck {
                 return Err(format!(
                     "puts a sleeper at x = {x:?} m, where the rail has no node: sleepers sit \
                      at the rail's nodes, so the spacing must be a whole number of the rail's \
-                     elements (the shortest {shortest:?} m)"
+                     elements (the shortest {shortest:?} m), or give \
+                     track.on_deck.sleepers.rail_elements_per_bay to mesh the rail at the \
+                     sleepers on its own"
                 ));
             }
             at[node] = true;
@@ -415,26 +484,23 @@ fn deck_under_rail(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<DeckUn
     Ok((on_deck, deck_elements))
 }
 
-/// The widest reach of any element's DOFs or any sleeper's (rail w to
-/// its own DOF and its base): the assembly's half-bandwidth.
-fn half_bandwidth(element_dofs: &[[Option<usize>; 8]], seats: &[Seat]) -> usize {
-    let seat_spans = seats.iter().map(|seat| {
-        let last = seat.base.unwrap_or(seat.dof).max(seat.dof);
-        last - seat.rail
-    });
+/// The widest reach of any element's DOFs: the assembly's half-bandwidth.
+fn half_bandwidth(element_dofs: &[[Option<usize>; 8]]) -> usize {
     element_dofs
         .iter()
         .map(|local| {
             let present = local.iter().flatten();
             present.clone().max().unwrap_or(&0) - present.min().unwrap_or(&0)
         })
-        .chain(seat_spans)
         .max()
         .unwrap_or(0)
 }
 
 /// The rail's nodes, each element's eight DOFs (`place` order; `None`
-/// where held or off the deck) and the band they span.
+/// where held or off the deck) and the band they span. On sleepers the
+/// deck's elements are apart from the rail's (`deck`; the rail elements'
+/// deck DOFs all `None`); on a continuous layer each rail element over
+/// the deck holds the deck element under it (`deck` empty).
 #[derive(Debug, Clone, PartialEq)]
 pub(super) struct TrackLayout {
     /// Node abscissae from −approach to L + run-off (m).
@@ -448,59 +514,58 @@ pub(super) struct TrackLayout {
     pub rail_dofs: Vec<[usize; 2]>,
     /// The sleepers, from the rail's start (none on a continuous layer).
     pub seats: Vec<Seat>,
+    /// The deck's elements on their own (on sleepers only).
+    pub deck: Vec<DeckElement>,
     pub free: usize,
     pub half_bandwidth: usize,
 }
 
-/// A sleeper: its node, its DOF, the rail's w above it and the deck's w
-/// under it.
+/// A deck element on its own: its ends, the length its matrices take and
+/// its (w₁, ψ₁, w₂, ψ₂) in the assembly (`None` where held).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) struct DeckElement {
+    pub start: f64,
+    pub end: f64,
+    pub length: f64,
+    pub dofs: [Option<usize>; 4],
+}
+
+/// A sleeper: its node, its DOF, the rail's w above it and the deck
+/// element under it with the element's Hermite shape values at the
+/// sleeper (`None` on the ground).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct Seat {
     pub node: usize,
     pub dof: usize,
     /// The rail's w at the sleeper's node.
     pub rail: usize,
-    /// The deck's free w under it; `None` on the ground or on a held deck
-    /// DOF (a bearing).
-    pub base: Option<usize>,
-    /// Whether it rests on the deck (an element on either side is on it).
-    pub on_deck: bool,
-}
-
-/// The sleepers at the nodes of `sleeper_dofs`, each on the deck's w of
-/// the element to its right on the deck, else of the one to its left.
-fn seats(
-    sleeper_dofs: &[Option<usize>],
-    element_dofs: &[[Option<usize>; 8]],
-    on_deck: &[bool],
-    rail_dofs: &[[usize; 2]],
-) -> Vec<Seat> {
-    let deck_at = |e: Option<usize>, p: usize| {
-        e.filter(|&e| e < on_deck.len() && on_deck[e])
-            .map(|e| element_dofs[e][p])
-    };
-    let mut out = Vec::new();
-    for (node, dof) in sleeper_dofs.iter().enumerate() {
-        let Some(dof) = *dof else { continue };
-        let right = deck_at(Some(node), 2);
-        let left = deck_at(node.checked_sub(1), 6);
-        out.push(Seat {
-            node,
-            dof,
-            rail: rail_dofs[node][0],
-            base: right.or(left).flatten(),
-            on_deck: right.is_some() || left.is_some(),
-        });
-    }
-    out
+    pub deck: Option<(usize, [f64; 4])>,
 }
 
 impl TrackLayout {
+    /// Whether the deck's elements are apart from the rail's (on sleepers).
+    pub fn deck_apart(&self) -> bool {
+        !self.deck.is_empty()
+    }
+
+    /// The free deck DOFs the sleeper `seat` rests on, each with its shape
+    /// value (exact zeros left out: a sleeper over a deck node loads that
+    /// node's w alone).
+    pub fn seat_base<'a>(&'a self, seat: &Seat) -> impl Iterator<Item = (usize, f64)> + 'a {
+        let (dofs, shape) = match seat.deck {
+            Some((k, shape)) => (self.deck[k].dofs, shape),
+            None => ([None; 4], [0.0; 4]),
+        };
+        (dofs.into_iter().zip(shape))
+            .filter_map(|(dof, n)| dof.filter(|_| n != 0.0).map(|i| (i, n)))
+    }
+
     /// Add every sleeper's `[pad, ballast, mass]` (stiffnesses, dampers or
     /// masses: one of the three matrices, or their combination) into
     /// `band`: the pad between the rail and the sleeper, the ballast
-    /// between the sleeper and the deck (or the ground), the mass on the
-    /// sleeper.
+    /// between the sleeper and the deck at the sleeper's abscissa
+    /// (through the deck element's shape values N: N Nᵀ on the deck, −N
+    /// to the sleeper) or the ground, the mass on the sleeper.
     pub fn add_seats(
         &self,
         band: &mut WideBand,
@@ -510,12 +575,76 @@ impl TrackLayout {
             band.add_symmetric(seat.rail, seat.rail, pad)?;
             band.add_symmetric(seat.dof, seat.dof, pad + ballast + mass)?;
             band.add_symmetric(seat.rail, seat.dof, -pad)?;
-            if let Some(base) = seat.base {
-                band.add_symmetric(base, base, ballast)?;
-                band.add_symmetric(seat.dof, base, -ballast)?;
+            let base: Vec<(usize, f64)> = self.seat_base(seat).collect();
+            for (a, &(i, n_i)) in base.iter().enumerate() {
+                for &(j, n_j) in &base[..=a] {
+                    band.add_symmetric(i, j, ballast * n_i * n_j)?;
+                }
+                band.add_symmetric(seat.dof, i, -ballast * n_i)?;
             }
         }
         Ok(())
+    }
+
+    /// `weights[0]` M + `weights[1]` C + `weights[2]` K of the elements
+    /// `element(on_deck, h)` gives (`place` order) and of the sleepers'
+    /// `seats` ([pad, ballast, mass] already weighted), assembled: the
+    /// rail's elements (with the deck's under them on a continuous
+    /// layer), then the deck's on their own, then the sleepers.
+    pub fn assemble(
+        &self,
+        element: &dyn Fn(bool, f64) -> ElementMatrices,
+        weights: [f64; 3],
+        seats: [f64; 3],
+    ) -> Result<WideBand, String> {
+        let mut band = WideBand::zeros(self.free, self.half_bandwidth);
+        // Each element's matrices, computed anew only where its kind or
+        // length changes (every element alike on a uniform mesh).
+        let mut last: Option<(bool, f64, ElementMatrices)> = None;
+        let mut parts_of = |on_deck: bool, h: f64| match last {
+            Some((d, l, parts)) if d == on_deck && l == h => parts,
+            _ => {
+                let parts = element(on_deck, h);
+                last = Some((on_deck, h, parts));
+                parts
+            }
+        };
+        let rails = (self.element_dofs.iter().enumerate()).map(|(e, local)| {
+            (
+                self.on_deck[e] && !self.deck_apart(),
+                self.element_length[e],
+                *local,
+            )
+        });
+        let decks = self.deck.iter().map(|d| {
+            let [a, b, c, e] = d.dofs;
+            (true, d.length, [None, None, a, b, None, None, c, e])
+        });
+        for (on_deck, h, local) in rails.chain(decks) {
+            let parts = parts_of(on_deck, h);
+            for (p, row) in local.iter().enumerate() {
+                for (q, col) in local.iter().enumerate().take(p + 1) {
+                    if let (Some(i), Some(j)) = (row, col) {
+                        let value: f64 = (0..3).map(|m| weights[m] * parts[m][p][q]).sum();
+                        band.add_symmetric(*i, *j, value)?;
+                    }
+                }
+            }
+        }
+        self.add_seats(&mut band, seats)?;
+        Ok(band)
+    }
+
+    /// The deck's w at `x` in `u` on its own elements (0 off the deck).
+    pub fn deck_field(&self, x: f64, u: &[f64]) -> f64 {
+        let Some((k, s)) = deck_at(&self.deck, x) else {
+            return 0.0;
+        };
+        let element = &self.deck[k];
+        let shape = hermite(s, element.length);
+        (element.dofs.iter().zip(shape))
+            .map(|(dof, n)| dof.map_or(0.0, |i| n * u[i]))
+            .sum()
     }
 
     /// The element holding `x` and the abscissa s ∈ [0, 1] in it; `x` off
@@ -539,21 +668,15 @@ impl TrackLayout {
 }
 
 /// The deck DOFs' numbers in the assembly, the rail's (w, ψ) at each
-/// node, the sleeper's DOF at each node (if any) and the count of free
-/// DOFs.
-type Numbering = (Vec<usize>, Vec<[usize; 2]>, Vec<Option<usize>>, usize);
+/// node and the count of free DOFs.
+type Numbering = (Vec<usize>, Vec<[usize; 2]>, usize);
 
 /// Number the rail's DOFs and the deck's node by node: at each rail node
-/// its w and ψ, the sleeper's w where `sleeper_at`, then the deck's free
-/// DOFs at that abscissa (two ψ where two spans meet or at a hinge) in
-/// the deck mesh's order, which runs along the track. Returns the deck
-/// DOFs' new numbers, the rail's, the sleepers' and the count.
-fn number_dofs(
-    node_x: &[f64],
-    mesh: &Mesh,
-    sleeper_at: &[bool],
-    tolerance: f64,
-) -> Result<Numbering, String> {
+/// its w and ψ, then the deck's free DOFs at that abscissa (two ψ where
+/// two spans meet or at a hinge) in the deck mesh's order, which runs
+/// along the track. Returns the deck DOFs' new numbers, the rail's and
+/// the count.
+fn number_dofs(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<Numbering, String> {
     let mut deck_x = vec![f64::NAN; mesh.free_dofs];
     for (k, local) in mesh.element_dofs.iter().enumerate() {
         let ends = [mesh.element_start[k], mesh.element_end[k]];
@@ -565,15 +688,10 @@ fn number_dofs(
     }
     let mut numbering = vec![usize::MAX; mesh.free_dofs];
     let mut rail = Vec::with_capacity(node_x.len());
-    let mut sleepers = vec![None; node_x.len()];
     let (mut next, mut d) = (0, 0);
-    for (node, &x) in node_x.iter().enumerate() {
+    for &x in node_x {
         rail.push([next, next + 1]);
         next += 2;
-        if sleeper_at[node] {
-            sleepers[node] = Some(next);
-            next += 1;
-        }
         while d < deck_x.len() && (deck_x[d] - x).abs() < tolerance {
             numbering[d] = next;
             next += 1;
@@ -586,7 +704,7 @@ fn number_dofs(
             deck_x[d]
         ));
     }
-    Ok((numbering, rail, sleepers, next))
+    Ok((numbering, rail, next))
 }
 
 /// Add the 4×4 element matrix `m` into the 8×8 `k` at the blocks of

@@ -9,7 +9,9 @@
 
 use crate::beam::{element_mass, element_stiffness, Rayleigh};
 use crate::structure::beam::BeamSpec;
-use crate::structure::rail_on_deck::{hermite, place, RailOnDeck, Seat, TrackLayout};
+use crate::structure::rail_on_deck::{
+    hermite, place, ElementMatrices, RailOnDeck, Seat, TrackLayout,
+};
 use crate::wide_band::{WideBand, WideLdlt};
 use nalgebra::DMatrix;
 
@@ -48,10 +50,6 @@ pub struct TrackAssembly {
     pub damping: WideBand,
     pub stiffness: WideBand,
 }
-
-/// The element's 8×8 mass, damping and stiffness (`rail_on_deck::place`
-/// order).
-pub(super) type ElementMatrices = [[[f64; 8]; 8]; 3];
 
 impl TrackOnDeck {
     /// The element matrices of an element on the deck or off it.
@@ -169,36 +167,14 @@ impl TrackAssembly {
 
     /// `weights[0]` M + `weights[1]` C + `weights[2]` K, assembled.
     pub fn combination(&self, weights: [f64; 3]) -> Result<WideBand, String> {
-        let mut band = WideBand::zeros(self.free_dofs(), self.half_bandwidth());
-        // Each element's matrices, computed anew only where its kind or
-        // length changes (every element alike on a uniform mesh).
-        let mut last: Option<(bool, f64, ElementMatrices)> = None;
-        for (e, &deck) in self.layout.on_deck.iter().enumerate() {
-            let h = self.layout.element_length[e];
-            let parts = match last {
-                Some((d, l, parts)) if d == deck && l == h => parts,
-                _ => self.track.element(deck, h),
-            };
-            last = Some((deck, h, parts));
-            let parts = &parts;
-            let local = self.layout.element_dofs[e];
-            for (p, row) in local.iter().enumerate() {
-                for (q, col) in local.iter().enumerate().take(p + 1) {
-                    if let (Some(i), Some(j)) = (row, col) {
-                        let value: f64 = (0..3).map(|m| weights[m] * parts[m][p][q]).sum();
-                        band.add_symmetric(*i, *j, value)?;
-                    }
-                }
-            }
-        }
-        if let Some(s) = self.track.layout.sleepers {
+        let seats = self.track.layout.sleepers.map_or([0.0; 3], |s| {
             let [m, c, k] = weights;
             let pad = c * s.pad_damping + k * s.pad_stiffness;
             let ballast = c * s.ballast_damping + k * s.ballast_stiffness;
-            self.layout
-                .add_seats(&mut band, [pad, ballast, m * s.sleeper_mass])?;
-        }
-        Ok(band)
+            [pad, ballast, m * s.sleeper_mass]
+        });
+        self.layout
+            .assemble(&|deck, h| self.track.element(deck, h), weights, seats)
     }
 
     /// The sleepers' DOFs, from the rail's start (none on a continuous
@@ -251,6 +227,9 @@ impl TrackAssembly {
     /// w at `x` of the rail (`part` 0) or the deck (`part` 2) in `u`.
     fn field(&self, part: usize, x: f64, u: &[f64]) -> Result<f64, String> {
         let (e, s) = self.locate(x)?;
+        if part == 2 && self.layout.deck_apart() {
+            return Ok(self.layout.deck_field(x, u));
+        }
         if part == 2 && !self.layout.on_deck[e] {
             return Ok(0.0);
         }
@@ -291,6 +270,14 @@ impl TrackAssembly {
                 }
             }
         }
+        for element in &self.layout.deck {
+            for (k, dof) in element.dofs.iter().enumerate() {
+                let x = if k < 2 { element.start } else { element.end };
+                if let Some(i) = *dof {
+                    out[i] = deck(x)[k % 2];
+                }
+            }
+        }
         out
     }
 
@@ -318,7 +305,11 @@ impl TrackAssembly {
 
     /// Whether `x` lies on an element of the deck.
     pub fn on_deck(&self, x: f64) -> Result<bool, String> {
-        Ok(self.layout.on_deck[self.locate(x)?.0])
+        let e = self.locate(x)?.0;
+        Ok(match self.layout.deck_apart() {
+            true => crate::structure::sleeper_layout::deck_at(&self.layout.deck, x).is_some(),
+            false => self.layout.on_deck[e],
+        })
     }
 
     /// The static deflections K u = `load`.

@@ -17,6 +17,7 @@ use crate::structure::ops::StructureOps;
 use crate::structure::rail_on_deck::RailOnDeck;
 use crate::structure::seam::TRACK_NOT_MODAL;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
+use crate::structure::track_sleepers::Sleepers;
 use crate::structure::track_spec::OnDeckSpec;
 use crate::wide_band::{WideBand, WideLdlt};
 
@@ -363,8 +364,12 @@ impl TrackAssembly {
     /// Irons' bound: the highest generalized eigenvalue of the assembly is
     /// at most the highest of its elements' (each element's mass being
     /// positive definite), here from the dense 8×8 (4×4 off the deck)
-    /// element eigenproblems.
+    /// element eigenproblems; on sleepers, of the groups of
+    /// `group_frequency_bound`.
     fn element_frequency_bound(&self) -> Result<f64, String> {
+        if self.layout.deck_apart() {
+            return self.group_frequency_bound();
+        }
         let mut highest = 0.0f64;
         let mut lengths = self.layout.element_length.clone();
         lengths.sort_by(f64::total_cmp);
@@ -379,85 +384,123 @@ impl TrackAssembly {
                 crate::dense_modes::lowest_modes(dense(&m), dense(&k), n, "a rail element")?;
             highest = highest.max(omega.last().copied().unwrap_or(0.0));
         }
-        Ok(highest.max(self.sleeper_frequency_bound()?))
+        Ok(highest)
     }
 
-    /// Irons' bound with the sleepers: each sleeper (its mass, pad and
-    /// ballast) joins the element that holds its base (else the one to its
-    /// right, the last node's the one to its left), so that the groups'
-    /// matrices sum to the assembly's; the highest eigenvalue of any group
-    /// bounds the assembly's.
-    fn sleeper_frequency_bound(&self) -> Result<f64, String> {
+    /// Irons' bound on sleepers, the deck on its own elements: the
+    /// assembly's mass and stiffness are the sums of groups' (a rail
+    /// element, a deck element, each sleeper with the rail element that
+    /// starts at its node (the last node's: the one that ends there) and
+    /// the deck element under it, groups sharing an element joined), each
+    /// group's mass positive definite on its DOFs; the highest eigenvalue
+    /// of any group bounds the assembly's. Alike groups are solved once.
+    fn group_frequency_bound(&self) -> Result<f64, String> {
         let Some(s) = self.track.layout.sleepers else {
             return Ok(0.0);
         };
         let layout = &self.layout;
-        let elements = layout.on_deck.len();
-        // Per element: its sleepers as (rail w slot, deck w slot or ground).
-        let mut groups = vec![Vec::new(); elements];
-        for seat in &layout.seats {
-            let right = seat.node < elements && layout.element_dofs[seat.node][2] == seat.base;
-            let e = match seat.base {
-                Some(_) if right => seat.node,
-                Some(_) => seat.node - 1,
-                None => seat.node.min(elements - 1),
+        let (rails, decks) = (layout.element_dofs.len(), layout.deck.len());
+        let mut parent: Vec<usize> = (0..rails + decks + layout.seats.len()).collect();
+        let root = |parent: &mut Vec<usize>, mut i: usize| {
+            while parent[i] != i {
+                parent[i] = parent[parent[i]];
+                i = parent[i];
+            }
+            i
+        };
+        for (g, seat) in layout.seats.iter().enumerate() {
+            let sleeper = rails + decks + g;
+            let mut join = |piece: usize| {
+                let (a, b) = (root(&mut parent, sleeper), root(&mut parent, piece));
+                parent[a] = b;
             };
-            let (rail, deck) = if e == seat.node { (0, 2) } else { (4, 6) };
-            groups[e].push((rail, seat.base.map(|_| deck)));
+            join(seat.node.min(rails - 1));
+            if let Some((k, _)) = seat.deck {
+                join(rails + k);
+            }
         }
-        let mut seen = Vec::new();
+        let mut groups: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+        for piece in 0..parent.len() {
+            let r = root(&mut parent, piece);
+            groups.entry(r).or_default().push(piece);
+        }
+        let mut seen = std::collections::HashSet::new();
         let mut highest = 0.0f64;
-        for (e, group) in groups.into_iter().enumerate() {
-            let key = (layout.on_deck[e], layout.element_length[e], group);
-            if key.2.is_empty() || seen.contains(&key) {
+        for pieces in groups.values() {
+            let (mass, stiffness) = self.group_matrices(&s, pieces, (rails, decks));
+            let key: Vec<u64> = (mass.iter().chain(stiffness.iter()))
+                .map(|v| v.to_bits())
+                .collect();
+            if !seen.insert((mass.nrows(), key)) {
                 continue;
             }
-            highest = highest.max(self.group_frequency(&s, (key.0, key.1), &key.2)?);
-            seen.push(key);
+            let n = mass.nrows();
+            let (omega, _) = crate::dense_modes::lowest_modes(mass, stiffness, n, "a sleeper")?;
+            highest = highest.max(omega.last().copied().unwrap_or(0.0));
         }
         Ok(highest)
     }
 
-    /// The highest circular frequency of an element (on the deck or off
-    /// it) with the sleepers `group` ((rail w slot, deck w slot or the
-    /// ground) each) on its nodes.
-    fn group_frequency(
+    /// The dense mass and stiffness of a group of `pieces` (rail elements
+    /// below `rails`, then `decks` deck elements, then sleepers) on the
+    /// free DOFs they touch, in the order they are met.
+    fn group_matrices(
         &self,
-        s: &crate::structure::track_sleepers::Sleepers,
-        (deck, h): (bool, f64),
-        group: &[(usize, Option<usize>)],
-    ) -> Result<f64, String> {
-        let [m, _, k] = self.track.element(deck, h);
-        let slots: Vec<usize> = if deck {
-            (0..8).collect()
-        } else {
-            vec![0, 1, 4, 5]
+        s: &Sleepers,
+        pieces: &[usize],
+        (rails, decks): (usize, usize),
+    ) -> (DMatrix<f64>, DMatrix<f64>) {
+        let layout = &self.layout;
+        let mut entries: Vec<(usize, usize, f64, f64)> = Vec::new();
+        let element = |entries: &mut Vec<_>, dofs: [Option<usize>; 8], on_deck: bool, h: f64| {
+            let [m, _, k] = self.track.element(on_deck, h);
+            for (p, i) in dofs.iter().enumerate() {
+                for (q, j) in dofs.iter().enumerate() {
+                    if let (Some(i), Some(j)) = (i, j) {
+                        entries.push((*i, *j, m[p][q], k[p][q]));
+                    }
+                }
+            }
         };
-        let n = slots.len() + group.len();
-        let position = |slot: usize| slots.iter().position(|&p| p == slot);
-        let dense = |a: &[[f64; 8]; 8]| {
-            DMatrix::from_fn(n, n, |i, j| match (slots.get(i), slots.get(j)) {
-                (Some(&p), Some(&q)) => a[p][q],
-                _ => 0.0,
-            })
-        };
-        let (mut mass, mut stiffness) = (dense(&m), dense(&k));
-        for (g, &(rail, base)) in group.iter().enumerate() {
-            let (r, d) = (position(rail).expect("a rail slot"), slots.len() + g);
-            mass[(d, d)] += s.sleeper_mass;
-            let mut spring = |a: usize, b: usize, value: f64| {
-                stiffness[(a, a)] += value;
-                stiffness[(b, b)] += value;
-                stiffness[(a, b)] -= value;
-                stiffness[(b, a)] -= value;
-            };
-            spring(r, d, s.pad_stiffness);
-            match base.and_then(position) {
-                Some(b) => spring(d, b, s.ballast_stiffness),
-                None => stiffness[(d, d)] += s.ballast_stiffness,
+        for &piece in pieces {
+            if piece < rails {
+                let h = layout.element_length[piece];
+                element(&mut entries, layout.element_dofs[piece], false, h);
+            } else if piece < rails + decks {
+                let deck = &layout.deck[piece - rails];
+                let [a, b, c, d] = deck.dofs;
+                let dofs = [None, None, a, b, None, None, c, d];
+                element(&mut entries, dofs, true, deck.length);
+            } else {
+                let seat = &layout.seats[piece - rails - decks];
+                let (pad, ballast) = (s.pad_stiffness, s.ballast_stiffness);
+                entries.extend([
+                    (seat.rail, seat.rail, 0.0, pad),
+                    (seat.dof, seat.dof, s.sleeper_mass, pad + ballast),
+                    (seat.rail, seat.dof, 0.0, -pad),
+                    (seat.dof, seat.rail, 0.0, -pad),
+                ]);
+                for (i, n) in layout.seat_base(seat) {
+                    for (j, n_j) in layout.seat_base(seat) {
+                        entries.push((i, j, 0.0, ballast * n * n_j));
+                    }
+                    entries.push((seat.dof, i, 0.0, -ballast * n));
+                    entries.push((i, seat.dof, 0.0, -ballast * n));
+                }
             }
         }
-        let (omega, _) = crate::dense_modes::lowest_modes(mass, stiffness, n, "a sleeper")?;
-        Ok(omega.last().copied().unwrap_or(0.0))
+        let mut dofs: Vec<usize> = entries.iter().map(|e| e.0).collect();
+        dofs.sort_unstable();
+        dofs.dedup();
+        let n = dofs.len();
+        let (mut mass, mut stiffness) = (DMatrix::zeros(n, n), DMatrix::zeros(n, n));
+        for (i, j, m, k) in entries {
+            let (p, q) = (dofs.binary_search(&i), dofs.binary_search(&j));
+            if let (Ok(p), Ok(q)) = (p, q) {
+                mass[(p, q)] += m;
+                stiffness[(p, q)] += k;
+            }
+        }
+        (mass, stiffness)
     }
 }

@@ -32,6 +32,7 @@ impl SleeperPreset {
                 sleeper_mass: 170.0,
                 ballast_stiffness: 2.0e7,
                 ballast_damping: 1.0 * 2.0e7 / REFERENCE,
+                rail_elements_per_bay: None,
             },
         }
     }
@@ -45,10 +46,16 @@ impl SleeperPreset {
 pub struct SleepersSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub preset: Option<SleeperPreset>,
-    /// Distance between sleepers (m): a whole number of the rail's
-    /// elements, the first sleeper at the approach's start.
+    /// Distance between sleepers (m), the first sleeper at the approach's
+    /// start: a whole number of the deck's elements unless
+    /// `rail_elements_per_bay` meshes the rail at the sleepers.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub spacing: Option<f64>,
+    /// The rail meshed on its own: a node at every sleeper and this many
+    /// equal elements between two, the deck on its own mesh under it.
+    /// None: the rail's nodes are the deck's, and the sleepers sit there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rail_elements_per_bay: Option<usize>,
     /// Rail pad, rail to sleeper (N/m, N s/m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pad_stiffness: Option<f64>,
@@ -73,6 +80,9 @@ pub struct Sleepers {
     pub sleeper_mass: f64,
     pub ballast_stiffness: f64,
     pub ballast_damping: f64,
+    /// Rail elements between two sleepers, the rail meshed at the
+    /// sleepers (None: at the deck's nodes).
+    pub rail_elements_per_bay: Option<usize>,
 }
 
 impl SleepersSpec {
@@ -90,6 +100,7 @@ impl SleepersSpec {
             sleeper_mass: pick(self.sleeper_mass, |s| s.sleeper_mass, f64::NAN),
             ballast_stiffness: pick(self.ballast_stiffness, |s| s.ballast_stiffness, f64::NAN),
             ballast_damping: pick(self.ballast_damping, |s| s.ballast_damping, 0.0),
+            rail_elements_per_bay: self.rail_elements_per_bay,
         }
     }
 }
@@ -102,7 +113,8 @@ impl Sleepers {
     }
 
     /// Each broken rule as (field, value, rule): stiffnesses, mass and
-    /// spacing finite and > 0, dampers finite and >= 0.
+    /// spacing finite and > 0, dampers finite and >= 0 (the rail elements
+    /// a bay are the field table's and `rail_at_sleepers`'s).
     pub fn problems(&self) -> Vec<(&'static str, f64, &'static str)> {
         let positive = [
             ("spacing", self.spacing),
@@ -152,6 +164,7 @@ mod tests {
             sleeper_mass: Some(150.0),
             ballast_stiffness: None,
             ballast_damping: None,
+            rail_elements_per_bay: None,
         };
         let names: Vec<_> = spec.resolve().problems().iter().map(|p| p.0).collect();
         assert_eq!(names, ["pad_stiffness", "ballast_stiffness"]);
