@@ -9,6 +9,7 @@ mod common;
 mod compliant_secant;
 mod rail_gap;
 mod rail_over_spans;
+mod sleepers_off_nodes;
 mod supports_spans;
 mod templates_converge;
 mod track_layer;
