@@ -189,11 +189,11 @@ fn the_rail_scenes_keep_their_output_names_and_bits() {
     for (name, text) in [
         (
             "train-8-coaches-20m-300-sleepers",
-            include_str!("../scenes/train-8-coaches-20m-300-sleepers.toml"),
+            include_str!("../../scenes/train-8-coaches-20m-300-sleepers.toml"),
         ),
         (
             "train-8-coaches-20m-300-rail",
-            include_str!("../scenes/train-8-coaches-20m-300-rail.toml"),
+            include_str!("../../scenes/train-8-coaches-20m-300-rail.toml"),
         ),
     ] {
         let scene = Scene::from_toml_str(text).expect("a shipped scene");
