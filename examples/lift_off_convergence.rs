@@ -14,7 +14,7 @@ fn main() {
     glider_onto_the_beam();
 }
 
-/// The glider of `tests/lift_off.rs` released 0.2 m above midspan of the
+/// The glider of `tests/vehicles/lift_off.rs` released 0.2 m above midspan of the
 /// undamped paper beam that the wheel crosses at 100 m/s: the instant of
 /// its first landing and that impact's normal impulse.
 fn glider_onto_the_beam() {

@@ -4,4 +4,4 @@
 # machine; kept out of the suite).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-cargo test --release --test large_meshes -- --ignored --nocapture
+cargo test --release --test physics large_meshes:: -- --ignored --nocapture

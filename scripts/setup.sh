@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set-up for building and testing guideway; idempotent, quick on re-run.
 #  - libclang (Debian libclang-dev): fmi-sys runs bindgen at build time.
-#  - chromium (Debian): tests/bridge_check.rs renders the check report
+#  - chromium (Debian): tests/product/bridge_check.rs renders the check report
 #    headless and reads its PASS/FAIL table.
 #  - libtbb12 (Debian): the Ecos co-simulation engine (PyPI ecospy) links
 #    libtbb.so.12 and does not ship it.

@@ -19,8 +19,8 @@ MODELS = HERE / "opensees_models.py"
 OPENSEES_VERSION = "3.7.1.2"
 
 _FRYBA_OMEGA1 = (math.pi / 24.0) ** 2 * math.sqrt(1e9 / 1250.0)
-# Frýba's case at α = c / c_cr = 0.5 (tests/fryba.rs's beam and force), and
-# the sprung mass of tests/sprung_mass.rs over a massless follower
+# Frýba's case at α = c / c_cr = 0.5 (tests/physics/fryba.rs's beam and force), and
+# the sprung mass of tests/physics/sprung_mass.rs over a massless follower
 # (Yang & Yau's moving oscillator), with its dashpot.
 CASES = {
     "moving_force": dict(case="moving_force", length=24.0, mass_per_length=1250.0,

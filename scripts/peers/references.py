@@ -1,8 +1,8 @@
 """The closed forms the peer bench measures both codes against: Frýba's
 series for a constant force crossing a simply supported beam, and a modal
 superposition of Yang & Yau's sprung mass on a massless follower (the same
-references as tests/fryba.rs, tests/moving_force_run.rs and
-tests/sprung_mass.rs, written again here in numpy), and the error of a
+references as tests/physics/fryba.rs, tests/physics/moving_force_run.rs and
+tests/physics/sprung_mass.rs, written again here in numpy), and the error of a
 midspan history against either."""
 
 import math

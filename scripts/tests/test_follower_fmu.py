@@ -110,7 +110,7 @@ def test_the_sprung_mass_start_value_sets_the_follower_preload(tmp_path, exporte
     assert result["contact.normal_force"][0] == pytest.approx(mass * G, rel=1e-12)
 
 
-# The coach of tests/bogie_vehicle.rs on massless followers (wheelset_mass
+# The coach of tests/vehicles/bogie_vehicle.rs on massless followers (wheelset_mass
 # = 0), HHT-α, from the static start on the approach over the 25 m beam.
 BOGIE_SCENE = f"""
 name = "bogie-followers-fmu"

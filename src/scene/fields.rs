@@ -1560,7 +1560,7 @@ pub fn field_notes_markdown() -> String {
          Generated from the scene's field table (`src/scene/fields.rs`), which \
          also gives the notes `guideway scenes --show` writes beside each field, \
          the rules of plain numbers and the FMU's parameters; do not edit by hand: \
-         `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test docs` rewrites it. \
+         `GUIDEWAY_UPDATE_DOCS=1 cargo test --release --test guards docs::` rewrites it. \
          The rules in full are in [Scenes, every field](scenes.md#every-field). \
          A train's `[[vehicles]]` take the fields of `[body]`; the FMU \
          parameter column names the parameter an FMU exports for the field \

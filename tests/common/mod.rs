@@ -3,9 +3,14 @@
 #![allow(dead_code)]
 
 pub mod cli;
+pub mod fryba;
+pub mod yang_yau;
 
 use guideway::scene::{BodyKind, Scene};
 use guideway::{Advance, Simulation};
+
+/// The acceleration of gravity the tests' scenes are written with (m/s²).
+pub const GRAVITY: f64 = 9.81;
 
 pub struct RunFigures {
     pub exit_time: f64,
@@ -149,8 +154,20 @@ end_time = 0.75
 /// The `[body.bogie]` table of the coach of `train-3-coaches` on rolling
 /// wheelsets, with its primary and secondary dampers (N s/m).
 pub fn coach_bogie(primary_damping: f64, secondary_damping: f64) -> String {
+    let gliders = coach_bogie_on_gliders("body", primary_damping, secondary_damping);
+    format!("{gliders}\nwheel_radius = 0.45\nwheelset_inertia = 700.0")
+}
+
+/// The `[{vehicle}.bogie]` table (`vehicle`: `body` or `vehicles`) of the
+/// coach of `train-3-coaches` on glider wheelsets, with its primary and
+/// secondary dampers (N s/m).
+pub fn coach_bogie_on_gliders(
+    vehicle: &str,
+    primary_damping: f64,
+    secondary_damping: f64,
+) -> String {
     format!(
-        r#"[body.bogie]
+        r#"[{vehicle}.bogie]
 car_inertia = 1.95e6
 bogie_mass = 2400.0
 bogie_inertia = 3200.0
@@ -160,9 +177,7 @@ axle_half_distance = 1.25
 primary_stiffness = 1.18e6
 primary_damping = {primary_damping:?}
 secondary_stiffness = 5.3e5
-secondary_damping = {secondary_damping:?}
-wheel_radius = 0.45
-wheelset_inertia = 700.0"#
+secondary_damping = {secondary_damping:?}"#
     )
 }
 
@@ -172,4 +187,26 @@ wheelset_inertia = 700.0"#
 pub fn static_wheelset_load(scene: &Scene) -> f64 {
     let bogie = scene.vehicles[0].bogie.as_ref().expect("a bogie vehicle");
     scene.gravity * (scene.vehicles[0].mass / 4.0 + bogie.bogie_mass / 2.0 + bogie.wheelset_mass)
+}
+
+/// The largest |a − b| over two series, pair by pair.
+pub fn largest_difference(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The largest |a| over a series.
+pub fn peak(a: &[f64]) -> f64 {
+    a.iter().map(|x| x.abs()).fold(0.0, f64::max)
+}
+
+/// The largest component of any body's (ẍ, ÿ, θ̈), in units of g.
+pub fn largest_acceleration(sim: &Simulation) -> f64 {
+    sim.body_accelerations()
+        .iter()
+        .flat_map(|a| a.iter().map(|x| x.abs()).collect::<Vec<_>>())
+        .fold(0.0, f64::max)
+        / GRAVITY
 }

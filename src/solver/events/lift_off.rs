@@ -67,7 +67,7 @@ impl Step<'_> {
     /// flies on the start's accelerations, which hold its force: the
     /// contact pushes the body and the track apart as they separate, an
     /// energy gain (up to 0.32 MJ in a grid step of the coaches of
-    /// `tests/no_tension.rs`). Where the restarted step ends with the contact
+    /// `tests/vehicles/no_tension.rs`). Where the restarted step ends with the contact
     /// below the track, the force the start carried was the one that
     /// lifted it: the state is put back and the contact opens in the
     /// step's active set, as before (without that way back, the paper's

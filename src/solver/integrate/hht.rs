@@ -428,7 +428,7 @@ impl Hht {
     /// reach the contact through the correction as a different force at
     /// every iterate, and the iteration stalled. Elsewhere every
     /// integration solves the whole step: with the plain band factor the
-    /// same scheme made a bouncing coach (`tests/hht_events.rs`) gain
+    /// same scheme made a bouncing coach (`tests/physics/hht_events.rs`) gain
     /// 12 kJ of 2.2e8 J, not explained (so did the step's free motion plus
     /// the response to the whole load, 0.4 MJ).
     fn beam_step(
