@@ -13,13 +13,12 @@
 use super::logging::Sink;
 use super::model_description::{self, time_value_reference};
 use crate::fmi_common::{self, Call, Front, Status};
-use crate::model::VariableTable;
-use crate::scene::Scene;
+use crate::model::{FmuModel, ModelInfo, VariableTable};
 use fmi_sys::fmi3::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// An FMI 3.0 instance.
-pub type Instance<D> = fmi_common::Instance<D, Fmi3>;
+pub type Instance<M> = fmi_common::Instance<M, Fmi3>;
 
 /// How an FMI 3.0 doStep ended, for its output arguments.
 pub type StepReport = fmi_common::StepReport<fmi3Status>;
@@ -122,16 +121,19 @@ impl Front for Fmi3 {
         Some(time_value_reference(table))
     }
 
-    fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
-        model_description::generate(scene, table)
+    fn generate(info: &ModelInfo, table: &VariableTable) -> (String, String) {
+        model_description::generate(info, table)
     }
 }
 
-/// The scene in the resources directory of FMI 3.0's `resourcePath` (an
-/// absolute path with a trailing separator, not a URI).
-pub fn read_scene(resource_path: &str) -> Result<Scene, String> {
+/// The model's configuration in the resources directory of FMI 3.0's
+/// `resourcePath` (an absolute path with a trailing separator, not a URI).
+pub fn read_resources<M: FmuModel>(resource_path: &str) -> Result<M::Config, String> {
     if resource_path.is_empty() {
-        return Err("resourcePath is empty: the FMU needs its resources/scene.toml".into());
+        let file = M::RESOURCE_FILE;
+        return Err(format!(
+            "resourcePath is empty: the FMU needs its resources/{file}"
+        ));
     }
-    fmi_common::read_scene(std::path::Path::new(resource_path))
+    M::read_resources(std::path::Path::new(resource_path))
 }
