@@ -5,8 +5,8 @@
 //! not a URI).
 //!
 //! The FMU declares `hasEventMode="false"`: after initialization it is in
-//! Step Mode, and the end of the structure and the other simulation events
-//! are reported in the log (and `<contact>.on_beam`), as in FMI 2.0. Where
+//! Step Mode, and the end of the run and the model's other events are
+//! reported in the log (and in `FmuModel::EVENT_OUTPUTS`), as in FMI 2.0. Where
 //! the importer allows it (`earlyReturnAllowed`), fmi3DoStep returns early
 //! at the end of the internal step in which an event happened.
 
