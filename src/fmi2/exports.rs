@@ -10,13 +10,13 @@
 
 use super::instance::{Fmi2, Instance};
 use super::logging::Logger;
-use super::Physics;
 use crate::fmi_common::abi::{self, categories, no_variables, slice, slice_mut, string};
+use crate::model::ExportedModel;
 use crate::model::{Value, VarType};
 use fmi_sys::fmi2::*;
 use std::ffi::c_char;
 
-type Inst = Instance<Physics>;
+type Inst = Instance<ExportedModel>;
 
 const OK: fmi2Status = fmi2Status_fmi2OK;
 #[cfg(test)]
@@ -115,7 +115,7 @@ const _: fmi2InstantiateTYPE = Some(fmi2Instantiate);
 /// Standard FMI 2.0 contract for this function.
 #[no_mangle]
 pub unsafe extern "C" fn fmi2FreeInstance(c: fmi2Component) {
-    unsafe { abi::free_instance::<Physics, Fmi2>(c) }
+    unsafe { abi::free_instance::<ExportedModel, Fmi2>(c) }
 }
 const _: fmi2FreeInstanceTYPE = Some(fmi2FreeInstance);
 
@@ -649,7 +649,7 @@ mod tests {
 
     fn component() -> fmi2Component {
         let scene = Scene::lee1994(BodyKind::Glider, 10.0, 0.0025);
-        let guid = describe::<Physics>(&scene).unwrap().guid;
+        let guid = describe::<ExportedModel>(scene.clone()).unwrap().guid;
         let logger = Logger::new(None, std::ptr::null_mut(), "t", false);
         let inst = Inst::new(scene, &guid, logger).unwrap_or_else(|(_, e)| panic!("{e}"));
         Box::into_raw(Box::new(inst)) as fmi2Component

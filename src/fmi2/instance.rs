@@ -7,16 +7,13 @@
 use super::logging::{Logger, Sink};
 use super::model_description;
 use crate::fmi_common::{self, Call, Front, Status};
-use crate::model::{Dynamics, VariableTable};
-use crate::scene::Scene;
+use crate::model::{FmuModel, ModelInfo, VariableTable};
 use fmi_sys::fmi2::*;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-pub use crate::fmi_common::SCENE_FILE;
-
 /// An FMI 2.0 instance.
-pub type Instance<D> = fmi_common::Instance<D, Fmi2>;
+pub type Instance<M> = fmi_common::Instance<M, Fmi2>;
 
 /// The FMI 2.0 front.
 pub struct Fmi2;
@@ -28,8 +25,8 @@ pub enum Mode {
     Instantiated,
     InitializationMode,
     StepComplete,
-    /// Last doStep returned fmi2Discard: the body left the beam
-    /// (terminated), or the solver failed: then the state was rolled back to
+    /// Last doStep returned fmi2Discard: the run ended (terminated), or
+    /// the solver failed: then the state was rolled back to
     /// the start of the step and, beyond the standard's state machine, inputs
     /// may be set and the step retried (e.g. with a smaller size).
     StepFailed,
@@ -131,8 +128,8 @@ impl Front for Fmi2 {
         None
     }
 
-    fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
-        model_description::generate(scene, table)
+    fn generate(info: &ModelInfo, table: &VariableTable) -> (String, String) {
+        model_description::generate(info, table)
     }
 }
 
@@ -150,22 +147,22 @@ pub fn resource_path(location: &str) -> Result<PathBuf, String> {
         .map_err(|()| format!("fmuResourceLocation \"{location}\" is not a local file path"))
 }
 
-impl<D: Dynamics> Instance<D> {
+impl<M: FmuModel> Instance<M> {
     /// fmi2Instantiate after the C strings have been read.
     pub fn instantiate(
         fmu_type: fmi2Type,
         guid: &str,
         resource_location: &str,
         logger: Logger,
-    ) -> Result<Instance<D>, (Logger, String)> {
+    ) -> Result<Instance<M>, (Logger, String)> {
         if fmu_type != fmi2Type_fmi2CoSimulation {
             return Err((
                 logger,
                 format!("fmuType = {fmu_type}: this FMU supports co-simulation (fmi2CoSimulation = 1) only"),
             ));
         }
-        match resource_path(resource_location).and_then(|p| fmi_common::read_scene(&p)) {
-            Ok(scene) => Instance::new(scene, guid, logger),
+        match resource_path(resource_location).and_then(|p| M::read_resources(&p)) {
+            Ok(config) => Instance::new(config, guid, logger),
             Err(e) => Err((logger, e)),
         }
     }

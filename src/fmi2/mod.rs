@@ -4,20 +4,20 @@
 //!
 //! The life cycle, the value access and the FMU states are the shared layer
 //! `crate::fmi_common`, which both FMI fronts drive; like it, this front
-//! knows nothing of beams: it sees a `Model` with a variable table.
+//! sees the model only through `model::FmuModel` (a variable table, a
+//! `ModelInfo`, a life cycle).
 
 pub mod exports;
 pub mod instance;
 pub mod logging;
 pub mod model_description;
 
-pub use crate::fmi_common::{Description, Physics};
-use crate::model::Dynamics;
-use crate::scene::Scene;
+pub use crate::fmi_common::Description;
+use crate::model::FmuModel;
 
-/// What an FMI 2.0 FMU of `scene` declares.
-pub fn describe<D: Dynamics>(scene: &Scene) -> Result<Description, String> {
-    crate::fmi_common::describe::<D, instance::Fmi2>(scene)
+/// What an FMI 2.0 FMU of the model of `config` declares.
+pub fn describe<M: FmuModel>(config: M::Config) -> Result<Description, String> {
+    crate::fmi_common::describe::<M, instance::Fmi2>(config)
 }
 
 #[cfg(test)]

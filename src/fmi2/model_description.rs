@@ -9,8 +9,7 @@ use crate::fmi_common::description::{
     default_experiment, log_categories, model_identifier, real_text, signed, units,
     DefaultExperiment, LogCategories, Units,
 };
-use crate::model::{Causality, Value, VarType, VariableTable};
-use crate::scene::Scene;
+use crate::model::{Causality, ModelInfo, Value, VarType, VariableTable};
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -251,21 +250,22 @@ fn structure(table: &VariableTable, with_initial_dependencies: bool) -> ModelStr
     }
 }
 
-/// The modelDescription.xml of `scene` and its variable table, with its GUID.
-pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
+/// The modelDescription.xml of the model `info` describes and its variable
+/// table, with its GUID.
+pub fn generate(info: &ModelInfo, table: &VariableTable) -> (String, String) {
     let doc = Document {
         fmi_version: "2.0",
-        model_name: &scene.name,
+        model_name: &info.name,
         guid: String::new(),
-        description: &scene.description,
+        description: &info.description,
         version: env!("CARGO_PKG_VERSION"),
         generation_tool: format!("guideway {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         event_indicators: 0,
         co_simulation: CoSimulation {
-            model_identifier: model_identifier(&scene.name),
+            model_identifier: model_identifier(&info.name),
             needs_execution_tool: false,
-            variable_step: crate::model::experiment::variable_communication_steps(scene),
+            variable_step: info.variable_communication_steps,
             interpolate_inputs: true,
             max_output_derivative_order: 0,
             asynchronous: false,
@@ -276,8 +276,8 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
             directional_derivative: false,
         },
         units: units(table),
-        log_categories: log_categories(),
-        default_experiment: default_experiment(scene),
+        log_categories: log_categories(info),
+        default_experiment: default_experiment(info),
         variables: ModelVariables {
             variables: table.variables().iter().map(scalar_variable).collect(),
         },
@@ -292,13 +292,17 @@ pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{fake::FakeDynamics, Dynamics};
-    use crate::scene::BodyKind;
+    use crate::model::{fake::FakeDynamics, Dynamics, FmuModel, Model};
+    use crate::scene::{BodyKind, Scene};
     use crate::simulation::Steppable;
+
+    fn info(scene: &Scene) -> ModelInfo {
+        Model::<FakeDynamics>::new(scene.clone()).unwrap().info()
+    }
 
     fn xml(scene: &Scene) -> (String, String) {
         let sim = FakeDynamics::build(scene).unwrap();
-        generate(scene, &VariableTable::new(scene, sim.outputs()))
+        generate(&info(scene), &VariableTable::new(scene, sim.outputs()))
     }
 
     #[test]
@@ -317,10 +321,10 @@ mod tests {
         let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
         let sim = FakeDynamics::build(&scene).unwrap();
         let mut table = VariableTable::new(&scene, sim.outputs());
-        let (plain, guid) = generate(&scene, &table);
+        let (plain, guid) = generate(&info(&scene), &table);
         let n = table.outputs().count();
         table.set_initial_dependencies(&vec![vec![0, 2]; n]);
-        let (with, guid2) = generate(&scene, &table);
+        let (with, guid2) = generate(&info(&scene), &table);
         assert_eq!(guid, guid2);
         assert!(!plain.contains("dependencies=\"1 3\""));
         assert_eq!(with.matches("dependencies=\"1 3\"").count(), n);

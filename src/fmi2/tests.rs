@@ -4,7 +4,7 @@ use super::instance::{resource_path, Instance, Mode};
 use super::logging::Logger;
 use super::model_description::generate;
 use crate::model::fake::FakeDynamics;
-use crate::model::{Model, Value, VarType};
+use crate::model::{FmuModel, Model, Value, VarType};
 use crate::scene::{BodyKind, Scene};
 use fmi_sys::fmi2::*;
 
@@ -14,24 +14,24 @@ fn scene() -> Scene {
 
 fn guid(scene: &Scene) -> String {
     let m = Model::<FakeDynamics>::new(scene.clone()).unwrap();
-    generate(m.scene(), m.table()).1
+    generate(&m.info(), m.table()).1
 }
 
-fn instance() -> Instance<FakeDynamics> {
+fn instance() -> Instance<Model<FakeDynamics>> {
     let s = scene();
     let g = guid(&s);
     Instance::new(s, &g, Logger::new(None, std::ptr::null_mut(), "t", false))
         .unwrap_or_else(|(_, e)| panic!("{e}"))
 }
 
-fn vr(i: &Instance<FakeDynamics>, name: &str) -> u32 {
+fn vr(i: &Instance<Model<FakeDynamics>>, name: &str) -> u32 {
     i.model().table().by_name(name).unwrap().value_reference
 }
 
 #[test]
 fn wrong_guid_is_refused() {
     let logger = Logger::new(None, std::ptr::null_mut(), "t", false);
-    let e = Instance::<FakeDynamics>::new(scene(), "{nope}", logger)
+    let e = Instance::<Model<FakeDynamics>>::new(scene(), "{nope}", logger)
         .err()
         .unwrap()
         .1;
@@ -41,7 +41,7 @@ fn wrong_guid_is_refused() {
 #[test]
 fn model_exchange_is_refused() {
     let logger = Logger::new(None, std::ptr::null_mut(), "t", false);
-    let r = Instance::<FakeDynamics>::instantiate(
+    let r = Instance::<Model<FakeDynamics>>::instantiate(
         fmi2Type_fmi2ModelExchange,
         "g",
         "file:///tmp",

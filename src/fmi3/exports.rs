@@ -11,13 +11,12 @@
 
 use super::instance::{Fmi3, Instance};
 use super::logging::Logger;
-use super::Physics;
 use crate::fmi_common::abi::{self, categories, slice, slice_mut, string};
-use crate::model::{Value, VarType};
+use crate::model::{ExportedModel, FmuModel, Value, VarType};
 use fmi_sys::fmi3::*;
 use std::ffi::c_char;
 
-pub(super) type Inst = Instance<Physics>;
+pub(super) type Inst = Instance<ExportedModel>;
 
 pub(super) const OK: fmi3Status = fmi3Status_fmi3OK;
 #[cfg(test)]
@@ -97,12 +96,15 @@ unsafe fn instantiate(
         Err(e) => return Err((logger, e)),
     };
     if event_mode_used {
-        let why = "eventModeUsed = true: this FMU has no event mode (hasEventMode=\"false\"); \
-                   its events are logged and seen in <contact>.on_beam";
-        return Err((logger, why.into()));
+        let seen_in = ExportedModel::EVENT_OUTPUTS;
+        let why = format!(
+            "eventModeUsed = true: this FMU has no event mode (hasEventMode=\"false\"); \
+             its events are logged and seen in {seen_in}"
+        );
+        return Err((logger, why));
     }
-    let mut inst = match super::instance::read_scene(&resources) {
-        Ok(scene) => Inst::new(scene, &token, logger)?,
+    let mut inst = match super::instance::read_resources::<ExportedModel>(&resources) {
+        Ok(config) => Inst::new(config, &token, logger)?,
         Err(e) => return Err((logger, e)),
     };
     inst.allow_early_return(early_return_allowed);
@@ -147,7 +149,7 @@ const _: fmi3InstantiateCoSimulationTYPE = Some(fmi3InstantiateCoSimulation);
 /// Standard FMI 3.0 contract for this function.
 #[no_mangle]
 pub unsafe extern "C" fn fmi3FreeInstance(c: fmi3Instance) {
-    unsafe { abi::free_instance::<Physics, Fmi3>(c) }
+    unsafe { abi::free_instance::<ExportedModel, Fmi3>(c) }
 }
 const _: fmi3FreeInstanceTYPE = Some(fmi3FreeInstance);
 

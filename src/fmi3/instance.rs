@@ -5,21 +5,20 @@
 //! not a URI).
 //!
 //! The FMU declares `hasEventMode="false"`: after initialization it is in
-//! Step Mode, and the end of the structure and the other simulation events
-//! are reported in the log (and `<contact>.on_beam`), as in FMI 2.0. Where
+//! Step Mode, and the end of the run and the model's other events are
+//! reported in the log (and in `FmuModel::EVENT_OUTPUTS`), as in FMI 2.0. Where
 //! the importer allows it (`earlyReturnAllowed`), fmi3DoStep returns early
 //! at the end of the internal step in which an event happened.
 
 use super::logging::Sink;
 use super::model_description::{self, time_value_reference};
 use crate::fmi_common::{self, Call, Front, Status};
-use crate::model::VariableTable;
-use crate::scene::Scene;
+use crate::model::{FmuModel, ModelInfo, VariableTable};
 use fmi_sys::fmi3::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// An FMI 3.0 instance.
-pub type Instance<D> = fmi_common::Instance<D, Fmi3>;
+pub type Instance<M> = fmi_common::Instance<M, Fmi3>;
 
 /// How an FMI 3.0 doStep ended, for its output arguments.
 pub type StepReport = fmi_common::StepReport<fmi3Status>;
@@ -122,16 +121,19 @@ impl Front for Fmi3 {
         Some(time_value_reference(table))
     }
 
-    fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
-        model_description::generate(scene, table)
+    fn generate(info: &ModelInfo, table: &VariableTable) -> (String, String) {
+        model_description::generate(info, table)
     }
 }
 
-/// The scene in the resources directory of FMI 3.0's `resourcePath` (an
-/// absolute path with a trailing separator, not a URI).
-pub fn read_scene(resource_path: &str) -> Result<Scene, String> {
+/// The model's configuration in the resources directory of FMI 3.0's
+/// `resourcePath` (an absolute path with a trailing separator, not a URI).
+pub fn read_resources<M: FmuModel>(resource_path: &str) -> Result<M::Config, String> {
     if resource_path.is_empty() {
-        return Err("resourcePath is empty: the FMU needs its resources/scene.toml".into());
+        let file = M::RESOURCE_FILE;
+        return Err(format!(
+            "resourcePath is empty: the FMU needs its resources/{file}"
+        ));
     }
-    fmi_common::read_scene(std::path::Path::new(resource_path))
+    M::read_resources(std::path::Path::new(resource_path))
 }

@@ -4,9 +4,9 @@
 //! (`model_description`) and its logger callback (`logging`).
 //!
 //! Both fronts drive the same shared layer (`crate::fmi_common`) over the
-//! same `Model` with the same variable table, so one scene gives two FMUs
-//! whose variables, value references and results are the same. Like the
-//! FMI 2.0 front it knows nothing of beams.
+//! same `model::FmuModel` with the same variable table, so one model gives
+//! two FMUs whose variables, value references and results are the same.
+//! Like the FMI 2.0 front it sees nothing of the model but that trait.
 
 pub mod exports;
 pub mod instance;
@@ -14,14 +14,13 @@ pub mod logging;
 pub mod model_description;
 mod unsupported;
 
-pub use crate::fmi_common::{Description, Physics};
-use crate::model::Dynamics;
-use crate::scene::Scene;
+pub use crate::fmi_common::Description;
+use crate::model::FmuModel;
 
-/// What an FMI 3.0 FMU of `scene` declares (`Description::guid` holds the
-/// instantiation token).
-pub fn describe<D: Dynamics>(scene: &Scene) -> Result<Description, String> {
-    crate::fmi_common::describe::<D, instance::Fmi3>(scene)
+/// What an FMI 3.0 FMU of the model of `config` declares
+/// (`Description::guid` holds the instantiation token).
+pub fn describe<M: FmuModel>(config: M::Config) -> Result<Description, String> {
+    crate::fmi_common::describe::<M, instance::Fmi3>(config)
 }
 
 #[cfg(test)]

@@ -14,8 +14,7 @@ use crate::fmi_common::description::{
     default_experiment, log_categories, model_identifier, real_text, signed, units,
     DefaultExperiment, LogCategories, Units,
 };
-use crate::model::{Causality, Value, VarType, Variable, VariableTable};
-use crate::scene::Scene;
+use crate::model::{Causality, ModelInfo, Value, VarType, Variable, VariableTable};
 use serde::Serialize;
 
 /// The value reference of the independent variable `time`: the first one
@@ -216,31 +215,31 @@ fn structure(table: &VariableTable, with_initial_dependencies: bool) -> ModelStr
     }
 }
 
-/// The FMI 3.0 modelDescription.xml of `scene` and its variable table, with
-/// its instantiation token.
-pub fn generate(scene: &Scene, table: &VariableTable) -> (String, String) {
+/// The FMI 3.0 modelDescription.xml of the model `info` describes and its
+/// variable table, with its instantiation token.
+pub fn generate(info: &ModelInfo, table: &VariableTable) -> (String, String) {
     let mut variables: Vec<TypedVariable> = vec![time_variable(table)];
     variables.extend(table.variables().iter().map(typed_variable));
     let doc = Document {
         fmi_version: "3.0",
-        model_name: &scene.name,
+        model_name: &info.name,
         token: String::new(),
-        description: &scene.description,
+        description: &info.description,
         version: env!("CARGO_PKG_VERSION"),
         generation_tool: format!("guideway {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
         co_simulation: CoSimulation {
-            model_identifier: model_identifier(&scene.name),
+            model_identifier: model_identifier(&info.name),
             get_set_state: true,
             serialize_state: true,
-            variable_step: crate::model::experiment::variable_communication_steps(scene),
+            variable_step: info.variable_communication_steps,
             has_event_mode: false,
             intermediate_update: false,
             might_return_early: true,
         },
         units: units(table),
-        log_categories: log_categories(),
-        default_experiment: default_experiment(scene),
+        log_categories: log_categories(info),
+        default_experiment: default_experiment(info),
         variables: ModelVariables { variables },
         structure: structure(table, false),
     };

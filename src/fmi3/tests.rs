@@ -8,7 +8,7 @@ use super::logging::Logger;
 use super::model_description::time_value_reference;
 use super::unsupported::*;
 use crate::fmi2::instance::Instance as Instance2;
-use crate::fmi2::Physics;
+use crate::model::ExportedModel as Physics;
 use crate::model::{Causality, VarType};
 use crate::scene::{BodyKind, Scene};
 use fmi_sys::fmi3::*;
@@ -18,13 +18,15 @@ fn scene() -> Scene {
 }
 
 fn instance3(scene: &Scene) -> Instance<Physics> {
-    let token = super::describe::<Physics>(scene).unwrap().guid;
+    let token = super::describe::<Physics>(scene.clone()).unwrap().guid;
     let logger = Logger::new(None, std::ptr::null_mut(), false);
     Instance::new(scene.clone(), &token, logger).unwrap_or_else(|(_, e)| panic!("{e}"))
 }
 
 fn instance2(scene: &Scene) -> Instance2<Physics> {
-    let guid = crate::fmi2::describe::<Physics>(scene).unwrap().guid;
+    let guid = crate::fmi2::describe::<Physics>(scene.clone())
+        .unwrap()
+        .guid;
     let logger = crate::fmi2::logging::Logger::new(None, std::ptr::null_mut(), "t", false);
     Instance2::new(scene.clone(), &guid, logger).unwrap_or_else(|(_, e)| panic!("{e}"))
 }
@@ -32,8 +34,8 @@ fn instance2(scene: &Scene) -> Instance2<Physics> {
 #[test]
 fn the_description_declares_every_table_variable_and_time() {
     let scene = scene();
-    let d3 = super::describe::<Physics>(&scene).unwrap();
-    let d2 = crate::fmi2::describe::<Physics>(&scene).unwrap();
+    let d3 = super::describe::<Physics>(scene.clone()).unwrap();
+    let d2 = crate::fmi2::describe::<Physics>(scene.clone()).unwrap();
     crate::fmu::check_well_formed(&d3.xml).unwrap();
     assert!(d3.xml.contains("fmiVersion=\"3.0\""));
     assert_ne!(
@@ -61,14 +63,19 @@ fn the_description_declares_every_table_variable_and_time() {
             assert!(d3.xml.contains(&output), "{output}");
         }
     }
-    assert_eq!(super::describe::<Physics>(&scene).unwrap().guid, d3.guid);
+    assert_eq!(
+        super::describe::<Physics>(scene.clone()).unwrap().guid,
+        d3.guid
+    );
 }
 
 #[test]
 fn steps_give_the_fmi2_outputs_to_the_bit() {
     let scene = scene();
     let (mut a, mut b) = (instance3(&scene), instance2(&scene));
-    let table = crate::fmi2::describe::<Physics>(&scene).unwrap().table;
+    let table = crate::fmi2::describe::<Physics>(scene.clone())
+        .unwrap()
+        .table;
     let outputs: Vec<u32> = table
         .outputs()
         .filter(|v| v.ty == VarType::Real)
@@ -128,7 +135,11 @@ fn a_state_round_trips_through_serialization() {
 fn the_time_cannot_be_set_and_calls_out_of_order_are_refused() {
     let scene = scene();
     let mut a = instance3(&scene);
-    let time = time_value_reference(&crate::fmi2::describe::<Physics>(&scene).unwrap().table);
+    let time = time_value_reference(
+        &crate::fmi2::describe::<Physics>(scene.clone())
+            .unwrap()
+            .table,
+    );
     let e = a
         .set("fmi3SetFloat64", &[time], &[crate::model::Value::Real(1.0)])
         .unwrap_err();
@@ -187,7 +198,9 @@ fn null_instances_and_arrays_are_refused() {
 fn an_allowed_early_return_ends_at_the_internal_step_of_the_exit() {
     let scene = scene();
     let step = scene.solver.step;
-    let table = crate::fmi2::describe::<Physics>(&scene).unwrap().table;
+    let table = crate::fmi2::describe::<Physics>(scene.clone())
+        .unwrap()
+        .table;
     let on_beam = table.by_name("contact.on_beam").unwrap().value_reference;
     let deflection = table
         .by_name("sensor.midspan.deflection")

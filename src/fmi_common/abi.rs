@@ -11,7 +11,7 @@
 use super::instance::Instance;
 use super::logging::Logger;
 use super::{Call, Front, Status};
-use crate::model::Dynamics;
+use crate::model::FmuModel;
 use std::ffi::{c_char, c_void, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -30,17 +30,17 @@ pub fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 ///
 /// # Safety
 /// `c` is NULL or a pointer returned by the front's instantiation (a boxed
-/// `Instance<D, F>`) and not yet freed.
-pub unsafe fn with_instance<D: Dynamics, F: Front>(
+/// `Instance<M, F>`) and not yet freed.
+pub unsafe fn with_instance<M: FmuModel, F: Front>(
     c: *mut c_void,
     function: &str,
-    f: impl FnOnce(&mut Instance<D, F>) -> Result<F::Status, String>,
+    f: impl FnOnce(&mut Instance<M, F>) -> Result<F::Status, String>,
 ) -> F::Status {
     if c.is_null() {
         return F::status(Status::Error);
     }
     // SAFETY: per the function's contract.
-    let inst = unsafe { &mut *(c as *mut Instance<D, F>) };
+    let inst = unsafe { &mut *(c as *mut Instance<M, F>) };
     if inst.mode() == F::FATAL {
         let free = F::name(Call::FreeInstance);
         let message = format!("{function}: the instance had a fatal error; only {free} is allowed");
@@ -73,9 +73,9 @@ pub unsafe fn with_instance<D: Dynamics, F: Front>(
 /// A new instance from `make` (run inside `catch_unwind`), boxed for the
 /// importer; NULL after a refusal (logged on the logger `make` hands back)
 /// or a panic (logged on `fallback`).
-pub fn instantiate<D: Dynamics, F: Front>(
+pub fn instantiate<M: FmuModel, F: Front>(
     function: &str,
-    make: impl FnOnce() -> Result<Instance<D, F>, (Logger<F::Sink>, String)>,
+    make: impl FnOnce() -> Result<Instance<M, F>, (Logger<F::Sink>, String)>,
     fallback: impl FnOnce() -> Logger<F::Sink>,
 ) -> *mut c_void {
     match catch_unwind(AssertUnwindSafe(make)) {
@@ -96,12 +96,12 @@ pub fn instantiate<D: Dynamics, F: Front>(
 ///
 /// # Safety
 /// `c` is NULL or came from `instantiate` (Box::into_raw) and is freed once.
-pub unsafe fn free_instance<D: Dynamics, F: Front>(c: *mut c_void) {
+pub unsafe fn free_instance<M: FmuModel, F: Front>(c: *mut c_void) {
     if c.is_null() {
         return;
     }
     // SAFETY: per the function's contract.
-    let inst = unsafe { Box::from_raw(c as *mut Instance<D, F>) };
+    let inst = unsafe { Box::from_raw(c as *mut Instance<M, F>) };
     let _ = catch_unwind(AssertUnwindSafe(move || drop(inst)));
 }
 
@@ -182,8 +182,8 @@ pub fn no_variables(vrs: &[u32], what: &str) -> Result<(), String> {
 ///
 /// # Safety
 /// `state` is NULL or points to a writable FMU state pointer.
-pub unsafe fn get_state<D: Dynamics, F: Front>(
-    inst: &mut Instance<D, F>,
+pub unsafe fn get_state<M: FmuModel, F: Front>(
+    inst: &mut Instance<M, F>,
     state: *mut *mut c_void,
 ) -> Result<(), String> {
     if state.is_null() {
@@ -198,8 +198,8 @@ pub unsafe fn get_state<D: Dynamics, F: Front>(
 ///
 /// # Safety
 /// `state` is NULL or points to a writable FMU state pointer.
-pub unsafe fn free_state<D: Dynamics, F: Front>(
-    inst: &mut Instance<D, F>,
+pub unsafe fn free_state<M: FmuModel, F: Front>(
+    inst: &mut Instance<M, F>,
     state: *mut *mut c_void,
 ) -> Result<(), String> {
     if state.is_null() {
@@ -214,8 +214,8 @@ pub unsafe fn free_state<D: Dynamics, F: Front>(
 ///
 /// # Safety
 /// `size` is NULL or writable.
-pub unsafe fn state_size<D: Dynamics, F: Front>(
-    inst: &Instance<D, F>,
+pub unsafe fn state_size<M: FmuModel, F: Front>(
+    inst: &Instance<M, F>,
     state: *mut c_void,
     size: *mut usize,
 ) -> Result<(), String> {
@@ -230,8 +230,8 @@ pub unsafe fn state_size<D: Dynamics, F: Front>(
 ///
 /// # Safety
 /// If not NULL, `serialized` points to `size` writable bytes.
-pub unsafe fn serialize_state<D: Dynamics, F: Front>(
-    inst: &Instance<D, F>,
+pub unsafe fn serialize_state<M: FmuModel, F: Front>(
+    inst: &Instance<M, F>,
     state: *mut c_void,
     serialized: *mut u8,
     size: usize,
@@ -255,8 +255,8 @@ pub unsafe fn serialize_state<D: Dynamics, F: Front>(
 /// # Safety
 /// If not NULL, `serialized` points to `size` bytes and `state` is
 /// writable.
-pub unsafe fn deserialize_state<D: Dynamics, F: Front>(
-    inst: &mut Instance<D, F>,
+pub unsafe fn deserialize_state<M: FmuModel, F: Front>(
+    inst: &mut Instance<M, F>,
     serialized: *const u8,
     size: usize,
     state: *mut *mut c_void,

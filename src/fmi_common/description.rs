@@ -10,20 +10,15 @@
 //! of the description (see `model::initial_dependencies`), and an instance,
 //! which does not need them, checks its token without measuring them.
 
-use crate::model::experiment::default_stop_time;
-use crate::model::VariableTable;
-use crate::scene::Scene;
+use crate::model::{ModelInfo, VariableTable};
 use serde::Serialize;
 use sha2::{Digest, Sha256};
 
 /// Log categories the FMU declares (and filters on with
-/// fmiXSetDebugLogging).
+/// fmiXSetDebugLogging); the first one's description is completed with the
+/// model's events (`log_categories`).
 pub const LOG_CATEGORIES: &[(&str, &str)] = &[
-    (
-        "logEvents",
-        "initialization; every simulation event (a contact's entry onto and exit from the \
-         structure, leaving the track, ...) with its time; state save and restore",
-    ),
+    ("logEvents", "initialization; state save and restore"),
     ("logStatusWarning", "calls that returned fmi2Warning"),
     (
         "logStatusDiscard",
@@ -36,9 +31,9 @@ pub const LOG_CATEGORIES: &[(&str, &str)] = &[
     ("logStatusFatal", "internal faults (fmi2Fatal)"),
 ];
 
-/// The model identifier for a scene name: a C identifier.
-pub fn model_identifier(scene_name: &str) -> String {
-    let mut id: String = scene_name
+/// The model identifier for a model name: a C identifier.
+pub fn model_identifier(model_name: &str) -> String {
+    let mut id: String = model_name
         .chars()
         .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
         .collect();
@@ -126,7 +121,7 @@ struct Category {
     #[serde(rename = "@name")]
     name: &'static str,
     #[serde(rename = "@description")]
-    description: &'static str,
+    description: String,
 }
 
 #[derive(Serialize)]
@@ -172,22 +167,30 @@ pub fn units(table: &VariableTable) -> Units {
     }
 }
 
-/// The declared log categories.
-pub fn log_categories() -> LogCategories {
+/// The declared log categories; `logEvents` names the model's events
+/// (`ModelInfo::events`) beside the instance's own.
+pub fn log_categories(info: &ModelInfo) -> LogCategories {
+    let events = format!("initialization; {}; state save and restore", info.events);
     LogCategories {
         categories: LOG_CATEGORIES
             .iter()
-            .map(|&(name, description)| Category { name, description })
+            .map(|&(name, description)| Category {
+                name,
+                description: match name {
+                    "logEvents" => events.clone(),
+                    _ => description.to_string(),
+                },
+            })
             .collect(),
     }
 }
 
-/// Stop time and step of `scene`'s default experiment (`model::experiment`).
-pub fn default_experiment(scene: &Scene) -> DefaultExperiment {
+/// The model's default experiment: from 0 to its stop time in its steps.
+pub fn default_experiment(info: &ModelInfo) -> DefaultExperiment {
     DefaultExperiment {
         start_time: 0.0,
-        stop_time: default_stop_time(scene),
-        step_size: scene.solver.step,
+        stop_time: info.stop_time,
+        step_size: info.step_size,
     }
 }
 

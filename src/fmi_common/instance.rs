@@ -1,5 +1,5 @@
 //! One FMU instance of either FMI version: the co-simulation life cycle
-//! around a `Model`, plus the FMU states handed out to the importer.
+//! around an `FmuModel`, plus the FMU states handed out to the importer.
 //!
 //! Every operation checks the instance's mode against its front's rules
 //! first; a call in the wrong mode is refused (the exports turn the `Err`
@@ -9,8 +9,7 @@
 use super::logging::Logger;
 use super::states::States;
 use super::{mode_after_restore, Call, Front, Status};
-use crate::model::{Dynamics, Model, ModelError, Snapshot, StepOutcome, Value, VarType};
-use crate::scene::Scene;
+use crate::model::{FmuModel, ModelError, StepOutcome, Value, VarType};
 
 /// How a doStep ended: its status, whether the run is over, whether it
 /// ended early at an event, and the time reached.
@@ -22,15 +21,15 @@ pub struct StepReport<S> {
     pub last_successful_time: f64,
 }
 
-pub struct Instance<D: Dynamics, F: Front> {
+pub struct Instance<M: FmuModel, F: Front> {
     pub logger: Logger<F::Sink>,
     mode: F::Mode,
-    model: Model<D>,
+    model: M,
     token: String,
     /// The read-only variable holding the model time, if the front declares
     /// one (FMI 3.0's independent variable).
     time_vr: Option<u32>,
-    states: States<Snapshot<D::State>>,
+    states: States<M::Snapshot>,
     /// The importer allows doStep to return early: it then ends at the end
     /// of the internal step of a simulation event.
     early_return_allowed: bool,
@@ -41,19 +40,22 @@ fn in_call(function: &str) -> impl Fn(ModelError) -> String + '_ {
     move |e| format!("{function}: {e}")
 }
 
-impl<D: Dynamics, F: Front> Instance<D, F> {
-    /// An instance of `scene`, whose model description must have the token
-    /// (GUID) `token`.
+impl<M: FmuModel, F: Front> Instance<M, F> {
+    /// An instance of the model of `config`, whose model description must
+    /// have the token (GUID) `token`.
     pub fn new(
-        scene: Scene,
+        config: M::Config,
         token: &str,
         logger: Logger<F::Sink>,
     ) -> Result<Self, (Logger<F::Sink>, String)> {
-        let model = match Model::<D>::new(scene) {
+        let model = match M::new(config) {
             Ok(m) => m,
-            Err(e) => return Err((logger, format!("the FMU's scene is invalid: {e}"))),
+            Err(e) => {
+                let noun = M::CONFIG_NOUN;
+                return Err((logger, format!("the FMU's {noun} is invalid: {e}")));
+            }
         };
-        let (_, own) = F::generate(model.scene(), model.table());
+        let (_, own) = F::generate(&model.info(), model.table());
         if own != token {
             return Err((logger, F::token_mismatch(token, &own)));
         }
@@ -77,7 +79,7 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
         self.mode
     }
 
-    pub fn model(&self) -> &Model<D> {
+    pub fn model(&self) -> &M {
         &self.model
     }
 
@@ -111,7 +113,7 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
         Ok(())
     }
 
-    /// The run has ended (the last contact left the structure).
+    /// The run has ended (the model's `exit_time`).
     pub fn terminated(&self) -> bool {
         self.model.exit_time().is_some()
     }
@@ -251,10 +253,8 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
         let function = F::name(Call::DoStep);
         self.require_call(Call::DoStep)?;
         if self.terminated() {
-            return Err(format!(
-                "{function}: the body left the beam at t = {} s; the simulation cannot go on",
-                self.model.time()
-            ));
+            let refusal = M::after_end(self.model.time());
+            return Err(format!("{function}: {refusal}"));
         }
         let outcome = if self.early_return_allowed {
             self.model.do_step_until_event(t, h)
@@ -282,10 +282,7 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
                 self.mode = F::STEPPING;
                 return Ok((Status::Ok, false));
             }
-            StepOutcome::Exited { time } => (
-                format!("{function}: the body reached the end of the beam at t = {time} s; simulation terminated"),
-                true,
-            ),
+            StepOutcome::Exited { time } => (format!("{function}: {}", M::end_reached(time)), true),
             StepOutcome::Failed {
                 message,
                 curable: true,
@@ -337,7 +334,7 @@ impl<D: Dynamics, F: Front> Instance<D, F> {
         let function = F::name(Call::SerializeState);
         self.require_call(Call::SerializeState)?;
         let snap = self.states.get(function, key)?;
-        Model::<D>::serialize(snap, &self.token).map_err(in_call(function))
+        M::serialize(snap, &self.token).map_err(in_call(function))
     }
 
     pub fn deserialize_state(&mut self, bytes: &[u8]) -> Result<usize, String> {

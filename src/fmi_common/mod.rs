@@ -1,13 +1,14 @@
-//! What the FMI 2.0 and FMI 3.0 fronts share: one instance life cycle over a
-//! `Model` (modes, call rules, value access, steps, FMU states), the guards
-//! of the C boundary (no panic crosses it, every refusal is logged), the
-//! logger's filtering and the parts of modelDescription.xml the two schemas
-//! agree on.
+//! What the FMI 2.0 and FMI 3.0 fronts share: one instance life cycle over
+//! an `FmuModel` (modes, call rules, value access, steps, FMU states), the
+//! guards of the C boundary (no panic crosses it, every refusal is logged),
+//! the logger's filtering and the parts of modelDescription.xml the two
+//! schemas agree on.
 //!
 //! A front (`crate::fmi2`, `crate::fmi3`) keeps only its C ABI (the
 //! `fmi-sys` types, its status numbers, its function names and argument
 //! shapes) and its XML dialect; it tells this layer those through the
-//! `Front` trait. Like the fronts, this layer knows nothing of beams.
+//! `Front` trait. Like the fronts, this layer sees the model only through
+//! `model::FmuModel` (its table, its `ModelInfo`, its life cycle).
 
 pub mod abi;
 pub mod description;
@@ -18,20 +19,7 @@ mod states;
 pub use instance::{Instance, StepReport};
 pub use logging::{LogSink, Logger};
 
-use crate::model::{Dynamics, Model, Phase, VariableTable};
-use crate::scene::Scene;
-
-/// The physics behind the exported functions: the scene's (vehicles or
-/// moving forces, `model::SceneDynamics`), or the stand-in of `model::fake`
-/// when built with the `fake-physics` feature (to test the FMI machinery
-/// alone).
-#[cfg(not(feature = "fake-physics"))]
-pub type Physics = crate::model::SceneDynamics;
-#[cfg(feature = "fake-physics")]
-pub type Physics = crate::model::fake::FakeDynamics;
-
-/// The scene file inside the FMU's resources folder.
-pub const SCENE_FILE: &str = "scene.toml";
+use crate::model::{FmuModel, ModelInfo, Phase, VariableTable};
 
 /// The statuses both standards know, before a front turns them into its
 /// own numbers.
@@ -104,8 +92,9 @@ pub trait Front: Sized + 'static {
     /// The value reference of a read-only variable holding the model time,
     /// if the version declares one.
     fn independent_variable(table: &VariableTable) -> Option<u32>;
-    /// The modelDescription.xml of `scene` and `table`, with its token.
-    fn generate(scene: &Scene, table: &VariableTable) -> (String, String);
+    /// The modelDescription.xml of a model described by `info` and
+    /// `table`, with its token.
+    fn generate(info: &ModelInfo, table: &VariableTable) -> (String, String);
 }
 
 /// The mode an instance is in after a state of `phase` was restored in
@@ -120,7 +109,7 @@ fn mode_after_restore<F: Front>(current: F::Mode, phase: Phase, terminated: bool
     }
 }
 
-/// What an FMU of a scene declares: its modelDescription.xml, its GUID or
+/// What an FMU of a model declares: its modelDescription.xml, its GUID or
 /// instantiation token and its variable table (built by the same code an
 /// instance uses, so the two always agree).
 pub struct Description {
@@ -130,27 +119,19 @@ pub struct Description {
     pub table: VariableTable,
 }
 
-/// The description of `scene` in `F`'s dialect.
-pub fn describe<D: Dynamics, F: Front>(scene: &Scene) -> Result<Description, String> {
-    let model = Model::<D>::new(scene.clone()).map_err(|e| e.0)?;
+/// The description of the model of `config` in `F`'s dialect.
+pub fn describe<M: FmuModel, F: Front>(config: M::Config) -> Result<Description, String> {
+    let model = M::new(config).map_err(|e| e.0)?;
     let mut table = model.table().clone();
-    table.set_initial_dependencies(&crate::model::initial_dependencies::<D>(model.scene())?);
-    let (xml, guid) = F::generate(model.scene(), &table);
+    table.set_initial_dependencies(&model.initial_dependencies()?);
+    let info = model.info();
+    let (xml, guid) = F::generate(&info, &table);
     Ok(Description {
         xml,
         guid,
-        model_identifier: description::model_identifier(&scene.name),
+        model_identifier: description::model_identifier(&info.name),
         table,
     })
-}
-
-/// The scene in an FMU's resources folder, read within the scene size
-/// bound.
-pub fn read_scene(resources: &std::path::Path) -> Result<Scene, String> {
-    let path = resources.join(SCENE_FILE);
-    let text = crate::input_file::read_text_bounded(&path, crate::scene::MAX_SCENE_BYTES)
-        .map_err(|e| format!("the scene: {e}"))?;
-    Scene::from_toml_str(&text).map_err(|e| format!("invalid scene {}: {e}", path.display()))
 }
 
 #[cfg(test)]

@@ -20,7 +20,8 @@ pub mod release;
 pub mod ssp;
 
 use crate::fmi2::describe;
-use crate::fmi_common::{Description, Physics, SCENE_FILE};
+use crate::fmi_common::Description;
+use crate::model::{ExportedDynamics, ExportedModel, SCENE_FILE};
 use crate::output_file::Staged;
 use crate::scene::Scene;
 use std::fmt;
@@ -263,8 +264,8 @@ fn describe_as_packaged(
     let scene_text = scene.to_toml_string();
     let scene = Scene::from_toml_str(&scene_text).map_err(|e| ExportError::Scene(e.to_string()))?;
     let d = match fmi {
-        FmiVersion::V2 => describe::<Physics>(&scene),
-        FmiVersion::V3 => crate::fmi3::describe::<Physics>(&scene),
+        FmiVersion::V2 => describe::<ExportedModel>(scene.clone()),
+        FmiVersion::V3 => crate::fmi3::describe::<ExportedModel>(scene.clone()),
     }
     .map_err(ExportError::Scene)?;
     check_well_formed(&d.xml).map_err(ExportError::Scene)?;
@@ -354,7 +355,7 @@ fn check_attributes(e: &quick_xml::events::BytesStart) -> Result<(), String> {
 /// `<modelIdentifier>_ref.opt` of `scene` into `dir`.
 pub fn write_cross_check(scene: &Scene, dir: &Path) -> Result<Vec<PathBuf>, String> {
     let id = crate::fmi_common::description::model_identifier(&scene.name);
-    cross_check::write::<Physics>(scene, &id, dir)
+    cross_check::write::<ExportedDynamics>(scene, &id, dir)
 }
 
 /// The paths `write_cross_check` writes for a scene named `scene_name`.

@@ -15,7 +15,7 @@
 
 use super::advance::{advance_within, Stop};
 use super::Dynamics;
-use crate::outputs::{OutputInfo, OutputKind};
+use crate::outputs::{classify, output_name, OutputInfo, OutputKind, QuantityKind};
 use crate::scene::Scene;
 use crate::simulation::Advance;
 
@@ -44,14 +44,14 @@ fn error_outputs(outputs: &[OutputInfo]) -> (Vec<OutputInfo>, Vec<[usize; 2]>) {
     let mut infos = Vec::new();
     let mut columns = Vec::new();
     for o in outputs {
-        let Some(sensor) = o
-            .name
-            .strip_prefix("sensor.")
-            .and_then(|s| s.strip_suffix(".deflection"))
+        let Some(sensor) = classify(&o.name)
+            .filter(|n| n.kind == QuantityKind::Sensor)
+            .map(|n| n.owner)
         else {
             continue;
         };
-        let Some(acceleration) = column(&format!("sensor.{sensor}.acceleration")) else {
+        let acceleration = output_name(QuantityKind::SensorAcceleration, sensor);
+        let Some(acceleration) = column(&acceleration) else {
             continue;
         };
         let deflection = column(&o.name).expect("o is among the outputs");

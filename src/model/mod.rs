@@ -13,6 +13,7 @@ pub mod experiment;
 mod extrapolate;
 #[cfg(any(test, feature = "fake-physics"))]
 pub mod fake;
+mod fmu_model;
 mod forces;
 mod physics;
 mod restore;
@@ -23,6 +24,7 @@ mod structure;
 pub mod variables;
 
 pub use dynamics::Dynamics;
+pub use fmu_model::{FmuModel, ModelInfo, SCENE_FILE};
 pub use physics::{SceneDynamics, SceneState};
 pub use structure::initial_dependencies;
 pub use variables::{
@@ -33,6 +35,17 @@ use crate::outputs::non_finite_output;
 use crate::scene::{Scene, MAX_MAGNITUDE};
 use serde::{Deserialize, Serialize};
 use variables::{param_value, set_param, start_inputs};
+
+/// The physics behind the exported FMUs: the scene's (vehicles or moving
+/// forces), or the stand-in of `fake` when built with the `fake-physics`
+/// feature (to test the FMI machinery alone).
+#[cfg(not(feature = "fake-physics"))]
+pub type ExportedDynamics = SceneDynamics;
+#[cfg(feature = "fake-physics")]
+pub type ExportedDynamics = fake::FakeDynamics;
+
+/// The model the FMI fronts export (`FmuModel`).
+pub type ExportedModel = Model<ExportedDynamics>;
 
 /// Most internal solver steps one `do_step` may take. fmi2DoStep is
 /// synchronous and cannot be cancelled: a communication step of 1e6 s with a

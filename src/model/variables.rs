@@ -5,6 +5,7 @@
 //! One table feeds modelDescription.xml, the getters and setters and the
 //! FMU's documentation page, so they cannot disagree.
 
+use crate::outputs::QuantityKind;
 use crate::scene::fields::{self, Access, Field, Rule, FIELDS};
 use crate::scene::{BodyKind, Scene, MAX_MAGNITUDE};
 use crate::simulation::{OutputInfo, OutputKind};
@@ -294,13 +295,17 @@ fn unit(u: &str) -> Option<String> {
 }
 
 /// The unit engineers read a quantity in, where it is not the SI unit:
-/// loads in kN, travel speeds in km/h, deflections in mm.
+/// loads in kN, travel speeds in km/h (the outputs the catalogue types as
+/// a nominal speed or a horizontal velocity; the parameters named
+/// `*speed`), sensor deflections in mm.
 fn display_unit(name: &str, unit: &str) -> Option<DisplayUnit> {
-    let travel_speed = name.ends_with("speed") || name.ends_with(".vx");
+    let output = crate::outputs::classify(name).map(|n| n.kind);
+    let travel_speed = matches!(output, Some(QuantityKind::NominalSpeed | QuantityKind::Vx))
+        || (name.ends_with("speed") && !name.starts_with("solver."));
     let (name, factor) = match unit {
         "N" => ("kN", 1e-3),
-        "m/s" if travel_speed && !name.starts_with("solver.") => ("km/h", 3.6),
-        "m" if name.ends_with(".deflection") => ("mm", 1e3),
+        "m/s" if travel_speed => ("km/h", 3.6),
+        "m" if output == Some(QuantityKind::Sensor) => ("mm", 1e3),
         _ => return None,
     };
     Some(DisplayUnit { name, factor })

@@ -11,9 +11,11 @@ use derived::{beam_dynamics, body_accelerations, frames_now};
 pub mod derived;
 mod finite;
 pub mod mask;
+pub mod names;
 
 pub use derived::Probes;
 pub use finite::non_finite_output;
+pub use names::{classify, output_name, reports, OutputName, QuantityKind};
 
 /// How an output is typed when exported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -95,19 +97,20 @@ struct Catalogue {
 }
 
 impl Catalogue {
-    fn real(&mut self, name: String, unit: &'static str, description: &str, q: Quantity) {
-        self.push(name, unit, description, q, OutputKind::Real);
+    /// A Real output reporting `q` of `owner` (`names::output_name`).
+    fn real(&mut self, owner: &str, unit: &'static str, description: &str, q: Quantity) {
+        self.push(owner, unit, description, q, OutputKind::Real);
     }
     fn push(
         &mut self,
-        name: String,
+        owner: &str,
         unit: &'static str,
         description: &str,
         q: Quantity,
         kind: OutputKind,
     ) {
         let info = OutputInfo {
-            name,
+            name: output_name(q.kind(), owner),
             unit,
             description: description.to_string(),
             kind,
@@ -118,25 +121,25 @@ impl Catalogue {
     fn body(&mut self, system: &System, b: usize) {
         let n = &system.bodies[b].name;
         self.real(
-            format!("{n}.x"),
+            n,
             "m",
             "horizontal position of the body's centre",
             Quantity::X(b),
         );
         self.real(
-            format!("{n}.y"),
+            n,
             "m",
             "vertical position of the body's centre",
             Quantity::Y(b),
         );
         self.real(
-            format!("{n}.vx"),
+            n,
             "m/s",
             "horizontal velocity of the body's centre",
             Quantity::Vx(b),
         );
         self.real(
-            format!("{n}.vy"),
+            n,
             "m/s",
             "vertical velocity of the body's centre",
             Quantity::Vy(b),
@@ -153,7 +156,7 @@ impl Catalogue {
         let coupled = system.couplings.contains(&b);
         if coupled {
             self.real(
-                format!("{n}.ax"),
+                n,
                 "m/s2",
                 "horizontal acceleration of the body's centre",
                 Quantity::Ax(b),
@@ -165,7 +168,7 @@ impl Catalogue {
             .any(|c| c.body == b && c.follower.is_some());
         if !system.force_elements.is_empty() || coupled || on_follower {
             self.real(
-                format!("{n}.ay"),
+                n,
                 "m/s2",
                 "vertical acceleration of the body's centre",
                 Quantity::Ay(b),
@@ -186,7 +189,7 @@ impl Catalogue {
             .any(|c| c.body == b && c.follower.is_none());
         if body.turns() && (!is_contact_body || coupled) {
             self.real(
-                format!("{n}.pitch"),
+                n,
                 "rad",
                 "pitch angle, counter-clockwise positive",
                 Quantity::Angle(b),
@@ -194,7 +197,7 @@ impl Catalogue {
         }
         if body.turns() {
             self.real(
-                format!("{n}.angular_velocity"),
+                n,
                 "rad/s",
                 "angular velocity, counter-clockwise positive",
                 Quantity::AngularVelocity(b),
@@ -202,7 +205,7 @@ impl Catalogue {
         }
         if body.turns() && coupled {
             self.real(
-                format!("{n}.angular_acceleration"),
+                n,
                 "rad/s2",
                 "angular acceleration, counter-clockwise positive",
                 Quantity::AngularAcceleration(b),
@@ -222,7 +225,7 @@ impl Catalogue {
                     n
                 };
                 self.real(
-                    format!("{owner}.nominal_speed"),
+                    owner,
                     "m/s",
                     "nominal travel speed V = vx + (r + h) dphi/dt (eq. 24)",
                     Quantity::NominalSpeed(c),
@@ -235,28 +238,28 @@ impl Catalogue {
         let contact = &system.contacts[c];
         let n = &contact.name;
         self.real(
-            format!("{n}.position"),
+            n,
             "m",
             "abscissa of the contact point along the track",
             Quantity::ContactPosition(c),
         );
         if contact.rolls() {
             self.real(
-                format!("{n}.tangential_force"),
+                n,
                 "N",
                 "tangential contact force on the body",
                 Quantity::TangentialForce(c),
             );
         }
         self.real(
-            format!("{n}.normal_force"),
+            n,
             "N",
             "normal contact force on the body (positive pushes it off the track)",
             Quantity::NormalForce(c),
         );
         if system.profile.is_some() {
             self.real(
-                format!("{n}.irregularity"),
+                n,
                 "m",
                 "track irregularity r(x) at the contact point (up positive)",
                 Quantity::Irregularity(c),
@@ -265,7 +268,7 @@ impl Catalogue {
         let track = &system.track;
         if track.approach > 0.0 || track.run_off > 0.0 || track.open_ends {
             self.push(
-                format!("{n}.on_beam"),
+                n,
                 "",
                 "1 while the contact point is on the beam (the structure), 0 on rigid ground or \
                  beyond the track",
@@ -284,13 +287,13 @@ impl Catalogue {
         }
         let n = &system.contacts[c].name;
         self.real(
-            format!("{n}.air_gap"),
+            n,
             "m",
             "EMS magnet's air gap s = s0 - gap (nominal_gap s0 where the law carries its static load)",
             Quantity::MagnetAirGap(c),
         );
         self.real(
-            format!("{n}.current"),
+            n,
             "1",
             "EMS magnet's current over its operating current, i/i0 = 1 + (F - F0)/2F0 + (s - s0)/s0 \
              (the linearised force law; the controller's command below saturation)",
@@ -302,28 +305,28 @@ impl Catalogue {
     fn flight(&mut self, contact: &crate::contact::Contact, c: usize) {
         let n = &contact.name;
         self.push(
-            format!("{n}.state"),
+            n,
             "",
             "1 while the contact is closed, 0 while it is open (in flight)",
             Quantity::ContactClosed(c),
             OutputKind::Integer,
         );
         self.real(
-            format!("{n}.gap"),
+            n,
             "m",
             "gap g between the body and the track (zero to the gap tolerance while closed)",
             Quantity::Gap(c),
         );
         if contact.rolls() {
             self.real(
-                format!("{n}.impact_impulse_tangential"),
+                n,
                 "N.s",
                 "tangential impulse on the body at the last impact it took part in (a landing or a rail-gap impact)",
                 Quantity::ImpulseTangential(c),
             );
         }
         self.real(
-            format!("{n}.impact_impulse"),
+            n,
             "N.s",
             "normal impulse on the body at the last impact it took part in (a landing or a rail-gap impact)",
             Quantity::ImpulseNormal(c),
@@ -331,25 +334,13 @@ impl Catalogue {
     }
 
     fn beam_energy(&mut self) {
-        let e = |s: &str| format!("energy.{s}");
-        self.real(
-            e("beam_kinetic"),
-            "J",
-            "kinetic energy of the beam",
-            Quantity::BeamKinetic,
-        );
-        self.real(
-            e("beam_strain"),
-            "J",
-            "strain energy of the beam",
-            Quantity::BeamStrain,
-        );
+        self.real("", "J", "kinetic energy of the beam", Quantity::BeamKinetic);
+        self.real("", "J", "strain energy of the beam", Quantity::BeamStrain);
     }
 
     fn energy(&mut self, system: &System) {
-        let e = |s: &str| format!("energy.{s}");
         self.real(
-            e("body_kinetic"),
+            "",
             "J",
             "kinetic energy of the bodies",
             Quantity::BodyKinetic,
@@ -358,13 +349,13 @@ impl Catalogue {
         let followers = system.contacts.iter().any(|c| c.follower.is_some());
         if !system.force_elements.is_empty() || followers {
             self.real(
-                e("spring"),
+                "",
                 "J",
                 "potential energy of the force elements' and followers' springs",
                 Quantity::SpringEnergy,
             );
             self.real(
-                e("dissipated"),
+                "",
                 "J",
                 "energy dissipated by the force elements' dampers",
                 Quantity::Dissipated,
@@ -372,7 +363,7 @@ impl Catalogue {
         }
         if system.beam.is_damped() {
             self.real(
-                e("beam_damping"),
+                "",
                 "J",
                 "energy dissipated by the beam's Rayleigh structural damping and support dampers",
                 Quantity::BeamDamping,
@@ -380,7 +371,7 @@ impl Catalogue {
         }
         if system.gravity != 0.0 {
             self.real(
-                e("gravity_work"),
+                "",
                 "J",
                 "work done by gravity on the bodies",
                 Quantity::GravityWork,
@@ -391,36 +382,35 @@ impl Catalogue {
 
     /// The works of the forces on the system, the losses, and the balance.
     fn works(&mut self, system: &System) {
-        let e = |s: &str| format!("energy.{s}");
         self.real(
-            e("external_work"),
+            "",
             "J",
             "work done by the applied force",
             Quantity::ExternalWork,
         );
         if system.bodies.iter().any(|b| b.drive.is_some()) {
             self.real(
-                e("tractive_work"),
+                "",
                 "J",
                 "work done by the tractive forces that hold the prescribed speeds",
                 Quantity::TractiveWork,
             );
         }
         self.real(
-            e("impact_loss"),
+            "",
             "J",
             "kinetic energy lost in the landings' impacts",
             Quantity::ImpactLoss,
         );
         self.real(
-            e("numerical_dissipation"),
+            "",
             "J",
             "energy removed by the integrator's numerical damping: HHT-alpha's \
              from its discrete energy identity, RK4's from the beam's energy",
             Quantity::NumericalDissipation,
         );
         self.real(
-            e("balance"),
+            "",
             "J",
             "kinetic + strain + spring energy + dissipated (dampers, beam damping, impacts, \
              numerical damping) \
@@ -435,19 +425,19 @@ impl Catalogue {
     fn structure(&mut self, beam: &Beam, sensors: &[String], sections: &[String], reactions: bool) {
         for (i, name) in sensors.iter().enumerate() {
             self.real(
-                format!("sensor.{name}.deflection"),
+                name,
                 "m",
                 "beam deflection at the sensor (up positive)",
                 Quantity::Sensor(i),
             );
             self.real(
-                format!("sensor.{name}.velocity"),
+                name,
                 "m/s",
                 "beam vertical velocity at the sensor (up positive)",
                 Quantity::SensorVelocity(i),
             );
             self.real(
-                format!("sensor.{name}.acceleration"),
+                name,
                 "m/s2",
                 "beam vertical acceleration at the sensor (up positive), from the current state \
                  and the contact forces of the last step: M^-1 (r - K u - C v)",
@@ -455,7 +445,7 @@ impl Catalogue {
             );
             if beam.foundation().is_some() {
                 self.real(
-                    format!("sensor.{name}.foundation_load"),
+                    name,
                     "N/m",
                     "load per metre of beam on its Winkler foundation at the sensor, -(k w + c v), \
                      compression positive: the rail-seat load per metre of a rail",
@@ -464,7 +454,7 @@ impl Catalogue {
             }
             if beam.track().is_some() {
                 self.real(
-                    format!("sensor.{name}.rail_deflection"),
+                    name,
                     "m",
                     "deflection of the rail over the deck at the sensor (up positive); the \
                      sensor's deflection is the deck's",
@@ -473,7 +463,7 @@ impl Catalogue {
             }
             if beam.track().is_some_and(|t| t.has_sleepers()) {
                 self.real(
-                    format!("sensor.{name}.rail_seat_force"),
+                    name,
                     "N",
                     "rail-seat (pad) force of the sleeper nearest the sensor, compression \
                      positive: -(k_pad (w_rail - w_sleeper) + c_pad (v_rail - v_sleeper))",
@@ -487,13 +477,13 @@ impl Catalogue {
     fn design(&mut self, beam: &Beam, sections: &[String], reactions: bool) {
         for (i, name) in sections.iter().enumerate() {
             self.real(
-                format!("section.{name}.moment"),
+                name,
                 "N.m",
                 "bending moment at the section, sagging positive (from the element equations)",
                 Quantity::SectionMoment(i),
             );
             self.real(
-                format!("section.{name}.shear"),
+                name,
                 "N",
                 "shear force at the section: upward force of the beam left of it on the \
                  beam right of it (dM/dx)",
@@ -506,14 +496,14 @@ impl Catalogue {
         for support in crate::structure::section_forces::supports(beam) {
             let name = &support.name;
             self.real(
-                format!("support.{name}.reaction"),
+                name,
                 "N",
                 "vertical force of the support on the beam, up positive",
                 Quantity::Reaction(support.node),
             );
             if support.has_moment {
                 self.real(
-                    format!("support.{name}.moment"),
+                    name,
                     "N.m",
                     "moment of the support (clamp or rotational spring) on the beam, counter-clockwise positive",
                     Quantity::ReactionMoment(support.node),
@@ -524,19 +514,19 @@ impl Catalogue {
 
     fn solver(&mut self) {
         self.real(
-            "solver.velocity_error".into(),
+            "",
             "m/s",
             "largest contact |e| at the end of the last step",
             Quantity::VelocityError,
         );
         self.real(
-            "solver.gap_error".into(),
+            "",
             "m",
             "gap error g of largest magnitude at the end of the last step",
             Quantity::GapError,
         );
         self.push(
-            "solver.iterations".into(),
+            "",
             "",
             "contact-force iterations in the last step",
             Quantity::Iterations,
@@ -567,7 +557,7 @@ pub fn catalogue(
     c.solver();
     if system.contacts.len() > 1 {
         c.push(
-            "solver.position_iterations".into(),
+            "",
             "",
             "iterations of the position (gap) stage in the last step",
             Quantity::PositionIterations,

@@ -5,6 +5,7 @@
 
 use super::plot::Curve;
 use super::trace::Trace;
+use crate::outputs::{classify, output_name, QuantityKind};
 
 /// Most curves a panel draws one by one; past it, their envelope.
 pub const MAX_CURVES: usize = 6;
@@ -39,19 +40,19 @@ pub fn grouped(x: &[f64], columns: &[(String, &[f64])], scale: f64, what: &str) 
     ]
 }
 
-/// The trace's columns ending in `suffix` whose body passes `keep`, as
-/// (name, values).
+/// The trace's columns reporting one of `kinds` (`outputs::classify`)
+/// whose owner passes `keep`, as (name, values).
 pub fn columns_of<'t>(
     trace: &'t Trace,
-    suffix: &str,
+    kinds: &[QuantityKind],
     keep: &dyn Fn(&str) -> bool,
 ) -> Vec<(String, &'t [f64])> {
     trace
         .names
         .iter()
         .filter_map(|name| {
-            let body = name.strip_suffix(suffix)?;
-            keep(body).then_some(())?;
+            let named = classify(name).filter(|n| kinds.contains(&n.kind))?;
+            keep(named.owner).then_some(())?;
             Some((name.clone(), trace.column(name)?))
         })
         .collect()
@@ -62,7 +63,8 @@ pub fn columns_of<'t>(
 /// nominal speed (eq. 24) every contact body reports. The others (car
 /// bodies, bogies, a sprung mass) ride on suspensions.
 pub fn is_unsprung(trace: &Trace, body: &str) -> bool {
-    trace.column(&format!("{body}.nominal_speed")).is_some()
+    let nominal_speed = output_name(QuantityKind::NominalSpeed, body);
+    trace.column(&nominal_speed).is_some()
 }
 
 #[cfg(test)]

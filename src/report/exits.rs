@@ -2,7 +2,7 @@
 //! contact left the beam, and the vehicle's speed then, recorded while the
 //! run goes (the run may go on into the free vibration to `end_time`).
 
-use super::output_names;
+use crate::outputs::{output_name, QuantityKind};
 use crate::simulation::{Advance, EventKind, OutputInfo, Simulation, SolverError, Steppable};
 use serde::{Deserialize, Serialize};
 
@@ -43,9 +43,12 @@ impl ExitPlan {
             .map(|o| o.name.as_str())
             .collect();
         let column = |name: &str| {
-            [output_names::nominal_speed(name), format!("{name}.vx")]
-                .iter()
-                .find_map(|wanted| names.iter().position(|n| n == wanted))
+            [
+                output_name(QuantityKind::NominalSpeed, name),
+                output_name(QuantityKind::Vx, name),
+            ]
+            .iter()
+            .find_map(|wanted| names.iter().position(|n| n == wanted))
         };
         let system = simulation.system();
         let owner = system

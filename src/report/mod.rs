@@ -25,30 +25,17 @@ pub use stream::{
 pub use summary::{RunSummary, SummaryBuilder, SummaryEvent};
 pub use trace::{Decimated, Trace};
 
-/// Names of the simulation outputs the report reads.
+/// Which recorded output the report reads for the travel (the others it
+/// names by `outputs::output_name`).
 pub mod output_names {
-    /// Nominal speed V (eq. 24) of the body.
-    pub fn nominal_speed(body: &str) -> String {
-        format!("{body}.nominal_speed")
-    }
-
-    /// Deflection of a sensor.
-    pub fn sensor_deflection(sensor: &str) -> String {
-        format!("sensor.{sensor}.deflection")
-    }
-
-    /// Energy balance: constant for the exact solution, equal to the initial
-    /// total energy at t = 0.
-    pub const ENERGY_BALANCE: &str = "energy.balance";
-
-    /// Contact-force iterations of the last step.
-    pub const ITERATIONS: &str = "solver.iterations";
+    use crate::outputs::{output_name, QuantityKind};
 
     /// Index of the output that best tells how far along the beam the body
-    /// is: the contact abscissa, else the body's x.
+    /// is: the abscissa of the contact named `contact`, else the body's x.
     pub fn travel_position(names: &[String], body: &str) -> Option<usize> {
-        let body_x = format!("{body}.x");
-        ["contact.position", body_x.as_str()]
+        let contact = output_name(QuantityKind::ContactPosition, "contact");
+        let body_x = output_name(QuantityKind::X, body);
+        [contact, body_x]
             .iter()
             .find_map(|wanted| names.iter().position(|n| n == wanted))
     }

@@ -2,9 +2,9 @@
 
 use super::deck_acceleration::DeckRecord;
 use super::exits::VehicleExit;
-use super::output_names;
 use super::trace::Trace;
 use crate::design::StaticEnvelope;
+use crate::outputs::{classify, output_name, reports, QuantityKind};
 use crate::scene::Scene;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -175,7 +175,7 @@ impl SummaryBuilder {
             .sensors
             .iter()
             .filter_map(|s| {
-                let column = find(&output_names::sensor_deflection(&s.name))?;
+                let column = find(&output_name(QuantityKind::Sensor, &s.name))?;
                 Some((s.name.clone(), column))
             })
             .collect();
@@ -183,7 +183,7 @@ impl SummaryBuilder {
         let contact_forces = names
             .iter()
             .enumerate()
-            .filter(|(_, n)| n.ends_with(".normal_force"))
+            .filter(|(_, n)| reports(n, QuantityKind::NormalForce))
             .map(|(k, n)| (n.clone(), k, None))
             .collect();
         SummaryBuilder {
@@ -191,11 +191,11 @@ impl SummaryBuilder {
             deck: DeckRecord::new(names, scene.solver.step),
             envelope_of: (!design.is_empty()).then(|| scene.clone()),
             scene: scene.name.clone(),
-            speed: find(&output_names::nominal_speed(&scene.vehicles[0].name)),
+            speed: find(&output_name(QuantityKind::NominalSpeed, &scene.vehicles[0].name)),
             peak_deflection: vec![None; sensors.len()],
             sensors,
-            energy: find(output_names::ENERGY_BALANCE),
-            iterations_column: find(output_names::ITERATIONS),
+            energy: find(&output_name(QuantityKind::Balance, "")),
+            iterations_column: find(&output_name(QuantityKind::Iterations, "")),
             rows: 0,
             last_speed: None,
             peak_speed: None,
@@ -465,17 +465,16 @@ impl RunSummary {
     /// The largest normal contact force over the contacts, in one line
     /// (the JSON has every contact's).
     fn fmt_contact_forces(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        for (quantity, label) in [("normal_force", "peak contact force")] {
-            let of_kind = self
-                .peak_contact_force
-                .iter()
-                .filter_map(|(name, force)| Some((name.strip_suffix(quantity)?, *force)));
+        for (quantity, label) in [(QuantityKind::NormalForce, "peak contact force")] {
+            let of_kind = self.peak_contact_force.iter().filter_map(|(name, force)| {
+                let named = classify(name).filter(|n| n.kind == quantity)?;
+                Some((named.owner, *force))
+            });
             let count = of_kind.clone().count();
             let Some((contact, force)) = of_kind.max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
             else {
                 continue;
             };
-            let contact = contact.trim_end_matches('.');
             let of = if count > 1 {
                 format!(" (largest of {count} contacts)")
             } else {

@@ -128,6 +128,11 @@ impl Simulation {
         &self.outputs
     }
 
+    /// What each output reports, in the order of `outputs`.
+    pub fn quantities(&self) -> &[Quantity] {
+        &self.quantities
+    }
+
     /// The assembled system (bodies, force elements, contacts, beam).
     /// The static envelope's loads: (abscissa at the start, downward
     /// force) of each contact's static share, taken before the static start

@@ -14,6 +14,7 @@ use rustfft::num_complex::Complex;
 use rustfft::FftPlannerScalar;
 
 use crate::contact::ContactForce;
+use crate::outputs::QuantityKind;
 use crate::scene::{ForceProfile, Scene};
 use crate::{Advance, Simulation};
 
@@ -48,8 +49,8 @@ pub fn local_errors(scene: &Scene, fine: usize) -> Result<Vec<StepError>, String
     reference_scene.solver.step = dt / fine as f64;
     let mut reference = Simulation::new(&reference_scene)?;
     let mut coarse = Simulation::new(scene)?;
-    let speed = column(&coarse, |name| name.ends_with(".nominal_speed"))?;
-    let energy = column(&coarse, |name| name == "energy.balance")?;
+    let speed = column(&coarse, QuantityKind::NominalSpeed)?;
+    let energy = column(&coarse, QuantityKind::Balance)?;
     let initial_energy = reference.initial_energy();
     if reference.current().force_history.len() != 1 {
         return Err("local errors are measured on single-contact scenes".into());
@@ -103,10 +104,11 @@ fn advance_summing(
     Ok(Some(ContactForce::from_vector(sum / fine as f64)))
 }
 
-fn column(sim: &Simulation, wanted: impl Fn(&str) -> bool) -> Result<usize, String> {
-    sim.outputs()
+/// The first output of `sim` reporting `wanted` (the live catalogue's).
+fn column(sim: &Simulation, wanted: QuantityKind) -> Result<usize, String> {
+    sim.quantities()
         .iter()
-        .position(|o| wanted(&o.name))
+        .position(|q| q.kind() == wanted)
         .ok_or_else(|| "the scene has no such output".to_string())
 }
 

@@ -13,6 +13,7 @@ use crate::design::{envelope_of_loads, probes, DesignPeaks, Probe, ProbeReader, 
 use crate::moving_load::{
     exit_time, run_end, scene_axles, vehicle_axles, Axle, Crossing, HslmTrain,
 };
+use crate::outputs::{output_name, reports, QuantityKind};
 use crate::scene::{Scene, SensorSpec};
 use crate::signal::{cut_off, low_pass_zero_phase, signed_peak};
 
@@ -315,7 +316,7 @@ impl DeckRecord {
             .sensors
             .iter()
             .map(|s| {
-                let name = format!("sensor.{}.acceleration", s.name);
+                let name = output_name(QuantityKind::SensorAcceleration, &s.name);
                 probes.iter().position(|p| p.name == name).ok_or(name)
             })
             .collect::<Result<Vec<usize>, String>>()?;
@@ -389,13 +390,12 @@ fn envelope_row(
             daf: load.statics.amplification(&probe.name, peak),
         })
         .collect();
-    let largest = |suffix: &str| largest_sensor_peak(&design, suffix);
-    let deflection = largest(".deflection");
+    let deflection = largest_sensor_peak(&design, QuantityKind::Sensor);
     let static_deflection = load
         .statics
         .peaks
         .iter()
-        .filter(|(name, _)| name.starts_with("sensor.") && name.ends_with(".deflection"))
+        .filter(|(name, _)| reports(name, QuantityKind::Sensor))
         .map(|(_, &peak)| peak)
         .fold(0.0, f64::max);
     EnvelopeRow {
@@ -403,7 +403,7 @@ fn envelope_row(
         speed,
         speed_m_s,
         peak_deflection: deflection,
-        peak_acceleration: largest(".acceleration"),
+        peak_acceleration: largest_sensor_peak(&design, QuantityKind::SensorAcceleration),
         peak_acceleration_filtered: 0.0,
         acceleration_cut_off: 0.0,
         daf: deflection / static_deflection,
@@ -506,12 +506,12 @@ fn speed_km_h(row: &EnvelopeRow, unit: SpeedUnit) -> f64 {
     }
 }
 
-/// The largest |peak| of the sensors' design outputs named `*suffix`
-/// (".deflection", ".acceleration"); 0 without sensors.
-pub(super) fn largest_sensor_peak(design: &[DesignPeak], suffix: &str) -> f64 {
+/// The largest |peak| of the design outputs reporting `kind` (a sensor's
+/// deflection or acceleration); 0 without sensors.
+pub(super) fn largest_sensor_peak(design: &[DesignPeak], kind: QuantityKind) -> f64 {
     design
         .iter()
-        .filter(|d| d.name.starts_with("sensor.") && d.name.ends_with(suffix))
+        .filter(|d| reports(&d.name, kind))
         .map(|d| d.peak.abs())
         .fold(0.0, f64::max)
 }

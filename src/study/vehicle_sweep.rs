@@ -9,6 +9,7 @@ use super::sweep::{
     in_parallel, largest_sensor_peak, with_deck_sensor, DesignPeak, EnvelopeRow, SpeedUnit,
 };
 use crate::design::{probes, StaticEnvelope};
+use crate::outputs::{reports, QuantityKind};
 use crate::report::{check_run_length, RunSummary};
 use crate::scene::{BodySpec, Scene, SpeedSpec};
 use crate::simulation::run_end::{run_end, RunEnd};
@@ -190,8 +191,9 @@ fn envelope_row(
             peak: value,
         });
     }
-    let largest = |suffix: &str| largest_sensor_peak(&design, suffix);
-    let (deflection, acceleration) = (largest(".deflection"), largest(".acceleration"));
+    let largest = |kind| largest_sensor_peak(&design, kind);
+    let deflection = largest(QuantityKind::Sensor);
+    let acceleration = largest(QuantityKind::SensorAcceleration);
     let mut filtered = 0.0f64;
     for sensor in &scene.sensors {
         let name = format!("sensor.{}.acceleration_filtered", sensor.name);
@@ -207,7 +209,7 @@ fn envelope_row(
     let static_deflection = statics
         .peaks
         .iter()
-        .filter(|(name, _)| name.starts_with("sensor.") && name.ends_with(".deflection"))
+        .filter(|(name, _)| reports(name, QuantityKind::Sensor))
         .map(|(_, &peak)| peak)
         .fold(0.0, f64::max);
     Ok(EnvelopeRow {

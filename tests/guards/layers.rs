@@ -51,6 +51,18 @@ const PHYSICS: &[&str] = &[
     "outputs",
 ];
 
+/// The FMI fronts: generic over the model layer's `model::FmuModel` seam
+/// (DESIGN.md step 11), they name no module but each other and `model`.
+const FMI_FRONTS: &[&str] = &["fmi_common", "fmi2", "fmi3"];
+
+/// What the FMI fronts may name: each other and the model layer.
+const FMI_MAY_NAME: &[&str] = &["fmi_common", "fmi2", "fmi3", "model"];
+
+/// Words of the scene format and the physics that the FMI fronts' code
+/// (outside comments and unit tests) never uses, not even through a path
+/// the model layer re-exports (`model::SceneDynamics`) or in a message.
+const FMI_UNSPOKEN: &[&str] = &["scene", "beam", "dynamics", "vehicle", "contact"];
+
 /// Arrows that still run up, each with its reason: (importing file under
 /// src/, the module it names, why). An entry that no longer matches any
 /// import fails the test, so that the list only shrinks. None is left: the
@@ -286,6 +298,42 @@ fn no_physics_module_names_the_scene_format() {
         "physics modules that name crate::scene (the specs they need live in the physics: \
          structure::beam, structure::profile, solver::spec, solver::integrate):\n{}",
         listed(&offending)
+    );
+}
+
+#[test]
+fn the_fmi_fronts_name_only_the_model_seam() {
+    let offending: Vec<Arrow> = arrows()
+        .into_iter()
+        .filter(|a| FMI_FRONTS.contains(&a.from.as_str()) && !FMI_MAY_NAME.contains(&a.to.as_str()))
+        .collect();
+    assert!(
+        offending.is_empty(),
+        "FMI fronts that name a module beside the model layer (ask model::FmuModel instead):\n{}",
+        listed(&offending)
+    );
+    let mut files = Vec::new();
+    library_files(&src(), &mut files);
+    let mut spoken = Vec::new();
+    for path in files {
+        let file = relative(&path);
+        if !FMI_FRONTS.contains(&top_module(&file).as_str()) || file.ends_with("tests.rs") {
+            continue;
+        }
+        let (code, _) = without_tests(&without_comments(&fs::read_to_string(&path).unwrap()));
+        let code = code.to_lowercase();
+        spoken.extend(
+            FMI_UNSPOKEN
+                .iter()
+                .filter(|w| code.contains(*w))
+                .map(|w| format!("  {file}: {w}")),
+        );
+    }
+    assert!(
+        spoken.is_empty(),
+        "FMI fronts that speak of the scene or the physics (the model's words come \
+         through model::FmuModel):\n{}",
+        spoken.join("\n")
     );
 }
 

@@ -6,15 +6,15 @@
 use guideway::fmi2::instance::Instance;
 use guideway::fmi2::logging::Logger;
 use guideway::fmi2::model_description::generate;
-use guideway::model::{Model, Role, SceneDynamics, Value, VarType};
+use guideway::model::{FmuModel, Model, Role, SceneDynamics, Value, VarType};
 use guideway::scene::builtins;
 use guideway::Scene;
 
-type Fmu = Instance<SceneDynamics>;
+type Fmu = Instance<Model<SceneDynamics>>;
 
 fn instance(scene: &Scene) -> (Fmu, String) {
     let model = Model::<SceneDynamics>::new(scene.clone()).unwrap();
-    let (xml, guid) = generate(model.scene(), model.table());
+    let (xml, guid) = generate(&model.info(), model.table());
     let logger = Logger::new(None, std::ptr::null_mut(), "own", false);
     let fmu = Instance::new(scene.clone(), &guid, logger).unwrap_or_else(|(_, e)| panic!("{e}"));
     (fmu, xml)

@@ -17,6 +17,7 @@ mod fmu_own_states;
 mod hostile_inputs;
 mod magnitude_fuzz;
 mod nodes_output;
+mod output_names;
 mod release;
 mod scene_fuzz;
 mod sweep;
