@@ -2,7 +2,7 @@
 """Parameter sweep of a guideway wheel FMU on Dask: initial speed x bending
 stiffness x wheel mass, one table and a plot of the dynamic amplification.
 
-    .venv/bin/python scripts/sweep.py dist/0.2.0/lee1994_wheel_10.fmu \
+    .venv/bin/python scripts/sweep.py dist/0.3.0/lee1994_wheel_10.fmu \
         [--speeds 5:300:5] [--stiffness 5e8,1e9,2e9] [--mass 1500,3000,6000] \
         [--workers 2 | --scheduler tcp://HOST:8786] \
         [--out sweep.csv] [--plot sweep.png]
