@@ -133,7 +133,6 @@ impl Simulation {
         &self.quantities
     }
 
-    /// The assembled system (bodies, force elements, contacts, beam).
     /// The static envelope's loads: (abscissa at the start, downward
     /// force) of each contact's static share, taken before the static start
     /// moved the bodies (`design::envelope_of_run` reads them).
@@ -141,6 +140,7 @@ impl Simulation {
         &self.envelope_loads
     }
 
+    /// The assembled system (bodies, force elements, contacts, beam).
     pub fn system(&self) -> &System {
         &self.system
     }
