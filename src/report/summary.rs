@@ -191,7 +191,10 @@ impl SummaryBuilder {
             deck: DeckRecord::new(names, scene.solver.step),
             envelope_of: (!design.is_empty()).then(|| scene.clone()),
             scene: scene.name.clone(),
-            speed: find(&output_name(QuantityKind::NominalSpeed, &scene.vehicles[0].name)),
+            speed: find(&output_name(
+                QuantityKind::NominalSpeed,
+                &scene.vehicles[0].name,
+            )),
             peak_deflection: vec![None; sensors.len()],
             sensors,
             energy: find(&output_name(QuantityKind::Balance, "")),
