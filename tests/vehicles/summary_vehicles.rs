@@ -24,7 +24,7 @@ fn run_watched(scene: &Scene) -> (Run, RunSummary) {
 /// their exit into the free vibration (`end_time` set).
 fn two_coaches() -> Scene {
     let mut scene = builtin("train-3-coaches-2x25-5").expect("built-in");
-    scene.vehicles.truncate(1);
+    scene.vehicles.truncate(2);
     scene.solver.step = 1e-3;
     scene.solver.integrator = IntegratorKind::Hht;
     scene.solver.end_time = Some(19.5);
