@@ -289,7 +289,7 @@ RUN_INTEGRALS = {"dissipated", "beam_dissipated", "tractive_work", "numerical_di
 # Histories the next step extrapolates from (loads, step sizes, impulses):
 # any finite values are a possible past of some run.
 HISTORIES = {"force_history", "step_history", "last_applied", "pending_restart",
-             "body_force", "coupling_loads"}
+             "vehicle_forces", "coupling_loads"}
 # The phase-space point of beam and bodies: any finite values are a
 # possible initial condition, except a body height that leaves a closed
 # contact (checked below).
