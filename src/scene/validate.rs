@@ -602,7 +602,7 @@ fn check_body(
 ) {
     let path = |field: &str| format!("{prefix}.{field}");
     check_body_name(checks, &path("name"), &body.name);
-    checks.positive(&path("mass"), body.mass);
+    check_vehicle_fields(checks, prefix, body);
     crate::vehicle::presets::check(checks, prefix, body);
     check_wheelsets_on_track(checks, prefix, body, scene);
     if checks.finite(&path("initial_position"), body.initial_position) && length_ok {
@@ -631,12 +631,32 @@ fn check_body(
             );
         }
     }
-    checks.finite(&path("initial_speed"), body.initial_speed);
     check_prescribed_speed(checks, prefix, body);
     checks.finite(&path("force_x"), body.force_x);
     checks.finite(&path("force_y"), body.force_y);
     check_flight(checks, scene, prefix, body);
     check_contact_law(checks, prefix, body);
+}
+
+/// Every number of one vehicle that the field table reads (`body.*` rows,
+/// named at `prefix`), against its row's rule in the row's words; only
+/// present values are checked (a kind's missing block is its preset's
+/// problem). `initial_position` (`Rule::OnTrack`) is left to `check_body`,
+/// whose one message gives both ends of the track.
+fn check_vehicle_fields(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
+    for f in FIELDS {
+        let Access::Vehicle(get, _) = f.access else {
+            continue;
+        };
+        if f.rule == Rule::OnTrack {
+            continue;
+        }
+        let Some(x) = get(body) else { continue };
+        if let Some(words) = f.rule.problem(x, 0.0) {
+            let field = f.path.strip_prefix("body.").unwrap_or(f.path);
+            checks.fail(format!("{prefix}.{field}"), fmt_f64(x), words);
+        }
+    }
 }
 
 /// A vehicle's name: an identifier of at most `MAX_NAME_CHARS`, not one the
@@ -688,16 +708,12 @@ fn check_contact_law(checks: &mut Checks, prefix: &str, body: &super::BodySpec) 
     }
 }
 
-/// Restitution in [0, 1]; a start above the track is ≥ 0 and needs the
+/// A start above the track is ≥ 0 and needs the
 /// rest start (the static start puts every vehicle on the beam).
 fn check_flight(checks: &mut Checks, scene: &Scene, prefix: &str, body: &super::BodySpec) {
     let path = |field: &str| format!("{prefix}.{field}");
-    let e = body.restitution;
-    if checks.finite(&path("restitution"), e) && !(0.0..=1.0).contains(&e) {
-        checks.fail(path("restitution"), fmt_f64(e), "must lie in [0, 1]");
-    }
+    // restitution's [0, 1] and the height's >= 0 are the table's rows.
     let height = body.initial_height;
-    checks.non_negative(&path("initial_height"), height);
     if height > 0.0 && scene.solver.start == super::StartKind::Static {
         checks.fail(
             path("initial_height"),
@@ -893,6 +909,9 @@ fn check_couplings(checks: &mut Checks, scene: &Scene) {
     }
 }
 
+/// Sensors: at most `MAX_SENSORS`; each number against its row of the
+/// field table; identifier names unique among the sensors; on the beam,
+/// outside the rail gaps.
 fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
     let count = scene.sensors.len();
     if count > MAX_SENSORS {
@@ -922,10 +941,11 @@ fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             );
         }
         let position_path = format!("sensors[{i}].position");
-        if checks.finite(&position_path, sensor.position)
-            && length_ok
-            && !(0.0..=scene.beam.length).contains(&sensor.position)
-        {
+        // The row's own rule (>= 0) is the table's; the beam's end is here.
+        if !check_sensor_fields(checks, i, sensor) {
+            continue;
+        }
+        if length_ok && sensor.position > scene.beam.length {
             checks.fail(
                 position_path,
                 fmt_f64(sensor.position),
@@ -942,6 +962,25 @@ fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
             );
         }
     }
+}
+
+/// Every number of sensor `i` that the field table reads (`sensors.*`
+/// rows, named `sensors[i].*`), against its row's rule in the row's words;
+/// whether every one keeps its rule.
+fn check_sensor_fields(checks: &mut Checks, i: usize, sensor: &super::SensorSpec) -> bool {
+    let mut ok = true;
+    for f in FIELDS {
+        let Access::Sensor(get, _) = f.access else {
+            continue;
+        };
+        let Some(x) = get(sensor) else { continue };
+        if let Some(words) = f.rule.problem(x, 0.0) {
+            let field = f.path.strip_prefix("sensors.").unwrap_or(f.path);
+            checks.fail(format!("sensors[{i}].{field}"), fmt_f64(x), words);
+            ok = false;
+        }
+    }
+    ok
 }
 
 /// Like the sensors: at most `MAX_SENSORS`, identifier names unique among
@@ -1219,12 +1258,11 @@ impl Checks {
         self.rule(path, x, Rule::NonNegative);
     }
 
-    pub(crate) fn required_positive(&mut self, path: &str, x: Option<f64>, who: &str) {
-        match x {
-            None => self.fail(path, "missing", format!("{who} a value > 0")),
-            Some(x) => {
-                self.positive(path, x);
-            }
+    /// A value `who` needs: reported when missing (a present one is
+    /// checked by its row of the field table).
+    pub(crate) fn required(&mut self, path: &str, x: Option<f64>, who: &str) {
+        if x.is_none() {
+            self.fail(path, "missing", format!("{who} a value > 0"));
         }
     }
 }

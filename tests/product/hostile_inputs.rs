@@ -437,3 +437,77 @@ fn sixty_modes_of_a_4096_element_simply_supported_beam_match_the_closed_form() {
         "{error_60:e} against {term_60:e}"
     );
 }
+
+/// Values each rule of the field table refuses (every rule refuses the
+/// non-finite and the over-large).
+fn bad_values(rule: guideway::scene::fields::Rule) -> Vec<f64> {
+    use guideway::scene::fields::Rule;
+    let mut bad = vec![f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 2e15, -2e15];
+    bad.extend(match rule {
+        Rule::Positive => vec![0.0, -1.0, 1e-300],
+        Rule::NonNegative => vec![-1.0, -1e-300],
+        Rule::UnitInterval => vec![-0.1, 1.5],
+        Rule::OnTrack => vec![-1e9],
+        _ => vec![],
+    });
+    bad
+}
+
+/// Every vehicle and sensor number the field table reads, in every
+/// built-in scene (and two scene files) that has it, set to each value its rule refuses: the
+/// scene is refused with a problem naming the field's path and the value.
+#[test]
+fn every_bad_vehicle_and_sensor_value_is_refused_naming_its_path() {
+    use guideway::scene::fields::{Access, FIELDS};
+    let mut rows_seen = std::collections::HashSet::new();
+    // Built-in scenes, and scene files for the kinds none of them runs.
+    let files = [
+        "scenes/irregular_track.toml",
+        "scenes/maglev-24m-100-ems.toml",
+    ];
+    let builtins = guideway::scene::builtins().iter().map(|(name, _)| *name);
+    for name in builtins.chain(files) {
+        let scene = Scene::load(name).expect(name);
+        for f in FIELDS {
+            let rest = |prefix: &str| f.path.strip_prefix(prefix).unwrap().to_string();
+            let path_of = |k: usize| match f.access {
+                Access::Vehicle(..) => {
+                    format!("{}.{}", guideway::scene::vehicle_path(k), rest("body."))
+                }
+                Access::Sensor(..) => format!("sensors[{k}].{}", rest("sensors.")),
+                _ => String::new(),
+            };
+            if !matches!(f.access, Access::Vehicle(..) | Access::Sensor(..)) {
+                continue;
+            }
+            for k in 0..f.holders(&scene) {
+                for x in bad_values(f.rule) {
+                    let mut bad = scene.clone();
+                    if !f.set(&mut bad, k, x) {
+                        continue;
+                    }
+                    rows_seen.insert(f.path);
+                    let (path, value) = (path_of(k), format!("{x:?}"));
+                    let problems = bad.validate().expect_err(&path).problems();
+                    assert!(
+                        problems.iter().any(|p| p.path == path && p.value == value),
+                        "{name}: {path} = {value} refused without naming it: {problems:?}"
+                    );
+                }
+            }
+        }
+    }
+    // The built-in scenes hold every vehicle and sensor row that a scene
+    // may give a number (the list above exercised each).
+    let numeric = FIELDS
+        .iter()
+        .filter(|f| matches!(f.access, Access::Vehicle(..) | Access::Sensor(..)));
+    let missing: Vec<&str> = numeric
+        .map(|f| f.path)
+        .filter(|p| !rows_seen.contains(p))
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "rows no built-in scene holds: {missing:?}"
+    );
+}

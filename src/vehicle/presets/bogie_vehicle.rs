@@ -246,22 +246,12 @@ fn wheelset(
 /// gliders, and axles that do not overlap.
 fn check_bogie(checks: &mut Checks, prefix: &str, b: &BogieSpec) {
     let path = |field: &str| format!("{prefix}.bogie.{field}");
-    for (field, value) in [
-        ("car_inertia", b.car_inertia),
-        ("bogie_mass", b.bogie_mass),
-        ("bogie_inertia", b.bogie_inertia),
-        ("axle_half_distance", b.axle_half_distance),
-        ("primary_stiffness", b.primary_stiffness),
-        ("secondary_stiffness", b.secondary_stiffness),
-    ] {
-        checks.positive(&path(field), value);
-    }
-    // 0: massless followers under the bogies' axles.
-    if b.wheelset_mass != 0.0 {
+    // The numbers' own rules are the field table's rows; a wheelset mass
+    // is 0 (massless followers under the axles) or positive, which the
+    // row's >= 0 leaves to here.
+    if b.wheelset_mass > 0.0 && b.wheelset_mass.is_finite() {
         checks.positive(&path("wheelset_mass"), b.wheelset_mass);
     }
-    checks.non_negative(&path("primary_damping"), b.primary_damping);
-    checks.non_negative(&path("secondary_damping"), b.secondary_damping);
     check_wheel_wheelsets(checks, &path, b);
     // The two bogies' axles must not overlap: lc > lt.
     if b.bogie_half_distance.is_finite()
@@ -283,9 +273,8 @@ fn check_bogie(checks: &mut Checks, prefix: &str, b: &BogieSpec) {
 /// neither.
 fn check_wheel_wheelsets(checks: &mut Checks, path: &dyn Fn(&str) -> String, b: &BogieSpec) {
     match (b.wheel_radius, b.wheelset_inertia) {
-        (Some(r), Some(j)) => {
-            checks.positive(&path("wheel_radius"), r);
-            checks.positive(&path("wheelset_inertia"), j);
+        // r and j's own rules (> 0) are the field table's rows.
+        (Some(_), Some(_)) => {
             if b.wheelset_mass == 0.0 {
                 checks.fail(
                     path("wheelset_mass"),

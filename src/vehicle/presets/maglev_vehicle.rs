@@ -63,18 +63,12 @@ impl Preset for MaglevVehicle {
                 ),
             );
         };
-        for (field, value) in [
-            ("car_inertia", m.car_inertia),
-            ("magnet_spacing", m.magnet_spacing),
-            ("stiffness", m.stiffness),
-        ] {
-            checks.positive(&path(field), value);
-        }
-        // 0: massless followers at the magnets' stations.
-        if m.magnet_mass != 0.0 {
+        // The numbers' own rules are the field table's rows; a magnet
+        // mass is 0 (massless followers at the magnets' stations) or
+        // positive, which the row's >= 0 leaves to here.
+        if m.magnet_mass > 0.0 && m.magnet_mass.is_finite() {
             checks.positive(&path("magnet_mass"), m.magnet_mass);
         }
-        checks.non_negative(&path("damping"), m.damping);
         if !(1..=MAX_MAGNETS).contains(&m.magnets) {
             checks.fail(
                 path("magnets"),

@@ -13,8 +13,9 @@ impl Preset for Wheel {
     const BLOCK: Option<Block> = Some(Block::InertiaRadius);
 
     fn check(checks: &mut Checks, prefix: &str, body: &BodySpec) {
-        checks.required_positive(&format!("{prefix}.inertia"), body.inertia, "a wheel needs");
-        checks.required_positive(&format!("{prefix}.radius"), body.radius, "a wheel needs");
+        // Present values' rule (> 0) is the field table's row.
+        checks.required(&format!("{prefix}.inertia"), body.inertia, "a wheel needs");
+        checks.required(&format!("{prefix}.radius"), body.radius, "a wheel needs");
     }
 
     fn build(spec: &BodySpec, beam: &Beam, _gravity: f64) -> Result<Vehicle, String> {
