@@ -135,3 +135,58 @@ pub fn positive(field: &'static str, value: f64) -> Result<f64, LawProblem> {
 pub fn needed(field: &'static str, value: Option<f64>, rule: &str) -> Result<f64, LawProblem> {
     value.ok_or((field, "missing".to_string(), rule.to_string()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::law::{ContactLawSpec, ResolvedLaw, LAW_ROWS, PRESETS};
+    use super::*;
+
+    #[test]
+    fn every_preset_resolves_to_a_compliant_law_of_the_list() {
+        for preset in PRESETS {
+            let spec = ContactLawSpec {
+                preset: Some(preset.to_string()),
+                ..ContactLawSpec::default()
+            };
+            let law = spec.resolve().unwrap_or_else(|e| panic!("{preset}: {e:?}"));
+            assert_ne!(law, ResolvedLaw::Rigid, "{preset}");
+        }
+        assert_eq!(ContactLawSpec::default().resolve(), Ok(ResolvedLaw::Rigid));
+    }
+
+    #[test]
+    fn an_unknown_law_or_preset_is_refused_naming_every_one() {
+        let unknown = |law: Option<&str>, preset: Option<&str>| {
+            let spec = ContactLawSpec {
+                law: law.map(str::to_string),
+                preset: preset.map(str::to_string),
+                ..ContactLawSpec::default()
+            };
+            spec.resolve().expect_err("refused")
+        };
+        let (field, value, rule) = unknown(Some("bump"), None);
+        assert_eq!((field, value.as_str()), ("law", "\"bump\""));
+        // The names come from the list, in the words the scenes have had.
+        assert_eq!(rule, "must be rigid, hertz or ems");
+        let (field, _, rule) = unknown(None, Some("rail"));
+        assert_eq!(field, "preset");
+        assert_eq!(rule, "must be one of wheel-rail, ems");
+        assert_eq!(alternatives(&["a", "b", "c"]), "a, b or c");
+        assert_eq!(alternatives(&["a"]), "a");
+    }
+
+    #[test]
+    fn every_row_is_a_field_the_table_accepts() {
+        for (path, _, _) in LAW_ROWS {
+            let field = path.strip_prefix("body.contact_law.").unwrap();
+            let value = if matches!(field, "law" | "preset") {
+                "\"x\""
+            } else {
+                "1.0"
+            };
+            let parsed = toml::from_str::<ContactLawSpec>(&format!("{field} = {value}"));
+            assert!(parsed.is_ok(), "{path}: {parsed:?}");
+        }
+        assert!(toml::from_str::<ContactLawSpec>("bump = 1.0").is_err());
+    }
+}

@@ -1,8 +1,10 @@
-//! The vehicle presets, one file per kind: each owns its spec, its rules,
-//! its build into bodies, force elements and contacts, its reach and its
-//! FMU description. `BodyKind` names them; the `presets!` list below is
-//! the one place that maps a kind to its file (static dispatch, one match
-//! per question, all generated from that list).
+//! The vehicle presets, one file per kind: each owns its spec, its fields
+//! of `[body]` (their rows of the field table, their rules, their refusal
+//! on another kind), its build into bodies, force elements and contacts,
+//! its reach and its FMU description. `BodyKind` names them; the
+//! `presets!` list below is the one place that maps a kind to its file and
+//! its fields (static dispatch, one match per question, `BodySpec` and the
+//! checks, all generated from that list).
 
 #[macro_use]
 mod body_spec;
