@@ -25,8 +25,112 @@
 //! follower's suspension is, so they ride on the follower's machinery
 //! (`contact::Follower`): evaluated with the loads at every stage, no rows
 //! in the iteration, slack (open) where the law would pull.
+//!
+//! A law is one place, this file: its line in `contact_laws!` (its name in
+//! a scene, its presets, its fields; `law_spec.rs` makes the scene's
+//! `[body.contact_law]` table of them), the function that checks its
+//! fields into a `ResolvedLaw` variant, that variant's follower, and its
+//! `LawKind` variant with its force and energy.
 
+use serde::{Deserialize, Serialize};
+
+use super::law_spec::{needed, positive, LawProblem};
 use super::Follower;
+
+contact_laws! {
+    law_note: "rigid (Lee's constraint, the default), hertz or ems (docs/contact-laws.md)",
+    preset_note:
+        "wheel-rail (Hertz, 0.46 m wheel on a 0.3 m rail head) or ems (10 mm gap, PD control)",
+    "rigid" => rigid, presets {}, fields {};
+    "hertz" => hertz,
+    presets { "wheel-rail" { wheel_radius: 0.46, rail_radius: 0.3 } },
+    fields {
+        /// Hertz: C_H (N/m^1.5), or from the radii below.
+        coefficient ["N/m^1.5", "N/m^1.5, Hertz C_H > 0, or from the radii"],
+        /// Hertz: the wheel's rolling radius and the rail head's transverse
+        /// radius (m), and their material (Pa; steel if left out).
+        wheel_radius ["m", "m, > 0, Hertz: rolling radius"],
+        rail_radius ["m", "m, > 0, Hertz: rail head transverse radius"],
+        elastic_modulus ["Pa", "Pa, > 0, Hertz: steel if left out"],
+        poisson_ratio ["", "in [0, 0.5), Hertz: steel if left out"],
+    };
+    "ems" => ems,
+    presets { "ems" { nominal_gap: 0.01, proportional_gain: 160.0, derivative_gain: 0.9 } },
+    fields {
+        /// EMS: the nominal air gap s₀ (m), the controller's gains over the
+        /// operating current K_p/i₀ (1/m) and K_d/i₀ (s/m), and the force the
+        /// magnet saturates at (N; twice its static load if left out).
+        nominal_gap ["m", "m, > 0, EMS: the air gap held"],
+        proportional_gain ["1/m", "1/m, EMS: K_p / i0"],
+        derivative_gain ["s/m", "s/m, EMS: K_d / i0"],
+        max_force ["N", "N, > 0, EMS: saturation; twice the static load if left out"],
+    };
+}
+
+/// Lee's rigid contact: no fields.
+fn rigid(_spec: &ContactLawSpec) -> Result<ResolvedLaw, LawProblem> {
+    Ok(ResolvedLaw::Rigid)
+}
+
+/// Hertz's coefficient, given or from the radii and the material.
+fn hertz(spec: &ContactLawSpec) -> Result<ResolvedLaw, LawProblem> {
+    let coefficient = match (spec.coefficient, spec.wheel_radius, spec.rail_radius) {
+        (Some(c), _, _) => positive("coefficient", c)?,
+        (None, Some(rw), Some(rr)) => {
+            let (e, nu) = STEEL;
+            let e = positive("elastic_modulus", spec.elastic_modulus.unwrap_or(e))?;
+            let nu = spec.poisson_ratio.unwrap_or(nu);
+            if !(0.0..0.5).contains(&nu) {
+                return Err((
+                    "poisson_ratio",
+                    nu.to_string(),
+                    "must lie in [0, 0.5)".into(),
+                ));
+            }
+            let (rw, rr) = (positive("wheel_radius", rw)?, positive("rail_radius", rr)?);
+            hertz_coefficient(rw, rr, e, nu)
+        }
+        _ => {
+            let rule = "a hertz law needs coefficient, or wheel_radius and rail_radius";
+            return Err(("coefficient", "missing".into(), rule.into()));
+        }
+    };
+    Ok(ResolvedLaw::Hertz { coefficient })
+}
+
+/// The EMS magnet: its gap, a controller that beats the magnet's negative
+/// stiffness, a damping gain >= 0, a cap if given.
+fn ems(spec: &ContactLawSpec) -> Result<ResolvedLaw, LawProblem> {
+    let rule = "an ems law needs nominal_gap, proportional_gain and derivative_gain";
+    let nominal_gap = positive(
+        "nominal_gap",
+        needed("nominal_gap", spec.nominal_gap, rule)?,
+    )?;
+    let proportional_gain = needed("proportional_gain", spec.proportional_gain, rule)?;
+    if !(proportional_gain.is_finite() && proportional_gain > 1.0 / nominal_gap) {
+        let rule = format!(
+            "must exceed 1 / nominal_gap = {} 1/m: the controller must overcome the \
+             magnet's negative stiffness",
+            1.0 / nominal_gap
+        );
+        return Err(("proportional_gain", proportional_gain.to_string(), rule));
+    }
+    let derivative_gain = needed("derivative_gain", spec.derivative_gain, rule)?;
+    if !(derivative_gain.is_finite() && derivative_gain >= 0.0) {
+        let rule = "must be finite and >= 0".to_string();
+        return Err(("derivative_gain", derivative_gain.to_string(), rule));
+    }
+    let max_force = spec
+        .max_force
+        .map(|f| positive("max_force", f))
+        .transpose()?;
+    Ok(ResolvedLaw::Ems {
+        nominal_gap,
+        proportional_gain,
+        derivative_gain,
+        max_force,
+    })
+}
 
 /// Which law a follower's force obeys: each variant's force and energy
 /// are side by side in `impl LawKind` below.

@@ -20,6 +20,8 @@ use crate::body::BodyState;
 use crate::contact_law::LawKind;
 use crate::profile::Profile;
 
+#[macro_use]
+pub mod law_spec;
 pub mod law;
 pub mod loads;
 

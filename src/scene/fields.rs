@@ -7,9 +7,13 @@
 //! page `docs/scene-fields.md` and the FMU's parameters (by path, for every
 //! vehicle). A new field is one row here (plus its serde field in
 //! `scene/mod.rs` and any rule that ties it to other fields in
-//! `validate.rs`).
+//! `validate.rs`); a preset's own fields are rows in the preset's file
+//! (`vehicle/presets/`), placed into this table by the `presets!` list.
 
-use super::{BodySpec, Scene, SensorSpec, SpeedSpec, MAX_ELEMENTS, MAX_MAGNITUDE, MIN_MAGNITUDE};
+use super::{
+    BodyKind, BodySpec, Scene, SensorSpec, SpeedSpec, MAX_ELEMENTS, MAX_MAGNITUDE, MIN_MAGNITUDE,
+};
+use std::sync::LazyLock;
 
 /// One field of a scene file.
 #[derive(Debug, Clone, Copy)]
@@ -215,8 +219,53 @@ fn set_initial_speed(body: &mut BodySpec, x: f64) {
     }
 }
 
-/// Every field of a scene file, in the order of the reference page.
-pub const FIELDS: &[Field] = &[
+/// Every field of a scene file, in the order of the reference page: the
+/// scene's own rows, the contact laws' (`contact::law::LAW_ROWS`, from
+/// their list) before the beam's, and each preset's rows
+/// (`vehicle::presets::rows`, the fields of `[body]` a preset owns) before
+/// the row the preset names.
+pub static FIELDS: LazyLock<Vec<Field>> = LazyLock::new(|| {
+    let mut rows = SCENE_ROWS.to_vec();
+    let laws = crate::contact::law::LAW_ROWS
+        .iter()
+        .map(|&row| law_row(row));
+    splice_before(&mut rows, "beam.length", laws);
+    for (before, own) in crate::vehicle::presets::rows() {
+        splice_before(&mut rows, before, own.iter().copied());
+    }
+    if let Some(kind) = rows.iter_mut().find(|f| f.path == "body.kind") {
+        kind.note = LazyLock::force(&KIND_NOTE).as_str();
+    }
+    rows
+});
+
+/// The note of `body.kind`: every preset's name (`wheel | glider | ...`).
+static KIND_NOTE: LazyLock<String> = LazyLock::new(|| BodyKind::names().join(" | "));
+
+/// Put `own` into `rows` just before the row of `path`.
+fn splice_before(rows: &mut Vec<Field>, path: &str, own: impl Iterator<Item = Field>) {
+    let at = rows.iter().position(|f| f.path == path);
+    let at = at.unwrap_or_else(|| panic!("rows placed before {path}: no such row"));
+    rows.splice(at..at, own);
+}
+
+/// The row of a field of `[body.contact_law]` (`contact::law`'s list):
+/// absent unless given, its rules the law's own (`Rule::Words`), not an
+/// FMU parameter.
+fn law_row((path, unit, note): crate::contact::law_spec::LawRow) -> Field {
+    Field {
+        path,
+        unit,
+        default: Default::Absent,
+        rule: Rule::Words,
+        note,
+        doc: "",
+        access: Access::None,
+    }
+}
+
+/// The rows of the fields of a scene file that no preset owns.
+const SCENE_ROWS: &[Field] = &[
     Field {
         path: "name",
         unit: "",
@@ -573,435 +622,6 @@ pub const FIELDS: &[Field] = &[
         access: Access::None,
     },
     Field {
-        path: "body.suspension.stiffness",
-        unit: "N/m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "N/m, vertical spring, > 0",
-        doc: "vertical spring of the suspension",
-        access: Access::Vehicle(
-            |b| b.suspension.as_ref().map(|s| s.stiffness),
-            |b, x| {
-                if let Some(s) = b.suspension.as_mut() {
-                    s.stiffness = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.suspension.damping",
-        unit: "N.s/m",
-        default: Default::Value("0"),
-        rule: Rule::NonNegative,
-        note: "N s/m, vertical damper, >= 0",
-        doc: "vertical damper of the suspension",
-        access: Access::Vehicle(
-            |b| b.suspension.as_ref().map(|s| s.damping),
-            |b, x| {
-                if let Some(s) = b.suspension.as_mut() {
-                    s.damping = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.suspension.unsprung_mass",
-        unit: "kg",
-        default: Default::Required,
-        rule: Rule::NonNegative,
-        note: "kg, the glider under the spring, >= 0 (0: the massless follower)",
-        doc: "mass of the glider under the spring",
-        access: Access::Vehicle(
-            |b| b.suspension.as_ref().map(|s| s.unsprung_mass),
-            |b, x| {
-                if let Some(s) = b.suspension.as_mut() {
-                    s.unsprung_mass = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.car_inertia",
-        unit: "kg.m2",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "kg m^2, > 0, car body pitch inertia",
-        doc: "car body pitch inertia",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.car_inertia),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.car_inertia = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.bogie_mass",
-        unit: "kg",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "kg, > 0, one bogie",
-        doc: "mass of one bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.bogie_mass),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.bogie_mass = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.bogie_inertia",
-        unit: "kg.m2",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "kg m^2, > 0, one bogie",
-        doc: "pitch inertia of one bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.bogie_inertia),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.bogie_inertia = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.wheelset_mass",
-        unit: "kg",
-        default: Default::Required,
-        rule: Rule::NonNegative,
-        note: "kg, > 0, or 0: massless followers under the axles",
-        doc: "mass of one wheelset (0: massless followers)",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.wheelset_mass),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.wheelset_mass = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.bogie_half_distance",
-        unit: "m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "m, l_c > l_t: half the distance of the bogie centres",
-        doc: "half the distance of the bogie centres",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.bogie_half_distance),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.bogie_half_distance = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.axle_half_distance",
-        unit: "m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "m, l_t > 0: half a bogie's axle distance",
-        doc: "half a bogie's axle distance",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.axle_half_distance),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.axle_half_distance = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.primary_stiffness",
-        unit: "N/m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "N/m, k1 > 0, per axle",
-        doc: "primary suspension stiffness per axle",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.primary_stiffness),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.primary_stiffness = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.primary_damping",
-        unit: "N.s/m",
-        default: Default::Value("0"),
-        rule: Rule::NonNegative,
-        note: "N s/m, c1 >= 0, per axle",
-        doc: "primary suspension damping per axle",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.primary_damping),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.primary_damping = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.secondary_stiffness",
-        unit: "N/m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "N/m, k2 > 0, per bogie",
-        doc: "secondary suspension stiffness per bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.secondary_stiffness),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.secondary_stiffness = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.secondary_damping",
-        unit: "N.s/m",
-        default: Default::Value("0"),
-        rule: Rule::NonNegative,
-        note: "N s/m, c2 >= 0, per bogie",
-        doc: "secondary suspension damping per bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.secondary_damping),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.secondary_damping = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.wheel_radius",
-        unit: "m",
-        default: Default::Absent,
-        rule: Rule::Positive,
-        note: "m, > 0, with wheelset_inertia: rolling wheelsets",
-        doc: "rolling radius of the wheelsets",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().and_then(|g| g.wheel_radius),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.wheel_radius = Some(x)
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.bogie.wheelset_inertia",
-        unit: "kg.m2",
-        default: Default::Absent,
-        rule: Rule::Positive,
-        note: "kg m^2, > 0, with wheel_radius",
-        doc: "rolling inertia of one wheelset",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().and_then(|g| g.wheelset_inertia),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.wheelset_inertia = Some(x)
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.maglev.car_inertia",
-        unit: "kg.m2",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "kg m^2, > 0, car body pitch inertia",
-        doc: "car body pitch inertia",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.car_inertia),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.car_inertia = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.maglev.magnets",
-        unit: "",
-        default: Default::Required,
-        rule: Rule::Words,
-        note: "1 to 1000, centred on the car body",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.maglev.magnet_spacing",
-        unit: "m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "m, > 0",
-        doc: "distance between neighbouring magnets",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.magnet_spacing),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.magnet_spacing = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.maglev.magnet_mass",
-        unit: "kg",
-        default: Default::Required,
-        rule: Rule::NonNegative,
-        note: "kg, > 0, or 0: massless followers under the magnets' stations",
-        doc: "mass of one magnet (0: massless followers)",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.magnet_mass),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.magnet_mass = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.maglev.stiffness",
-        unit: "N/m",
-        default: Default::Required,
-        rule: Rule::Positive,
-        note: "N/m, k > 0, one magnet's suspension",
-        doc: "stiffness of one magnet's suspension",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.stiffness),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.stiffness = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.maglev.damping",
-        unit: "N.s/m",
-        default: Default::Value("0"),
-        rule: Rule::NonNegative,
-        note: "N s/m, c >= 0, one magnet's suspension",
-        doc: "damping of one magnet's suspension",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.damping),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.damping = x
-                }
-            },
-        ),
-    },
-    Field {
-        path: "body.contact_law.law",
-        unit: "",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "rigid (Lee's constraint, the default), hertz or ems (docs/contact-laws.md)",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.preset",
-        unit: "",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note:
-            "wheel-rail (Hertz, 0.46 m wheel on a 0.3 m rail head) or ems (10 mm gap, PD control)",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.coefficient",
-        unit: "N/m^1.5",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "N/m^1.5, Hertz C_H > 0, or from the radii",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.wheel_radius",
-        unit: "m",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "m, > 0, Hertz: rolling radius",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.rail_radius",
-        unit: "m",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "m, > 0, Hertz: rail head transverse radius",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.elastic_modulus",
-        unit: "Pa",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "Pa, > 0, Hertz: steel if left out",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.poisson_ratio",
-        unit: "",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "in [0, 0.5), Hertz: steel if left out",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.nominal_gap",
-        unit: "m",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "m, > 0, EMS: the air gap held",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.proportional_gain",
-        unit: "1/m",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "1/m, EMS: K_p / i0",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.derivative_gain",
-        unit: "s/m",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "s/m, EMS: K_d / i0",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
-        path: "body.contact_law.max_force",
-        unit: "N",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "N, > 0, EMS: saturation; twice the static load if left out",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
         path: "beam.length",
         unit: "m",
         default: Default::Required,
@@ -1261,7 +881,8 @@ pub const FIELDS: &[Field] = &[
         unit: "",
         default: Default::Required,
         rule: Rule::Words,
-        note: "wheel | glider | sprung_mass | bogie_vehicle | maglev_vehicle | moving_force",
+        // The presets' names, `KIND_NOTE`, put in by `FIELDS`.
+        note: "",
         doc: "",
         access: Access::None,
     },
@@ -1273,24 +894,6 @@ pub const FIELDS: &[Field] = &[
         note: "kg, > 0",
         doc: "mass of the body",
         access: Access::Vehicle(|b| Some(b.mass), |b, x| b.mass = x),
-    },
-    Field {
-        path: "body.inertia",
-        unit: "kg.m2",
-        default: Default::Absent,
-        rule: Rule::Positive,
-        note: "kg m^2, centroidal J; wheel only",
-        doc: "centroidal moment of inertia of the wheel",
-        access: Access::Vehicle(|b| b.inertia, |b, x| b.inertia = Some(x)),
-    },
-    Field {
-        path: "body.radius",
-        unit: "m",
-        default: Default::Absent,
-        rule: Rule::Positive,
-        note: "m, r; wheel only",
-        doc: "radius of the wheel",
-        access: Access::Vehicle(|b| b.radius, |b, x| b.radius = Some(x)),
     },
     Field {
         path: "body.initial_position",
@@ -1320,22 +923,14 @@ pub const FIELDS: &[Field] = &[
         access: Access::None,
     },
     Field {
-        path: "body.train",
-        unit: "",
-        default: Default::Absent,
-        rule: Rule::Words,
-        note: "HSLM-A1 ... HSLM-A10; moving_force only",
-        doc: "",
-        access: Access::None,
-    },
-    Field {
         path: "body.force_x",
         unit: "N",
         default: Default::Value("0"),
         rule: Rule::Finite,
         note: "N, constant force on the body's centre",
+        // Read for the table's pass; no doc: an FMU input, not a parameter.
         doc: "",
-        access: Access::None,
+        access: Access::Vehicle(|b| Some(b.force_x), |b, x| b.force_x = x),
     },
     Field {
         path: "body.force_y",
@@ -1343,8 +938,9 @@ pub const FIELDS: &[Field] = &[
         default: Default::Value("0"),
         rule: Rule::Finite,
         note: "N, y up: the paper's load is -600 kN",
+        // Read for the table's pass; no doc: an FMU input, not a parameter.
         doc: "",
-        access: Access::None,
+        access: Access::Vehicle(|b| Some(b.force_y), |b, x| b.force_y = x),
     },
     Field {
         path: "body.restitution",
@@ -1573,7 +1169,7 @@ pub fn field_notes_markdown() -> String {
     }
     page += "\n| field | unit | default | FMU parameter | unit, meaning, rule |\n\
              |---|---|---|---|---|\n";
-    for f in FIELDS {
+    for f in FIELDS.iter() {
         let default = match f.default {
             Default::Required => "required".to_string(),
             Default::Absent => "absent".to_string(),
@@ -1641,7 +1237,7 @@ mod tests {
     fn numeric_defaults_are_what_the_parser_fills_in() {
         let scene: Scene = toml::from_str(MINIMAL).unwrap();
         let mut checked = 0;
-        for f in FIELDS {
+        for f in FIELDS.iter() {
             let Default::Value(text) = f.default else {
                 continue;
             };
@@ -1665,7 +1261,7 @@ mod tests {
     #[test]
     fn setters_and_getters_agree() {
         let scene: Scene = toml::from_str(MINIMAL).unwrap();
-        for f in FIELDS {
+        for f in FIELDS.iter() {
             let mut changed = scene.clone();
             let (before, after) = match f.access {
                 Access::Scene(get, set) => {
@@ -1688,7 +1284,7 @@ mod tests {
     #[test]
     fn every_field_is_on_the_reference_page() {
         let page = field_notes_markdown();
-        for f in FIELDS {
+        for f in FIELDS.iter() {
             assert!(page.contains(&format!("| `{}` |", f.path)), "{}", f.path);
         }
     }

@@ -6,7 +6,6 @@
 mod advice;
 mod annotate;
 mod builtin;
-mod contact_law;
 mod error;
 pub mod fields;
 mod frequency;
@@ -15,13 +14,13 @@ mod limits;
 mod on_deck;
 mod validate;
 
+pub use crate::contact::law::{ContactLawSpec, ResolvedLaw};
 pub use crate::structure::profile::IrregularitySpec;
 pub use crate::structure::track_sleepers::{SleeperPreset, SleepersSpec};
-pub use crate::vehicle::presets::{BodyKind, BogieSpec, MaglevSpec, SuspensionSpec};
+pub use crate::vehicle::presets::{BodyKind, BodySpec, BogieSpec, MaglevSpec, SuspensionSpec};
 pub use crate::vehicle::speed::SpeedSpec;
 pub use advice::advisories;
 pub use builtin::{builtin, builtins, fmu_builtins, template_file, templates, DEFAULT_SCENE};
-pub use contact_law::{ContactLawSpec, ResolvedLaw};
 pub use error::{Problem, SceneError};
 pub use fields::field_notes_markdown;
 pub use irregularity::{
@@ -207,72 +206,6 @@ fn default_gravity() -> f64 {
 
 pub use crate::structure::beam::{EndSupport, SupportsSpec};
 
-/// The vehicle (or moving force): its kind, mass, start and loads.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BodySpec {
-    /// Prefix of the body's variables (`wheel.x`, `glider.x`, ...).
-    pub name: String,
-    pub kind: BodyKind,
-    /// Mass m (kg).
-    pub mass: f64,
-    /// Centroidal moment of inertia J (kg m^2); wheels only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub inertia: Option<f64>,
-    /// Radius r (m); wheels only.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub radius: Option<f64>,
-    /// Abscissa of the contact point at t = 0 (m).
-    #[serde(default)]
-    pub initial_position: f64,
-    /// Initial travel speed (m/s), positive to the right.
-    pub initial_speed: f64,
-    /// Hold the body's horizontal speed (m/s): a number, or a table of
-    /// (time s, speed m/s) rows, linear between rows and held beyond them;
-    /// tractive forces computed each step hold it on every body of the
-    /// vehicle (any kind but a moving force).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub prescribed_speed: Option<SpeedSpec>,
-    /// Constant force on the body's centre, x component (N).
-    #[serde(default)]
-    pub force_x: f64,
-    /// Constant force on the body's centre, y component (N); the paper's
-    /// scenes use -600 kN.
-    #[serde(default)]
-    pub force_y: f64,
-    /// The suspension of a `sprung_mass`; left out for other kinds.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub suspension: Option<SuspensionSpec>,
-    /// A `moving_force` that stands for a whole standard train (`HSLM-A1` …
-    /// `HSLM-A10`): its first axle at `initial_position`, the others behind.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub train: Option<String>,
-    /// The bogies, wheelsets and suspensions of a `bogie_vehicle` (whose
-    /// `mass` is the car body's); left out for other kinds.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub bogie: Option<BogieSpec>,
-    /// The magnets and suspensions of a `maglev_vehicle` (whose `mass` is
-    /// the car body's); left out for other kinds.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub maglev: Option<MaglevSpec>,
-    /// Newton's coefficient of restitution e ∈ [0, 1] of the vehicle's
-    /// contacts at a landing (0: plastic, 1: elastic).
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub restitution: f64,
-    /// Height (m) of the whole vehicle above its place on the track at
-    /// t = 0: its contacts start open and it falls (needs `start = "rest"`).
-    #[serde(default, skip_serializing_if = "is_zero")]
-    pub initial_height: f64,
-    /// How the vehicle's contact bodies meet the track: Lee's rigid
-    /// contact when left out, or a compliant law (`contact_law`).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub contact_law: Option<ContactLawSpec>,
-}
-
-fn is_zero(x: &f64) -> bool {
-    *x == 0.0
-}
-
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
@@ -385,23 +318,11 @@ impl Scene {
                 foundation: None,
             },
             vehicles: vec![BodySpec {
-                name: name.to_string(),
-                kind,
-                mass: 3000.0,
                 inertia,
                 radius,
-                initial_position: 0.0,
                 initial_speed,
-                prescribed_speed: None,
-                force_x: 0.0,
                 force_y: -600e3,
-                suspension: None,
-                train: None,
-                bogie: None,
-                maglev: None,
-                restitution: 0.0,
-                initial_height: 0.0,
-                contact_law: None,
+                ..BodySpec::bare(name, kind, 3000.0)
             }],
             track: TrackSpec::default(),
             sensors: vec![SensorSpec {

@@ -39,12 +39,9 @@ pub const MAX_INTERMEDIATE_SUPPORTS: usize = 10_000;
 /// beam over a step, so the cap bounds the work of one step.
 pub const MAX_ITERATIONS: u32 = 1000;
 
-/// Every real of a scene lies within ±`MAX_MAGNITUDE`, and one that must be
-/// positive is at least `MIN_MAGNITUDE`: products of a few such values (an
-/// energy, an angular speed V/r) then stay far from overflow, where
-/// subnormal radii or speeds of 1e300 gave infinite energies.
-pub const MAX_MAGNITUDE: f64 = 1e15;
-pub const MIN_MAGNITUDE: f64 = 1e-15;
+// The magnitudes every real of a scene keeps (the contact laws' own rules
+// read them too, below the scene).
+pub use crate::numbers::{MAX_MAGNITUDE, MIN_MAGNITUDE};
 
 /// More vehicles than this is a typo, not a train.
 pub const MAX_VEHICLES: usize = 1_000;
@@ -190,7 +187,7 @@ fn check_ratio(checks: &mut Checks, path: &str, ratio: f64) {
 /// words (by part of the scene, so that problems keep the file's order);
 /// the checks of each part add the rules that tie fields to each other.
 fn check_scene_fields(checks: &mut Checks, scene: &Scene, prefixes: &[&str]) {
-    for f in FIELDS {
+    for f in FIELDS.iter() {
         let Access::Scene(get, _) = f.access else {
             continue;
         };
@@ -632,8 +629,6 @@ fn check_body(
         }
     }
     check_prescribed_speed(checks, prefix, body);
-    checks.finite(&path("force_x"), body.force_x);
-    checks.finite(&path("force_y"), body.force_y);
     check_flight(checks, scene, prefix, body);
     check_contact_law(checks, prefix, body);
 }
@@ -644,7 +639,7 @@ fn check_body(
 /// problem). `initial_position` (`Rule::OnTrack`) is left to `check_body`,
 /// whose one message gives both ends of the track.
 fn check_vehicle_fields(checks: &mut Checks, prefix: &str, body: &super::BodySpec) {
-    for f in FIELDS {
+    for f in FIELDS.iter() {
         let Access::Vehicle(get, _) = f.access else {
             continue;
         };
@@ -693,10 +688,7 @@ fn check_contact_law(checks: &mut Checks, prefix: &str, body: &super::BodySpec) 
         Err((field, value, rule)) => checks.fail(path(field), value, rule),
         Ok(super::ResolvedLaw::Rigid) => {}
         Ok(_) => {
-            let followers = body.massless_contacts()
-                || (body.kind == BodyKind::SprungMass
-                    && body.suspension.is_some_and(|s| s.unsprung_mass == 0.0));
-            if followers || body.kind == BodyKind::MovingForce {
+            if body.kind.on_followers(body) || body.kind == BodyKind::MovingForce {
                 checks.fail(
                     path("law"),
                     format!("{:?}", law.law.clone().unwrap_or_default()),
@@ -969,7 +961,7 @@ fn check_sensors(checks: &mut Checks, scene: &Scene, length_ok: bool) {
 /// whether every one keeps its rule.
 fn check_sensor_fields(checks: &mut Checks, i: usize, sensor: &super::SensorSpec) -> bool {
     let mut ok = true;
-    for f in FIELDS {
+    for f in FIELDS.iter() {
         let Access::Sensor(get, _) = f.access else {
             continue;
         };

@@ -468,7 +468,7 @@ fn every_bad_vehicle_and_sensor_value_is_refused_naming_its_path() {
     let builtins = guideway::scene::builtins().iter().map(|(name, _)| *name);
     for name in builtins.chain(files) {
         let scene = Scene::load(name).expect(name);
-        for f in FIELDS {
+        for f in FIELDS.iter() {
             let rest = |prefix: &str| f.path.strip_prefix(prefix).unwrap().to_string();
             let path_of = |k: usize| match f.access {
                 Access::Vehicle(..) => {

@@ -5,10 +5,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{parts, Block, Preset, Reach, Vehicle};
+use super::{parts, refuse_unless, Preset, Reach, Vehicle};
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactKind};
+use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
 use crate::scene::{fmt_f64, BodySpec, Checks};
 
 /// The bogies, wheelsets and suspensions of a `bogie_vehicle`; both
@@ -53,8 +54,14 @@ pub struct BogieVehicle;
 
 impl Preset for BogieVehicle {
     const DESCRIPTION: &'static str = "car body on two bogies over four wheelsets (10 DOF)";
-    const BLOCK: Option<Block> = Some(Block::Bogie);
+    const ROWS: &'static [Field] = BOGIE_ROWS;
     const NAMES_ITS_CONTACTS: bool = true;
+
+    fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {
+        if body.bogie.is_some() {
+            refuse_unless(checks, prefix, "bogie", "present", "bogie_vehicle");
+        }
+    }
 
     fn check(checks: &mut Checks, prefix: &str, body: &BodySpec) {
         match &body.bogie {
@@ -298,3 +305,199 @@ fn check_wheel_wheelsets(checks: &mut Checks, path: &dyn Fn(&str) -> String, b: 
         (None, None) => {}
     }
 }
+
+/// The field table's rows of the fields this preset owns.
+const BOGIE_ROWS: &[Field] = &[
+    Field {
+        path: "body.bogie.car_inertia",
+        unit: "kg.m2",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, car body pitch inertia",
+        doc: "car body pitch inertia",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.car_inertia),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.car_inertia = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.bogie_mass",
+        unit: "kg",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "kg, > 0, one bogie",
+        doc: "mass of one bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.bogie_mass),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.bogie_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.bogie_inertia",
+        unit: "kg.m2",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, one bogie",
+        doc: "pitch inertia of one bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.bogie_inertia),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.bogie_inertia = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.wheelset_mass",
+        unit: "kg",
+        default: FieldDefault::Required,
+        rule: Rule::NonNegative,
+        note: "kg, > 0, or 0: massless followers under the axles",
+        doc: "mass of one wheelset (0: massless followers)",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.wheelset_mass),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.wheelset_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.bogie_half_distance",
+        unit: "m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "m, l_c > l_t: half the distance of the bogie centres",
+        doc: "half the distance of the bogie centres",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.bogie_half_distance),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.bogie_half_distance = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.axle_half_distance",
+        unit: "m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "m, l_t > 0: half a bogie's axle distance",
+        doc: "half a bogie's axle distance",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.axle_half_distance),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.axle_half_distance = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.primary_stiffness",
+        unit: "N/m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "N/m, k1 > 0, per axle",
+        doc: "primary suspension stiffness per axle",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.primary_stiffness),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.primary_stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.primary_damping",
+        unit: "N.s/m",
+        default: FieldDefault::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, c1 >= 0, per axle",
+        doc: "primary suspension damping per axle",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.primary_damping),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.primary_damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.secondary_stiffness",
+        unit: "N/m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "N/m, k2 > 0, per bogie",
+        doc: "secondary suspension stiffness per bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.secondary_stiffness),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.secondary_stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.secondary_damping",
+        unit: "N.s/m",
+        default: FieldDefault::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, c2 >= 0, per bogie",
+        doc: "secondary suspension damping per bogie",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().map(|g| g.secondary_damping),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.secondary_damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.wheel_radius",
+        unit: "m",
+        default: FieldDefault::Absent,
+        rule: Rule::Positive,
+        note: "m, > 0, with wheelset_inertia: rolling wheelsets",
+        doc: "rolling radius of the wheelsets",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().and_then(|g| g.wheel_radius),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.wheel_radius = Some(x)
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.bogie.wheelset_inertia",
+        unit: "kg.m2",
+        default: FieldDefault::Absent,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, with wheel_radius",
+        doc: "rolling inertia of one wheelset",
+        access: Access::Vehicle(
+            |b| b.bogie.as_ref().and_then(|g| g.wheelset_inertia),
+            |b, x| {
+                if let Some(g) = b.bogie.as_mut() {
+                    g.wheelset_inertia = Some(x)
+                }
+            },
+        ),
+    },
+];

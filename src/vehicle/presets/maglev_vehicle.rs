@@ -5,10 +5,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{parts, Block, Preset, Reach, Vehicle};
+use super::{parts, refuse_unless, Preset, Reach, Vehicle};
 use crate::beam::Beam;
 use crate::body::RigidBody;
 use crate::contact::Contact;
+use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
 use crate::scene::{BodySpec, Checks};
 
 /// The magnets and suspensions of a `maglev_vehicle` (whose `mass` is the
@@ -47,8 +48,14 @@ pub struct MaglevVehicle;
 
 impl Preset for MaglevVehicle {
     const DESCRIPTION: &'static str = "car body over magnets on spring-dampers";
-    const BLOCK: Option<Block> = Some(Block::Maglev);
+    const ROWS: &'static [Field] = MAGLEV_ROWS;
     const NAMES_ITS_CONTACTS: bool = true;
+
+    fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {
+        if body.maglev.is_some() {
+            refuse_unless(checks, prefix, "maglev", "present", "maglev_vehicle");
+        }
+    }
 
     /// A maglev vehicle needs its magnets.
     fn check(checks: &mut Checks, prefix: &str, body: &BodySpec) {
@@ -155,3 +162,96 @@ impl Preset for MaglevVehicle {
         spec.maglev.map_or(0, |m| m.magnets)
     }
 }
+
+/// The field table's rows of the fields this preset owns.
+const MAGLEV_ROWS: &[Field] = &[
+    Field {
+        path: "body.maglev.car_inertia",
+        unit: "kg.m2",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "kg m^2, > 0, car body pitch inertia",
+        doc: "car body pitch inertia",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.car_inertia),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.car_inertia = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.magnets",
+        unit: "",
+        default: FieldDefault::Required,
+        rule: Rule::Words,
+        note: "1 to 1000, centred on the car body",
+        doc: "",
+        access: Access::None,
+    },
+    Field {
+        path: "body.maglev.magnet_spacing",
+        unit: "m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "m, > 0",
+        doc: "distance between neighbouring magnets",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.magnet_spacing),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.magnet_spacing = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.magnet_mass",
+        unit: "kg",
+        default: FieldDefault::Required,
+        rule: Rule::NonNegative,
+        note: "kg, > 0, or 0: massless followers under the magnets' stations",
+        doc: "mass of one magnet (0: massless followers)",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.magnet_mass),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.magnet_mass = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.stiffness",
+        unit: "N/m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "N/m, k > 0, one magnet's suspension",
+        doc: "stiffness of one magnet's suspension",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.stiffness),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.maglev.damping",
+        unit: "N.s/m",
+        default: FieldDefault::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, c >= 0, one magnet's suspension",
+        doc: "damping of one magnet's suspension",
+        access: Access::Vehicle(
+            |b| b.maglev.as_ref().map(|m| m.damping),
+            |b, x| {
+                if let Some(m) = b.maglev.as_mut() {
+                    m.damping = x
+                }
+            },
+        ),
+    },
+];

@@ -1,9 +1,13 @@
-//! The vehicle presets, one file per kind: each owns its spec, its rules,
-//! its build into bodies, force elements and contacts, its reach and its
-//! FMU description. `BodyKind` names them; the `presets!` list below is
-//! the one place that maps a kind to its file (static dispatch, one match
-//! per question, all generated from that list).
+//! The vehicle presets, one file per kind: each owns its spec, its fields
+//! of `[body]` (their rows of the field table, their rules, their refusal
+//! on another kind), its build into bodies, force elements and contacts,
+//! its reach and its FMU description. `BodyKind` names them; the
+//! `presets!` list below is the one place that maps a kind to its file and
+//! its fields (static dispatch, one match per question, `BodySpec` and the
+//! checks, all generated from that list).
 
+#[macro_use]
+mod body_spec;
 mod bogie_vehicle;
 mod glider;
 mod maglev_vehicle;
@@ -19,7 +23,10 @@ pub use parts::{Vehicle, GUIDE_STIFFNESS_RATIO};
 pub use sprung_mass::{SuspensionSpec, SPRUNG_HEIGHT};
 
 use crate::beam::Beam;
-use crate::scene::{fmt_f64, quoted, BodySpec, Checks};
+use crate::scene::fields::Field;
+use crate::scene::Checks;
+use crate::scene::ContactLawSpec;
+use crate::vehicle::speed::SpeedSpec;
 use serde::{Deserialize, Serialize};
 
 /// How far a vehicle's contacts lie ahead of and behind its
@@ -45,12 +52,16 @@ impl Reach {
 pub(crate) trait Preset {
     /// The body's kind in words, for the FMU's documentation.
     const DESCRIPTION: &'static str;
-    /// The optional block of `[body]` the preset owns (other kinds must
-    /// leave it out), if any.
-    const BLOCK: Option<Block> = None;
-    /// Its own rules on `body` (fields named under `prefix`), checked where
-    /// its block's rules stand.
+    /// The field table's rows of the fields of `[body]` the preset owns
+    /// (its block, declared in its line of `presets!`), and the row of the
+    /// scene's own table they stand before (`scene::fields::FIELDS`).
+    const ROWS: &'static [Field] = &[];
+    const ROWS_BEFORE: &'static str = TABLE_BLOCKS_BEFORE;
+    /// Its own rules on `body` (fields named under `prefix`), checked in
+    /// the list's order among the other presets' refusals of their blocks.
     fn check(_checks: &mut Checks, _prefix: &str, _body: &BodySpec) {}
+    /// Its block present on a vehicle of another kind: refused.
+    fn refuse_stray(_checks: &mut Checks, _prefix: &str, _body: &BodySpec) {}
     /// Its bodies, contacts and force elements, where they start.
     fn build(spec: &BodySpec, beam: &Beam, gravity: f64) -> Result<Vehicle, String>;
     /// How far its contacts lie about `initial_position`; None where its
@@ -82,20 +93,21 @@ pub(crate) trait Preset {
     const NAMES_ITS_CONTACTS: bool = false;
 }
 
-/// The optional blocks of `[body]` that belong to one kind, in the order
-/// their rules are checked.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Block {
-    /// `inertia` and `radius`.
-    InertiaRadius,
-    Suspension,
-    Train,
-    Bogie,
-    Maglev,
-}
+/// Where a preset's table block (`[body.<block>]`) stands in the field
+/// table: after the track's rows, before the contact law's.
+pub const TABLE_BLOCKS_BEFORE: &str = "body.contact_law.law";
 
+/// The list of presets, each line a kind, its preset and the fields of
+/// `[body]` it owns: `fields { .. }` flat after `mass` (the wheel's),
+/// `block { .. }` after `force_y` (a table such as `[body.suspension]`, or
+/// a train's name). From it come `BodyKind`, `BodySpec` (`body_spec!`),
+/// one match per question, the checks and the field table's rows.
 macro_rules! presets {
-    ($($(#[$attr:meta])* $kind:ident => $preset:ty;)*) => {
+    ($(
+        $(#[$attr:meta])* $kind:ident => $preset:ty
+        $(, fields { $($(#[$hattr:meta])* $hfield:ident: $hty:ty),* $(,)? })?
+        $(, block { $(#[$tattr:meta])* $tfield:ident: $tty:ty $(,)? })?
+    ;)*) => {
         /// The kind of a vehicle: which preset builds it.
         #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
         #[serde(rename_all = "lowercase")]
@@ -103,16 +115,35 @@ macro_rules! presets {
             $($(#[$attr])* $kind,)*
         }
 
+        body_spec! {
+            head { $($($($(#[$hattr])* $hfield: $hty,)*)?)* }
+            tail { $($($(#[$tattr])* $tfield: $tty,)?)* }
+        }
+
+        /// Every rule of the presets on `body`, preset by preset in the
+        /// list's order: its own preset's rules, the others' refusals of
+        /// their blocks.
+        pub(crate) fn check(checks: &mut Checks, prefix: &str, body: &BodySpec) {
+            $(if body.kind == BodyKind::$kind {
+                <$preset>::check(checks, prefix, body);
+            } else {
+                <$preset>::refuse_stray(checks, prefix, body);
+            })*
+        }
+
+        /// Each preset's rows of the field table with the row they stand
+        /// before, in the list's order.
+        pub fn rows() -> [(&'static str, &'static [Field]); [$(stringify!($kind)),*].len()] {
+            [$((<$preset>::ROWS_BEFORE, <$preset>::ROWS)),*]
+        }
+
         impl BodyKind {
+            /// Every kind, in the list's order.
+            pub const ALL: [BodyKind; [$(stringify!($kind)),*].len()] = [$(BodyKind::$kind),*];
+
             /// See `Preset::DESCRIPTION`.
             pub fn description(self) -> &'static str {
                 match self { $(BodyKind::$kind => <$preset>::DESCRIPTION,)* }
-            }
-            fn block(self) -> Option<Block> {
-                match self { $(BodyKind::$kind => <$preset>::BLOCK,)* }
-            }
-            fn check_own(self, checks: &mut Checks, prefix: &str, body: &BodySpec) {
-                match self { $(BodyKind::$kind => <$preset>::check(checks, prefix, body),)* }
             }
             /// See `Preset::build`.
             pub fn build(self, spec: &BodySpec, beam: &Beam, gravity: f64) -> Result<Vehicle, String> {
@@ -152,81 +183,72 @@ macro_rules! presets {
 
 presets! {
     /// Rigid disc rolling without slip (mass, inertia, radius).
-    Wheel => wheel::Wheel;
+    Wheel => wheel::Wheel, fields {
+        /// Centroidal moment of inertia J (kg m^2); wheels only.
+        inertia: f64,
+        /// Radius r (m); wheels only.
+        radius: f64,
+    };
     /// Point body gliding at the surface (r = 0, J = 0): the maglev model.
     Glider => glider::Glider;
     /// Moving oscillator: the body (J = 0) on a vertical spring–damper over
     /// an unsprung glider (`suspension`).
     #[serde(rename = "sprung_mass")]
-    SprungMass => sprung_mass::SprungMass;
+    SprungMass => sprung_mass::SprungMass, block {
+        /// The suspension of a `sprung_mass`; left out for other kinds.
+        suspension: SuspensionSpec
+    };
     /// Car body over two bogies over four wheelsets (`bogie`); the body's
     /// `initial_position` is the car body's centre.
     #[serde(rename = "bogie_vehicle")]
-    BogieVehicle => bogie_vehicle::BogieVehicle;
+    BogieVehicle => bogie_vehicle::BogieVehicle, block {
+        /// The bogies, wheelsets and suspensions of a `bogie_vehicle` (whose
+        /// `mass` is the car body's); left out for other kinds.
+        bogie: BogieSpec
+    };
     /// Car body over N magnets (gliders) on spring–dampers along its
     /// length (`maglev`); `initial_position` is the car body's centre.
     #[serde(rename = "maglev_vehicle")]
-    MaglevVehicle => maglev_vehicle::MaglevVehicle;
+    MaglevVehicle => maglev_vehicle::MaglevVehicle, block {
+        /// The magnets and suspensions of a `maglev_vehicle` (whose `mass`
+        /// is the car body's); left out for other kinds.
+        maglev: MaglevSpec
+    };
     /// A point force at constant speed with no body (no inertia, no
     /// contact): its weight `mass` × `gravity` plus `force_y`, or each axle
     /// of its `train`. Run by `guideway sweep`, not `guideway run`.
     #[serde(rename = "moving_force")]
-    MovingForce => moving_force::MovingForce;
+    MovingForce => moving_force::MovingForce, block {
+        /// A `moving_force` that stands for a whole standard train
+        /// (`HSLM-A1` … `HSLM-A10`): its first axle at `initial_position`,
+        /// the others behind.
+        train: String
+    };
 }
 
-/// Every rule on the preset blocks of `body`: each block in its order,
-/// checked by the preset that owns it when `body` is of that kind, else
-/// refused when present.
-pub(crate) fn check(checks: &mut Checks, prefix: &str, body: &BodySpec) {
-    let blocks = [
-        Block::InertiaRadius,
-        Block::Suspension,
-        Block::Train,
-        Block::Bogie,
-        Block::Maglev,
-    ];
-    for block in blocks {
-        if body.kind.block() == Some(block) {
-            body.kind.check_own(checks, prefix, body);
-        } else {
-            refuse_stray(checks, prefix, body, block);
-        }
-    }
+/// A preset's block `prefix.field` (shown as `shown`) on a vehicle that is
+/// not its `owner` kind: refused.
+pub(crate) fn refuse_unless(
+    checks: &mut Checks,
+    prefix: &str,
+    field: &str,
+    shown: impl Into<String>,
+    owner: &str,
+) {
+    checks.fail(
+        format!("{prefix}.{field}"),
+        shown,
+        format!("must be left out unless {prefix}.kind = \"{owner}\""),
+    );
 }
 
-/// A block present on a vehicle of another kind than its owner's.
-fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec, block: Block) {
-    let path = |field: &str| format!("{prefix}.{field}");
-    let unless = |kind: &str| format!("must be left out unless {prefix}.kind = \"{kind}\"");
-    match block {
-        Block::InertiaRadius => {
-            for (path, value) in [
-                (path("inertia"), body.inertia),
-                (path("radius"), body.radius),
-            ] {
-                if let Some(v) = value {
-                    checks.fail(
-                        path,
-                        fmt_f64(v),
-                        "must be left out for a glider or a sprung mass (J = 0, r = 0)",
-                    );
-                }
-            }
-        }
-        Block::Suspension if body.suspension.is_some() => {
-            checks.fail(path("suspension"), "present", unless("sprung_mass"))
-        }
-        Block::Train => {
-            if let Some(name) = &body.train {
-                checks.fail(path("train"), quoted(name), unless("moving_force"));
-            }
-        }
-        Block::Bogie if body.bogie.is_some() => {
-            checks.fail(path("bogie"), "present", unless("bogie_vehicle"))
-        }
-        Block::Maglev if body.maglev.is_some() => {
-            checks.fail(path("maglev"), "present", unless("maglev_vehicle"))
-        }
-        Block::Suspension | Block::Bogie | Block::Maglev => {}
+impl BodyKind {
+    /// Every kind's name in a scene file (`kind = ".."`), in the list's order.
+    pub fn names() -> Vec<String> {
+        let name = |kind: BodyKind| match serde_json::to_value(kind) {
+            Ok(serde_json::Value::String(name)) => name,
+            other => unreachable!("a kind serialises to its name, not {other:?}"),
+        };
+        BodyKind::ALL.into_iter().map(name).collect()
     }
 }

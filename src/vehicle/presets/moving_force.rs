@@ -2,8 +2,9 @@
 //! (its weight plus `force_y`, or each axle of an HSLM `train`), run as a
 //! crossing of prescribed forces (`moving_load`), never built into bodies.
 
-use super::{Block, Preset, Reach, Vehicle};
+use super::{refuse_unless, Preset, Reach, Vehicle};
 use crate::beam::Beam;
+use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
 use crate::scene::{fmt_f64, quoted, BodyKind, BodySpec, Checks, Scene};
 
 /// Why a scene of moving forces has no system of bodies and contacts.
@@ -23,7 +24,8 @@ pub struct MovingForce;
 
 impl Preset for MovingForce {
     const DESCRIPTION: &'static str = "moving force (no body)";
-    const BLOCK: Option<Block> = Some(Block::Train);
+    const ROWS: &'static [Field] = TRAIN_ROWS;
+    const ROWS_BEFORE: &'static str = "body.force_x";
 
     /// A train names an HSLM train and replaces the force's own (so
     /// `force_y` must be left at 0).
@@ -43,6 +45,12 @@ impl Preset for MovingForce {
                 fmt_f64(body.force_y),
                 "must be 0 for a moving force with a train (each axle carries the train's force)",
             );
+        }
+    }
+
+    fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {
+        if let Some(name) = &body.train {
+            refuse_unless(checks, prefix, "train", quoted(name), "moving_force");
         }
     }
 
@@ -72,3 +80,14 @@ impl Preset for MovingForce {
         0
     }
 }
+
+/// The field table's rows of the fields this preset owns.
+const TRAIN_ROWS: &[Field] = &[Field {
+    path: "body.train",
+    unit: "",
+    default: FieldDefault::Absent,
+    rule: Rule::Words,
+    note: "HSLM-A1 ... HSLM-A10; moving_force only",
+    doc: "",
+    access: Access::None,
+}];

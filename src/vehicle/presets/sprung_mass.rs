@@ -5,11 +5,12 @@
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
-use super::{parts, Block, Preset, Vehicle, GUIDE_STIFFNESS_RATIO};
+use super::{parts, refuse_unless, Preset, Vehicle, GUIDE_STIFFNESS_RATIO};
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactKind, Follower};
 use crate::force_element::{Direction, ForceElement};
+use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
 use crate::scene::{BodySpec, Checks};
 
 /// A sprung mass's suspension: a vertical spring–damper over an unsprung
@@ -36,7 +37,13 @@ pub struct SprungMass;
 
 impl Preset for SprungMass {
     const DESCRIPTION: &'static str = "sprung mass on a spring-damper over a glider";
-    const BLOCK: Option<Block> = Some(Block::Suspension);
+    const ROWS: &'static [Field] = SUSPENSION_ROWS;
+
+    fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {
+        if body.suspension.is_some() {
+            refuse_unless(checks, prefix, "suspension", "present", "sprung_mass");
+        }
+    }
 
     /// A sprung mass needs its suspension.
     fn check(checks: &mut Checks, prefix: &str, body: &BodySpec) {
@@ -175,3 +182,55 @@ fn on_follower(spec: &BodySpec, suspension: &SuspensionSpec, beam: &Beam, gravit
         }],
     }
 }
+
+/// The field table's rows of the fields this preset owns.
+const SUSPENSION_ROWS: &[Field] = &[
+    Field {
+        path: "body.suspension.stiffness",
+        unit: "N/m",
+        default: FieldDefault::Required,
+        rule: Rule::Positive,
+        note: "N/m, vertical spring, > 0",
+        doc: "vertical spring of the suspension",
+        access: Access::Vehicle(
+            |b| b.suspension.as_ref().map(|s| s.stiffness),
+            |b, x| {
+                if let Some(s) = b.suspension.as_mut() {
+                    s.stiffness = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.suspension.damping",
+        unit: "N.s/m",
+        default: FieldDefault::Value("0"),
+        rule: Rule::NonNegative,
+        note: "N s/m, vertical damper, >= 0",
+        doc: "vertical damper of the suspension",
+        access: Access::Vehicle(
+            |b| b.suspension.as_ref().map(|s| s.damping),
+            |b, x| {
+                if let Some(s) = b.suspension.as_mut() {
+                    s.damping = x
+                }
+            },
+        ),
+    },
+    Field {
+        path: "body.suspension.unsprung_mass",
+        unit: "kg",
+        default: FieldDefault::Required,
+        rule: Rule::NonNegative,
+        note: "kg, the glider under the spring, >= 0 (0: the massless follower)",
+        doc: "mass of the glider under the spring",
+        access: Access::Vehicle(
+            |b| b.suspension.as_ref().map(|s| s.unsprung_mass),
+            |b, x| {
+                if let Some(s) = b.suspension.as_mut() {
+                    s.unsprung_mass = x
+                }
+            },
+        ),
+    },
+];
