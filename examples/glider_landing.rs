@@ -14,6 +14,16 @@ fn main() {
     let elements: usize = args.get(1).map_or(16, |s| s.parse().expect("elements"));
     let step: f64 = args.get(2).map_or(1e-4, |s| s.parse().expect("step"));
     let damped = args.get(3).is_some_and(|s| s == "damped");
+    let scene = scene(elements, step, damped);
+    let mut sim = Simulation::new(&scene).expect("builds");
+    let grid = (0.2 / step).round() as u64;
+    let record = run(&mut sim, step, grid);
+    report(&sim, (elements, step, grid), &record);
+}
+
+/// The wheel at 100 m/s on `elements` elements, and the glider 0.2 m
+/// above midspan, to t = 0.2 s.
+fn scene(elements: usize, step: f64, damped: bool) -> Scene {
     let mut scene = Scene::lee1994(BodyKind::Wheel, 100.0, step);
     scene.beam.elements = elements;
     scene.solver.integrator = IntegratorKind::Auto;
@@ -30,8 +40,21 @@ fn main() {
     glider.initial_height = 0.2;
     scene.vehicles.push(glider);
     scene.validate().expect("valid");
-    let mut sim = Simulation::new(&scene).expect("builds");
-    let grid = (0.2 / step).round() as u64;
+    scene
+}
+
+/// What the run recorded of the glider (contact 1).
+struct GliderRecord {
+    /// (time, normal impulse) of each landing.
+    impulses: Vec<(f64, f64)>,
+    min_gap: f64,
+    /// Its last event's time, and the shortest time between two.
+    last_time: f64,
+    shortest: f64,
+}
+
+/// Run `grid` steps, recording the glider's events and gaps.
+fn run(sim: &mut Simulation, step: f64, grid: u64) -> GliderRecord {
     let mut seen = 0;
     let mut impulses = Vec::new();
     let mut min_gap: f64 = 0.0;
@@ -70,6 +93,23 @@ fn main() {
             }
         }
     }
+    GliderRecord {
+        impulses,
+        min_gap,
+        last_time,
+        shortest,
+    }
+}
+
+/// One line: the glider's landings, lift-offs and impulses, the steps and
+/// the energy books.
+fn report(sim: &Simulation, (elements, step, grid): (usize, f64, u64), record: &GliderRecord) {
+    let GliderRecord {
+        impulses,
+        min_gap,
+        last_time,
+        shortest,
+    } = record;
     let of = |kind| {
         sim.events()
             .iter()

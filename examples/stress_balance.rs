@@ -5,7 +5,7 @@
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use guideway::simulation::EventKind;
+use guideway::simulation::{ContactEvent, EventKind};
 use guideway::{Scene, Simulation};
 
 /// The stress case's scene (the tests' own), with restitution `e`, and
@@ -18,6 +18,43 @@ fn scene(step: f64, e: f64, rough: bool) -> Scene {
     }
     scene.validate().expect("valid");
     scene
+}
+
+/// Which kind of step: 0 without events, 1 landings only, 2 lift-offs
+/// only, 3 entries and exits only, 4 a mix.
+fn class_of(events: &[ContactEvent]) -> usize {
+    let all = |f: fn(EventKind) -> bool| events.iter().all(|e| f(e.kind));
+    if events.is_empty() {
+        0
+    } else if all(|k| k == EventKind::Landing) {
+        1
+    } else if all(|k| k == EventKind::LiftOff) {
+        2
+    } else if all(|k| matches!(k, EventKind::Entry | EventKind::Exit)) {
+        3
+    } else {
+        4
+    }
+}
+
+/// One step's jump, its events, the contacts (o open, c closed) and the
+/// track parts they are on.
+fn print_step(sim: &Simulation, events: &[ContactEvent], jump: f64) {
+    let desc: Vec<String> = events
+        .iter()
+        .map(|e| format!("{}:{:?}@{:.9}", e.contact, e.kind, e.time))
+        .collect();
+    let open: String = sim
+        .contact_statuses()
+        .iter()
+        .map(|c| if c.open { 'o' } else { 'c' })
+        .collect();
+    let parts = &sim.state().parts;
+    println!(
+        "t {:.6} jump {jump:+.3} J {open} {parts:?} {}",
+        sim.time(),
+        desc.join(" ")
+    );
 }
 
 fn main() {
@@ -43,42 +80,14 @@ fn main() {
         worst = worst.max((now - sim.initial_energy()).abs());
         last = now;
         let new = &sim.events()[seen..];
-        seen = sim.events().len();
-        let kinds: Vec<EventKind> = new.iter().map(|e| e.kind).collect();
-        let class = if kinds.is_empty() {
-            0
-        } else if kinds.iter().all(|&k| k == EventKind::Landing) {
-            1
-        } else if kinds.iter().all(|&k| k == EventKind::LiftOff) {
-            2
-        } else if kinds
-            .iter()
-            .all(|&k| matches!(k, EventKind::Entry | EventKind::Exit))
-        {
-            3
-        } else {
-            4
-        };
+        let class = class_of(new);
         sums[class] += jump;
         absum[class] += jump.abs();
         counts[class] += 1;
         if verbose && (class != 0 || jump.abs() > 1.0) {
-            let desc: Vec<String> = new
-                .iter()
-                .map(|e| format!("{}:{:?}@{:.9}", e.contact, e.kind, e.time))
-                .collect();
-            let open: String = sim
-                .contact_statuses()
-                .iter()
-                .map(|c| if c.open { 'o' } else { 'c' })
-                .collect();
-            let parts = &sim.state().parts;
-            println!(
-                "t {:.6} jump {jump:+.3} J {open} {parts:?} {}",
-                sim.time(),
-                desc.join(" ")
-            );
+            print_step(&sim, new, jump);
         }
+        seen = sim.events().len();
     }
     println!(
         "step {step:e} e {e} rough {rough}: drift at the end {:.2} J, largest {worst:.2} J, \

@@ -518,17 +518,18 @@ fn corner_frame(
     })
 }
 
-/// The constant generalized force on each body: its weight, plus the
-/// applied force (fx, fy) on the driven body and the vehicles' constant
-/// forces on their first bodies (`forces`: body index, force).
+/// The constant generalized force on each body: its weight, plus each
+/// vehicle's applied force (fx, fy; `forces`) on its first body
+/// (`first_bodies`, in the same order).
 pub fn constant_forces<'a>(
     system: &'a System,
-    forces: &'a [(usize, [f64; 2])],
+    first_bodies: &'a [usize],
+    forces: &'a [[f64; 2]],
 ) -> impl Iterator<Item = Vector3<f64>> + 'a {
     system.bodies.iter().enumerate().map(move |(b, body)| {
         let weight = Vector3::new(0.0, -body.mass * system.gravity, 0.0);
-        match forces.iter().find(|(first, _)| *first == b) {
-            Some((_, f)) => weight + Vector3::new(f[0], f[1], 0.0),
+        match first_bodies.iter().position(|&first| first == b) {
+            Some(v) => weight + Vector3::new(forces[v][0], forces[v][1], 0.0),
             None => weight,
         }
     })

@@ -24,9 +24,11 @@ pub struct Assembly {
     pub system: System,
     pub bodies: Vec<BodyState>,
     pub forces: Vec<ContactForce>,
-    /// The first body of each vehicle and the constant force (fx, fy) on it
-    /// (the first is the driven body: the FMU's force inputs act on it).
-    pub vehicle_forces: Vec<(usize, [f64; 2])>,
+    /// The first body of each vehicle: where its applied force acts.
+    pub vehicle_first_bodies: Vec<usize>,
+    /// Each vehicle's applied force (fx, fy) at the start, from its spec
+    /// (the run's state holds it after: `SimState::vehicle_forces`).
+    pub vehicle_forces: Vec<[f64; 2]>,
     /// Per contact: its vehicle's coefficient of restitution, and whether
     /// it starts open (its vehicle starts above the track).
     pub restitution: Vec<f64>,
@@ -52,6 +54,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
         },
         bodies: Vec::new(),
         forces: Vec::new(),
+        vehicle_first_bodies: Vec::new(),
         vehicle_forces: Vec::new(),
         restitution: Vec::new(),
         open: Vec::new(),
@@ -165,7 +168,8 @@ impl Assembly {
                 normal,
             });
         }
-        (self.vehicle_forces).push((offset, [spec.force_x, spec.force_y]));
+        self.vehicle_first_bodies.push(offset);
+        (self.vehicle_forces).push([spec.force_x, spec.force_y]);
         self.system.bodies.extend(vehicle.bodies);
         self.system.contacts.extend(vehicle.contacts);
         self.system.force_elements.extend(vehicle.force_elements);

@@ -14,8 +14,8 @@ use guideway::report::csv::CsvWriter;
 use guideway::report::exits::{self, ExitWatch, VehicleExit};
 use guideway::report::nodes::{check_node_output, WithNodes};
 use guideway::report::{
-    check_run_length, drive_into, output_names, plot, Decimated, RowSink, RunSummary, StreamError,
-    Streamed, SummaryBuilder, SummaryEvent, Trace,
+    check_run_length, drive_into, plot, Decimated, RowSink, RunSummary, StreamError, Streamed,
+    SummaryBuilder, SummaryEvent, Trace,
 };
 use guideway::simulation::Simulation;
 use guideway::study::refine::{Refinement, StepChoice, Study};
@@ -374,7 +374,7 @@ fn read_columns(
 ) -> Vec<bool> {
     let names: Vec<String> = outputs.iter().map(|o| o.name.clone()).collect();
     let mut read = vec![false; names.len()];
-    let position = output_names::travel_position(&names, &scene.vehicles[0].name);
+    let position = guideway::report::progress_column(scene, &names);
     let summary_columns = if summary {
         sink.summary.columns()
     } else {

@@ -185,8 +185,29 @@ fn collect_files(root: &Path, dir: &Path, out: &mut Vec<String>) -> Result<(), S
     Ok(())
 }
 
-fn body_text(scene: &Scene) -> &'static str {
-    scene.vehicles[0].kind.description()
+/// The README's body column: the one vehicle's kind, or a train's count
+/// and each vehicle's kind.
+fn body_text(scene: &Scene) -> String {
+    let kinds: Vec<&str> = (scene.vehicles.iter())
+        .map(|v| v.kind.description())
+        .collect();
+    match kinds.as_slice() {
+        [one] => one.to_string(),
+        _ => format!("{} vehicles: {}", kinds.len(), kinds.join(", ")),
+    }
+}
+
+/// The README's V0 column: the vehicles' initial speeds (m/s), each
+/// distinct one once, in order.
+fn initial_speeds_text(scene: &Scene) -> String {
+    let mut speeds: Vec<f64> = Vec::new();
+    for v in &scene.vehicles {
+        if !speeds.contains(&v.initial_speed) {
+            speeds.push(v.initial_speed);
+        }
+    }
+    let texts: Vec<String> = speeds.iter().map(f64::to_string).collect();
+    texts.join(", ")
 }
 
 /// The cross-check `ReadMe.txt` of one model.
@@ -196,7 +217,7 @@ fn cross_check_readme(scene: &Scene) -> String {
          {}\n\n\
          The reference {id}_ref.csv was computed by guideway's own model code \
          (the code the FMU runs) with communication steps of solver.step = {} s \
-         (see {id}_ref.opt), from t = 0 until the body leaves the beam.\n\
+         (see {id}_ref.opt), from t = 0 until the last contact leaves the beam.\n\
          Platform: linux64 (x86-64, glibc). No inputs are needed.\n",
         scene.name,
         scene.description,
@@ -222,7 +243,7 @@ fn readme(scenes: &[Scene]) -> String {
             "| `{}.fmu` | {} | {} | {} | {} |",
             model_identifier(&scene.name),
             body_text(scene),
-            scene.vehicles[0].initial_speed,
+            initial_speeds_text(scene),
             scene.solver.step,
             scene.description
         )
@@ -300,5 +321,15 @@ mod tests {
         for (name, _) in fmu_builtins() {
             assert!(text.contains(&format!("`{}.fmu`", model_identifier(name))));
         }
+        // A train's row names every vehicle and each distinct speed.
+        let mut train = builtin("lee1994-wheel-10").unwrap();
+        let mut rear = train.vehicles[0].clone();
+        rear.initial_speed = 12.5;
+        train.vehicles.extend([train.vehicles[0].clone(), rear]);
+        let row = format!(
+            "| 3 vehicles: {0}, {0}, {0} | 10, 12.5 |",
+            body_text(&scenes[0])
+        );
+        assert!(readme(&[train]).contains(&row), "{row}");
     }
 }

@@ -10,27 +10,30 @@ use super::{
 };
 use crate::outputs::non_finite_output;
 use crate::scene::Scene;
+use crate::simulation::run_end::{exit_time, run_end, RunEnd};
 use crate::simulation::Advance;
 
 impl<D: Dynamics> Model<D> {
     /// Refuse a run that would need more than `MAX_RUN_STEPS` internal steps:
-    /// to whichever comes first of the experiment's stop time, the scene's
-    /// end time and the exit at the initial speed (an estimate: forces may
-    /// change the speed). A body at rest with no stop time is left to the
-    /// per-call limits.
+    /// to whichever comes first of the experiment's stop time and the run's
+    /// end (`simulation::run_end`, the one rule: the scene's end time, else
+    /// the last vehicle's exit at the initial speeds, an estimate: forces
+    /// may change the speeds). A run at rest with no stop time is left to
+    /// the per-call limits.
     pub(super) fn check_run_length(&self) -> Result<(), ModelError> {
         let (scene, step) = (&self.scene, self.scene.solver.step);
-        let v0 = scene.vehicles[0].initial_speed;
-        let to_exit = if v0 > 0.0 {
-            (scene.beam.length - scene.vehicles[0].initial_position) / v0
-        } else {
-            scene.vehicles[0].initial_position / -v0
+        let run_end = match run_end(scene) {
+            RunEnd::EndTime(t) => Some((t, "to solver.end_time")),
+            RunEnd::LastExit { distance, speed } => Some((
+                exit_time((distance, speed)),
+                "to the last vehicle's exit at the initial speeds",
+            )),
+            RunEnd::NoExit => None,
         };
         let ends = [
             self.stop_time
                 .map(|t| (t - self.start_time, "to the stop time")),
-            scene.solver.end_time.map(|t| (t, "to solver.end_time")),
-            (v0 != 0.0).then_some((to_exit, "to the exit at the initial speed")),
+            run_end,
         ];
         let Some((horizon, what)) = ends
             .into_iter()

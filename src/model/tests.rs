@@ -305,6 +305,35 @@ fn a_run_needing_an_absurd_number_of_steps_is_refused_before_it_starts() {
     m.initialize().unwrap();
 }
 
+/// A train's run lasts until its last vehicle leaves (`run_end`): beside
+/// the paper's wheel at 10 m/s (960 steps of 2.5 ms to leave), a second
+/// one at x₀ = 1 m crawling at 2e-5 m/s leaves after (L − x₀) / V =
+/// 23 / 2e-5 s, more than 1e8 steps.
+#[test]
+fn the_run_length_counts_to_the_last_vehicle_to_leave() {
+    let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    let mut slow = scene.vehicles[0].clone();
+    slow.name = "slow".to_string();
+    (slow.initial_position, slow.initial_speed) = (1.0, 2e-5);
+    scene.vehicles.push(slow);
+    let mut m = Model::<FakeDynamics>::new(scene).unwrap();
+    let steps = ((24.0 - 1.0) / 2e-5 / 0.0025_f64).ceil();
+    assert!(steps > MAX_RUN_STEPS);
+    let e = m.initialize().unwrap_err().0;
+    assert!(
+        e.contains(&format!("{steps:e} internal steps")) && e.contains("last vehicle's exit"),
+        "{e}"
+    );
+    // The scene's end time, not the exit, ends a run that sets one.
+    let mut scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+    scene.solver.end_time = Some(1e6);
+    let e = (Model::<FakeDynamics>::new(scene).unwrap().initialize()).unwrap_err();
+    assert!(
+        e.0.contains("4e8 internal steps") && e.0.contains("to solver.end_time"),
+        "{e:?}"
+    );
+}
+
 #[test]
 fn a_step_below_the_resolution_of_the_time_is_refused() {
     let mut m = model(BodyKind::Glider);

@@ -7,6 +7,7 @@ use crate::state::SimState;
 use crate::structure::beam::Beam;
 use crate::system::System;
 use derived::{beam_dynamics, body_accelerations, frames_now};
+use strum::{EnumDiscriminants, EnumIter};
 
 pub mod derived;
 mod finite;
@@ -15,7 +16,7 @@ pub mod names;
 
 pub use derived::Probes;
 pub use finite::non_finite_output;
-pub use names::{classify, output_name, reports, OutputName, QuantityKind};
+pub use names::{classify, output_name, reports, OutputName};
 
 /// How an output is typed when exported.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,8 +35,11 @@ pub struct OutputInfo {
 }
 
 /// Which quantity an output reports; indices are into the system's bodies,
-/// contacts and the scene's sensors.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// contacts and the scene's sensors. Its variants without their indices
+/// are `QuantityKind` (derived: what an output reports, without whose),
+/// named in `names`.
+#[derive(Debug, Clone, Copy, PartialEq, EnumDiscriminants)]
+#[strum_discriminants(name(QuantityKind), derive(Hash, EnumIter))]
 pub enum Quantity {
     X(usize),
     Y(usize),
@@ -90,6 +94,13 @@ pub enum Quantity {
     GapError,
     Iterations,
     PositionIterations,
+}
+
+impl Quantity {
+    /// What this quantity reports, without its index.
+    pub fn kind(&self) -> QuantityKind {
+        QuantityKind::from(self)
+    }
 }
 
 struct Catalogue {

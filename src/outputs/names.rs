@@ -7,60 +7,8 @@
 //! `<group>.<owner>.<suffix>` (a sensor's, a section's, a support's) or
 //! `<group>.<suffix>` (the energies, the solver's counts).
 
-use super::Quantity;
-
-/// What an output reports, without whose it is: a `Quantity` without its
-/// index (`Quantity::kind`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
-pub enum QuantityKind {
-    X,
-    Y,
-    Vx,
-    Vy,
-    Ax,
-    Ay,
-    AngularAcceleration,
-    Angle,
-    AngularVelocity,
-    NominalSpeed,
-    ContactPosition,
-    TangentialForce,
-    NormalForce,
-    OnBeam,
-    ContactClosed,
-    Gap,
-    MagnetAirGap,
-    MagnetCurrent,
-    ImpulseTangential,
-    ImpulseNormal,
-    Irregularity,
-    Sensor,
-    SensorVelocity,
-    SensorFoundationLoad,
-    SensorRailDeflection,
-    SensorRailSeatForce,
-    SensorAcceleration,
-    SectionMoment,
-    SectionShear,
-    Reaction,
-    ReactionMoment,
-    BodyKinetic,
-    BeamKinetic,
-    BeamStrain,
-    SpringEnergy,
-    Dissipated,
-    BeamDamping,
-    GravityWork,
-    ExternalWork,
-    TractiveWork,
-    ImpactLoss,
-    NumericalDissipation,
-    Balance,
-    VelocityError,
-    GapError,
-    Iterations,
-    PositionIterations,
-}
+pub use super::QuantityKind;
+use strum::IntoEnumIterator;
 
 /// The part of a name before its owner: none for a body's or a contact's
 /// quantity, else the group (`sensor`, ..., `energy`, `solver`).
@@ -76,62 +24,61 @@ enum Group {
 }
 
 use Group::{Owned, Owner, Run};
-use QuantityKind as K;
 
-/// Every kind with its group and suffix: the one naming rule.
-const NAMES: &[(QuantityKind, Group, &str)] = &[
-    (K::X, Owner, "x"),
-    (K::Y, Owner, "y"),
-    (K::Vx, Owner, "vx"),
-    (K::Vy, Owner, "vy"),
-    (K::Ax, Owner, "ax"),
-    (K::Ay, Owner, "ay"),
-    (K::AngularAcceleration, Owner, "angular_acceleration"),
-    (K::Angle, Owner, "pitch"),
-    (K::AngularVelocity, Owner, "angular_velocity"),
-    (K::NominalSpeed, Owner, "nominal_speed"),
-    (K::ContactPosition, Owner, "position"),
-    (K::TangentialForce, Owner, "tangential_force"),
-    (K::NormalForce, Owner, "normal_force"),
-    (K::OnBeam, Owner, "on_beam"),
-    (K::ContactClosed, Owner, "state"),
-    (K::Gap, Owner, "gap"),
-    (K::MagnetAirGap, Owner, "air_gap"),
-    (K::MagnetCurrent, Owner, "current"),
-    (K::ImpulseTangential, Owner, "impact_impulse_tangential"),
-    (K::ImpulseNormal, Owner, "impact_impulse"),
-    (K::Irregularity, Owner, "irregularity"),
-    (K::Sensor, Owned("sensor"), "deflection"),
-    (K::SensorVelocity, Owned("sensor"), "velocity"),
-    (K::SensorFoundationLoad, Owned("sensor"), "foundation_load"),
-    (K::SensorRailDeflection, Owned("sensor"), "rail_deflection"),
-    (K::SensorRailSeatForce, Owned("sensor"), "rail_seat_force"),
-    (K::SensorAcceleration, Owned("sensor"), "acceleration"),
-    (K::SectionMoment, Owned("section"), "moment"),
-    (K::SectionShear, Owned("section"), "shear"),
-    (K::Reaction, Owned("support"), "reaction"),
-    (K::ReactionMoment, Owned("support"), "moment"),
-    (K::BodyKinetic, Run("energy"), "body_kinetic"),
-    (K::BeamKinetic, Run("energy"), "beam_kinetic"),
-    (K::BeamStrain, Run("energy"), "beam_strain"),
-    (K::SpringEnergy, Run("energy"), "spring"),
-    (K::Dissipated, Run("energy"), "dissipated"),
-    (K::BeamDamping, Run("energy"), "beam_damping"),
-    (K::GravityWork, Run("energy"), "gravity_work"),
-    (K::ExternalWork, Run("energy"), "external_work"),
-    (K::TractiveWork, Run("energy"), "tractive_work"),
-    (K::ImpactLoss, Run("energy"), "impact_loss"),
-    (
-        K::NumericalDissipation,
-        Run("energy"),
-        "numerical_dissipation",
-    ),
-    (K::Balance, Run("energy"), "balance"),
-    (K::VelocityError, Run("solver"), "velocity_error"),
-    (K::GapError, Run("solver"), "gap_error"),
-    (K::Iterations, Run("solver"), "iterations"),
-    (K::PositionIterations, Run("solver"), "position_iterations"),
-];
+/// Every kind's group and suffix: the one naming rule. One exhaustive
+/// match (no `_` arm): a new `Quantity` variant must be named here.
+const fn row(kind: QuantityKind) -> (Group, &'static str) {
+    use QuantityKind::*;
+    match kind {
+        X => (Owner, "x"),
+        Y => (Owner, "y"),
+        Vx => (Owner, "vx"),
+        Vy => (Owner, "vy"),
+        Ax => (Owner, "ax"),
+        Ay => (Owner, "ay"),
+        AngularAcceleration => (Owner, "angular_acceleration"),
+        Angle => (Owner, "pitch"),
+        AngularVelocity => (Owner, "angular_velocity"),
+        NominalSpeed => (Owner, "nominal_speed"),
+        ContactPosition => (Owner, "position"),
+        TangentialForce => (Owner, "tangential_force"),
+        NormalForce => (Owner, "normal_force"),
+        OnBeam => (Owner, "on_beam"),
+        ContactClosed => (Owner, "state"),
+        Gap => (Owner, "gap"),
+        MagnetAirGap => (Owner, "air_gap"),
+        MagnetCurrent => (Owner, "current"),
+        ImpulseTangential => (Owner, "impact_impulse_tangential"),
+        ImpulseNormal => (Owner, "impact_impulse"),
+        Irregularity => (Owner, "irregularity"),
+        Sensor => (Owned("sensor"), "deflection"),
+        SensorVelocity => (Owned("sensor"), "velocity"),
+        SensorFoundationLoad => (Owned("sensor"), "foundation_load"),
+        SensorRailDeflection => (Owned("sensor"), "rail_deflection"),
+        SensorRailSeatForce => (Owned("sensor"), "rail_seat_force"),
+        SensorAcceleration => (Owned("sensor"), "acceleration"),
+        SectionMoment => (Owned("section"), "moment"),
+        SectionShear => (Owned("section"), "shear"),
+        Reaction => (Owned("support"), "reaction"),
+        ReactionMoment => (Owned("support"), "moment"),
+        BodyKinetic => (Run("energy"), "body_kinetic"),
+        BeamKinetic => (Run("energy"), "beam_kinetic"),
+        BeamStrain => (Run("energy"), "beam_strain"),
+        SpringEnergy => (Run("energy"), "spring"),
+        Dissipated => (Run("energy"), "dissipated"),
+        BeamDamping => (Run("energy"), "beam_damping"),
+        GravityWork => (Run("energy"), "gravity_work"),
+        ExternalWork => (Run("energy"), "external_work"),
+        TractiveWork => (Run("energy"), "tractive_work"),
+        ImpactLoss => (Run("energy"), "impact_loss"),
+        NumericalDissipation => (Run("energy"), "numerical_dissipation"),
+        Balance => (Run("energy"), "balance"),
+        VelocityError => (Run("solver"), "velocity_error"),
+        GapError => (Run("solver"), "gap_error"),
+        Iterations => (Run("solver"), "iterations"),
+        PositionIterations => (Run("solver"), "position_iterations"),
+    }
+}
 
 /// A name read back: what it reports and whose it is (the body's,
 /// contact's, sensor's, section's or support's name; empty for the run's
@@ -140,14 +87,6 @@ const NAMES: &[(QuantityKind, Group, &str)] = &[
 pub struct OutputName<'a> {
     pub kind: QuantityKind,
     pub owner: &'a str,
-}
-
-fn row(kind: QuantityKind) -> (Group, &'static str) {
-    let (_, group, suffix) = NAMES
-        .iter()
-        .find(|(k, _, _)| *k == kind)
-        .expect("NAMES has a row for every kind (tested)");
-    (*group, suffix)
 }
 
 /// The name of the output reporting `kind` of `owner` (ignored for the
@@ -165,21 +104,18 @@ pub fn output_name(kind: QuantityKind, owner: &str) -> String {
 /// as `sensor.s.acceleration_filtered`, an error estimate).
 pub fn classify(name: &str) -> Option<OutputName<'_>> {
     let (head, suffix) = name.rsplit_once('.')?;
-    let grouped = NAMES.iter().find_map(|&(kind, group, s)| {
-        let owner = match group {
-            _ if s != suffix => return None,
-            Owner => return None,
-            Owned(g) => head.strip_prefix(g)?.strip_prefix('.')?,
-            Run(g) if head == g => "",
-            Run(_) => return None,
+    let grouped = QuantityKind::iter().find_map(|kind| {
+        let owner = match row(kind) {
+            (_, s) if s != suffix => return None,
+            (Owner, _) => return None,
+            (Owned(g), _) => head.strip_prefix(g)?.strip_prefix('.')?,
+            (Run(g), _) if head == g => "",
+            (Run(_), _) => return None,
         };
         Some(OutputName { kind, owner })
     });
     grouped.or_else(|| {
-        let kind = NAMES
-            .iter()
-            .find(|&&(_, group, s)| group == Owner && s == suffix)?
-            .0;
+        let kind = QuantityKind::iter().find(|&k| row(k) == (Owner, suffix))?;
         (!head.is_empty()).then_some(OutputName { kind, owner: head })
     })
 }
@@ -189,82 +125,27 @@ pub fn reports(name: &str, kind: QuantityKind) -> bool {
     classify(name).is_some_and(|n| n.kind == kind)
 }
 
-impl Quantity {
-    /// What this quantity reports, without its index. One exhaustive
-    /// match (no `_` arm): a new quantity must answer here.
-    pub fn kind(&self) -> QuantityKind {
-        use Quantity::*;
-        match self {
-            X(_) => K::X,
-            Y(_) => K::Y,
-            Vx(_) => K::Vx,
-            Vy(_) => K::Vy,
-            Ax(_) => K::Ax,
-            Ay(_) => K::Ay,
-            AngularAcceleration(_) => K::AngularAcceleration,
-            Angle(_) => K::Angle,
-            AngularVelocity(_) => K::AngularVelocity,
-            NominalSpeed(_) => K::NominalSpeed,
-            ContactPosition(_) => K::ContactPosition,
-            TangentialForce(_) => K::TangentialForce,
-            NormalForce(_) => K::NormalForce,
-            OnBeam(_) => K::OnBeam,
-            ContactClosed(_) => K::ContactClosed,
-            Gap(_) => K::Gap,
-            MagnetAirGap(_) => K::MagnetAirGap,
-            MagnetCurrent(_) => K::MagnetCurrent,
-            ImpulseTangential(_) => K::ImpulseTangential,
-            ImpulseNormal(_) => K::ImpulseNormal,
-            Irregularity(_) => K::Irregularity,
-            Sensor(_) => K::Sensor,
-            SensorVelocity(_) => K::SensorVelocity,
-            SensorFoundationLoad(_) => K::SensorFoundationLoad,
-            SensorRailDeflection(_) => K::SensorRailDeflection,
-            SensorRailSeatForce(_) => K::SensorRailSeatForce,
-            SensorAcceleration(_) => K::SensorAcceleration,
-            SectionMoment(_) => K::SectionMoment,
-            SectionShear(_) => K::SectionShear,
-            Reaction(_) => K::Reaction,
-            ReactionMoment(_) => K::ReactionMoment,
-            BodyKinetic => K::BodyKinetic,
-            BeamKinetic => K::BeamKinetic,
-            BeamStrain => K::BeamStrain,
-            SpringEnergy => K::SpringEnergy,
-            Dissipated => K::Dissipated,
-            BeamDamping => K::BeamDamping,
-            GravityWork => K::GravityWork,
-            ExternalWork => K::ExternalWork,
-            TractiveWork => K::TractiveWork,
-            ImpactLoss => K::ImpactLoss,
-            NumericalDissipation => K::NumericalDissipation,
-            Balance => K::Balance,
-            VelocityError => K::VelocityError,
-            GapError => K::GapError,
-            Iterations => K::Iterations,
-            PositionIterations => K::PositionIterations,
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use QuantityKind as K;
 
     #[test]
-    fn every_kind_has_one_row_and_every_group_suffix_one_kind() {
-        for (i, (kind, group, suffix)) in NAMES.iter().enumerate() {
-            for (other, g, s) in &NAMES[i + 1..] {
-                assert_ne!(kind, other);
-                assert!(!(group == g && suffix == s), "{group:?} {suffix}");
+    fn every_group_and_suffix_names_one_kind() {
+        let kinds: Vec<QuantityKind> = QuantityKind::iter().collect();
+        assert_eq!(kinds.len(), 47, "one kind per variant of `Quantity`");
+        for (i, &kind) in kinds.iter().enumerate() {
+            for &other in &kinds[i + 1..] {
+                let (group, suffix) = row(kind);
+                assert_ne!(row(kind), row(other), "{group:?} {suffix}");
             }
         }
-        // One row per variant of `Quantity` (its `kind` match is exhaustive).
-        assert_eq!(NAMES.len(), 47);
     }
 
     #[test]
     fn names_read_back_as_their_kind_and_owner() {
-        for &(kind, group, _) in NAMES {
+        for kind in QuantityKind::iter() {
+            let (group, _) = row(kind);
             for owner in ["wheel", "front.bogie", "energy", "sensor"] {
                 let name = output_name(kind, owner);
                 let named = classify(&name).unwrap_or_else(|| panic!("{name}"));

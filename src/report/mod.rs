@@ -19,8 +19,8 @@ pub use crate::numbers::fmt_number;
 pub use crate::outputs::non_finite_output;
 pub use run::{drive, run_scene, Run, RunError, Steppable};
 pub use stream::{
-    check_run_length, drive_into, stop_time, RowSink, StepProgress, StreamError, Streamed,
-    DEFAULT_END_TIME_FACTOR, DEFAULT_MAX_STEPS,
+    check_run_length, drive_into, progress_column, stop_time, RowSink, StepProgress, StreamError,
+    Streamed, DEFAULT_END_TIME_FACTOR, DEFAULT_MAX_STEPS,
 };
 pub use summary::{RunSummary, SummaryBuilder, SummaryEvent};
 pub use trace::{Decimated, Trace};

@@ -110,6 +110,7 @@ pub fn draw(scene: &Scene, trace: &Trace, path: &Path, text: Text) -> Result<(),
 /// Fig. 10), seconds for vehicles, trains and moving forces (their length,
 /// not the span's, sets the time scale); and the axis label.
 fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
+    // Read only for one body: the first vehicle is the only one.
     let speed = scene.vehicles[0].initial_speed;
     let one_body = !has_vehicles(scene) && !crate::moving_load::is_moving_force_scene(scene);
     if speed > 0.0 && one_body {
@@ -124,7 +125,8 @@ fn normalised_time(scene: &Scene, trace: &Trace) -> (Vec<f64>, String) {
 }
 
 /// P L³ / (48 EI): the static midspan deflection of the single simply
-/// supported span under the body's load P = |force_y|.
+/// supported span under the paper's one body's load P = |force_y| (the
+/// first vehicle's; a train's scale is `deflection_scale`'s envelope).
 pub fn static_deflection(scene: &Scene) -> f64 {
     let beam = &scene.beam;
     scene.vehicles[0].force_y.abs() * beam.length.powi(3) / (48.0 * beam.bending_stiffness)

@@ -6,7 +6,7 @@ use super::output_names;
 use super::trace::Trace;
 use crate::outputs::non_finite_output;
 use crate::scene::Scene;
-use crate::simulation::run_end::{run_end, RunEnd};
+use crate::simulation::run_end::{last_to_leave, run_end, RunEnd};
 use crate::simulation::{Advance, SolverError, Steppable};
 use std::ops::ControlFlow;
 use std::time::{Duration, Instant};
@@ -36,6 +36,7 @@ pub fn stop_time(scene: &Scene) -> Result<f64, String> {
     match run_end(scene) {
         RunEnd::EndTime(end) => Ok(end),
         RunEnd::LastExit { distance, speed } => Ok(DEFAULT_END_TIME_FACTOR * distance / speed),
+        // Every vehicle is at rest: the first one's speed names the field.
         RunEnd::NoExit => Err(format!(
             "body.initial_speed = {:?} and no vehicle moves: a run without solver.end_time \
              ends when the last contact leaves the beam, so a vehicle must start moving",
@@ -93,7 +94,7 @@ pub fn check_run_length(scene: &Scene, max_steps: u64, how_to_raise: &str) -> Re
     let why_stop = match scene.solver.end_time {
         Some(_) => "solver.end_time".to_string(),
         None => format!(
-            "{} × (beam.length − body.initial_position) / body.initial_speed",
+            "{} × the last vehicle's exit at its initial_speed",
             super::DEFAULT_END_TIME_FACTOR
         ),
     };
@@ -210,20 +211,33 @@ fn write_step(
     Ok(advance)
 }
 
+/// The output the progress follows (`progress_fraction`): the travel
+/// position of the vehicle that leaves last (`run_end::last_to_leave`),
+/// whose exit ends a run without an end time; none if no vehicle moves.
+pub fn progress_column(scene: &Scene, names: &[String]) -> Option<usize> {
+    let (last, _) = last_to_leave(scene)?;
+    output_names::travel_position(names, &scene.vehicles[last].name)
+}
+
 /// 0 at the start, 1 at the exit or the stop time: the larger of the
-/// fractions of time and of travel done.
-fn progress_fraction(
+/// fractions of time and of the last vehicle's travel to its exit done.
+pub(super) fn progress_fraction(
     scene: &Scene,
     names: &[String],
     start_time: f64,
     stop: f64,
 ) -> impl Fn(f64, &[f64]) -> f64 {
-    let position = output_names::travel_position(names, &scene.vehicles[0].name);
-    let start_position = scene.vehicles[0].initial_position;
-    let travel = scene.beam.length - start_position;
+    let position = progress_column(scene, names);
+    let travel = last_to_leave(scene).map(|(v, (distance, _))| {
+        let start_position = scene.vehicles[v].initial_position;
+        (start_position, distance)
+    });
     move |time: f64, values: &[f64]| {
         let by_time = (time - start_time) / (stop - start_time);
-        let by_position = position.map_or(0.0, |i| (values[i] - start_position) / travel);
+        let by_position = match (position, travel) {
+            (Some(i), Some((start, distance))) => (values[i] - start).abs() / distance,
+            _ => 0.0,
+        };
         by_time.max(by_position).clamp(0.0, 1.0)
     }
 }

@@ -16,11 +16,15 @@ use std::fmt;
 pub struct RunSummary {
     /// Scene name.
     pub scene: String,
-    /// Time (s) at which the contact point reached the end of the beam.
+    /// Time (s) at which the last contact left the beam (of a train: the
+    /// last vehicle's, `set_vehicles`).
     pub exit_time: Option<f64>,
-    /// Nominal speed V (eq. 24, m/s) at the exit.
+    /// Nominal speed V (eq. 24, m/s) at the exit: the first vehicle's, or
+    /// with the vehicles' exits set after a run to `solver.end_time`, that
+    /// of the vehicle that left last.
     pub exit_nominal_speed: Option<f64>,
-    /// Largest nominal speed V (m/s) over the run.
+    /// Largest nominal speed V (m/s) over the run: the first vehicle's
+    /// (each vehicle's exit speeds are in `vehicles`).
     pub peak_nominal_speed: Option<f64>,
     /// Per sensor, the most negative (downward) deflection (m), sign kept.
     pub peak_sensor_deflection: BTreeMap<String, f64>,
@@ -191,6 +195,8 @@ impl SummaryBuilder {
             deck: DeckRecord::new(names, scene.solver.step),
             envelope_of: (!design.is_empty()).then(|| scene.clone()),
             scene: scene.name.clone(),
+            // The first vehicle's (the paper's one body); a train's
+            // vehicles' exit speeds are `RunSummary::vehicles`.
             speed: find(&output_name(
                 QuantityKind::NominalSpeed,
                 &scene.vehicles[0].name,
@@ -396,13 +402,18 @@ impl fmt::Display for RunSummary {
 
 impl RunSummary {
     /// Set the vehicles' exits; when the run did not end at the exit (it
-    /// went on to `solver.end_time`), the exit time and speed are those of
-    /// the first vehicle's last contact.
+    /// went on to `solver.end_time`), the exit is the run's own rule's (the
+    /// last contact off the beam): the time and speed of the vehicle whose
+    /// last contact left last, once every vehicle has left.
     pub fn set_vehicles(&mut self, vehicles: Vec<VehicleExit>) {
         if self.exit_time.is_none() {
-            if let Some(first) = vehicles.first() {
-                self.exit_time = first.last_exit_time;
-                self.exit_nominal_speed = first.last_exit_time.and(first.last_exit_speed);
+            let exits: Option<Vec<(f64, &VehicleExit)>> = (vehicles.iter())
+                .map(|v| Some((v.last_exit_time?, v)))
+                .collect();
+            let last = exits.and_then(|e| e.into_iter().max_by(|a, b| a.0.total_cmp(&b.0)));
+            if let Some((time, vehicle)) = last {
+                self.exit_time = Some(time);
+                self.exit_nominal_speed = vehicle.last_exit_speed;
             }
         }
         self.vehicles = vehicles;

@@ -212,6 +212,25 @@ fn stop_time_defaults_to_ten_rigid_beam_travel_times() {
     assert_eq!(stop_time(&scene), Ok(1.5));
 }
 
+/// A train's progress follows the vehicle that leaves last: the paper's
+/// wheel at x = 0 and a second one at x = −6 m on the 24 m beam, both at
+/// 10 m/s. The rear one travels 30 m to leave, so at x = 9 m it is half
+/// way (0.5), whatever the front wheel's x; by time alone, 0.1 of the stop.
+#[test]
+fn progress_follows_the_last_vehicle_to_leave() {
+    let mut scene = Scene::lee1994(crate::scene::BodyKind::Wheel, 10.0, 0.0025);
+    let mut rear = scene.vehicles[0].clone();
+    rear.name = "rear".to_string();
+    rear.initial_position = -6.0;
+    scene.vehicles.push(rear);
+    let names: Vec<String> = ["wheel.x", "rear.x"].map(String::from).to_vec();
+    assert_eq!(progress_column(&scene, &names), Some(1));
+    let fraction = stream::progress_fraction(&scene, &names, 0.0, 30.0);
+    assert_eq!(fraction(3.0, &[24.0, 9.0]), 0.5);
+    assert_eq!(fraction(3.0, &[24.0, -6.0]), 0.1);
+    assert_eq!(fraction(3.0, &[24.0, 30.0]), 1.0);
+}
+
 #[test]
 fn travel_position_prefers_the_contact_abscissa() {
     let names: Vec<String> = ["wheel.x", "contact.position"].map(String::from).to_vec();

@@ -215,7 +215,6 @@ impl Simulation {
     pub fn set_vehicle_force(&mut self, vehicle: usize, force: [f64; 2]) {
         if let Some(held) = self.state.vehicle_forces.get_mut(vehicle) {
             *held = force;
-            self.setup.vehicle_forces[vehicle].1 = force;
         }
     }
 
@@ -317,10 +316,6 @@ impl Simulation {
     pub fn restore(&mut self, state: &SimState) -> Result<(), String> {
         self.check_restorable(state)?;
         self.state = state.clone();
-        let forces = self.setup.vehicle_forces.iter_mut();
-        forces
-            .zip(&state.vehicle_forces)
-            .for_each(|(f, &held)| f.1 = held);
         Ok(())
     }
 
@@ -328,7 +323,7 @@ impl Simulation {
     /// this model's and the bodies where its contacts say they are.
     pub fn check_restorable(&self, state: &SimState) -> Result<(), String> {
         check_shape(&self.system, state)?;
-        let vehicles = self.setup.vehicle_forces.len();
+        let vehicles = self.setup.vehicle_first_bodies.len();
         if state.vehicle_forces.len() != vehicles {
             return Err(format!(
                 "the state has {} vehicle forces but this model has {vehicles} vehicles",

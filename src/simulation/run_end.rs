@@ -25,15 +25,25 @@ pub fn run_end(scene: &Scene) -> RunEnd {
     if let Some(t) = scene.solver.end_time {
         return RunEnd::EndTime(t);
     }
-    let exits = scene
-        .vehicles
-        .iter()
-        .filter_map(|v| travel_to_exit(v, scene.beam.length));
-    let last = exits.reduce(|a, b| if exit_time(b) > exit_time(a) { b } else { a });
-    match last {
-        Some((distance, speed)) => RunEnd::LastExit { distance, speed },
+    match last_to_leave(scene) {
+        Some((_, (distance, speed))) => RunEnd::LastExit { distance, speed },
         None => RunEnd::NoExit,
     }
+}
+
+/// The vehicle whose last contact leaves the beam last at the initial
+/// speeds (the first of those that leave together), with how far that
+/// contact travels and at what speed; `None` when no vehicle moves.
+pub fn last_to_leave(scene: &Scene) -> Option<(usize, (f64, f64))> {
+    let exits = (scene.vehicles.iter().enumerate())
+        .filter_map(|(k, v)| Some((k, travel_to_exit(v, scene.beam.length)?)));
+    exits.reduce(|a, b| {
+        if exit_time(b.1) > exit_time(a.1) {
+            b
+        } else {
+            a
+        }
+    })
 }
 
 /// When a vehicle that travels `distance` at `speed` leaves (s, not

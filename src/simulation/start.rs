@@ -24,8 +24,13 @@ impl Simulation {
         let envelope_loads = crate::build::static_shares(&assembly);
         assembly.system.track.open_ends = open_ends;
         let setup = run_setup(scene, &mut assembly);
-        let applied: Vec<Vector3<f64>> =
-            constant_forces(&assembly.system, &setup.vehicle_forces).collect();
+        let vehicle_forces = std::mem::take(&mut assembly.vehicle_forces);
+        let applied: Vec<Vector3<f64>> = constant_forces(
+            &assembly.system,
+            &setup.vehicle_first_bodies,
+            &vehicle_forces,
+        )
+        .collect();
         let u = start_displacement(scene, &mut assembly, &applied)?;
         let system = assembly.system;
         let (integrator, integrator_choice) = choose_integrator(&system, &scene.solver)?;
@@ -38,7 +43,6 @@ impl Simulation {
                 .unzip();
         let step = scene.solver.step;
         let stepper = Stepper::new(integrator, &system, step, &assembly.open, &dynamic);
-        let vehicle_forces = (setup.vehicle_forces.iter()).map(|&(_, f)| f).collect();
         let start = (dynamic, assembly.forces.as_slice(), vehicle_forces);
         let state = state_at_start(&system, start, step, &assembly.open)?;
         let mut simulation = Simulation {
@@ -60,14 +64,14 @@ impl Simulation {
     }
 }
 
-/// How the run drives the system: the vehicles' forces (each vehicle's
-/// `force_x/y`), the prescribed speeds, the restitutions, when the run
-/// ends and the force profile.
+/// How the run drives the system: where the vehicles' forces act, the
+/// prescribed speeds, the restitutions, when the run ends and the force
+/// profile.
 fn run_setup(scene: &Scene, assembly: &mut Assembly) -> RunSetup {
-    let vehicle_forces = std::mem::take(&mut assembly.vehicle_forces);
-    let drives = driven_bodies(scene, &vehicle_forces, assembly.system.bodies.len());
+    let vehicle_first_bodies = std::mem::take(&mut assembly.vehicle_first_bodies);
+    let drives = driven_bodies(scene, &vehicle_first_bodies, assembly.system.bodies.len());
     RunSetup {
-        vehicle_forces,
+        vehicle_first_bodies,
         drives,
         restitution: std::mem::take(&mut assembly.restitution),
         stop_at_beam_exit: scene.solver.end_time.is_none(),
@@ -142,14 +146,9 @@ fn state_at_start(
 }
 
 /// Every body of each vehicle at a prescribed speed, and its speed: a
-/// vehicle's bodies run from its first body (`vehicle_forces`) to the next
+/// vehicle's bodies run from its first body (`firsts`) to the next
 /// vehicle's.
-fn driven_bodies(
-    scene: &Scene,
-    vehicle_forces: &[(usize, [f64; 2])],
-    bodies: usize,
-) -> Vec<(usize, SpeedSpec)> {
-    let firsts: Vec<usize> = vehicle_forces.iter().map(|&(b, _)| b).collect();
+fn driven_bodies(scene: &Scene, firsts: &[usize], bodies: usize) -> Vec<(usize, SpeedSpec)> {
     let ends = firsts.iter().skip(1).copied().chain([bodies]);
     scene
         .vehicles

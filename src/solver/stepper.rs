@@ -55,14 +55,12 @@ pub struct JointImpact {
     pub impulse: Vector2<f64>,
 }
 
-/// How the run drives the system beside its state, fixed at the build
-/// (the vehicles' forces are the state's `vehicle_forces`, copied here
-/// whenever they are set).
+/// How the run drives the system beside its state, fixed at the build.
 #[derive(Debug, Clone)]
 pub struct RunSetup {
-    /// The first body of each vehicle and the force on it, held until
-    /// changed (`SimState::vehicle_forces`).
-    pub vehicle_forces: Vec<(usize, [f64; 2])>,
+    /// The first body of each vehicle: where its applied force (the
+    /// state's `vehicle_forces`, in the same order) acts.
+    pub vehicle_first_bodies: Vec<usize>,
     /// The bodies driven at a prescribed speed, and their speeds.
     pub drives: Vec<(usize, SpeedSpec)>,
     /// Per contact: its vehicle's coefficient of restitution.
@@ -198,7 +196,7 @@ pub fn constant_forces_now<'a>(
 ) -> impl Iterator<Item = Vector3<f64>> + 'a {
     let couplings = &system.couplings;
     let loads = &state.coupling_loads;
-    constant_forces(system, &setup.vehicle_forces)
+    constant_forces(system, &setup.vehicle_first_bodies, &state.vehicle_forces)
         .enumerate()
         .map(move |(b, force)| {
             couplings
@@ -381,7 +379,12 @@ impl Step<'_> {
     /// Take the step solved into `scratch`.
     pub(crate) fn accept(&mut self, solution: StepSolution, dt: f64) {
         let s = &mut *self.state;
-        for &(b, force) in &self.setup.vehicle_forces {
+        for (&b, force) in self
+            .setup
+            .vehicle_first_bodies
+            .iter()
+            .zip(&s.vehicle_forces)
+        {
             let moved = self.work.scratch.bodies[b].position - s.dynamic.bodies[b].position;
             s.external_work += Vector2::new(force[0], force[1]).dot(&moved);
         }

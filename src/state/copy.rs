@@ -388,21 +388,11 @@ mod tests {
         }
     }
 
-    /// Every number `check_values` checks, made non-finite in turn, and its
-    /// two other rules broken: the checked copy refuses each as it does.
-    #[test]
-    fn a_checked_copy_refuses_what_check_values_refuses() {
-        use crate::simulation::{ContactEvent, EventKind, SimState};
-        let step = 0.0025;
-        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, step);
-        let mut good = state_after(&scene, 400);
-        good.events.push(ContactEvent {
-            contact: 0,
-            time: 0.5,
-            kind: EventKind::Entry,
-        });
-        type Corrupt = fn(&mut SimState, f64);
-        let corruptions: &[(&str, Corrupt)] = &[
+    type Corrupt = fn(&mut crate::simulation::SimState, f64);
+
+    /// Each number `check_values` checks, named, and how to set it.
+    fn corruptions() -> Vec<(&'static str, Corrupt)> {
+        let all: &[(&str, Corrupt)] = &[
             ("time", |s, x| s.time = x),
             ("external work", |s, x| s.external_work = x),
             ("gravity work", |s, x| s.gravity_work = x),
@@ -436,10 +426,27 @@ mod tests {
             ("impulse", |s, x| s.contacts[0].impulse[1] = x),
             ("gap", |s, x| s.contacts[0].gap = x),
         ];
+        all.to_vec()
+    }
+
+    /// Every number `check_values` checks, made non-finite in turn, and its
+    /// two other rules broken: the checked copy refuses each as it does.
+    #[test]
+    fn a_checked_copy_refuses_what_check_values_refuses() {
+        use crate::simulation::{ContactEvent, EventKind};
+        let step = 0.0025;
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, step);
+        let mut good = state_after(&scene, 400);
+        good.events.push(ContactEvent {
+            contact: 0,
+            time: 0.5,
+            kind: EventKind::Entry,
+        });
+        let corruptions = corruptions();
         let mut copy = good.clone();
         assert_eq!(good.check_values(step), Ok(()));
         assert_eq!(copy.copy_checked_from(&good, step), Ok(()));
-        for (what, corrupt) in corruptions {
+        for (what, corrupt) in &corruptions {
             for x in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
                 let mut bad = good.clone();
                 corrupt(&mut bad, x);

@@ -677,15 +677,7 @@ type Numbering = (Vec<usize>, Vec<[usize; 2]>, usize);
 /// along the track. Returns the deck DOFs' new numbers, the rail's and
 /// the count.
 fn number_dofs(node_x: &[f64], mesh: &Mesh, tolerance: f64) -> Result<Numbering, String> {
-    let mut deck_x = vec![f64::NAN; mesh.free_dofs];
-    for (k, local) in mesh.element_dofs.iter().enumerate() {
-        let ends = [mesh.element_start[k], mesh.element_end[k]];
-        for (p, dof) in local.iter().enumerate() {
-            if let Some(d) = dof {
-                deck_x[*d] = ends[p / 2];
-            }
-        }
-    }
+    let deck_x = mesh.free_dof_x();
     let mut numbering = vec![usize::MAX; mesh.free_dofs];
     let mut rail = Vec::with_capacity(node_x.len());
     let (mut next, mut d) = (0, 0);

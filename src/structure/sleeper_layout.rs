@@ -189,15 +189,7 @@ fn number_by_abscissa(
     sleeper_at: &[bool],
     tolerance: f64,
 ) -> Numbering {
-    let mut deck_x = vec![f64::NAN; mesh.free_dofs];
-    for (k, local) in mesh.element_dofs.iter().enumerate() {
-        let ends = [mesh.element_start[k], mesh.element_end[k]];
-        for (p, dof) in local.iter().enumerate() {
-            if let Some(d) = dof {
-                deck_x[*d] = ends[p / 2];
-            }
-        }
-    }
+    let deck_x = mesh.free_dof_x();
     let mut numbering = vec![usize::MAX; mesh.free_dofs];
     let mut rail = Vec::with_capacity(node_x.len());
     let mut sleepers = vec![None; node_x.len()];

@@ -161,8 +161,10 @@ pub fn structure_of(scene: &Scene) -> Result<Beam, String> {
     }
 }
 
-/// What a sweep runs: the scene's own forces, or HSLM trains put in
-/// place of its `[body]`.
+/// What a sweep runs: the scene's own forces, or trains put in place of
+/// all of them. A train is one load with one start and speed: those of
+/// the scene's first force (`[body]`), the train's template (its leading
+/// axle starts there); the scene's other forces are not run with it.
 #[derive(Debug, Clone)]
 pub enum Loads {
     Scene,

@@ -142,6 +142,8 @@ pub struct Reference {
     pub deflection_spread: f64,
 }
 
+/// P L³ / (48 EI) under the first vehicle's load: the study runs the
+/// paper's one-body scenes.
 fn static_deflection(scene: &Scene) -> f64 {
     let l = scene.beam.length;
     scene.vehicles[0].force_y.abs() * l * l * l / (48.0 * scene.beam.bending_stiffness)

@@ -65,13 +65,16 @@ fn each_coach_has_its_first_and_last_exit_with_end_time_set() {
             assert!((speed.unwrap() - 5.0).abs() < 5e-3, "{exit:?}");
         }
     }
-    // The run went on to end_time, past the exit: the summary still gives
-    // the first vehicle's exit.
+    // The run went on to end_time, past the exit: the summary gives the
+    // train's exit, when its last contact (coach2's last wheelset) left,
+    // as a run without end_time would have ended (`run_end`).
     assert_eq!(*run.trace.time.last().unwrap(), 19.5);
-    assert_eq!(summary.exit_time, summary.vehicles[0].last_exit_time);
+    let rear_last = crossing_time(&run, "coach2_wheelset4", length);
+    assert!((summary.exit_time.unwrap() - rear_last).abs() < 1e-4);
+    assert_eq!(summary.exit_time, summary.vehicles[1].last_exit_time);
     assert_eq!(
         summary.exit_nominal_speed,
-        summary.vehicles[0].last_exit_speed
+        summary.vehicles[1].last_exit_speed
     );
     let json = summary.to_json();
     assert!(json.contains("\"last_exit_time\""), "{json}");
@@ -93,6 +96,12 @@ fn a_coach_still_on_the_beam_has_no_last_exit() {
     assert!(coach2.first_exit_time.is_some(), "{coach2:?}");
     assert_eq!(
         (coach2.last_exit_time, coach2.last_exit_speed),
+        (None, None)
+    );
+    // The train has not left (coach1 has): the summary gives no exit.
+    assert!(summary.vehicles[0].last_exit_time.is_some());
+    assert_eq!(
+        (summary.exit_time, summary.exit_nominal_speed),
         (None, None)
     );
 }

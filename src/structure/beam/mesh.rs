@@ -119,6 +119,20 @@ fn interior_breaks(spec: &BeamSpec, (start, end): (f64, f64)) -> Vec<f64> {
 }
 
 impl Mesh {
+    /// The abscissa of each free DOF's node, along the track.
+    pub fn free_dof_x(&self) -> Vec<f64> {
+        let mut x = vec![f64::NAN; self.free_dofs];
+        for (k, local) in self.element_dofs.iter().enumerate() {
+            let ends = [self.element_start[k], self.element_end[k]];
+            for (p, dof) in local.iter().enumerate() {
+                if let Some(d) = dof {
+                    x[*d] = ends[p / 2];
+                }
+            }
+        }
+        x
+    }
+
     /// The mesh of a (validated) spec.
     pub fn new(spec: &BeamSpec) -> Result<Mesh, String> {
         let bounds = segment_bounds(spec);
