@@ -430,6 +430,27 @@ fn rows4((t, n): ([f64; 4], [f64; 4])) -> [Vector4<f64>; 2] {
     [Vector4::from(t), Vector4::from(n)]
 }
 
+/// A unit load on the beam, a row at an element's DOFs, and the length of
+/// the step integrated under it: what a response of
+/// `beam_compliance_integrated` depends on (the integrator and the beam
+/// being the iteration's own), its reals as bits.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct ResponseKey {
+    dt: u64,
+    dofs: [Option<usize>; 4],
+    row: [u64; 4],
+}
+
+impl ResponseKey {
+    fn new(dt: f64, dofs: &[Option<usize>; 4], row: &[f64; 4]) -> ResponseKey {
+        ResponseKey {
+            dt: dt.to_bits(),
+            dofs: *dofs,
+            row: row.map(f64::to_bits),
+        }
+    }
+}
+
 /// One (measured, applied) contact pair of the beam part of an operator.
 struct PairEntry<'a> {
     /// The measured contact's rows, the applied one's.
@@ -483,6 +504,10 @@ pub struct ContactIteration {
     load: DVector<f64>,
     response_u: Vec<DVector<f64>>,
     response_v: Vec<DVector<f64>>,
+    /// Per column of `response_u`/`response_v`: the unit load and step
+    /// length it holds the response to. A restart's trial steps and the
+    /// step after them share their start and length, and so these.
+    response_keys: Vec<Option<ResponseKey>>,
     /// Responses for steps of the nominal length, filled as the contacts
     /// reach the elements (`responses`): the Delassus operator then costs a
     /// few flops per entry instead of beam integrations. They depend only
@@ -557,6 +582,7 @@ impl ContactIteration {
             load: DVector::zeros(free_dofs),
             response_u: Vec::new(),
             response_v: Vec::new(),
+            response_keys: Vec::new(),
             element_responses: ResponseCache::new(),
             condensed: Default::default(),
             delassus_beam_solves: 0,
@@ -647,7 +673,9 @@ impl ContactIteration {
     /// solved keep the operators the first of them built, for steps from
     /// one state with one length and one open set (a restart's trial steps:
     /// the caller's promise). Each step still converges to the tolerances;
-    /// only the way there changes.
+    /// only the way there changes. Their ends are the caller's to discard:
+    /// they are not finished (`TimeIntegrator::finish_step`: no energy
+    /// books, no end products kept).
     pub fn share_operator(&mut self, shared: bool) {
         self.delassus.shared = shared;
         self.delassus.built = false;
@@ -694,6 +722,7 @@ impl ContactIteration {
         while self.response_u.len() < count {
             self.response_u.push(DVector::zeros(n));
             self.response_v.push(DVector::zeros(n));
+            self.response_keys.push(None);
         }
     }
 
@@ -827,6 +856,13 @@ impl ContactIteration {
             let kinds_j = row_kinds(system.contacts[j].rolls());
             for (b, &kj) in kinds_j.iter().enumerate() {
                 let column = self.offsets[j] + b;
+                // The same unit load on a step of the same length: the
+                // same response, bit for bit.
+                let key = ResponseKey::new(dt, &apply.shape.dofs, &rows[kj]);
+                if self.response_keys[column] == Some(key) {
+                    continue;
+                }
+                self.response_keys[column] = Some(key);
                 self.load.fill(0.0);
                 beam.scatter(&apply.shape, &rows[kj], 1.0, &mut self.load);
                 let (u, v) = (&mut self.response_u[column], &mut self.response_v[column]);
@@ -1152,7 +1188,12 @@ impl ContactIteration {
             self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
         iterations += position_iterations;
-        self.integrator.finish_step(system, from, end);
+        // A restart's trial step is discarded but for its forces: its
+        // books and end products would only displace the last accepted
+        // step's, which the step after the restart starts from.
+        if !self.delassus.shared {
+            self.integrator.finish_step(system, from, end);
+        }
         let configuration = (&end.beam_displacement, end.bodies.as_slice());
         self.memo
             .keep(system, configuration, from.parts, &self.end_frames);
