@@ -467,13 +467,23 @@ impl PairEntry<'_> {
     /// The pair's entries from the response of the measured contact's
     /// element to loads on the applied one's.
     fn fill(&self, r: &ElementResponse, part: Part, matrix: &mut DMatrix<f64>) {
+        let block = match part {
+            Part::Gap => &r.displacement,
+            Part::Velocity => &r.velocity,
+        };
+        self.fill_part(block, part, matrix);
+    }
+
+    /// `fill` from the response block of `part` alone (displacements for
+    /// the gap operator, velocities for the velocity operator).
+    fn fill_part(&self, block: &nalgebra::Matrix4<f64>, part: Part, matrix: &mut DMatrix<f64>) {
         let (m, a) = self.rows;
         if part == Part::Gap {
-            matrix[self.at] = m[1].dot(&(r.displacement * a[1]));
+            matrix[self.at] = m[1].dot(&(block * a[1]));
             return;
         }
         for (b, &kj) in self.kinds.1.iter().enumerate() {
-            let response = r.velocity * a[kj];
+            let response = block * a[kj];
             for (ai, &ki) in self.kinds.0.iter().enumerate() {
                 matrix[(self.offsets.0 + ai, self.offsets.1 + b)] = m[ki].dot(&response);
             }
@@ -828,7 +838,8 @@ impl ContactIteration {
                     at: (i, j),
                     offsets: (self.offsets[i], self.offsets[j]),
                 };
-                pair.fill(&self.condensed.block((measure, loaded), part), part, matrix);
+                let block = self.condensed.block((measure, loaded), part);
+                pair.fill_part(&block, part, matrix);
             }
         }
         self.beam_rows = rows;
