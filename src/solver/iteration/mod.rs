@@ -1525,10 +1525,19 @@ mod tests {
             // The wheels load each other through the beam.
             assert!(direct[(0, size - 1)].abs() > 1e-6 * direct[(0, 0)].abs());
         }
-        // The direct path's solves alone (2 wheels × 2 rows, each part);
-        // one band of A⁻¹ for both condensed builds.
+        // The direct path's solves alone (2 wheels × 2 rows, once: the gap
+        // operator's unit loads and step are the velocity operator's); one
+        // band of A⁻¹ for both condensed builds.
         let (solves, work) = iteration.delassus_work();
-        assert_eq!((solves, work.bands, work.builds), (8, 1, 2));
+        assert_eq!((solves, work.bands, work.builds), (4, 1, 2));
+        // Another step length integrates them again, and is another operator.
+        let mut shorter = DMatrix::zeros(contacts, contacts);
+        iteration.beam_compliance_integrated(&system, both, (0.5 * dt, Part::Gap), &mut shorter);
+        assert_eq!(iteration.delassus_work().0, 8);
+        let mut again = DMatrix::zeros(contacts, contacts);
+        iteration.beam_compliance_integrated(&system, both, (dt, Part::Gap), &mut again);
+        assert_eq!(iteration.delassus_work().0, 12);
+        assert!((&again - &shorter).amax() > 0.1 * again.amax());
     }
 
     #[test]
