@@ -32,6 +32,12 @@ pub(in crate::structure) trait StructureOps {
     /// `out += scale` × a unit load on the mesh's free DOF `dof`.
     fn add_dof_load(&self, dof: usize, scale: f64, out: &mut DVector<f64>);
 
+    /// The one state entry `add_dof_load(dof, ..)` writes, or None where a
+    /// DOF's load spreads over several (a modal basis).
+    fn load_coordinate(&self, _dof: usize) -> Option<usize> {
+        None
+    }
+
     /// The field on an element's four DOFs `dofs` (0 where held).
     fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
         dofs.map(|dof| dof.map_or(0.0, |i| self.dof_value(i, u)))

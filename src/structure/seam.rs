@@ -134,6 +134,12 @@ impl Structure {
         each!(self, b => b.add_dof_load(dof, scale, out))
     }
 
+    /// The one state entry a load on the mesh's free DOF `dof` is added
+    /// to, or None where it spreads over several (a modal basis).
+    pub fn load_coordinate(&self, dof: usize) -> Option<usize> {
+        each!(self, b => b.load_coordinate(dof))
+    }
+
     /// The field of state vector `u` on the four DOFs `dofs` of an element
     /// (0 where held).
     pub fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {

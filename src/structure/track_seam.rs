@@ -208,6 +208,10 @@ impl StructureOps for TrackBeam {
         out[self.rail_dofs[dof]] += scale;
     }
 
+    fn load_coordinate(&self, dof: usize) -> Option<usize> {
+        Some(self.rail_dofs[dof])
+    }
+
     fn stiffness_times(&self, u: &DVector<f64>, out: &mut DVector<f64>) {
         Self::times(&self.assembly.stiffness, u, out);
     }

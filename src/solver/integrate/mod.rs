@@ -10,6 +10,7 @@ mod dispatch; // first: `integrators!`, used below
 mod choice;
 mod hht_energy;
 mod hht_scheme;
+mod load_footprint;
 mod memo;
 mod profile;
 mod step_end;
@@ -35,6 +36,7 @@ use crate::system::{System, TrackPart};
 
 pub use choice::{auto_pick, choose_integrator, rk4_step_limit, AUTO_MIN_DAMPING};
 use choice::{build_within_limit, Built};
+pub use load_footprint::LoadFootprint;
 pub use memo::FrameMemo;
 pub use profile::{force_shape, ForceProfile, ForceShape};
 pub use step_end::EndForces;
@@ -164,12 +166,26 @@ pub struct HeldFollowers<'a> {
 pub fn loads_but_laws(
     system: &System,
     frames: &[ContactFrame],
+    forces: (&[ContactForce], HeldFollowers),
+    applied: &[Vector3<f64>],
+    at: (&[BodyState], &DVector<f64>),
+    (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
+) -> f64 {
+    beam_load.as_mut_slice().fill(0.0); // a memset: DVector::fill goes entry by entry
+    add_loads_but_laws(system, frames, forces, applied, at, (beam_load, body_loads))
+}
+
+/// `loads_but_laws` added to `beam_load` as it is (zero but where the
+/// caller's `LoadFootprint` says); `body_loads` overwritten.
+#[inline]
+pub fn add_loads_but_laws(
+    system: &System,
+    frames: &[ContactFrame],
     (forces, followers): (&[ContactForce], HeldFollowers),
     applied: &[Vector3<f64>],
     (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
     (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
 ) -> f64 {
-    beam_load.as_mut_slice().fill(0.0); // a memset: DVector::fill goes entry by entry
     body_loads.copy_from_slice(applied);
     let mut dissipation = 0.0;
     let contacts = system.contacts.iter().zip(frames).zip(forces);

@@ -17,7 +17,6 @@ use crate::band::BandLdlt;
 use crate::linalg::band_inverse::{InverseBand, Walks};
 use crate::system::System;
 
-use super::responses::ElementResponse;
 use super::Part;
 
 /// A measured element's places and a loaded one's (`Condensed::places`).
@@ -107,9 +106,10 @@ impl Condensed {
     }
 
     /// The response block of a measured element to unit loads on the DOFs
-    /// of a loaded one (their `places`), for `part` only: the other
-    /// part's matrix is left zero.
-    pub fn block(&self, (measured, loaded): PlacesPair, part: Part) -> ElementResponse {
+    /// of a loaded one (their `places`), of `part` only: displacements for
+    /// the gap operator, velocities for the velocity operator.
+    #[inline]
+    pub fn block(&self, (measured, loaded): PlacesPair, part: Part) -> Matrix4<f64> {
         let m = self.dofs.len();
         let weight = match part {
             Part::Gap => self.weights.0,
@@ -125,16 +125,6 @@ impl Condensed {
                 }
             }
         }
-        let zero = Matrix4::zeros();
-        match part {
-            Part::Gap => ElementResponse {
-                displacement: z,
-                velocity: zero,
-            },
-            Part::Velocity => ElementResponse {
-                displacement: zero,
-                velocity: z,
-            },
-        }
+        z
     }
 }

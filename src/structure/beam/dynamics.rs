@@ -33,6 +33,10 @@ impl StructureOps for HermiteBeam {
         out[dof] += scale;
     }
 
+    fn load_coordinate(&self, dof: usize) -> Option<usize> {
+        Some(dof)
+    }
+
     /// The field of state vector `u` on the four DOFs `dofs` of an element
     /// (0 where held).
     fn gather(&self, dofs: &[Option<usize>; 4], u: &DVector<f64>) -> [f64; 4] {
