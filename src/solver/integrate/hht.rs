@@ -57,6 +57,11 @@ pub struct Hht {
     /// integration (at the prediction it was given).
     law_loads: Vec<Vector3<f64>>,
     has_prediction: bool,
+    /// What the iteration handed over for the current prediction
+    /// (`know_prediction`): its frames are in `frames`, and its force
+    /// elements' loads in `law_loads` with their dampers' power.
+    known_frames: bool,
+    known_laws: Option<f64>,
     /// Whether the first prediction takes the start's accelerations
     /// (`predict_from`).
     pub(super) predicts_accelerations: bool,
@@ -167,6 +172,8 @@ impl Hht {
             predicted_bodies: Vec::new(),
             law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
+            known_frames: false,
+            known_laws: None,
             predicts_accelerations: false,
             frames: Vec::new(),
             guesses: Vec::new(),
@@ -203,6 +210,7 @@ impl Hht {
     /// if it is not the nominal step's.
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
+        (self.known_frames, self.known_laws) = (false, None);
         self.start_known = false;
         self.predictor_dt = None;
         self.base.known = false;
@@ -258,16 +266,21 @@ impl Hht {
         if !self.has_prediction {
             self.predict_from(start, dt);
         }
-        // Load frames and force elements: the predicted end configuration.
-        self.guesses.clear();
-        self.guesses.extend(from.frames.iter().map(|f| f.x));
-        contact_frames(
-            system,
-            &self.predicted_u,
-            &self.predicted_bodies,
-            (&self.guesses, from.parts),
-            &mut self.frames,
-        )?;
+        // Load frames and force elements: the predicted end configuration
+        // (found by the iteration at the last integration's end, or here).
+        let (known_frames, known_laws) = (self.known_frames, self.known_laws);
+        (self.known_frames, self.known_laws) = (false, None);
+        if !known_frames {
+            self.guesses.clear();
+            self.guesses.extend(from.frames.iter().map(|f| f.x));
+            contact_frames(
+                system,
+                &self.predicted_u,
+                &self.predicted_bodies,
+                (&self.guesses, from.parts),
+                &mut self.frames,
+            )?;
+        }
         // The force elements' loads apart: the contact iteration reads them
         // (`ContactIteration::anticipate_laws`).
         let at = (self.predicted_bodies.as_slice(), &self.predicted_v);
@@ -283,8 +296,13 @@ impl Hht {
             at,
             (&mut self.load, &mut end.body_loads),
         );
-        self.law_loads.fill(Vector3::zeros());
-        let laws = add_element_forces(&system.force_elements, at.0, &mut self.law_loads);
+        let laws = match known_laws {
+            Some(power) => power,
+            None => {
+                self.law_loads.fill(Vector3::zeros());
+                add_element_forces(&system.force_elements, at.0, &mut self.law_loads)
+            }
+        };
         for (load, law) in end.body_loads.iter_mut().zip(&self.law_loads) {
             *load += law;
         }
@@ -309,6 +327,7 @@ impl Hht {
     /// velocities, or (`predicts_accelerations`) at its accelerations.
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
+        (self.known_frames, self.known_laws) = (false, None);
         self.predicted_u.copy_from(&start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         self.predicted_v.copy_from(&start.beam_velocity);
@@ -602,6 +621,25 @@ impl Hht {
     pub fn hold_followers(&mut self, held: &[bool]) {
         self.held_followers.clear();
         self.held_followers.extend_from_slice(held);
+    }
+
+    /// What the iteration measured at the last integration's end, which
+    /// is the next one's prediction (`TimeIntegrator::know_prediction`):
+    /// taken only while there is such a prediction and the frames are one
+    /// per contact.
+    pub fn know_prediction(&mut self, known: super::KnownAtPrediction) {
+        if !self.has_prediction || known.frames.len() != self.frames.len() {
+            return;
+        }
+        self.frames.copy_from_slice(known.frames);
+        self.known_frames = true;
+        self.known_laws = None;
+        if let Some((loads, power)) = known.elements {
+            if loads.len() == self.law_loads.len() {
+                self.law_loads.copy_from_slice(loads);
+                self.known_laws = Some(power);
+            }
+        }
     }
 
     /// Every follower's force in the last integration.

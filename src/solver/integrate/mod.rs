@@ -58,6 +58,17 @@ pub struct StepStart<'a> {
     pub shapes: &'a [ForceShape],
 }
 
+/// What the contact iteration measured at an integration's end, handed to
+/// the next integration whose prediction that end is
+/// (`TimeIntegrator::know_prediction`).
+pub struct KnownAtPrediction<'a> {
+    pub frames: &'a [ContactFrame],
+    /// The force elements' loads on each body (each the sum over the
+    /// elements from zero, as `add_element_forces` makes it) and the
+    /// dampers' power.
+    pub elements: Option<(&'a [Vector3<f64>], f64)>,
+}
+
 /// Failure of one integration.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IntegrationError {
@@ -343,6 +354,14 @@ pub trait TimeIntegrator: Sized {
     fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
         None
     }
+    /// Lagged force laws: what the caller measured at the last
+    /// integration's end, which is the next one's prediction while nobody
+    /// moves it: every contact's frame there (found on the step's parts of
+    /// the track) and, where measured, the force elements' loads on each
+    /// body and their dampers' power (`KnownAtPrediction`). The next
+    /// integration takes them instead of searching and evaluating them
+    /// again at the same configuration.
+    fn know_prediction(&mut self, _known: KnownAtPrediction) {}
     /// How a body's end-of-step velocity and position respond to the
     /// force at the end of the step, per unit of acceleration it causes.
     fn body_weights(&self, dt: f64) -> (f64, f64);

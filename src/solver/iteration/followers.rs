@@ -66,8 +66,10 @@ pub(super) struct Secant {
     every: bool,
     /// Per body: the generalized force the residuals would change.
     change: Vec<Vector3<f64>>,
-    /// Per body: the force elements' generalized force at the end.
+    /// Per body: the force elements' generalized force at the end, and
+    /// their dampers' power there, while the end is the last one measured.
     elements: Vec<Vector3<f64>>,
+    elements_power: Option<f64>,
 }
 
 impl Secant {
@@ -86,6 +88,7 @@ impl Secant {
             every: n > 0 && compliant.iter().all(|&c| c),
             change: Vec::new(),
             elements: Vec::new(),
+            elements_power: None,
             compliant,
             holding: false,
             first: None,
@@ -104,6 +107,19 @@ impl Secant {
     /// Whether every contact's force is the iteration's.
     pub fn every(&self) -> bool {
         self.every
+    }
+
+    /// The force elements' loads on each body at the last integration's
+    /// end and their dampers' power, where `residual_change` evaluated
+    /// them there.
+    pub fn elements_at_end(&self) -> Option<(&[Vector3<f64>], f64)> {
+        self.elements_power
+            .map(|power| (self.elements.as_slice(), power))
+    }
+
+    /// The next integration moves the end: its elements are not known.
+    pub fn forget_elements(&mut self) {
+        self.elements_power = None;
     }
 
     /// Forget the step before: a new step starts.
@@ -314,7 +330,8 @@ impl ContactIteration {
         secant.change.resize(bodies.len(), Vector3::zeros());
         secant.elements.clear();
         secant.elements.resize(bodies.len(), Vector3::zeros());
-        add_element_forces(&system.force_elements, bodies, &mut secant.elements);
+        let power = add_element_forces(&system.force_elements, bodies, &mut secant.elements);
+        secant.elements_power = Some(power);
         if let Some((used, _)) = self.integrator.body_predictions() {
             for (change, (at_end, used)) in secant
                 .change
