@@ -62,6 +62,8 @@ pub struct Hht {
     /// elements' loads in `law_loads` with their dampers' power.
     known_frames: bool,
     known_laws: Option<f64>,
+    /// With `known_laws`: each follower's gap and rate at the prediction.
+    known_gaps: Vec<(f64, f64)>,
     /// Whether the first prediction takes the start's accelerations
     /// (`predict_from`).
     pub(super) predicts_accelerations: bool,
@@ -174,6 +176,7 @@ impl Hht {
             has_prediction: false,
             known_frames: false,
             known_laws: None,
+            known_gaps: Vec::new(),
             predicts_accelerations: false,
             frames: Vec::new(),
             guesses: Vec::new(),
@@ -287,6 +290,10 @@ impl Hht {
         let followers = HeldFollowers {
             held: &self.held_followers,
             used: &mut self.followers_used,
+            gaps: match known_laws {
+                Some(_) => &self.known_gaps,
+                None => &[],
+            },
         };
         let contacts = loads_but_laws(
             system,
@@ -634,11 +641,13 @@ impl Hht {
         self.frames.copy_from_slice(known.frames);
         self.known_frames = true;
         self.known_laws = None;
-        if let Some((loads, power)) = known.elements {
-            if loads.len() == self.law_loads.len() {
-                self.law_loads.copy_from_slice(loads);
-                self.known_laws = Some(power);
-            }
+        let Some(laws) = known.laws else { return };
+        let gaps = laws.follower_gaps;
+        if laws.element_loads.len() == self.law_loads.len() && gaps.len() == self.frames.len() {
+            self.law_loads.copy_from_slice(laws.element_loads);
+            self.known_gaps.clear();
+            self.known_gaps.extend_from_slice(gaps);
+            self.known_laws = Some(laws.element_power);
         }
     }
 

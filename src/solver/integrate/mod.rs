@@ -63,10 +63,20 @@ pub struct StepStart<'a> {
 /// (`TimeIntegrator::know_prediction`).
 pub struct KnownAtPrediction<'a> {
     pub frames: &'a [ContactFrame],
+    /// The force laws there, where the iteration evaluated them.
+    pub laws: Option<KnownLaws<'a>>,
+}
+
+/// The force laws at a configuration (`KnownAtPrediction`).
+pub struct KnownLaws<'a> {
     /// The force elements' loads on each body (each the sum over the
     /// elements from zero, as `add_element_forces` makes it) and the
     /// dampers' power.
-    pub elements: Option<(&'a [Vector3<f64>], f64)>,
+    pub element_loads: &'a [Vector3<f64>],
+    pub element_power: f64,
+    /// Per contact: a follower's gap and gap rate (`follower_gap`; any
+    /// value for the other contacts).
+    pub follower_gaps: &'a [(f64, f64)],
 }
 
 /// Failure of one integration.
@@ -167,6 +177,9 @@ pub fn loads(
 pub struct HeldFollowers<'a> {
     pub held: &'a [bool],
     pub used: &'a mut [ContactForce],
+    /// Per contact: a follower's gap and gap rate at this configuration,
+    /// where already known (empty: each measured here).
+    pub gaps: &'a [(f64, f64)],
 }
 
 /// `loads` without the force elements; a follower whose force is held
@@ -188,7 +201,10 @@ pub fn loads_but_laws(
         let follower_force;
         let force = match contact.follower {
             Some(follower) => {
-                let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+                let (gap, rate) = match followers.gaps.get(c) {
+                    Some(&known) => known,
+                    None => follower_gap(system, contact, frame, bodies, beam_velocity),
+                };
                 dissipation += follower.dissipation(gap, rate);
                 follower_force = match followers.held.get(c) {
                     Some(true) => *force,

@@ -1022,15 +1022,14 @@ impl ContactIteration {
             // The last end is this integration's prediction: its frames
             // (on the same parts of the track) and, where the residual
             // test evaluated them there, its force elements' loads.
-            let elements = self.secant.elements_at_end();
             let known = KnownAtPrediction {
                 frames: &self.end_frames,
-                elements,
+                laws: self.secant.laws_at_end(),
             };
             self.integrator.know_prediction(known);
         }
         self.end_is_prediction = false;
-        self.secant.forget_elements();
+        self.secant.forget_laws_at_end();
         self.integrator.step(system, from, &self.forces, end)?;
         let (u, bodies) = (&end.beam_displacement, &end.bodies);
         let located = (end.contact_x.as_slice(), from.parts);
