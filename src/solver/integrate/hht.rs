@@ -291,7 +291,7 @@ impl Hht {
             held: &self.held_followers,
             used: &mut self.followers_used,
             gaps: match known_laws {
-                Some(_) => &self.known_gaps,
+                Some(_) => self.known_gaps.as_slice(),
                 None => &[],
             },
         };

@@ -165,7 +165,7 @@ pub fn loads(
 ) -> f64 {
     let loads = (beam_load, &mut *body_loads);
     let at = (bodies, beam_velocity);
-    let followers = HeldFollowers::default();
+    let followers = HeldFollowers::<()>::default();
     loads_but_laws(system, frames, (forces, followers), applied, at, loads)
         + add_element_forces(&system.force_elements, bodies, body_loads)
 }
@@ -174,21 +174,42 @@ pub fn loads(
 /// empty: none, each from its law), and where to record every follower's
 /// force the loads used (`used`; empty: not recorded).
 #[derive(Default)]
-pub struct HeldFollowers<'a> {
+pub struct HeldFollowers<'a, K: KnownGaps = ()> {
     pub held: &'a [bool],
     pub used: &'a mut [ContactForce],
     /// Per contact: a follower's gap and gap rate at this configuration,
-    /// where already known (empty: each measured here).
-    pub gaps: &'a [(f64, f64)],
+    /// where already known (`()`: none, each measured here, with the code
+    /// of before they could be known).
+    pub gaps: K,
+}
+
+/// A follower's gap and rate at the configuration of the loads, where
+/// known (`HeldFollowers::gaps`).
+pub trait KnownGaps {
+    fn known(&self, contact: usize) -> Option<(f64, f64)>;
+}
+
+impl KnownGaps for () {
+    #[inline(always)]
+    fn known(&self, _contact: usize) -> Option<(f64, f64)> {
+        None
+    }
+}
+
+impl KnownGaps for &[(f64, f64)] {
+    #[inline(always)]
+    fn known(&self, contact: usize) -> Option<(f64, f64)> {
+        self.get(contact).copied()
+    }
 }
 
 /// `loads` without the force elements; a follower whose force is held
 /// (`HeldFollowers`) takes it from `forces` instead of its law.
 #[inline]
-pub fn loads_but_laws(
+pub fn loads_but_laws<K: KnownGaps>(
     system: &System,
     frames: &[ContactFrame],
-    (forces, followers): (&[ContactForce], HeldFollowers),
+    (forces, followers): (&[ContactForce], HeldFollowers<K>),
     applied: &[Vector3<f64>],
     (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
     (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
@@ -201,8 +222,8 @@ pub fn loads_but_laws(
         let follower_force;
         let force = match contact.follower {
             Some(follower) => {
-                let (gap, rate) = match followers.gaps.get(c) {
-                    Some(&known) => known,
+                let (gap, rate) = match followers.gaps.known(c) {
+                    Some(known) => known,
                     None => follower_gap(system, contact, frame, bodies, beam_velocity),
                 };
                 dissipation += follower.dissipation(gap, rate);

@@ -1034,7 +1034,7 @@ impl ContactIteration {
         let (u, bodies) = (&end.beam_displacement, &end.bodies);
         let located = (end.contact_x.as_slice(), from.parts);
         contact_frames(system, u, bodies, located, &mut self.end_frames)?;
-        self.end_is_prediction = true;
+        self.end_is_prediction = self.integrator.lags_force_laws();
         for (x, frame) in end.contact_x.iter_mut().zip(&self.end_frames) {
             *x = frame.x;
         }
