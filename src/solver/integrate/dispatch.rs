@@ -145,6 +145,11 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::body_predictions(&mut **s), )* }
             }
 
+            /// See `TimeIntegrator::know_prediction`.
+            pub fn know_prediction(&mut self, known: KnownAtPrediction) {
+                match self { $( Integrator::$variant(s) => TimeIntegrator::know_prediction(&mut **s, known), )* }
+            }
+
             /// See `TimeIntegrator::body_weights`.
             pub fn body_weights(&self, dt: f64) -> (f64, f64) {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::body_weights(&**s, dt), )* }

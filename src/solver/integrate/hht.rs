@@ -57,6 +57,13 @@ pub struct Hht {
     /// integration (at the prediction it was given).
     law_loads: Vec<Vector3<f64>>,
     has_prediction: bool,
+    /// What the iteration handed over for the current prediction
+    /// (`know_prediction`): its frames are in `frames`, and its force
+    /// elements' loads in `law_loads` with their dampers' power.
+    known_frames: bool,
+    known_laws: Option<f64>,
+    /// With `known_laws`: each follower's gap and rate at the prediction.
+    known_gaps: Vec<(f64, f64)>,
     /// Whether the first prediction takes the start's accelerations
     /// (`predict_from`).
     pub(super) predicts_accelerations: bool,
@@ -184,6 +191,9 @@ impl Hht {
             predicted_bodies: Vec::new(),
             law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
+            known_frames: false,
+            known_laws: None,
+            known_gaps: Vec::new(),
             predicts_accelerations: false,
             frames: Vec::new(),
             guesses: Vec::new(),
@@ -221,6 +231,7 @@ impl Hht {
     /// if it is not the nominal step's.
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
+        (self.known_frames, self.known_laws) = (false, None);
         self.start_known = false;
         self.predictor_dt = None;
         self.base.known = false;
@@ -276,22 +287,31 @@ impl Hht {
         if !self.has_prediction {
             self.predict_from(start, dt);
         }
-        // Load frames and force elements: the predicted end configuration.
-        self.guesses.clear();
-        self.guesses.extend(from.frames.iter().map(|f| f.x));
-        contact_frames(
-            system,
-            &self.predicted_u,
-            &self.predicted_bodies,
-            (&self.guesses, from.parts),
-            &mut self.frames,
-        )?;
+        // Load frames and force elements: the predicted end configuration
+        // (found by the iteration at the last integration's end, or here).
+        let (known_frames, known_laws) = (self.known_frames, self.known_laws);
+        (self.known_frames, self.known_laws) = (false, None);
+        if !known_frames {
+            self.guesses.clear();
+            self.guesses.extend(from.frames.iter().map(|f| f.x));
+            contact_frames(
+                system,
+                &self.predicted_u,
+                &self.predicted_bodies,
+                (&self.guesses, from.parts),
+                &mut self.frames,
+            )?;
+        }
         // The force elements' loads apart: the contact iteration reads them
         // (`ContactIteration::anticipate_laws`).
         let at = (self.predicted_bodies.as_slice(), &self.predicted_v);
         let followers = HeldFollowers {
             held: &self.held_followers,
             used: &mut self.followers_used,
+            gaps: match known_laws {
+                Some(_) => self.known_gaps.as_slice(),
+                None => &[],
+            },
         };
         self.load_footprint.clear(&mut self.load);
         let contacts = add_loads_but_laws(
@@ -303,8 +323,13 @@ impl Hht {
             (&mut self.load, &mut end.body_loads),
         );
         self.load_footprint.note(system, &self.frames);
-        self.law_loads.fill(Vector3::zeros());
-        let laws = add_element_forces(&system.force_elements, at.0, &mut self.law_loads);
+        let laws = match known_laws {
+            Some(power) => power,
+            None => {
+                self.law_loads.fill(Vector3::zeros());
+                add_element_forces(&system.force_elements, at.0, &mut self.law_loads)
+            }
+        };
         for (load, law) in end.body_loads.iter_mut().zip(&self.law_loads) {
             *load += law;
         }
@@ -329,6 +354,7 @@ impl Hht {
     /// velocities, or (`predicts_accelerations`) at its accelerations.
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
+        (self.known_frames, self.known_laws) = (false, None);
         copy(&mut self.predicted_u, &start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         copy(&mut self.predicted_v, &start.beam_velocity);
@@ -622,6 +648,27 @@ impl Hht {
     pub fn hold_followers(&mut self, held: &[bool]) {
         self.held_followers.clear();
         self.held_followers.extend_from_slice(held);
+    }
+
+    /// What the iteration measured at the last integration's end, which
+    /// is the next one's prediction (`TimeIntegrator::know_prediction`):
+    /// taken only while there is such a prediction and the frames are one
+    /// per contact.
+    pub fn know_prediction(&mut self, known: super::KnownAtPrediction) {
+        if !self.has_prediction || known.frames.len() != self.frames.len() {
+            return;
+        }
+        self.frames.copy_from_slice(known.frames);
+        self.known_frames = true;
+        self.known_laws = None;
+        let Some(laws) = known.laws else { return };
+        let gaps = laws.follower_gaps;
+        if laws.element_loads.len() == self.law_loads.len() && gaps.len() == self.frames.len() {
+            self.law_loads.copy_from_slice(laws.element_loads);
+            self.known_gaps.clear();
+            self.known_gaps.extend_from_slice(gaps);
+            self.known_laws = Some(laws.element_power);
+        }
     }
 
     /// Every follower's force in the last integration.

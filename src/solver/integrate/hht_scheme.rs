@@ -78,6 +78,10 @@ impl TimeIntegrator for Hht {
         Some(Hht::body_predictions(self))
     }
 
+    fn know_prediction(&mut self, known: super::KnownAtPrediction) {
+        Hht::know_prediction(self, known)
+    }
+
     fn body_weights(&self, dt: f64) -> (f64, f64) {
         Hht::body_weights(self, dt)
     }

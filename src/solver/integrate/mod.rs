@@ -60,6 +60,27 @@ pub struct StepStart<'a> {
     pub shapes: &'a [ForceShape],
 }
 
+/// What the contact iteration measured at an integration's end, handed to
+/// the next integration whose prediction that end is
+/// (`TimeIntegrator::know_prediction`).
+pub struct KnownAtPrediction<'a> {
+    pub frames: &'a [ContactFrame],
+    /// The force laws there, where the iteration evaluated them.
+    pub laws: Option<KnownLaws<'a>>,
+}
+
+/// The force laws at a configuration (`KnownAtPrediction`).
+pub struct KnownLaws<'a> {
+    /// The force elements' loads on each body (each the sum over the
+    /// elements from zero, as `add_element_forces` makes it) and the
+    /// dampers' power.
+    pub element_loads: &'a [Vector3<f64>],
+    pub element_power: f64,
+    /// Per contact: a follower's gap and gap rate (`follower_gap`; any
+    /// value for the other contacts).
+    pub follower_gaps: &'a [(f64, f64)],
+}
+
 /// Failure of one integration.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IntegrationError {
@@ -146,7 +167,7 @@ pub fn loads(
 ) -> f64 {
     let loads = (beam_load, &mut *body_loads);
     let at = (bodies, beam_velocity);
-    let followers = HeldFollowers::default();
+    let followers = HeldFollowers::<()>::default();
     loads_but_laws(system, frames, (forces, followers), applied, at, loads)
         + add_element_forces(&system.force_elements, bodies, body_loads)
 }
@@ -155,18 +176,42 @@ pub fn loads(
 /// empty: none, each from its law), and where to record every follower's
 /// force the loads used (`used`; empty: not recorded).
 #[derive(Default)]
-pub struct HeldFollowers<'a> {
+pub struct HeldFollowers<'a, K: KnownGaps = ()> {
     pub held: &'a [bool],
     pub used: &'a mut [ContactForce],
+    /// Per contact: a follower's gap and gap rate at this configuration,
+    /// where already known (`()`: none, each measured here, with the code
+    /// of before they could be known).
+    pub gaps: K,
+}
+
+/// A follower's gap and rate at the configuration of the loads, where
+/// known (`HeldFollowers::gaps`).
+pub trait KnownGaps {
+    fn known(&self, contact: usize) -> Option<(f64, f64)>;
+}
+
+impl KnownGaps for () {
+    #[inline(always)]
+    fn known(&self, _contact: usize) -> Option<(f64, f64)> {
+        None
+    }
+}
+
+impl KnownGaps for &[(f64, f64)] {
+    #[inline(always)]
+    fn known(&self, contact: usize) -> Option<(f64, f64)> {
+        self.get(contact).copied()
+    }
 }
 
 /// `loads` without the force elements; a follower whose force is held
 /// (`HeldFollowers`) takes it from `forces` instead of its law.
 #[inline]
-pub fn loads_but_laws(
+pub fn loads_but_laws<K: KnownGaps>(
     system: &System,
     frames: &[ContactFrame],
-    forces: (&[ContactForce], HeldFollowers),
+    forces: (&[ContactForce], HeldFollowers<K>),
     applied: &[Vector3<f64>],
     at: (&[BodyState], &DVector<f64>),
     (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
@@ -178,10 +223,10 @@ pub fn loads_but_laws(
 /// `loads_but_laws` added to `beam_load` as it is (zero but where the
 /// caller's `LoadFootprint` says); `body_loads` overwritten.
 #[inline]
-pub fn add_loads_but_laws(
+pub fn add_loads_but_laws<K: KnownGaps>(
     system: &System,
     frames: &[ContactFrame],
-    (forces, followers): (&[ContactForce], HeldFollowers),
+    (forces, followers): (&[ContactForce], HeldFollowers<K>),
     applied: &[Vector3<f64>],
     (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
     (beam_load, body_loads): (&mut DVector<f64>, &mut [Vector3<f64>]),
@@ -193,7 +238,10 @@ pub fn add_loads_but_laws(
         let follower_force;
         let force = match contact.follower {
             Some(follower) => {
-                let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+                let (gap, rate) = match followers.gaps.known(c) {
+                    Some(known) => known,
+                    None => follower_gap(system, contact, frame, bodies, beam_velocity),
+                };
                 dissipation += follower.dissipation(gap, rate);
                 follower_force = match followers.held.get(c) {
                     Some(true) => *force,
@@ -359,6 +407,14 @@ pub trait TimeIntegrator: Sized {
     fn body_predictions(&mut self) -> Option<(&[Vector3<f64>], &mut [BodyState])> {
         None
     }
+    /// Lagged force laws: what the caller measured at the last
+    /// integration's end, which is the next one's prediction while nobody
+    /// moves it: every contact's frame there (found on the step's parts of
+    /// the track) and, where measured, the force elements' loads on each
+    /// body and their dampers' power (`KnownAtPrediction`). The next
+    /// integration takes them instead of searching and evaluating them
+    /// again at the same configuration.
+    fn know_prediction(&mut self, _known: KnownAtPrediction) {}
     /// How a body's end-of-step velocity and position respond to the
     /// force at the end of the step, per unit of acceleration it causes.
     fn body_weights(&self, dt: f64) -> (f64, f64);

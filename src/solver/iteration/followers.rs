@@ -26,7 +26,7 @@ use super::ContactIteration;
 use crate::contact::ContactForce;
 use crate::contact_law::LawKind;
 use crate::force_element::add_element_forces;
-use crate::integrate::{follower_forces, follower_gap, DynamicState};
+use crate::integrate::{follower_forces, follower_gap, DynamicState, KnownLaws};
 use crate::system::System;
 
 /// The slope s of F(end) against f a secant step uses, bounded: a
@@ -66,8 +66,12 @@ pub(super) struct Secant {
     every: bool,
     /// Per body: the generalized force the residuals would change.
     change: Vec<Vector3<f64>>,
-    /// Per body: the force elements' generalized force at the end.
+    /// Per body: the force elements' generalized force at the end, and
+    /// their dampers' power there, while the end is the last one measured;
+    /// per contact, a follower's gap and rate there.
     elements: Vec<Vector3<f64>>,
+    elements_power: Option<f64>,
+    gaps: Vec<(f64, f64)>,
 }
 
 impl Secant {
@@ -86,6 +90,8 @@ impl Secant {
             every: n > 0 && compliant.iter().all(|&c| c),
             change: Vec::new(),
             elements: Vec::new(),
+            elements_power: None,
+            gaps: vec![(0.0, 0.0); n],
             compliant,
             holding: false,
             first: None,
@@ -104,6 +110,22 @@ impl Secant {
     /// Whether every contact's force is the iteration's.
     pub fn every(&self) -> bool {
         self.every
+    }
+
+    /// The force elements' loads on each body at the last integration's
+    /// end, their dampers' power and the followers' gaps, where
+    /// `residual_change` evaluated them there.
+    pub fn laws_at_end(&self) -> Option<KnownLaws<'_>> {
+        self.elements_power.map(|power| KnownLaws {
+            element_loads: &self.elements,
+            element_power: power,
+            follower_gaps: &self.gaps,
+        })
+    }
+
+    /// The next integration moves the end: its laws are not known.
+    pub fn forget_laws_at_end(&mut self) {
+        self.elements_power = None;
     }
 
     /// Forget the step before: a new step starts.
@@ -303,18 +325,26 @@ impl ContactIteration {
         let secant = &mut self.secant;
         let frames = &self.end_frames;
         let bodies = &end.bodies;
-        follower_forces(
-            system,
-            frames,
-            bodies,
-            &end.beam_velocity,
-            &mut secant.at_end,
-        );
+        // `follower_forces`, with each gap and rate kept for the next
+        // integration (`laws_at_end`).
+        let contacts = system.contacts.iter().zip(frames);
+        let kept = secant.at_end.iter_mut().zip(&mut secant.gaps);
+        for ((contact, frame), (force, gaps)) in contacts.zip(kept) {
+            if let Some(follower) = contact.follower {
+                let (gap, rate) = follower_gap(system, contact, frame, bodies, &end.beam_velocity);
+                *gaps = (gap, rate);
+                *force = ContactForce {
+                    tangential: 0.0,
+                    normal: follower.force(gap, rate),
+                };
+            }
+        }
         secant.change.clear();
         secant.change.resize(bodies.len(), Vector3::zeros());
         secant.elements.clear();
         secant.elements.resize(bodies.len(), Vector3::zeros());
-        add_element_forces(&system.force_elements, bodies, &mut secant.elements);
+        let power = add_element_forces(&system.force_elements, bodies, &mut secant.elements);
+        secant.elements_power = Some(power);
         if let Some((used, _)) = self.integrator.body_predictions() {
             for (change, (at_end, used)) in secant
                 .change
