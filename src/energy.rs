@@ -3,8 +3,19 @@
 //! structural damping, impacts, HHT-α's numerical damping) minus the work
 //! of gravity, of the applied forces and of the drives.
 
+use crate::integrate::EndForces;
 use crate::state::SimState;
 use crate::system::System;
+
+/// The structure's strain energy in `state` (J): from the K u the last
+/// step kept (`end`) where `state` is its end and that gives the bits of
+/// `strain_energy` (the rail over the deck), else `strain_energy`.
+pub fn structure_strain(system: &System, state: &SimState, end: Option<&EndForces>) -> f64 {
+    let d = &state.dynamic;
+    let (u, v) = (&d.beam_displacement, &d.beam_velocity);
+    let kept = end.and_then(|end| end.strain_energy_at((u, v)));
+    kept.unwrap_or_else(|| system.beam.strain_energy(u))
+}
 
 /// Kinetic energy of the bodies (J).
 pub fn body_kinetic(system: &System, state: &SimState) -> f64 {
@@ -29,13 +40,18 @@ pub fn spring(system: &System, state: &SimState) -> f64 {
 }
 
 /// Kinetic + strain + spring energy + energy dissipated − work done on
-/// the system (J), with `spring` (the spring energy) already known: zero
-/// to round-off less the initial energy when the books are kept.
-pub fn balance_with(system: &System, state: &SimState, spring: f64) -> f64 {
+/// the system (J), with `spring` (the spring energy) already known and
+/// the last step's kept products `end` (`structure_strain`): zero to
+/// round-off less the initial energy when the books are kept.
+pub fn balance_with(
+    system: &System,
+    state: &SimState,
+    (spring, end): (f64, Option<&EndForces>),
+) -> f64 {
     let d = &state.dynamic;
     body_kinetic(system, state)
         + system.beam.kinetic_energy(&d.beam_velocity)
-        + system.beam.strain_energy(&d.beam_displacement)
+        + structure_strain(system, state, end)
         + spring
         + d.dissipated
         + d.beam_dissipated

@@ -84,7 +84,9 @@ impl WideBand {
     pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
         let (n, b) = (self.size(), self.half_bandwidth);
         assert!(x.len() == n && out.len() == n);
-        out.fill(0.0);
+        // Row i adds its mirror terms to out[first..i] only: out[i] is
+        // first written at row i, as 0 + sum (the bits of the sum onto a
+        // zeroed vector, −0 included), so the vector needs no zeroing.
         for (i, (row, &first)) in self.rows.chunks_exact(b + 1).zip(&self.first).enumerate() {
             // row[k] = A(i, i − b + k); row[b] the diagonal.
             let xi = x[i];
@@ -94,7 +96,7 @@ impl WideBand {
                 sum += a * xj;
                 *oj += a * xi;
             }
-            out[i] += sum;
+            out[i] = 0.0 + sum;
         }
     }
 
@@ -323,10 +325,15 @@ mod tests {
             .any(|(i, &f)| i >= 7 && f > i - 7));
         let x: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 * 0.37 - 1.9).collect();
         let (product, solution) = full_band_product_and_solve(&a, &x);
-        let mut fast = vec![0.0; n];
+        // Onto a vector of garbage: the product writes every entry.
+        let mut fast = vec![f64::NAN; n];
         a.mul_to(&x, &mut fast);
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&fast), bits(&product));
+        // A zero row's −0 sum is +0, as on a zeroed vector.
+        let negative = vec![-0.0; n];
+        a.mul_to(&negative, &mut fast);
+        assert!(fast.iter().all(|x| x.to_bits() == 0), "{fast:?}");
         let mut solved = x.clone();
         a.ldlt().expect("spd").solve_in_place(&mut solved);
         assert_eq!(bits(&solved), bits(&solution));

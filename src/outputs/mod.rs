@@ -836,8 +836,10 @@ impl<'a> Now<'a> {
             | Quantity::SectionShear(_)
             | Quantity::Reaction(_)
             | Quantity::ReactionMoment(_)
-            | Quantity::BeamKinetic
-            | Quantity::BeamStrain => self.structure_value(quantity),
+            | Quantity::BeamKinetic => self.structure_value(quantity),
+            Quantity::BeamStrain => {
+                energy::structure_strain(self.system, self.state, self.probes.end_forces)
+            }
             Quantity::BodyKinetic
             | Quantity::SpringEnergy
             | Quantity::Dissipated
@@ -909,7 +911,8 @@ impl<'a> Now<'a> {
             Quantity::ImpactLoss => state.impact_loss,
             Quantity::NumericalDissipation => probes.booked(d.numerical_dissipation),
             Quantity::Balance => {
-                probes.booked(energy::balance_with(system, state, self.spring_energy))
+                let energies = (self.spring_energy, probes.end_forces);
+                probes.booked(energy::balance_with(system, state, energies))
             }
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,

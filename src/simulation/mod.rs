@@ -193,10 +193,12 @@ impl Simulation {
     /// `energy_balance` with `spring_energy` already known (the outputs
     /// report both: one sweep over the force elements, not two).
     pub fn energy_balance_with(&self, spring_energy: f64) -> f64 {
+        let end = self.stepper.iteration().integrator().end_forces();
+        let energies = (spring_energy, end);
         self.booked(crate::energy::balance_with(
             &self.system,
             &self.state,
-            spring_energy,
+            energies,
         ))
     }
 

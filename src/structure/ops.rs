@@ -138,6 +138,25 @@ pub(in crate::structure) trait StructureOps {
         self.damping_times(v, damping);
     }
 
+    /// Whether `strain_energy` is ½ u·(K u) with the product of
+    /// `stiffness_and_damping_forces` and nalgebra's dot, so that a kept
+    /// K u gives its bits.
+    fn energies_are_products(&self) -> bool {
+        false
+    }
+
+    /// `internal_and_damping_forces` with K u kept too (`stiffness`);
+    /// `out` has `internal_forces`' bits where `energies_are_products`.
+    fn stiffness_and_damping_forces(
+        &self,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        (stiffness, damping): (&mut DVector<f64>, &mut DVector<f64>),
+        out: &mut DVector<f64>,
+    ) {
+        self.internal_and_damping_forces((u, v), damping, out);
+        self.stiffness_times(u, stiffness);
+    }
+
     /// Whether `accelerations_from_internal` gives `accelerations`' bits
     /// (else it does nothing, and the internal forces need not be found).
     fn accelerations_read_internal_forces(&self) -> bool {

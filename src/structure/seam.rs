@@ -272,6 +272,21 @@ impl Structure {
         each!(self, b => b.internal_and_damping_forces(state, damping, out))
     }
 
+    /// See `StructureOps::energies_are_products`.
+    pub fn energies_are_products(&self) -> bool {
+        each!(self, b => b.energies_are_products())
+    }
+
+    /// See `StructureOps::stiffness_and_damping_forces`.
+    pub fn stiffness_and_damping_forces(
+        &self,
+        state: (&DVector<f64>, &DVector<f64>),
+        forces: (&mut DVector<f64>, &mut DVector<f64>),
+        out: &mut DVector<f64>,
+    ) {
+        each!(self, b => b.stiffness_and_damping_forces(state, forces, out))
+    }
+
     /// Whether `accelerations_from_internal` gives `accelerations`' bits.
     pub fn accelerations_read_internal_forces(&self) -> bool {
         each!(self, b => b.accelerations_read_internal_forces())

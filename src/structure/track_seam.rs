@@ -268,6 +268,24 @@ impl StructureOps for TrackBeam {
         true
     }
 
+    /// `strain_energy` is ½ u·(K u) of the wide band's product.
+    fn energies_are_products(&self) -> bool {
+        true
+    }
+
+    /// K u and C v as `internal_forces` takes them, and their sum.
+    fn stiffness_and_damping_forces(
+        &self,
+        (u, v): (&DVector<f64>, &DVector<f64>),
+        (stiffness, damping): (&mut DVector<f64>, &mut DVector<f64>),
+        out: &mut DVector<f64>,
+    ) {
+        self.stiffness_times(u, stiffness);
+        Self::times(&self.assembly.damping, v, damping);
+        out.copy_from(stiffness);
+        *out += &*damping;
+    }
+
     /// `accelerations` is M⁻¹ (load − (K u + C v)) with the internal
     /// forces of `internal_forces`.
     fn accelerations_from_internal(

@@ -19,6 +19,9 @@ pub struct EndForces {
     internal: DVector<f64>,
     /// The damping forces C v alone, where asked for (`keep`).
     damping: Option<DVector<f64>>,
+    /// The elastic forces K u alone, where kept with C v and the
+    /// structure's strain energy is ½ u·(K u) (`energies_are_products`).
+    stiffness: Option<DVector<f64>>,
     kept: bool,
 }
 
@@ -64,12 +67,28 @@ impl EndForces {
         self.displacement.copy_from(u);
         self.velocity.copy_from(v);
         let beam = &system.beam;
+        let sized = |x: &mut Option<DVector<f64>>| {
+            let x = x.get_or_insert_with(|| DVector::zeros(n));
+            if x.len() != n {
+                *x = DVector::zeros(n);
+            }
+        };
+        self.stiffness = None;
         match damping {
+            true if beam.energies_are_products() => {
+                sized(&mut self.damping);
+                sized(&mut self.stiffness);
+                let (k, c) = (self.stiffness.as_mut(), self.damping.as_mut());
+                let (Some(k), Some(c)) = (k, c) else {
+                    unreachable!()
+                };
+                beam.stiffness_and_damping_forces((u, v), (k, c), &mut self.internal);
+            }
             true => {
-                let c = self.damping.get_or_insert_with(|| DVector::zeros(n));
-                if c.len() != n {
-                    *c = DVector::zeros(n);
-                }
+                sized(&mut self.damping);
+                let Some(c) = self.damping.as_mut() else {
+                    unreachable!()
+                };
                 beam.internal_and_damping_forces((u, v), c, &mut self.internal);
             }
             false => {
@@ -78,6 +97,14 @@ impl EndForces {
             }
         }
         self.kept = true;
+    }
+
+    /// ½ u·(K u) at (u, v) from the kept K u, where kept: the bits of
+    /// `strain_energy` where the structure's energies are its products
+    /// (the same product, the same dot).
+    pub fn strain_energy_at(&self, (u, v): (&DVector<f64>, &DVector<f64>)) -> Option<f64> {
+        let stiffness = self.stiffness.as_ref()?;
+        self.recall((u, v)).map(|_| 0.5 * u.dot(stiffness))
     }
 
     /// Forget the kept state (the next recall misses).
@@ -146,5 +173,44 @@ mod tests {
         );
         memo.forget();
         assert!(memo.recall((&u, &v)).is_none());
+    }
+
+    #[test]
+    fn the_kept_strain_energy_is_strain_energys_bits_on_the_rail_only() {
+        for (name, products) in [
+            ("train-8-coaches-20m-300-rail", true),
+            ("train-8-coaches-20m-300-hertz", false),
+        ] {
+            let system = assemble(&scene_named(name)).unwrap().system;
+            let n = system.beam.coordinates();
+            let u = DVector::from_fn(n, |i, _| 1e-3 * (0.37 * i as f64).sin());
+            let v = DVector::from_fn(n, |i, _| 2e-2 * (0.11 * i as f64).cos());
+            let (mut scratch, mut expected) = (DVector::zeros(n), DVector::zeros(n));
+            system
+                .beam
+                .internal_forces(&u, &v, &mut scratch, &mut expected);
+            let mut memo = EndForces::default();
+            memo.keep(&system, (&u, &v), true, &mut scratch);
+            assert!(
+                same_bits(memo.recall((&u, &v)).unwrap(), &expected),
+                "{name}"
+            );
+            let strain = system.beam.strain_energy(&u);
+            let kept = memo.strain_energy_at((&u, &v));
+            assert_eq!(
+                kept.map(f64::to_bits),
+                products.then_some(strain.to_bits()),
+                "{name}"
+            );
+            assert!(strain > 0.0);
+            let mut moved = u.clone();
+            moved[0] += 1e-6;
+            assert!(memo.strain_energy_at((&moved, &v)).is_none());
+            memo.keep(&system, (&u, &v), false, &mut scratch);
+            assert!(
+                memo.strain_energy_at((&u, &v)).is_none(),
+                "{name}: without C v"
+            );
+        }
     }
 }
