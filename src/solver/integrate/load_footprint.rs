@@ -89,7 +89,7 @@ mod tests {
             let forces = [force(1e5 * (step + 1) as f64), force(-3e4)];
             for out in [&mut load, &mut expected] {
                 let loads = (&mut *out, body_loads.as_mut_slice());
-                let followers = (forces.as_slice(), HeldFollowers::default());
+                let followers = (forces.as_slice(), HeldFollowers::<()>::default());
                 add_loads_but_laws(&system, &frames, followers, &applied, (&bodies, &v), loads);
             }
             footprint.note(&system, &frames);
