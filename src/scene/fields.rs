@@ -84,6 +84,23 @@ pub enum Access {
     Sensor(fn(&SensorSpec) -> Option<f64>, fn(&mut SensorSpec, f64)),
 }
 
+/// A vehicle row's access to `field` of its optional preset block
+/// (`block_field!(bogie.primary_stiffness)`): None where the vehicle has
+/// no such block, and a set there leaves it without one.
+macro_rules! block_field {
+    ($block:ident . $field:ident) => {
+        $crate::scene::fields::Access::Vehicle(
+            |b| b.$block.as_ref().map(|g| g.$field),
+            |b, x| {
+                if let Some(g) = b.$block.as_mut() {
+                    g.$field = x
+                }
+            },
+        )
+    };
+}
+pub(crate) use block_field;
+
 impl Rule {
     /// What is wrong with `x` under this rule, in the words of a scene
     /// error; `approach` is `track.approach` (for `OnTrack`).

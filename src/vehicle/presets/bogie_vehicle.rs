@@ -9,7 +9,7 @@ use super::{parts, refuse_unless, Preset, Reach, Vehicle};
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactKind};
-use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
+use crate::scene::fields::{block_field, Access, Default as FieldDefault, Field, Rule};
 use crate::scene::{fmt_f64, BodySpec, Checks};
 
 /// The bogies, wheelsets and suspensions of a `bogie_vehicle`; both
@@ -315,14 +315,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "kg m^2, > 0, car body pitch inertia",
         doc: "car body pitch inertia",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.car_inertia),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.car_inertia = x
-                }
-            },
-        ),
+        access: block_field!(bogie.car_inertia),
     },
     Field {
         path: "body.bogie.bogie_mass",
@@ -331,14 +324,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "kg, > 0, one bogie",
         doc: "mass of one bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.bogie_mass),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.bogie_mass = x
-                }
-            },
-        ),
+        access: block_field!(bogie.bogie_mass),
     },
     Field {
         path: "body.bogie.bogie_inertia",
@@ -347,14 +333,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "kg m^2, > 0, one bogie",
         doc: "pitch inertia of one bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.bogie_inertia),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.bogie_inertia = x
-                }
-            },
-        ),
+        access: block_field!(bogie.bogie_inertia),
     },
     Field {
         path: "body.bogie.wheelset_mass",
@@ -363,14 +342,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "kg, > 0, or 0: massless followers under the axles",
         doc: "mass of one wheelset (0: massless followers)",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.wheelset_mass),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.wheelset_mass = x
-                }
-            },
-        ),
+        access: block_field!(bogie.wheelset_mass),
     },
     Field {
         path: "body.bogie.bogie_half_distance",
@@ -379,14 +351,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "m, l_c > l_t: half the distance of the bogie centres",
         doc: "half the distance of the bogie centres",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.bogie_half_distance),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.bogie_half_distance = x
-                }
-            },
-        ),
+        access: block_field!(bogie.bogie_half_distance),
     },
     Field {
         path: "body.bogie.axle_half_distance",
@@ -395,14 +360,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "m, l_t > 0: half a bogie's axle distance",
         doc: "half a bogie's axle distance",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.axle_half_distance),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.axle_half_distance = x
-                }
-            },
-        ),
+        access: block_field!(bogie.axle_half_distance),
     },
     Field {
         path: "body.bogie.primary_stiffness",
@@ -411,14 +369,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "N/m, k1 > 0, per axle",
         doc: "primary suspension stiffness per axle",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.primary_stiffness),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.primary_stiffness = x
-                }
-            },
-        ),
+        access: block_field!(bogie.primary_stiffness),
     },
     Field {
         path: "body.bogie.primary_damping",
@@ -427,14 +378,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "N s/m, c1 >= 0, per axle",
         doc: "primary suspension damping per axle",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.primary_damping),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.primary_damping = x
-                }
-            },
-        ),
+        access: block_field!(bogie.primary_damping),
     },
     Field {
         path: "body.bogie.secondary_stiffness",
@@ -443,14 +387,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "N/m, k2 > 0, per bogie",
         doc: "secondary suspension stiffness per bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.secondary_stiffness),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.secondary_stiffness = x
-                }
-            },
-        ),
+        access: block_field!(bogie.secondary_stiffness),
     },
     Field {
         path: "body.bogie.secondary_damping",
@@ -459,14 +396,7 @@ const BOGIE_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "N s/m, c2 >= 0, per bogie",
         doc: "secondary suspension damping per bogie",
-        access: Access::Vehicle(
-            |b| b.bogie.as_ref().map(|g| g.secondary_damping),
-            |b, x| {
-                if let Some(g) = b.bogie.as_mut() {
-                    g.secondary_damping = x
-                }
-            },
-        ),
+        access: block_field!(bogie.secondary_damping),
     },
     Field {
         path: "body.bogie.wheel_radius",

@@ -9,7 +9,7 @@ use super::{parts, refuse_unless, Preset, Reach, Vehicle};
 use crate::beam::Beam;
 use crate::body::RigidBody;
 use crate::contact::Contact;
-use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
+use crate::scene::fields::{block_field, Access, Default as FieldDefault, Field, Rule};
 use crate::scene::{BodySpec, Checks};
 
 /// The magnets and suspensions of a `maglev_vehicle` (whose `mass` is the
@@ -172,14 +172,7 @@ const MAGLEV_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "kg m^2, > 0, car body pitch inertia",
         doc: "car body pitch inertia",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.car_inertia),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.car_inertia = x
-                }
-            },
-        ),
+        access: block_field!(maglev.car_inertia),
     },
     Field {
         path: "body.maglev.magnets",
@@ -197,14 +190,7 @@ const MAGLEV_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "m, > 0",
         doc: "distance between neighbouring magnets",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.magnet_spacing),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.magnet_spacing = x
-                }
-            },
-        ),
+        access: block_field!(maglev.magnet_spacing),
     },
     Field {
         path: "body.maglev.magnet_mass",
@@ -213,14 +199,7 @@ const MAGLEV_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "kg, > 0, or 0: massless followers under the magnets' stations",
         doc: "mass of one magnet (0: massless followers)",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.magnet_mass),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.magnet_mass = x
-                }
-            },
-        ),
+        access: block_field!(maglev.magnet_mass),
     },
     Field {
         path: "body.maglev.stiffness",
@@ -229,14 +208,7 @@ const MAGLEV_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "N/m, k > 0, one magnet's suspension",
         doc: "stiffness of one magnet's suspension",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.stiffness),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.stiffness = x
-                }
-            },
-        ),
+        access: block_field!(maglev.stiffness),
     },
     Field {
         path: "body.maglev.damping",
@@ -245,13 +217,6 @@ const MAGLEV_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "N s/m, c >= 0, one magnet's suspension",
         doc: "damping of one magnet's suspension",
-        access: Access::Vehicle(
-            |b| b.maglev.as_ref().map(|m| m.damping),
-            |b, x| {
-                if let Some(m) = b.maglev.as_mut() {
-                    m.damping = x
-                }
-            },
-        ),
+        access: block_field!(maglev.damping),
     },
 ];

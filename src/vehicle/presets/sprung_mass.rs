@@ -10,7 +10,7 @@ use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{Contact, ContactKind, Follower};
 use crate::force_element::{Direction, ForceElement};
-use crate::scene::fields::{Access, Default as FieldDefault, Field, Rule};
+use crate::scene::fields::{block_field, Default as FieldDefault, Field, Rule};
 use crate::scene::{BodySpec, Checks};
 
 /// A sprung mass's suspension: a vertical spring–damper over an unsprung
@@ -192,14 +192,7 @@ const SUSPENSION_ROWS: &[Field] = &[
         rule: Rule::Positive,
         note: "N/m, vertical spring, > 0",
         doc: "vertical spring of the suspension",
-        access: Access::Vehicle(
-            |b| b.suspension.as_ref().map(|s| s.stiffness),
-            |b, x| {
-                if let Some(s) = b.suspension.as_mut() {
-                    s.stiffness = x
-                }
-            },
-        ),
+        access: block_field!(suspension.stiffness),
     },
     Field {
         path: "body.suspension.damping",
@@ -208,14 +201,7 @@ const SUSPENSION_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "N s/m, vertical damper, >= 0",
         doc: "vertical damper of the suspension",
-        access: Access::Vehicle(
-            |b| b.suspension.as_ref().map(|s| s.damping),
-            |b, x| {
-                if let Some(s) = b.suspension.as_mut() {
-                    s.damping = x
-                }
-            },
-        ),
+        access: block_field!(suspension.damping),
     },
     Field {
         path: "body.suspension.unsprung_mass",
@@ -224,13 +210,6 @@ const SUSPENSION_ROWS: &[Field] = &[
         rule: Rule::NonNegative,
         note: "kg, the glider under the spring, >= 0 (0: the massless follower)",
         doc: "mass of the glider under the spring",
-        access: Access::Vehicle(
-            |b| b.suspension.as_ref().map(|s| s.unsprung_mass),
-            |b, x| {
-                if let Some(s) = b.suspension.as_mut() {
-                    s.unsprung_mass = x
-                }
-            },
-        ),
+        access: block_field!(suspension.unsprung_mass),
     },
 ];
