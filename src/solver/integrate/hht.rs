@@ -58,9 +58,8 @@ pub struct Hht {
     law_loads: Vec<Vector3<f64>>,
     has_prediction: bool,
     /// What the iteration handed over for the current prediction
-    /// (`know_prediction`): its frames are in `frames`, and its force
-    /// elements' loads in `law_loads` with their dampers' power.
-    known_frames: bool,
+    /// (`know_prediction`), as the dampers' power there: its frames are in
+    /// `frames`, its force elements' loads in `law_loads`.
     known_laws: Option<f64>,
     /// With `known_laws`: each follower's gap and rate at the prediction.
     known_gaps: Vec<(f64, f64)>,
@@ -191,7 +190,6 @@ impl Hht {
             predicted_bodies: Vec::new(),
             law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
-            known_frames: false,
             known_laws: None,
             known_gaps: Vec::new(),
             predicts_accelerations: false,
@@ -231,7 +229,7 @@ impl Hht {
     /// if it is not the nominal step's.
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
-        (self.known_frames, self.known_laws) = (false, None);
+        self.known_laws = None;
         self.start_known = false;
         self.predictor_dt = None;
         self.base.known = false;
@@ -289,9 +287,8 @@ impl Hht {
         }
         // Load frames and force elements: the predicted end configuration
         // (found by the iteration at the last integration's end, or here).
-        let (known_frames, known_laws) = (self.known_frames, self.known_laws);
-        (self.known_frames, self.known_laws) = (false, None);
-        if !known_frames {
+        let known_laws = self.known_laws.take();
+        if known_laws.is_none() {
             self.guesses.clear();
             self.guesses.extend(from.frames.iter().map(|f| f.x));
             contact_frames(
@@ -354,7 +351,7 @@ impl Hht {
     /// velocities, or (`predicts_accelerations`) at its accelerations.
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
-        (self.known_frames, self.known_laws) = (false, None);
+        self.known_laws = None;
         copy(&mut self.predicted_u, &start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         copy(&mut self.predicted_v, &start.beam_velocity);
@@ -658,12 +655,10 @@ impl Hht {
         if !self.has_prediction || known.frames.len() != self.frames.len() {
             return;
         }
-        self.frames.copy_from_slice(known.frames);
-        self.known_frames = true;
-        self.known_laws = None;
-        let Some(laws) = known.laws else { return };
+        let (laws, frames) = (known.laws, known.frames);
         let gaps = laws.follower_gaps;
         if laws.element_loads.len() == self.law_loads.len() && gaps.len() == self.frames.len() {
+            self.frames.copy_from_slice(frames);
             self.law_loads.copy_from_slice(laws.element_loads);
             self.known_gaps.clear();
             self.known_gaps.extend_from_slice(gaps);

@@ -65,8 +65,8 @@ pub struct StepStart<'a> {
 /// (`TimeIntegrator::know_prediction`).
 pub struct KnownAtPrediction<'a> {
     pub frames: &'a [ContactFrame],
-    /// The force laws there, where the iteration evaluated them.
-    pub laws: Option<KnownLaws<'a>>,
+    /// The force laws there.
+    pub laws: KnownLaws<'a>,
 }
 
 /// The force laws at a configuration (`KnownAtPrediction`).
@@ -410,7 +410,7 @@ pub trait TimeIntegrator: Sized {
     /// Lagged force laws: what the caller measured at the last
     /// integration's end, which is the next one's prediction while nobody
     /// moves it: every contact's frame there (found on the step's parts of
-    /// the track) and, where measured, the force elements' loads on each
+    /// the track) and the force elements' loads on each
     /// body and their dampers' power (`KnownAtPrediction`). The next
     /// integration takes them instead of searching and evaluating them
     /// again at the same configuration.

@@ -1075,7 +1075,7 @@ impl ContactIteration {
         if let (true, Some(laws)) = (self.end_is_prediction, laws) {
             let known = KnownAtPrediction {
                 frames: &self.end_frames,
-                laws: Some(laws),
+                laws,
             };
             self.integrator.know_prediction(known);
         }
