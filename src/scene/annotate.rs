@@ -195,4 +195,22 @@ mod tests {
             assert!(text.contains(&noted), "{table} without its note:\n{text}");
         }
     }
+
+    /// A preset whose block is a table (its fields' paths are
+    /// `body.<block>.<field>`) gives it a note.
+    #[test]
+    fn every_presets_table_block_has_a_note() {
+        let notes = crate::vehicle::presets::block_notes();
+        let mut tables = 0;
+        for (_, rows) in crate::vehicle::presets::rows() {
+            for row in rows {
+                let parts: Vec<&str> = row.path.split('.').collect();
+                if let ["body", block, _, ..] = parts[..] {
+                    assert!(notes.iter().any(|(b, _)| *b == block), "{}", row.path);
+                    tables += 1;
+                }
+            }
+        }
+        assert!(tables > 0, "no preset's block is a table");
+    }
 }

@@ -105,7 +105,8 @@ pub const TABLE_BLOCKS_BEFORE: &str = "body.contact_law.law";
 /// `[body]` it owns: `fields { .. }` flat after `mass` (the wheel's),
 /// `block { .. }` after `force_y` (a table such as `[body.suspension]`, or
 /// a train's name). From it come `BodyKind`, `BodySpec` (`body_spec!`),
-/// one match per question, the checks and the field table's rows.
+/// one match per question, the checks, the field table's rows and the
+/// notes of the blocks (`block_notes`).
 macro_rules! presets {
     ($(
         $(#[$attr:meta])* $kind:ident => $preset:ty
