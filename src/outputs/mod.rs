@@ -1,6 +1,9 @@
 //! The catalogue of outputs: one named, typed, unit-carrying entry per
 //! reported quantity, generated from the system. CSV headers, plots, the
-//! summary and the FMU variable table are all read from it.
+//! summary and the FMU variable table are all read from it. Each kind of
+//! output is one entry of the `quantities!` list (its name, unit, type,
+//! description and needs), one line of `Catalogue` (where a system has it)
+//! and one arm of `Now::value` (its value).
 
 use crate::energy;
 use crate::state::SimState;
@@ -34,72 +37,210 @@ pub struct OutputInfo {
     pub kind: OutputKind,
 }
 
-/// Which quantity an output reports; indices are into the system's bodies,
-/// contacts and the scene's sensors. Its variants without their indices
-/// are `QuantityKind` (derived: what an output reports, without whose),
-/// named in `names`.
-#[derive(Debug, Clone, Copy, PartialEq, EnumDiscriminants)]
-#[strum_discriminants(name(QuantityKind), derive(Hash, EnumIter))]
-pub enum Quantity {
-    X(usize),
-    Y(usize),
-    Vx(usize),
-    Vy(usize),
-    Ax(usize),
-    Ay(usize),
-    AngularAcceleration(usize),
-    Angle(usize),
-    AngularVelocity(usize),
-    NominalSpeed(usize),
-    ContactPosition(usize),
-    TangentialForce(usize),
-    NormalForce(usize),
-    OnBeam(usize),
-    ContactClosed(usize),
-    Gap(usize),
-    /// An EMS magnet's air gap s₀ − g (m) and relative current i/i₀.
-    MagnetAirGap(usize),
-    MagnetCurrent(usize),
-    ImpulseTangential(usize),
-    ImpulseNormal(usize),
-    Irregularity(usize),
-    Sensor(usize),
-    SensorVelocity(usize),
-    /// Load per metre on the Winkler foundation at sensor i.
-    SensorFoundationLoad(usize),
-    /// The rail's deflection at sensor i, under a rail over the deck.
-    SensorRailDeflection(usize),
-    /// The pad force of the sleeper nearest sensor i, on sleepers.
-    SensorRailSeatForce(usize),
-    SensorAcceleration(usize),
-    SectionMoment(usize),
-    SectionShear(usize),
-    /// The vertical reaction at the support on this node.
-    Reaction(usize),
-    /// The moment of the clamp on this node.
-    ReactionMoment(usize),
-    BodyKinetic,
-    BeamKinetic,
-    BeamStrain,
-    SpringEnergy,
-    Dissipated,
-    BeamDamping,
-    GravityWork,
-    ExternalWork,
-    TractiveWork,
-    ImpactLoss,
-    NumericalDissipation,
-    Balance,
-    VelocityError,
-    GapError,
-    Iterations,
-    PositionIterations,
+/// An index into the system's bodies.
+pub type BodyIndex = usize;
+/// An index into the system's contacts.
+pub type ContactIndex = usize;
+/// An index into the scene's sensors (`Probes::sensors`).
+pub type SensorIndex = usize;
+/// An index into the scene's sections (`Probes::sections`).
+pub type SectionIndex = usize;
+/// A node of the beam's mesh (a support's).
+pub type NodeIndex = usize;
+
+/// The list of quantities, one entry per kind of output:
+///
+/// `Variant(IndexType) => Group "suffix", "unit", Real|Integer, "description" [, needs A | B];`
+///
+/// its variant of `Quantity` (with whose it is), its name (`names`: the
+/// group and suffix of `<owner>.<suffix>`, `<group>.<owner>.<suffix>` or
+/// `<group>.<suffix>`), its unit, its type when exported, the description
+/// every output of it carries, and what it reads beyond the state
+/// (`Needs`, none where left out). From it come `Quantity` (each variant
+/// documented by its description), `QuantityKind` (strum: the variant
+/// without its index) and one `const fn` per column. Its value is an arm
+/// of `Now::value` (exhaustive, so the compiler asks) and where it
+/// appears a line of `Catalogue`.
+macro_rules! quantities {
+    ($(
+        $variant:ident $(($index:ty))? => $group:ident $(($group_name:literal))? $suffix:literal,
+        $unit:literal, $type:ident, $description:literal
+        $(, needs $($need:ident)|+)?;
+    )*) => {
+        /// Which quantity an output reports, and whose (its index). Its
+        /// variants without their indices are `QuantityKind` (derived:
+        /// what an output reports, without whose), named in `names`.
+        #[derive(Debug, Clone, Copy, PartialEq, EnumDiscriminants)]
+        #[strum_discriminants(name(QuantityKind), derive(Hash, EnumIter))]
+        pub enum Quantity {
+            $(#[doc = $description] $variant $(($index))?,)*
+        }
+
+        impl QuantityKind {
+            /// Its group and suffix: the naming rule's row (`names`).
+            const fn naming(self) -> (names::Group, &'static str) {
+                match self {
+                    $(QuantityKind::$variant => (names::Group::$group $(($group_name))?, $suffix),)*
+                }
+            }
+            /// The unit of its outputs.
+            pub const fn unit(self) -> &'static str {
+                match self { $(QuantityKind::$variant => $unit,)* }
+            }
+            /// The description of its outputs.
+            pub const fn description(self) -> &'static str {
+                match self { $(QuantityKind::$variant => $description,)* }
+            }
+            /// How its outputs are typed when exported.
+            pub const fn output_kind(self) -> OutputKind {
+                match self { $(QuantityKind::$variant => OutputKind::$type,)* }
+            }
+            /// What its outputs read beyond the state's own numbers.
+            pub const fn needs(self) -> Needs {
+                match self {
+                    $(QuantityKind::$variant => Needs::NONE $($(.and(Needs::$need))+)?,)*
+                }
+            }
+        }
+    };
+}
+
+quantities! {
+    // A body's: `<body>.<suffix>`.
+    X(BodyIndex) => Owner "x", "m", Real,
+        "horizontal position of the body's centre";
+    Y(BodyIndex) => Owner "y", "m", Real,
+        "vertical position of the body's centre";
+    Vx(BodyIndex) => Owner "vx", "m/s", Real,
+        "horizontal velocity of the body's centre";
+    Vy(BodyIndex) => Owner "vy", "m/s", Real,
+        "vertical velocity of the body's centre";
+    Ax(BodyIndex) => Owner "ax", "m/s2", Real,
+        "horizontal acceleration of the body's centre",
+        needs BODY_ACCELERATIONS;
+    Ay(BodyIndex) => Owner "ay", "m/s2", Real,
+        "vertical acceleration of the body's centre",
+        needs BODY_ACCELERATIONS;
+    AngularAcceleration(BodyIndex) => Owner "angular_acceleration", "rad/s2", Real,
+        "angular acceleration, counter-clockwise positive",
+        needs BODY_ACCELERATIONS;
+    Angle(BodyIndex) => Owner "pitch", "rad", Real,
+        "pitch angle, counter-clockwise positive";
+    AngularVelocity(BodyIndex) => Owner "angular_velocity", "rad/s", Real,
+        "angular velocity, counter-clockwise positive";
+    // A contact's: `<contact>.<suffix>` (the nominal speed: its body's
+    // name, or the contact's where it is attached to a shared body).
+    NominalSpeed(ContactIndex) => Owner "nominal_speed", "m/s", Real,
+        "nominal travel speed V = vx + (r + h) dphi/dt (eq. 24)",
+        needs FRAMES;
+    ContactPosition(ContactIndex) => Owner "position", "m", Real,
+        "abscissa of the contact point along the track";
+    TangentialForce(ContactIndex) => Owner "tangential_force", "N", Real,
+        "tangential contact force on the body";
+    NormalForce(ContactIndex) => Owner "normal_force", "N", Real,
+        "normal contact force on the body (positive pushes it off the track)";
+    OnBeam(ContactIndex) => Owner "on_beam", "", Integer,
+        "1 while the contact point is on the beam (the structure), 0 on rigid ground or \
+         beyond the track";
+    ContactClosed(ContactIndex) => Owner "state", "", Integer,
+        "1 while the contact is closed, 0 while it is open (in flight)";
+    Gap(ContactIndex) => Owner "gap", "m", Real,
+        "gap g between the body and the track (zero to the gap tolerance while closed)";
+    MagnetAirGap(ContactIndex) => Owner "air_gap", "m", Real,
+        "EMS magnet's air gap s = s0 - gap (nominal_gap s0 where the law carries its static load)";
+    MagnetCurrent(ContactIndex) => Owner "current", "1", Real,
+        "EMS magnet's current over its operating current, i/i0 = 1 + (F - F0)/2F0 + (s - s0)/s0 \
+         (the linearised force law; the controller's command below saturation)";
+    ImpulseTangential(ContactIndex) => Owner "impact_impulse_tangential", "N.s", Real,
+        "tangential impulse on the body at the last impact it took part in (a landing or a rail-gap impact)";
+    ImpulseNormal(ContactIndex) => Owner "impact_impulse", "N.s", Real,
+        "normal impulse on the body at the last impact it took part in (a landing or a rail-gap impact)";
+    Irregularity(ContactIndex) => Owner "irregularity", "m", Real,
+        "track irregularity r(x) at the contact point (up positive)";
+    // The structure's: at a sensor, a section, a support (its node).
+    Sensor(SensorIndex) => Owned("sensor") "deflection", "m", Real,
+        "beam deflection at the sensor (up positive)";
+    SensorVelocity(SensorIndex) => Owned("sensor") "velocity", "m/s", Real,
+        "beam vertical velocity at the sensor (up positive)";
+    SensorFoundationLoad(SensorIndex) => Owned("sensor") "foundation_load", "N/m", Real,
+        "load per metre of beam on its Winkler foundation at the sensor, -(k w + c v), \
+         compression positive: the rail-seat load per metre of a rail";
+    SensorRailDeflection(SensorIndex) => Owned("sensor") "rail_deflection", "m", Real,
+        "deflection of the rail over the deck at the sensor (up positive); the \
+         sensor's deflection is the deck's";
+    SensorRailSeatForce(SensorIndex) => Owned("sensor") "rail_seat_force", "N", Real,
+        "rail-seat (pad) force of the sleeper nearest the sensor, compression \
+         positive: -(k_pad (w_rail - w_sleeper) + c_pad (v_rail - v_sleeper))";
+    SensorAcceleration(SensorIndex) => Owned("sensor") "acceleration", "m/s2", Real,
+        "beam vertical acceleration at the sensor (up positive), from the current state \
+         and the contact forces of the last step: M^-1 (r - K u - C v)",
+        needs BEAM_DYNAMICS;
+    SectionMoment(SectionIndex) => Owned("section") "moment", "N.m", Real,
+        "bending moment at the section, sagging positive (from the element equations)",
+        needs BEAM_DYNAMICS;
+    SectionShear(SectionIndex) => Owned("section") "shear", "N", Real,
+        "shear force at the section: upward force of the beam left of it on the \
+         beam right of it (dM/dx)",
+        needs BEAM_DYNAMICS;
+    Reaction(NodeIndex) => Owned("support") "reaction", "N", Real,
+        "vertical force of the support on the beam, up positive",
+        needs BEAM_DYNAMICS;
+    ReactionMoment(NodeIndex) => Owned("support") "moment", "N.m", Real,
+        "moment of the support (clamp or rotational spring) on the beam, counter-clockwise positive",
+        needs BEAM_DYNAMICS;
+    // The run's own: the energies, the solver's counts.
+    BodyKinetic => Run("energy") "body_kinetic", "J", Real,
+        "kinetic energy of the bodies";
+    BeamKinetic => Run("energy") "beam_kinetic", "J", Real,
+        "kinetic energy of the beam";
+    BeamStrain => Run("energy") "beam_strain", "J", Real,
+        "strain energy of the beam";
+    SpringEnergy => Run("energy") "spring", "J", Real,
+        "potential energy of the force elements' and followers' springs",
+        needs SPRING_ENERGY;
+    Dissipated => Run("energy") "dissipated", "J", Real,
+        "energy dissipated by the force elements' dampers",
+        needs ENERGY_BOOKS;
+    BeamDamping => Run("energy") "beam_damping", "J", Real,
+        "energy dissipated by the beam's Rayleigh structural damping and support dampers",
+        needs ENERGY_BOOKS;
+    GravityWork => Run("energy") "gravity_work", "J", Real,
+        "work done by gravity on the bodies";
+    ExternalWork => Run("energy") "external_work", "J", Real,
+        "work done by the applied force";
+    TractiveWork => Run("energy") "tractive_work", "J", Real,
+        "work done by the tractive forces that hold the prescribed speeds";
+    ImpactLoss => Run("energy") "impact_loss", "J", Real,
+        "kinetic energy lost in the landings' impacts";
+    NumericalDissipation => Run("energy") "numerical_dissipation", "J", Real,
+        "energy removed by the integrator's numerical damping: HHT-alpha's \
+         from its discrete energy identity, RK4's from the beam's energy",
+        needs ENERGY_BOOKS;
+    Balance => Run("energy") "balance", "J", Real,
+        "kinetic + strain + spring energy + dissipated (dampers, beam damping, impacts, \
+         numerical damping) \
+         - work of gravity, applied and tractive forces: \
+         constant for the exact solution",
+        needs SPRING_ENERGY | ENERGY_BOOKS;
+    VelocityError => Run("solver") "velocity_error", "m/s", Real,
+        "largest contact |e| at the end of the last step";
+    GapError => Run("solver") "gap_error", "m", Real,
+        "gap error g of largest magnitude at the end of the last step";
+    Iterations => Run("solver") "iterations", "", Integer,
+        "contact-force iterations in the last step";
+    PositionIterations => Run("solver") "position_iterations", "", Integer,
+        "iterations of the position (gap) stage in the last step";
 }
 
 impl Quantity {
     /// What this quantity reports, without its index.
     pub fn kind(&self) -> QuantityKind {
         QuantityKind::from(self)
+    }
+
+    /// What this quantity reads beyond the state's own numbers.
+    pub fn needs(&self) -> Needs {
+        self.kind().needs()
     }
 }
 
@@ -108,53 +249,25 @@ struct Catalogue {
 }
 
 impl Catalogue {
-    /// A Real output reporting `q` of `owner` (`names::output_name`).
-    fn real(&mut self, owner: &str, unit: &'static str, description: &str, q: Quantity) {
-        self.push(owner, unit, description, q, OutputKind::Real);
-    }
-    fn push(
-        &mut self,
-        owner: &str,
-        unit: &'static str,
-        description: &str,
-        q: Quantity,
-        kind: OutputKind,
-    ) {
+    /// The output reporting `q` of `owner` (`names::output_name`), with
+    /// its kind's unit, description and type.
+    fn add(&mut self, owner: &str, q: Quantity) {
+        let kind = q.kind();
         let info = OutputInfo {
-            name: output_name(q.kind(), owner),
-            unit,
-            description: description.to_string(),
-            kind,
+            name: output_name(kind, owner),
+            unit: kind.unit(),
+            description: kind.description().to_string(),
+            kind: kind.output_kind(),
         };
         self.entries.push((info, q));
     }
 
     fn body(&mut self, system: &System, b: usize) {
         let n = &system.bodies[b].name;
-        self.real(
-            n,
-            "m",
-            "horizontal position of the body's centre",
-            Quantity::X(b),
-        );
-        self.real(
-            n,
-            "m",
-            "vertical position of the body's centre",
-            Quantity::Y(b),
-        );
-        self.real(
-            n,
-            "m/s",
-            "horizontal velocity of the body's centre",
-            Quantity::Vx(b),
-        );
-        self.real(
-            n,
-            "m/s",
-            "vertical velocity of the body's centre",
-            Quantity::Vy(b),
-        );
+        self.add(n, Quantity::X(b));
+        self.add(n, Quantity::Y(b));
+        self.add(n, Quantity::Vx(b));
+        self.add(n, Quantity::Vy(b));
         self.body_accelerations(system, b);
         self.body_rotation(system, b);
         self.nominal_speeds(system, b);
@@ -166,24 +279,14 @@ impl Catalogue {
         let n = &system.bodies[b].name;
         let coupled = system.couplings.contains(&b);
         if coupled {
-            self.real(
-                n,
-                "m/s2",
-                "horizontal acceleration of the body's centre",
-                Quantity::Ax(b),
-            );
+            self.add(n, Quantity::Ax(b));
         }
         let on_follower = system
             .contacts
             .iter()
             .any(|c| c.body == b && c.follower.is_some());
         if !system.force_elements.is_empty() || coupled || on_follower {
-            self.real(
-                n,
-                "m/s2",
-                "vertical acceleration of the body's centre",
-                Quantity::Ay(b),
-            );
+            self.add(n, Quantity::Ay(b));
         }
     }
 
@@ -199,28 +302,13 @@ impl Catalogue {
             .iter()
             .any(|c| c.body == b && c.follower.is_none());
         if body.turns() && (!is_contact_body || coupled) {
-            self.real(
-                n,
-                "rad",
-                "pitch angle, counter-clockwise positive",
-                Quantity::Angle(b),
-            );
+            self.add(n, Quantity::Angle(b));
         }
         if body.turns() {
-            self.real(
-                n,
-                "rad/s",
-                "angular velocity, counter-clockwise positive",
-                Quantity::AngularVelocity(b),
-            );
+            self.add(n, Quantity::AngularVelocity(b));
         }
         if body.turns() && coupled {
-            self.real(
-                n,
-                "rad/s2",
-                "angular acceleration, counter-clockwise positive",
-                Quantity::AngularAcceleration(b),
-            );
+            self.add(n, Quantity::AngularAcceleration(b));
         }
     }
 
@@ -235,12 +323,7 @@ impl Catalogue {
                 } else {
                     n
                 };
-                self.real(
-                    owner,
-                    "m/s",
-                    "nominal travel speed V = vx + (r + h) dphi/dt (eq. 24)",
-                    Quantity::NominalSpeed(c),
-                );
+                self.add(owner, Quantity::NominalSpeed(c));
             }
         }
     }
@@ -248,44 +331,17 @@ impl Catalogue {
     fn contact(&mut self, system: &System, c: usize) {
         let contact = &system.contacts[c];
         let n = &contact.name;
-        self.real(
-            n,
-            "m",
-            "abscissa of the contact point along the track",
-            Quantity::ContactPosition(c),
-        );
+        self.add(n, Quantity::ContactPosition(c));
         if contact.rolls() {
-            self.real(
-                n,
-                "N",
-                "tangential contact force on the body",
-                Quantity::TangentialForce(c),
-            );
+            self.add(n, Quantity::TangentialForce(c));
         }
-        self.real(
-            n,
-            "N",
-            "normal contact force on the body (positive pushes it off the track)",
-            Quantity::NormalForce(c),
-        );
+        self.add(n, Quantity::NormalForce(c));
         if system.profile.is_some() {
-            self.real(
-                n,
-                "m",
-                "track irregularity r(x) at the contact point (up positive)",
-                Quantity::Irregularity(c),
-            );
+            self.add(n, Quantity::Irregularity(c));
         }
         let track = &system.track;
         if track.approach > 0.0 || track.run_off > 0.0 || track.open_ends {
-            self.push(
-                n,
-                "",
-                "1 while the contact point is on the beam (the structure), 0 on rigid ground or \
-                 beyond the track",
-                Quantity::OnBeam(c),
-                OutputKind::Integer,
-            );
+            self.add(n, Quantity::OnBeam(c));
         }
         self.flight(contact, c);
         self.magnet(system, c);
@@ -297,189 +353,69 @@ impl Catalogue {
             return;
         }
         let n = &system.contacts[c].name;
-        self.real(
-            n,
-            "m",
-            "EMS magnet's air gap s = s0 - gap (nominal_gap s0 where the law carries its static load)",
-            Quantity::MagnetAirGap(c),
-        );
-        self.real(
-            n,
-            "1",
-            "EMS magnet's current over its operating current, i/i0 = 1 + (F - F0)/2F0 + (s - s0)/s0 \
-             (the linearised force law; the controller's command below saturation)",
-            Quantity::MagnetCurrent(c),
-        );
+        self.add(n, Quantity::MagnetAirGap(c));
+        self.add(n, Quantity::MagnetCurrent(c));
     }
 
     /// Lift-off and landing: the contact's state, gap and last impact.
     fn flight(&mut self, contact: &crate::contact::Contact, c: usize) {
         let n = &contact.name;
-        self.push(
-            n,
-            "",
-            "1 while the contact is closed, 0 while it is open (in flight)",
-            Quantity::ContactClosed(c),
-            OutputKind::Integer,
-        );
-        self.real(
-            n,
-            "m",
-            "gap g between the body and the track (zero to the gap tolerance while closed)",
-            Quantity::Gap(c),
-        );
+        self.add(n, Quantity::ContactClosed(c));
+        self.add(n, Quantity::Gap(c));
         if contact.rolls() {
-            self.real(
-                n,
-                "N.s",
-                "tangential impulse on the body at the last impact it took part in (a landing or a rail-gap impact)",
-                Quantity::ImpulseTangential(c),
-            );
+            self.add(n, Quantity::ImpulseTangential(c));
         }
-        self.real(
-            n,
-            "N.s",
-            "normal impulse on the body at the last impact it took part in (a landing or a rail-gap impact)",
-            Quantity::ImpulseNormal(c),
-        );
+        self.add(n, Quantity::ImpulseNormal(c));
     }
 
     fn beam_energy(&mut self) {
-        self.real("", "J", "kinetic energy of the beam", Quantity::BeamKinetic);
-        self.real("", "J", "strain energy of the beam", Quantity::BeamStrain);
+        self.add("", Quantity::BeamKinetic);
+        self.add("", Quantity::BeamStrain);
     }
 
     fn energy(&mut self, system: &System) {
-        self.real(
-            "",
-            "J",
-            "kinetic energy of the bodies",
-            Quantity::BodyKinetic,
-        );
+        self.add("", Quantity::BodyKinetic);
         self.beam_energy();
         let followers = system.contacts.iter().any(|c| c.follower.is_some());
         if !system.force_elements.is_empty() || followers {
-            self.real(
-                "",
-                "J",
-                "potential energy of the force elements' and followers' springs",
-                Quantity::SpringEnergy,
-            );
-            self.real(
-                "",
-                "J",
-                "energy dissipated by the force elements' dampers",
-                Quantity::Dissipated,
-            );
+            self.add("", Quantity::SpringEnergy);
+            self.add("", Quantity::Dissipated);
         }
         if system.beam.is_damped() {
-            self.real(
-                "",
-                "J",
-                "energy dissipated by the beam's Rayleigh structural damping and support dampers",
-                Quantity::BeamDamping,
-            );
+            self.add("", Quantity::BeamDamping);
         }
         if system.gravity != 0.0 {
-            self.real(
-                "",
-                "J",
-                "work done by gravity on the bodies",
-                Quantity::GravityWork,
-            );
+            self.add("", Quantity::GravityWork);
         }
         self.works(system);
     }
 
     /// The works of the forces on the system, the losses, and the balance.
     fn works(&mut self, system: &System) {
-        self.real(
-            "",
-            "J",
-            "work done by the applied force",
-            Quantity::ExternalWork,
-        );
+        self.add("", Quantity::ExternalWork);
         if system.bodies.iter().any(|b| b.drive.is_some()) {
-            self.real(
-                "",
-                "J",
-                "work done by the tractive forces that hold the prescribed speeds",
-                Quantity::TractiveWork,
-            );
+            self.add("", Quantity::TractiveWork);
         }
-        self.real(
-            "",
-            "J",
-            "kinetic energy lost in the landings' impacts",
-            Quantity::ImpactLoss,
-        );
-        self.real(
-            "",
-            "J",
-            "energy removed by the integrator's numerical damping: HHT-alpha's \
-             from its discrete energy identity, RK4's from the beam's energy",
-            Quantity::NumericalDissipation,
-        );
-        self.real(
-            "",
-            "J",
-            "kinetic + strain + spring energy + dissipated (dampers, beam damping, impacts, \
-             numerical damping) \
-             - work of gravity, applied and tractive forces: \
-             constant for the exact solution",
-            Quantity::Balance,
-        );
+        self.add("", Quantity::ImpactLoss);
+        self.add("", Quantity::NumericalDissipation);
+        self.add("", Quantity::Balance);
     }
 
     /// The structure's outputs: each sensor's, then the sections' and
     /// the supports' (design outputs).
     fn structure(&mut self, beam: &Beam, sensors: &[String], sections: &[String], reactions: bool) {
         for (i, name) in sensors.iter().enumerate() {
-            self.real(
-                name,
-                "m",
-                "beam deflection at the sensor (up positive)",
-                Quantity::Sensor(i),
-            );
-            self.real(
-                name,
-                "m/s",
-                "beam vertical velocity at the sensor (up positive)",
-                Quantity::SensorVelocity(i),
-            );
-            self.real(
-                name,
-                "m/s2",
-                "beam vertical acceleration at the sensor (up positive), from the current state \
-                 and the contact forces of the last step: M^-1 (r - K u - C v)",
-                Quantity::SensorAcceleration(i),
-            );
+            self.add(name, Quantity::Sensor(i));
+            self.add(name, Quantity::SensorVelocity(i));
+            self.add(name, Quantity::SensorAcceleration(i));
             if beam.foundation().is_some() {
-                self.real(
-                    name,
-                    "N/m",
-                    "load per metre of beam on its Winkler foundation at the sensor, -(k w + c v), \
-                     compression positive: the rail-seat load per metre of a rail",
-                    Quantity::SensorFoundationLoad(i),
-                );
+                self.add(name, Quantity::SensorFoundationLoad(i));
             }
             if beam.track().is_some() {
-                self.real(
-                    name,
-                    "m",
-                    "deflection of the rail over the deck at the sensor (up positive); the \
-                     sensor's deflection is the deck's",
-                    Quantity::SensorRailDeflection(i),
-                );
+                self.add(name, Quantity::SensorRailDeflection(i));
             }
             if beam.track().is_some_and(|t| t.has_sleepers()) {
-                self.real(
-                    name,
-                    "N",
-                    "rail-seat (pad) force of the sleeper nearest the sensor, compression \
-                     positive: -(k_pad (w_rail - w_sleeper) + c_pad (v_rail - v_sleeper))",
-                    Quantity::SensorRailSeatForce(i),
-                );
+                self.add(name, Quantity::SensorRailSeatForce(i));
             }
         }
         self.design(beam, sections, reactions);
@@ -487,62 +423,25 @@ impl Catalogue {
 
     fn design(&mut self, beam: &Beam, sections: &[String], reactions: bool) {
         for (i, name) in sections.iter().enumerate() {
-            self.real(
-                name,
-                "N.m",
-                "bending moment at the section, sagging positive (from the element equations)",
-                Quantity::SectionMoment(i),
-            );
-            self.real(
-                name,
-                "N",
-                "shear force at the section: upward force of the beam left of it on the \
-                 beam right of it (dM/dx)",
-                Quantity::SectionShear(i),
-            );
+            self.add(name, Quantity::SectionMoment(i));
+            self.add(name, Quantity::SectionShear(i));
         }
         if !reactions {
             return;
         }
         for support in crate::structure::section_forces::supports(beam) {
             let name = &support.name;
-            self.real(
-                name,
-                "N",
-                "vertical force of the support on the beam, up positive",
-                Quantity::Reaction(support.node),
-            );
+            self.add(name, Quantity::Reaction(support.node));
             if support.has_moment {
-                self.real(
-                    name,
-                    "N.m",
-                    "moment of the support (clamp or rotational spring) on the beam, counter-clockwise positive",
-                    Quantity::ReactionMoment(support.node),
-                );
+                self.add(name, Quantity::ReactionMoment(support.node));
             }
         }
     }
 
     fn solver(&mut self) {
-        self.real(
-            "",
-            "m/s",
-            "largest contact |e| at the end of the last step",
-            Quantity::VelocityError,
-        );
-        self.real(
-            "",
-            "m",
-            "gap error g of largest magnitude at the end of the last step",
-            Quantity::GapError,
-        );
-        self.push(
-            "",
-            "",
-            "contact-force iterations in the last step",
-            Quantity::Iterations,
-            OutputKind::Integer,
-        );
+        self.add("", Quantity::VelocityError);
+        self.add("", Quantity::GapError);
+        self.add("", Quantity::Iterations);
     }
 }
 
@@ -567,13 +466,7 @@ pub fn catalogue(
     c.energy(system);
     c.solver();
     if system.contacts.len() > 1 {
-        c.push(
-            "",
-            "",
-            "iterations of the position (gap) stage in the last step",
-            Quantity::PositionIterations,
-            OutputKind::Integer,
-        );
+        c.add("", Quantity::PositionIterations);
     }
     c.entries
 }
@@ -693,48 +586,23 @@ impl Needs {
         ..Needs::NONE
     };
 
+    /// What either needs.
+    const fn and(self, other: Needs) -> Needs {
+        Needs {
+            frames: self.frames || other.frames,
+            body_accelerations: self.body_accelerations || other.body_accelerations,
+            beam_dynamics: self.beam_dynamics || other.beam_dynamics,
+            spring_energy: self.spring_energy || other.spring_energy,
+            energy_books: self.energy_books || other.energy_books,
+        }
+    }
+
     /// What any of `quantities` needs.
     pub fn of(quantities: &[Quantity]) -> Needs {
-        let either = |a: Needs, b: Needs| Needs {
-            frames: a.frames || b.frames,
-            body_accelerations: a.body_accelerations || b.body_accelerations,
-            beam_dynamics: a.beam_dynamics || b.beam_dynamics,
-            spring_energy: a.spring_energy || b.spring_energy,
-            energy_books: a.energy_books || b.energy_books,
-        };
         quantities
             .iter()
             .map(Quantity::needs)
-            .fold(Needs::NONE, either)
-    }
-}
-
-impl Quantity {
-    /// What this quantity reads beyond the state's own numbers. One
-    /// exhaustive match (no `_` arm): a new quantity must answer here.
-    pub fn needs(&self) -> Needs {
-        use Quantity::*;
-        match self {
-            NominalSpeed(_) => Needs::FRAMES,
-            Ax(_) | Ay(_) | AngularAcceleration(_) => Needs::BODY_ACCELERATIONS,
-            SensorAcceleration(_) | SectionMoment(_) | SectionShear(_) => Needs::BEAM_DYNAMICS,
-            Reaction(_) | ReactionMoment(_) => Needs::BEAM_DYNAMICS,
-            SpringEnergy => Needs::SPRING_ENERGY,
-            Dissipated | BeamDamping | NumericalDissipation => Needs::ENERGY_BOOKS,
-            Balance => Needs {
-                spring_energy: true,
-                ..Needs::ENERGY_BOOKS
-            },
-            X(_) | Y(_) | Vx(_) | Vy(_) | Angle(_) | AngularVelocity(_) => Needs::NONE,
-            ContactPosition(_) | TangentialForce(_) | NormalForce(_) | OnBeam(_) => Needs::NONE,
-            ContactClosed(_) | Gap(_) | MagnetAirGap(_) | MagnetCurrent(_) => Needs::NONE,
-            ImpulseTangential(_) | ImpulseNormal(_) | Irregularity(_) => Needs::NONE,
-            Sensor(_) | SensorVelocity(_) | SensorFoundationLoad(_) => Needs::NONE,
-            SensorRailDeflection(_) | SensorRailSeatForce(_) => Needs::NONE,
-            BodyKinetic | BeamKinetic | BeamStrain | GravityWork | ExternalWork => Needs::NONE,
-            TractiveWork | ImpactLoss | VelocityError | GapError => Needs::NONE,
-            Iterations | PositionIterations => Needs::NONE,
-        }
+            .fold(Needs::NONE, Needs::and)
     }
 }
 
@@ -932,5 +800,29 @@ fn magnet(system: &System, c: usize) -> Option<(f64, f64)> {
             Some((follower.preload, nominal_gap))
         }
         _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::QuantityKind;
+    use strum::IntoEnumIterator;
+
+    /// Each description is one line of words, as the FMU and the CSV
+    /// header carry it: no stray whitespace from a continued literal.
+    #[test]
+    fn every_kind_is_described_in_one_clean_line() {
+        for kind in QuantityKind::iter() {
+            let text = kind.description();
+            assert!(
+                !text.is_empty() && text.trim() == text,
+                "{kind:?}: {text:?}"
+            );
+            assert!(
+                !text.contains("  ") && !text.contains('\n'),
+                "{kind:?}: {text:?}"
+            );
+            assert!(!kind.unit().contains(char::is_whitespace), "{kind:?}");
+        }
     }
 }

@@ -1,7 +1,9 @@
 //! The outputs' names: how the catalogue names a quantity
-//! (`output_name`) and which quantity a name reports (`classify`), in one
-//! table, so that a reader of a CSV file (a column name, not the live
-//! catalogue) asks by type instead of matching suffixes.
+//! (`output_name`) and which quantity a name reports (`classify`), from
+//! one rule (each kind's group and suffix, in its entry of the
+//! `quantities!` list in `outputs/mod.rs`), so that a reader of a CSV
+//! file (a column name, not the live catalogue) asks by type instead of
+//! matching suffixes.
 //!
 //! A name is `<owner>.<suffix>` (a body's or a contact's quantity),
 //! `<group>.<owner>.<suffix>` (a sensor's, a section's, a support's) or
@@ -13,7 +15,7 @@ use strum::IntoEnumIterator;
 /// The part of a name before its owner: none for a body's or a contact's
 /// quantity, else the group (`sensor`, ..., `energy`, `solver`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Group {
+pub(super) enum Group {
     /// `<owner>.<suffix>`: a body's, a contact's (the nominal speed: a
     /// body's or an attached contact's).
     Owner,
@@ -25,59 +27,10 @@ enum Group {
 
 use Group::{Owned, Owner, Run};
 
-/// Every kind's group and suffix: the one naming rule. One exhaustive
-/// match (no `_` arm): a new `Quantity` variant must be named here.
+/// Every kind's group and suffix: the one naming rule, from each kind's
+/// entry in the `quantities!` list (`outputs/mod.rs`).
 const fn row(kind: QuantityKind) -> (Group, &'static str) {
-    use QuantityKind::*;
-    match kind {
-        X => (Owner, "x"),
-        Y => (Owner, "y"),
-        Vx => (Owner, "vx"),
-        Vy => (Owner, "vy"),
-        Ax => (Owner, "ax"),
-        Ay => (Owner, "ay"),
-        AngularAcceleration => (Owner, "angular_acceleration"),
-        Angle => (Owner, "pitch"),
-        AngularVelocity => (Owner, "angular_velocity"),
-        NominalSpeed => (Owner, "nominal_speed"),
-        ContactPosition => (Owner, "position"),
-        TangentialForce => (Owner, "tangential_force"),
-        NormalForce => (Owner, "normal_force"),
-        OnBeam => (Owner, "on_beam"),
-        ContactClosed => (Owner, "state"),
-        Gap => (Owner, "gap"),
-        MagnetAirGap => (Owner, "air_gap"),
-        MagnetCurrent => (Owner, "current"),
-        ImpulseTangential => (Owner, "impact_impulse_tangential"),
-        ImpulseNormal => (Owner, "impact_impulse"),
-        Irregularity => (Owner, "irregularity"),
-        Sensor => (Owned("sensor"), "deflection"),
-        SensorVelocity => (Owned("sensor"), "velocity"),
-        SensorFoundationLoad => (Owned("sensor"), "foundation_load"),
-        SensorRailDeflection => (Owned("sensor"), "rail_deflection"),
-        SensorRailSeatForce => (Owned("sensor"), "rail_seat_force"),
-        SensorAcceleration => (Owned("sensor"), "acceleration"),
-        SectionMoment => (Owned("section"), "moment"),
-        SectionShear => (Owned("section"), "shear"),
-        Reaction => (Owned("support"), "reaction"),
-        ReactionMoment => (Owned("support"), "moment"),
-        BodyKinetic => (Run("energy"), "body_kinetic"),
-        BeamKinetic => (Run("energy"), "beam_kinetic"),
-        BeamStrain => (Run("energy"), "beam_strain"),
-        SpringEnergy => (Run("energy"), "spring"),
-        Dissipated => (Run("energy"), "dissipated"),
-        BeamDamping => (Run("energy"), "beam_damping"),
-        GravityWork => (Run("energy"), "gravity_work"),
-        ExternalWork => (Run("energy"), "external_work"),
-        TractiveWork => (Run("energy"), "tractive_work"),
-        ImpactLoss => (Run("energy"), "impact_loss"),
-        NumericalDissipation => (Run("energy"), "numerical_dissipation"),
-        Balance => (Run("energy"), "balance"),
-        VelocityError => (Run("solver"), "velocity_error"),
-        GapError => (Run("solver"), "gap_error"),
-        Iterations => (Run("solver"), "iterations"),
-        PositionIterations => (Run("solver"), "position_iterations"),
-    }
+    kind.naming()
 }
 
 /// A name read back: what it reports and whose it is (the body's,
@@ -133,7 +86,6 @@ mod tests {
     #[test]
     fn every_group_and_suffix_names_one_kind() {
         let kinds: Vec<QuantityKind> = QuantityKind::iter().collect();
-        assert_eq!(kinds.len(), 47, "one kind per variant of `Quantity`");
         for (i, &kind) in kinds.iter().enumerate() {
             for &other in &kinds[i + 1..] {
                 let (group, suffix) = row(kind);

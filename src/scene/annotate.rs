@@ -4,14 +4,11 @@
 use super::Scene;
 use toml_edit::{DocumentMut, Item, Table, Value};
 
-/// Comment above each table.
-pub(super) const TABLE_NOTES: &[(&str, &str)] = &[
+/// Comment above each of the scene's own tables; a preset's block
+/// (`[body.bogie]`, ...) brings its own (`Preset::BLOCK_NOTE`).
+const SCENE_TABLE_NOTES: &[(&str, &str)] = &[
     ("beam", "Euler-Bernoulli beam on the x axis from 0 to L"),
     ("track", "Rigid ground before and after the beam"),
-    (
-        "body.suspension",
-        "sprung_mass: vertical spring-damper over an unsprung glider",
-    ),
     (
         "body",
         "The vehicle (or moving force): its kind, mass, start and loads",
@@ -47,30 +44,47 @@ pub(super) const TABLE_NOTES: &[(&str, &str)] = &[
         "A Winkler foundation under the whole beam (a rail on its track bed)",
     ),
     (
-        "body.bogie",
-        "bogie_vehicle: car body on two bogies on four wheelsets",
-    ),
-    (
-        "body.maglev",
-        "maglev_vehicle: car body over N magnets on spring-dampers",
-    ),
-    (
         "vehicles",
         "Another vehicle of the train: the fields of [body]",
-    ),
-    (
-        "vehicles.bogie",
-        "bogie_vehicle: car body on two bogies on four wheelsets",
-    ),
-    (
-        "vehicles.maglev",
-        "maglev_vehicle: car body over N magnets on spring-dampers",
     ),
     (
         "sections",
         "A cross-section whose moment and shear are reported",
     ),
 ];
+
+/// The tables under which a preset's block stands: the first vehicle's
+/// and each other vehicle of a train.
+const VEHICLE_TABLES: [&str; 2] = ["body", "vehicles"];
+
+/// Every table's note in the docs' order: the scene's own, each preset's
+/// block after its vehicle table.
+pub(super) fn table_notes() -> Vec<(String, &'static str)> {
+    let mut notes = Vec::new();
+    for &(path, note) in SCENE_TABLE_NOTES {
+        notes.push((path.to_string(), note));
+        if VEHICLE_TABLES.contains(&path) {
+            for (block, note) in crate::vehicle::presets::block_notes() {
+                notes.push((format!("{path}.{block}"), note));
+            }
+        }
+    }
+    notes
+}
+
+/// The note of the table at `path`: the scene's, or a preset's block's.
+fn table_note(path: &str) -> Option<&'static str> {
+    let own = SCENE_TABLE_NOTES.iter().find(|(p, _)| *p == path);
+    if let Some(&(_, note)) = own {
+        return Some(note);
+    }
+    let (table, block) = path.split_once('.')?;
+    if !VEHICLE_TABLES.contains(&table) {
+        return None;
+    }
+    let notes = crate::vehicle::presets::block_notes();
+    notes.into_iter().find(|(b, _)| *b == block).map(|(_, n)| n)
+}
 
 /// Column at which field comments start, where the line allows.
 const COMMENT_COLUMN: usize = 36;
@@ -123,7 +137,7 @@ fn field_note(path: &str) -> Option<&'static str> {
 }
 
 fn note_table(table: &mut Table, path: &str) {
-    if let Some((_, note)) = TABLE_NOTES.iter().find(|(p, _)| *p == path) {
+    if let Some(note) = table_note(path) {
         table.decor_mut().set_prefix(format!("\n# {note}\n"));
     }
 }
@@ -152,5 +166,51 @@ fn float_literal(x: f64) -> String {
         format!("{x:e}")
     } else {
         format!("{x:?}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::scene::{BodyKind, Scene, SuspensionSpec};
+
+    /// A preset's block gets its preset's note above `[body.<block>]` and
+    /// above each `[vehicles.<block>]` of a train.
+    #[test]
+    fn a_presets_block_carries_its_presets_note() {
+        let mut scene = Scene::lee1994(BodyKind::SprungMass, 10.0, 0.0025);
+        scene.vehicles[0].suspension = Some(SuspensionSpec {
+            stiffness: 1e6,
+            damping: 0.0,
+            unsprung_mass: 50.0,
+        });
+        let mut second = scene.vehicles[0].clone();
+        second.name = "second".into();
+        scene.vehicles.push(second);
+        let text = scene.to_annotated_toml();
+        let notes = crate::vehicle::presets::block_notes();
+        let (_, note) = notes.iter().find(|(b, _)| *b == "suspension").unwrap();
+        assert!(note.starts_with("sprung_mass: "), "{note}");
+        for table in ["[body.suspension]", "[vehicles.suspension]"] {
+            let noted = format!("\n# {note}\n{table}\n");
+            assert!(text.contains(&noted), "{table} without its note:\n{text}");
+        }
+    }
+
+    /// A preset whose block is a table (its fields' paths are
+    /// `body.<block>.<field>`) gives it a note.
+    #[test]
+    fn every_presets_table_block_has_a_note() {
+        let notes = crate::vehicle::presets::block_notes();
+        let mut tables = 0;
+        for (_, rows) in crate::vehicle::presets::rows() {
+            for row in rows {
+                let parts: Vec<&str> = row.path.split('.').collect();
+                if let ["body", block, _, ..] = parts[..] {
+                    assert!(notes.iter().any(|(b, _)| *b == block), "{}", row.path);
+                    tables += 1;
+                }
+            }
+        }
+        assert!(tables > 0, "no preset's block is a table");
     }
 }

@@ -1181,7 +1181,7 @@ pub fn field_notes_markdown() -> String {
          [The FMU](fmu-reference.md)).\n\n\
          | table | what it holds |\n|---|---|\n",
     );
-    for (path, note) in super::annotate::TABLE_NOTES {
+    for (path, note) in super::annotate::table_notes() {
         page += &format!("| `[{path}]` | {note} |\n");
     }
     page += "\n| field | unit | default | FMU parameter | unit, meaning, rule |\n\

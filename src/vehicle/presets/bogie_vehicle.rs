@@ -55,6 +55,7 @@ pub struct BogieVehicle;
 impl Preset for BogieVehicle {
     const DESCRIPTION: &'static str = "car body on two bogies over four wheelsets (10 DOF)";
     const ROWS: &'static [Field] = BOGIE_ROWS;
+    const BLOCK_NOTE: &'static str = "bogie_vehicle: car body on two bogies on four wheelsets";
     const NAMES_ITS_CONTACTS: bool = true;
 
     fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {

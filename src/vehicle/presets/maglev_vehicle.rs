@@ -49,6 +49,7 @@ pub struct MaglevVehicle;
 impl Preset for MaglevVehicle {
     const DESCRIPTION: &'static str = "car body over magnets on spring-dampers";
     const ROWS: &'static [Field] = MAGLEV_ROWS;
+    const BLOCK_NOTE: &'static str = "maglev_vehicle: car body over N magnets on spring-dampers";
     const NAMES_ITS_CONTACTS: bool = true;
 
     fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {

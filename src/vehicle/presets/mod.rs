@@ -57,6 +57,10 @@ pub(crate) trait Preset {
     /// scene's own table they stand before (`scene::fields::FIELDS`).
     const ROWS: &'static [Field] = &[];
     const ROWS_BEFORE: &'static str = TABLE_BLOCKS_BEFORE;
+    /// The comment above its block's table (`[body.<block>]`, and each
+    /// `[vehicles.<block>]`) in an annotated scene and in the docs' list
+    /// of tables; empty for a block that is not a table (a train's name).
+    const BLOCK_NOTE: &'static str = "";
     /// Its own rules on `body` (fields named under `prefix`), checked in
     /// the list's order among the other presets' refusals of their blocks.
     fn check(_checks: &mut Checks, _prefix: &str, _body: &BodySpec) {}
@@ -101,7 +105,8 @@ pub const TABLE_BLOCKS_BEFORE: &str = "body.contact_law.law";
 /// `[body]` it owns: `fields { .. }` flat after `mass` (the wheel's),
 /// `block { .. }` after `force_y` (a table such as `[body.suspension]`, or
 /// a train's name). From it come `BodyKind`, `BodySpec` (`body_spec!`),
-/// one match per question, the checks and the field table's rows.
+/// one match per question, the checks, the field table's rows and the
+/// notes of the blocks (`block_notes`).
 macro_rules! presets {
     ($(
         $(#[$attr:meta])* $kind:ident => $preset:ty
@@ -129,6 +134,13 @@ macro_rules! presets {
             } else {
                 <$preset>::refuse_stray(checks, prefix, body);
             })*
+        }
+
+        /// Each preset's block (`[body.<block>]`) that is a table, with its
+        /// note (`Preset::BLOCK_NOTE`), in the list's order.
+        pub fn block_notes() -> Vec<(&'static str, &'static str)> {
+            let notes = [$($((stringify!($tfield), <$preset>::BLOCK_NOTE),)?)*];
+            notes.into_iter().filter(|(_, note)| !note.is_empty()).collect()
         }
 
         /// Each preset's rows of the field table with the row they stand

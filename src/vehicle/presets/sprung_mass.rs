@@ -38,6 +38,7 @@ pub struct SprungMass;
 impl Preset for SprungMass {
     const DESCRIPTION: &'static str = "sprung mass on a spring-damper over a glider";
     const ROWS: &'static [Field] = SUSPENSION_ROWS;
+    const BLOCK_NOTE: &'static str = "sprung_mass: vertical spring-damper over an unsprung glider";
 
     fn refuse_stray(checks: &mut Checks, prefix: &str, body: &BodySpec) {
         if body.suspension.is_some() {
