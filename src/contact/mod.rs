@@ -532,13 +532,9 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 3,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
-            damping: None,
+            ..BeamSpec::default()
         })
         .unwrap();
         let n = beam.free_dofs();
@@ -601,13 +597,9 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 65_536,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
-            damping: None,
+            ..BeamSpec::default()
         })
         .unwrap();
         let mut u = DVector::zeros(beam.free_dofs());
@@ -711,13 +703,9 @@ mod profile_tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 3,
-            supports: SupportsSpec::default(),
-            damping: None,
-            joints: Vec::new(),
-            foundation: None,
+            ..BeamSpec::default()
         })
         .unwrap();
         let u = DVector::from_fn(beam.free_dofs(), |i, _| 0.05 * ((i as f64) * 1.3).sin());

@@ -61,13 +61,9 @@ fn moving_force_level(alpha: f64, steps: usize) -> Level {
         length: LENGTH,
         mass_per_length: MASS,
         bending_stiffness: EI,
-        frequency: None,
         surface_offset: 0.0,
         elements: 40,
-        supports: SupportsSpec::default(),
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     })
     .expect("beam builds");
     let speed = alpha * omega1() * LENGTH / PI;

@@ -27,13 +27,9 @@ fn beam() -> Beam {
         length: LENGTH,
         mass_per_length: MASS,
         bending_stiffness: EI,
-        frequency: None,
         surface_offset: 0.0,
         elements: ELEMENTS,
-        supports: SupportsSpec::default(),
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     })
     .expect("beam builds")
 }
