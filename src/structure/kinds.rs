@@ -60,21 +60,21 @@ pub(in crate::structure) trait StructureKind: StructureOps + Sized {
 }
 
 /// The type a variant of `Structure` holds: the kind, or the kind boxed
-/// (`boxed` in its line) where it is much larger than the others.
+/// (`in Box` in its line) where it is much larger than the others.
 macro_rules! kind_payload {
-    (boxed $kind:ty) => { Box<$kind> };
+    (Box $kind:ty) => { Box<$kind> };
     ($kind:ty) => { $kind };
 }
 
 /// The list of structure kinds, each line a variant of `Structure`, the
-/// kind's module and type (`, boxed` to hold it boxed), and the fields of
+/// kind's module and type (`in Box` to hold it boxed), and the fields of
 /// `[beam]` it owns (`fields { .. }`, each an `Option` in `BeamSpec`, after
 /// the common ones). From it come the `pub mod` of each kind's file, the
 /// enum, `each!`, `Structure::chosen_kind`, `kind_fields` and (through
 /// `with_kind_fields!`, which `beam/spec.rs` calls) `BeamSpec`.
 macro_rules! structure_kinds {
     (@with ($d:tt) $(
-        $(#[$attr:meta])* $variant:ident => $module:ident :: $kind:ident $(, $boxed:ident)?
+        $(#[$attr:meta])* $variant:ident => $module:ident :: $kind:ident $(in $boxed:ident)?
         $(, fields { $($(#[$fattr:meta])* $field:ident: $fty:ty),* $(,)? })?
     ;)*) => {
         /// Calls `$callback! { field: type, .. }` with every kind's fields

@@ -27,7 +27,7 @@ structure_kinds! {
     Modal => reduced::ModalBeam;
     /// A rail over the deck: the contacts run on the rail (the mesh), the
     /// state is the rail's and the deck's DOFs interleaved.
-    Track => track_seam::TrackBeam, boxed;
+    Track => track_seam::TrackBeam in Box;
 }
 
 pub mod seam;
