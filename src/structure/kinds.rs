@@ -1,5 +1,5 @@
 //! What a kind of structure knows of itself besides its operations
-//! (`StructureKind`: when a scene chooses it, the scene fields it owns),
+//! (`ChosenKind`: when a scene chooses it, the scene fields it owns),
 //! and the `structure_kinds!` macro that turns the list of kinds (in
 //! `structure/mod.rs`) into their modules, the `Structure` enum, its
 //! `each!` dispatch, the choice of a kind and `BeamSpec`'s kind fields.
@@ -45,7 +45,7 @@ pub enum KindRule {
 }
 
 /// What a kind of structure knows of itself, besides its operations.
-pub(in crate::structure) trait StructureKind: StructureOps + Sized {
+pub(in crate::structure) trait ChosenKind: StructureOps + Sized {
     /// Its fields of `[beam]` (declared in its line of the list) as rows
     /// of the scene's field table, and the row they stand before.
     const FIELDS: &'static [KindField] = &[];
@@ -109,7 +109,7 @@ macro_rules! structure_kinds {
                 spec: &beam::BeamSpec,
                 track: &track_spec::TrackSpec,
             ) -> Option<Result<Structure, String>> {
-                use kinds::StructureKind;
+                use kinds::ChosenKind;
                 $(if let Some(kind) = <$module::$kind>::chosen(spec, track) {
                     return Some(kind.map(|k| Structure::$variant(k.into())));
                 })*
@@ -120,7 +120,7 @@ macro_rules! structure_kinds {
         /// Each kind's fields of `[beam]` as rows of the scene's field
         /// table, with the row they stand before, in the list's order.
         pub fn kind_fields() -> [(&'static str, &'static [kinds::KindField]); [$(stringify!($variant)),*].len()] {
-            use kinds::StructureKind;
+            use kinds::ChosenKind;
             [$((<$module::$kind>::FIELDS_BEFORE, <$module::$kind>::FIELDS)),*]
         }
     };

@@ -1,5 +1,5 @@
 //! The flexible structure the vehicles cross: the list of its kinds (each
-//! a file implementing `ops::StructureOps` and `kinds::StructureKind`: the
+//! a file implementing `ops::StructureOps` and `kinds::ChosenKind`: the
 //! Hermite beam, its modal reduction, the rail over the deck), the seam
 //! over them (`Structure`, `seam.rs`), and the track's pieces and
 //! irregularity profile.

@@ -4,7 +4,7 @@
 //! and loading a mesh DOF, products, factors, energies, frequency bounds).
 //!
 //! A new kind is one file implementing `StructureOps` (and
-//! `kinds::StructureKind`) and one line in the list of kinds
+//! `kinds::ChosenKind`) and one line in the list of kinds
 //! (`structure/mod.rs`). A kind whose state is not the mesh's free DOFs (the modal reduction, the rail over the deck)
 //! implements `dof_value` and `add_dof_load` and takes the element-wise
 //! gathers, dots and scatters below as they are; the full mesh overrides

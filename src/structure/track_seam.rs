@@ -13,7 +13,7 @@ use nalgebra::{DMatrix, DVector};
 use crate::beam::{EffectiveFactor, Foundation, HermiteBeam, Modes, Rayleigh};
 use crate::mesh::Mesh;
 use crate::structure::beam::{BeamSpec, EndSupport, SpringSpec, SupportsSpec};
-use crate::structure::kinds::StructureKind;
+use crate::structure::kinds::ChosenKind;
 use crate::structure::ops::StructureOps;
 use crate::structure::rail_on_deck::RailOnDeck;
 use crate::structure::seam::TRACK_NOT_MODAL;
@@ -139,7 +139,7 @@ impl TrackBeam {
 }
 
 /// Chosen by a track with a layer over the deck (`track.on_deck`).
-impl StructureKind for TrackBeam {
+impl ChosenKind for TrackBeam {
     fn chosen(spec: &BeamSpec, track: &TrackSpec) -> Option<Result<TrackBeam, String>> {
         let on_deck = track.on_deck.as_ref()?;
         Some(TrackBeam::new(spec, on_deck, (track.approach, track.run_off)))
