@@ -511,7 +511,7 @@ fn frame_on_beam(beam: &Beam, element: usize, x: f64, surface: [f64; 3]) -> Cont
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::structure::beam::{BeamSpec, SupportsSpec};
+    use crate::structure::beam::BeamSpec;
 
     const RADIUS: f64 = 0.3;
 
@@ -683,7 +683,7 @@ mod tests {
 mod profile_tests {
     use super::*;
     use crate::profile::Profile;
-    use crate::structure::beam::{BeamSpec, SupportsSpec};
+    use crate::structure::beam::BeamSpec;
     use crate::structure::profile::IrregularitySpec;
 
     fn sine() -> Profile {

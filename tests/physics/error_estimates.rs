@@ -7,7 +7,7 @@
 use crate::common::fryba::{omega1, EI, FORCE, LENGTH, MASS};
 use guideway::beam::Beam;
 use guideway::moving_load::{Axle, Crossing};
-use guideway::scene::{builtin, BeamSpec, Scene, SupportsSpec};
+use guideway::scene::{builtin, BeamSpec, Scene};
 use guideway::study::converge::converge;
 use guideway::study::convergence::{estimate, figures, Estimate, Figure, Level};
 use guideway::study::refine::{choose, choose_step, error_study, summarise, Refinement};

@@ -13,7 +13,7 @@
 
 use guideway::beam::Beam;
 use guideway::moving_load::{Axle, Crossing};
-use guideway::scene::{BeamSpec, SupportsSpec};
+use guideway::scene::BeamSpec;
 use std::f64::consts::PI;
 
 use crate::common::fryba::{omega1, v0, EI, FORCE, LENGTH, MASS};
