@@ -511,7 +511,7 @@ fn frame_on_beam(beam: &Beam, element: usize, x: f64, surface: [f64; 3]) -> Cont
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::structure::beam::{BeamSpec, SupportsSpec};
+    use crate::structure::beam::BeamSpec;
 
     const RADIUS: f64 = 0.3;
 
@@ -532,13 +532,9 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 3,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
-            damping: None,
+            ..BeamSpec::default()
         })
         .unwrap();
         let n = beam.free_dofs();
@@ -601,13 +597,9 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 65_536,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
-            damping: None,
+            ..BeamSpec::default()
         })
         .unwrap();
         let mut u = DVector::zeros(beam.free_dofs());
@@ -691,7 +683,7 @@ mod tests {
 mod profile_tests {
     use super::*;
     use crate::profile::Profile;
-    use crate::structure::beam::{BeamSpec, SupportsSpec};
+    use crate::structure::beam::BeamSpec;
     use crate::structure::profile::IrregularitySpec;
 
     fn sine() -> Profile {
@@ -711,13 +703,9 @@ mod profile_tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 3,
-            supports: SupportsSpec::default(),
-            damping: None,
-            joints: Vec::new(),
-            foundation: None,
+            ..BeamSpec::default()
         })
         .unwrap();
         let u = DVector::from_fn(beam.free_dofs(), |i, _| 0.05 * ((i as f64) * 1.3).sin());

@@ -377,7 +377,10 @@ impl Builder<'_> {
     /// for every holder it exports.
     fn scene_params(&mut self) {
         for (field, f) in FIELDS.iter().enumerate() {
-            let scene_row = matches!(f.access, Access::Scene(..) | Access::Sensor(..));
+            let scene_row = matches!(
+                f.access,
+                Access::Scene(..) | Access::Beam(..) | Access::Sensor(..)
+            );
             if !scene_row || f.doc.is_empty() {
                 continue;
             }

@@ -8,10 +8,13 @@
 //! vehicle). A new field is one row here (plus its serde field in
 //! `scene/mod.rs` and any rule that ties it to other fields in
 //! `validate.rs`); a preset's own fields are rows in the preset's file
-//! (`vehicle/presets/`), placed into this table by the `presets!` list.
+//! (`vehicle/presets/`), placed into this table by the `presets!` list,
+//! and a structure kind's fields of `[beam]` rows in the kind's file
+//! (`structure/`), placed by the `structure_kinds!` list.
 
 use super::{
-    BodyKind, BodySpec, Scene, SensorSpec, SpeedSpec, MAX_ELEMENTS, MAX_MAGNITUDE, MIN_MAGNITUDE,
+    BeamSpec, BodyKind, BodySpec, Scene, SensorSpec, SpeedSpec, MAX_ELEMENTS, MAX_MAGNITUDE,
+    MIN_MAGNITUDE,
 };
 use std::sync::LazyLock;
 
@@ -78,6 +81,8 @@ pub enum Access {
     None,
     /// A field of the scene itself.
     Scene(fn(&Scene) -> Option<f64>, fn(&mut Scene, f64)),
+    /// A field of `[beam]` a structure kind owns (`structure::KindField`).
+    Beam(fn(&BeamSpec) -> Option<f64>, fn(&mut BeamSpec, f64)),
     /// A field of each vehicle.
     Vehicle(fn(&BodySpec) -> Option<f64>, fn(&mut BodySpec, f64)),
     /// A field of each sensor.
@@ -151,7 +156,7 @@ impl Field {
     pub fn holders(&self, scene: &Scene) -> usize {
         match self.access {
             Access::None => 0,
-            Access::Scene(..) => 1,
+            Access::Scene(..) | Access::Beam(..) => 1,
             Access::Sensor(..) => scene.sensors.len(),
             Access::Vehicle(..) => scene.vehicles.len(),
         }
@@ -163,6 +168,7 @@ impl Field {
         match self.access {
             Access::None => None,
             Access::Scene(get, _) => get(scene),
+            Access::Beam(get, _) => get(&scene.beam),
             Access::Sensor(get, _) => scene.sensors.get(k).and_then(get),
             Access::Vehicle(get, _) => vehicle(scene, k).and_then(get),
         }
@@ -177,6 +183,7 @@ impl Field {
         match self.access {
             Access::None => return false,
             Access::Scene(_, set) => set(scene, x),
+            Access::Beam(_, set) => set(&mut scene.beam, x),
             Access::Sensor(_, set) => set(&mut scene.sensors[k], x),
             Access::Vehicle(_, set) => set(vehicle_mut(scene, k).expect("present"), x),
         }
@@ -194,7 +201,7 @@ impl Field {
                 let name = vehicle(scene, k).map_or("", |v| v.name.as_str());
                 format!("{name}.{}", rest("body."))
             }
-            Access::None | Access::Scene(..) => self.path.to_string(),
+            Access::None | Access::Scene(..) | Access::Beam(..) => self.path.to_string(),
         }
     }
 }
@@ -238,9 +245,10 @@ fn set_initial_speed(body: &mut BodySpec, x: f64) {
 
 /// Every field of a scene file, in the order of the reference page: the
 /// scene's own rows, the contact laws' (`contact::law::LAW_ROWS`, from
-/// their list) before the beam's, and each preset's rows
-/// (`vehicle::presets::rows`, the fields of `[body]` a preset owns) before
-/// the row the preset names.
+/// their list) before the beam's, each preset's rows
+/// (`vehicle::presets::rows`, the fields of `[body]` a preset owns) and
+/// each structure kind's (`structure::kind_fields`, the fields of `[beam]`
+/// a kind owns) before the row the preset or kind names.
 pub static FIELDS: LazyLock<Vec<Field>> = LazyLock::new(|| {
     let mut rows = SCENE_ROWS.to_vec();
     let laws = crate::contact::law::LAW_ROWS
@@ -249,6 +257,9 @@ pub static FIELDS: LazyLock<Vec<Field>> = LazyLock::new(|| {
     splice_before(&mut rows, "beam.length", laws);
     for (before, own) in crate::vehicle::presets::rows() {
         splice_before(&mut rows, before, own.iter().copied());
+    }
+    for (before, own) in crate::structure::kind_fields() {
+        splice_before(&mut rows, before, own.iter().map(kind_row));
     }
     if let Some(kind) = rows.iter_mut().find(|f| f.path == "body.kind") {
         kind.note = LazyLock::force(&KIND_NOTE).as_str();
@@ -281,7 +292,26 @@ fn law_row((path, unit, note): crate::contact::law_spec::LawRow) -> Field {
     }
 }
 
-/// The rows of the fields of a scene file that no preset owns.
+/// The row of a field of `[beam]` a structure kind owns: absent unless
+/// given, read and written in the scene's beam.
+fn kind_row(field: &crate::structure::KindField) -> Field {
+    use crate::structure::KindRule;
+    Field {
+        path: field.path,
+        unit: field.unit,
+        default: Default::Absent,
+        rule: match field.rule {
+            KindRule::Positive => Rule::Positive,
+            KindRule::NonNegative => Rule::NonNegative,
+        },
+        note: field.note,
+        doc: field.doc,
+        access: Access::Beam(field.value, field.set),
+    }
+}
+
+/// The rows of the fields of a scene file that no preset or structure
+/// kind owns.
 const SCENE_ROWS: &[Field] = &[
     Field {
         path: "name",
@@ -1210,7 +1240,7 @@ fn fmu_name_pattern(f: &Field) -> String {
     match f.access {
         _ if f.doc.is_empty() && !matches!(f.access, Access::Vehicle(..)) => String::new(),
         Access::None => String::new(),
-        Access::Scene(..) => format!("`{}`", f.path),
+        Access::Scene(..) | Access::Beam(..) => format!("`{}`", f.path),
         // every vehicle's, where it has the field (src/model/variables.rs)
         Access::Vehicle(..) if !f.doc.is_empty() => format!("`<vehicle>.{}`", rest("body.")),
         Access::Vehicle(..) => String::new(),
@@ -1263,6 +1293,7 @@ mod tests {
             };
             let got = match f.access {
                 Access::Scene(get, _) => get(&scene),
+                Access::Beam(get, _) => get(&scene.beam),
                 Access::Vehicle(get, _) => get(&scene.vehicles[0]),
                 _ => continue,
             };
@@ -1284,6 +1315,10 @@ mod tests {
                 Access::Scene(get, set) => {
                     set(&mut changed, 7.0);
                     (get(&scene), get(&changed))
+                }
+                Access::Beam(get, set) => {
+                    set(&mut changed.beam, 7.0);
+                    (get(&scene.beam), get(&changed.beam))
                 }
                 Access::Vehicle(get, set) => {
                     set(&mut changed.vehicles[0], 7.0);

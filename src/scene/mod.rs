@@ -309,13 +309,9 @@ impl Scene {
                 length: 24.0,
                 mass_per_length: 1250.0,
                 bending_stiffness: 1e9,
-                frequency: None,
                 surface_offset: 0.6,
                 elements: 2,
-                supports: SupportsSpec::default(),
-                damping: None,
-                joints: Vec::new(),
-                foundation: None,
+                ..BeamSpec::default()
             },
             vehicles: vec![BodySpec {
                 inertia,

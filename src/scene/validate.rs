@@ -188,13 +188,13 @@ fn check_ratio(checks: &mut Checks, path: &str, ratio: f64) {
 /// the checks of each part add the rules that tie fields to each other.
 fn check_scene_fields(checks: &mut Checks, scene: &Scene, prefixes: &[&str]) {
     for f in FIELDS.iter() {
-        let Access::Scene(get, _) = f.access else {
+        if !matches!(f.access, Access::Scene(..) | Access::Beam(..)) {
             continue;
-        };
+        }
         if !prefixes.iter().any(|p| f.path.starts_with(p)) {
             continue;
         }
-        let Some(x) = get(scene) else { continue };
+        let Some(x) = f.value(scene, 0) else { continue };
         if let Some(words) = f.rule.problem(x, scene.track.approach) {
             // (a count reads as one: `0`, not `0.0`)
             let shown = match f.rule {

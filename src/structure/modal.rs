@@ -333,13 +333,10 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements,
             supports,
-            joints: Vec::new(),
-            foundation: None,
-            damping: None,
+            ..BeamSpec::default()
         })
         .expect("beam")
     }
@@ -429,16 +426,13 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements: 4,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
             damping: Some(DampingSpec::Coefficients {
                 alpha: 0.3,
                 beta: 2e-4,
             }),
+            ..BeamSpec::default()
         })
         .expect("beam");
         let n = spec_beam.free_dofs();

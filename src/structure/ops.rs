@@ -3,9 +3,9 @@
 //! operations whose meaning depends on the state's coordinates (reading
 //! and loading a mesh DOF, products, factors, energies, frequency bounds).
 //!
-//! A new kind is one file implementing `StructureOps`, one variant of
-//! `Structure` and one line in its `each!` macro. A kind whose state is
-//! not the mesh's free DOFs (the modal reduction, the rail over the deck)
+//! A new kind is one file implementing `StructureOps` (and
+//! `kinds::ChosenKind`) and one line in the list of kinds
+//! (`structure/mod.rs`). A kind whose state is not the mesh's free DOFs (the modal reduction, the rail over the deck)
 //! implements `dof_value` and `add_dof_load` and takes the element-wise
 //! gathers, dots and scatters below as they are; the full mesh overrides
 //! them with direct reads.
@@ -91,6 +91,14 @@ pub(in crate::structure) trait StructureOps {
     fn deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
         let shape = self.mesh().shape(self.mesh().element_at(x), x);
         self.dot(&shape, &shape.n, u)
+    }
+
+    /// Element `element`'s end forces K_e u + M_e a from its local fields
+    /// (`u`, `a`) on (w_i, ψ_i, w_j, ψ_j): by default the Hermite mesh's
+    /// element matrices; a kind with another element stiffness gives its
+    /// own section forces here.
+    fn element_end_forces(&self, element: usize, local: ([f64; 4], [f64; 4])) -> [f64; 4] {
+        self.mesh().element_end_forces_of(element, local)
     }
 
     /// `out = K u`.

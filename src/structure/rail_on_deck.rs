@@ -10,7 +10,7 @@
 
 use crate::beam::{element_mass, element_stiffness};
 use crate::mesh::Mesh;
-use crate::structure::beam::{BeamSpec, SupportsSpec};
+use crate::structure::beam::BeamSpec;
 use crate::structure::sleeper_layout::{deck_at, layout_apart, rail_at_sleepers};
 use crate::structure::track_sleepers::Sleepers;
 use crate::wide_band::WideBand;
@@ -223,13 +223,9 @@ impl RailOnDeck {
             length: self.deck_length,
             mass_per_length: 1.0,
             bending_stiffness: self.deck_bending_stiffness,
-            frequency: None,
             surface_offset: 0.0,
             elements,
-            supports: SupportsSpec::default(),
-            damping: None,
-            joints: Vec::new(),
-            foundation: None,
+            ..BeamSpec::default()
         })
     }
 

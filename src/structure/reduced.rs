@@ -7,7 +7,12 @@ use nalgebra::DVector;
 
 use crate::beam::{EffectiveFactor, HermiteBeam};
 use crate::modal::{ModalBasis, ModeSelection};
+use crate::structure::kinds::ChosenKind;
 use crate::structure::ops::StructureOps;
+
+/// Never chosen by the beam and track: the build reduces any structure
+/// whose scene has `solver.modes` (`Structure::reduce_to_modes`).
+impl ChosenKind for ModalBeam {}
 
 /// The beam reduced to the modes a selection keeps.
 pub struct ModalBeam {

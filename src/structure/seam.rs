@@ -1,11 +1,11 @@
 //! The structure seam: the one type the system, the contacts and the
 //! integrators see. Each kind of structure (the full Hermite mesh, its
 //! modal reduction, the rail over the deck) implements `StructureOps`
-//! (`structure/ops.rs`); `Structure` is the enum of the kinds and passes
-//! every call to the kind it holds through the one `each!` macro: static
-//! dispatch, one `match` per call, no `dyn` in the step. A new kind is
-//! one file implementing the trait, one variant here and one line in
-//! `each!` (and its place in `of_scene`).
+//! (`structure/ops.rs`); `Structure` is the enum of the kinds (generated
+//! from their list in `structure/mod.rs`) and passes every call to the
+//! kind it holds through the one `each!` macro: static dispatch, one
+//! `match` per call, no `dyn` in the step. Nothing here names a kind but
+//! the accessors of the modal and the track kinds' own data.
 //!
 //! Geometry (node abscissae, elements, shapes, supports, segments) is the
 //! mesh's whatever the kind, so `Structure` dereferences to the kind's
@@ -24,29 +24,7 @@ use crate::structure::ops::StructureOps;
 use crate::structure::reduced::ModalBeam;
 use crate::structure::track_seam::TrackBeam;
 use crate::structure::track_spec::TrackSpec;
-
-/// The flexible structure under the vehicles.
-pub enum Structure {
-    /// Every free DOF of the Hermite mesh is a state entry.
-    Hermite(HermiteBeam),
-    /// The state is the kept modes' coordinates.
-    Modal(ModalBeam),
-    /// A rail over the deck: the contacts run on the rail (the mesh), the
-    /// state is the rail's and the deck's DOFs interleaved.
-    Track(Box<TrackBeam>),
-}
-
-/// One expression per kind: `each!(self, b => b.f(..))`, `b` bound to the
-/// kind's implementation of `StructureOps`.
-macro_rules! each {
-    ($self:expr, $b:ident => $e:expr) => {
-        match $self {
-            Structure::Hermite($b) => $e,
-            Structure::Modal($b) => $e,
-            Structure::Track($b) => $e,
-        }
-    };
-}
+use crate::structure::Structure;
 
 impl Deref for Structure {
     type Target = HermiteBeam;
@@ -58,19 +36,19 @@ impl Deref for Structure {
 }
 
 impl Structure {
-    /// The full-mesh structure of a (validated) spec.
+    /// The structure of a (validated) beam spec on a track with no layer
+    /// over the deck: the Hermite mesh, or the kind the spec's own fields
+    /// choose.
     pub fn new(spec: &BeamSpec) -> Result<Structure, String> {
-        HermiteBeam::new(spec).map(Structure::Hermite)
+        Structure::of_scene(spec, &TrackSpec::default())
     }
 
-    /// The structure of a (validated) scene's beam and track: the rail
-    /// over the deck when the track has `on_deck`, else the beam's mesh.
+    /// The structure of a (validated) scene's beam and track: the first
+    /// kind of the list (`structure/mod.rs`) they choose (the rail over
+    /// the deck when the track has `on_deck`), else the beam's mesh.
     pub fn of_scene(spec: &BeamSpec, track: &TrackSpec) -> Result<Structure, String> {
-        match &track.on_deck {
-            None => Structure::new(spec),
-            Some(on_deck) => TrackBeam::new(spec, on_deck, (track.approach, track.run_off))
-                .map(|t| Structure::Track(Box::new(t))),
-        }
+        Structure::chosen_kind(spec, track)
+            .unwrap_or_else(|| HermiteBeam::new(spec).map(Structure::Hermite))
     }
 
     /// The rail over the deck, when the structure is one.
@@ -208,7 +186,7 @@ impl Structure {
             self.element_field(element, u),
             self.element_field(element, a),
         );
-        self.element_end_forces_of(element, local)
+        each!(self, b => b.element_end_forces(element, local))
     }
 }
 

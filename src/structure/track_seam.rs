@@ -13,12 +13,13 @@ use nalgebra::{DMatrix, DVector};
 use crate::beam::{EffectiveFactor, Foundation, HermiteBeam, Modes, Rayleigh};
 use crate::mesh::Mesh;
 use crate::structure::beam::{BeamSpec, EndSupport, SpringSpec, SupportsSpec};
+use crate::structure::kinds::ChosenKind;
 use crate::structure::ops::StructureOps;
 use crate::structure::rail_on_deck::RailOnDeck;
 use crate::structure::seam::TRACK_NOT_MODAL;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
 use crate::structure::track_sleepers::Sleepers;
-use crate::structure::track_spec::OnDeckSpec;
+use crate::structure::track_spec::{OnDeckSpec, TrackSpec};
 use crate::wide_band::{WideBand, WideLdlt};
 
 /// The rail over the deck's spans, as the seam sees it.
@@ -134,6 +135,14 @@ impl TrackBeam {
     /// abscissa `x` (N, compression positive; NaN without sleepers).
     pub fn rail_seat_force(&self, u: &DVector<f64>, v: &DVector<f64>, x: f64) -> f64 {
         (self.assembly.rail_seat_force(x, u.as_slice(), v.as_slice())).unwrap_or(f64::NAN)
+    }
+}
+
+/// Chosen by a track with a layer over the deck (`track.on_deck`).
+impl ChosenKind for TrackBeam {
+    fn chosen(spec: &BeamSpec, track: &TrackSpec) -> Option<Result<TrackBeam, String>> {
+        let on_deck = track.on_deck.as_ref()?;
+        Some(TrackBeam::new(spec, on_deck, (track.approach, track.run_off)))
     }
 }
 
@@ -361,7 +370,6 @@ fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, node_x: &[f64], lengths: &[f
         },
         mass_per_length: on_deck.rail_mass_per_length,
         bending_stiffness: on_deck.rail_bending_stiffness,
-        frequency: None,
         surface_offset: deck.surface_offset,
         elements,
         supports: SupportsSpec {
@@ -370,9 +378,7 @@ fn rail_spec(deck: &BeamSpec, on_deck: &OnDeckSpec, node_x: &[f64], lengths: &[f
             intermediate: Vec::new(),
             springs,
         },
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     }
 }
 

@@ -7,7 +7,7 @@
 use crate::common::fryba::{omega1, EI, FORCE, LENGTH, MASS};
 use guideway::beam::Beam;
 use guideway::moving_load::{Axle, Crossing};
-use guideway::scene::{builtin, BeamSpec, Scene, SupportsSpec};
+use guideway::scene::{builtin, BeamSpec, Scene};
 use guideway::study::converge::converge;
 use guideway::study::convergence::{estimate, figures, Estimate, Figure, Level};
 use guideway::study::refine::{choose, choose_step, error_study, summarise, Refinement};
@@ -61,13 +61,9 @@ fn moving_force_level(alpha: f64, steps: usize) -> Level {
         length: LENGTH,
         mass_per_length: MASS,
         bending_stiffness: EI,
-        frequency: None,
         surface_offset: 0.0,
         elements: 40,
-        supports: SupportsSpec::default(),
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     })
     .expect("beam builds");
     let speed = alpha * omega1() * LENGTH / PI;

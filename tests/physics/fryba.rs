@@ -13,7 +13,7 @@
 
 use guideway::beam::Beam;
 use guideway::moving_load::{Axle, Crossing};
-use guideway::scene::{BeamSpec, SupportsSpec};
+use guideway::scene::BeamSpec;
 use std::f64::consts::PI;
 
 use crate::common::fryba::{omega1, v0, EI, FORCE, LENGTH, MASS};
@@ -27,13 +27,9 @@ fn beam() -> Beam {
         length: LENGTH,
         mass_per_length: MASS,
         bending_stiffness: EI,
-        frequency: None,
         surface_offset: 0.0,
         elements: ELEMENTS,
-        supports: SupportsSpec::default(),
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     })
     .expect("beam builds")
 }

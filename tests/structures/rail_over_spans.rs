@@ -46,7 +46,6 @@ fn deck(pier: Pier) -> BeamSpec {
         length,
         mass_per_length: 12_000.0,
         bending_stiffness: DECK_EI,
-        frequency: None,
         surface_offset: 0.0,
         elements: (length / H).round() as usize,
         supports: SupportsSpec {
@@ -55,9 +54,8 @@ fn deck(pier: Pier) -> BeamSpec {
             intermediate,
             springs: Vec::new(),
         },
-        damping: None,
         joints,
-        foundation: None,
+        ..BeamSpec::default()
     }
 }
 

@@ -6,7 +6,12 @@
 use nalgebra::DVector;
 
 use super::{EffectiveFactor, HermiteBeam, Shape, VelocityFreeBand};
+use crate::structure::kinds::ChosenKind;
 use crate::structure::ops::StructureOps;
+
+/// The base kind: the structure of any scene no other kind claims
+/// (`Structure::of_scene`), so it is never `chosen`.
+impl ChosenKind for HermiteBeam {}
 
 impl StructureOps for HermiteBeam {
     fn mesh(&self) -> &HermiteBeam {

@@ -935,13 +935,9 @@ mod tests {
             length: 24.0,
             mass_per_length: 1250.0,
             bending_stiffness: 1e9,
-            frequency: None,
             surface_offset: 0.6,
             elements,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
-            damping: None,
+            ..BeamSpec::default()
         }
     }
 

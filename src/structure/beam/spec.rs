@@ -1,42 +1,81 @@
 //! The beam's parameters as a scene gives them (`[beam]`: length, mass,
-//! stiffness, elements, supports, joints, damping, foundation), with their
-//! serde form; the scene format (`scene::Scene`) composes them.
+//! stiffness, elements, supports, joints, damping, foundation, and the
+//! fields each structure kind owns), with their serde form; the scene
+//! format (`scene::Scene`) composes them.
 
 use serde::{Deserialize, Serialize};
 
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct BeamSpec {
-    /// Length L of the beam (m).
-    pub length: f64,
-    /// Mass per unit length (kg/m).
-    pub mass_per_length: f64,
-    /// Bending stiffness EI (N m^2); left out when `frequency` gives it.
-    #[serde(default = "stiffness_not_given")]
-    pub bending_stiffness: f64,
-    /// First natural frequency f1 (Hz), instead of `bending_stiffness`:
-    /// reading the scene sets EI so that the model's first mode has f1,
-    /// then clears this field.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub frequency: Option<f64>,
-    /// Distance h from the neutral axis to the top surface (m).
-    pub surface_offset: f64,
-    /// Number of Hermite cubic elements.
-    pub elements: usize,
-    #[serde(default)]
-    pub supports: SupportsSpec,
-    /// Rayleigh structural damping C = α M + β K; none when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub damping: Option<DampingSpec>,
-    /// Joints splitting the structure into several beams in a row, by
-    /// increasing abscissa; none: one beam.
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub joints: Vec<JointSpec>,
-    /// A Winkler foundation under the whole beam (a rail on its track bed);
-    /// none when absent.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub foundation: Option<FoundationSpec>,
+/// `BeamSpec`: the common fields written here, in the file's order, then
+/// each structure kind's fields of `[beam]` (`$field: $ty`, declared in its
+/// line of the list in `structure/mod.rs`), each optional (left out:
+/// `None`). Called once, through `with_kind_fields!`.
+macro_rules! beam_spec {
+    ($($(#[$attr:meta])* $field:ident: $ty:ty,)*) => {
+        /// The beam of a scene (`[beam]`).
+        #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+        #[serde(deny_unknown_fields)]
+        pub struct BeamSpec {
+            /// Length L of the beam (m).
+            pub length: f64,
+            /// Mass per unit length (kg/m).
+            pub mass_per_length: f64,
+            /// Bending stiffness EI (N m^2); left out when `frequency` gives it.
+            #[serde(default = "stiffness_not_given")]
+            pub bending_stiffness: f64,
+            /// First natural frequency f1 (Hz), instead of `bending_stiffness`:
+            /// reading the scene sets EI so that the model's first mode has f1,
+            /// then clears this field.
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub frequency: Option<f64>,
+            /// Distance h from the neutral axis to the top surface (m).
+            pub surface_offset: f64,
+            /// Number of Hermite cubic elements.
+            pub elements: usize,
+            #[serde(default)]
+            pub supports: SupportsSpec,
+            /// Rayleigh structural damping C = α M + β K; none when absent.
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub damping: Option<DampingSpec>,
+            /// Joints splitting the structure into several beams in a row, by
+            /// increasing abscissa; none: one beam.
+            #[serde(default, skip_serializing_if = "Vec::is_empty")]
+            pub joints: Vec<JointSpec>,
+            /// A Winkler foundation under the whole beam (a rail on its track bed);
+            /// none when absent.
+            #[serde(default, skip_serializing_if = "Option::is_none")]
+            pub foundation: Option<FoundationSpec>,
+            $(
+                $(#[$attr])*
+                #[serde(default, skip_serializing_if = "Option::is_none")]
+                pub $field: Option<$ty>,
+            )*
+        }
+
+        /// Every optional field left out (pinned ends, no damping, joint,
+        /// foundation or kind field); the required numbers not given (NaN,
+        /// no elements), so that a literal names them (`..BeamSpec::default()`
+        /// for the rest) and validation refuses a spec that does not.
+        impl Default for BeamSpec {
+            fn default() -> BeamSpec {
+                BeamSpec {
+                    length: f64::NAN,
+                    mass_per_length: f64::NAN,
+                    bending_stiffness: stiffness_not_given(),
+                    frequency: None,
+                    surface_offset: f64::NAN,
+                    elements: 0,
+                    supports: SupportsSpec::default(),
+                    damping: None,
+                    joints: Vec::new(),
+                    foundation: None,
+                    $($field: None,)*
+                }
+            }
+        }
+    };
 }
+
+with_kind_fields!(beam_spec);
 
 /// The serde default of `beam.bending_stiffness`: not a number, so that a
 /// scene that gives neither EI nor f1 fails the rule on EI.

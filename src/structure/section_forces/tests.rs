@@ -14,7 +14,6 @@ fn beam(elements: usize, left: EndSupport, right: EndSupport) -> Beam {
         length: L,
         mass_per_length: MU,
         bending_stiffness: EI,
-        frequency: None,
         surface_offset: 0.6,
         elements,
         supports: SupportsSpec {
@@ -23,9 +22,7 @@ fn beam(elements: usize, left: EndSupport, right: EndSupport) -> Beam {
             intermediate: Vec::new(),
             springs: Vec::new(),
         },
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     })
     .unwrap()
 }
@@ -126,13 +123,9 @@ fn continuous_beam_reactions() {
         length: L,
         mass_per_length: MU,
         bending_stiffness: EI,
-        frequency: None,
         surface_offset: 0.6,
         elements: 6,
-        supports: SupportsSpec::default(),
-        damping: None,
-        joints: Vec::new(),
-        foundation: None,
+        ..BeamSpec::default()
     };
     spec.supports.intermediate = vec![L / 2.0];
     let beam = Beam::new(&spec).unwrap();
