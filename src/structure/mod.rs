@@ -3,6 +3,7 @@
 //! beam, its modal reduction, the rail over the deck), and the track's
 //! irregularity profile.
 
+pub mod acceleration_rows;
 pub mod beam;
 pub mod modal;
 mod ops;
