@@ -8,6 +8,8 @@ use nalgebra::{DVector, Vector3};
 use crate::contact::{ContactForce, ContactFrame};
 use crate::integrate::{loads, EndForces, FrameMemo};
 use crate::state::SimState;
+use crate::structure::acceleration_rows::AccelerationRows;
+use crate::structure::section_forces::BeamDynamics;
 use crate::system::System;
 
 /// What the outputs read beside the system and the state: where the
@@ -22,6 +24,9 @@ pub struct Probes<'a> {
     pub frames: &'a FrameMemo,
     /// K u + C v of the last step's end, where the integrator kept them.
     pub end_forces: Option<&'a EndForces>,
+    /// The rows that give the accelerations the design outputs read
+    /// without a solve, where they are cheaper (`AccelerationRows`).
+    pub acceleration_rows: Option<&'a AccelerationRows>,
     /// False where a step was solved without the energy bookkeeping: the
     /// energy totals no longer hold, and are reported as NaN.
     pub booked: bool,
@@ -31,6 +36,15 @@ pub struct Probes<'a> {
 }
 
 impl Probes<'_> {
+    /// The outputs' route to the beam's accelerations: their rows' only.
+    pub fn route(&self) -> AccelerationRoute<'_> {
+        AccelerationRoute {
+            end_forces: self.end_forces,
+            rows: self.acceleration_rows,
+            whole: false,
+        }
+    }
+
     /// `total`, one of the energy totals the steps book, or NaN where the
     /// books were not kept.
     pub fn booked(&self, total: f64) -> f64 {
@@ -89,26 +103,61 @@ pub fn body_accelerations(system: &System, state: &SimState, probes: &Probes) ->
         .collect()
 }
 
+/// How `beam_dynamics` finds the accelerations: the kept internal forces
+/// of the last step's end, and the rows of the design outputs'
+/// coordinates (`AccelerationRows`).
+#[derive(Clone, Copy)]
+pub struct AccelerationRoute<'a> {
+    pub end_forces: Option<&'a EndForces>,
+    pub rows: Option<&'a AccelerationRows>,
+    /// Every coordinate's acceleration (the node file), not only the
+    /// rows' (the others NaN).
+    pub whole: bool,
+}
+
 /// The beam in `state` under the contact forces of the last step, with
 /// the acceleration they give (design outputs); `None` when a contact
-/// point cannot be located. The internal forces K u + C v are recalled
-/// from `end_forces` where they are this state's.
+/// point cannot be located. With rows, their coordinates' accelerations
+/// are theirs, and where not `whole` the others are NaN (no solve); the
+/// internal forces K u + C v they read are recalled from `end_forces`
+/// where they are this state's, else computed (the same bits: a function
+/// of the state either way). Without rows, a whole solve.
 pub fn beam_dynamics(
     system: &System,
     state: &SimState,
-    (memo, end_forces): (&FrameMemo, Option<&EndForces>),
-) -> Option<crate::structure::section_forces::BeamDynamics> {
+    memo: &FrameMemo,
+    route: AccelerationRoute,
+) -> Option<BeamDynamics> {
     let d = &state.dynamic;
     let frames = frames_now(system, state, memo).ok()?;
     let beam = &system.beam;
     let loads = crate::contact::loads::contact_loads(beam, &frames, &last_forces(state));
     let (u, v) = (&d.beam_displacement, &d.beam_velocity);
-    let readable = beam.accelerations_read_internal_forces();
-    let internal = (end_forces.filter(|_| readable)).and_then(|kept| kept.recall((u, v)));
-    Some(crate::structure::section_forces::BeamDynamics::new(
-        beam,
-        (u.clone(), v.clone()),
-        loads,
-        internal,
-    ))
+    let Some(rows) = route.rows else {
+        let readable = beam.accelerations_read_internal_forces();
+        let kept = route.end_forces.filter(|_| readable);
+        let internal = kept.and_then(|kept| kept.recall((u, v)));
+        return Some(BeamDynamics::new(
+            beam,
+            (u.clone(), v.clone()),
+            loads,
+            internal,
+        ));
+    };
+    let mut acceleration = match route.whole {
+        true => BeamDynamics::new(beam, (u.clone(), v.clone()), loads.clone(), None)
+            .acceleration()
+            .clone(),
+        false => DVector::from_element(u.len(), f64::NAN),
+    };
+    match route.end_forces.and_then(|kept| kept.recall((u, v))) {
+        Some(internal) => rows.write(beam, &loads, internal, &mut acceleration),
+        None => {
+            let (mut scratch, mut internal) = (DVector::zeros(u.len()), DVector::zeros(u.len()));
+            beam.internal_forces(u, v, &mut scratch, &mut internal);
+            rows.write(beam, &loads, &internal, &mut acceleration);
+        }
+    }
+    let state = (u.clone(), v.clone(), acceleration);
+    Some(BeamDynamics::with_acceleration(beam, state, loads))
 }

@@ -537,6 +537,31 @@ pub fn structure_value(
     })
 }
 
+/// The elements whose accelerations `quantities` read (with `probes`'
+/// sensor and section abscissae): a sensor's or a section's element, a
+/// support's elements either side of its node.
+pub fn acceleration_elements(
+    beam: &Beam,
+    (sensors, sections): (&[f64], &[f64]),
+    quantities: &[Quantity],
+) -> Vec<usize> {
+    let mut elements = Vec::new();
+    for quantity in quantities {
+        match *quantity {
+            Quantity::SensorAcceleration(i) => elements.push(beam.element_at(sensors[i])),
+            Quantity::SectionMoment(i) | Quantity::SectionShear(i) => {
+                elements.push(beam.element_at(sections[i]))
+            }
+            Quantity::Reaction(node) | Quantity::ReactionMoment(node) => {
+                elements.extend(node.checked_sub(1));
+                elements.push(node);
+            }
+            _ => {}
+        }
+    }
+    elements
+}
+
 /// What an output reads beyond the numbers the state holds: each a
 /// derived quantity computed once per evaluation where an output needs it
 /// (an output whose need is not computed would read NaN).
@@ -548,7 +573,8 @@ pub struct Needs {
     /// (`derived::body_accelerations`).
     pub body_accelerations: bool,
     /// The beam's accelerations and loads under the last contact forces
-    /// (`derived::beam_dynamics`, one mass solve per row).
+    /// (`derived::beam_dynamics`: a mass solve per row, or the few dots of
+    /// the design outputs' rows, `AccelerationRows`).
     pub beam_dynamics: bool,
     /// The springs' potential energy (`energy::spring`).
     pub spring_energy: bool,
@@ -642,7 +668,7 @@ impl<'a> Now<'a> {
             .then(|| frames_now(system, state, probes.frames).ok());
         let beam_dynamics = needs
             .beam_dynamics
-            .then(|| beam_dynamics(system, state, (probes.frames, probes.end_forces)));
+            .then(|| beam_dynamics(system, state, probes.frames, probes.route()));
         let accelerations = needs
             .body_accelerations
             .then(|| body_accelerations(system, state, probes));

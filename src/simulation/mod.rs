@@ -83,6 +83,9 @@ pub struct Simulation {
     sections: Vec<f64>,
     outputs: Vec<OutputInfo>,
     quantities: Vec<Quantity>,
+    /// The rows of the coordinates the design outputs' accelerations read,
+    /// where they are cheaper than a solve a row (`AccelerationRows`).
+    acceleration_rows: Option<crate::structure::acceleration_rows::AccelerationRows>,
     /// The outputs computed when a sink reads only some (`read_only`).
     read: Option<crate::output_mask::OutputMask>,
 }
@@ -347,6 +350,7 @@ impl Simulation {
             sections: &self.sections,
             frames: self.stepper.iteration().frame_memo(),
             end_forces: self.stepper.iteration().integrator().end_forces(),
+            acceleration_rows: self.acceleration_rows.as_ref(),
             booked: self.stepper.booked(),
             start_applied: match self.state.last_applied.len() {
                 0 => self.constant_forces(),
@@ -365,8 +369,12 @@ impl Simulation {
     /// point cannot be located.
     pub fn beam_dynamics(&self) -> Option<crate::structure::section_forces::BeamDynamics> {
         let iteration = self.stepper.iteration();
-        let kept = (iteration.frame_memo(), iteration.integrator().end_forces());
-        derived::beam_dynamics(&self.system, &self.state, kept)
+        let route = derived::AccelerationRoute {
+            end_forces: iteration.integrator().end_forces(),
+            rows: self.acceleration_rows.as_ref(),
+            whole: true,
+        };
+        derived::beam_dynamics(&self.system, &self.state, iteration.frame_memo(), route)
     }
 
     /// Advance to `target` with internal steps on the grid k·`solver.step`,

@@ -10,11 +10,12 @@ use crate::contact::ContactForce;
 use crate::integrate::{
     choose_integrator, contact_frames, contact_frames_at_bodies, loads, DynamicState,
 };
-use crate::outputs::catalogue;
+use crate::outputs::{acceleration_elements, catalogue};
 use crate::scene::{Scene, StartKind};
 use crate::solver::stepper::{heaviest_and_deflection, RunSetup, Stepper};
 use crate::state::{ContactStatus, SimState};
 use crate::static_start::{place_on_profile, static_start};
+use crate::structure::acceleration_rows::AccelerationRows;
 use crate::system::{System, TrackPart};
 use crate::vehicle::speed::SpeedSpec;
 
@@ -37,18 +38,23 @@ impl Simulation {
         let dynamic = initial_state(&system, u, &assembly.bodies, &assembly.forces, &applied)?;
         let sensor_names: Vec<String> = scene.sensors.iter().map(|s| s.name.clone()).collect();
         let section_names: Vec<String> = scene.sections.iter().map(|s| s.name.clone()).collect();
-        let (outputs, quantities) =
+        let (outputs, quantities): (_, Vec<_>) =
             catalogue(&system, &sensor_names, &section_names, scene.reactions)
                 .into_iter()
                 .unzip();
+        let sensors: Vec<f64> = scene.sensors.iter().map(|s| s.position).collect();
+        let sections: Vec<f64> = scene.sections.iter().map(|s| s.position).collect();
+        let read = acceleration_elements(&system.beam, (&sensors, &sections), &quantities);
+        let acceleration_rows = AccelerationRows::of_elements(&system.beam, read);
         let step = scene.solver.step;
         let stepper = Stepper::new(integrator, &system, step, &assembly.open, &dynamic);
         let start = (dynamic, assembly.forces.as_slice(), vehicle_forces);
         let state = state_at_start(&system, start, step, &assembly.open)?;
         let mut simulation = Simulation {
-            sensors: scene.sensors.iter().map(|s| s.position).collect(),
+            sensors,
             envelope_loads,
-            sections: scene.sections.iter().map(|s| s.position).collect(),
+            sections,
+            acceleration_rows,
             setup,
             params: crate::build::solver_parameters(&scene.solver),
             stepper,

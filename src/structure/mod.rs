@@ -8,6 +8,7 @@
 //! module, its variant of `Structure` and the fields of `[beam]` it owns
 //! (`kinds.rs` has the syntax); its file implements the two traits.
 
+pub mod acceleration_rows;
 #[macro_use]
 mod kinds;
 pub mod modal;

@@ -20,6 +20,10 @@ const TUNING: &[(&str, &str)] = &[
         "entries of K⁻¹'s rows (16 MiB) up to which the static envelope reads its outputs through influence rows; past it a solve per load position, the same values up to rounding",
     ),
     (
+        "MAX_ROW_COORDINATES",
+        "coordinates up to which the design outputs' accelerations are read through rows of M⁻¹ (`AccelerationRows`); past it a mass solve a row, the same values up to rounding",
+    ),
+    (
         "MAX_SECANT_STEPS",
         "secant steps of beam.frequency's EI search on springs; past them the scene is refused naming the field",
     ),
