@@ -430,10 +430,6 @@ pub fn foot_point_on(
     // The element's field, gathered again only when the search moves on.
     let mut field = (element, beam.element_field(element, u));
     for _ in 0..50 {
-        element = beam.element_near(x, element);
-        if field.0 != element {
-            field = (element, beam.element_field(element, u));
-        }
         let axis = beam.axis_of_field(element, x, &field.1);
         let [w, slope, curvature, third] = surface(axis, profile, x);
         let height = centre.y - w;
@@ -455,6 +451,12 @@ pub fn foot_point_on(
             return Ok(frame_on_beam(beam, element, x, [w, slope, curvature]));
         }
         x += dx;
+        // From the last element (at the guess, `element_at`'s answer is
+        // already `element_near`'s: one walk fewer a search).
+        element = beam.element_near(x, element);
+        if field.0 != element {
+            field = (element, beam.element_field(element, u));
+        }
     }
     Err(FootPointError { last_x: x })
 }

@@ -16,6 +16,124 @@
 //! are exact zeros added at the start of each sum, so the results are the
 //! full band's to the bit.
 
+/// Runs `$body` with the constant `$P` equal to the profile width `$width`
+/// (0 to 8: a rail's rows couple two or three places, the deck's up to
+/// eight), or with `$P` = `WIDER` (a loop over the slices) beyond: the
+/// fixed widths unroll, where a loop of two or three terms cost more in
+/// its set-up than in its terms (the product, the solve and the quadratic
+/// form were about 85 instructions a row of three terms).
+macro_rules! by_width {
+    ($width:expr, $P:ident => $body:expr) => {
+        match $width {
+            0 => {
+                const $P: usize = 0;
+                $body
+            }
+            1 => {
+                const $P: usize = 1;
+                $body
+            }
+            2 => {
+                const $P: usize = 2;
+                $body
+            }
+            3 => {
+                const $P: usize = 3;
+                $body
+            }
+            4 => {
+                const $P: usize = 4;
+                $body
+            }
+            5 => {
+                const $P: usize = 5;
+                $body
+            }
+            6 => {
+                const $P: usize = 6;
+                $body
+            }
+            7 => {
+                const $P: usize = 7;
+                $body
+            }
+            8 => {
+                const $P: usize = 8;
+                $body
+            }
+            _ => {
+                const $P: usize = WIDER;
+                $body
+            }
+        }
+    };
+}
+
+/// The width `by_width` passes beyond its fixed ones (any above 8): the
+/// kernels then run over their slices' whole length.
+const WIDER: usize = 9;
+
+/// The first `P` entries of `a` (all where `P` is `WIDER`) as an array's
+/// slice: the bounds checked once, so that a fixed `P` unrolls.
+#[inline(always)]
+fn first<const P: usize>(a: &[f64]) -> &[f64] {
+    if P == WIDER {
+        a
+    } else {
+        let fixed: &[f64; P] = a[..P].try_into().expect("P entries");
+        fixed
+    }
+}
+
+/// `first` of a mutable slice.
+#[inline(always)]
+fn first_mut<const P: usize>(a: &mut [f64]) -> &mut [f64] {
+    if P == WIDER {
+        a
+    } else {
+        let fixed: &mut [f64; P] = (&mut a[..P]).try_into().expect("P entries");
+        fixed
+    }
+}
+
+/// Σ l x in order, as `Iterator::sum` adds (from −0), over `P` entries
+/// (both slices the row's profile width long).
+#[inline(always)]
+fn dot_of<const P: usize>(l: &[f64], x: &[f64]) -> f64 {
+    let (l, x) = (first::<P>(l), first::<P>(x));
+    l.iter().zip(x).map(|(a, b)| a * b).sum()
+}
+
+/// `x ← x − l xᵢ` over `P` entries (the back substitution's row).
+#[inline(always)]
+fn subtract<const P: usize>(l: &[f64], xi: f64, x: &mut [f64]) {
+    for (l, xj) in first::<P>(l).iter().zip(first_mut::<P>(x)) {
+        *xj -= l * xi;
+    }
+}
+
+/// One row of `WideBand::mul_to` with `P` entries `left` of the diagonal
+/// `diagonal`: returns the row's sum Aᵢᵢ xᵢ + Σ Aᵢⱼ xⱼ and adds the mirror
+/// terms Aᵢⱼ xᵢ into `mirror`.
+#[inline(always)]
+fn row_times<const P: usize>(
+    (left, diagonal): (&[f64], f64),
+    (xi, before): (f64, &[f64]),
+    mirror: &mut [f64],
+) -> f64 {
+    let mut sum = diagonal * xi;
+    let left = first::<P>(left);
+    for ((a, xj), oj) in left
+        .iter()
+        .zip(first::<P>(before))
+        .zip(first_mut::<P>(mirror))
+    {
+        sum += a * xj;
+        *oj += a * xi;
+    }
+    sum
+}
+
 /// A symmetric matrix stored by rows of its lower band: row i holds
 /// A(i, i − b), …, A(i, i) (entries before the first column are zero).
 #[derive(Debug, Clone, PartialEq)]
@@ -87,17 +205,32 @@ impl WideBand {
         // Row i adds its mirror terms to out[first..i] only: out[i] is
         // first written at row i, as 0 + sum (the bits of the sum onto a
         // zeroed vector, −0 included), so the vector needs no zeroing.
-        for (i, (row, &first)) in self.rows.chunks_exact(b + 1).zip(&self.first).enumerate() {
-            // row[k] = A(i, i − b + k); row[b] the diagonal.
-            let xi = x[i];
-            let mut sum = row[b] * xi;
+        // By index: the rows' chunks zipped with the profile compiled to
+        // an iterator that went through the stack at every row.
+        for (i, &first) in self.first.iter().enumerate().take(n) {
+            let (width, diagonal) = (i - first, i * (b + 1) + b);
+            let row = (&self.rows[diagonal - width..diagonal], self.rows[diagonal]);
             let (before, mirror) = (&x[first..i], &mut out[first..i]);
-            for ((a, xj), oj) in row[b - (i - first)..b].iter().zip(before).zip(mirror) {
-                sum += a * xj;
-                *oj += a * xi;
-            }
+            let sum = by_width!(width, P => row_times::<P>(row, (x[i], before), mirror));
             out[i] = 0.0 + sum;
         }
+    }
+
+    /// xᵀ A x in one pass over the rows, Σᵢ xᵢ (Aᵢᵢ xᵢ + 2 Σ_{j<i} Aᵢⱼ xⱼ):
+    /// half the multiplications of `mul_to` and a dot, no product vector
+    /// (the rail's kinetic energy at every output row). Its rounding is
+    /// not `mul_to`'s and a dot's: a quadratic form's, to ε ‖A‖ ‖x‖².
+    pub fn quadratic_form(&self, x: &[f64]) -> f64 {
+        let (n, b) = (self.size(), self.half_bandwidth);
+        assert!(x.len() == n);
+        let mut total = 0.0;
+        for (i, &first) in self.first.iter().enumerate().take(n) {
+            let (width, diagonal) = (i - first, i * (b + 1) + b);
+            let (left, before) = (&self.rows[diagonal - width..diagonal], &x[first..i]);
+            let off = by_width!(width, P => dot_of::<P>(left, before));
+            total += x[i] * (self.rows[diagonal] * x[i] + 2.0 * off);
+        }
+        total
     }
 
     /// LDLᵀ factor without pivoting; `None` unless every pivot is positive
@@ -171,19 +304,16 @@ impl WideLdlt {
         assert_eq!(x.len(), self.size());
         for (i, &first) in self.first.iter().enumerate() {
             let (before, rest) = x.split_at_mut(i);
-            let terms = self.profile_row(i).iter().zip(&before[first..]);
-            let sum: f64 = terms.map(|(l, x)| l * x).sum();
-            rest[0] -= sum;
+            let row = self.profile_row(i);
+            rest[0] -= by_width!(i - first, P => dot_of::<P>(row, &before[first..]));
         }
         for (xi, d) in x.iter_mut().zip(&self.pivot) {
             *xi /= d;
         }
         for (i, &first) in self.first.iter().enumerate().rev() {
             let (before, rest) = x.split_at_mut(i);
-            let xi = rest[0];
-            for (l, xj) in self.profile_row(i).iter().zip(&mut before[first..]) {
-                *xj -= l * xi;
-            }
+            let row = self.profile_row(i);
+            by_width!(i - first, P => subtract::<P>(row, rest[0], &mut before[first..]));
         }
     }
 }
@@ -234,6 +364,21 @@ mod tests {
         a.mul_to(&x, &mut back);
         let residual = (DVector::from_vec(back) - rhs).amax();
         assert!(residual < 1e-12, "residual {residual:e}");
+    }
+
+    #[test]
+    fn the_quadratic_form_is_the_dense_xt_a_x_over_every_profile() {
+        for a in [coupled(12), rail_then_deck_then_rail()] {
+            let n = a.size();
+            let x = DVector::from_fn(n, |i, _| ((i * 7) % 5) as f64 * 0.3 - 0.55);
+            // Independent: the dense matrix's product, then the dot.
+            let expected = x.dot(&(dense(&a) * &x));
+            let form = a.quadratic_form(x.as_slice());
+            assert!(
+                (form - expected).abs() < 1e-13 * expected.abs(),
+                "{form} against {expected}"
+            );
+        }
     }
 
     /// A rail alone on the approach (two DOFs a node: each element couples

@@ -322,8 +322,11 @@ impl StructureOps for TrackBeam {
         self.accelerations_from_internal(load, &internal, out);
     }
 
+    /// The mass's quadratic form, not ½ vᵀ (M v): no product vector, and
+    /// no kept product to agree with (the strain energy's ½ uᵀ (K u) is
+    /// the step end's kept K u, bit for bit, and stays a product).
     fn kinetic_energy(&self, v: &DVector<f64>) -> f64 {
-        0.5 * Self::quadratic(&self.assembly.mass, v)
+        0.5 * self.assembly.mass.quadratic_form(v.as_slice())
     }
 
     fn strain_energy(&self, u: &DVector<f64>) -> f64 {

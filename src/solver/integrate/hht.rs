@@ -581,19 +581,35 @@ impl Hht {
         end: &mut DynamicState,
     ) {
         let (alpha, beta, gamma) = (self.alpha, self.beta, self.gamma);
-        copy(&mut end.beam_displacement, &self.predictor_u);
-        copy(&mut end.beam_velocity, &self.predictor_v);
-        copy(&mut self.rhs, &self.load);
-        self.rhs.scale_mut(1.0 + alpha);
-        self.rhs.axpy(-(1.0 + alpha), &self.predictor_internal, 1.0);
-        if alpha != 0.0 {
-            self.rhs.axpy(alpha, &self.start_internal, 1.0);
-            self.rhs.axpy(-alpha, &start.beam_load, 1.0);
+        let n = self.load.len();
+        // One pass each side of the solve, each entry's operations those
+        // of the whole-vector passes they replace, in their order (scale,
+        // then a x + y per axpy): the same bits, a tenth of the passes.
+        fn of(x: &DVector<f64>, n: usize) -> &[f64] {
+            &x.as_slice()[..n]
+        }
+        let (load, internal) = (of(&self.load, n), of(&self.predictor_internal, n));
+        let (start_internal, start_load) = (of(&self.start_internal, n), of(&start.beam_load, n));
+        let forcing = 1.0 + alpha;
+        for (i, r) in self.rhs.as_mut_slice()[..n].iter_mut().enumerate() {
+            let mut sum = load[i] * forcing;
+            sum += -forcing * internal[i];
+            if alpha != 0.0 {
+                sum += alpha * start_internal[i];
+                sum += -alpha * start_load[i];
+            }
+            *r = sum;
         }
         let mut a1 = std::mem::replace(&mut self.rhs, DVector::zeros(0));
         self.solve_effective(system, dt, &mut a1);
-        end.beam_displacement.axpy(beta * dt * dt, &a1, 1.0);
-        end.beam_velocity.axpy(gamma * dt, &a1, 1.0);
+        let (to_u, to_v) = (beta * dt * dt, gamma * dt);
+        let (u_star, v_star) = (of(&self.predictor_u, n), of(&self.predictor_v, n));
+        let (u1, v1) = (&mut end.beam_displacement, &mut end.beam_velocity);
+        let (u1, v1) = (&mut u1.as_mut_slice()[..n], &mut v1.as_mut_slice()[..n]);
+        for (i, &a) in a1.as_slice()[..n].iter().enumerate() {
+            u1[i] = to_u * a + u_star[i];
+            v1[i] = to_v * a + v_star[i];
+        }
         copy(&mut end.beam_acceleration, &a1);
         self.rhs = a1;
     }

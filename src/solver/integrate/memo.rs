@@ -11,6 +11,7 @@
 
 use nalgebra::{DVector, Vector2};
 
+use super::step_end::same_bits_in;
 use super::{DynamicState, IntegrationError};
 use crate::body::BodyState;
 use crate::contact::ContactFrame;
@@ -72,12 +73,7 @@ impl FrameMemo {
         let bits = |a: f64, b: f64| a.to_bits() == b.to_bits();
         let same = self.kept
             && self.parts == parts
-            && self.displacement.len() == u.len()
-            && self
-                .displacement
-                .iter()
-                .zip(u.iter())
-                .all(|(&a, &b)| bits(a, b))
+            && same_bits_in(self.displacement.as_slice(), u.as_slice())
             && self.poses.len() == bodies.len()
             && (self.poses.iter().zip(bodies)).all(|((c, angle), b)| {
                 bits(c.x, b.position.x) && bits(c.y, b.position.y) && bits(*angle, b.angle)
