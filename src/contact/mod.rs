@@ -643,6 +643,69 @@ mod tests {
         }
     }
 
+    /// A follower of body `body` attached at `attachment`.
+    fn follower_at(body: usize, attachment: Vector2<f64>) -> Contact {
+        Contact {
+            name: "contact".into(),
+            body,
+            kind: ContactKind::Glider,
+            follower: Some(Follower {
+                stiffness: 1e6,
+                damping: 2e4,
+                preload: 5e4,
+                rest: 0.5,
+                attachment,
+                kind: LawKind::Suspension,
+            }),
+        }
+    }
+
+    #[test]
+    fn a_pass_with_shared_rotations_gives_each_contacts_point_torque_and_gap_bit_for_bit() {
+        // Two followers of one pitched bogie (the second finds its rotation
+        // kept), one of another body (the slot changes hands), a centre
+        // attachment and a contact body: `point_turned`, `torque_turned`
+        // and `gap_and_rate` against `point`, `torque`, `gap` and
+        // `velocity_error`, each computed alone.
+        let (beam, u) = deformed_beam();
+        let (wheel, v) = moving_wheel(&beam);
+        let bodies = [
+            BodyState { angle: 0.031, ..wheel },
+            BodyState {
+                angle: -0.017,
+                angular_velocity: 0.8,
+                ..wheel
+            },
+        ];
+        let contacts = [
+            follower_at(0, Vector2::new(1.25, -0.4)),
+            follower_at(0, Vector2::new(-1.25, -0.4)),
+            follower_at(1, Vector2::new(0.0, -0.7)),
+            follower_at(1, Vector2::zeros()),
+            Contact {
+                follower: None,
+                ..follower_at(0, Vector2::zeros())
+            },
+        ];
+        let force = Vector2::new(-3.0e3, 7.0e4);
+        let mut rotations = ContactRotations::default();
+        let bits = |s: &BodyState| s.numbers().map(f64::to_bits);
+        for contact in &contacts {
+            let body = &bodies[contact.body];
+            let alone = contact.point(body);
+            let turned = contact.point_turned(body, &mut rotations);
+            assert_eq!(bits(&turned), bits(&alone), "{contact:?}");
+            let torque = contact.torque_turned(body, &force, &mut rotations);
+            assert_eq!(torque.to_bits(), contact.torque(body, &force).to_bits());
+            let frame = foot_point(&beam, &u, &alone.position, alone.position.x).unwrap();
+            let (gap, rate) = frame.gap_and_rate(&beam, &turned, &v);
+            assert_eq!(gap.to_bits(), frame.gap(&beam, 0.0, &alone.position).to_bits());
+            let error = frame.velocity_error(&beam, 0.0, &alone, &v);
+            assert_eq!(rate.to_bits(), error.y.to_bits());
+        }
+        assert!(contacts[0].point(&bodies[0]) != bodies[0], "an attached point moved");
+    }
+
     #[test]
     fn foot_point_is_perpendicular_and_crosses_elements() {
         let (beam, u) = deformed_beam();

@@ -101,19 +101,11 @@ impl<const SLOTS: usize> Rotations<SLOTS> {
         }
         let slot = &mut self.0[b % SLOTS];
         if slot.0 != b {
-            turn(slot, b, state.angle);
+            let (sin, cos) = state.angle.sin_cos();
+            *slot = (b, sin, cos);
         }
         rotated((slot.1, slot.2), local)
     }
-}
-
-/// Fill `slot` with body `b`'s sine and cosine of `angle`: out of line, so
-/// that every pass over contacts, which mostly meets bodies' centres, stays
-/// small where it is inlined.
-#[inline(never)]
-fn turn(slot: &mut (usize, f64, f64), b: usize, angle: f64) {
-    let (sin, cos) = angle.sin_cos();
-    *slot = (b, sin, cos);
 }
 
 /// The rotations a pass over contacts keeps (see `Rotations`).
