@@ -670,7 +670,10 @@ mod tests {
         let (beam, u) = deformed_beam();
         let (wheel, v) = moving_wheel(&beam);
         let bodies = [
-            BodyState { angle: 0.031, ..wheel },
+            BodyState {
+                angle: 0.031,
+                ..wheel
+            },
             BodyState {
                 angle: -0.017,
                 angular_velocity: 0.8,
@@ -699,11 +702,17 @@ mod tests {
             assert_eq!(torque.to_bits(), contact.torque(body, &force).to_bits());
             let frame = foot_point(&beam, &u, &alone.position, alone.position.x).unwrap();
             let (gap, rate) = frame.gap_and_rate(&beam, &turned, &v);
-            assert_eq!(gap.to_bits(), frame.gap(&beam, 0.0, &alone.position).to_bits());
+            assert_eq!(
+                gap.to_bits(),
+                frame.gap(&beam, 0.0, &alone.position).to_bits()
+            );
             let error = frame.velocity_error(&beam, 0.0, &alone, &v);
             assert_eq!(rate.to_bits(), error.y.to_bits());
         }
-        assert!(contacts[0].point(&bodies[0]) != bodies[0], "an attached point moved");
+        assert!(
+            contacts[0].point(&bodies[0]) != bodies[0],
+            "an attached point moved"
+        );
     }
 
     #[test]
