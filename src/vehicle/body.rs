@@ -79,8 +79,8 @@ pub fn is_centre(local: &Vector2<f64>) -> bool {
 /// cosine per attachment point was a fifth of a train's run.
 /// Direct-mapped on the body index in `SLOTS` slots, so no allocation:
 /// eight for a sweep over a vehicle's force elements; one for a pass over
-/// contacts, where a body's followers are neighbours (and a slot costs
-/// its three stores on every pass, a tenth of the paper's one frame).
+/// contacts, where a body's followers are neighbours and every slot costs
+/// its stores on every pass.
 pub struct Rotations<const SLOTS: usize = 8>([(usize, f64, f64); SLOTS]);
 
 impl<const SLOTS: usize> Default for Rotations<SLOTS> {
