@@ -16,7 +16,7 @@
 use nalgebra::{DVector, Vector2, Vector3};
 
 use crate::beam::{Beam, Shape};
-use crate::body::BodyState;
+use crate::body::{is_centre, BodyState, ContactRotations};
 use crate::contact_law::LawKind;
 use crate::profile::Profile;
 
@@ -113,35 +113,59 @@ impl Contact {
     /// Whether it is a follower attached off its body's centre (several
     /// may share the body).
     pub fn is_attached(&self) -> bool {
-        self.follower
-            .is_some_and(|f| f.attachment != Vector2::zeros())
+        self.attachment().is_some()
+    }
+
+    /// A follower's attachment point off its body's centre, in body
+    /// coordinates; `None` at the centre or for a contact body.
+    #[inline]
+    fn attachment(&self) -> Option<&Vector2<f64>> {
+        match &self.follower {
+            Some(f) if !is_centre(&f.attachment) => Some(&f.attachment),
+            _ => None,
+        }
     }
 
     /// The state of the point that touches the track: the body's own, or
     /// a follower's attachment point (its velocity v + ω × r).
     pub fn point(&self, body: &BodyState) -> BodyState {
-        match self.follower {
-            Some(f) if f.attachment != Vector2::zeros() => {
-                let r = body.offset_of(&f.attachment);
-                BodyState {
-                    position: body.position + r,
-                    velocity: body.velocity + body.angular_velocity * Vector2::new(-r.y, r.x),
-                    ..*body
-                }
-            }
-            _ => *body,
+        match self.attachment() {
+            Some(local) => point_at(body, &body.offset_of(local)),
+            None => *body,
+        }
+    }
+
+    /// `point` of `body` (this contact's body, in the configuration
+    /// `rotations` is kept for), its rotation taken from `rotations`: the
+    /// same bits, one sine and cosine per body in a pass over contacts.
+    #[inline]
+    pub fn point_turned(&self, body: &BodyState, rotations: &mut ContactRotations) -> BodyState {
+        match self.attachment() {
+            Some(local) => point_at(body, &rotations.offset_of(self.body, body, local)),
+            None => *body,
         }
     }
 
     /// The torque about the body's centre of a force `force` at the
     /// contact point (nonzero for a follower attached off the centre).
     pub fn torque(&self, body: &BodyState, force: &Vector2<f64>) -> f64 {
-        match self.follower {
-            Some(f) if f.attachment != Vector2::zeros() => {
-                let r = body.offset_of(&f.attachment);
-                r.x * force.y - r.y * force.x
-            }
-            _ => 0.0,
+        match self.attachment() {
+            Some(local) => moment(&body.offset_of(local), force),
+            None => 0.0,
+        }
+    }
+
+    /// `torque` with the rotation from `rotations` (see `point_turned`).
+    #[inline]
+    pub fn torque_turned(
+        &self,
+        body: &BodyState,
+        force: &Vector2<f64>,
+        rotations: &mut ContactRotations,
+    ) -> f64 {
+        match self.attachment() {
+            Some(local) => moment(&rotations.offset_of(self.body, body, local), force),
+            None => 0.0,
         }
     }
 
@@ -163,6 +187,22 @@ impl Contact {
             1
         }
     }
+}
+
+/// The state of the point of `body` at world offset `r` from its centre.
+#[inline]
+fn point_at(body: &BodyState, r: &Vector2<f64>) -> BodyState {
+    BodyState {
+        position: body.position + r,
+        velocity: body.velocity + body.angular_velocity * Vector2::new(-r.y, r.x),
+        ..*body
+    }
+}
+
+/// The moment r × f about the centre of a force `f` at offset `r`.
+#[inline]
+fn moment(r: &Vector2<f64>, force: &Vector2<f64>) -> f64 {
+    r.x * force.y - r.y * force.x
 }
 
 /// Contact force on the body in the contact frame (N): tangential and normal
@@ -249,16 +289,40 @@ impl ContactFrame {
     ) -> Vector2<f64> {
         let (bt, bn) = self.body_rows(radius);
         let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
+        let (vt, vn) = self.surface_velocity(beam, beam_velocity);
+        Vector2::new(bt.dot(&q) - vt, bn.dot(&q) - vn)
+    }
+
+    /// A follower's gap and gap rate: `gap` and `velocity_error(..).y` of
+    /// the point `state` without radius, the tangential error not formed
+    /// (the same bits; the iteration asks this of every follower at every
+    /// integration).
+    #[inline]
+    pub fn gap_and_rate(
+        &self,
+        beam: &Beam,
+        state: &BodyState,
+        beam_velocity: &DVector<f64>,
+    ) -> (f64, f64) {
+        let gap = self.gap(beam, 0.0, &state.position);
+        let (_, bn) = self.body_rows(0.0);
+        let q = Vector3::new(state.velocity.x, state.velocity.y, state.angular_velocity);
+        let (_, vn) = self.surface_velocity(beam, beam_velocity);
+        (gap, bn.dot(&q) - vn)
+    }
+
+    /// The surface's velocity along the frame's rows (t_row · u̇, n_row · u̇).
+    #[inline(always)]
+    fn surface_velocity(&self, beam: &Beam, beam_velocity: &DVector<f64>) -> (f64, f64) {
         // On rigid ground (no DOFs) the rows are not built: `Shape::dot`
         // would sum nothing, and the empty sum is taken for the same bits.
-        let (vt, vn) = if self.shape.dofs.iter().all(Option::is_none) && beam.modal().is_none() {
+        if self.shape.dofs.iter().all(Option::is_none) && beam.modal().is_none() {
             let nothing: f64 = std::iter::empty::<f64>().sum();
             (nothing, nothing)
         } else {
             let (t_row, n_row) = self.beam_rows(beam.surface_offset);
             beam.dot_rows(&self.shape, (&t_row, &n_row), beam_velocity)
-        };
-        Vector2::new(bt.dot(&q) - vt, bn.dot(&q) - vn)
+        }
     }
 
     /// Gap error g = n·(centre − d) − (r + h) (m); negative is penetration.
@@ -575,6 +639,78 @@ mod tests {
             assert_eq!(e.x.to_bits(), general[0].to_bits());
             assert_eq!(e.y.to_bits(), general[1].to_bits());
         }
+    }
+
+    /// A follower of body `body` attached at `attachment`.
+    fn follower_at(body: usize, attachment: Vector2<f64>) -> Contact {
+        Contact {
+            name: "contact".into(),
+            body,
+            kind: ContactKind::Glider,
+            follower: Some(Follower {
+                stiffness: 1e6,
+                damping: 2e4,
+                preload: 5e4,
+                rest: 0.5,
+                attachment,
+                kind: LawKind::Suspension,
+            }),
+        }
+    }
+
+    #[test]
+    fn a_pass_with_shared_rotations_gives_each_contacts_point_torque_and_gap_bit_for_bit() {
+        // Two followers of one pitched bogie (the second finds its rotation
+        // kept), one of another body (the slot changes hands), a centre
+        // attachment and a contact body: `point_turned`, `torque_turned`
+        // and `gap_and_rate` against `point`, `torque`, `gap` and
+        // `velocity_error`, each computed alone.
+        let (beam, u) = deformed_beam();
+        let (wheel, v) = moving_wheel(&beam);
+        let bodies = [
+            BodyState {
+                angle: 0.031,
+                ..wheel
+            },
+            BodyState {
+                angle: -0.017,
+                angular_velocity: 0.8,
+                ..wheel
+            },
+        ];
+        let contacts = [
+            follower_at(0, Vector2::new(1.25, -0.4)),
+            follower_at(0, Vector2::new(-1.25, -0.4)),
+            follower_at(1, Vector2::new(0.0, -0.7)),
+            follower_at(1, Vector2::zeros()),
+            Contact {
+                follower: None,
+                ..follower_at(0, Vector2::zeros())
+            },
+        ];
+        let force = Vector2::new(-3.0e3, 7.0e4);
+        let mut rotations = ContactRotations::default();
+        let bits = |s: &BodyState| s.numbers().map(f64::to_bits);
+        for contact in &contacts {
+            let body = &bodies[contact.body];
+            let alone = contact.point(body);
+            let turned = contact.point_turned(body, &mut rotations);
+            assert_eq!(bits(&turned), bits(&alone), "{contact:?}");
+            let torque = contact.torque_turned(body, &force, &mut rotations);
+            assert_eq!(torque.to_bits(), contact.torque(body, &force).to_bits());
+            let frame = foot_point(&beam, &u, &alone.position, alone.position.x).unwrap();
+            let (gap, rate) = frame.gap_and_rate(&beam, &turned, &v);
+            assert_eq!(
+                gap.to_bits(),
+                frame.gap(&beam, 0.0, &alone.position).to_bits()
+            );
+            let error = frame.velocity_error(&beam, 0.0, &alone, &v);
+            assert_eq!(rate.to_bits(), error.y.to_bits());
+        }
+        assert!(
+            contacts[0].point(&bodies[0]) != bodies[0],
+            "an attached point moved"
+        );
     }
 
     #[test]

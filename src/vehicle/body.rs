@@ -67,6 +67,50 @@ impl RigidBody {
     }
 }
 
+/// Whether `local` is a body's centre (0, 0), either zero's sign.
+#[inline]
+pub fn is_centre(local: &Vector2<f64>) -> bool {
+    local.x == 0.0 && local.y == 0.0
+}
+
+/// The sines and cosines of the bodies' angles met in one pass over
+/// force elements or contacts of one configuration, each computed once: a
+/// vehicle's elements and followers share a few bodies, and a sine and
+/// cosine per attachment point was a fifth of a train's run.
+/// Direct-mapped on the body index in `SLOTS` slots, so no allocation:
+/// eight for a sweep over a vehicle's force elements; one for a pass over
+/// contacts, where a body's followers are neighbours and every slot costs
+/// its stores on every pass.
+pub struct Rotations<const SLOTS: usize = 8>([(usize, f64, f64); SLOTS]);
+
+impl<const SLOTS: usize> Default for Rotations<SLOTS> {
+    #[inline]
+    fn default() -> Rotations<SLOTS> {
+        Rotations([(usize::MAX, 0.0, 0.0); SLOTS])
+    }
+}
+
+impl<const SLOTS: usize> Rotations<SLOTS> {
+    /// World offset from the centre of body `b` (in `state`) of its point
+    /// `local`: `BodyState::offset_of`'s bits, with the rotation
+    /// remembered. Valid while every `b` asked for is in one configuration.
+    #[inline]
+    pub fn offset_of(&mut self, b: usize, state: &BodyState, local: &Vector2<f64>) -> Vector2<f64> {
+        if is_centre(local) {
+            return Vector2::zeros();
+        }
+        let slot = &mut self.0[b % SLOTS];
+        if slot.0 != b {
+            let (sin, cos) = state.angle.sin_cos();
+            *slot = (b, sin, cos);
+        }
+        rotated((slot.1, slot.2), local)
+    }
+}
+
+/// The rotations a pass over contacts keeps (see `Rotations`).
+pub type ContactRotations = Rotations<1>;
+
 /// `local` rotated by the angle whose (sine, cosine) is `sin_cos`.
 pub fn rotated((sin, cos): (f64, f64), local: &Vector2<f64>) -> Vector2<f64> {
     Vector2::new(cos * local.x - sin * local.y, sin * local.x + cos * local.y)
@@ -104,7 +148,7 @@ impl BodyState {
     pub fn offset_of(&self, local: &Vector2<f64>) -> Vector2<f64> {
         // A body's centre (where a suspension meets a wheelset) needs no
         // rotation: the sine and cosine were a tenth of a train's run.
-        if local.x == 0.0 && local.y == 0.0 {
+        if is_centre(local) {
             return Vector2::zeros();
         }
         rotated(self.angle.sin_cos(), local)

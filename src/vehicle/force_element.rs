@@ -10,7 +10,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::body::{rotated, BodyState};
+use crate::body::{BodyState, Rotations};
 
 /// The direction a force element acts along.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -64,34 +64,6 @@ fn point_velocity(state: &BodyState, offset: &Vector2<f64>) -> Vector2<f64> {
 
 fn torque(offset: &Vector2<f64>, force: &Vector2<f64>) -> f64 {
     offset.x * force.y - offset.y * force.x
-}
-
-/// The sines and cosines of the bodies' angles met in one sweep over the
-/// force elements, each computed once: a vehicle's elements share a few
-/// bodies, and a sine and cosine per attachment point was a fifth of a
-/// train's run. Direct-mapped on the body index, so no allocation.
-pub struct Rotations([(usize, f64, f64); 8]);
-
-impl Default for Rotations {
-    fn default() -> Rotations {
-        Rotations([(usize::MAX, 0.0, 0.0); 8])
-    }
-}
-
-impl Rotations {
-    /// World offset from the centre of body `b` (in `state`) of its point
-    /// `local`: `BodyState::offset_of`, with the rotation remembered.
-    fn offset_of(&mut self, b: usize, state: &BodyState, local: &Vector2<f64>) -> Vector2<f64> {
-        if local.x == 0.0 && local.y == 0.0 {
-            return Vector2::zeros();
-        }
-        let slot = &mut self.0[b % 8];
-        if slot.0 != b {
-            let (sin, cos) = state.angle.sin_cos();
-            *slot = (b, sin, cos);
-        }
-        rotated((slot.1, slot.2), local)
-    }
 }
 
 impl ForceElement {
@@ -150,6 +122,9 @@ pub fn add_element_forces(
 ) -> f64 {
     // Both slices cut to one length: an element's index check on `bodies`
     // then also covers `loads` (a tenth of the loop's instructions).
+    if elements.is_empty() {
+        return 0.0; // the empty sum's bits, without the sweep's set-up
+    }
     let n = bodies.len().min(loads.len());
     let (bodies, loads) = (&bodies[..n], &mut loads[..n]);
     let mut rotations = Rotations::default();

@@ -29,7 +29,7 @@ integrators! {
 use nalgebra::{DVector, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::body::BodyState;
+use crate::body::{BodyState, ContactRotations};
 use crate::contact::{ContactForce, ContactFrame};
 use crate::force_element::add_element_forces;
 use crate::system::{System, TrackPart};
@@ -127,8 +127,9 @@ pub fn contact_frames(
         frames.clear();
         frames.resize(n, ContactFrame::on_ground(&Vector2::zeros()));
     }
+    let mut rotations = ContactRotations::default();
     for (c, contact) in system.contacts.iter().enumerate() {
-        let centre = &contact.point(&bodies[contact.body]).position;
+        let centre = &(contact.point_turned(&bodies[contact.body], &mut rotations)).position;
         if system.on_flat_ground(centre, parts[c]) {
             frames[c] = ContactFrame::on_ground(centre);
             continue;
@@ -233,6 +234,7 @@ pub fn add_loads_but_laws<K: KnownGaps>(
 ) -> f64 {
     body_loads.copy_from_slice(applied);
     let mut dissipation = 0.0;
+    let mut rotations = ContactRotations::default();
     let contacts = system.contacts.iter().zip(frames).zip(forces);
     for (c, ((contact, frame), force)) in contacts.enumerate() {
         let follower_force;
@@ -240,7 +242,10 @@ pub fn add_loads_but_laws<K: KnownGaps>(
             Some(follower) => {
                 let (gap, rate) = match followers.gaps.known(c) {
                     Some(known) => known,
-                    None => follower_gap(system, contact, frame, bodies, beam_velocity),
+                    None => {
+                        let at = (bodies, beam_velocity);
+                        follower_gap_turned(system, contact, frame, at, &mut rotations)
+                    }
                 };
                 dissipation += follower.dissipation(gap, rate);
                 follower_force = match followers.held.get(c) {
@@ -268,8 +273,9 @@ pub fn add_loads_but_laws<K: KnownGaps>(
         let load = &mut body_loads[contact.body];
         load.x += on_body.x;
         load.y += on_body.y;
-        load.z +=
-            force.tangential * contact.radius() + contact.torque(&bodies[contact.body], &on_body);
+        let body = &bodies[contact.body];
+        load.z += force.tangential * contact.radius()
+            + contact.torque_turned(body, &on_body, &mut rotations);
     }
     dissipation
 }
@@ -284,11 +290,21 @@ pub fn follower_gap(
     beam_velocity: &DVector<f64>,
 ) -> (f64, f64) {
     let state = &contact.point(&bodies[contact.body]);
-    let gap = frame.gap(&system.beam, 0.0, &state.position);
-    let rate = frame
-        .velocity_error(&system.beam, 0.0, state, beam_velocity)
-        .y;
-    (gap, rate)
+    frame.gap_and_rate(&system.beam, state, beam_velocity)
+}
+
+/// `follower_gap` with the body's rotation from `rotations` (kept for
+/// `bodies`): the same bits.
+#[inline]
+fn follower_gap_turned(
+    system: &System,
+    contact: &crate::contact::Contact,
+    frame: &ContactFrame,
+    (bodies, beam_velocity): (&[BodyState], &DVector<f64>),
+    rotations: &mut ContactRotations,
+) -> (f64, f64) {
+    let state = &contact.point_turned(&bodies[contact.body], rotations);
+    frame.gap_and_rate(&system.beam, state, beam_velocity)
 }
 
 /// The power every follower's damper dissipates at the given configuration.
@@ -299,10 +315,12 @@ pub fn follower_dissipation(
     beam_velocity: &DVector<f64>,
 ) -> f64 {
     let contacts = system.contacts.iter().zip(frames);
+    let mut rotations = ContactRotations::default();
     contacts
         .filter_map(|(contact, frame)| {
             let follower = contact.follower?;
-            let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+            let at = (bodies, beam_velocity);
+            let (gap, rate) = follower_gap_turned(system, contact, frame, at, &mut rotations);
             Some(follower.dissipation(gap, rate))
         })
         .sum()
@@ -317,9 +335,11 @@ pub fn follower_forces(
     beam_velocity: &DVector<f64>,
     forces: &mut [ContactForce],
 ) {
+    let mut rotations = ContactRotations::default();
     for ((contact, frame), force) in system.contacts.iter().zip(frames).zip(forces) {
         if let Some(follower) = contact.follower {
-            let (gap, rate) = follower_gap(system, contact, frame, bodies, beam_velocity);
+            let at = (bodies, beam_velocity);
+            let (gap, rate) = follower_gap_turned(system, contact, frame, at, &mut rotations);
             *force = ContactForce {
                 tangential: 0.0,
                 normal: follower.force(gap, rate),
