@@ -274,6 +274,9 @@ impl Hht {
         }
     }
 
+    /// One integration of the step `from` with the contacts' `forces`,
+    /// written into `end`: the loads at the predicted end, the beam's solve
+    /// and the bodies' update.
     pub fn step(
         &mut self,
         system: &System,
@@ -285,8 +288,32 @@ impl Hht {
         if !self.has_prediction {
             self.predict_from(start, dt);
         }
-        // Load frames and force elements: the predicted end configuration
-        // (found by the iteration at the last integration's end, or here).
+        self.loads_at_prediction(system, from, forces, end)?;
+        if !self.start_known {
+            self.know_start(system, from);
+        }
+        self.beam_step(system, start, dt, end);
+        self.bodies_step(system, start, dt, end);
+        copy(&mut end.beam_load, &self.load);
+        for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
+            *x = frame.x;
+        }
+        self.keep_prediction(end);
+        Ok(())
+    }
+
+    /// The step's loads on the beam (`load`) and the bodies
+    /// (`end.body_loads`) at the predicted end configuration: its contact
+    /// frames and force elements, found by the iteration at the last
+    /// integration's end (`know_prediction`) or here.
+    #[inline]
+    fn loads_at_prediction(
+        &mut self,
+        system: &System,
+        from: &StepStart,
+        forces: &[ContactForce],
+        end: &mut DynamicState,
+    ) -> Result<(), IntegrationError> {
         let known_laws = self.known_laws.take();
         if known_laws.is_none() {
             self.guesses.clear();
@@ -331,16 +358,6 @@ impl Hht {
             *load += law;
         }
         self.end_dissipation = contacts + laws;
-        if !self.start_known {
-            self.know_start(system, from);
-        }
-        self.beam_step(system, start, dt, end);
-        self.bodies_step(system, start, dt, end);
-        copy(&mut end.beam_load, &self.load);
-        for (x, frame) in end.contact_x.iter_mut().zip(&self.frames) {
-            *x = frame.x;
-        }
-        self.keep_prediction(end);
         Ok(())
     }
 

@@ -161,6 +161,21 @@ struct Delassus {
     shared: bool,
 }
 
+impl Delassus {
+    /// Operators of `rows` stacked rows over `contacts` contacts, not yet
+    /// built for any step.
+    fn unbuilt(rows: usize, contacts: usize) -> Delassus {
+        Delassus {
+            velocity: Inverted::Inverse(DMatrix::zeros(rows, rows)),
+            gap: Inverted::Inverse(DMatrix::zeros(contacts, contacts)),
+            built: false,
+            gap_built: false,
+            frames: Vec::new(),
+            shared: false,
+        }
+    }
+}
+
 /// Which of the two operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum Part {
@@ -611,17 +626,7 @@ impl ContactIteration {
             gap_errors: DVector::zeros(system.contacts.len()),
             correction: DVector::zeros(rows),
             gap_correction: DVector::zeros(system.contacts.len()),
-            delassus: Delassus {
-                velocity: Inverted::Inverse(DMatrix::zeros(rows, rows)),
-                gap: Inverted::Inverse(DMatrix::zeros(
-                    system.contacts.len(),
-                    system.contacts.len(),
-                )),
-                built: false,
-                gap_built: false,
-                frames: Vec::new(),
-                shared: false,
-            },
+            delassus: Delassus::unbuilt(rows, system.contacts.len()),
             measured_elements: Vec::new(),
             beam_rows: Vec::new(),
             open: followers.clone(),
