@@ -982,6 +982,56 @@ mod tests {
         );
     }
 
+    /// The bisection as first written: doubling from 1, then a band
+    /// factorization at every step (the reference for the known counts).
+    fn bisect_factorizing_every_step(beam: &Beam, k: usize) -> Vec<f64> {
+        let count = |sigma: f64| {
+            beam.stiffness
+                .combined_negative_pivots(1.0, &beam.mass, -sigma)
+                .expect("no zero pivot")
+        };
+        let mut upper = 1.0f64;
+        while count(upper) < k {
+            upper *= 2.0;
+        }
+        let (mut lower, mut omega) = (0.0f64, Vec::new());
+        for j in 1..=k {
+            let (mut lo, mut hi) = (lower, upper);
+            while hi - lo > 1e-12 * hi {
+                let mid = 0.5 * (lo + hi);
+                if count(mid) >= j {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+            omega.push((0.5 * (lo + hi)).max(0.0).sqrt());
+            lower = lo;
+        }
+        omega
+    }
+
+    /// Sixty equal spans cluster their first frequencies: the bisection that
+    /// reuses known counts gives the bits of factorizing at every step.
+    #[test]
+    fn known_counts_give_the_bits_of_factorizing_every_step() {
+        let spans = 60;
+        let span = 24.0 / spans as f64;
+        let spec = BeamSpec {
+            supports: SupportsSpec {
+                intermediate: (1..spans).map(|k| k as f64 * span).collect(),
+                ..SupportsSpec::default()
+            },
+            ..paper_beam(4 * spans)
+        };
+        let beam = Beam::new(&spec).expect("continuous beam");
+        assert!(!beam.dense_for(3), "the test is meant for the bisection");
+        let omega = beam.cut_off_frequencies(3).expect("frequencies");
+        let reference = bisect_factorizing_every_step(&beam, 3);
+        let bits = |w: &[f64]| w.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&omega), bits(&reference), "{omega:?} vs {reference:?}");
+    }
+
     /// Damping given by modes on a mesh beyond the dense eigenproblem's
     /// reach: the subspace iteration's frequencies give the two modes
     /// exactly the ratio asked, and on a mesh both methods can solve the
