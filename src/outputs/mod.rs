@@ -562,6 +562,24 @@ pub fn acceleration_elements(
     elements
 }
 
+/// The sensors whose accelerations `quantities` read, or `None` where a
+/// section's or a support's outputs read accelerations too (the rail over
+/// the deck's rows are the sensors' only).
+pub fn acceleration_sensors(quantities: &[Quantity]) -> Option<Vec<usize>> {
+    let mut read = Vec::new();
+    for quantity in quantities {
+        match *quantity {
+            Quantity::SensorAcceleration(i) => read.push(i),
+            Quantity::SectionMoment(_)
+            | Quantity::SectionShear(_)
+            | Quantity::Reaction(_)
+            | Quantity::ReactionMoment(_) => return None,
+            _ => {}
+        }
+    }
+    Some(read)
+}
+
 /// What an output reads beyond the numbers the state holds: each a
 /// derived quantity computed once per evaluation where an output needs it
 /// (an output whose need is not computed would read NaN).

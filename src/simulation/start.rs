@@ -10,7 +10,7 @@ use crate::contact::ContactForce;
 use crate::integrate::{
     choose_integrator, contact_frames, contact_frames_at_bodies, loads, DynamicState,
 };
-use crate::outputs::{acceleration_elements, catalogue};
+use crate::outputs::{acceleration_elements, acceleration_sensors, catalogue};
 use crate::scene::{Scene, StartKind};
 use crate::solver::stepper::{heaviest_and_deflection, RunSetup, Stepper};
 use crate::state::{ContactStatus, SimState};
@@ -44,8 +44,15 @@ impl Simulation {
                 .unzip();
         let sensors: Vec<f64> = scene.sensors.iter().map(|s| s.position).collect();
         let sections: Vec<f64> = scene.sections.iter().map(|s| s.position).collect();
-        let read = acceleration_elements(&system.beam, (&sensors, &sections), &quantities);
-        let acceleration_rows = AccelerationRows::of_elements(&system.beam, read);
+        let acceleration_rows = match system.beam.track() {
+            None => AccelerationRows::of_elements(
+                &system.beam,
+                acceleration_elements(&system.beam, (&sensors, &sections), &quantities),
+            ),
+            Some(_) => acceleration_sensors(&quantities).and_then(|read| {
+                AccelerationRows::of_deck_sensors(&system.beam, read.iter().map(|&i| sensors[i]))
+            }),
+        };
         let step = scene.solver.step;
         let stepper = Stepper::new(integrator, &system, step, &assembly.open, &dynamic);
         let start = (dynamic, assembly.forces.as_slice(), vehicle_forces);

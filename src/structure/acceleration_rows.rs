@@ -3,7 +3,10 @@
 //! once), the acceleration of coordinate j is wᵀ r − wᵀ (K u + C v), the
 //! point loads' few terms and one dot with the internal forces the step's
 //! end keeps, against a mass solve of the whole structure every row (the
-//! same value up to the solve's rounding).
+//! same value up to the solve's rounding). On the full Hermite mesh the
+//! rows are the design outputs' elements' coordinates; under a rail over
+//! the deck, the deck's coordinates the sensors read (the loads on the
+//! rail's, the state entries interleaved).
 
 use nalgebra::DVector;
 
@@ -38,8 +41,8 @@ pub struct AccelerationRows {
 impl AccelerationRows {
     /// The rows of the coordinates of `elements` (on the full Hermite mesh
     /// only: its coordinates are the free DOFs); `None` on another kind of
-    /// structure, or where the rows would cost more than the solve (more
-    /// than `MAX_ROW_COORDINATES`, or a quarter of the coordinates).
+    /// structure, or where the rows would cost more than the solve
+    /// (`of_coordinates`).
     pub fn of_elements(
         structure: &Structure,
         elements: impl IntoIterator<Item = usize>,
@@ -47,11 +50,35 @@ impl AccelerationRows {
         let Structure::Hermite(_) = structure else {
             return None;
         };
-        let mut coordinates: Vec<usize> = elements
-            .into_iter()
+        let coordinates = (elements.into_iter())
             .filter(|&e| e < structure.elements())
-            .flat_map(|e| structure.element_dofs(e).iter().flatten().copied())
+            .flat_map(|e| structure.element_dofs(e).iter().flatten().copied());
+        Self::of_coordinates(structure, coordinates.collect())
+    }
+
+    /// The rows of the deck's coordinates the sensors at deck abscissae
+    /// `positions` read under a rail over the deck (the state entries
+    /// interleaved: `TrackBeam::deck_deflection_coordinates`); `None` on
+    /// another kind of structure, or where the rows would cost more than
+    /// the solve (`of_coordinates`).
+    pub fn of_deck_sensors(
+        structure: &Structure,
+        positions: impl IntoIterator<Item = f64>,
+    ) -> Option<AccelerationRows> {
+        let track = structure.track()?;
+        let coordinates = (positions.into_iter())
+            .flat_map(|x| track.deck_deflection_coordinates(x))
             .collect();
+        Self::of_coordinates(structure, coordinates)
+    }
+
+    /// The rows of state entries `coordinates`; `None` where there are
+    /// none, or where the rows would cost more than the solve (more than
+    /// `MAX_ROW_COORDINATES`, or a quarter of the coordinates).
+    fn of_coordinates(
+        structure: &Structure,
+        mut coordinates: Vec<usize>,
+    ) -> Option<AccelerationRows> {
         coordinates.sort_unstable();
         coordinates.dedup();
         let n = structure.coordinates();
@@ -81,7 +108,8 @@ impl AccelerationRows {
             let mut load = 0.0;
             for (shape, point) in &shapes {
                 for (k, dof) in shape.dofs.iter().enumerate() {
-                    let w = dof.map_or(0.0, |dof| row.at(dof));
+                    let coordinate = dof.and_then(|dof| structure.load_coordinate(dof));
+                    let w = coordinate.map_or(0.0, |i| row.at(i));
                     load += w * (point.force * shape.n[k] + point.couple * shape.dn[k]);
                 }
             }
@@ -214,6 +242,102 @@ mod tests {
         }
         // The rows read a stretch, not the whole beam.
         assert!(rows.rows.iter().all(|r| r.inverse_mass.len() < n / 2));
+    }
+
+    /// A 20 m damped deck under a rail on a continuous ballasted layer, or
+    /// on sleepers at 0.5 m, with 10 m of approach and run-off.
+    fn rail_over_deck(sleepers: bool) -> Structure {
+        use crate::structure::beam::{BeamSpec, FoundationPreset};
+        use crate::structure::track_seam::TrackBeam;
+        use crate::structure::track_sleepers::{SleeperPreset, SleepersSpec};
+        use crate::structure::track_spec::OnDeckSpec;
+        let deck = BeamSpec {
+            length: 20.0,
+            mass_per_length: 12000.0,
+            bending_stiffness: 2.3539e10,
+            frequency: None,
+            surface_offset: 0.0,
+            elements: 40,
+            supports: SupportsSpec::default(),
+            joints: Vec::new(),
+            foundation: None,
+            damping: Some(DampingSpec::Coefficients {
+                alpha: 0.5,
+                beta: 3e-4,
+            }),
+        };
+        let on_deck = OnDeckSpec {
+            preset: Some(FoundationPreset::Ballasted),
+            stiffness: None,
+            damping: None,
+            ground_stiffness: None,
+            ground_damping: None,
+            rail_bending_stiffness: 1.28e7,
+            rail_mass_per_length: 120.0,
+            sleepers: sleepers.then_some(SleepersSpec {
+                preset: Some(SleeperPreset::Ballasted),
+                spacing: Some(0.5),
+                rail_elements_per_bay: None,
+                pad_stiffness: None,
+                pad_damping: None,
+                sleeper_mass: None,
+                ballast_stiffness: None,
+                ballast_damping: None,
+            }),
+        };
+        let track = TrackBeam::new(&deck, &on_deck, (10.0, 10.0)).expect("track");
+        Structure::Track(Box::new(track))
+    }
+
+    /// Under a rail over the deck, the rows of the deck's coordinates two
+    /// sensors read give the whole solve's accelerations there, to 1e-12 of
+    /// the largest, with loads on the rail near and far from them, on a
+    /// continuous layer and on sleepers; the other entries are untouched.
+    #[test]
+    fn the_rows_give_the_whole_solves_deck_accelerations_under_a_rail() {
+        for sleepers in [false, true] {
+            let track = rail_over_deck(sleepers);
+            let n = track.coordinates();
+            let wave = |i: usize, k: f64| 1e-4 * ((i as f64) * k).sin() + 3e-5;
+            let (u, v) = (
+                DVector::from_fn(n, |i, _| wave(i, 0.37)),
+                DVector::from_fn(n, |i, _| 1e2 * wave(i, 0.11)),
+            );
+            let loads: Vec<PointLoad> = [(14.3, -1.2e5), (22.0, -8e4), (38.5, -5e4)]
+                .into_iter()
+                .map(|(x, force)| PointLoad::vertical(&track, x, force))
+                .collect();
+            let mut whole = DVector::zeros(n);
+            track.accelerations((&u, &v), &load_vector(&track, &loads), &mut whole);
+            let (mut scratch, mut internal) = (DVector::zeros(n), DVector::zeros(n));
+            track.internal_forces(&u, &v, &mut scratch, &mut internal);
+            let sensors = [12.5, 15.25];
+            let rows = AccelerationRows::of_deck_sensors(&track, sensors).expect("rows");
+            let mut read = DVector::from_element(n, f64::NAN);
+            rows.write(&track, &loads, &internal, &mut read);
+            let largest = whole.amax();
+            let beam = track.track().expect("a track");
+            for x in sensors {
+                let (by_rows, by_solve) = (
+                    beam.deck_deflection(&read, x),
+                    beam.deck_deflection(&whole, x),
+                );
+                assert!(
+                    (by_rows - by_solve).abs() <= 1e-12 * largest,
+                    "sleepers {sleepers}, x = {x}: {by_rows} against {by_solve}"
+                );
+            }
+            let coordinates: Vec<usize> = (sensors.iter())
+                .flat_map(|&x| beam.deck_deflection_coordinates(x))
+                .collect();
+            assert!((6..=8).contains(&coordinates.len()), "{coordinates:?}");
+            for j in 0..n {
+                match coordinates.contains(&j) {
+                    true => assert!((read[j] - whole[j]).abs() <= 1e-12 * largest),
+                    false => assert!(read[j].is_nan(), "coordinate {j} written"),
+                }
+            }
+        }
     }
 
     /// Rows only where they are cheaper: not for more than

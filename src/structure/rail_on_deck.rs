@@ -631,6 +631,13 @@ impl TrackLayout {
         Ok(band)
     }
 
+    /// The free DOFs `deck_field` reads at `x` (none off the deck).
+    pub fn deck_field_dofs(&self, x: f64) -> Vec<usize> {
+        deck_at(&self.deck, x).map_or(Vec::new(), |(k, _)| {
+            self.deck[k].dofs.iter().flatten().copied().collect()
+        })
+    }
+
     /// The deck's w at `x` in `u` on its own elements (0 off the deck).
     pub fn deck_field(&self, x: f64, u: &[f64]) -> f64 {
         let Some((k, s)) = deck_at(&self.deck, x) else {

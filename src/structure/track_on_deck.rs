@@ -242,6 +242,23 @@ impl TrackAssembly {
             .sum())
     }
 
+    /// The free DOFs `deck_deflection` reads at `x`: the state entries
+    /// its value is a combination of.
+    pub fn deck_deflection_dofs(&self, x: f64) -> Result<Vec<usize>, String> {
+        let (e, _) = self.locate(x)?;
+        if self.layout.deck_apart() {
+            return Ok(self.layout.deck_field_dofs(x));
+        }
+        if !self.layout.on_deck[e] {
+            return Ok(Vec::new());
+        }
+        let local = self.layout.element_dofs[e];
+        Ok([0, 1, 4, 5]
+            .into_iter()
+            .filter_map(|k| local[k + 2])
+            .collect())
+    }
+
     /// Rail deflection at `x` (m, up positive).
     pub fn rail_deflection(&self, x: f64, u: &[f64]) -> Result<f64, String> {
         self.field(0, x, u)

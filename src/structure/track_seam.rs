@@ -107,6 +107,14 @@ impl TrackBeam {
         value.ok().filter(|_| on).unwrap_or(f64::NAN)
     }
 
+    /// The state entries `deck_deflection` reads at the deck's abscissa
+    /// `x` (none off the deck).
+    pub fn deck_deflection_coordinates(&self, x: f64) -> Vec<usize> {
+        let on = x >= 0.0 && x <= self.assembly.track.layout.deck_length;
+        let dofs = self.assembly.deck_deflection_dofs(x).ok().filter(|_| on);
+        dofs.unwrap_or_default()
+    }
+
     /// Rail deflection of `u` at the deck's abscissa `x` (NaN off the rail).
     pub fn rail_deflection(&self, u: &DVector<f64>, x: f64) -> f64 {
         (self.assembly.rail_deflection(x, u.as_slice())).unwrap_or(f64::NAN)
