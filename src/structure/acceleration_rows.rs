@@ -172,7 +172,6 @@ mod tests {
             length: 100.0,
             mass_per_length: 2303.0,
             bending_stiffness: 8.5347e10,
-            frequency: None,
             surface_offset: 0.0,
             elements: 200,
             supports: SupportsSpec {
@@ -185,12 +184,11 @@ mod tests {
                 }],
                 ..SupportsSpec::default()
             },
-            joints: Vec::new(),
-            foundation: None,
             damping: Some(DampingSpec::Coefficients {
                 alpha: 0.3,
                 beta: 2e-4,
             }),
+            ..BeamSpec::default()
         };
         Structure::new(&spec).expect("beam")
     }
@@ -255,16 +253,13 @@ mod tests {
             length: 20.0,
             mass_per_length: 12000.0,
             bending_stiffness: 2.3539e10,
-            frequency: None,
             surface_offset: 0.0,
             elements: 40,
-            supports: SupportsSpec::default(),
-            joints: Vec::new(),
-            foundation: None,
             damping: Some(DampingSpec::Coefficients {
                 alpha: 0.5,
                 beta: 3e-4,
             }),
+            ..BeamSpec::default()
         };
         let on_deck = OnDeckSpec {
             preset: Some(FoundationPreset::Ballasted),
