@@ -941,6 +941,20 @@ mod tests {
         }
     }
 
+    /// The paper's 24 m beam on `spans` equal pinned spans of
+    /// `elements_per_span` elements each.
+    fn equal_spans(spans: usize, elements_per_span: usize) -> Beam {
+        let span = 24.0 / spans as f64;
+        let spec = BeamSpec {
+            supports: SupportsSpec {
+                intermediate: (1..spans).map(|k| k as f64 * span).collect(),
+                ..SupportsSpec::default()
+            },
+            ..paper_beam(elements_per_span * spans)
+        };
+        Beam::new(&spec).expect("continuous beam")
+    }
+
     /// Twelve equal pinned spans: their first frequency is one span's (each
     /// span bends as if simply supported, neighbours in opposite senses),
     /// Euler–Bernoulli's (π/l)²√(EI/m) within the mesh's error, and the
@@ -949,14 +963,7 @@ mod tests {
     fn equal_spans_share_the_first_frequency_of_one_span() {
         let spans = 12;
         let span = 24.0 / spans as f64;
-        let spec = BeamSpec {
-            supports: SupportsSpec {
-                intermediate: (1..spans).map(|k| k as f64 * span).collect(),
-                ..SupportsSpec::default()
-            },
-            ..paper_beam(8 * spans)
-        };
-        let beam = Beam::new(&spec).expect("continuous beam");
+        let beam = equal_spans(spans, 8);
         assert!(!beam.dense_for(3), "the test is meant for the bisection");
         let omega = beam.cut_off_frequencies(3).expect("frequencies");
         let dense = beam.dense_modes(3).expect("dense modes").omega;
@@ -1015,16 +1022,7 @@ mod tests {
     /// reuses known counts gives the bits of factorizing at every step.
     #[test]
     fn known_counts_give_the_bits_of_factorizing_every_step() {
-        let spans = 60;
-        let span = 24.0 / spans as f64;
-        let spec = BeamSpec {
-            supports: SupportsSpec {
-                intermediate: (1..spans).map(|k| k as f64 * span).collect(),
-                ..SupportsSpec::default()
-            },
-            ..paper_beam(4 * spans)
-        };
-        let beam = Beam::new(&spec).expect("continuous beam");
+        let beam = equal_spans(60, 4);
         assert!(!beam.dense_for(3), "the test is meant for the bisection");
         let omega = beam.cut_off_frequencies(3).expect("frequencies");
         let reference = bisect_factorizing_every_step(&beam, 3);
