@@ -8,10 +8,17 @@ use toml_edit::{DocumentMut, Item, Table, Value};
 /// (`[body.bogie]`, ...) brings its own (`Preset::BLOCK_NOTE`).
 const SCENE_TABLE_NOTES: &[(&str, &str)] = &[
     ("beam", "Euler-Bernoulli beam on the x axis from 0 to L"),
-    ("track", "Rigid ground before and after the beam"),
+    (
+        "track",
+        "The ground before and after the beam: rigid, or under a rail ([track.on_deck])",
+    ),
     (
         "body",
         "The vehicle (or moving force): its kind, mass, start and loads",
+    ),
+    (
+        "body.contact_law",
+        "How the body's contacts meet the running surface: Lee's rigid contact unless a law is chosen",
     ),
     ("sensors", "A point whose deflection is reported"),
     (
@@ -33,6 +40,10 @@ const SCENE_TABLE_NOTES: &[(&str, &str)] = &[
     (
         "beam.damping",
         "Structural damping: Rayleigh, one of three shapes, or { ratio } alone in every mode",
+    ),
+    (
+        "beam.supports",
+        "How the beam is held: its two ends and pinned supports inside",
     ),
     (
         "beam.supports.springs",
@@ -72,9 +83,15 @@ pub(super) fn table_notes() -> Vec<(String, &'static str)> {
     notes
 }
 
-/// The note of the table at `path`: the scene's, or a preset's block's.
+/// The note of the table at `path`: the scene's, or a preset's block's;
+/// a train's `[vehicles.<block>]` shares `[body.<block>]`'s.
 fn table_note(path: &str) -> Option<&'static str> {
-    let own = SCENE_TABLE_NOTES.iter().find(|(p, _)| *p == path);
+    let as_body = path
+        .strip_prefix("vehicles.")
+        .map(|rest| format!("body.{rest}"));
+    let own = SCENE_TABLE_NOTES
+        .iter()
+        .find(|(p, _)| *p == path || Some(*p) == as_body.as_deref());
     if let Some(&(_, note)) = own {
         return Some(note);
     }
@@ -193,6 +210,24 @@ mod tests {
         for table in ["[body.suspension]", "[vehicles.suspension]"] {
             let noted = format!("\n# {note}\n{table}\n");
             assert!(text.contains(&noted), "{table} without its note:\n{text}");
+        }
+    }
+
+    /// Every table of every built-in scene's annotated TOML stands under a
+    /// note, so a new table cannot come without one.
+    #[test]
+    fn every_table_of_every_built_in_scene_has_a_note() {
+        for (name, _) in crate::scene::builtin::builtins() {
+            let text = crate::scene::builtin::builtin(name)
+                .unwrap()
+                .to_annotated_toml();
+            let lines: Vec<&str> = text.lines().collect();
+            for (i, line) in lines.iter().enumerate() {
+                if line.starts_with('[') {
+                    let above = lines[..i].last().copied().unwrap_or("");
+                    assert!(above.starts_with("# "), "{name}: {line} has no note");
+                }
+            }
         }
     }
 
