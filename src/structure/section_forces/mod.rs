@@ -82,6 +82,13 @@ pub struct BeamDynamics<'a> {
     modal_rates: Option<DVector<f64>>,
 }
 
+/// u, v and a, each owned or lent.
+pub type StateVectors<'a> = (
+    Cow<'a, DVector<f64>>,
+    Cow<'a, DVector<f64>>,
+    Cow<'a, DVector<f64>>,
+);
+
 impl BeamDynamics<'static> {
     /// The state (u, v) under `loads`, its acceleration from the equation
     /// of motion (not the integrator's: RK4 keeps none, HHT-α's balances
@@ -124,11 +131,7 @@ impl<'a> BeamDynamics<'a> {
     /// `with_acceleration` with the state's vectors owned or lent.
     pub fn assembled(
         beam: &Beam,
-        (displacement, velocity, acceleration): (
-            Cow<'a, DVector<f64>>,
-            Cow<'a, DVector<f64>>,
-            Cow<'a, DVector<f64>>,
-        ),
+        (displacement, velocity, acceleration): StateVectors<'a>,
         loads: Vec<PointLoad>,
     ) -> BeamDynamics<'a> {
         BeamDynamics {
