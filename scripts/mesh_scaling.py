@@ -5,6 +5,8 @@
   python3 scripts/mesh_scaling.py wheel 16 256 300 16384
   python3 scripts/mesh_scaling.py train 3 10 100
   python3 scripts/mesh_scaling.py force 16 16384
+  python3 scripts/mesh_scaling.py forces 10 100
+  WRITE=DIR python3 scripts/mesh_scaling.py train 10 100
 
 `wheel N`: the paper's wheel at 10 m/s (`lee1994-wheel-10`) on N elements
 with HHT-α at its 2.5 ms step. `train S`: the eight coaches of
@@ -13,10 +15,14 @@ Lee's rigid contact, HHT-α at 1 ms: the built-in train-8 before it moved to
 Hertz contacts, kept so that this history stays comparable) over a
 continuous bridge of S spans of 25 m, 25 elements a span. `force N`: the
 moving forces of `bridge25-hslm` (HSLM-A1 at 50 m/s, no contact to solve)
-on N elements with HHT-α at its 1 ms step, to 1 s. Prints a Markdown
+on N elements with HHT-α at its 1 ms step, to 1 s. `forces S`: the same
+viaduct as `train S`, its 32 axles as moving forces of the coaches' static
+axle loads (no contact to solve): the structure's own share of a train
+step, which `train S` less this is the contacts'. Prints a Markdown
 table: steps, CPU (user + system, the fastest of REPEATS = 3 runs), CPU
 per step and per element·step, peak RSS. GUIDEWAY=path measures another
-build.
+build. WRITE=DIR writes each case's scene to DIR/CASE-N.toml (for
+callgrind) and measures nothing.
 """
 
 import json
@@ -76,6 +82,32 @@ def train(spans):
     return text, 25 * spans
 
 
+# The coaches of the bench scene: centres, axles about each centre (bogie
+# half distance 8.75 m ± axle half distance 1.25 m) and the static axle load
+# of body, two bogies and four wheelsets.
+COACH_CENTRES = [-11.0 - 24.0 * k for k in range(8)]
+AXLE_OFFSETS = [-10.0, -7.5, 7.5, 10.0]
+AXLE_LOAD = (38884.0 + 2 * 2400.0 + 4 * 1400.0) * 9.81 / 4
+
+
+def forces(spans):
+    text, elements = train(spans)
+    head = text[: text.index("[body]")]
+    tail = text[text.index("[[sensors]]") :]
+    blocks = []
+    for coach, centre in enumerate(COACH_CENTRES):
+        for axle, offset in enumerate(AXLE_OFFSETS):
+            table = "[body]" if not blocks else "[[vehicles]]"
+            blocks.append(
+                f'{table}\nname = "coach{coach + 1}_axle{axle + 1}"\nkind = "moving_force"\n'
+                f"mass = 1.0\ninitial_position = {centre + offset}\ninitial_speed = 83.3333\n"
+                f"force_y = {-AXLE_LOAD}\n"
+            )
+    # The moving forces need no static start of bodies.
+    tail = tail.replace('start = "static"\n', "")
+    return head + "\n".join(blocks) + "\n" + tail, elements
+
+
 def measure(text, elements):
     with tempfile.TemporaryDirectory() as tmp:
         scene = os.path.join(tmp, "scene.toml")
@@ -108,10 +140,17 @@ def measure(text, elements):
 
 
 def main():
-    cases = {"wheel": wheel, "train": train, "force": force}
+    cases = {"wheel": wheel, "train": train, "force": force, "forces": forces}
     if len(sys.argv) < 3 or sys.argv[1] not in cases:
         raise SystemExit(__doc__)
     case = cases[sys.argv[1]]
+    if os.environ.get("WRITE"):
+        for size in sys.argv[2:]:
+            path = os.path.join(os.environ["WRITE"], f"{sys.argv[1]}-{size}.toml")
+            with open(path, "w") as f:
+                f.write(case(int(size))[0])
+            print(path)
+        return
     print("| elements | steps | CPU (s) | µs per step | ns per element·step | peak RSS (MiB) |")
     print("|---:|---:|---:|---:|---:|---:|")
     for size in sys.argv[2:]:

@@ -280,10 +280,10 @@ fn influence_peaks(
     let mut response = BeamDynamics::at_rest(beam, zero, Vec::new());
     let mut at = vec![0.0; influence.dofs.len()];
     let mut values = Vec::with_capacity(reads.len());
+    let mut hints = vec![0; loads.len()];
     for &shift in shifts {
         let (on_beam, u) = response.static_parts_mut();
-        on_beam.clear();
-        on_beam.extend(placed(beam, loads, shift));
+        place_near(beam, loads, shift, &mut hints, on_beam);
         influence.displace(beam, on_beam, &mut at, u);
         read_all((reads, None), beam, &response, &mut values);
         for (peak, value) in peaks.iter_mut().zip(&values) {
@@ -291,6 +291,38 @@ fn influence_peaks(
         }
     }
     peaks
+}
+
+/// `placed` into `on_beam`, each load's element walked from `hints` (its
+/// element at the last position, updated): the positions are evenly
+/// spaced, so a walk of an element or two where `placed` bisected the
+/// beam's nodes for every load (len29). The same elements as `placed`'s
+/// on one beam (`HermiteBeam::element_near`); on several, `placed`'s.
+fn place_near(
+    beam: &Beam,
+    loads: &[(f64, f64)],
+    shift: f64,
+    hints: &mut [usize],
+    on_beam: &mut Vec<PointLoad>,
+) {
+    if beam.segments().len() != 1 {
+        on_beam.clear();
+        on_beam.extend(placed(beam, loads, shift));
+        return;
+    }
+    on_beam.clear();
+    for (&(x, normal), hint) in loads.iter().zip(hints.iter_mut()) {
+        let x = x + shift;
+        if (0.0..=beam.length).contains(&x) {
+            *hint = beam.element_near(x, *hint);
+            on_beam.push(PointLoad {
+                x,
+                element: *hint,
+                force: -normal,
+                couple: 0.0,
+            });
+        }
+    }
 }
 
 /// Solves the load vectors `set_static_loads` left in `group`'s
@@ -420,6 +452,31 @@ mod tests {
         for ((read, fast), solved) in reads.iter().zip(&fast).zip(&solved) {
             let error = (fast - solved).abs() / solved.abs();
             assert!(error < 1e-12, "{}: {fast} vs {solved}", read.name);
+        }
+    }
+
+    #[test]
+    fn loads_placed_from_the_last_positions_elements_are_those_placed_anew() {
+        // Uneven elements (a node on each support), the envelope's own
+        // positions: evenly spaced, then the exact ones that put a load on
+        // a read, which jump back along the beam.
+        let beam = "length = 70.0\nelements = 35\n[beam.supports]\n\
+                    intermediate = [20.0, 44.0]\n";
+        let reads = "[[sensors]]\nname = \"a\"\nposition = 9.3\n\
+                     [[sections]]\nname = \"s\"\nposition = 44.0\n";
+        let scene = scene(beam, reads);
+        let loads = [(0.0, P), (-2.5, P), (-17.5, 0.8 * P), (-40.0, 0.8 * P)];
+        let (_, shifts, beam) = parts(&scene, &loads);
+        assert!(
+            shifts.windows(2).any(|w| w[1] < w[0]),
+            "positions jump back"
+        );
+        let mut hints = vec![0; loads.len()];
+        let mut walked = Vec::new();
+        for &shift in &shifts {
+            place_near(&beam, &loads, shift, &mut hints, &mut walked);
+            let anew: Vec<PointLoad> = placed(&beam, &loads, shift).collect();
+            assert_eq!(walked, anew, "shift {shift}");
         }
     }
 

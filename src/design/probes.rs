@@ -19,7 +19,7 @@ enum Read {
     SupportMoment(usize),
 }
 
-impl BeamDynamics {
+impl BeamDynamics<'_> {
     /// The vector a sensor reading interpolates.
     fn vector(&self, read: Read) -> &DVector<f64> {
         match read {
@@ -291,7 +291,7 @@ impl<'a> ProbeReader<'a> {
 
 /// For each modal coordinate j, the beam at rest without loads with
 /// ũ = e_j, and with ã = e_j (at rest the damped state is the state).
-fn unit_states(beam: &Beam, modes: usize) -> Vec<[BeamDynamics; 2]> {
+fn unit_states(beam: &Beam, modes: usize) -> Vec<[BeamDynamics<'static>; 2]> {
     let zero = DVector::zeros(modes);
     (0..modes)
         .map(|j| {

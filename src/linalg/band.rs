@@ -241,6 +241,7 @@ impl SymBand {
             below,
             inverse_pivot,
             dense_inverse: Vec::new(),
+            serial: NEXT_SERIAL.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
         };
         if n <= DENSE_LIMIT {
             // Columns of A⁻¹ by the band solve; A⁻¹ is symmetric.
@@ -300,16 +301,39 @@ fn dense_times(a: &[f64], x: &[f64], out: &mut [f64]) {
 /// A = L D Lᵀ of a positive definite `SymBand`: L unit lower triangular with
 /// half-bandwidth 3 (row i holds L(i, i−3), L(i, i−2), L(i, i−1)), and the
 /// reciprocals of D's pivots so that a solve never divides.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct BandLdlt {
     lower: Vec<[f64; 3]>,
     below: Vec<[f64; 3]>,
     inverse_pivot: Vec<f64>,
     /// Row-major A⁻¹ when n ≤ `DENSE_LIMIT`, else empty.
     dense_inverse: Vec<f64>,
+    /// Which factorization this is (`serial`).
+    serial: u64,
+}
+
+/// The serial of the next factorization (`BandLdlt::serial`).
+static NEXT_SERIAL: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// Equal factors: the same entries, whichever factorization made them.
+impl PartialEq for BandLdlt {
+    fn eq(&self, other: &BandLdlt) -> bool {
+        (self.lower == other.lower && self.below == other.below)
+            && self.inverse_pivot == other.inverse_pivot
+            && self.dense_inverse == other.dense_inverse
+    }
 }
 
 impl BandLdlt {
+    /// Names this factorization: a clone keeps it, each `SymBand::ldlt`
+    /// takes a new one, and nothing changes a factor after it is made, so
+    /// one serial means one set of entries. What is derived from a factor
+    /// (`band_inverse`'s band) is kept against it in O(1), where comparing
+    /// the pivots cost O(n) at every use (issue 29, len29).
+    pub fn serial(&self) -> u64 {
+        self.serial
+    }
+
     pub fn size(&self) -> usize {
         self.lower.len()
     }
@@ -606,6 +630,24 @@ pub(crate) mod tests {
             seen.insert(below);
         }
         assert!(seen.len() >= 4, "{seen:?}");
+    }
+
+    #[test]
+    fn a_serial_names_one_factorization_and_its_clones() {
+        // What is kept against a serial (`band_inverse`'s band) is right
+        // for a clone and never for another factorization, even of the
+        // same matrix (equal entries, another serial: computed again).
+        let a = sample(30);
+        let first = a.ldlt().expect("SPD");
+        let again = a.ldlt().expect("SPD");
+        assert_eq!(first.clone().serial(), first.serial());
+        assert_ne!(again.serial(), first.serial());
+        assert_eq!(again, first, "equal entries stay equal factors");
+        let mut other = sample(30);
+        other.add_symmetric(4, 4, 1.0);
+        let other = other.ldlt().expect("SPD");
+        assert_ne!(other.serial(), first.serial());
+        assert_ne!(other, first);
     }
 
     /// A random-ish SPD band matrix: diagonally dominant (the band

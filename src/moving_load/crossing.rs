@@ -193,7 +193,7 @@ impl<'a> Crossing<'a> {
 
     /// The beam now, for its design outputs: Newmark's acceleration
     /// satisfies the equation of motion at the step's end.
-    pub fn dynamics(&self) -> BeamDynamics {
+    pub fn dynamics(&self) -> BeamDynamics<'static> {
         let state = (self.u.clone(), self.v.clone(), self.a.clone());
         BeamDynamics::with_acceleration(&self.beam, state, self.placed.clone())
     }

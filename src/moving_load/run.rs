@@ -51,7 +51,7 @@ pub struct ForceState {
 pub struct ForceRun {
     crossing: Crossing<'static>,
     /// The beam's state after the last step, as the design outputs read it.
-    now: BeamDynamics,
+    now: BeamDynamics<'static>,
     outputs: Vec<OutputInfo>,
     quantities: Vec<Quantity>,
     sensors: Vec<f64>,
@@ -200,7 +200,7 @@ impl ForceRun {
     }
 
     /// The beam's state now, as the design outputs read it.
-    pub fn beam_dynamics(&self) -> &BeamDynamics {
+    pub fn beam_dynamics(&self) -> &BeamDynamics<'static> {
         &self.now
     }
 

@@ -4,6 +4,7 @@
 //! outputs need beside the system and the state to compute them (`Probes`).
 
 use nalgebra::{DVector, Vector3};
+use std::borrow::Cow;
 
 use crate::contact::{ContactForce, ContactFrame};
 use crate::integrate::{loads, EndForces, FrameMemo};
@@ -121,13 +122,14 @@ pub struct AccelerationRoute<'a> {
 /// are theirs, and where not `whole` the others are NaN (no solve); the
 /// internal forces K u + C v they read are recalled from `end_forces`
 /// where they are this state's, else computed (the same bits: a function
-/// of the state either way). Without rows, a whole solve.
-pub fn beam_dynamics(
+/// of the state either way). Without rows, a whole solve. The state lends
+/// u and v (copying them was O(n) a row).
+pub fn beam_dynamics<'s>(
     system: &System,
-    state: &SimState,
+    state: &'s SimState,
     memo: &FrameMemo,
     route: AccelerationRoute,
-) -> Option<BeamDynamics> {
+) -> Option<BeamDynamics<'s>> {
     let d = &state.dynamic;
     let frames = frames_now(system, state, memo).ok()?;
     let beam = &system.beam;
@@ -137,15 +139,10 @@ pub fn beam_dynamics(
         let readable = beam.accelerations_read_internal_forces();
         let kept = route.end_forces.filter(|_| readable);
         let internal = kept.and_then(|kept| kept.recall((u, v)));
-        return Some(BeamDynamics::new(
-            beam,
-            (u.clone(), v.clone()),
-            loads,
-            internal,
-        ));
+        return Some(BeamDynamics::lent(beam, (u, v), loads, internal));
     };
     let mut acceleration = match route.whole {
-        true => BeamDynamics::new(beam, (u.clone(), v.clone()), loads.clone(), None)
+        true => BeamDynamics::lent(beam, (u, v), loads.clone(), None)
             .acceleration()
             .clone(),
         false => DVector::from_element(u.len(), f64::NAN),
@@ -158,6 +155,47 @@ pub fn beam_dynamics(
             rows.write(beam, &loads, &internal, &mut acceleration);
         }
     }
-    let state = (u.clone(), v.clone(), acceleration);
-    Some(BeamDynamics::with_acceleration(beam, state, loads))
+    let state = (Cow::Borrowed(u), Cow::Borrowed(v), Cow::Owned(acceleration));
+    Some(BeamDynamics::assembled(beam, state, loads))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{BodyKind, Scene};
+    use crate::simulation::Simulation;
+
+    #[test]
+    fn the_beams_dynamics_borrow_the_states_vectors_and_keep_their_bits() {
+        // The paper's wheel mid-crossing: the dynamics lend the state's u
+        // and v (an output row copied both, O(n) a row), and give the
+        // acceleration of the owned construction bit for bit.
+        let scene = Scene::lee1994(BodyKind::Wheel, 10.0, 0.0025);
+        let mut simulation = Simulation::new(&scene).expect("builds");
+        simulation.advance_to(1.0).expect("steps");
+        let (system, state) = (simulation.system(), simulation.state());
+        let route = AccelerationRoute {
+            end_forces: None,
+            rows: None,
+            whole: true,
+        };
+        let memo = FrameMemo::default();
+        let lent = beam_dynamics(system, &state, &memo, route).expect("located");
+        let d = &state.dynamic;
+        assert!(std::ptr::eq(lent.displacement(), &d.beam_displacement));
+        assert!(std::ptr::eq(lent.velocity(), &d.beam_velocity));
+        let frames = frames_now(system, &state, &memo).expect("located");
+        let loads =
+            crate::contact::loads::contact_loads(&system.beam, &frames, &last_forces(&state));
+        assert!(!loads.is_empty());
+        let owned = BeamDynamics::new(
+            &system.beam,
+            (d.beam_displacement.clone(), d.beam_velocity.clone()),
+            loads,
+            None,
+        );
+        let bits = |v: &DVector<f64>| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(lent.acceleration()), bits(owned.acceleration()));
+        assert!(lent.acceleration().iter().any(|&a| a != 0.0));
+    }
 }

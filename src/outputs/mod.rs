@@ -493,7 +493,7 @@ pub fn structure_catalogue(
 pub struct BeamNow<'a> {
     pub displacement: &'a nalgebra::DVector<f64>,
     pub velocity: &'a nalgebra::DVector<f64>,
-    pub dynamics: Option<&'a crate::structure::section_forces::BeamDynamics>,
+    pub dynamics: Option<&'a crate::structure::section_forces::BeamDynamics<'a>>,
 }
 
 /// The value of a structure's `quantity` (sensors, sections, supports,
@@ -672,7 +672,7 @@ struct Now<'a> {
     probes: &'a Probes<'a>,
     frames: Option<Vec<crate::contact::ContactFrame>>,
     accelerations: Option<Vec<nalgebra::Vector3<f64>>>,
-    beam_dynamics: Option<crate::structure::section_forces::BeamDynamics>,
+    beam_dynamics: Option<crate::structure::section_forces::BeamDynamics<'a>>,
     spring_energy: f64,
     /// Under a rail over the deck the system's abscissa starts at the
     /// approach; the outputs keep the scene's (the deck's x = 0).

@@ -367,7 +367,7 @@ impl Simulation {
     /// The beam now under the contact forces of the last step, with the
     /// acceleration they give (design outputs); `None` when a contact
     /// point cannot be located.
-    pub fn beam_dynamics(&self) -> Option<crate::structure::section_forces::BeamDynamics> {
+    pub fn beam_dynamics(&self) -> Option<crate::structure::section_forces::BeamDynamics<'_>> {
         let iteration = self.stepper.iteration();
         let route = derived::AccelerationRoute {
             end_forces: iteration.integrator().end_forces(),

@@ -34,6 +34,7 @@ pub(super) fn same_bits(a: &DVector<f64>, b: &DVector<f64>) -> bool {
 /// `same_bits` on slices: the bits' differences or-ed together over
 /// blocks of eight entries, without a branch per entry (the comparisons of
 /// a kept state run on every step, over the rail's 922 entries).
+#[inline]
 pub(super) fn same_bits_in(a: &[f64], b: &[f64]) -> bool {
     const BLOCK: usize = 8;
     let differ = |x: &[f64], y: &[f64]| {

@@ -27,9 +27,10 @@ use nalgebra::Matrix4;
 /// DOFs of one build's elements.
 #[derive(Default)]
 pub(super) struct Condensed {
-    /// The band, and the factor's reciprocal pivots it was computed from
-    /// (compared at each build: a band of another factor is never used).
-    inverse: Option<(InverseBand, Vec<f64>)>,
+    /// The band, and the serial of the factor it was computed from
+    /// (compared at each build: a band of another factor is never used;
+    /// comparing the factor's pivots instead cost O(n) a build).
+    inverse: Option<(InverseBand, u64)>,
     /// The column recurrences of the last build, for the next (`Walks`).
     walks: Walks,
     /// The build's DOFs, increasing, and A⁻¹ among them (column-major).
@@ -68,9 +69,8 @@ impl Condensed {
         elements: impl Iterator<Item = usize>,
     ) {
         let beam = &system.beam;
-        let (_, pivots) = factor.columns_below_and_inverse_pivots();
-        if !matches!(&self.inverse, Some((_, kept)) if kept.as_slice() == pivots) {
-            self.inverse = Some((InverseBand::new(factor), pivots.to_vec()));
+        if !matches!(&self.inverse, Some((_, kept)) if *kept == factor.serial()) {
+            self.inverse = Some((InverseBand::new(factor), factor.serial()));
             self.walks.clear();
             self.work.bands += 1;
         }

@@ -20,6 +20,7 @@
 
 use crate::beam::{Beam, Rayleigh};
 use nalgebra::DVector;
+use std::borrow::Cow;
 use std::cell::OnceCell;
 
 /// A concentrated load on the beam's axis at `x`, on element `element`:
@@ -63,10 +64,12 @@ fn add_loads(beam: &Beam, loads: &[PointLoad], r: &mut DVector<f64>) {
 /// The beam at one instant: displacement, velocity, the loads on it and
 /// the acceleration they give, M⁻¹ (r − K u − C v).
 #[derive(Debug, Clone)]
-pub struct BeamDynamics {
-    displacement: DVector<f64>,
-    velocity: DVector<f64>,
-    acceleration: DVector<f64>,
+pub struct BeamDynamics<'a> {
+    /// u, v and a: owned, or lent by the state they are read from (an
+    /// output row of a long structure copied them, O(n) a row: len29).
+    displacement: Cow<'a, DVector<f64>>,
+    velocity: Cow<'a, DVector<f64>>,
+    acceleration: Cow<'a, DVector<f64>>,
     loads: Vec<PointLoad>,
     /// u + β v and a + α v: the displacement and acceleration that carry
     /// the damping forces C v = α M v + β K v along with K u and M a
@@ -79,7 +82,14 @@ pub struct BeamDynamics {
     modal_rates: Option<DVector<f64>>,
 }
 
-impl BeamDynamics {
+/// u, v and a, each owned or lent.
+pub type StateVectors<'a> = (
+    Cow<'a, DVector<f64>>,
+    Cow<'a, DVector<f64>>,
+    Cow<'a, DVector<f64>>,
+);
+
+impl BeamDynamics<'static> {
     /// The state (u, v) under `loads`, its acceleration from the equation
     /// of motion (not the integrator's: RK4 keeps none, HHT-α's balances
     /// the loads at t_{n+1+α}), with the state's internal forces K u + C v
@@ -90,24 +100,40 @@ impl BeamDynamics {
         (displacement, velocity): (DVector<f64>, DVector<f64>),
         loads: Vec<PointLoad>,
         internal: Option<&DVector<f64>>,
-    ) -> BeamDynamics {
-        let r = load_vector(beam, &loads);
-        let mut acceleration = DVector::zeros(beam.coordinates());
-        let recalled = internal
-            .is_some_and(|forces| beam.accelerations_from_internal(&r, forces, &mut acceleration));
-        if !recalled {
-            beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
-        }
-        Self::with_acceleration(beam, (displacement, velocity, acceleration), loads)
+    ) -> BeamDynamics<'static> {
+        let state = (Cow::Owned(displacement), Cow::Owned(velocity));
+        BeamDynamics::solved(beam, state, loads, internal)
     }
 
     /// The state (u, v) under `loads` with an acceleration `a` that
     /// already satisfies M a + C v + K u = r (Newmark's, at a step's end).
     pub fn with_acceleration(
         beam: &Beam,
-        (displacement, velocity, acceleration): (DVector<f64>, DVector<f64>, DVector<f64>),
+        (u, v, a): (DVector<f64>, DVector<f64>, DVector<f64>),
         loads: Vec<PointLoad>,
-    ) -> BeamDynamics {
+    ) -> BeamDynamics<'static> {
+        let state = (Cow::Owned(u), Cow::Owned(v), Cow::Owned(a));
+        BeamDynamics::assembled(beam, state, loads)
+    }
+}
+
+impl<'a> BeamDynamics<'a> {
+    /// `new` with u and v lent by their owner.
+    pub fn lent(
+        beam: &Beam,
+        (u, v): (&'a DVector<f64>, &'a DVector<f64>),
+        loads: Vec<PointLoad>,
+        internal: Option<&DVector<f64>>,
+    ) -> BeamDynamics<'a> {
+        BeamDynamics::solved(beam, (Cow::Borrowed(u), Cow::Borrowed(v)), loads, internal)
+    }
+
+    /// `with_acceleration` with the state's vectors owned or lent.
+    pub fn assembled(
+        beam: &Beam,
+        (displacement, velocity, acceleration): StateVectors<'a>,
+        loads: Vec<PointLoad>,
+    ) -> BeamDynamics<'a> {
         BeamDynamics {
             displacement,
             velocity,
@@ -119,6 +145,23 @@ impl BeamDynamics {
         }
     }
 
+    fn solved(
+        beam: &Beam,
+        (displacement, velocity): (Cow<'a, DVector<f64>>, Cow<'a, DVector<f64>>),
+        loads: Vec<PointLoad>,
+        internal: Option<&DVector<f64>>,
+    ) -> BeamDynamics<'a> {
+        let r = load_vector(beam, &loads);
+        let mut acceleration = DVector::zeros(beam.coordinates());
+        let recalled = internal
+            .is_some_and(|forces| beam.accelerations_from_internal(&r, forces, &mut acceleration));
+        if !recalled {
+            beam.accelerations((&displacement, &velocity), &r, &mut acceleration);
+        }
+        let state = (displacement, velocity, Cow::Owned(acceleration));
+        Self::assembled(beam, state, loads)
+    }
+
     /// Replace the state and the loads, keeping the storage (one state per
     /// step without allocating).
     pub fn update(
@@ -126,9 +169,9 @@ impl BeamDynamics {
         (u, v, a): (&DVector<f64>, &DVector<f64>, &DVector<f64>),
         loads: impl IntoIterator<Item = PointLoad>,
     ) {
-        self.displacement.copy_from(u);
-        self.velocity.copy_from(v);
-        self.acceleration.copy_from(a);
+        self.displacement.to_mut().copy_from(u);
+        self.velocity.to_mut().copy_from(v);
+        self.acceleration.to_mut().copy_from(a);
         self.loads.clear();
         self.loads.extend(loads);
         // Damped copies that were asked for last time are refreshed in place.
@@ -149,7 +192,10 @@ impl BeamDynamics {
     }
 
     /// The static equilibrium K u = r under `loads`, at rest.
-    pub fn static_response(beam: &Beam, loads: Vec<PointLoad>) -> Result<BeamDynamics, String> {
+    pub fn static_response(
+        beam: &Beam,
+        loads: Vec<PointLoad>,
+    ) -> Result<BeamDynamics<'static>, String> {
         let displacement = beam.static_deflection(&load_vector(beam, &loads))?;
         Ok(BeamDynamics::at_rest(beam, displacement, loads))
     }
@@ -159,7 +205,7 @@ impl BeamDynamics {
         beam: &Beam,
         stiffness: &crate::band::BandLdlt,
         loads: Vec<PointLoad>,
-    ) -> BeamDynamics {
+    ) -> BeamDynamics<'static> {
         let mut displacement = load_vector(beam, &loads);
         stiffness.solve_mut(&mut displacement);
         BeamDynamics::at_rest(beam, displacement, loads)
@@ -180,11 +226,13 @@ impl BeamDynamics {
         self.loads.extend(loads);
         match stiffness {
             Some(_) => {
-                self.displacement.fill(0.0);
-                add_loads(beam, &self.loads, &mut self.displacement);
+                let displacement = self.displacement.to_mut();
+                displacement.fill(0.0);
+                add_loads(beam, &self.loads, displacement);
             }
             None => {
-                self.displacement = beam.static_deflection(&load_vector(beam, &self.loads))?;
+                let deflection = beam.static_deflection(&load_vector(beam, &self.loads))?;
+                self.displacement = Cow::Owned(deflection);
             }
         }
         Ok(())
@@ -194,15 +242,15 @@ impl BeamDynamics {
         beam: &Beam,
         displacement: DVector<f64>,
         loads: Vec<PointLoad>,
-    ) -> BeamDynamics {
+    ) -> BeamDynamics<'static> {
         let zero = DVector::zeros(beam.coordinates());
         BeamDynamics {
             damped: OnceCell::from(None),
             damping: Rayleigh::default(),
             modal_rates: None,
-            displacement,
-            velocity: zero.clone(),
-            acceleration: zero,
+            displacement: Cow::Owned(displacement),
+            velocity: Cow::Owned(zero.clone()),
+            acceleration: Cow::Owned(zero),
             loads,
         }
     }
@@ -211,7 +259,7 @@ impl BeamDynamics {
     /// that finds the static displacement its own way (the envelope's
     /// influence rows).
     pub(crate) fn static_parts_mut(&mut self) -> (&mut Vec<PointLoad>, &mut DVector<f64>) {
-        (&mut self.loads, &mut self.displacement)
+        (&mut self.loads, self.displacement.to_mut())
     }
 
     /// The free DOFs' displacements.
@@ -222,7 +270,7 @@ impl BeamDynamics {
     /// The free DOFs' displacements, for a caller that solves the load
     /// vectors `set_static_loads` leaves there.
     pub(crate) fn displacement_mut(&mut self) -> &mut DVector<f64> {
-        &mut self.displacement
+        self.displacement.to_mut()
     }
 
     /// The free DOFs' velocities.

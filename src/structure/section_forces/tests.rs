@@ -32,7 +32,7 @@ fn pinned(elements: usize) -> Beam {
 }
 
 /// P downward at `a` on `beam`, in static equilibrium.
-fn static_load(beam: &Beam, a: f64) -> BeamDynamics {
+fn static_load(beam: &Beam, a: f64) -> BeamDynamics<'static> {
     BeamDynamics::static_response(beam, vec![PointLoad::vertical(beam, a, -P)]).unwrap()
 }
 
@@ -144,7 +144,7 @@ fn continuous_beam_reactions() {
 
 /// Mode 1 of a pinned beam of `elements` elements, scaled to 1 cm at midspan,
 /// in free vibration (no loads): the state at its largest deflection.
-fn mode_one(beam: &Beam) -> (f64, BeamDynamics) {
+fn mode_one(beam: &Beam) -> (f64, BeamDynamics<'static>) {
     let modes = beam.modes(1).unwrap();
     let shape = modes.shapes.column(0).into_owned();
     let u = &shape * (0.01 / beam.deflection(&shape, L / 2.0));
