@@ -123,6 +123,12 @@ impl Secant {
         })
     }
 
+    /// Every contact's law force at the last integration's end, where
+    /// `laws_at_end` is known.
+    pub fn forces_at_end(&self) -> &[ContactForce] {
+        &self.at_end
+    }
+
     /// The next integration moves the end: its laws are not known.
     pub fn forget_laws_at_end(&mut self) {
         self.elements_power = None;
@@ -158,19 +164,18 @@ fn measured_slope(last: (f64, f64), before: Option<(f64, f64)>) -> Option<f64> {
 /// first secant step (where none is measured yet): a force f on the body
 /// moves it by w_u f / m and w_v f / m along the normal (`weights`, the
 /// end-of-step force's weights), against the law's stiffness k and
-/// damping c at the end, −(k w_u + c w_v) / m. The track's compliance
+/// damping c at the end (at its gap there, `gap`, which
+/// `residual_change` kept), −(k w_u + c w_v) / m. The track's compliance
 /// under the contact would make it steeper; the next steps measure it.
 fn body_slope(
     system: &System,
     contact: &crate::contact::Contact,
-    (frame, end): (&crate::contact::ContactFrame, &DynamicState),
+    gap: f64,
     (velocity_weight, position_weight): (f64, f64),
 ) -> f64 {
     let Some(follower) = contact.follower else {
         return 0.0;
     };
-    let bodies = &end.bodies;
-    let (gap, _) = follower_gap(system, contact, frame, bodies, &end.beam_velocity);
     let stiffness = follower.kind.stiffness(&follower, gap);
     let compliance = stiffness * position_weight + follower.damping * velocity_weight;
     let slope = -compliance / system.bodies[contact.body].mass;
@@ -300,10 +305,7 @@ impl ContactIteration {
             secant.before[c] = secant.last[c].replace(pair);
             let slope = match (measured_slope(pair, secant.before[c]), secant.before[c]) {
                 (Some(slope), _) => slope,
-                (None, None) => {
-                    let at = (&self.end_frames[c], end);
-                    body_slope(system, contact, at, weights)
-                }
+                (None, None) => body_slope(system, contact, secant.gaps[c].0, weights),
                 (None, Some(_)) => 0.0,
             };
             self.forces[c] = ContactForce {
@@ -363,17 +365,19 @@ impl ContactIteration {
             secant.change[b] += q;
         }
         let velocity_weight = self.integrator.body_weights(dt).0;
-        let bodies = system.bodies.iter().zip(&secant.change);
-        bodies
-            .map(|(body, q)| velocity_weight * response(body, q).amax())
-            .fold(0.0, |largest: f64, x| {
-                // NaN must win the maximum so that it is reported.
-                if largest.is_nan() || x.is_nan() {
-                    f64::NAN
-                } else {
-                    largest.max(x)
-                }
-            })
+        let (mut largest, mut nan) = (0.0f64, false);
+        for (body, q) in system.bodies.iter().zip(&secant.change) {
+            let x = velocity_weight * response(body, q).amax();
+            nan |= x.is_nan();
+            largest = largest.max(x);
+        }
+        // NaN must win the maximum so that it is reported (tested once,
+        // not per body: the per-body test was a third of this sweep).
+        if nan {
+            f64::NAN
+        } else {
+            largest
+        }
     }
 }
 
