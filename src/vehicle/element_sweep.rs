@@ -235,6 +235,9 @@ pub fn add_element_forces(
     bodies: &[BodyState],
     loads: &mut [Vector3<f64>],
 ) -> f64 {
+    if elements.blocks.is_empty() {
+        return 0.0; // the empty sum's bits, without the sweep's set-up
+    }
     // Both slices cut to one length: an element's index check on `bodies`
     // then also covers `loads` (a tenth of the loop's instructions).
     let n = bodies.len().min(loads.len());
@@ -278,4 +281,110 @@ pub fn spring_energy(elements: &ForceElements, bodies: &[BodyState]) -> f64 {
             .map(move |link| link.energy(bodies, &table))
     });
     each.sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A chain of `n` turned bodies, each joined to the next by a vertical
+    /// element off both centres, and by a longitudinal one to the
+    /// centre of the last: more turning bodies than a block holds.
+    fn chain(n: usize) -> (Vec<ForceElement>, Vec<BodyState>) {
+        let bodies: Vec<BodyState> = (0..n)
+            .map(|i| {
+                let s = i as f64;
+                BodyState {
+                    position: Vector2::new(2.0 * s, 0.1 * s.sin()),
+                    velocity: Vector2::new(0.3, 0.2 * s.cos()),
+                    angle: 0.01 * s - 0.1,
+                    angular_velocity: 0.05 * (s - 3.0),
+                }
+            })
+            .collect();
+        let mut elements = Vec::new();
+        for i in 0..n - 1 {
+            for (direction, point_b) in [
+                (Direction::Vertical, Vector2::new(-0.8, 0.2)),
+                (Direction::Longitudinal, Vector2::zeros()),
+            ] {
+                let s = i as f64;
+                let mut e = ForceElement {
+                    name: format!("e{i}"),
+                    body_a: i,
+                    point_a: Vector2::new(0.9, -0.1 * s),
+                    body_b: if point_b.x == 0.0 { n - 1 } else { i + 1 },
+                    point_b,
+                    direction,
+                    stiffness: 1e5 * (1.0 + s),
+                    damping: 2e3,
+                    preload: 3e3 * s,
+                    rest: 0.0,
+                };
+                e.rest = e.separation(&bodies[e.body_a], &bodies[e.body_b]) - 1e-3 * s;
+                elements.push(e);
+            }
+        }
+        (elements, bodies)
+    }
+
+    /// The loads, power and energy of the elements' general formulas.
+    fn general(elements: &[ForceElement], bodies: &[BodyState]) -> (Vec<Vector3<f64>>, f64, f64) {
+        let mut loads = vec![Vector3::zeros(); bodies.len()];
+        let mut power = 0.0;
+        for e in elements {
+            let f = e.forces(bodies);
+            loads[e.body_a] += f.on_a;
+            loads[e.body_b] += f.on_b;
+            power += f.dissipation;
+        }
+        let dissipation: f64 = elements.iter().map(|e| e.forces(bodies).dissipation).sum();
+        assert_eq!(dissipation.to_bits(), power.to_bits());
+        let energy = elements.iter().map(|e| e.potential_energy(bodies)).sum();
+        (loads, power, energy)
+    }
+
+    fn bits(loads: &[Vector3<f64>]) -> Vec<[u64; 3]> {
+        loads
+            .iter()
+            .map(|l| [l.x, l.y, l.z].map(f64::to_bits))
+            .collect()
+    }
+
+    #[test]
+    fn sweeps_over_several_blocks_give_the_general_formulas_bits() {
+        let (elements, bodies) = chain(40);
+        let planned = ForceElements::from(elements.clone());
+        assert!(planned.blocks.len() >= 3, "{} blocks", planned.blocks.len());
+        let (loads, power, energy) = general(&elements, &bodies);
+        let mut swept = vec![Vector3::zeros(); bodies.len()];
+        let swept_power = add_element_forces(&planned, &bodies, &mut swept);
+        assert_eq!(bits(&swept), bits(&loads));
+        assert_eq!(swept_power.to_bits(), power.to_bits());
+        let alone = dissipation_power(&planned, &bodies);
+        assert_eq!(alone.to_bits(), power.to_bits());
+        let swept_energy = spring_energy(&planned, &bodies);
+        assert_eq!(swept_energy.to_bits(), energy.to_bits());
+        assert!(power > 0.0 && energy > 0.0 && loads.iter().all(|l| l.y != 0.0));
+    }
+
+    #[test]
+    fn a_changed_element_changes_the_sweeps() {
+        // `update` makes the plan again: the sweeps follow the change.
+        let (elements, bodies) = chain(5);
+        let mut planned = ForceElements::from(elements);
+        planned.update(|elements| {
+            elements[3].preload += 1e4;
+            elements[3].stiffness *= 2.0;
+        });
+        planned.extend(chain(5).0.into_iter().take(1));
+        let (loads, power, energy) = general(&planned, &bodies);
+        let mut swept = vec![Vector3::zeros(); bodies.len()];
+        let swept_power = add_element_forces(&planned, &bodies, &mut swept);
+        assert_eq!(bits(&swept), bits(&loads));
+        assert_eq!(swept_power.to_bits(), power.to_bits());
+        assert_eq!(spring_energy(&planned, &bodies).to_bits(), energy.to_bits());
+        let (unchanged, ..) = general(&chain(5).0, &bodies);
+        assert_ne!(bits(&unchanged), bits(&loads));
+    }
 }
