@@ -93,13 +93,6 @@ pub struct Hht {
     predictor_internal: DVector<f64>,
     /// The band solve's forward sweep (`BandLdlt::solve_rows`).
     sweep: Vec<f64>,
-    /// The right-hand side's rows for a load of +0 (`fused_band_step`),
-    /// while `unloaded_known`: made at a step's first band solve, from the
-    /// start's and the predictors' terms.
-    unloaded: Vec<f64>,
-    unloaded_known: bool,
-    /// The right-hand side of the band solve's rows.
-    rhs_rows: Vec<f64>,
     /// The step's first integration, which later ones correct by the
     /// response to their change of load (`beam_step`).
     base: Base,
@@ -116,17 +109,30 @@ pub struct Hht {
 }
 
 /// One full integration by the band factor's fused solve
-/// (`BandLdlt::solve_rows`): the right-hand side's rows `rhs` (`rhs_row`)
-/// taken in its forward sweep, and u = u* + β Δt² a, v = v* + γ Δt a from
-/// `stars` = [u*, v*] in its backward sweep: the bits of
-/// `Hht::full_beam_step_by_vectors`' vector operations, in one pass.
+/// (`BandLdlt::solve_rows`): the right-hand side
+/// (1 + α)(f − (C v* + K u*)) + α (C v0 + K u0) − α f0 made row by row in
+/// its forward sweep from
+/// `terms` = [f, C v* + K u*, C v0 + K u0, f0], and u = u* + β Δt² a,
+/// v = v* + γ Δt a from `stars` = [u*, v*] in its backward sweep: the bits
+/// of `Hht::full_beam_step_by_vectors`' vector operations, in one pass.
 fn fused_band_step(
     factor: &crate::band::BandLdlt,
-    ((beta, gamma), dt): ((f64, f64), f64),
-    (rhs, [u_star, v_star]): (impl Iterator<Item = f64>, [&[f64]; 2]),
+    ((alpha, beta, gamma), dt): ((f64, f64, f64), f64),
+    (terms, [u_star, v_star]): ([&[f64]; 4], [&[f64]; 2]),
     sweep: &mut Vec<f64>,
     end: &mut DynamicState,
 ) {
+    let [load, internal, start_internal, start_load] = terms;
+    let terms = (load.iter().zip(internal)).zip(start_internal.iter().zip(start_load));
+    let rhs = terms.map(|((load, internal), (start_internal, start_load))| {
+        let mut r = load * (1.0 + alpha);
+        r += -(1.0 + alpha) * internal;
+        if alpha != 0.0 {
+            r += alpha * start_internal;
+            r += -alpha * start_load;
+        }
+        r
+    });
     let (u_weight, v_weight) = (beta * dt * dt, gamma * dt);
     let ends = (end.beam_displacement.as_mut_slice().iter_mut())
         .zip(end.beam_velocity.as_mut_slice().iter_mut())
@@ -137,21 +143,6 @@ fn fused_band_step(
         *v = v_weight * a + v_star;
         *acc = a;
     });
-}
-
-/// A row of HHT-α's right-hand side
-/// (1 + α)(f − (C v* + K u*)) + α (C v0 + K u0) − α f0 from
-/// [f, C v* + K u*, C v0 + K u0, f0], in the order of
-/// `full_beam_step_by_vectors`' vector operations.
-#[inline(always)]
-fn rhs_row(alpha: f64, [load, internal, start_internal, start_load]: [f64; 4]) -> f64 {
-    let mut r = load * (1.0 + alpha);
-    r += -(1.0 + alpha) * internal;
-    if alpha != 0.0 {
-        r += alpha * start_internal;
-        r += -alpha * start_load;
-    }
-    r
 }
 
 /// `to ← from` by slice copies (nalgebra's `copy_from` goes entry by
@@ -167,17 +158,6 @@ fn copy(to: &mut DVector<f64>, from: &DVector<f64>) {
     for (to, from) in to.chunks_mut(BLOCK).zip(from.chunks(BLOCK)) {
         to.copy_from_slice(from);
     }
-}
-
-/// Each row of the right-hand side (`rhs_row`) with a load of +0, into
-/// `rows`: the same for every integration of a step.
-fn unloaded_rows(alpha: f64, [load, internal, start_internal, start_load]: [&[f64]; 4], rows: &mut Vec<f64>) {
-    rows.clear();
-    let terms = internal.iter().zip(start_internal.iter().zip(start_load));
-    let unloaded = terms.map(|(&internal, (&start_internal, &start_load))| {
-        rhs_row(alpha, [0.0, internal, start_internal, start_load])
-    });
-    rows.extend(unloaded.take(load.len()));
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.
@@ -230,9 +210,6 @@ impl Hht {
             predictor_v: z(),
             predictor_internal: z(),
             sweep: Vec::new(),
-            unloaded: Vec::new(),
-            unloaded_known: false,
-            rhs_rows: Vec::new(),
             end_dissipation: 0.0,
             books: true,
             held_followers: vec![false; system.contacts.len()],
@@ -254,7 +231,6 @@ impl Hht {
         self.has_prediction = false;
         self.known_laws = None;
         self.start_known = false;
-        self.unloaded_known = false;
         self.predictor_dt = None;
         self.base.known = false;
         self.prepare_factor(system, dt)
@@ -452,7 +428,6 @@ impl Hht {
                 + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
         }
         self.start_known = true;
-        self.unloaded_known = false;
     }
 
     /// Book the energy each step removes (`finish_step`), or not: a run
@@ -578,30 +553,12 @@ impl Hht {
         let EffectiveFactor::Band(factor) = factor else {
             return self.full_beam_step_by_vectors(system, start, dt, end);
         };
-        let (alpha, weights) = (self.alpha, ((self.beta, self.gamma), dt));
+        let weights = ((self.alpha, self.beta, self.gamma), dt);
         let (load, internal) = (self.load.as_slice(), self.predictor_internal.as_slice());
         let start_terms = (self.start_internal.as_slice(), start.beam_load.as_slice());
         let terms = [load, internal, start_terms.0, start_terms.1];
         let stars = [self.predictor_u.as_slice(), self.predictor_v.as_slice()];
-        let Some(loaded) = self.load_footprint.entries() else {
-            let rows = (load.iter().zip(internal)).zip(start_terms.0.iter().zip(start_terms.1));
-            let rhs = rows.map(|((&f, &i), (&i0, &f0))| rhs_row(alpha, [f, i, i0, f0]));
-            return fused_band_step(factor, weights, (rhs, stars), &mut self.sweep, end);
-        };
-        // The rows outside the load's footprint have a load of +0: their
-        // right-hand side is the step's `unloaded` row, the same bits.
-        if !self.unloaded_known {
-            unloaded_rows(alpha, terms, &mut self.unloaded);
-            self.unloaded_known = true;
-        }
-        let rhs = &mut self.rhs_rows;
-        rhs.clear();
-        rhs.extend_from_slice(&self.unloaded);
-        for &i in loaded {
-            rhs[i] = rhs_row(alpha, terms.map(|t| t[i]));
-        }
-        let rhs = rhs.iter().copied();
-        fused_band_step(factor, weights, (rhs, stars), &mut self.sweep, end);
+        fused_band_step(factor, weights, (terms, stars), &mut self.sweep, end);
     }
 
     /// The step's predictors u* = u0 + Δt v0 + Δt² (½ − β) a0 and
@@ -626,7 +583,6 @@ impl Hht {
             .beam
             .internal_forces(u1, v1, &mut self.scratch, internal);
         self.predictor_dt = Some(dt);
-        self.unloaded_known = false;
     }
 
     /// `full_beam_step` where the solve is not the plain band factor's

@@ -43,12 +43,6 @@ impl LoadFootprint {
         self.whole = false;
     }
 
-    /// The entries that may be non-zero (with repeats); None where any
-    /// may be.
-    pub fn entries(&self) -> Option<&[usize]> {
-        (!self.whole).then_some(self.entries.as_slice())
-    }
-
     /// Note the entries the loads at `frames` are added to
     /// (`loads_but_laws` scatters a load at each frame on the beam).
     pub fn note(&mut self, system: &System, frames: &[ContactFrame]) {
