@@ -7,7 +7,7 @@ use nalgebra::{DVector, Vector2, Vector3};
 use crate::beam::Beam;
 use crate::body::{BodyState, RigidBody};
 use crate::contact::{foot_point_on, Contact, ContactFrame, FootPointError};
-use crate::force_element::ForceElement;
+use crate::force_element::ForceElements;
 use crate::profile::Profile;
 
 /// The track: rigid ground of length `approach` before the beam (x < 0) and
@@ -27,7 +27,7 @@ pub struct System {
     pub beam: Beam,
     pub track: Track,
     pub bodies: Vec<RigidBody>,
-    pub force_elements: Vec<ForceElement>,
+    pub force_elements: ForceElements,
     pub contacts: Vec<Contact>,
     /// Acceleration of gravity (m/s², acting in −y).
     pub gravity: f64,

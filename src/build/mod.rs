@@ -46,7 +46,7 @@ pub fn assemble(scene: &Scene) -> Result<Assembly, String> {
                 open_ends: false,
             },
             bodies: Vec::new(),
-            force_elements: Vec::new(),
+            force_elements: Default::default(),
             contacts: Vec::new(),
             gravity: scene.gravity,
             profile: crate::profile::Profile::new(&scene.track.irregularities)?,

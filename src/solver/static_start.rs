@@ -222,9 +222,11 @@ fn preload_compliant_contacts(
 
 /// Every element at its preload in the current configuration.
 fn reset_rests(system: &mut System, bodies: &[BodyState]) {
-    for element in &mut system.force_elements {
-        element.rest = element.separation(&bodies[element.body_a], &bodies[element.body_b]);
-    }
+    system.force_elements.update(|elements| {
+        for element in elements {
+            element.rest = element.separation(&bodies[element.body_a], &bodies[element.body_b]);
+        }
+    });
 }
 
 /// The normal forces that carry each contact body's vertical load
@@ -254,13 +256,15 @@ fn carry_loads(
 /// Preload the longitudinal elements, in order, so that the horizontal
 /// force left on each element's body b passes on to its body a.
 fn balance_horizontally(system: &mut System, body_loads: &mut [Vector3<f64>]) {
-    for element in &mut system.force_elements {
-        if element.direction != Direction::Longitudinal {
-            continue;
+    system.force_elements.update(|elements| {
+        for element in elements {
+            if element.direction != Direction::Longitudinal {
+                continue;
+            }
+            let residual = body_loads[element.body_b].x;
+            element.preload += residual;
+            body_loads[element.body_a].x += residual;
+            body_loads[element.body_b].x = 0.0;
         }
-        let residual = body_loads[element.body_b].x;
-        element.preload += residual;
-        body_loads[element.body_a].x += residual;
-        body_loads[element.body_b].x = 0.0;
-    }
+    });
 }

@@ -112,6 +112,7 @@ impl<const SLOTS: usize> Rotations<SLOTS> {
 pub type ContactRotations = Rotations<1>;
 
 /// `local` rotated by the angle whose (sine, cosine) is `sin_cos`.
+#[inline]
 pub fn rotated((sin, cos): (f64, f64), local: &Vector2<f64>) -> Vector2<f64> {
     Vector2::new(cos * local.x - sin * local.y, sin * local.x + cos * local.y)
 }

@@ -11,6 +11,9 @@
 use nalgebra::{Vector2, Vector3};
 
 use crate::body::{BodyState, Rotations};
+pub use crate::vehicle::element_sweep::{
+    add_element_forces, dissipation_power, spring_energy, ForceElements,
+};
 
 /// The direction a force element acts along.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -113,96 +116,6 @@ impl ForceElement {
     }
 }
 
-/// Add every element's forces to `loads` (one generalized force per body)
-/// and return the power the dampers dissipate.
-pub fn add_element_forces(
-    elements: &[ForceElement],
-    bodies: &[BodyState],
-    loads: &mut [Vector3<f64>],
-) -> f64 {
-    // Both slices cut to one length: an element's index check on `bodies`
-    // then also covers `loads` (a tenth of the loop's instructions).
-    if elements.is_empty() {
-        return 0.0; // the empty sum's bits, without the sweep's set-up
-    }
-    let n = bodies.len().min(loads.len());
-    let (bodies, loads) = (&bodies[..n], &mut loads[..n]);
-    let mut rotations = Rotations::default();
-    let mut dissipation = 0.0;
-    for element in elements {
-        dissipation += element.add_loads(bodies, &mut rotations, loads);
-    }
-    dissipation
-}
-
-impl ForceElement {
-    /// `forces_with` added to `loads`, returning the damper's power: the
-    /// same numbers, with the arithmetic of the element's one direction
-    /// only. `forces_with` multiplies the other component by 0 and adds the
-    /// zero, which the compiler may not drop (it would change a NaN or the
-    /// sign of a zero); in a train's sweeps over its suspensions that
-    /// arithmetic and the returned record were half of the elements' cost.
-    #[inline]
-    fn add_loads(
-        &self,
-        bodies: &[BodyState],
-        rotations: &mut Rotations,
-        loads: &mut [Vector3<f64>],
-    ) -> f64 {
-        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
-        let ra = rotations.offset_of(self.body_a, a, &self.point_a);
-        let rb = rotations.offset_of(self.body_b, b, &self.point_b);
-        // Along d: the component of the separation and of the relative
-        // velocity of the points (ω × r = ω (−r_y, r_x)).
-        let (separation, rate) = match self.direction {
-            Direction::Vertical => (
-                (a.position.y + ra.y) - (b.position.y + rb.y),
-                (a.velocity.y + a.angular_velocity * ra.x)
-                    - (b.velocity.y + b.angular_velocity * rb.x),
-            ),
-            Direction::Longitudinal => (
-                (a.position.x + ra.x) - (b.position.x + rb.x),
-                (a.velocity.x - a.angular_velocity * ra.y)
-                    - (b.velocity.x - b.angular_velocity * rb.y),
-            ),
-        };
-        let elongation = separation - self.rest;
-        let magnitude = self.preload - self.stiffness * elongation - self.damping * rate;
-        // The torque of f d about the centre: r × f d.
-        let (on_a, on_b) = match self.direction {
-            Direction::Vertical => (
-                Vector3::new(0.0, magnitude, ra.x * magnitude),
-                Vector3::new(0.0, -magnitude, -(rb.x * magnitude)),
-            ),
-            Direction::Longitudinal => (
-                Vector3::new(magnitude, 0.0, -(ra.y * magnitude)),
-                Vector3::new(-magnitude, 0.0, rb.y * magnitude),
-            ),
-        };
-        loads[self.body_a] += on_a;
-        loads[self.body_b] += on_b;
-        self.damping * rate * rate
-    }
-}
-
-/// Power the dampers dissipate (W).
-pub fn dissipation_power(elements: &[ForceElement], bodies: &[BodyState]) -> f64 {
-    let mut rotations = Rotations::default();
-    elements
-        .iter()
-        .map(|e| e.forces_with(bodies, &mut rotations).dissipation)
-        .sum()
-}
-
-/// Potential energy of all `elements` (J).
-pub fn spring_energy(elements: &[ForceElement], bodies: &[BodyState]) -> f64 {
-    let mut rotations = Rotations::default();
-    elements
-        .iter()
-        .map(|e| e.potential_energy_with(bodies, &mut rotations))
-        .sum()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -287,10 +200,11 @@ mod tests {
             elements.push(e);
         }
         let mut loads = [Vector3::new(1.0, -2.0, 0.5); 3];
+        let elements = ForceElements::from(elements);
         let power = add_element_forces(&elements, &bodies, &mut loads);
         let mut expected = [Vector3::new(1.0, -2.0, 0.5); 3];
         let mut expected_power = 0.0;
-        for e in &elements {
+        for e in elements.iter() {
             let f = e.forces(&bodies);
             expected[e.body_a] += f.on_a;
             expected[e.body_b] += f.on_b;
@@ -299,6 +213,14 @@ mod tests {
         let bits = |l: &[Vector3<f64>; 3]| l.map(|v| v.map(f64::to_bits));
         assert_eq!(bits(&loads), bits(&expected));
         assert_eq!(power.to_bits(), expected_power.to_bits());
+        // The dampers' power and the potential energy alone, likewise.
+        let general_power: f64 = elements.iter().map(|e| e.forces(&bodies).dissipation).sum();
+        let power_alone = dissipation_power(&elements, &bodies);
+        assert_eq!(power_alone.to_bits(), general_power.to_bits());
+        let general_energy: f64 = elements.iter().map(|e| e.potential_energy(&bodies)).sum();
+        let energy = spring_energy(&elements, &bodies);
+        assert_eq!(energy.to_bits(), general_energy.to_bits());
+        assert!(energy != 0.0 && power_alone > 0.0);
     }
 
     #[test]

@@ -4,6 +4,7 @@
 //! force may be.
 
 pub mod body;
+mod element_sweep;
 pub mod force_element;
 pub mod hslm;
 pub mod presets;
