@@ -258,27 +258,29 @@ pub fn add_element_forces(
 /// Power the dampers dissipate (W): the sum of each element's
 /// `forces(..).dissipation`, in their order.
 pub fn dissipation_power(elements: &ForceElements, bodies: &[BodyState]) -> f64 {
-    let mut table = [(0.0, 0.0); BLOCK_TURNS];
-    let each = elements.blocks.iter().flat_map(|block| {
-        block.rotations(bodies, &mut table);
-        block
-            .links
-            .iter()
-            .map(move |link| link.power(bodies, &table))
-    });
-    each.sum()
+    sum_over_links(elements, bodies, Link::power)
 }
 
 /// Potential energy of all `elements` (J): the sum of each element's
 /// `potential_energy`, in their order.
 pub fn spring_energy(elements: &ForceElements, bodies: &[BodyState]) -> f64 {
+    sum_over_links(elements, bodies, Link::energy)
+}
+
+/// The sum of `term` over every link, in the elements' order, each
+/// block's rotations taken once.
+fn sum_over_links(
+    elements: &ForceElements,
+    bodies: &[BodyState],
+    term: impl Fn(&Link, &[BodyState], &Table) -> f64 + Copy,
+) -> f64 {
     let mut table = [(0.0, 0.0); BLOCK_TURNS];
     let each = elements.blocks.iter().flat_map(|block| {
         block.rotations(bodies, &mut table);
         block
             .links
             .iter()
-            .map(move |link| link.energy(bodies, &table))
+            .map(move |link| term(link, bodies, &table))
     });
     each.sum()
 }
