@@ -229,6 +229,7 @@ impl ResponseCache {
     /// (`measured`: every element measured in this build, at which they
     /// are read when they cannot be kept), handed to `with`: one look-up
     /// a pair, and no copy.
+    #[inline]
     pub fn pair(
         &mut self,
         (integrator, system, step): (&mut Integrator, &System, f64),
