@@ -305,12 +305,11 @@ fn place_near(
     hints: &mut [usize],
     on_beam: &mut Vec<PointLoad>,
 ) {
+    on_beam.clear();
     if beam.segments().len() != 1 {
-        on_beam.clear();
         on_beam.extend(placed(beam, loads, shift));
         return;
     }
-    on_beam.clear();
     for (&(x, normal), hint) in loads.iter().zip(hints.iter_mut()) {
         let x = x + shift;
         if (0.0..=beam.length).contains(&x) {

@@ -74,14 +74,14 @@ pub fn is_centre(local: &Vector2<f64>) -> bool {
 }
 
 /// The sines and cosines of the bodies' angles met in one pass over
-/// force elements or contacts of one configuration, each computed once: a
-/// vehicle's elements and followers share a few bodies, and a sine and
-/// cosine per attachment point was a fifth of a train's run.
-/// Direct-mapped on the body index in `SLOTS` slots, so no allocation:
-/// eight for a sweep over a vehicle's force elements; one for a pass over
-/// contacts, where a body's followers are neighbours and every slot costs
-/// its stores on every pass.
-pub struct Rotations<const SLOTS: usize = 8>([(usize, f64, f64); SLOTS]);
+/// contacts of one configuration, each computed once: a vehicle's
+/// followers share a few bodies, and a sine and cosine per attachment
+/// point was a fifth of a train's run (the force elements' sweeps keep
+/// theirs in their plan, `element_sweep`). Direct-mapped on the body index
+/// in `SLOTS` slots, so no allocation: one for a pass over contacts
+/// (`ContactRotations`), where a body's followers are neighbours and every
+/// slot costs its stores on every pass.
+pub struct Rotations<const SLOTS: usize>([(usize, f64, f64); SLOTS]);
 
 impl<const SLOTS: usize> Default for Rotations<SLOTS> {
     #[inline]

@@ -10,7 +10,7 @@
 
 use nalgebra::{Vector2, Vector3};
 
-use crate::body::{BodyState, Rotations};
+use crate::body::BodyState;
 pub use crate::vehicle::element_sweep::{
     add_element_forces, dissipation_power, spring_energy, ForceElements,
 };
@@ -77,17 +77,13 @@ impl ForceElement {
         (pa - pb).dot(&self.direction.unit())
     }
 
+    /// The element's forces on its bodies: the general formula, which
+    /// `element_sweep`'s plan follows bit for bit (and its tests check).
     pub fn forces(&self, bodies: &[BodyState]) -> ElementForces {
-        self.forces_with(bodies, &mut Rotations::default())
-    }
-
-    /// `forces`, with the bodies' rotations taken from (and kept in)
-    /// `rotations`, valid for these `bodies`.
-    pub fn forces_with(&self, bodies: &[BodyState], rotations: &mut Rotations) -> ElementForces {
         let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
         let d = self.direction.unit();
-        let ra = rotations.offset_of(self.body_a, a, &self.point_a);
-        let rb = rotations.offset_of(self.body_b, b, &self.point_b);
+        let ra = a.offset_of(&self.point_a);
+        let rb = b.offset_of(&self.point_b);
         let elongation = ((a.position + ra) - (b.position + rb)).dot(&d) - self.rest;
         let rate = (point_velocity(a, &ra) - point_velocity(b, &rb)).dot(&d);
         let magnitude = self.preload - self.stiffness * elongation - self.damping * rate;
@@ -103,15 +99,7 @@ impl ForceElement {
 
     /// Potential energy ½ k δ² − preload δ (J), zero in the rest configuration.
     pub fn potential_energy(&self, bodies: &[BodyState]) -> f64 {
-        self.potential_energy_with(bodies, &mut Rotations::default())
-    }
-
-    /// `potential_energy` with the rotations of `rotations` (see `forces_with`).
-    pub fn potential_energy_with(&self, bodies: &[BodyState], rotations: &mut Rotations) -> f64 {
-        let (a, b) = (&bodies[self.body_a], &bodies[self.body_b]);
-        let pa = a.position + rotations.offset_of(self.body_a, a, &self.point_a);
-        let pb = b.position + rotations.offset_of(self.body_b, b, &self.point_b);
-        let delta = (pa - pb).dot(&self.direction.unit()) - self.rest;
+        let delta = self.separation(&bodies[self.body_a], &bodies[self.body_b]) - self.rest;
         0.5 * self.stiffness * delta * delta - self.preload * delta
     }
 }
