@@ -228,3 +228,29 @@ def test_the_case_scenes_are_the_cases():
     assert sprung["body"]["suspension"]["unsprung_mass"] == 0.0
     assert opensees_bench.step_of("moving_force", 250) == pytest.approx(
         opensees_bench.passage(opensees_bench.CASES["moving_force"]) / 250)
+
+
+from peers import error_spectrum  # noqa: E402
+
+
+def test_error_spectrum_splits_the_modes_bands():
+    """A sum of sines at f1, 9 f1 and 30 f1 comes apart into the three
+    bands with each amplitude; f1 is the simply supported closed form."""
+    case = opensees_bench.CASES["sprung_mass"]
+    f1 = error_spectrum.first_frequency(case)
+    omega = (np.pi / case["length"]) ** 2 * np.sqrt(case["bending_stiffness"]
+                                                    / case["mass_per_length"])
+    assert f1 == pytest.approx(omega / (2 * np.pi), rel=1e-12)
+    times = np.arange(0, 2.0, 1e-4)
+    # Whole periods over the record, so the FFT sees no edge.
+    f1 = 1.0 / (times[-1] + 1e-4) * 30
+    signal = (3e-4 * np.sin(2 * np.pi * f1 * times) + 2e-4 * np.sin(2 * np.pi * 9 * f1 * times)
+              + 1e-4 * np.sin(2 * np.pi * 30 * f1 * times))
+    parts = error_spectrum.band_parts(times, signal, f1)
+    assert parts == pytest.approx([3e-4, 2e-4, 1e-4], rel=1e-6)
+
+
+def test_error_spectrum_table_names_every_run():
+    found = [("guideway", 8, 1e-3, 2e-3, [1e-3, 2e-4, 1e-4])]
+    text = error_spectrum.table(found, 15.3)
+    assert "| guideway | 8 | 0.001 | 2.00e-03 | 1.00e-03 | 2.00e-04 | 1.00e-04 |" in text

@@ -3,7 +3,7 @@
 
 use crate::common;
 use common::{paper_scene, run_to_exit};
-use guideway::scene::{BodyKind, IntegratorKind};
+use guideway::scene::{BodyKind, IntegratorKind, StructureKind};
 use guideway::simulation::EventKind;
 use guideway::Simulation;
 
@@ -17,6 +17,36 @@ fn rk4_beyond_its_stability_limit_is_refused_before_running() {
     assert!(message.contains("5.6"), "{message}");
     assert!(message.contains("0.0025"), "{message}");
     scene.solver.step = 5e-4;
+    assert!(Simulation::new(&scene).is_ok());
+}
+
+/// On a modal structure the limit is set by the highest mode kept, not
+/// by the mesh: the refusal says so, and its limit is 2√2 / ω₄ with ω₄
+/// the simply supported beam's closed form 16 (π/L)² √(EI/m).
+#[test]
+fn rk4_beyond_a_modal_structures_limit_names_the_modes_kept() {
+    let mut scene = paper_scene(BodyKind::Wheel, 10.0, 0.0025);
+    scene.beam.elements = 8;
+    scene.solver.structure = StructureKind::Modal;
+    scene.solver.modes = Some(4);
+    let beam = &scene.beam;
+    let omega1 = (std::f64::consts::PI / beam.length).powi(2)
+        * (beam.bending_stiffness / beam.mass_per_length).sqrt();
+    let closed = 2.0 * std::f64::consts::SQRT_2 / (16.0 * omega1);
+    scene.solver.step = 2.0 * closed;
+    let message = Simulation::new(&scene).err().expect("refused");
+    assert!(message.contains("the 4 modes kept"), "{message}");
+    assert!(message.contains("keep fewer modes"), "{message}");
+    assert!(!message.contains("fewer elements"), "{message}");
+    let limit: f64 = message
+        .split("must not exceed ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|number| number.parse().ok())
+        .expect("the message states the limit");
+    // Eight Hermite elements overestimate ω₄ by well under 1 %.
+    assert!((limit / closed - 1.0).abs() < 0.01, "{limit} vs {closed}");
+    scene.solver.step = 0.9 * limit;
     assert!(Simulation::new(&scene).is_ok());
 }
 

@@ -153,13 +153,27 @@ pub(super) fn build_within_limit<S: TimeIntegrator>(
 }
 
 fn beyond_limit(system: &System, step: f64, limit: f64, title: &str) -> String {
+    // What sets the highest frequency, and so what the user can change:
+    // the mesh's shortest element, or the highest mode a modal run keeps.
+    let (cause, remedy) = match system.beam.modal() {
+        Some(basis) => (
+            format!("the highest of the {} modes kept has a", basis.modes()),
+            "keep fewer modes (solver.modes, solver.max_frequency)",
+        ),
+        None => (
+            format!(
+                "elements of {:.4} m give the beam a highest",
+                system.beam.min_element_length()
+            ),
+            "use fewer elements",
+        ),
+    };
     format!(
         "solver.step = {step} s is beyond the stability limit of {title} \
-         for this mesh: elements of {:.4} m give the beam a highest frequency of \
+         for this mesh: {cause} frequency of \
          {:.1} rad/s (Rayleigh damping alpha = {:e}, beta = {:e}), so the step must \
          not exceed {limit:.3e} s; shorten solver.step, \
-         use fewer elements, or set solver.integrator = \"hht\" or \"auto\"",
-        system.beam.min_element_length(),
+         {remedy}, or set solver.integrator = \"hht\" or \"auto\"",
         system.beam.highest_frequency(),
         system.beam.damping().mass,
         system.beam.damping().stiffness,
