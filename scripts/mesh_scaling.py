@@ -145,6 +145,7 @@ def main():
         raise SystemExit(__doc__)
     case = cases[sys.argv[1]]
     if os.environ.get("WRITE"):
+        os.makedirs(os.environ["WRITE"], exist_ok=True)
         for size in sys.argv[2:]:
             path = os.path.join(os.environ["WRITE"], f"{sys.argv[1]}-{size}.toml")
             with open(path, "w") as f:
