@@ -503,9 +503,11 @@ pub fn foot_point_on(
     guess: f64,
 ) -> Result<ContactFrame, FootPointError> {
     let mut x = guess;
-    let mut element = beam.element_at(x);
+    let mut element = beam.element_of_guess(x);
     // The element's field, gathered again only when the search moves on.
     let mut field = (element, beam.element_field(element, u));
+    // Converged: the remaining correction is at round-off level.
+    let tolerance = 1e-14 * beam.length.max(1.0);
     for _ in 0..50 {
         let axis = beam.axis_of_field(element, x, &field.1);
         let [w, slope, curvature, third] = surface(axis, profile, x);
@@ -517,14 +519,20 @@ pub fn foot_point_on(
         if !(derivative.is_finite() && residual.is_finite()) || derivative.abs() < 1e-12 {
             return Err(FootPointError { last_x: x });
         }
-        let step = halley_step(residual, derivative, second);
+        let newton = -residual / derivative;
+        // The last iterate only confirms: Halley's step is at most twice
+        // Newton's (`halley_step`), so below half the tolerance the test
+        // below would pass; its correction and trust are not formed.
+        if newton.abs() <= 0.5 * tolerance {
+            return Ok(frame_on_beam(beam, element, x, [w, slope, curvature]));
+        }
+        let step = halley_step(newton, derivative, second);
         let trust = beam
             .element_length(element)
             .max(height.abs())
             .max((centre.x - x).abs());
         let dx = step.clamp(-trust, trust);
-        // Converged: the remaining correction is at round-off level.
-        if dx.abs() <= 1e-14 * beam.length.max(1.0) {
+        if dx.abs() <= tolerance {
             return Ok(frame_on_beam(beam, element, x, [w, slope, curvature]));
         }
         x += dx;
@@ -556,11 +564,12 @@ fn surface(axis: [f64; 4], profile: Option<&Profile>, x: f64) -> [f64; 4] {
     }
 }
 
-/// Newton's step on f with Halley's correction (cubic convergence: one
-/// iterate fewer from a warm start) where it is a small change of Newton's.
+/// Newton's step `newton` on f with Halley's correction (cubic
+/// convergence: one iterate fewer from a warm start) where it is a small
+/// change of Newton's: |ratio| < 1/2, so the step is at most twice
+/// Newton's.
 #[inline(always)]
-fn halley_step(residual: f64, derivative: f64, second: f64) -> f64 {
-    let newton = -residual / derivative;
+fn halley_step(newton: f64, derivative: f64, second: f64) -> f64 {
     let ratio = 0.5 * newton * second / derivative;
     if ratio.abs() < 0.5 {
         newton / (1.0 + ratio)

@@ -5,9 +5,14 @@
 //! A search from a converged foot point evaluates the axis there, finds a
 //! correction below the convergence threshold and returns that same frame,
 //! bit for bit: recalling it is exact. That holds on a track of one beam,
-//! for frames on it (a corner's or the ground's frame is not a converged
-//! search, and on several beams the element walk may end on another beam's
-//! end element), so only such frames are kept.
+//! for frames on it (on several beams the element walk may end on another
+//! beam's end element). Off the beam, a contact on the approach, the
+//! run-off or beyond the track has the frame of its centre alone (the
+//! ground, the profile or the beam's end corner), whatever the guess: it
+//! is kept too (most of a train's contacts are there). A contact on the
+//! beam's part with a frame off it (the start corner, taken where the
+//! search's foot point fell before the beam) is not: a search from the
+//! corner's abscissa may land on the beam.
 
 use nalgebra::{DVector, Vector2};
 
@@ -45,7 +50,7 @@ impl FrameMemo {
     ) {
         self.kept = u.len() <= MAX_COORDINATES
             && system.beam.segments().len() == 1
-            && frames.iter().all(|f| f.on_beam);
+            && (frames.iter().zip(parts)).all(|(f, &part)| f.on_beam || part != TrackPart::Beam);
         if !self.kept {
             return;
         }
@@ -129,6 +134,7 @@ impl FrameMemo {
 mod tests {
     use super::*;
     use crate::assemble::assemble;
+    use crate::structure::profile::IrregularitySpec;
 
     /// Two paper wheels on a four-element beam, and their frames searched
     /// from abscissae away from the foot points.
@@ -156,15 +162,72 @@ mod tests {
         let mut searched = Vec::new();
         super::super::contact_frames(&system, &u, &bodies, (&guesses, &parts), &mut searched)
             .unwrap();
-        for (a, b) in recalled.iter().zip(&searched) {
-            let fields = |f: &ContactFrame| {
-                let mut v = vec![f.x, f.deflection, f.slope, f.curvature, f.cos, f.sin];
-                v.extend(f.shape.n.iter().chain(&f.shape.dn).chain(&f.shape.ddn));
-                v.into_iter().map(f64::to_bits).collect::<Vec<_>>()
-            };
-            assert_eq!(fields(a), fields(b));
-            assert_eq!(a.shape.dofs, b.shape.dofs);
+        assert_eq!(fields_of(recalled), fields_of(&searched));
+    }
+
+    #[test]
+    fn frames_on_the_approach_and_the_run_off_are_recalled_as_searched() {
+        // Three paper wheels: on the approach, on the beam and on the
+        // run-off, on flat ground and on a track with an irregularity
+        // (where the frames off the beam are feet of searches on the
+        // profile).
+        for irregular in [false, true] {
+            let mut scene = crate::integrate::fixtures::two_paper_wheels();
+            scene.track.approach = 20.0;
+            scene.track.run_off = 20.0;
+            if irregular {
+                scene.track.irregularities = vec![IrregularitySpec::Sine {
+                    amplitude: 0.01,
+                    wavelength: 3.0,
+                    phase: 0.2,
+                }];
+            }
+            let mut third = scene.vehicles[0].clone();
+            third.name = "third".into();
+            scene.vehicles.push(third);
+            let assembly = assemble(&scene).unwrap();
+            let (system, mut bodies) = (assembly.system, assembly.bodies);
+            let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * (i as f64).sin());
+            let places = [-4.0, 9.3, system.beam.length + 0.1];
+            for (contact, x) in system.contacts.iter().zip(places) {
+                bodies[contact.body].position.x = x;
+            }
+            let mut frames = Vec::new();
+            super::super::contact_frames_at_bodies(&system, &u, &bodies, &mut frames).unwrap();
+            let parts: Vec<TrackPart> = places.iter().map(|&x| system.track_part(x)).collect();
+            assert_eq!(
+                parts,
+                [TrackPart::Approach, TrackPart::Beam, TrackPart::RunOff]
+            );
+            assert!(!frames[0].on_beam && frames[1].on_beam && !frames[2].on_beam);
+            let mut memo = FrameMemo::default();
+            memo.keep(&system, (&u, &bodies), &parts, &frames);
+            let guesses: Vec<f64> = frames.iter().map(|f| f.x).collect();
+            let recalled = memo.recall((&u, &bodies), (&guesses, &parts)).unwrap();
+            let mut searched = Vec::new();
+            let located = (guesses.as_slice(), parts.as_slice());
+            super::super::contact_frames(&system, &u, &bodies, located, &mut searched).unwrap();
+            assert_eq!(fields_of(recalled), fields_of(&searched), "{irregular}");
+            assert_eq!(fields_of(recalled), fields_of(&frames), "{irregular}");
         }
+    }
+
+    /// Every number and DOF of each frame, as bits.
+    fn fields_of(frames: &[ContactFrame]) -> Vec<Vec<u64>> {
+        let fields = |f: &ContactFrame| {
+            let mut v = vec![f.x, f.deflection, f.slope, f.curvature, f.cos, f.sin];
+            v.extend(f.shape.n.iter().chain(&f.shape.dn).chain(&f.shape.ddn));
+            let mut bits: Vec<u64> = v.into_iter().map(f64::to_bits).collect();
+            bits.extend(
+                f.shape
+                    .dofs
+                    .iter()
+                    .map(|d| d.map_or(u64::MAX, |i| i as u64)),
+            );
+            bits.push(f.on_beam as u64);
+            bits
+        };
+        frames.iter().map(fields).collect()
     }
 
     #[test]
@@ -196,7 +259,8 @@ mod tests {
         assert!(memo
             .recall((&u, &bodies), (&guesses, &other_parts))
             .is_none());
-        // A frame off the beam is never kept.
+        // A frame off the beam on the beam's part (the start corner) is
+        // never kept.
         let mut off = frames.clone();
         off[0].on_beam = false;
         memo.keep(&system, (&u, &bodies), &parts, &off);

@@ -508,6 +508,23 @@ impl HermiteBeam {
             .min(last)
     }
 
+    /// `element_at`, found on a track of one beam from the element `x`
+    /// would be in on a uniform mesh: a walk of an element or two where
+    /// `element_at` bisects the mesh (the foot-point search starts here at
+    /// every call). On several beams, or at a NaN or infinite `x`,
+    /// `element_at` itself.
+    #[inline]
+    pub fn element_of_guess(&self, x: f64) -> usize {
+        if self.segments.len() != 1 || !x.is_finite() {
+            return self.element_at(x);
+        }
+        let first = self.node_x[0];
+        let span = self.node_x[self.node_x.len() - 1] - first;
+        // Saturating: before the beam 0, past it the last element.
+        let uniform = ((x - first) / span * self.elements() as f64) as usize;
+        self.element_near(x, uniform)
+    }
+
     /// The element whose span holds `x`, searched from element `hint`
     /// outwards within the hint's beam: a walk of a few elements when `x`
     /// is near, bisection when it is far. Same answer as `element_at` on a
@@ -558,6 +575,7 @@ impl HermiteBeam {
     /// Where `x` lies past an end of the element's beam, the end element's abscissa
     /// of that end (0 or 1) and the distance past it (m); otherwise `x`'s
     /// own abscissa and 0.
+    #[inline]
     fn abscissa(&self, element: usize, x: f64) -> (f64, f64) {
         let len = self.element_length[element];
         let s = (x - self.node_x[element]) / len;
@@ -621,6 +639,7 @@ impl HermiteBeam {
     /// `axis` from the element's field `element_field(element, u)`: the
     /// foot-point search gathers it once per element, not at each iterate
     /// (on a modal structure a gather is a product with the kept modes).
+    #[inline]
     pub fn axis_of_field(&self, element: usize, x: f64, field: &[f64; 4]) -> [f64; 4] {
         let len = self.element_length[element];
         let (s, past) = self.abscissa(element, x);
@@ -1064,6 +1083,35 @@ mod tests {
             "{found:?} {expected:?}"
         );
         assert!((found.stiffness / expected.stiffness - 1.0).abs() < 1e-6);
+    }
+
+    #[test]
+    fn element_of_guess_is_element_at() {
+        // Uniform meshes and one with nodes at intermediate supports (not
+        // uniform), at abscissae along and past the beam, at every node and
+        // just before it, and at the non-finite ones.
+        let mut continuous = paper_beam(13);
+        continuous.supports.intermediate = vec![3.7, 15.0];
+        for spec in [paper_beam(1), paper_beam(7), paper_beam(199), continuous] {
+            let beam = Beam::new(&spec).unwrap();
+            let length = beam.length;
+            let mut xs: Vec<f64> = (0..=4000)
+                .map(|i| length * (-0.2 + 1.4 * i as f64 / 4000.0))
+                .collect();
+            for &node in &beam.node_x {
+                xs.push(node);
+                xs.push(if node > 0.0 {
+                    f64::from_bits(node.to_bits() - 1)
+                } else {
+                    -f64::MIN_POSITIVE
+                });
+            }
+            xs.extend([f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY]);
+            xs.extend([-0.0, 1e300, -1e300]);
+            for x in xs {
+                assert_eq!(beam.element_of_guess(x), beam.element_at(x), "{x}");
+            }
+        }
     }
 
     /// Dense copies of mass and stiffness.
