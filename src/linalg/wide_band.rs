@@ -247,9 +247,9 @@ fn runs_of(first: &[usize]) -> Vec<Run> {
     runs
 }
 
-/// Row i of `WideBand::mul_to` (`row` its stored entries, the diagonal
-/// last; `width` its profile's, `P` unless `WIDER`): writes out[i] and
-/// adds the row's mirror terms to out[i − width..i].
+/// Row i of `WideBand::mul_to` (`row` its profile's `width` entries and
+/// the diagonal; `P` = `width` unless `WIDER`): writes out[i] and adds
+/// the row's mirror terms to out[i − width..i].
 #[inline(always)]
 fn product_row<const P: usize>(
     row: &[f64],
@@ -257,9 +257,12 @@ fn product_row<const P: usize>(
     x: &[f64],
     out: &mut [f64],
 ) {
-    let (left, diagonal) = row.split_at(row.len() - 1);
-    let left = (&left[left.len() - width..], diagonal[0]);
-    let sum = row_times::<P>(left, (x[i], &x[i - width..i]), &mut out[i - width..i]);
+    let (left, diagonal) = row.split_at(width);
+    let sum = row_times::<P>(
+        (left, diagonal[0]),
+        (x[i], &x[i - width..i]),
+        &mut out[i - width..i],
+    );
     // 0 + sum: the bits of the sum onto a zeroed vector (see `mul_to`).
     out[i] = 0.0 + sum;
 }
@@ -273,30 +276,57 @@ fn quadratic_row<const P: usize>(
     x: &[f64],
     total: &mut f64,
 ) {
-    let (left, diagonal) = row.split_at(row.len() - 1);
-    let off = dot_of::<P>(&left[left.len() - width..], &x[i - width..i]);
+    let (left, diagonal) = row.split_at(width);
+    let off = dot_of::<P>(left, &x[i - width..i]);
     *total += x[i] * (diagonal[0] * x[i] + 2.0 * off);
 }
 
-/// Row i of L z = x in place (`row` L's stored row, its profile the last
-/// `width` entries).
+/// Row i of L z = x in place (`row` L's row over its profile, `width`
+/// entries).
 #[inline(always)]
 fn forward_row<const P: usize>(row: &[f64], (i, width): (usize, usize), x: &mut [f64]) {
     let (before, rest) = x.split_at_mut(i);
-    rest[0] -= dot_of::<P>(&row[row.len() - width..], &before[i - width..]);
+    rest[0] -= dot_of::<P>(row, &before[i - width..]);
 }
 
 /// Row i of Lᵀ x = y in place: the final xᵢ subtracted from those above.
 #[inline(always)]
 fn backward_row<const P: usize>(row: &[f64], (i, width): (usize, usize), x: &mut [f64]) {
     let (before, rest) = x.split_at_mut(i);
-    subtract::<P>(&row[row.len() - width..], rest[0], &mut before[i - width..]);
+    subtract::<P>(row, rest[0], &mut before[i - width..]);
 }
 
-/// Runs `$row::<P>` (a row kernel above, with its further arguments) over
-/// the rows of `$run` in `$band` (the rows' entries, `stride` a row, and
-/// the profile's first columns): a pattern's run period by period, the
-/// period's rows written out (up to `LONGEST_PATTERN`) with their widths
+/// How far before its period's first row a pattern's rows reach: the
+/// most of `width − r` over its rows r.
+const fn reach(pattern: &[usize]) -> usize {
+    let (mut r, mut most) = (0, 0);
+    while r < pattern.len() {
+        if pattern[r] > r && pattern[r] - r > most {
+            most = pattern[r] - r;
+        }
+        r += 1;
+    }
+    most
+}
+
+/// `reach` of each of `PATTERNS`.
+const REACHES: [usize; PATTERNS.len()] = {
+    let mut reaches = [0; PATTERNS.len()];
+    let mut k = 0;
+    while k < PATTERNS.len() {
+        reaches[k] = reach(PATTERNS[k]);
+        k += 1;
+    }
+    reaches
+};
+
+/// Runs `$row::<P>` (a row kernel above) over the rows of `$run` in
+/// `$band` (the rows' entries, `stride` a row of which `tail` after the
+/// profile, and the profile's first columns), its arguments `[read]`,
+/// `[written]` vectors then others: a pattern's run period by period, the
+/// vectors cut once a period to the window its rows read (`REACHES`
+/// before it, so that every index within is a constant), the period's
+/// rows written out (up to `LONGEST_PATTERN`) with their widths
 /// constants, so that each row is its unrolled terms; rows one by one
 /// with their widths from the profile. `rev` runs the rows backward.
 macro_rules! over_run {
@@ -306,28 +336,38 @@ macro_rules! over_run {
     ($run:expr, $band:expr, $row:ident $args:tt, rev) => {
         over_run!(@rows $run, $band, $row $args, [4 3 2 1 0], rev)
     };
-    (@call $P:ident, $row:ident, ($($at:expr),*), ($($arg:expr),*)) => {
-        $row::<$P>($($at),*, $($arg),*)
+    (@window ($start:expr, $len:expr), ([$($read:ident),*], [$($write:ident),*] $(, $arg:expr)*)) => {
+        $(let $read = &$read[$start..][..$len];)*
+        $(let $write = &mut $write[$start..][..$len];)*
+    };
+    (@call $P:ident, $row:ident, ($($at:expr),*),
+        ([$($read:ident),*], [$($write:ident),*] $(, $arg:expr)*)) => {
+        $row::<$P>($($at,)* $($read,)* $($write,)* $($arg),*)
     };
     (@rows $run:expr, $band:expr, $row:ident $args:tt, [$($r:literal)*], $($rev:ident)?) => {{
-        let (run, (rows, stride, first)): (Run, (&[f64], usize, &[usize])) = ($run, $band);
+        let (run, (rows, stride, tail, first)): (Run, (&[f64], usize, usize, &[usize])) =
+            ($run, $band);
         match run.pattern {
             Some(k) => by_pattern!(k, K => {
-                let pattern = PATTERNS[K];
+                let (pattern, reach) = (PATTERNS[K], REACHES[K]);
                 let periods = rows[run.start * stride..run.end * stride]
                     .chunks_exact(pattern.len() * stride)
                     .enumerate();
                 for (period, rows) in periods $(.$rev())? {
+                    // Every row's width is at most its index: i ≥ reach.
                     let i = run.start + period * pattern.len();
+                    over_run!(@window (i - reach, reach + pattern.len()), $args);
                     $(if $r < pattern.len() {
-                        let (row, width) = (&rows[$r * stride..($r + 1) * stride], pattern[$r]);
-                        by_width!(width, P => over_run!(@call P, $row, (row, (i + $r, width)), $args));
+                        let width = pattern[$r];
+                        let row = &rows[($r + 1) * stride - tail - width..($r + 1) * stride];
+                        by_width!(width, P => over_run!(@call P, $row, (row, (reach + $r, width)), $args));
                     })*
                 }
             }),
             None => {
                 for i in (run.start..run.end) $(.$rev())? {
-                    let (row, width) = (&rows[i * stride..(i + 1) * stride], i - first[i]);
+                    let width = i - first[i];
+                    let row = &rows[(i + 1) * stride - tail - width..(i + 1) * stride];
                     by_width!(width, P => over_run!(@call P, $row, (row, (i, width)), $args));
                 }
             }
@@ -424,9 +464,9 @@ impl WideBand {
         // Row i adds its mirror terms to out[first..i] only: out[i] is
         // first written at row i, as 0 + sum (the bits of the sum onto a
         // zeroed vector, −0 included), so the vector needs no zeroing.
-        let bands = (&self.rows[..], self.half_bandwidth + 1, &self.first[..]);
+        let bands = (&self.rows[..], self.half_bandwidth + 1, 1, &self.first[..]);
         for &run in self.runs() {
-            over_run!(run, bands, product_row(x, out));
+            over_run!(run, bands, product_row([x], [out]));
         }
     }
 
@@ -437,9 +477,9 @@ impl WideBand {
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
         assert!(x.len() == self.size());
         let mut total = 0.0;
-        let bands = (&self.rows[..], self.half_bandwidth + 1, &self.first[..]);
+        let bands = (&self.rows[..], self.half_bandwidth + 1, 1, &self.first[..]);
         for &run in self.runs() {
-            over_run!(run, bands, quadratic_row(x, &mut total));
+            over_run!(run, bands, quadratic_row([x], [], &mut total));
         }
         total
     }
@@ -513,10 +553,10 @@ impl WideLdlt {
         let b = self.half_bandwidth;
         // Without a band every row's profile is empty: L is the identity
         // (and rows of no entries cannot be cut into chunks).
-        let lower = (&self.lower[..], b, &self.first[..]);
+        let lower = (&self.lower[..], b, 0, &self.first[..]);
         if b > 0 {
             for &run in &self.runs {
-                over_run!(run, lower, forward_row(x));
+                over_run!(run, lower, forward_row([], [x]));
             }
         }
         for (xi, d) in x.iter_mut().zip(&self.pivot) {
@@ -524,7 +564,7 @@ impl WideLdlt {
         }
         if b > 0 {
             for &run in self.runs.iter().rev() {
-                over_run!(run, lower, backward_row(x), rev);
+                over_run!(run, lower, backward_row([], [x]), rev);
             }
         }
     }
