@@ -15,6 +15,14 @@
 //! it. The factor's fill stays inside the profile, and the skipped terms
 //! are exact zeros added at the start of each sum, so the results are the
 //! full band's to the bit.
+//!
+//! The rows are also cut once into runs that repeat one pattern of
+//! profile widths (a rail's w and ψ: two, three, two, three…): each run
+//! goes period by period with its widths compiled in, without a look-up,
+//! a dispatch or a loop set-up by row, the same operations in the same
+//! order as row by row (the rows no pattern covers still go one by one).
+
+use std::sync::OnceLock;
 
 /// Runs `$body` with the constant `$P` equal to the profile width `$width`
 /// (0 to 8: a rail's rows couple two or three places, the deck's up to
@@ -134,9 +142,242 @@ fn row_times<const P: usize>(
     sum
 }
 
+/// The patterns of profile widths a run of rows repeats, each with its
+/// kernels: a rail alone (w, ψ at each node), a rail on sleepers, a rail
+/// and a deck interleaved on a layer, the same on sleepers (the track
+/// assembly's numbering, `rail_on_deck::number_dofs`), and bands of one
+/// width (0 to 8). Rows that follow none (the ends, the joins) go one by
+/// one through `by_width`.
+const PATTERNS: [&[usize]; 13] = [
+    &[2, 3],
+    &[2, 3, 4],
+    &[4, 5, 6, 7],
+    &[6, 2, 5, 6, 5],
+    &[0],
+    &[1],
+    &[2],
+    &[3],
+    &[4],
+    &[5],
+    &[6],
+    &[7],
+    &[8],
+];
+
+/// The longest period of `PATTERNS`: `over_run` writes out that many rows.
+const LONGEST_PATTERN: usize = 5;
+const _: () = {
+    let mut k = 0;
+    while k < PATTERNS.len() {
+        assert!(!PATTERNS[k].is_empty() && PATTERNS[k].len() <= LONGEST_PATTERN);
+        k += 1;
+    }
+};
+
+/// Runs `$body` with the constant `$K` equal to the pattern index
+/// `$index`: each pattern's kernels are compiled for its widths, so that a
+/// run of rows has no dispatch, profile look-up or loop set-up by row.
+macro_rules! by_pattern {
+    ($index:expr, $K:ident => $body:expr) => {
+        by_pattern!(@arms $index, $K, $body, 0 1 2 3 4 5 6 7 8 9 10 11 12)
+    };
+    (@arms $index:expr, $K:ident, $body:expr, $($k:literal)*) => {
+        match $index {
+            $($k => {
+                const $K: usize = $k;
+                $body
+            })*
+            _ => unreachable!("a run's pattern is an index of PATTERNS"),
+        }
+    };
+}
+
+/// Rows `start..end` of a band: with `pattern` Some(k), the profile widths
+/// `PATTERNS[k]` repeated a whole number of times from `start`; with None,
+/// rows of any widths, taken one by one.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Run {
+    start: usize,
+    end: usize,
+    pattern: Option<usize>,
+}
+
+/// How many rows from `start` repeat `pattern` a whole number of times
+/// (each row's profile width `widths(i)`, `n` rows in all).
+fn rows_repeating(
+    pattern: &[usize],
+    start: usize,
+    n: usize,
+    width: &dyn Fn(usize) -> usize,
+) -> usize {
+    let matching = (start..n)
+        .zip(pattern.iter().cycle())
+        .take_while(|&(i, &w)| width(i) == w)
+        .count();
+    matching - matching % pattern.len()
+}
+
+/// The rows of a profile (`first[i]` the first column of row i) cut into
+/// runs: from each row the pattern covering the most rows, at least two
+/// of its periods, or the row alone, joined to the rows one by one before
+/// it.
+fn runs_of(first: &[usize]) -> Vec<Run> {
+    let (n, width) = (first.len(), |i: usize| i - first[i]);
+    let mut runs: Vec<Run> = Vec::new();
+    let mut start = 0;
+    while start < n {
+        let best = (PATTERNS.iter().enumerate())
+            .map(|(k, p)| (rows_repeating(p, start, n, &width), k))
+            .filter(|&(rows, k)| rows >= 2 * PATTERNS[k].len())
+            .max_by_key(|&(rows, k)| (rows, std::cmp::Reverse(k)));
+        let (end, pattern) = match best {
+            Some((rows, k)) => (start + rows, Some(k)),
+            None => (start + 1, None),
+        };
+        match runs.last_mut() {
+            Some(last) if last.pattern.is_none() && pattern.is_none() => last.end = end,
+            _ => runs.push(Run {
+                start,
+                end,
+                pattern,
+            }),
+        }
+        start = end;
+    }
+    runs
+}
+
+/// Row i of `WideBand::mul_to` (`row` its profile's `width` entries and
+/// the diagonal; `P` = `width` unless `WIDER`): writes out[i] and adds
+/// the row's mirror terms to out[i − width..i].
+#[inline(always)]
+fn product_row<const P: usize>(
+    row: &[f64],
+    (i, width): (usize, usize),
+    x: &[f64],
+    out: &mut [f64],
+) {
+    let (left, diagonal) = row.split_at(width);
+    let sum = row_times::<P>(
+        (left, diagonal[0]),
+        (x[i], &x[i - width..i]),
+        &mut out[i - width..i],
+    );
+    // 0 + sum: the bits of the sum onto a zeroed vector (see `mul_to`).
+    out[i] = 0.0 + sum;
+}
+
+/// Adds row i's term of `WideBand::quadratic_form` to `total`:
+/// xᵢ (Aᵢᵢ xᵢ + 2 Σ_{j<i} Aᵢⱼ xⱼ).
+#[inline(always)]
+fn quadratic_row<const P: usize>(
+    row: &[f64],
+    (i, width): (usize, usize),
+    x: &[f64],
+    total: &mut f64,
+) {
+    let (left, diagonal) = row.split_at(width);
+    let off = dot_of::<P>(left, &x[i - width..i]);
+    *total += x[i] * (diagonal[0] * x[i] + 2.0 * off);
+}
+
+/// Row i of L z = x in place (`row` L's row over its profile, `width`
+/// entries).
+#[inline(always)]
+fn forward_row<const P: usize>(row: &[f64], (i, width): (usize, usize), x: &mut [f64]) {
+    let (before, rest) = x.split_at_mut(i);
+    rest[0] -= dot_of::<P>(row, &before[i - width..]);
+}
+
+/// Row i of Lᵀ x = y in place: the final xᵢ subtracted from those above.
+#[inline(always)]
+fn backward_row<const P: usize>(row: &[f64], (i, width): (usize, usize), x: &mut [f64]) {
+    let (before, rest) = x.split_at_mut(i);
+    subtract::<P>(row, rest[0], &mut before[i - width..]);
+}
+
+/// How far before its period's first row a pattern's rows reach: the
+/// most of `width − r` over its rows r.
+const fn reach(pattern: &[usize]) -> usize {
+    let (mut r, mut most) = (0, 0);
+    while r < pattern.len() {
+        if pattern[r] > r && pattern[r] - r > most {
+            most = pattern[r] - r;
+        }
+        r += 1;
+    }
+    most
+}
+
+/// `reach` of each of `PATTERNS`.
+const REACHES: [usize; PATTERNS.len()] = {
+    let mut reaches = [0; PATTERNS.len()];
+    let mut k = 0;
+    while k < PATTERNS.len() {
+        reaches[k] = reach(PATTERNS[k]);
+        k += 1;
+    }
+    reaches
+};
+
+/// Runs `$row::<P>` (a row kernel above) over the rows of `$run` in
+/// `$band` (the rows' entries, `stride` a row of which `tail` after the
+/// profile, and the profile's first columns), its arguments `[read]`,
+/// `[written]` vectors then others: a pattern's run period by period, the
+/// vectors cut once a period to the window its rows read (`REACHES`
+/// before it, so that every index within is a constant), the period's
+/// rows written out (up to `LONGEST_PATTERN`) with their widths
+/// constants, so that each row is its unrolled terms; rows one by one
+/// with their widths from the profile. `rev` runs the rows backward.
+macro_rules! over_run {
+    ($run:expr, $band:expr, $row:ident $args:tt) => {
+        over_run!(@rows $run, $band, $row $args, [0 1 2 3 4], )
+    };
+    ($run:expr, $band:expr, $row:ident $args:tt, rev) => {
+        over_run!(@rows $run, $band, $row $args, [4 3 2 1 0], rev)
+    };
+    (@window ($start:expr, $len:expr), ([$($read:ident),*], [$($write:ident),*] $(, $arg:expr)*)) => {
+        $(let $read = &$read[$start..][..$len];)*
+        $(let $write = &mut $write[$start..][..$len];)*
+    };
+    (@call $P:ident, $row:ident, ($($at:expr),*),
+        ([$($read:ident),*], [$($write:ident),*] $(, $arg:expr)*)) => {
+        $row::<$P>($($at,)* $($read,)* $($write,)* $($arg),*)
+    };
+    (@rows $run:expr, $band:expr, $row:ident $args:tt, [$($r:literal)*], $($rev:ident)?) => {{
+        let (run, (rows, stride, tail, first)): (Run, (&[f64], usize, usize, &[usize])) =
+            ($run, $band);
+        match run.pattern {
+            Some(k) => by_pattern!(k, K => {
+                let (pattern, reach) = (PATTERNS[K], REACHES[K]);
+                let periods = rows[run.start * stride..run.end * stride]
+                    .chunks_exact(pattern.len() * stride)
+                    .enumerate();
+                for (period, rows) in periods $(.$rev())? {
+                    // Every row's width is at most its index: i ≥ reach.
+                    let i = run.start + period * pattern.len();
+                    over_run!(@window (i - reach, reach + pattern.len()), $args);
+                    $(if $r < pattern.len() {
+                        let width = pattern[$r];
+                        let row = &rows[($r + 1) * stride - tail - width..($r + 1) * stride];
+                        by_width!(width, P => over_run!(@call P, $row, (row, (reach + $r, width)), $args));
+                    })*
+                }
+            }),
+            None => {
+                for i in (run.start..run.end) $(.$rev())? {
+                    let width = i - first[i];
+                    let row = &rows[(i + 1) * stride - tail - width..(i + 1) * stride];
+                    by_width!(width, P => over_run!(@call P, $row, (row, (i, width)), $args));
+                }
+            }
+        }
+    }};
+}
+
 /// A symmetric matrix stored by rows of its lower band: row i holds
 /// A(i, i − b), …, A(i, i) (entries before the first column are zero).
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct WideBand {
     half_bandwidth: usize,
     /// Row-major, `half_bandwidth + 1` entries per row, the diagonal last.
@@ -144,6 +385,17 @@ pub struct WideBand {
     /// Per row, the first column any entry was added at (the row's own
     /// index where none was): every entry before it is zero.
     first: Vec<usize>,
+    /// The rows' runs (`runs_of(first)`), cut at the first product after
+    /// the profile last changed.
+    runs: OnceLock<Vec<Run>>,
+}
+
+/// Equal entries and profiles (the runs follow from the profile).
+impl PartialEq for WideBand {
+    fn eq(&self, other: &WideBand) -> bool {
+        (self.half_bandwidth, &self.rows, &self.first)
+            == (other.half_bandwidth, &other.rows, &other.first)
+    }
 }
 
 impl WideBand {
@@ -153,6 +405,7 @@ impl WideBand {
             half_bandwidth,
             rows: vec![0.0; n * (half_bandwidth + 1)],
             first: (0..n).collect(),
+            runs: OnceLock::new(),
         }
     }
 
@@ -169,6 +422,10 @@ impl WideBand {
         row * (self.half_bandwidth + 1) + self.half_bandwidth - (row - col)
     }
 
+    fn runs(&self) -> &[Run] {
+        self.runs.get_or_init(|| runs_of(&self.first))
+    }
+
     /// Add `value` at (i, j) and, when i ≠ j, at (j, i); an entry outside
     /// the band or the matrix is refused, naming it.
     pub fn add_symmetric(&mut self, i: usize, j: usize, value: f64) -> Result<(), String> {
@@ -182,7 +439,10 @@ impl WideBand {
         }
         let at = self.index(row, col);
         self.rows[at] += value;
-        self.first[row] = self.first[row].min(col);
+        if col < self.first[row] {
+            self.first[row] = col;
+            self.runs.take();
+        }
         Ok(())
     }
 
@@ -198,21 +458,15 @@ impl WideBand {
 
     /// `out = A x`: each stored entry of the row's profile once, for its
     /// own row and its mirror (the product is most of a rail-over-deck
-    /// step), on slices so that the loop has no index checks.
+    /// step), run by run.
     pub fn mul_to(&self, x: &[f64], out: &mut [f64]) {
-        let (n, b) = (self.size(), self.half_bandwidth);
-        assert!(x.len() == n && out.len() == n);
+        assert!(x.len() == self.size() && out.len() == self.size());
         // Row i adds its mirror terms to out[first..i] only: out[i] is
         // first written at row i, as 0 + sum (the bits of the sum onto a
         // zeroed vector, −0 included), so the vector needs no zeroing.
-        // By index: the rows' chunks zipped with the profile compiled to
-        // an iterator that went through the stack at every row.
-        for (i, &first) in self.first.iter().enumerate().take(n) {
-            let (width, diagonal) = (i - first, i * (b + 1) + b);
-            let row = (&self.rows[diagonal - width..diagonal], self.rows[diagonal]);
-            let (before, mirror) = (&x[first..i], &mut out[first..i]);
-            let sum = by_width!(width, P => row_times::<P>(row, (x[i], before), mirror));
-            out[i] = 0.0 + sum;
+        let bands = (&self.rows[..], self.half_bandwidth + 1, 1, &self.first[..]);
+        for &run in self.runs() {
+            over_run!(run, bands, product_row([x], [out]));
         }
     }
 
@@ -221,14 +475,11 @@ impl WideBand {
     /// (the rail's kinetic energy at every output row). Its rounding is
     /// not `mul_to`'s and a dot's: a quadratic form's, to ε ‖A‖ ‖x‖².
     pub fn quadratic_form(&self, x: &[f64]) -> f64 {
-        let (n, b) = (self.size(), self.half_bandwidth);
-        assert!(x.len() == n);
+        assert!(x.len() == self.size());
         let mut total = 0.0;
-        for (i, &first) in self.first.iter().enumerate().take(n) {
-            let (width, diagonal) = (i - first, i * (b + 1) + b);
-            let (left, before) = (&self.rows[diagonal - width..diagonal], &x[first..i]);
-            let off = by_width!(width, P => dot_of::<P>(left, before));
-            total += x[i] * (self.rows[diagonal] * x[i] + 2.0 * off);
+        let bands = (&self.rows[..], self.half_bandwidth + 1, 1, &self.first[..]);
+        for &run in self.runs() {
+            over_run!(run, bands, quadratic_row([x], [], &mut total));
         }
         total
     }
@@ -243,6 +494,7 @@ impl WideBand {
             lower: vec![0.0; n * b],
             pivot: vec![0.0; n],
             first: self.first.clone(),
+            runs: self.runs().to_vec(),
         };
         for i in 0..n {
             let first = self.first[i];
@@ -278,6 +530,8 @@ pub struct WideLdlt {
     pivot: Vec<f64>,
     /// A's profile, which is L's: row i is zero before column `first[i]`.
     first: Vec<usize>,
+    /// A's runs of rows, which are L's.
+    runs: Vec<Run>,
 }
 
 impl WideLdlt {
@@ -291,29 +545,27 @@ impl WideLdlt {
         self.lower[i * b + b - (i - m)]
     }
 
-    /// Row i of L within its profile: L(i, first[i]), …, L(i, i − 1).
-    fn profile_row(&self, i: usize) -> &[f64] {
-        let b = self.half_bandwidth;
-        &self.lower[i * b + b - (i - self.first[i])..(i + 1) * b]
-    }
-
     /// `x ← A⁻¹ x`: L z = x, D y = z, Lᵀ x = y; Lᵀ by rows of L, each
     /// final entry of x subtracted from those above it; each row over its
-    /// profile only.
+    /// profile only, run by run.
     pub fn solve_in_place(&self, x: &mut [f64]) {
         assert_eq!(x.len(), self.size());
-        for (i, &first) in self.first.iter().enumerate() {
-            let (before, rest) = x.split_at_mut(i);
-            let row = self.profile_row(i);
-            rest[0] -= by_width!(i - first, P => dot_of::<P>(row, &before[first..]));
+        let b = self.half_bandwidth;
+        // Without a band every row's profile is empty: L is the identity
+        // (and rows of no entries cannot be cut into chunks).
+        let lower = (&self.lower[..], b, 0, &self.first[..]);
+        if b > 0 {
+            for &run in &self.runs {
+                over_run!(run, lower, forward_row([], [x]));
+            }
         }
         for (xi, d) in x.iter_mut().zip(&self.pivot) {
             *xi /= d;
         }
-        for (i, &first) in self.first.iter().enumerate().rev() {
-            let (before, rest) = x.split_at_mut(i);
-            let row = self.profile_row(i);
-            by_width!(i - first, P => subtract::<P>(row, rest[0], &mut before[first..]));
+        if b > 0 {
+            for &run in self.runs.iter().rev() {
+                over_run!(run, lower, backward_row([], [x]), rev);
+            }
         }
     }
 }
@@ -479,6 +731,125 @@ mod tests {
         let negative = vec![-0.0; n];
         a.mul_to(&negative, &mut fast);
         assert!(fast.iter().all(|x| x.to_bits() == 0), "{fast:?}");
+        let mut solved = x.clone();
+        a.ldlt().expect("spd").solve_in_place(&mut solved);
+        assert_eq!(bits(&solved), bits(&solution));
+        let dense_solution = dense(&a)
+            .cholesky()
+            .expect("spd")
+            .solve(&DVector::from_vec(x));
+        let error = (DVector::from_vec(solved) - &dense_solution).amax();
+        assert!(error < 1e-12 * dense_solution.amax(), "error {error:e}");
+    }
+
+    /// Rows of the given profile widths, half-bandwidth 10: a rail's
+    /// pattern, a rail and deck's, a rail on sleepers', one on sleepers
+    /// and a deck's, a band of one width, rows wider than `by_width`'s
+    /// fixed ones and rows between patterns; every entry of each profile
+    /// non-zero, diagonally dominant.
+    fn band_of_patterns() -> WideBand {
+        let repeat = |pattern: &[usize], times: usize| pattern.repeat(times);
+        let widths: Vec<usize> = [
+            vec![0, 1, 2, 3],
+            repeat(&[2, 3], 6),
+            repeat(&[4, 5, 6, 7], 3),
+            vec![3, 4],
+            repeat(&[2, 3, 4], 5),
+            vec![0, 4, 5],
+            repeat(&[6, 2, 5, 6, 5], 4),
+            vec![5],
+            repeat(&[7], 4),
+            vec![10, 9, 10, 1, 1],
+            repeat(&[2, 3], 3),
+            vec![2],
+        ]
+        .concat();
+        let mut a = WideBand::zeros(widths.len(), 10);
+        for (i, &width) in widths.iter().enumerate() {
+            for j in i - width..i {
+                let value = ((i * 7 + j * 3) % 13) as f64 * 0.1 - 0.65;
+                a.add_symmetric(i, j, if value == 0.0 { 0.05 } else { value })
+                    .expect("in band");
+            }
+        }
+        for i in 0..widths.len() {
+            a.add_symmetric(i, i, 25.0 + (i % 3) as f64)
+                .expect("diagonal");
+        }
+        a
+    }
+
+    /// `a` with its rows in one run taken one by one (the kernels as they
+    /// were before the runs).
+    fn row_by_row(a: &WideBand) -> WideBand {
+        let mut by_rows = a.clone();
+        let all = Run {
+            start: 0,
+            end: a.size(),
+            pattern: None,
+        };
+        by_rows.runs = OnceLock::from(vec![all]);
+        by_rows
+    }
+
+    #[test]
+    fn the_runs_cover_every_row_once_each_repeating_its_pattern_whole() {
+        let a = band_of_patterns();
+        let runs = a.runs();
+        assert_eq!((runs[0].start, runs[runs.len() - 1].end), (0, a.size()));
+        for (run, next) in runs.iter().zip(&runs[1..]) {
+            assert_eq!(run.end, next.start, "{runs:?}");
+        }
+        for run in runs {
+            let Some(k) = run.pattern else { continue };
+            let pattern = PATTERNS[k];
+            assert_eq!((run.end - run.start) % pattern.len(), 0, "{run:?}");
+            for (i, &width) in (run.start..run.end).zip(pattern.iter().cycle()) {
+                assert_eq!(i - a.first[i], width, "row {i} of {run:?}");
+            }
+        }
+        let used = |k: usize| runs.iter().any(|run| run.pattern == Some(k));
+        assert!((0..4).all(used) && used(11), "{runs:?}");
+        assert!(runs.iter().any(|run| run.pattern.is_none()));
+        // A new entry before a row's profile cuts the runs again.
+        let mut b = a.clone();
+        b.add_symmetric(7, 2, 0.5).expect("in band");
+        assert!(b
+            .runs()
+            .iter()
+            .any(|run| run.pattern.is_none() && run.start <= 7 && 7 < run.end));
+    }
+
+    #[test]
+    fn run_by_run_the_kernels_are_row_by_rows_and_the_full_bands_to_the_bit() {
+        let a = band_of_patterns();
+        let n = a.size();
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        // Signed zeros and a tiny entry among the values: the runs make
+        // the same operations in the same order as the rows one by one.
+        let signed = |i: usize| match i % 9 {
+            0 => -0.0,
+            4 => 0.0,
+            7 => -1e-310,
+            _ => ((i * 7) % 11) as f64 * 0.37 - 1.9,
+        };
+        let x: Vec<f64> = (0..n).map(signed).collect();
+        let (fast, slow) = (a.clone(), row_by_row(&a));
+        let (mut by_runs, mut by_rows) = (vec![f64::NAN; n], vec![f64::NAN; n]);
+        fast.mul_to(&x, &mut by_runs);
+        slow.mul_to(&x, &mut by_rows);
+        assert_eq!(bits(&by_runs), bits(&by_rows));
+        let forms = [fast.quadratic_form(&x), slow.quadratic_form(&x)];
+        assert_eq!(forms[0].to_bits(), forms[1].to_bits());
+        let (mut by_runs, mut by_rows) = (x.clone(), x.clone());
+        fast.ldlt().expect("spd").solve_in_place(&mut by_runs);
+        slow.ldlt().expect("spd").solve_in_place(&mut by_rows);
+        assert_eq!(bits(&by_runs), bits(&by_rows));
+        // Without signed zeros, the full band's bits too.
+        let x: Vec<f64> = (0..n).map(|i| ((i * 7) % 11) as f64 * 0.37 - 1.9).collect();
+        let (product, solution) = full_band_product_and_solve(&a, &x);
+        a.mul_to(&x, &mut by_runs);
+        assert_eq!(bits(&by_runs), bits(&product));
         let mut solved = x.clone();
         a.ldlt().expect("spd").solve_in_place(&mut solved);
         assert_eq!(bits(&solved), bits(&solution));
