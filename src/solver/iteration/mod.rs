@@ -13,7 +13,7 @@
 //! (r = 0, J = 0) has no tangential row: its tangential force stays exactly
 //! zero.
 
-use nalgebra::{DMatrix, DVector, Dyn, Vector4, LU};
+use nalgebra::{DMatrix, DVector, Vector4};
 
 use crate::contact::{ContactForce, ContactFrame};
 use crate::integrate::{
@@ -25,9 +25,11 @@ use crate::system::System;
 mod condensed;
 mod followers;
 mod laws;
+mod operator;
 mod responses;
 
 pub use condensed::Work as CondensedWork;
+use operator::{Assembly, ContactRows, Inverted};
 pub use responses::Footprint;
 use responses::{ElementResponse, ResponseCache};
 
@@ -150,6 +152,9 @@ struct Delassus {
     velocity: Inverted,
     /// (∂g/∂p_n)⁻¹ over the contacts (N/m).
     gap: Inverted,
+    /// Their matrices, assembled over the entries the contacts couple.
+    velocity_assembly: Assembly,
+    gap_assembly: Assembly,
     /// Whether they hold this step's operators (velocity, gap).
     built: bool,
     gap_built: bool,
@@ -162,12 +167,22 @@ struct Delassus {
 }
 
 impl Delassus {
+    /// One part's operator and its assembly.
+    fn part_mut(&mut self, part: Part) -> (&mut Inverted, &mut Assembly) {
+        match part {
+            Part::Velocity => (&mut self.velocity, &mut self.velocity_assembly),
+            Part::Gap => (&mut self.gap, &mut self.gap_assembly),
+        }
+    }
+
     /// Operators of `rows` stacked rows over `contacts` contacts, not yet
     /// built for any step.
     fn unbuilt(rows: usize, contacts: usize) -> Delassus {
         Delassus {
-            velocity: Inverted::Inverse(DMatrix::zeros(rows, rows)),
-            gap: Inverted::Inverse(DMatrix::zeros(contacts, contacts)),
+            velocity: Inverted::unbuilt(rows),
+            gap: Inverted::unbuilt(contacts),
+            velocity_assembly: Assembly::default(),
+            gap_assembly: Assembly::default(),
             built: false,
             gap_built: false,
             frames: Vec::new(),
@@ -181,257 +196,6 @@ impl Delassus {
 enum Part {
     Velocity,
     Gap,
-}
-
-/// Operators up to this many rows are inverted explicitly, larger ones
-/// factored (LU).
-const EXPLICIT_INVERSE_ROWS: usize = 16;
-
-/// A Delassus operator ready to apply: its inverse when small (one product
-/// per application, and what the paper's scenes have always computed), its
-/// LU factors when large (a third of the flops of inverting: at 64 wheels
-/// the inversion was three quarters of a step).
-enum Inverted {
-    Inverse(DMatrix<f64>),
-    Factors(LU<f64, Dyn, Dyn>),
-    /// A large operator that falls apart into blocks no entry couples
-    /// (contacts on rigid ground, open contacts, spans that do not load
-    /// each other), each inverted on its own: of a train's 32 contacts a
-    /// dozen are on the bridge, and factoring 32 rows was a tenth of its run.
-    Blocks(Blocks),
-}
-
-/// Groups above this many rows are factored, smaller ones inverted (closed
-/// forms up to 4 rows). An operator is applied about 3 times a build: a
-/// train's 12-row group cost 15k instructions to invert and 4k to factor,
-/// while an application costs 0.3k more.
-const FACTORED_GROUP_ROWS: usize = 4;
-
-/// The decoupled blocks of an operator, and the matrix they came from
-/// (kept to build the next operator in).
-struct Blocks {
-    layout: Layout,
-    matrix: DMatrix<f64>,
-}
-
-/// How an operator falls apart: single rows, and groups of rows inverted
-/// together (with room to gather and scatter them). Kept from one build to
-/// the next with its storage, and found again only when the operator's
-/// nonzero pattern changes (a vehicle enters or leaves a span, a contact
-/// opens): finding the blocks and allocating the groups every step was a
-/// third of the inversion.
-struct Layout {
-    /// A row no entry couples to another, and its diagonal entry.
-    singles: Vec<(usize, f64)>,
-    groups: Vec<Group>,
-    /// The nonzero pattern the blocks were found for, column-major.
-    pattern: Vec<u64>,
-}
-
-/// Rows an operator's entries couple, inverted together.
-struct Group {
-    rows: Vec<usize>,
-    inverted: Inverted,
-    gathered: DVector<f64>,
-    solved: DVector<f64>,
-}
-
-/// Writes the nonzero pattern of `matrix` into `pattern` (1 for a nonzero
-/// entry, column-major); whether it differs from the one held before.
-/// Branch-free and in 64-bit lanes, so that it vectorises: packing bits
-/// cost 7 instructions an entry, and flags of a byte 10.
-fn update_pattern(matrix: &DMatrix<f64>, pattern: &mut Vec<u64>) -> bool {
-    let mut changed = u64::from(pattern.len() != matrix.len());
-    pattern.resize(matrix.len(), 0);
-    for (flag, &x) in pattern.iter_mut().zip(matrix.as_slice()) {
-        let nonzero = u64::from(x != 0.0);
-        changed |= *flag ^ nonzero;
-        *flag = nonzero;
-    }
-    changed != 0
-}
-
-impl Layout {
-    fn new(singles: Vec<usize>, groups: Vec<Vec<usize>>, pattern: Vec<u64>) -> Layout {
-        let groups = groups
-            .into_iter()
-            .map(|rows| {
-                let n = rows.len();
-                Group {
-                    rows,
-                    inverted: Inverted::Inverse(DMatrix::zeros(n, n)),
-                    gathered: DVector::zeros(n),
-                    solved: DVector::zeros(n),
-                }
-            })
-            .collect();
-        Layout {
-            singles: singles.into_iter().map(|i| (i, 0.0)).collect(),
-            groups,
-            pattern,
-        }
-    }
-
-    /// Takes the single rows' diagonals and inverts the groups of
-    /// `matrix` (of this layout's pattern); None if any is singular.
-    fn invert(&mut self, matrix: &DMatrix<f64>) -> Option<()> {
-        let n = matrix.nrows();
-        let entries = matrix.as_slice();
-        for (i, d) in &mut self.singles {
-            let x = entries[*i * n + *i];
-            if x == 0.0 || !x.is_finite() {
-                return None;
-            }
-            *d = x;
-        }
-        for group in &mut self.groups {
-            let k = group.rows.len();
-            let (mut sub, _) = group.inverted.take_matrix(k);
-            // Column by column on the slices: nalgebra's indexing checked
-            // both indices of every entry gathered.
-            let gathered = sub.as_mut_slice().chunks_exact_mut(k);
-            for (to, &j) in gathered.zip(&group.rows) {
-                let column = &entries[j * n..(j + 1) * n];
-                for (x, &i) in to.iter_mut().zip(&group.rows) {
-                    *x = column[i];
-                }
-            }
-            group.inverted = if k > FACTORED_GROUP_ROWS {
-                let lu = sub.lu();
-                lu.is_invertible().then_some(Inverted::Factors(lu))?
-            } else {
-                Inverted::new(sub)?
-            };
-        }
-        Some(())
-    }
-}
-
-/// The rows of `matrix` grouped by the blocks its nonzero entries couple
-/// (connected components, each in increasing row order, in the order of
-/// their first rows): the rows alone in theirs, then the groups of two or
-/// more. Scanned on the column-major slice, every allocation at its size:
-/// indexing entry by entry and growing one vector per block made this a
-/// twentieth of a train's run.
-fn decoupled_blocks(matrix: &DMatrix<f64>) -> (Vec<usize>, Vec<Vec<usize>>) {
-    let n = matrix.nrows();
-    let mut root: Vec<usize> = (0..n).collect();
-    fn find(root: &mut [usize], mut i: usize) -> usize {
-        while root[i] != i {
-            root[i] = root[root[i]];
-            i = root[i];
-        }
-        i
-    }
-    for (j, column) in matrix.as_slice().chunks_exact(n.max(1)).enumerate() {
-        // Most columns (contacts on the ground) hold their diagonal alone.
-        let nonzero = |x: &f64| *x != 0.0;
-        if !column[..j].iter().any(nonzero) && !column[j + 1..].iter().any(nonzero) {
-            continue;
-        }
-        for (i, &x) in column.iter().enumerate() {
-            // Rows with one parent are in one block already.
-            if x != 0.0 && i != j && root[i] != root[j] {
-                let (a, b) = (find(&mut root, i), find(&mut root, j));
-                root[a.max(b)] = a.min(b);
-            }
-        }
-    }
-    for i in 0..n {
-        root[i] = find(&mut root, i);
-    }
-    let mut sizes = vec![0usize; n];
-    for &r in &root {
-        sizes[r] += 1;
-    }
-    let singles: Vec<usize> = (0..n).filter(|&i| sizes[root[i]] == 1).collect();
-    let mut groups: Vec<Vec<usize>> = Vec::new();
-    // Each group's index, at its root (the component's first row).
-    let mut group_of = vec![usize::MAX; n];
-    for (i, &r) in root.iter().enumerate() {
-        if sizes[r] < 2 {
-            continue;
-        }
-        if group_of[r] == usize::MAX {
-            group_of[r] = groups.len();
-            groups.push(Vec::with_capacity(sizes[r]));
-        }
-        groups[group_of[r]].push(i);
-    }
-    (singles, groups)
-}
-
-impl Inverted {
-    /// `matrix` inverted or factored; None if it is singular.
-    fn new(matrix: DMatrix<f64>) -> Option<Inverted> {
-        Inverted::with_layout(matrix, None)
-    }
-
-    /// `matrix` inverted or factored, reusing the blocks `previous` found
-    /// when its nonzero pattern is the same; None if it is singular.
-    fn with_layout(mut matrix: DMatrix<f64>, previous: Option<Layout>) -> Option<Inverted> {
-        if matrix.nrows() <= EXPLICIT_INVERSE_ROWS {
-            return matrix
-                .try_inverse_mut()
-                .then_some(Inverted::Inverse(matrix));
-        }
-        let unchanged = previous.and_then(|mut layout| {
-            (!update_pattern(&matrix, &mut layout.pattern)).then_some(layout)
-        });
-        let mut layout = match unchanged {
-            Some(layout) => layout,
-            None => {
-                let mut pattern = Vec::new();
-                update_pattern(&matrix, &mut pattern);
-                let (singles, groups) = decoupled_blocks(&matrix);
-                if singles.is_empty() && groups.len() == 1 {
-                    let lu = matrix.lu();
-                    return lu.is_invertible().then_some(Inverted::Factors(lu));
-                }
-                Layout::new(singles, groups, pattern)
-            }
-        };
-        layout.invert(&matrix)?;
-        Some(Inverted::Blocks(Blocks { layout, matrix }))
-    }
-
-    /// An n × n matrix to build the next operator in (this one's storage
-    /// when it is an explicit inverse or blocks of that size,, when it was blocks, their layout to reuse).
-    fn take_matrix(&mut self, n: usize) -> (DMatrix<f64>, Option<Layout>) {
-        match std::mem::replace(self, Inverted::Inverse(DMatrix::zeros(0, 0))) {
-            Inverted::Blocks(Blocks { matrix, layout }) if matrix.nrows() == n => {
-                (matrix, Some(layout))
-            }
-            Inverted::Inverse(m) if m.nrows() == n => (m, None),
-            _ => (DMatrix::zeros(n, n), None),
-        }
-    }
-
-    /// `out` = A⁻¹ `b`.
-    fn apply(&mut self, b: &DVector<f64>, out: &mut DVector<f64>) {
-        match self {
-            Inverted::Inverse(m) => out.gemv(1.0, m, b, 0.0),
-            Inverted::Factors(lu) => {
-                out.copy_from(b);
-                // Invertible by construction.
-                lu.solve_mut(out);
-            }
-            Inverted::Blocks(Blocks { layout, .. }) => {
-                for &(i, d) in &layout.singles {
-                    out[i] = b[i] / d;
-                }
-                for group in &mut layout.groups {
-                    for (k, &i) in group.rows.iter().enumerate() {
-                        group.gathered[k] = b[i];
-                    }
-                    group.inverted.apply(&group.gathered, &mut group.solved);
-                    for (k, &i) in group.rows.iter().enumerate() {
-                        out[i] = group.solved[k];
-                    }
-                }
-            }
-        }
-    }
 }
 
 /// A contact's beam rows (tangential, normal) in the frames it is measured
@@ -708,35 +472,6 @@ impl ContactIteration {
         &self.contact_gaps
     }
 
-    /// Decouple the open contacts' rows: identity rows and columns, so that
-    /// the inverse acts on the closed contacts alone (the inverse of the
-    /// closed rows' principal block) and leaves the open ones' zero errors
-    /// at zero.
-    fn mask_open(&self, system: &System, part: Part, matrix: &mut DMatrix<f64>) {
-        for (c, contact) in system.contacts.iter().enumerate() {
-            if !self.open[c] {
-                continue;
-            }
-            let rows = match part {
-                Part::Velocity => self.offsets[c]..self.offsets[c] + contact.rows(),
-                Part::Gap => c..c + 1,
-            };
-            // On the column-major slice: nalgebra's strided views filled
-            // entry by entry at several times the cost.
-            let n = matrix.nrows();
-            let entries = matrix.as_mut_slice();
-            for row in rows {
-                entries[row * n..(row + 1) * n].fill(0.0);
-                entries
-                    .iter_mut()
-                    .skip(row)
-                    .step_by(n)
-                    .for_each(|x| *x = 0.0);
-                entries[row * n + row] = 1.0;
-            }
-        }
-    }
-
     /// Make sure `response_u`/`response_v` hold at least `count` vectors.
     fn reserve_responses(&mut self, count: usize) {
         let n = self.load.len();
@@ -971,38 +706,19 @@ impl ContactIteration {
         }
         let measured = std::mem::take(&mut self.delassus.frames);
         let frames = (measured.as_slice(), start_frames);
-        let (mut matrix, layout) = match part {
-            Part::Velocity => self.delassus.velocity.take_matrix(self.rows),
-            Part::Gap => self.delassus.gap.take_matrix(system.contacts.len()),
-        };
-        // On the slice: nalgebra's element iterator (strides checked per
-        // entry) made filling and checking a tenth of the building.
-        matrix.as_mut_slice().fill(0.0);
-        // Grid steps differ from the nominal step by round-off only.
-        let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
-        if crate::deadline::is_set() {
-            self.foresee_beam_integrations(system, start_frames, nominal);
-        }
-        if crate::deadline::passed() {
-            self.delassus.frames = measured;
-            return Err(StepError::OverBudget);
-        }
-        if nominal {
-            self.beam_compliance_cached(system, frames, part, &mut matrix);
-        } else {
-            self.beam_compliance_integrated(system, frames, (dt, part), &mut matrix);
-        }
-        if crate::deadline::passed() {
-            self.delassus.frames = measured;
-            return Err(StepError::OverBudget);
-        }
-        self.add_body_compliance(system, frames, (dt, part), &mut matrix);
-        self.mask_open(system, part, &mut matrix);
+        let mut assembly = std::mem::take(self.delassus.part_mut(part).1);
+        let written = self.assemble(system, frames, (dt, part), &mut assembly);
         self.delassus.frames = measured;
-        let finite = matrix.as_slice().iter().all(|x| x.is_finite());
-        let inverted = finite
-            .then(|| Inverted::with_layout(matrix, layout))
-            .flatten();
+        let (operator, kept) = self.delassus.part_mut(part);
+        let inverted = match written {
+            Ok(()) => assembly.invert(std::mem::replace(operator, Inverted::unbuilt(0))),
+            Err(error) => {
+                assembly.clean();
+                *kept = assembly;
+                return Err(error);
+            }
+        };
+        *kept = assembly;
         let Some(inverted) = inverted else {
             return Err(StepError::NonFinite {
                 stage: match part {
@@ -1015,6 +731,49 @@ impl ContactIteration {
             Part::Velocity => (self.delassus.velocity, self.delassus.built) = (inverted, true),
             Part::Gap => (self.delassus.gap, self.delassus.gap_built) = (inverted, true),
         }
+        Ok(())
+    }
+
+    /// Lists and writes one operator's entries into `assembly`'s matrix
+    /// (zero before): the beam's part, then the bodies'.
+    fn assemble(
+        &mut self,
+        system: &System,
+        frames: (&[ContactFrame], &[ContactFrame]),
+        (dt, part): (f64, Part),
+        assembly: &mut Assembly,
+    ) -> Result<(), StepError> {
+        let n = match part {
+            Part::Velocity => self.rows,
+            Part::Gap => system.contacts.len(),
+        };
+        let places = (self.offsets.as_slice(), self.open.as_slice());
+        list_entries(
+            system,
+            frames,
+            (part, n),
+            places,
+            &self.contacts_of_body,
+            assembly,
+        );
+        let matrix = &mut assembly.matrix;
+        // Grid steps differ from the nominal step by round-off only.
+        let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
+        if crate::deadline::is_set() {
+            self.foresee_beam_integrations(system, frames.1, nominal);
+        }
+        if crate::deadline::passed() {
+            return Err(StepError::OverBudget);
+        }
+        if nominal {
+            self.beam_compliance_cached(system, frames, part, matrix);
+        } else {
+            self.beam_compliance_integrated(system, frames, (dt, part), matrix);
+        }
+        if crate::deadline::passed() {
+            return Err(StepError::OverBudget);
+        }
+        self.add_body_compliance(system, frames, (dt, part), matrix);
         Ok(())
     }
 
@@ -1438,6 +1197,36 @@ impl ContactIteration {
     }
 }
 
+/// Lists in `assembly` the entries of an n-row operator of `part` that the
+/// beam and the bodies write (the contacts measured and applied on the
+/// beam, and those on one body), each contact at its first row (`offsets`)
+/// and open or not (`open`).
+fn list_entries(
+    system: &System,
+    (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+    (part, n): (Part, usize),
+    (offsets, open): (&[usize], &[bool]),
+    contacts_of_body: &[Vec<usize>],
+    assembly: &mut Assembly,
+) {
+    assembly.contacts.clear();
+    for (c, contact) in system.contacts.iter().enumerate() {
+        let (first, count) = match part {
+            Part::Velocity => (offsets[c], contact.rows()),
+            Part::Gap => (c, 1),
+        };
+        assembly.contacts.push(ContactRows {
+            first,
+            count,
+            body: contact.body,
+            measured_on_beam: measure_frames[c].on_beam,
+            applied_on_beam: start_frames[c].on_beam,
+            open: open[c],
+        });
+    }
+    assembly.list(n, contacts_of_body);
+}
+
 /// The velocity stage refused when it diverges (after three integrations,
 /// ten times its first residual) or spends `max_iterations`.
 fn velocity_progress(
@@ -1582,98 +1371,5 @@ mod tests {
         iteration.beam_compliance_integrated(&system, both, (dt, Part::Gap), &mut again);
         assert_eq!(iteration.delassus_work().0, 12);
         assert!((&again - &shorter).amax() > 0.1 * again.amax());
-    }
-
-    #[test]
-    fn an_operator_that_falls_apart_is_solved_block_by_block() {
-        // 24 rows: a coupled 5-row block and a 2-row block interleaved with
-        // 17 single rows (contacts on the ground), in scattered order.
-        let n = 24;
-        let big = [1, 4, 9, 15, 22];
-        let pair = [3, 17];
-        let mut m = DMatrix::<f64>::zeros(n, n);
-        for i in 0..n {
-            m[(i, i)] = 2.0 + 0.1 * i as f64;
-        }
-        for (a, &i) in big.iter().enumerate() {
-            for (b, &j) in big.iter().enumerate() {
-                if i != j {
-                    m[(i, j)] = 0.3 / (1.0 + (a as f64 - 0.5 * b as f64).abs());
-                }
-            }
-        }
-        m[(3, 17)] = 0.7;
-        m[(17, 3)] = -0.4;
-        let (singles, groups) = decoupled_blocks(&m);
-        assert_eq!(singles.len(), n - 7);
-        assert!(singles
-            .iter()
-            .all(|i| !big.contains(i) && !pair.contains(i)));
-        assert_eq!(groups, vec![big.to_vec(), pair.to_vec()]);
-        let b = DVector::from_fn(n, |i, _| (i as f64 * 0.37).sin() + 0.2);
-        let expected = m.clone().lu().solve(&b).unwrap();
-        let mut inverted = Inverted::new(m).unwrap();
-        assert!(matches!(inverted, Inverted::Blocks(..)));
-        let mut out = DVector::zeros(n);
-        inverted.apply(&b, &mut out);
-        assert!((&out - &expected).amax() < 1e-14, "{out} vs {expected}");
-        // A singular single row is refused, as a singular whole is.
-        let mut singular = DMatrix::<f64>::identity(n, n);
-        singular[(5, 5)] = 0.0;
-        assert!(Inverted::new(singular).is_none());
-    }
-
-    #[test]
-    fn a_rebuilt_operator_reuses_its_blocks_only_while_its_pattern_holds() {
-        let n = 20;
-        let operator = |coupled: &[(usize, usize)], scale: f64| {
-            let mut m = DMatrix::<f64>::zeros(n, n);
-            for i in 0..n {
-                m[(i, i)] = scale * (3.0 + 0.1 * i as f64);
-            }
-            for &(i, j) in coupled {
-                m[(i, j)] = 0.5 * scale;
-                m[(j, i)] = -0.25 * scale;
-            }
-            m
-        };
-        let b = DVector::from_fn(n, |i, _| (i as f64 * 0.53).cos() - 0.1);
-        let check = |inverted: &mut Inverted, m: &DMatrix<f64>| {
-            let expected = m.clone().lu().solve(&b).unwrap();
-            let mut out = DVector::zeros(n);
-            inverted.apply(&b, &mut out);
-            assert!((&out - &expected).amax() < 1e-13, "{out} vs {expected}");
-        };
-        // Six rows coupled in a chain (factored), two in a pair.
-        let chain = [(2, 5), (5, 7), (7, 11), (11, 12), (12, 18), (0, 9)];
-        let first = operator(&chain, 1.0);
-        let mut inverted = Inverted::new(first.clone()).unwrap();
-        check(&mut inverted, &first);
-        // The same pattern, other values: the blocks are kept.
-        let (matrix, layout) = inverted.take_matrix(n);
-        assert!(layout.is_some());
-        let mut matrix = matrix;
-        matrix.copy_from(&operator(&chain, 2.0));
-        let mut inverted = Inverted::with_layout(matrix, layout).unwrap();
-        check(&mut inverted, &operator(&chain, 2.0));
-        // A new coupling joins the pair to the chain: found again.
-        let joined = [&chain[..], &[(9, 18)]].concat();
-        let (mut matrix, layout) = inverted.take_matrix(n);
-        matrix.copy_from(&operator(&joined, 1.5));
-        let mut inverted = Inverted::with_layout(matrix, layout).unwrap();
-        let Inverted::Blocks(Blocks { layout, .. }) = &inverted else {
-            panic!("blocks expected");
-        };
-        assert_eq!(layout.groups.len(), 1);
-        assert_eq!(layout.groups[0].rows, vec![0, 2, 5, 7, 9, 11, 12, 18]);
-        check(&mut inverted, &operator(&joined, 1.5));
-        // A group made singular (its first column zero) is refused.
-        let (mut matrix, layout) = inverted.take_matrix(n);
-        let mut singular = operator(&joined, 1.0);
-        for &i in &[0, 2, 5, 7, 9, 11, 12, 18] {
-            singular[(i, 0)] = 0.0;
-        }
-        matrix.copy_from(&singular);
-        assert!(Inverted::with_layout(matrix, layout).is_none());
     }
 }
