@@ -50,7 +50,8 @@ pub fn push_debug(line: &mut Vec<u8>, value: f64) {
         .map(|k| tail + k);
     match (positional, e) {
         (true, None) => line.extend_from_slice(text),
-        (false, Some(e)) => {
+        // A sign and at least one digit after the `e`.
+        (false, Some(e)) if text.len() >= e + 3 => {
             line.extend_from_slice(&text[..=e]);
             let (sign, digits) = text[e + 1..].split_at(1);
             if sign == b"-" {
@@ -77,7 +78,7 @@ fn rewritten(line: &mut Vec<u8>, value: f64, text: &[u8]) {
         line.push(b'-');
     }
     let magnitude = value.abs();
-    if magnitude < EXPONENTIAL_BELOW || magnitude >= EXPONENTIAL_FROM {
+    if !(EXPONENTIAL_BELOW..EXPONENTIAL_FROM).contains(&magnitude) {
         exponential(line, &digits, point);
     } else {
         positional(line, &digits, point);
@@ -221,13 +222,13 @@ mod tests {
             f64::EPSILON,
             5e-324,
             -5e-324,
-            2.2250738585072009e-308,
+            f64::from_bits(0x000f_ffff_ffff_ffff), // the largest subnormal
             0.1,
             0.3,
             1.0 / 3.0,
             123456789012345680.0,
             9007199254740993.0,
-            1500000000000000.25,
+            1500000000000000.0 + 0.25, // a tie: `.2` or `.3`
             1.0 + 2f64.powi(-17),
             0.5 + 2f64.powi(-18),
             LARGE,
