@@ -48,11 +48,34 @@ pub fn balance_with(
     state: &SimState,
     (spring, end): (f64, Option<&EndForces>),
 ) -> f64 {
+    let energies = StateEnergies {
+        body_kinetic: body_kinetic(system, state),
+        beam_kinetic: system.beam.kinetic_energy(&state.dynamic.beam_velocity),
+        strain: structure_strain(system, state, end),
+        spring,
+    };
+    balance_of(state, energies)
+}
+
+/// The energies a state holds (J), each as its own function gives it
+/// (`body_kinetic`, `Structure::kinetic_energy`, `structure_strain`,
+/// `spring`).
+#[derive(Debug, Clone, Copy)]
+pub struct StateEnergies {
+    pub body_kinetic: f64,
+    pub beam_kinetic: f64,
+    pub strain: f64,
+    pub spring: f64,
+}
+
+/// `balance_with` from the state's `energies` already known (the outputs
+/// report them too: each taken once a row), summed in the same order.
+pub fn balance_of(state: &SimState, energies: StateEnergies) -> f64 {
     let d = &state.dynamic;
-    body_kinetic(system, state)
-        + system.beam.kinetic_energy(&d.beam_velocity)
-        + structure_strain(system, state, end)
-        + spring
+    energies.body_kinetic
+        + energies.beam_kinetic
+        + energies.strain
+        + energies.spring
         + d.dissipated
         + d.beam_dissipated
         + d.numerical_dissipation

@@ -58,13 +58,22 @@ impl Probes<'_> {
 }
 
 /// The contact frames of `state` (each contact on the part of the track it
-/// is on), from `memo` where they are the last step's.
-pub fn frames_now(
+/// is on): lent by `memo` where they are the last step's, else searched.
+pub fn frames_now<'m>(
     system: &System,
     state: &SimState,
-    memo: &FrameMemo,
-) -> Result<Vec<ContactFrame>, crate::integrate::IntegrationError> {
-    memo.frames_of(system, &state.dynamic, &state.parts)
+    memo: &'m FrameMemo,
+) -> Result<Cow<'m, [ContactFrame]>, crate::integrate::IntegrationError> {
+    let d = &state.dynamic;
+    let located = (d.contact_x.as_slice(), state.parts.as_slice());
+    let configuration = (&d.beam_displacement, d.bodies.as_slice());
+    if let Some(kept) = memo.recall(configuration, located) {
+        return Ok(Cow::Borrowed(kept));
+    }
+    let mut frames = Vec::new();
+    let u = &d.beam_displacement;
+    crate::integrate::contact_frames(system, u, &d.bodies, located, &mut frames)?;
+    Ok(Cow::Owned(frames))
 }
 
 /// The contact forces of the last step.
@@ -75,7 +84,22 @@ fn last_forces(state: &SimState) -> Vec<ContactForce> {
 /// Each body's (ẍ, ÿ, θ̈) in `state` under the last forces; NaN where a
 /// contact point cannot be located.
 pub fn body_accelerations(system: &System, state: &SimState, probes: &Probes) -> Vec<Vector3<f64>> {
+    let frames = frames_now(system, state, probes.frames).ok();
+    body_accelerations_at(system, state, probes, frames.as_deref())
+}
+
+/// `body_accelerations` at the state's `frames` (`frames_now`; `None`
+/// where a contact point cannot be located: NaN).
+pub fn body_accelerations_at(
+    system: &System,
+    state: &SimState,
+    probes: &Probes,
+    frames: Option<&[ContactFrame]>,
+) -> Vec<Vector3<f64>> {
     let d = &state.dynamic;
+    let Some(frames) = frames else {
+        return vec![Vector3::repeat(f64::NAN); system.bodies.len()];
+    };
     let mut beam_load = DVector::zeros(d.beam_displacement.len());
     let mut body_loads = vec![Vector3::zeros(); system.bodies.len()];
     let forces = last_forces(state);
@@ -83,12 +107,9 @@ pub fn body_accelerations(system: &System, state: &SimState, probes: &Probes) ->
         0 => &probes.start_applied,
         _ => &state.last_applied,
     };
-    let Ok(frames) = frames_now(system, state, probes.frames) else {
-        return vec![Vector3::repeat(f64::NAN); system.bodies.len()];
-    };
     loads(
         system,
-        &frames,
+        frames,
         &forces,
         applied,
         &d.bodies,
@@ -130,16 +151,26 @@ pub fn beam_dynamics<'s>(
     memo: &FrameMemo,
     route: AccelerationRoute,
 ) -> Option<BeamDynamics<'s>> {
-    let d = &state.dynamic;
     let frames = frames_now(system, state, memo).ok()?;
+    Some(beam_dynamics_at(system, state, &frames, route))
+}
+
+/// `beam_dynamics` at the state's `frames` (`frames_now`).
+pub fn beam_dynamics_at<'s>(
+    system: &System,
+    state: &'s SimState,
+    frames: &[ContactFrame],
+    route: AccelerationRoute,
+) -> BeamDynamics<'s> {
+    let d = &state.dynamic;
     let beam = &system.beam;
-    let loads = crate::contact::loads::contact_loads(beam, &frames, &last_forces(state));
+    let loads = crate::contact::loads::contact_loads(beam, frames, &last_forces(state));
     let (u, v) = (&d.beam_displacement, &d.beam_velocity);
     let Some(rows) = route.rows else {
         let readable = beam.accelerations_read_internal_forces();
         let kept = route.end_forces.filter(|_| readable);
         let internal = kept.and_then(|kept| kept.recall((u, v)));
-        return Some(BeamDynamics::lent(beam, (u, v), loads, internal));
+        return BeamDynamics::lent(beam, (u, v), loads, internal);
     };
     let mut acceleration = match route.whole {
         true => BeamDynamics::lent(beam, (u, v), loads.clone(), None)
@@ -156,7 +187,7 @@ pub fn beam_dynamics<'s>(
         }
     }
     let state = (Cow::Borrowed(u), Cow::Borrowed(v), Cow::Owned(acceleration));
-    Some(BeamDynamics::assembled(beam, state, loads))
+    BeamDynamics::assembled(beam, state, loads)
 }
 
 #[cfg(test)]

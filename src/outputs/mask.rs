@@ -10,6 +10,8 @@ use crate::system::System;
 #[derive(Debug, Clone, PartialEq)]
 pub struct OutputMask {
     quantities: Vec<Quantity>,
+    /// What the read quantities need, found once (`Needs::of`).
+    needs: Needs,
     columns: Vec<usize>,
 }
 
@@ -20,8 +22,10 @@ impl OutputMask {
         let columns: Vec<usize> = (0..all.len())
             .filter(|&k| read.get(k).copied().unwrap_or(false))
             .collect();
+        let quantities: Vec<Quantity> = columns.iter().map(|&k| all[k]).collect();
         OutputMask {
-            quantities: columns.iter().map(|&k| all[k]).collect(),
+            needs: Needs::of(&quantities),
+            quantities,
             columns,
         }
     }
@@ -29,14 +33,15 @@ impl OutputMask {
     /// Whether a read output needs the energy the steps remove (booked by
     /// the integrator step by step, not computable at the end).
     pub fn reads_energy_books(&self) -> bool {
-        Needs::of(&self.quantities).energy_books
+        self.needs.energy_books
     }
 
     /// Every output in `state` into `out`: the read ones computed, the
     /// others 0.
     pub fn values(&self, system: &System, state: &SimState, probes: &Probes, out: &mut [f64]) {
         let read = self.columns.len();
-        evaluate(system, state, probes, &self.quantities, &mut out[..read]);
+        let read_quantities = (self.quantities.as_slice(), self.needs);
+        evaluate(system, state, probes, read_quantities, &mut out[..read]);
         spread(&self.columns, out);
     }
 }

@@ -9,7 +9,9 @@ use crate::energy;
 use crate::state::SimState;
 use crate::structure::beam::Beam;
 use crate::system::System;
-use derived::{beam_dynamics, body_accelerations, frames_now};
+use derived::{beam_dynamics_at, body_accelerations_at, frames_now};
+use std::borrow::Cow;
+use std::cell::OnceCell;
 use strum::{EnumDiscriminants, EnumIter};
 
 pub mod derived;
@@ -650,46 +652,65 @@ impl Needs {
     }
 }
 
-/// The value in `state` of each quantity of `quantities` into `values`.
+/// The value in `state` of each quantity of `quantities` into `values`,
+/// with `needs` what they need (`Needs::of(quantities)`, found once per
+/// run: a row's outputs are the run's).
 pub fn evaluate(
     system: &System,
     state: &SimState,
     probes: &Probes,
-    quantities: &[Quantity],
+    (quantities, needs): (&[Quantity], Needs),
     values: &mut [f64],
 ) {
-    let now = Now::new(system, state, probes, Needs::of(quantities));
+    debug_assert_eq!(needs, Needs::of(quantities));
+    let now = Now::new(system, state, probes, needs);
     for (value, quantity) in values.iter_mut().zip(quantities) {
         *value = now.value(*quantity);
     }
 }
 
 /// A state and what its outputs need derived from it (`Needs`), computed
-/// once for all the outputs of one evaluation.
+/// once for all the outputs of one evaluation: the frames once for the
+/// outputs that read them, the beam's and bodies' energies once for their
+/// own outputs and the balance.
 struct Now<'a> {
     system: &'a System,
     state: &'a SimState,
     probes: &'a Probes<'a>,
-    frames: Option<Vec<crate::contact::ContactFrame>>,
+    /// The frames now, lent by the last step where they are its end's.
+    frames: Option<Cow<'a, [crate::contact::ContactFrame]>>,
     accelerations: Option<Vec<nalgebra::Vector3<f64>>>,
     beam_dynamics: Option<crate::structure::section_forces::BeamDynamics<'a>>,
     spring_energy: f64,
+    /// The state's energies, each taken once where an output reads it.
+    energies: [OnceCell<f64>; 3],
     /// Under a rail over the deck the system's abscissa starts at the
     /// approach; the outputs keep the scene's (the deck's x = 0).
     origin: Option<f64>,
 }
 
+/// The slots of `Now::energies`.
+const BODY_KINETIC: usize = 0;
+const BEAM_KINETIC: usize = 1;
+const BEAM_STRAIN: usize = 2;
+
 impl<'a> Now<'a> {
     fn new(system: &'a System, state: &'a SimState, probes: &'a Probes, needs: Needs) -> Self {
-        let frames = needs
-            .frames
-            .then(|| frames_now(system, state, probes.frames).ok());
-        let beam_dynamics = needs
-            .beam_dynamics
-            .then(|| beam_dynamics(system, state, probes.frames, probes.route()));
+        let located = needs.frames || needs.beam_dynamics || needs.body_accelerations;
+        let frames = located
+            .then(|| frames_now(system, state, probes.frames).ok())
+            .flatten();
+        let beam_dynamics = needs.beam_dynamics.then(|| {
+            Some(beam_dynamics_at(
+                system,
+                state,
+                frames.as_deref()?,
+                probes.route(),
+            ))
+        });
         let accelerations = needs
             .body_accelerations
-            .then(|| body_accelerations(system, state, probes));
+            .then(|| body_accelerations_at(system, state, probes, frames.as_deref()));
         let spring_energy = if needs.spring_energy {
             energy::spring(system, state)
         } else {
@@ -699,12 +720,23 @@ impl<'a> Now<'a> {
             system,
             state,
             probes,
-            frames: frames.flatten(),
+            frames,
             accelerations,
             beam_dynamics: beam_dynamics.flatten(),
             spring_energy,
+            energies: Default::default(),
             origin: system.beam.track().map(|t| t.deck_start()),
         }
+    }
+
+    /// The state's energy in slot `which` of `energies`, taken once.
+    fn energy(&self, which: usize) -> f64 {
+        let (system, state) = (self.system, self.state);
+        *self.energies[which].get_or_init(|| match which {
+            BODY_KINETIC => energy::body_kinetic(system, state),
+            BEAM_KINETIC => system.beam.kinetic_energy(&state.dynamic.beam_velocity),
+            _ => energy::structure_strain(system, state, self.probes.end_forces),
+        })
     }
 
     fn scene_x(&self, x: f64) -> f64 {
@@ -747,11 +779,9 @@ impl<'a> Now<'a> {
             | Quantity::SectionMoment(_)
             | Quantity::SectionShear(_)
             | Quantity::Reaction(_)
-            | Quantity::ReactionMoment(_)
-            | Quantity::BeamKinetic => self.structure_value(quantity),
-            Quantity::BeamStrain => {
-                energy::structure_strain(self.system, self.state, self.probes.end_forces)
-            }
+            | Quantity::ReactionMoment(_) => self.structure_value(quantity),
+            Quantity::BeamKinetic => self.energy(BEAM_KINETIC),
+            Quantity::BeamStrain => self.energy(BEAM_STRAIN),
             Quantity::BodyKinetic
             | Quantity::SpringEnergy
             | Quantity::Dissipated
@@ -810,10 +840,10 @@ impl<'a> Now<'a> {
 
     /// The run's energies and the solver's counts.
     fn run_value(&self, quantity: Quantity) -> f64 {
-        let (system, state, probes) = (self.system, self.state, self.probes);
+        let (state, probes) = (self.state, self.probes);
         let d = &state.dynamic;
         match quantity {
-            Quantity::BodyKinetic => energy::body_kinetic(system, state),
+            Quantity::BodyKinetic => self.energy(BODY_KINETIC),
             Quantity::SpringEnergy => self.spring_energy,
             Quantity::Dissipated => probes.booked(d.dissipated),
             Quantity::BeamDamping => probes.booked(d.beam_dissipated),
@@ -822,10 +852,15 @@ impl<'a> Now<'a> {
             Quantity::TractiveWork => d.tractive_work,
             Quantity::ImpactLoss => state.impact_loss,
             Quantity::NumericalDissipation => probes.booked(d.numerical_dissipation),
-            Quantity::Balance => {
-                let energies = (self.spring_energy, probes.end_forces);
-                probes.booked(energy::balance_with(system, state, energies))
-            }
+            Quantity::Balance => probes.booked(energy::balance_of(
+                state,
+                energy::StateEnergies {
+                    body_kinetic: self.energy(BODY_KINETIC),
+                    beam_kinetic: self.energy(BEAM_KINETIC),
+                    strain: self.energy(BEAM_STRAIN),
+                    spring: self.spring_energy,
+                },
+            )),
             Quantity::VelocityError => state.last_velocity_error,
             Quantity::GapError => state.last_gap_error,
             Quantity::Iterations => state.last_iterations as f64,

@@ -11,6 +11,7 @@ pub mod output_file;
 pub mod plot;
 pub mod plot_style;
 mod run;
+mod shortest;
 mod stream;
 mod summary;
 mod trace;

@@ -7,6 +7,8 @@
 
 use std::io::{self, Write};
 
+use super::shortest::push_debug;
+
 use crate::design::BeamDynamics;
 use crate::simulation::{Advance, OutputInfo, Simulation, SolverError, Steppable};
 
@@ -31,6 +33,8 @@ pub fn check_node_output(rows: u64, nodes: usize) -> Result<(), String> {
 pub struct NodeWriter<W: Write> {
     out: io::BufWriter<W>,
     nodes: Vec<f64>,
+    /// A row's text, made in memory and written at once.
+    line: Vec<u8>,
 }
 
 impl<W: Write> NodeWriter<W> {
@@ -47,25 +51,31 @@ impl<W: Write> NodeWriter<W> {
         Ok(NodeWriter {
             out,
             nodes: nodes.to_vec(),
+            line: Vec::new(),
         })
     }
 
-    /// One row: the beam at `time` (NaN where its state is not known).
+    /// One row: the beam at `time` (NaN where its state is not known),
+    /// each number in `{:?}`'s text (`shortest`).
     pub fn row(
         &mut self,
         time: f64,
         beam: &crate::beam::Beam,
         state: Option<&BeamDynamics>,
     ) -> io::Result<()> {
-        write!(self.out, "{time:?}")?;
+        let line = &mut self.line;
+        line.clear();
+        push_debug(line, time);
         let read = [BeamDynamics::deflection_at, BeamDynamics::acceleration_at];
         for value in read {
             for &x in &self.nodes {
                 let v = state.map_or(f64::NAN, |s| value(s, beam, x));
-                write!(self.out, ",{v:?}")?;
+                line.push(b',');
+                push_debug(line, v);
             }
         }
-        writeln!(self.out)
+        line.push(b'\n');
+        self.out.write_all(line)
     }
 
     /// Flush and hand back the underlying writer.

@@ -6,7 +6,7 @@
 
 use nalgebra::Vector3;
 
-use crate::outputs::{derived, evaluate, Probes, Quantity};
+use crate::outputs::{derived, evaluate, Needs, Probes, Quantity};
 use crate::scene::{ForceProfile, Scene};
 use crate::solver::parameters::SolverParameters;
 use crate::solver::stepper::{constant_forces_now, RunSetup, Stepper};
@@ -83,6 +83,8 @@ pub struct Simulation {
     sections: Vec<f64>,
     outputs: Vec<OutputInfo>,
     quantities: Vec<Quantity>,
+    /// What the quantities need (`Needs::of`), found once per run.
+    needs: Needs,
     /// The rows of the coordinates the design outputs' accelerations read,
     /// where they are cheaper than a solve a row (`AccelerationRows`).
     acceleration_rows: Option<crate::structure::acceleration_rows::AccelerationRows>,
@@ -152,7 +154,10 @@ impl Simulation {
     pub fn output_values(&self, values: &mut [f64]) {
         let probes = self.probes();
         match &self.read {
-            None => evaluate(&self.system, &self.state, &probes, &self.quantities, values),
+            None => {
+                let all = (self.quantities.as_slice(), self.needs);
+                evaluate(&self.system, &self.state, &probes, all, values)
+            }
             Some(mask) => mask.values(&self.system, &self.state, &probes, values),
         }
     }
@@ -394,11 +399,8 @@ impl Simulation {
     /// The contact frames of the current state (each contact on the part
     /// of the track it is on now); `None` when one cannot be located.
     pub fn contact_frames_now(&self) -> Option<Vec<crate::contact::ContactFrame>> {
-        derived::frames_now(
-            &self.system,
-            &self.state,
-            self.stepper.iteration().frame_memo(),
-        )
-        .ok()
+        let memo = self.stepper.iteration().frame_memo();
+        let frames = derived::frames_now(&self.system, &self.state, memo);
+        frames.ok().map(std::borrow::Cow::into_owned)
     }
 }

@@ -69,6 +69,7 @@ impl Simulation {
             state,
             system,
             outputs,
+            needs: crate::outputs::Needs::of(&quantities),
             quantities,
             read: None,
         };

@@ -93,7 +93,12 @@ impl AccelerationRows {
     /// `out[j]` for each row's coordinate j: the acceleration under the
     /// point loads `loads` with the state's internal forces `internal` =
     /// K u + C v (`Structure::internal_forces`); the other entries
-    /// untouched.
+    /// untouched. Each load's shape and weights are taken once for all the
+    /// rows, each row's sum running on the stack in the loads' order (no
+    /// buffer on the heap); a term whose row entry is zero outside the
+    /// row's stretch adds a zero to a sum that started at +0, which leaves
+    /// it as it was, so it is skipped where its weight is finite (0 · ∞
+    /// would be NaN).
     pub fn write(
         &self,
         structure: &Structure,
@@ -101,20 +106,25 @@ impl AccelerationRows {
         internal: &DVector<f64>,
         out: &mut DVector<f64>,
     ) {
-        let shapes: Vec<_> = (loads.iter())
-            .map(|load| (structure.shape(load.element, load.x), load))
-            .collect();
-        for row in &self.rows {
-            let mut load = 0.0;
-            for (shape, point) in &shapes {
-                for (k, dof) in shape.dofs.iter().enumerate() {
-                    let coordinate = dof.and_then(|dof| structure.load_coordinate(dof));
-                    let w = coordinate.map_or(0.0, |i| row.at(i));
-                    load += w * (point.force * shape.n[k] + point.couple * shape.dn[k]);
+        let mut sums = [0.0; MAX_ROW_COORDINATES];
+        let sums = &mut sums[..self.rows.len()];
+        for point in loads {
+            let shape = structure.shape(point.element, point.x);
+            for (k, dof) in shape.dofs.iter().enumerate() {
+                let coordinate = dof.and_then(|dof| structure.load_coordinate(dof));
+                let weight = point.force * shape.n[k] + point.couple * shape.dn[k];
+                for (sum, row) in sums.iter_mut().zip(&self.rows) {
+                    match coordinate.and_then(|i| row.entry(i)) {
+                        Some(w) => *sum += w * weight,
+                        None if weight.is_finite() => {}
+                        None => *sum += 0.0 * weight,
+                    }
                 }
             }
+        }
+        for (sum, row) in sums.iter().zip(&self.rows) {
             let stretch = &internal.as_slice()[row.start..][..row.inverse_mass.len()];
-            out[row.coordinate] = load - dot(&row.inverse_mass, stretch);
+            out[row.coordinate] = sum - dot(&row.inverse_mass, stretch);
         }
     }
 }
@@ -135,12 +145,12 @@ impl Row {
         }
     }
 
-    /// The row's entry at coordinate `i`.
-    fn at(&self, i: usize) -> f64 {
+    /// The row's entry at coordinate `i`, `None` outside its stretch
+    /// (where it is zero).
+    fn entry(&self, i: usize) -> Option<f64> {
         i.checked_sub(self.start)
             .and_then(|k| self.inverse_mass.get(k))
             .copied()
-            .unwrap_or(0.0)
     }
 }
 /// aᵀ b in four running sums (a fixed order: the same bits every call).
