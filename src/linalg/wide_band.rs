@@ -597,6 +597,16 @@ mod tests {
         a
     }
 
+    /// `solved` is A⁻¹ `x` to 1e-12 of the dense Cholesky solution's size.
+    fn assert_solves_as_dense(a: &WideBand, x: Vec<f64>, solved: Vec<f64>) {
+        let dense_solution = dense(a)
+            .cholesky()
+            .expect("spd")
+            .solve(&DVector::from_vec(x));
+        let error = (DVector::from_vec(solved) - &dense_solution).amax();
+        assert!(error < 1e-12 * dense_solution.amax(), "error {error:e}");
+    }
+
     fn dense(a: &WideBand) -> DMatrix<f64> {
         let n = a.size();
         DMatrix::from_fn(n, n, |i, j| a.get(i, j))
@@ -734,12 +744,7 @@ mod tests {
         let mut solved = x.clone();
         a.ldlt().expect("spd").solve_in_place(&mut solved);
         assert_eq!(bits(&solved), bits(&solution));
-        let dense_solution = dense(&a)
-            .cholesky()
-            .expect("spd")
-            .solve(&DVector::from_vec(x));
-        let error = (DVector::from_vec(solved) - &dense_solution).amax();
-        assert!(error < 1e-12 * dense_solution.amax(), "error {error:e}");
+        assert_solves_as_dense(&a, x, solved);
     }
 
     /// Rows of the given profile widths, half-bandwidth 10: a rail's
@@ -853,12 +858,7 @@ mod tests {
         let mut solved = x.clone();
         a.ldlt().expect("spd").solve_in_place(&mut solved);
         assert_eq!(bits(&solved), bits(&solution));
-        let dense_solution = dense(&a)
-            .cholesky()
-            .expect("spd")
-            .solve(&DVector::from_vec(x));
-        let error = (DVector::from_vec(solved) - &dense_solution).amax();
-        assert!(error < 1e-12 * dense_solution.amax(), "error {error:e}");
+        assert_solves_as_dense(&a, x, solved);
     }
 
     #[test]
