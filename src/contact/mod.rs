@@ -503,7 +503,7 @@ pub fn foot_point_on(
     guess: f64,
 ) -> Result<ContactFrame, FootPointError> {
     let mut x = guess;
-    let mut element = beam.element_of_guess(x);
+    let mut element = beam.element_at(x);
     // The element's field, gathered again only when the search moves on.
     let mut field = (element, beam.element_field(element, u));
     // Converged: the remaining correction is at round-off level.

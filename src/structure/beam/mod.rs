@@ -493,36 +493,35 @@ impl HermiteBeam {
 
     /// The element whose span holds `x`; abscissae beyond the ends map to the
     /// end elements (their cubics are extended past the beam).
+    #[inline]
     pub fn element_at(&self, x: f64) -> usize {
+        if self.segments.len() == 1 && x.is_finite() {
+            // On a track of one beam, from the element x would be in on a
+            // uniform mesh: a walk of an element or two where bisection
+            // took a dozen comparisons (the foot-point search starts here
+            // at every call). Saturating: before the beam 0, past it the
+            // last element.
+            let first = self.node_x[0];
+            let span = self.node_x[self.node_x.len() - 1] - first;
+            let uniform = ((x - first) / span * self.elements() as f64) as usize;
+            return self.element_near(x, uniform);
+        }
+        self.element_by_bisection(x)
+    }
+
+    /// `element_at` by bisecting the nodes: on several beams, and at a NaN
+    /// or infinite `x`.
+    fn element_by_bisection(&self, x: f64) -> usize {
         let last = self.elements() - 1;
         if x.is_nan() {
             // Where a total order puts it.
             return if x.is_sign_negative() { 0 } else { last };
         }
-        // Elements are few per span and usually uniform: bisection is
-        // enough. The nodes at or before x, by plain comparisons (the
-        // foot-point search starts here at every call).
+        // The nodes at or before x, by plain comparisons.
         self.node_x
             .partition_point(|&n| n <= x)
             .saturating_sub(1)
             .min(last)
-    }
-
-    /// `element_at`, found on a track of one beam from the element `x`
-    /// would be in on a uniform mesh: a walk of an element or two where
-    /// `element_at` bisects the mesh (the foot-point search starts here at
-    /// every call). On several beams, or at a NaN or infinite `x`,
-    /// `element_at` itself.
-    #[inline]
-    pub fn element_of_guess(&self, x: f64) -> usize {
-        if self.segments.len() != 1 || !x.is_finite() {
-            return self.element_at(x);
-        }
-        let first = self.node_x[0];
-        let span = self.node_x[self.node_x.len() - 1] - first;
-        // Saturating: before the beam 0, past it the last element.
-        let uniform = ((x - first) / span * self.elements() as f64) as usize;
-        self.element_near(x, uniform)
     }
 
     /// The element whose span holds `x`, searched from element `hint`
@@ -1086,7 +1085,7 @@ mod tests {
     }
 
     #[test]
-    fn element_of_guess_is_element_at() {
+    fn element_at_is_the_bisections() {
         // Uniform meshes and one with nodes at intermediate supports (not
         // uniform), at abscissae along and past the beam, at every node and
         // just before it, and at the non-finite ones.
@@ -1109,7 +1108,7 @@ mod tests {
             xs.extend([f64::NAN, -f64::NAN, f64::INFINITY, f64::NEG_INFINITY]);
             xs.extend([-0.0, 1e300, -1e300]);
             for x in xs {
-                assert_eq!(beam.element_of_guess(x), beam.element_at(x), "{x}");
+                assert_eq!(beam.element_at(x), beam.element_by_bisection(x), "{x}");
             }
         }
     }
