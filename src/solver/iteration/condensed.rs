@@ -19,9 +19,7 @@ use crate::system::System;
 
 use super::Part;
 
-/// A measured element's places and a loaded one's (`Condensed::places`).
-type PlacesPair = ([Option<usize>; 4], [Option<usize>; 4]);
-use nalgebra::Matrix4;
+use nalgebra::Vector4;
 
 /// A⁻¹'s band for the factor it was taken from, and its entries at the
 /// DOFs of one build's elements.
@@ -36,6 +34,11 @@ pub(super) struct Condensed {
     /// The build's DOFs, increasing, and A⁻¹ among them (column-major).
     dofs: Vec<usize>,
     entries: Vec<f64>,
+    /// The next build's DOFs while they are compared with the last's.
+    next_dofs: Vec<usize>,
+    /// One loaded row's responses at every DOF of the build and, last, at
+    /// a DOF the beam holds (`respond`).
+    column: Vec<f64>,
     /// Per build element (`elements`), its DOFs' places in `dofs`.
     places: Vec<(usize, [Option<usize>; 4])>,
     /// The response weights (w_u, w_v) of the build.
@@ -69,7 +72,8 @@ impl Condensed {
         elements: impl Iterator<Item = usize>,
     ) {
         let beam = &system.beam;
-        if !matches!(&self.inverse, Some((_, kept)) if *kept == factor.serial()) {
+        let new_band = !matches!(&self.inverse, Some((_, kept)) if *kept == factor.serial());
+        if new_band {
             self.inverse = Some((InverseBand::new(factor), factor.serial()));
             self.walks.clear();
             self.work.bands += 1;
@@ -79,22 +83,30 @@ impl Condensed {
         self.places.extend(elements.map(|e| (e, [None; 4])));
         self.places.sort_unstable_by_key(|p| p.0);
         self.places.dedup_by_key(|p| p.0);
-        self.dofs.clear();
+        let mut dofs = std::mem::take(&mut self.next_dofs);
+        dofs.clear();
         for &(e, _) in &self.places {
-            self.dofs.extend(beam.element_dofs(e).iter().flatten());
+            dofs.extend(beam.element_dofs(e).iter().flatten());
         }
-        self.dofs.sort_unstable();
-        self.dofs.dedup();
+        dofs.sort_unstable();
+        dofs.dedup();
+        // The same DOFs of the same band: the same entries, already here
+        // (the contacts stay on their elements for many steps).
+        let kept = !new_band && dofs == self.dofs;
+        self.next_dofs = std::mem::replace(&mut self.dofs, dofs);
         for (e, places) in &mut self.places {
             for (place, dof) in places.iter_mut().zip(beam.element_dofs(*e)) {
                 *place = dof.map(|d| self.dofs.binary_search(&d).expect("listed above"));
             }
         }
+        self.work.builds += 1;
+        if kept {
+            return;
+        }
         let m = self.dofs.len();
         self.entries.resize(m * m, 0.0);
         let (inverse, _) = self.inverse.as_ref().expect("computed above");
         let walked = inverse.entries(&self.dofs, &mut self.walks, &mut self.entries);
-        self.work.builds += 1;
         self.work.rows_walked += walked as u64;
     }
 
@@ -105,26 +117,101 @@ impl Condensed {
         self.places[at.expect("an element of the build")].1
     }
 
-    /// The response block of a measured element to unit loads on the DOFs
-    /// of a loaded one (their `places`), of `part` only: displacements for
-    /// the gap operator, velocities for the velocity operator.
-    #[inline]
-    pub fn block(&self, (measured, loaded): PlacesPair, part: Part) -> Matrix4<f64> {
+    /// The responses to a unit load `row` on the DOFs of a loaded element
+    /// (its `places`), of `part` only (displacements for the gap operator,
+    /// velocities for the velocity operator), at every DOF of the build
+    /// and at a held one: once per loaded row, for all the elements
+    /// measured (`response_at`). Each is the product of the pair's 4 × 4
+    /// block with the row in nalgebra's order (column by column, the
+    /// entry w A⁻¹ times the row's; a missing DOF's entry 0), so the
+    /// operator keeps its bits.
+    pub fn respond(&mut self, loaded: [Option<usize>; 4], row: &Vector4<f64>, part: Part) {
         let m = self.dofs.len();
         let weight = match part {
             Part::Gap => self.weights.0,
             Part::Velocity => self.weights.1,
         };
-        let mut z = Matrix4::zeros();
-        for (l, column) in loaded.iter().enumerate() {
-            let Some(column) = column else { continue };
-            let entries = &self.entries[column * m..(column + 1) * m];
-            for (k, row) in measured.iter().enumerate() {
-                if let Some(row) = row {
-                    z[(k, l)] = weight * entries[*row];
+        let column = &mut self.column;
+        column.clear();
+        column.resize(m + 1, 0.0);
+        for (l, place) in loaded.iter().enumerate() {
+            let x = row[l];
+            let add = |y: &mut f64, t: f64| *y = if l == 0 { t } else { t + *y };
+            let (free, held) = column.split_at_mut(m);
+            match place {
+                Some(c) => {
+                    let entries = &self.entries[c * m..(c + 1) * m];
+                    for (y, e) in free.iter_mut().zip(entries) {
+                        add(y, (weight * e) * x);
+                    }
+                }
+                None => free.iter_mut().for_each(|y| add(y, 0.0 * x)),
+            }
+            add(&mut held[0], 0.0 * x);
+        }
+    }
+
+    /// The last `respond`'s responses at a measured element's DOFs (its
+    /// `places`).
+    #[inline]
+    pub fn response_at(&self, measured: [Option<usize>; 4]) -> Vector4<f64> {
+        let held = self.column[self.dofs.len()];
+        Vector4::from(measured.map(|p| p.map_or(held, |r| self.column[r])))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Matrix4;
+
+    /// The pair's 4 × 4 response block as the operator took it before
+    /// `respond`: w A⁻¹ at (measured, loaded) places, 0 at a held DOF.
+    fn block(
+        c: &Condensed,
+        measured: [Option<usize>; 4],
+        loaded: [Option<usize>; 4],
+    ) -> Matrix4<f64> {
+        let m = c.dofs.len();
+        Matrix4::from_fn(|k, l| match (measured[k], loaded[l]) {
+            (Some(r), Some(col)) => c.weights.1 * c.entries[col * m + r],
+            _ => 0.0,
+        })
+    }
+
+    #[test]
+    fn responses_a_column_at_a_time_are_the_blocks_products_bit_for_bit() {
+        let m = 6;
+        let mut c = Condensed {
+            dofs: (0..m).collect(),
+            entries: (0..m * m)
+                .map(|i| ((i * 7919 % 101) as f64 - 50.0) * 1.37e-9)
+                .collect(),
+            weights: (0.3, 1.0 / 3.0),
+            ..Default::default()
+        };
+        c.entries[8] = -0.0;
+        let places = [
+            [Some(0), Some(1), Some(2), Some(3)],
+            [None, None, Some(4), Some(5)],
+            [Some(2), Some(3), None, None],
+            [None, None, None, None],
+        ];
+        let rows = [
+            Vector4::new(0.25, -1.5, 0.75, 1e-3),
+            Vector4::new(-0.0, 0.0, -0.0, 0.0),
+            Vector4::new(-0.0, -2.0, 0.0, -0.5),
+        ];
+        for loaded in places {
+            for row in &rows {
+                c.respond(loaded, row, Part::Velocity);
+                for measured in places {
+                    let expected = block(&c, measured, loaded) * row;
+                    let got = c.response_at(measured);
+                    let bits = |v: Vector4<f64>| v.map(f64::to_bits);
+                    assert_eq!(bits(got), bits(expected), "{measured:?} {loaded:?} {row}");
                 }
             }
         }
-        z
     }
 }

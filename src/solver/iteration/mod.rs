@@ -574,18 +574,29 @@ impl ContactIteration {
         let places = |f: &ContactFrame| f.on_beam.then(|| self.condensed.places(f.shape.element));
         let measured: Vec<_> = measure_frames.iter().map(places).collect();
         for (j, apply) in start_frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
-            let kinds_j = row_kinds(system.contacts[j].rolls());
             let loaded = self.condensed.places(apply.shape.element);
-            for (i, measure) in measured.iter().enumerate() {
-                let Some(measure) = *measure else { continue };
-                let pair = PairEntry {
-                    rows: (&rows[i].measure, &rows[j].apply),
-                    kinds: (row_kinds(system.contacts[i].rolls()), kinds_j),
-                    at: (i, j),
-                    offsets: (self.offsets[i], self.offsets[j]),
-                };
-                let block = self.condensed.block((measure, loaded), part);
-                pair.fill_part(&block, part, matrix);
+            // `PairEntry::fill_part`'s entries, each loaded row's responses
+            // found once for every measured contact.
+            let kinds_j = match part {
+                Part::Gap => &[1][..],
+                Part::Velocity => row_kinds(system.contacts[j].rolls()),
+            };
+            for (b, &kj) in kinds_j.iter().enumerate() {
+                self.condensed.respond(loaded, &rows[j].apply[kj], part);
+                for (i, measure) in measured.iter().enumerate() {
+                    let Some(measure) = *measure else { continue };
+                    let response = self.condensed.response_at(measure);
+                    let m = &rows[i].measure;
+                    if part == Part::Gap {
+                        matrix[(i, j)] = m[1].dot(&response);
+                        continue;
+                    }
+                    let kinds_i = row_kinds(system.contacts[i].rolls());
+                    for (ai, &ki) in kinds_i.iter().enumerate() {
+                        let at = (self.offsets[i] + ai, self.offsets[j] + b);
+                        matrix[at] = m[ki].dot(&response);
+                    }
+                }
             }
         }
         self.beam_rows = rows;
@@ -1343,11 +1354,13 @@ mod tests {
         assert!(iteration.integrator.nominal_band_response().is_some());
         let (rows, contacts) = (iteration.rows, system.contacts.len());
         let both = (frames.as_slice(), frames.as_slice());
+        let mut walked = Vec::new();
         for (part, size) in [(Part::Velocity, rows), (Part::Gap, contacts)] {
             let mut condensed = DMatrix::zeros(size, size);
             let solves = iteration.delassus_work().0;
             iteration.beam_compliance_cached(&system, both, part, &mut condensed);
             assert_eq!(iteration.delassus_work().0, solves, "no beam solve");
+            walked.push(iteration.delassus_work().1.rows_walked);
             let mut direct = DMatrix::zeros(size, size);
             iteration.beam_compliance_integrated(&system, both, (dt, part), &mut direct);
             let scale = direct.amax();
@@ -1363,6 +1376,8 @@ mod tests {
         // band of A⁻¹ for both condensed builds.
         let (solves, work) = iteration.delassus_work();
         assert_eq!((solves, work.bands, work.builds), (4, 1, 2));
+        // The second build, on the same elements, keeps the first's entries.
+        assert!(walked[0] > 0 && walked[1] == walked[0], "{walked:?}");
         // Another step length integrates them again, and is another operator.
         let mut shorter = DMatrix::zeros(contacts, contacts);
         iteration.beam_compliance_integrated(&system, both, (0.5 * dt, Part::Gap), &mut shorter);
