@@ -198,10 +198,13 @@ impl Assembly {
         let n = self.matrix.nrows();
         let matrix = self.matrix.as_mut_slice();
         if n <= EXPLICIT_INVERSE_ROWS {
-            for (r, _) in self.open_rows.iter().enumerate().filter(|(_, &open)| open) {
-                matrix[r * n..(r + 1) * n].fill(0.0);
-                matrix.iter_mut().skip(r).step_by(n).for_each(|x| *x = 0.0);
-                matrix[r * n + r] = 1.0;
+            let open = self.open_rows.iter().enumerate().filter(|(_, &open)| open);
+            if self.any_open {
+                for (r, _) in open {
+                    matrix[r * n..(r + 1) * n].fill(0.0);
+                    matrix.iter_mut().skip(r).step_by(n).for_each(|x| *x = 0.0);
+                    matrix[r * n + r] = 1.0;
+                }
             }
             return matrix.iter().all(|x| x.is_finite());
         }

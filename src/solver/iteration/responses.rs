@@ -145,7 +145,9 @@ impl ResponseCache {
         Footprint {
             loaded_elements: self.loaded.len(),
             pairs: self.pairs.len(),
-            bytes: self.loaded.values().map(Loaded::bytes).sum::<usize>() + self.pairs.len() * pair,
+            // Every loaded element's responses are of the one beam's size.
+            bytes: self.loaded.values().next().map_or(0, Loaded::bytes) * self.loaded.len()
+                + self.pairs.len() * pair,
         }
     }
 
@@ -193,16 +195,19 @@ impl ResponseCache {
     /// when they exceed it.
     fn drop_idle(&mut self) {
         let build = self.build;
+        let Some(whole) = self.loaded.values().next().map(Loaded::bytes) else {
+            return;
+        };
+        // Counted before listed: most builds drop nothing, and the list's
+        // allocation was most of a small beam's build (the paper's case).
+        let idle_count = self.loaded.values().filter(|l| l.used < build).count();
+        if idle_count * whole <= MAX_IDLE_BYTES {
+            return;
+        }
         let mut idle: Vec<(u64, usize)> = (self.loaded.iter())
             .filter(|(_, l)| l.used < build)
             .map(|(&e, l)| (l.used, e))
             .collect();
-        let Some(whole) = self.loaded.values().next().map(Loaded::bytes) else {
-            return;
-        };
-        if idle.len() * whole <= MAX_IDLE_BYTES {
-            return;
-        }
         // Oldest first; the element breaks ties so that the order is the
         // same whatever the map's.
         idle.sort_unstable();
