@@ -152,9 +152,12 @@ struct Delassus {
     velocity: Inverted,
     /// (∂g/∂p_n)⁻¹ over the contacts (N/m).
     gap: Inverted,
-    /// Their matrices, assembled over the entries the contacts couple.
-    velocity_assembly: Assembly,
-    gap_assembly: Assembly,
+    /// Their matrices, assembled over the entries the contacts couple;
+    /// boxed, so that a build takes one out and puts it back by pointer
+    /// (moving the struct and dropping a default one cost a tenth of the
+    /// paper's case's build).
+    velocity_assembly: Option<Box<Assembly>>,
+    gap_assembly: Option<Box<Assembly>>,
     /// Whether they hold this step's operators (velocity, gap).
     built: bool,
     gap_built: bool,
@@ -168,7 +171,7 @@ struct Delassus {
 
 impl Delassus {
     /// One part's operator and its assembly.
-    fn part_mut(&mut self, part: Part) -> (&mut Inverted, &mut Assembly) {
+    fn part_mut(&mut self, part: Part) -> (&mut Inverted, &mut Option<Box<Assembly>>) {
         match part {
             Part::Velocity => (&mut self.velocity, &mut self.velocity_assembly),
             Part::Gap => (&mut self.gap, &mut self.gap_assembly),
@@ -181,8 +184,8 @@ impl Delassus {
         Delassus {
             velocity: Inverted::unbuilt(rows),
             gap: Inverted::unbuilt(contacts),
-            velocity_assembly: Assembly::default(),
-            gap_assembly: Assembly::default(),
+            velocity_assembly: Some(Box::default()),
+            gap_assembly: Some(Box::default()),
             built: false,
             gap_built: false,
             frames: Vec::new(),
@@ -717,7 +720,7 @@ impl ContactIteration {
         }
         let measured = std::mem::take(&mut self.delassus.frames);
         let frames = (measured.as_slice(), start_frames);
-        let mut assembly = std::mem::take(self.delassus.part_mut(part).1);
+        let mut assembly = self.delassus.part_mut(part).1.take().unwrap_or_default();
         let written = self.assemble(system, frames, (dt, part), &mut assembly);
         self.delassus.frames = measured;
         let (operator, kept) = self.delassus.part_mut(part);
@@ -725,11 +728,11 @@ impl ContactIteration {
             Ok(()) => assembly.invert(std::mem::replace(operator, Inverted::unbuilt(0))),
             Err(error) => {
                 assembly.clean();
-                *kept = assembly;
+                *kept = Some(assembly);
                 return Err(error);
             }
         };
-        *kept = assembly;
+        *kept = Some(assembly);
         let Some(inverted) = inverted else {
             return Err(StepError::NonFinite {
                 stage: match part {

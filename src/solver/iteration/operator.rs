@@ -257,7 +257,10 @@ impl Assembly {
     pub fn invert(&mut self, previous: Inverted) -> Option<Inverted> {
         let finite = self.mask_and_check();
         let inverted = finite.then(|| self.inverted(previous)).flatten();
-        self.clean();
+        // A blocked operator's gathering left the matrix zero.
+        if !matches!(inverted, Some(Inverted::Blocks(_))) {
+            self.clean();
+        }
         inverted
     }
 
@@ -282,7 +285,7 @@ impl Assembly {
                 Layout::new(singles, groups, self.pattern.clone())
             }
         };
-        layout.invert(&self.matrix)?;
+        layout.invert(&mut self.matrix)?;
         Some(Inverted::Blocks(layout))
     }
 }
@@ -310,11 +313,14 @@ impl Layout {
 
     /// Takes the single rows' diagonals and inverts the groups of
     /// `matrix` (of this layout's pattern); None if any is singular.
-    fn invert(&mut self, matrix: &DMatrix<f64>) -> Option<()> {
+    /// Zeroes what it takes: every nonzero entry is a single's diagonal
+    /// or within a group, so a success leaves `matrix` zero (no pass of
+    /// `Assembly::clean` over the listing); a failure leaves it to clean.
+    fn invert(&mut self, matrix: &mut DMatrix<f64>) -> Option<()> {
         let n = matrix.nrows();
-        let entries = matrix.as_slice();
+        let entries = matrix.as_mut_slice();
         for (i, d) in &mut self.singles {
-            let x = entries[*i * n + *i];
+            let x = std::mem::take(&mut entries[*i * n + *i]);
             if x == 0.0 || !x.is_finite() {
                 return None;
             }
@@ -332,9 +338,9 @@ impl Layout {
             // both indices of every entry gathered.
             let gathered = sub.as_mut_slice().chunks_exact_mut(k);
             for (to, &j) in gathered.zip(&group.rows) {
-                let column = &entries[j * n..(j + 1) * n];
+                let column = &mut entries[j * n..(j + 1) * n];
                 for (x, &i) in to.iter_mut().zip(&group.rows) {
-                    *x = column[i];
+                    *x = std::mem::take(&mut column[i]);
                 }
             }
             group.inverted = if k > FACTORED_GROUP_ROWS {
