@@ -43,6 +43,11 @@ pub(super) struct Condensed {
     places: Vec<(usize, [Option<usize>; 4])>,
     /// The response weights (w_u, w_v) of the build.
     weights: (f64, f64),
+    /// The elements `prepare` was given, in their order, this build's and
+    /// the last's: the same ones of the same band keep `places`, `dofs`
+    /// and `entries` without sorting them again.
+    given: Vec<usize>,
+    last_given: Vec<usize>,
     work: Work,
 }
 
@@ -79,8 +84,16 @@ impl Condensed {
             self.work.bands += 1;
         }
         self.weights = (w_u, w_v);
+        self.work.builds += 1;
+        self.given.clear();
+        self.given.extend(elements);
+        if !new_band && self.given == self.last_given {
+            return;
+        }
+        std::mem::swap(&mut self.given, &mut self.last_given);
         self.places.clear();
-        self.places.extend(elements.map(|e| (e, [None; 4])));
+        self.places
+            .extend(self.last_given.iter().map(|&e| (e, [None; 4])));
         self.places.sort_unstable_by_key(|p| p.0);
         self.places.dedup_by_key(|p| p.0);
         let mut dofs = std::mem::take(&mut self.next_dofs);
@@ -99,7 +112,6 @@ impl Condensed {
                 *place = dof.map(|d| self.dofs.binary_search(&d).expect("listed above"));
             }
         }
-        self.work.builds += 1;
         if kept {
             return;
         }

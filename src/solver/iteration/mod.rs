@@ -153,8 +153,9 @@ struct Delassus {
     /// (∂g/∂p_n)⁻¹ over the contacts (N/m).
     gap: Inverted,
     /// Their matrices, assembled over the entries the contacts couple;
-    /// boxed, so that a build takes one out and puts it back by a pointer
-    /// (moving the struct was a tenth of the paper's case's builds).
+    /// boxed, so that a build takes one out and puts it back by pointer
+    /// (moving the struct and dropping a default one cost a tenth of the
+    /// paper's case's build).
     velocity_assembly: Option<Box<Assembly>>,
     gap_assembly: Option<Box<Assembly>>,
     /// Whether they hold this step's operators (velocity, gap).
@@ -719,8 +720,7 @@ impl ContactIteration {
         }
         let measured = std::mem::take(&mut self.delassus.frames);
         let frames = (measured.as_slice(), start_frames);
-        let kept = self.delassus.part_mut(part).1.take();
-        let mut assembly = kept.expect("an operator's assembly between builds");
+        let mut assembly = self.delassus.part_mut(part).1.take().unwrap_or_default();
         let written = self.assemble(system, frames, (dt, part), &mut assembly);
         self.delassus.frames = measured;
         let (operator, kept) = self.delassus.part_mut(part);
@@ -1223,12 +1223,17 @@ fn list_entries(
     contacts_of_body: &[Vec<usize>],
     assembly: &mut Assembly,
 ) {
+    let rows_of = |c: usize| match part {
+        Part::Velocity => (offsets[c], system.contacts[c].rows()),
+        Part::Gap => (c, 1),
+    };
+    if Assembly::inverted_whole(n) {
+        let open_rows = (0..system.contacts.len()).filter(|&c| open[c]).map(rows_of);
+        return assembly.whole(n, open_rows);
+    }
     assembly.contacts.clear();
     for (c, contact) in system.contacts.iter().enumerate() {
-        let (first, count) = match part {
-            Part::Velocity => (offsets[c], contact.rows()),
-            Part::Gap => (c, 1),
-        };
+        let (first, count) = rows_of(c);
         assembly.contacts.push(ContactRows {
             first,
             count,

@@ -98,7 +98,7 @@ pub(super) struct Assembly {
     entries: Vec<(u32, u32)>,
     /// Whether a contact is open.
     any_open: bool,
-    /// Per row: its contact is open.
+    /// Per row: its contact is open (read only when `any_open`).
     open_rows: Vec<bool>,
     /// Scratch: the contacts measured on the beam, increasing; a column's
     /// rows' contacts.
@@ -145,6 +145,34 @@ fn merge_sorted(a: &[usize], b: &[usize], out: &mut Vec<usize>) {
 }
 
 impl Assembly {
+    /// Whether an operator of n rows is inverted whole: written, masked,
+    /// checked and zeroed whole, with no listing (`whole`), as the
+    /// paper's scenes' operators were before the listing.
+    pub fn inverted_whole(n: usize) -> bool {
+        n <= EXPLICIT_INVERSE_ROWS
+    }
+
+    /// Readies an operator of n rows inverted whole (`inverted_whole`) for
+    /// a build, its open contacts' rows (first, count) `open`.
+    pub fn whole(&mut self, n: usize, open: impl Iterator<Item = (usize, usize)>) {
+        if self.matrix.nrows() != n {
+            self.matrix = DMatrix::zeros(n, n);
+            self.listed_for.clear();
+            self.entries.clear();
+        }
+        // `open_rows` is read only when a contact is open: the paper's
+        // scenes, all closed, skip it.
+        self.any_open = false;
+        for (first, count) in open {
+            if !self.any_open {
+                self.open_rows.clear();
+                self.open_rows.resize(n, false);
+                self.any_open = true;
+            }
+            self.open_rows[first..first + count].fill(true);
+        }
+    }
+
     /// Lists the entries of an n × n operator over `self.contacts` (their
     /// bodies' contacts in `contacts_of_body`, increasing): the pairs both
     /// on the beam, and the pairs on one body. The list of the build
@@ -260,7 +288,10 @@ impl Assembly {
     pub fn invert(&mut self, previous: Inverted) -> Option<Inverted> {
         let finite = self.mask_and_check();
         let inverted = finite.then(|| self.inverted(previous)).flatten();
-        self.clean();
+        // A blocked operator's gathering left the matrix zero.
+        if !matches!(inverted, Some(Inverted::Blocks(_))) {
+            self.clean();
+        }
         inverted
     }
 
@@ -285,7 +316,7 @@ impl Assembly {
                 Layout::new(singles, groups, self.pattern.clone())
             }
         };
-        layout.invert(&self.matrix)?;
+        layout.invert(&mut self.matrix)?;
         Some(Inverted::Blocks(layout))
     }
 }
@@ -313,11 +344,14 @@ impl Layout {
 
     /// Takes the single rows' diagonals and inverts the groups of
     /// `matrix` (of this layout's pattern); None if any is singular.
-    fn invert(&mut self, matrix: &DMatrix<f64>) -> Option<()> {
+    /// Zeroes what it takes: every nonzero entry is a single's diagonal
+    /// or within a group, so a success leaves `matrix` zero (no pass of
+    /// `Assembly::clean` over the listing); a failure leaves it to clean.
+    fn invert(&mut self, matrix: &mut DMatrix<f64>) -> Option<()> {
         let n = matrix.nrows();
-        let entries = matrix.as_slice();
+        let entries = matrix.as_mut_slice();
         for (i, d) in &mut self.singles {
-            let x = entries[*i * n + *i];
+            let x = std::mem::take(&mut entries[*i * n + *i]);
             if x == 0.0 || !x.is_finite() {
                 return None;
             }
@@ -335,9 +369,9 @@ impl Layout {
             // both indices of every entry gathered.
             let gathered = sub.as_mut_slice().chunks_exact_mut(k);
             for (to, &j) in gathered.zip(&group.rows) {
-                let column = &entries[j * n..(j + 1) * n];
+                let column = &mut entries[j * n..(j + 1) * n];
                 for (x, &i) in to.iter_mut().zip(&group.rows) {
-                    *x = column[i];
+                    *x = std::mem::take(&mut column[i]);
                 }
             }
             group.inverted = if k > FACTORED_GROUP_ROWS {
@@ -594,6 +628,40 @@ mod tests {
             singular[(i, 0)] = 0.0;
         }
         assert!(assembled(&singular, &[], inverted).is_none());
+    }
+
+    #[test]
+    fn a_small_operator_is_masked_whole_without_a_listing() {
+        // Six rows: contact 1 (rows 2 and 3) open in the first build, none
+        // in the second (the mask of the first is not kept).
+        let n = 6;
+        let m = DMatrix::<f64>::from_fn(n, n, |i, j| {
+            if i == j {
+                4.0 + i as f64
+            } else {
+                0.3 / (1.0 + (i as f64 - 0.7 * j as f64).abs())
+            }
+        });
+        let b = DVector::from_fn(n, |i, _| 1.0 - 0.3 * i as f64);
+        let mut masked = m.clone();
+        for r in [2, 3] {
+            masked.row_mut(r).fill(0.0);
+            masked.column_mut(r).fill(0.0);
+            masked[(r, r)] = 1.0;
+        }
+        let mut assembly = Assembly::default();
+        let mut previous = Inverted::unbuilt(n);
+        for (open, expected) in [(&[(2, 2)][..], &masked), (&[][..], &m)] {
+            assert!(Assembly::inverted_whole(n));
+            assembly.whole(n, open.iter().copied());
+            assembly.matrix.copy_from(&m);
+            let mut inverted = assembly.invert(previous).unwrap();
+            assert_eq!(assembly.matrix.amax(), 0.0, "left zero");
+            let out = solved(&mut inverted, &b);
+            let direct = expected.clone().lu().solve(&b).unwrap();
+            assert!((&out - &direct).amax() < 1e-14, "{out} vs {direct}");
+            previous = inverted;
+        }
     }
 
     #[test]
