@@ -89,7 +89,8 @@ impl EndForces {
                 *x = DVector::zeros(n);
             }
         };
-        self.stiffness = None;
+        // The buffers stay from step to step (the rail's 922 entries
+        // were a fresh zeroed K u every step); a product writes every entry.
         match damping {
             true if beam.energies_are_products() => {
                 sized(&mut self.damping);
@@ -101,6 +102,7 @@ impl EndForces {
                 beam.stiffness_and_damping_forces((u, v), (k, c), &mut self.internal);
             }
             true => {
+                self.stiffness = None;
                 sized(&mut self.damping);
                 let Some(c) = self.damping.as_mut() else {
                     unreachable!()
@@ -108,7 +110,7 @@ impl EndForces {
                 beam.internal_and_damping_forces((u, v), c, &mut self.internal);
             }
             false => {
-                self.damping = None;
+                (self.damping, self.stiffness) = (None, None);
                 beam.internal_forces(u, v, scratch, &mut self.internal);
             }
         }
@@ -219,6 +221,16 @@ mod tests {
                 "{name}"
             );
             assert!(strain > 0.0);
+            // Another state kept over it (K u's buffer reused): its
+            // entries the new state's, none left of the first.
+            let other = -0.5 * &u;
+            memo.keep(&system, (&other, &v), true, &mut scratch);
+            assert_eq!(
+                memo.strain_energy_at((&other, &v)).map(f64::to_bits),
+                products.then_some(system.beam.strain_energy(&other).to_bits()),
+                "{name}"
+            );
+            memo.keep(&system, (&u, &v), true, &mut scratch);
             let mut moved = u.clone();
             moved[0] += 1e-6;
             assert!(memo.strain_energy_at((&moved, &v)).is_none());
