@@ -1223,17 +1223,12 @@ fn list_entries(
     contacts_of_body: &[Vec<usize>],
     assembly: &mut Assembly,
 ) {
-    let rows_of = |c: usize| match part {
-        Part::Velocity => (offsets[c], system.contacts[c].rows()),
-        Part::Gap => (c, 1),
-    };
-    if Assembly::inverted_whole(n) {
-        let open_rows = (0..system.contacts.len()).filter(|&c| open[c]).map(rows_of);
-        return assembly.whole(n, open_rows);
-    }
     assembly.contacts.clear();
     for (c, contact) in system.contacts.iter().enumerate() {
-        let (first, count) = rows_of(c);
+        let (first, count) = match part {
+            Part::Velocity => (offsets[c], contact.rows()),
+            Part::Gap => (c, 1),
+        };
         assembly.contacts.push(ContactRows {
             first,
             count,

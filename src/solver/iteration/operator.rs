@@ -148,13 +148,13 @@ impl Assembly {
     /// Whether an operator of n rows is inverted whole: written, masked,
     /// checked and zeroed whole, with no listing (`whole`), as the
     /// paper's scenes' operators were before the listing.
-    pub fn inverted_whole(n: usize) -> bool {
+    fn inverted_whole(n: usize) -> bool {
         n <= EXPLICIT_INVERSE_ROWS
     }
 
     /// Readies an operator of n rows inverted whole (`inverted_whole`) for
-    /// a build, its open contacts' rows (first, count) `open`.
-    pub fn whole(&mut self, n: usize, open: impl Iterator<Item = (usize, usize)>) {
+    /// a build: its open contacts' rows alone, no listing.
+    fn whole(&mut self, n: usize) {
         if self.matrix.nrows() != n {
             self.matrix = DMatrix::zeros(n, n);
             self.listed_for.clear();
@@ -163,7 +163,8 @@ impl Assembly {
         // `open_rows` is read only when a contact is open: the paper's
         // scenes, all closed, skip it.
         self.any_open = false;
-        for (first, count) in open {
+        let open = self.contacts.iter().filter(|c| c.open);
+        for &ContactRows { first, count, .. } in open {
             if !self.any_open {
                 self.open_rows.clear();
                 self.open_rows.resize(n, false);
@@ -178,6 +179,9 @@ impl Assembly {
     /// on the beam, and the pairs on one body. The list of the build
     /// before is kept while the contacts' places are the same.
     pub fn list(&mut self, n: usize, contacts_of_body: &[Vec<usize>]) {
+        if Self::inverted_whole(n) {
+            return self.whole(n);
+        }
         if self.matrix.nrows() != n {
             self.matrix = DMatrix::zeros(n, n);
             self.listed_for.clear();
@@ -194,10 +198,6 @@ impl Assembly {
             self.open_rows[c.first..c.first + c.count].fill(true);
         }
         self.entries.clear();
-        // Small operators are inverted whole, zeroed whole.
-        if n <= EXPLICIT_INVERSE_ROWS {
-            return;
-        }
         let contacts = &self.contacts;
         self.measured.clear();
         let on_beam = (0..contacts.len()).filter(|&c| contacts[c].measured_on_beam);
@@ -651,9 +651,21 @@ mod tests {
         }
         let mut assembly = Assembly::default();
         let mut previous = Inverted::unbuilt(n);
-        for (open, expected) in [(&[(2, 2)][..], &masked), (&[][..], &m)] {
+        let bodies: Vec<Vec<usize>> = (0..3).map(|c| vec![c]).collect();
+        for (open, expected) in [(true, &masked), (false, &m)] {
             assert!(Assembly::inverted_whole(n));
-            assembly.whole(n, open.iter().copied());
+            assembly.contacts = (0..3)
+                .map(|c| ContactRows {
+                    first: 2 * c,
+                    count: 2,
+                    body: c,
+                    measured_on_beam: true,
+                    applied_on_beam: true,
+                    open: open && c == 1,
+                })
+                .collect();
+            assembly.list(n, &bodies);
+            assert!(assembly.entries.is_empty(), "no listing");
             assembly.matrix.copy_from(&m);
             let mut inverted = assembly.invert(previous).unwrap();
             assert_eq!(assembly.matrix.amax(), 0.0, "left zero");
