@@ -30,13 +30,23 @@ pub fn body_kinetic(system: &System, state: &SimState) -> f64 {
 /// Potential energy of the force elements and of the followers'
 /// suspensions (at their gaps at the end of the last step) (J).
 pub fn spring(system: &System, state: &SimState) -> f64 {
+    spring_with(system, state, None)
+}
+
+/// `spring`, the force elements' share recalled from the last step's
+/// kept products `end` where `state` is its end (`EndForces::element_sums_at`,
+/// the same bits).
+pub fn spring_with(system: &System, state: &SimState, end: Option<&EndForces>) -> f64 {
+    let bodies = &state.dynamic.bodies;
+    let kept = end.and_then(|end| end.element_sums_at(system, bodies));
+    let elements = kept.map_or_else(|| system.spring_energy(bodies), |(_, energy)| energy);
     let followers: f64 = system
         .contacts
         .iter()
         .zip(&state.contacts)
         .filter_map(|(c, status)| c.follower.map(|f| f.potential_energy(status.gap)))
         .sum();
-    system.spring_energy(&state.dynamic.bodies) + followers
+    elements + followers
 }
 
 /// Kinetic + strain + spring energy + energy dissipated − work done on

@@ -712,7 +712,7 @@ impl<'a> Now<'a> {
             .body_accelerations
             .then(|| body_accelerations_at(system, state, probes, frames.as_deref()));
         let spring_energy = if needs.spring_energy {
-            energy::spring(system, state)
+            energy::spring_with(system, state, probes.end_forces)
         } else {
             f64::NAN
         };

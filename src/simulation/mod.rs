@@ -188,7 +188,8 @@ impl Simulation {
     /// Potential energy of the force elements and of the followers'
     /// suspensions (at their gaps at the end of the last step) (J).
     pub fn spring_energy(&self) -> f64 {
-        crate::energy::spring(&self.system, &self.state)
+        let end = self.stepper.iteration().integrator().end_forces();
+        crate::energy::spring_with(&self.system, &self.state, end)
     }
 
     /// Kinetic + strain + spring energy + energy dissipated (dampers,

@@ -3,13 +3,17 @@
 //! per system: each element's bodies, attachment points and constants laid
 //! out flat, and which bodies' rotations a sweep needs, so that a sweep
 //! takes each rotation once and then runs a tight loop over the elements.
+//! Consecutive elements between the same two points of the same two bodies
+//! (a suspension's vertical and longitudinal elements) are one joint, whose
+//! ends' states and offsets a sweep takes once for both.
 //!
 //! Every sweep gives the bits of the elements' general formulas
 //! (`ForceElement::forces`, `ForceElement::potential_energy`): the same
 //! floating-point operations in the same order, with the arithmetic of
-//! each element's one direction only (see `Link::separation`).
+//! each element's one direction only (see `Law::separation`).
 
 use std::ops::Deref;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 use nalgebra::{Vector2, Vector3};
 
@@ -22,7 +26,11 @@ use crate::force_element::{Direction, ForceElement};
 /// rotations stays on the stack.
 const BLOCK_TURNS: usize = 16;
 
-/// A point at its body's centre: no rotation (`Link::turns`).
+/// How many elements one joint holds: a suspension's vertical and
+/// longitudinal pair.
+const JOINT_LAWS: usize = 2;
+
+/// A point at its body's centre: no rotation (`Joint::turns`).
 const CENTRE: usize = usize::MAX;
 
 /// The system's force elements, with the plan their sweeps follow. Read
@@ -32,7 +40,12 @@ const CENTRE: usize = usize::MAX;
 pub struct ForceElements {
     elements: Vec<ForceElement>,
     blocks: Vec<Block>,
+    /// The plan's number, new with every plan (`plan_id`).
+    plan: u64,
 }
+
+/// The last plan's number (`ForceElements::plan_id`).
+static PLANS: AtomicU64 = AtomicU64::new(0);
 
 /// Consecutive elements whose off-centre attachment points turn with at
 /// most `BLOCK_TURNS` bodies.
@@ -40,18 +53,28 @@ pub struct ForceElements {
 struct Block {
     /// The bodies whose rotations the block's elements use, each once.
     turning: Vec<usize>,
-    links: Vec<Link>,
+    joints: Vec<Joint>,
 }
 
-/// One element as a sweep reads it.
+/// Consecutive elements (up to `JOINT_LAWS`) between the same points of
+/// the same bodies, as a sweep reads them.
 #[derive(Debug, Clone, Copy)]
-struct Link {
+struct Joint {
     /// Bodies a and b.
     ends: [usize; 2],
     /// Per end: its body's slot in the block's rotations, or `CENTRE`.
     turns: [usize; 2],
     /// The attachment points in body coordinates.
     points: [Vector2<f64>; 2],
+    /// The elements' own constants, in their order: the first, and the
+    /// second where `pair`.
+    laws: [Law; JOINT_LAWS],
+    pair: bool,
+}
+
+/// One element's direction and constants.
+#[derive(Debug, Clone, Copy, Default)]
+struct Law {
     vertical: bool,
     stiffness: f64,
     damping: f64,
@@ -72,7 +95,12 @@ impl Deref for ForceElements {
 impl From<Vec<ForceElement>> for ForceElements {
     fn from(elements: Vec<ForceElement>) -> ForceElements {
         let blocks = plan(&elements);
-        ForceElements { elements, blocks }
+        let plan = new_plan_id();
+        ForceElements {
+            elements,
+            blocks,
+            plan,
+        }
     }
 }
 
@@ -81,13 +109,26 @@ impl ForceElements {
     pub fn update(&mut self, change: impl FnOnce(&mut [ForceElement])) {
         change(&mut self.elements);
         self.blocks = plan(&self.elements);
+        self.plan = new_plan_id();
     }
 
     /// Append `more`, then make the plan again.
     pub fn extend(&mut self, more: impl IntoIterator<Item = ForceElement>) {
         self.elements.extend(more);
         self.blocks = plan(&self.elements);
+        self.plan = new_plan_id();
     }
+
+    /// A number that changes with the elements (`update`, `extend`): a
+    /// sum kept at one plan is the sum of the same elements while it is
+    /// unchanged (clones share it with the elements they copy).
+    pub fn plan_id(&self) -> u64 {
+        self.plan
+    }
+}
+
+fn new_plan_id() -> u64 {
+    PLANS.fetch_add(1, Ordering::Relaxed) + 1
 }
 
 /// The blocks of `elements`, in their order.
@@ -108,6 +149,17 @@ fn plan(elements: &[ForceElement]) -> Vec<Block> {
             blocks.push(Block::default());
         }
         let block = blocks.last_mut().expect("a block was pushed");
+        let law = Law {
+            vertical: e.direction == Direction::Vertical,
+            stiffness: e.stiffness,
+            damping: e.damping,
+            preload: e.preload,
+            rest: e.rest,
+        };
+        if let Some(joint) = block.joints.last_mut().filter(|j| j.joins(e)) {
+            (joint.laws[1], joint.pair) = (law, true);
+            continue;
+        }
         let turns = ends.map(|(body, point)| {
             if is_centre(&point) {
                 return CENTRE;
@@ -118,15 +170,14 @@ fn plan(elements: &[ForceElement]) -> Vec<Block> {
                 block.turning.len() - 1
             })
         });
-        block.links.push(Link {
+        let mut laws = [Law::default(); JOINT_LAWS];
+        laws[0] = law;
+        block.joints.push(Joint {
             ends: [e.body_a, e.body_b],
             turns,
             points: [e.point_a, e.point_b],
-            vertical: e.direction == Direction::Vertical,
-            stiffness: e.stiffness,
-            damping: e.damping,
-            preload: e.preload,
-            rest: e.rest,
+            laws,
+            pair: false,
         });
     }
     blocks
@@ -146,7 +197,29 @@ impl Block {
 /// The two ends' states and their attachment points' world offsets.
 type Ends<'a> = ((&'a BodyState, &'a BodyState), (Vector2<f64>, Vector2<f64>));
 
-impl Link {
+impl Joint {
+    /// Whether element `e` is one more of this joint's: the same bodies
+    /// and the same points' bits (their offsets are then the same bits),
+    /// and room left.
+    fn joins(&self, e: &ForceElement) -> bool {
+        let bits = |p: &Vector2<f64>| [p.x.to_bits(), p.y.to_bits()];
+        !self.pair
+            && self.ends == [e.body_a, e.body_b]
+            && bits(&self.points[0]) == bits(&e.point_a)
+            && bits(&self.points[1]) == bits(&e.point_b)
+    }
+
+    /// The sum of `term` over the joint's elements, in their order, onto
+    /// `sum` (unrolled: a loop over one or two cost a tenth of a sweep).
+    #[inline(always)]
+    fn fold(&self, sum: f64, mut term: impl FnMut(&Law) -> f64) -> f64 {
+        let first = sum + term(&self.laws[0]);
+        match self.pair {
+            true => first + term(&self.laws[1]),
+            false => first,
+        }
+    }
+
     /// The ends' states in `bodies` and the offsets of their points:
     /// `BodyState::offset_of`'s bits (zero at a centre).
     #[inline(always)]
@@ -159,6 +232,27 @@ impl Link {
         (states, (offset(0), offset(1)))
     }
 
+    /// Each element's generalized forces added to `loads`, in their
+    /// order; returns `sum` plus each damper's power c δ̇², in their order.
+    #[inline(always)]
+    fn add_loads(
+        &self,
+        bodies: &[BodyState],
+        table: &Table,
+        loads: &mut [Vector3<f64>],
+        sum: f64,
+    ) -> f64 {
+        let ends = self.ends(bodies, table);
+        self.fold(sum, |law| {
+            let (on_a, on_b, power) = law.forces(ends);
+            loads[self.ends[0]] += on_a;
+            loads[self.ends[1]] += on_b;
+            power
+        })
+    }
+}
+
+impl Law {
     /// (p_a − p_b)·d with the arithmetic of the element's one direction:
     /// the general dot product with d multiplies the other component by 0
     /// and adds the zero, which the compiler may not drop (it would change
@@ -186,11 +280,10 @@ impl Link {
         }
     }
 
-    /// The element's generalized forces added to `loads`; returns the
+    /// The element's generalized forces on bodies a and b, and the
     /// damper's power c δ̇².
     #[inline(always)]
-    fn add_loads(&self, bodies: &[BodyState], table: &Table, loads: &mut [Vector3<f64>]) -> f64 {
-        let ends = self.ends(bodies, table);
+    fn forces(&self, ends: Ends) -> (Vector3<f64>, Vector3<f64>, f64) {
         let (ra, rb) = ends.1;
         let elongation = self.separation(ends) - self.rest;
         let rate = self.rate(ends);
@@ -207,22 +300,20 @@ impl Link {
                 Vector3::new(-magnitude, 0.0, rb.y * magnitude),
             )
         };
-        loads[self.ends[0]] += on_a;
-        loads[self.ends[1]] += on_b;
-        self.damping * rate * rate
+        (on_a, on_b, self.damping * rate * rate)
     }
 
     /// The damper's power c δ̇².
     #[inline(always)]
-    fn power(&self, bodies: &[BodyState], table: &Table) -> f64 {
-        let rate = self.rate(self.ends(bodies, table));
+    fn power(&self, ends: Ends) -> f64 {
+        let rate = self.rate(ends);
         self.damping * rate * rate
     }
 
     /// ½ k δ² − preload δ.
     #[inline(always)]
-    fn energy(&self, bodies: &[BodyState], table: &Table) -> f64 {
-        let delta = self.separation(self.ends(bodies, table)) - self.rest;
+    fn energy(&self, ends: Ends) -> f64 {
+        let delta = self.separation(ends) - self.rest;
         0.5 * self.stiffness * delta * delta - self.preload * delta
     }
 }
@@ -247,8 +338,8 @@ pub fn add_element_forces(
         block.rotations(bodies, &mut table);
         // The running sum in a local: kept in a register through the loop.
         let mut sum = dissipation;
-        for link in &block.links {
-            sum += link.add_loads(bodies, &table, loads);
+        for joint in &block.joints {
+            sum = joint.add_loads(bodies, &table, loads, sum);
         }
         dissipation = sum;
     }
@@ -258,31 +349,52 @@ pub fn add_element_forces(
 /// Power the dampers dissipate (W): the sum of each element's
 /// `forces(..).dissipation`, in their order.
 pub fn dissipation_power(elements: &ForceElements, bodies: &[BodyState]) -> f64 {
-    sum_over_links(elements, bodies, Link::power)
+    sum_over_laws(elements, bodies, Law::power)
 }
 
 /// Potential energy of all `elements` (J): the sum of each element's
 /// `potential_energy`, in their order.
 pub fn spring_energy(elements: &ForceElements, bodies: &[BodyState]) -> f64 {
-    sum_over_links(elements, bodies, Link::energy)
+    sum_over_laws(elements, bodies, Law::energy)
 }
 
-/// The sum of `term` over every link, in the elements' order, each
-/// block's rotations taken once.
-fn sum_over_links(
+/// `dissipation_power` and `spring_energy` at once, their bits: each
+/// block's rotations and each joint's ends taken once for both.
+pub fn power_and_energy(elements: &ForceElements, bodies: &[BodyState]) -> (f64, f64) {
+    let (mut power, mut energy) = (-0.0, -0.0);
+    let mut table = [(0.0, 0.0); BLOCK_TURNS];
+    for block in &elements.blocks {
+        block.rotations(bodies, &mut table);
+        let (mut p, mut e) = (power, energy);
+        for joint in &block.joints {
+            let ends = joint.ends(bodies, &table);
+            p = joint.fold(p, |law| law.power(ends));
+            e = joint.fold(e, |law| law.energy(ends));
+        }
+        (power, energy) = (p, e);
+    }
+    (power, energy)
+}
+
+/// The sum of `term` over every element, in their order, each block's
+/// rotations and each joint's ends taken once: `Iterator::sum`'s bits (it
+/// starts from −0.0, which an empty plan returns).
+fn sum_over_laws(
     elements: &ForceElements,
     bodies: &[BodyState],
-    term: impl Fn(&Link, &[BodyState], &Table) -> f64 + Copy,
+    term: impl Fn(&Law, Ends) -> f64 + Copy,
 ) -> f64 {
-    let mut table = [(0.0, 0.0); BLOCK_TURNS];
-    let each = elements.blocks.iter().flat_map(|block| {
+    let (mut sum, mut table) = (-0.0, [(0.0, 0.0); BLOCK_TURNS]);
+    for block in &elements.blocks {
         block.rotations(bodies, &mut table);
-        block
-            .links
-            .iter()
-            .map(move |link| term(link, bodies, &table))
-    });
-    each.sum()
+        let mut running = sum;
+        for joint in &block.joints {
+            let ends = joint.ends(bodies, &table);
+            running = joint.fold(running, |law| term(law, ends));
+        }
+        sum = running;
+    }
+    sum
 }
 
 #[cfg(test)]
@@ -370,16 +482,96 @@ mod tests {
         assert!(power > 0.0 && energy != 0.0 && loads.iter().all(|l| l.y != 0.0));
     }
 
+    /// `chain(n)`'s bodies with suspensions: between each body and the
+    /// next, a vertical and a longitudinal element between the same
+    /// points (one joint), then a vertical one alone, off-centre on a and
+    /// at b's centre; three elements (two joints) per link of the chain.
+    fn suspensions(n: usize) -> (Vec<ForceElement>, Vec<BodyState>) {
+        let (_, bodies) = chain(n);
+        let mut elements = Vec::new();
+        for i in 0..n - 1 {
+            let s = i as f64;
+            let (a, b) = (Vector2::new(1.1, -0.2 * s), Vector2::new(-0.7, 0.3));
+            for (direction, point_b) in [
+                (Direction::Vertical, b),
+                (Direction::Longitudinal, b),
+                (Direction::Vertical, Vector2::zeros()),
+            ] {
+                let mut e = ForceElement {
+                    name: format!("s{i}"),
+                    body_a: i,
+                    point_a: a,
+                    body_b: i + 1,
+                    point_b,
+                    direction,
+                    stiffness: 2e5 * (1.0 + s),
+                    damping: 3e3 + s,
+                    preload: -1e3 * s,
+                    rest: 0.0,
+                };
+                e.rest = e.separation(&bodies[i], &bodies[i + 1]) + 2e-3 * s;
+                elements.push(e);
+            }
+        }
+        (elements, bodies)
+    }
+
+    #[test]
+    fn joints_give_the_general_formulas_bits() {
+        let (elements, bodies) = suspensions(30);
+        let planned = ForceElements::from(elements.clone());
+        let joints: usize = planned.blocks.iter().map(|b| b.joints.len()).sum();
+        let pairs = (planned.blocks.iter().flat_map(|b| &b.joints)).filter(|j| j.pair);
+        assert_eq!((joints, pairs.count()), (2 * 29, 29));
+        assert!(planned.blocks.len() >= 2, "{} blocks", planned.blocks.len());
+        let (loads, power, energy) = general(&elements, &bodies);
+        let mut swept = vec![Vector3::zeros(); bodies.len()];
+        let swept_power = add_element_forces(&planned, &bodies, &mut swept);
+        assert_eq!(bits(&swept), bits(&loads));
+        assert_eq!(swept_power.to_bits(), power.to_bits());
+        let alone = (
+            dissipation_power(&planned, &bodies),
+            spring_energy(&planned, &bodies),
+        );
+        let both = power_and_energy(&planned, &bodies);
+        assert_eq!(alone.0.to_bits(), power.to_bits());
+        assert_eq!(alone.1.to_bits(), energy.to_bits());
+        assert_eq!(
+            (both.0.to_bits(), both.1.to_bits()),
+            (power.to_bits(), energy.to_bits())
+        );
+        assert!(power > 0.0 && energy != 0.0 && loads.iter().all(|l| l.x != 0.0));
+    }
+
+    #[test]
+    fn no_elements_sum_as_an_empty_iterator() {
+        // `Iterator::sum` of no reals is −0.0; the sweeps keep its bits.
+        let none = ForceElements::from(Vec::new());
+        let empty: f64 = std::iter::empty::<f64>().sum();
+        let (_, bodies) = chain(3);
+        let sums = [
+            spring_energy(&none, &bodies),
+            dissipation_power(&none, &bodies),
+            power_and_energy(&none, &bodies).0,
+            power_and_energy(&none, &bodies).1,
+        ];
+        assert!(sums.iter().all(|s| s.to_bits() == empty.to_bits()));
+    }
+
     #[test]
     fn a_changed_element_changes_the_sweeps() {
         // `update` makes the plan again: the sweeps follow the change.
         let (elements, bodies) = chain(5);
         let mut planned = ForceElements::from(elements);
+        let first = planned.plan_id();
         planned.update(|elements| {
             elements[3].preload += 1e4;
             elements[3].stiffness *= 2.0;
         });
+        let updated = planned.plan_id();
         planned.extend(chain(5).0.into_iter().take(1));
+        assert!(updated != first && updated != planned.plan_id());
+        assert_eq!(planned.clone().plan_id(), planned.plan_id());
         let (loads, power, energy) = general(&planned, &bodies);
         let mut swept = vec![Vector3::zeros(); bodies.len()];
         let swept_power = add_element_forces(&planned, &bodies, &mut swept);

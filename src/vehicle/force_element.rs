@@ -12,7 +12,7 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::body::BodyState;
 pub use crate::vehicle::element_sweep::{
-    add_element_forces, dissipation_power, spring_energy, ForceElements,
+    add_element_forces, dissipation_power, power_and_energy, spring_energy, ForceElements,
 };
 
 /// The direction a force element acts along.

@@ -424,7 +424,13 @@ impl Hht {
             }
         }
         if self.books {
-            self.start_dissipation = dissipation_power(&system.force_elements, &start.bodies)
+            // The last step's end kept it where this is that end.
+            let kept = self.ends.end_forces().element_sums_at(system, &start.bodies);
+            let elements = kept.map_or_else(
+                || dissipation_power(&system.force_elements, &start.bodies),
+                |(power, _)| power,
+            );
+            self.start_dissipation = elements
                 + follower_dissipation(system, from.frames, &start.bodies, &start.beam_velocity);
         }
         self.start_known = true;
@@ -472,6 +478,8 @@ impl Hht {
         );
         end.beam_dissipated = start.beam_dissipated + structural;
         end.numerical_dissipation = start.numerical_dissipation + numerical;
+        // The next step's start power and this state's output row read them.
+        self.ends.keep_element_sums(system, &end.bodies);
     }
 
     /// Beam: predictors, then

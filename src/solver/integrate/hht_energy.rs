@@ -112,6 +112,12 @@ impl StepEnds {
         }
     }
 
+    /// Keep the force elements' power and energy at the last step's end
+    /// `bodies` (`EndForces::keep_element_sums`).
+    pub fn keep_element_sums(&mut self, system: &System, bodies: &[crate::body::BodyState]) {
+        self.end.keep_element_sums(system, bodies);
+    }
+
     /// The products of the step from `start` to `end`: the start's
     /// recalled where it is the last end's state, the end's computed.
     fn prepare(

@@ -5,9 +5,15 @@
 //! matrix and the same vector is the same bits, so recalling it where the
 //! state's bits are the ones it was taken at is exact; any other state
 //! (an event, a restart, a restored state) misses and is computed afresh.
+//! The force elements' dampers' power and potential energy at the end's
+//! bodies are kept the same way (`ElementSums`): the next step's books
+//! start from that power, and the output row of the state reads that
+//! energy.
 
 use nalgebra::DVector;
 
+use crate::body::BodyState;
+use crate::force_element::power_and_energy;
 use crate::system::System;
 
 /// K u + C v at one state (u, v), the state's copy to recognise it by.
@@ -23,6 +29,49 @@ pub struct EndForces {
     /// structure's strain energy is ½ u·(K u) (`energies_are_products`).
     stiffness: Option<DVector<f64>>,
     kept: bool,
+    /// The force elements' sums at the end's bodies, where kept.
+    elements: ElementSums,
+}
+
+/// The force elements' dampers' power and potential energy at one state
+/// of the bodies (`power_and_energy`), with the state's copy and the
+/// elements' plan (`ForceElements::plan_id`) to recognise it by.
+#[derive(Debug, Clone, Default)]
+struct ElementSums {
+    bodies: Vec<BodyState>,
+    plan: Option<u64>,
+    power: f64,
+    energy: f64,
+}
+
+impl ElementSums {
+    fn keep(&mut self, system: &System, bodies: &[BodyState]) {
+        let elements = &system.force_elements;
+        (self.power, self.energy) = power_and_energy(elements, bodies);
+        self.bodies.clear();
+        self.bodies.extend_from_slice(bodies);
+        self.plan = Some(elements.plan_id());
+    }
+
+    /// (power, energy) if `bodies` and the elements are the kept ones.
+    fn recall(&self, system: &System, bodies: &[BodyState]) -> Option<(f64, f64)> {
+        let plan = Some(system.force_elements.plan_id());
+        let same = self.plan == plan && same_states(&self.bodies, bodies);
+        same.then_some((self.power, self.energy))
+    }
+}
+
+/// Whether the bodies' states `a` and `b` hold the same bits.
+fn same_states(a: &[BodyState], b: &[BodyState]) -> bool {
+    let fields = |s: &BodyState| {
+        let (p, v) = (s.position, s.velocity);
+        [p.x, p.y, v.x, v.y, s.angle, s.angular_velocity].map(f64::to_bits)
+    };
+    let differ = |(x, y): (&BodyState, &BodyState)| {
+        let (x, y) = (fields(x), fields(y));
+        (x.iter().zip(&y)).fold(0u64, |d, (p, q)| d | (p ^ q))
+    };
+    a.len() == b.len() && a.iter().zip(b).map(differ).fold(0, |d, x| d | x) == 0
 }
 
 /// Whether `a` and `b` hold the same bits (on slices: nalgebra's element
@@ -125,6 +174,18 @@ impl EndForces {
         self.recall((u, v)).map(|_| 0.5 * u.dot(stiffness))
     }
 
+    /// Keep the force elements' power and energy at `bodies` (the end's).
+    pub fn keep_element_sums(&mut self, system: &System, bodies: &[BodyState]) {
+        self.elements.keep(system, bodies);
+    }
+
+    /// The force elements' dampers' power and potential energy at
+    /// `bodies` where they were kept there (`keep_element_sums`): the bits
+    /// of `dissipation_power` and `spring_energy`.
+    pub fn element_sums_at(&self, system: &System, bodies: &[BodyState]) -> Option<(f64, f64)> {
+        self.elements.recall(system, bodies)
+    }
+
     /// Forget the kept state (the next recall misses).
     pub fn forget(&mut self) {
         self.kept = false;
@@ -191,6 +252,49 @@ mod tests {
         );
         memo.forget();
         assert!(memo.recall((&u, &v)).is_none());
+    }
+
+    #[test]
+    fn the_kept_element_sums_are_recalled_only_at_their_bodies_and_plan() {
+        use crate::force_element::{dissipation_power, spring_energy};
+        let scene = scene_named("train-8-coaches-3x25-300");
+        let mut system = assemble(&scene).unwrap().system;
+        let start = crate::Simulation::new(&scene).unwrap().state();
+        let mut bodies = start.dynamic.bodies;
+        for (i, b) in bodies.iter_mut().enumerate() {
+            b.angle += 1e-4 * (i as f64).sin();
+            b.velocity.y += 0.01 * (i as f64).cos();
+            b.angular_velocity -= 2e-3 * i as f64;
+        }
+        let elements = &system.force_elements;
+        let expected = (
+            dissipation_power(elements, &bodies),
+            spring_energy(elements, &bodies),
+        );
+        assert!(expected.0 > 0.0 && expected.1 != 0.0);
+        let mut memo = EndForces::default();
+        assert!(memo.element_sums_at(&system, &bodies).is_none());
+        memo.keep_element_sums(&system, &bodies);
+        let kept = memo.element_sums_at(&system, &bodies).unwrap();
+        assert_eq!(
+            (kept.0.to_bits(), kept.1.to_bits()),
+            (expected.0.to_bits(), expected.1.to_bits())
+        );
+        let mut moved = bodies.clone();
+        moved[5].angular_velocity = f64::from_bits(moved[5].angular_velocity.to_bits() + 1);
+        assert!(memo.element_sums_at(&system, &moved).is_none(), "one ulp");
+        assert!(
+            memo.element_sums_at(&system, &bodies[1..]).is_none(),
+            "one body fewer"
+        );
+        // The elements changed under the kept sums: a miss.
+        system
+            .force_elements
+            .update(|elements| elements[0].stiffness *= 2.0);
+        assert!(
+            memo.element_sums_at(&system, &bodies).is_none(),
+            "another plan"
+        );
     }
 
     #[test]
