@@ -20,7 +20,7 @@ use crate::structure::seam::TRACK_NOT_MODAL;
 use crate::structure::track_on_deck::{TrackAssembly, TrackOnDeck};
 use crate::structure::track_sleepers::Sleepers;
 use crate::structure::track_spec::{OnDeckSpec, TrackSpec};
-use crate::wide_band::{WideBand, WideLdlt};
+use crate::wide_band::{RecallingLdlt, WideBand, WideLdlt};
 
 /// The rail over the deck's spans, as the seam sees it.
 pub struct TrackBeam {
@@ -200,7 +200,7 @@ impl StructureOps for TrackBeam {
         let band = self
             .assembly
             .combination([1.0, damping_weight, stiffness_weight])?;
-        band.ldlt().map(EffectiveFactor::Wide).ok_or_else(|| {
+        band.ldlt().map(|factor| EffectiveFactor::Wide(RecallingLdlt::new(factor))).ok_or_else(|| {
             "the implicit scheme's effective matrix of the rail over the deck is not positive \
              definite"
                 .into()
