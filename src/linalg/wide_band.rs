@@ -570,6 +570,9 @@ impl WideLdlt {
     }
 }
 
+mod recall;
+pub use recall::RecallingLdlt;
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -259,7 +259,7 @@ impl Hht {
     /// `rhs ← S⁻¹ rhs` for steps of `dt`.
     fn solve_effective(&mut self, system: &System, dt: f64, rhs: &mut DVector<f64>) {
         if self.is_nominal(dt) {
-            self.nominal.1.solve_mut(rhs);
+            self.nominal.1.solve_recalling(rhs);
             return;
         }
         // A step not prepared by `begin_step` (a restart's trial step)
@@ -269,8 +269,8 @@ impl Hht {
             rhs.fill(f64::NAN);
             return;
         }
-        if let Some((_, factor)) = &self.other {
-            factor.solve_mut(rhs);
+        if let Some((_, factor)) = &mut self.other {
+            factor.solve_recalling(rhs);
         }
     }
 

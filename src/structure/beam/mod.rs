@@ -188,8 +188,9 @@ pub enum EffectiveFactor {
     Modal(ModalFactor),
     /// Fine meshes, where the band factor alone loses the smooth modes.
     TwoLevel(Box<TwoLevelFactor>),
-    /// The rail over the deck's interleaved DOFs (`structure::track_seam`).
-    Wide(crate::wide_band::WideLdlt),
+    /// The rail over the deck's interleaved DOFs (`structure::track_seam`),
+    /// with its last solve (`solve_recalling`).
+    Wide(crate::wide_band::RecallingLdlt),
 }
 
 impl EffectiveFactor {
@@ -204,7 +205,19 @@ impl EffectiveFactor {
             EffectiveFactor::Band(factor) => factor.solve_mut(rhs),
             EffectiveFactor::Modal(factor) => factor.solve_mut(rhs),
             EffectiveFactor::TwoLevel(factor) => factor.solve_mut(rhs),
-            EffectiveFactor::Wide(factor) => factor.solve_in_place(rhs.as_mut_slice()),
+            EffectiveFactor::Wide(factor) => factor.factor().solve_in_place(rhs.as_mut_slice()),
+        }
+    }
+
+    /// `solve_mut` for a right-hand side that differs from the last one
+    /// in some rows: the same bits, the rows it cannot change recalled
+    /// from the last solve where the factor keeps it (the rail's).
+    pub fn solve_recalling(&mut self, rhs: &mut DVector<f64>) {
+        match self {
+            EffectiveFactor::Wide(factor) => {
+                factor.solve_in_place(rhs.as_mut_slice());
+            }
+            factor => factor.solve_mut(rhs),
         }
     }
 }
