@@ -20,6 +20,7 @@ use crate::integrate::{
     contact_frames, DynamicState, ForceShape, IntegrationError, Integrator, KnownAtPrediction,
     StepStart,
 };
+use crate::solver::parameters::is_unresolved_step;
 use crate::system::System;
 
 mod condensed;
@@ -1104,7 +1105,10 @@ impl ContactIteration {
             if !residual.is_finite() {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
-            if residual <= settings.velocity_tolerance {
+            // Too short a step to resolve a force by its velocity error:
+            // its rigid contacts' forces are held (`SHORTEST_RESOLVED_STEP`).
+            let unresolved = is_unresolved_step(from.dt, self.nominal_step);
+            if residual <= settings.velocity_tolerance || unresolved {
                 if self.laws_settled_after(system, from, settings, end, iterations)? {
                     return Ok((iterations, residual));
                 }
@@ -1222,7 +1226,11 @@ impl ContactIteration {
     ) -> Result<(u32, f64), StepError> {
         let mut gap = self.gaps(system, end);
         let mut iterations = 0;
-        while gap.abs() > settings.gap_tolerance || gap.is_nan() {
+        let resolved = !is_unresolved_step(from.dt, self.nominal_step);
+        if !resolved && !gap.is_finite() {
+            return Err(StepError::NonFinite { stage: "position" });
+        }
+        while resolved && (gap.abs() > settings.gap_tolerance || gap.is_nan()) {
             if !gap.is_finite() {
                 return Err(StepError::NonFinite { stage: "position" });
             }
