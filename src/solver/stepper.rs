@@ -12,7 +12,7 @@ use crate::contact::ContactForce;
 use crate::integrate::{force_shape, DynamicState, ForceShape, Integrator};
 use crate::iteration::{ContactIteration, StepSolution};
 use crate::solver::integrate::ForceProfile;
-use crate::solver::parameters::SolverParameters;
+use crate::solver::parameters::{is_unresolved_step, SolverParameters};
 use crate::state::SimState;
 use crate::system::constant_forces;
 use crate::system::System;
@@ -490,6 +490,10 @@ impl Step<'_> {
         }
     }
 
+    /// The step of `dt` from `guess`; on a step too short to resolve a
+    /// force (`parameters::SHORTEST_RESOLVED_STEP`), the rigid contacts
+    /// hold their last converged forces (the iteration then corrects
+    /// none).
     pub(crate) fn solve_with(
         &mut self,
         guess: &[ContactForce],
@@ -497,6 +501,13 @@ impl Step<'_> {
         dt: f64,
     ) -> Result<StepSolution, SolverError> {
         self.work.unbooked |= !self.work.iteration.integrator_mut().keeps_energy_books();
+        let held;
+        let guess = if is_unresolved_step(dt, self.params.step) {
+            held = self.held_forces(guess);
+            held.as_slice()
+        } else {
+            guess
+        };
         let s = &*self.state;
         let solution = self
             .work
@@ -519,6 +530,19 @@ impl Step<'_> {
             });
         }
         Ok(solution)
+    }
+}
+
+impl Step<'_> {
+    /// `guess` with each rigid contact's force the last converged one.
+    fn held_forces(&self, guess: &[ContactForce]) -> Vec<ContactForce> {
+        let history = &self.state.force_history;
+        (guess.iter().zip(history).zip(&self.system.contacts))
+            .map(|((&force, h), contact)| match contact.follower {
+                None => h[0],
+                Some(_) => force,
+            })
+            .collect()
     }
 }
 

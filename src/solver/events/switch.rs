@@ -23,7 +23,6 @@ use nalgebra::Vector3;
 
 use crate::contact::ContactForce;
 use crate::integrate::{contact_frames, loads, DynamicState, IntegrationError};
-use crate::solver::parameters::is_unresolved_step;
 use crate::solver::stepper::{JointImpact, SolverError, Step};
 use crate::system::{System, TrackPart};
 
@@ -155,7 +154,9 @@ impl Step<'_> {
         let restarted: Vec<bool> = (self.system.contacts.iter().zip(&self.work.open))
             .map(|(c, &open)| !open && bodies.contains(&c.body))
             .collect();
-        let mut forces = self.carried_forces();
+        let mut forces: Vec<ContactForce> = (self.state.force_history.iter().zip(&self.work.open))
+            .map(|(h, &open)| if open { ContactForce::default() } else { h[0] })
+            .collect();
         if restarted.contains(&true) {
             forces = self.restart_fixed_point(forces, &restarted, weight, dt)?;
         }
@@ -167,34 +168,6 @@ impl Step<'_> {
             }
         }
         self.restart_from(&forces, &restarted)
-    }
-
-    /// The forces a restart starts the closed contacts from: each one's
-    /// last converged force, but a rigid contact's force of the step before
-    /// where the step just taken was too short to resolve it
-    /// (`parameters::SHORTEST_RESOLVED_STEP`: an event within 1e-7 s of a
-    /// grid point, as where vehicles start at whole metres): held over that
-    /// step, it is the last resolved one's, and carried into the next
-    /// step's start, an unresolved force had made HHT-α oscillate over ten
-    /// steps. A compliant law's force is its state's, exact on any step.
-    fn carried_forces(&mut self) -> Vec<ContactForce> {
-        let s = &mut *self.state;
-        let unresolved = is_unresolved_step(s.step_history[0], self.params.step);
-        let short = s.steps >= 2 && unresolved;
-        let contacts = self.system.contacts.iter().zip(&self.work.open);
-        (s.force_history.iter_mut().zip(contacts))
-            .map(|(h, (contact, &open))| {
-                let rigid = contact.follower.is_none();
-                match open {
-                    true => ContactForce::default(),
-                    false if short && rigid && h[1].normal != 0.0 => {
-                        h[0] = h[1];
-                        h[1]
-                    }
-                    false => h[0],
-                }
-            })
-            .collect()
     }
 
     /// The restarts left pending by events inside the grid step just
