@@ -12,7 +12,7 @@ use crate::contact::ContactForce;
 use crate::integrate::{force_shape, DynamicState, ForceShape, Integrator};
 use crate::iteration::{ContactIteration, StepSolution};
 use crate::solver::integrate::ForceProfile;
-use crate::solver::parameters::{is_unresolved_step, SolverParameters};
+use crate::solver::parameters::SolverParameters;
 use crate::state::SimState;
 use crate::system::constant_forces;
 use crate::system::System;
@@ -367,7 +367,11 @@ impl Step<'_> {
             // taken again with the contact closed.
             return self.land(contact, true);
         }
-        let Some((solution, dt, contact)) = self.locate_landing(contact, forces, dt)? else {
+        // The trial steps resolve their forces at any length.
+        self.work.iteration.hold_unresolved_steps(false);
+        let located = self.locate_landing(contact, forces, dt);
+        self.work.iteration.hold_unresolved_steps(true);
+        let Some((solution, dt, contact)) = located? else {
             return self.land(contact, true);
         };
         self.record_lift_offs();
@@ -502,7 +506,7 @@ impl Step<'_> {
     ) -> Result<StepSolution, SolverError> {
         self.work.unbooked |= !self.work.iteration.integrator_mut().keeps_energy_books();
         let held;
-        let guess = if is_unresolved_step(dt, self.params.step) {
+        let guess = if self.work.iteration.holds_forces_over(dt) {
             held = self.held_forces(guess);
             held.as_slice()
         } else {

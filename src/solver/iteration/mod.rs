@@ -360,6 +360,9 @@ pub struct ContactIteration {
     law_lag: laws::LawLag,
     /// The compliant followers' secant step (`followers`).
     secant: followers::Secant,
+    /// Whether a step too short to resolve a force holds its rigid
+    /// contacts' forces (`hold_unresolved_steps`).
+    hold_unresolved: bool,
 }
 
 impl ContactIteration {
@@ -413,6 +416,7 @@ impl ContactIteration {
             memo: Default::default(),
             law_lag: laws::LawLag::default(),
             secant,
+            hold_unresolved: true,
         }
     }
 
@@ -461,6 +465,21 @@ impl ContactIteration {
     pub fn set_force_shapes(&mut self, shapes: &[ForceShape]) {
         self.shapes.clear();
         self.shapes.extend_from_slice(shapes);
+    }
+
+    /// Whether a step shorter than `SHORTEST_RESOLVED_STEP` of the nominal
+    /// one holds its rigid contacts' forces, uncorrected (the default), or
+    /// resolves them like any other (while a lift-off or a landing is
+    /// located inside a step: its trial steps must be one continuous
+    /// function of their length).
+    pub fn hold_unresolved_steps(&mut self, hold: bool) {
+        self.hold_unresolved = hold;
+    }
+
+    /// Whether a step of `dt` holds its rigid contacts' forces
+    /// (`hold_unresolved_steps`).
+    pub fn holds_forces_over(&self, dt: f64) -> bool {
+        self.hold_unresolved && is_unresolved_step(dt, self.nominal_step)
     }
 
     /// From `share_operator(true)` to `share_operator(false)`, the steps
@@ -691,6 +710,9 @@ impl ContactIteration {
     /// Turn the measured normal rows of `rows` (`turn`).
     fn turn_measured_rows(&self, rows: &mut [BeamRows], frames: &[ContactFrame], part: Part) {
         let turns = self.turns(part);
+        if turns.is_empty() {
+            return;
+        }
         for ((row, frame), &turn) in rows.iter_mut().zip(frames).zip(turns) {
             let mut normal: [f64; 4] = row.measure[1].into();
             turn::add_turn(&mut normal, frame, turn);
@@ -1095,6 +1117,9 @@ impl ContactIteration {
     ) -> Result<(u32, f64), StepError> {
         let mut iterations = 0;
         let mut first_residual = None;
+        // Too short a step to resolve a force by its velocity error: its
+        // rigid contacts' forces are held (`SHORTEST_RESOLVED_STEP`).
+        let unresolved = self.holds_forces_over(from.dt);
         loop {
             if crate::deadline::passed() {
                 return Err(StepError::OverBudget);
@@ -1105,9 +1130,6 @@ impl ContactIteration {
             if !residual.is_finite() {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
-            // Too short a step to resolve a force by its velocity error:
-            // its rigid contacts' forces are held (`SHORTEST_RESOLVED_STEP`).
-            let unresolved = is_unresolved_step(from.dt, self.nominal_step);
             if residual <= settings.velocity_tolerance || unresolved {
                 if self.laws_settled_after(system, from, settings, end, iterations)? {
                     return Ok((iterations, residual));
@@ -1226,7 +1248,7 @@ impl ContactIteration {
     ) -> Result<(u32, f64), StepError> {
         let mut gap = self.gaps(system, end);
         let mut iterations = 0;
-        let resolved = !is_unresolved_step(from.dt, self.nominal_step);
+        let resolved = !self.holds_forces_over(from.dt);
         if !resolved && !gap.is_finite() {
             return Err(StepError::NonFinite { stage: "position" });
         }
