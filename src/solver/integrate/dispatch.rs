@@ -100,6 +100,11 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(_) => <$scheme>::LAGS_FORCE_LAWS, )* }
             }
 
+            /// See `TimeIntegrator::HOLDS_FORCES_AT_END`.
+            pub fn holds_forces_at_end(&self) -> bool {
+                match self { $( Integrator::$variant(_) => <$scheme>::HOLDS_FORCES_AT_END, )* }
+            }
+
             /// See `TimeIntegrator::order`.
             pub fn order(&self, profile: ForceProfile) -> f64 {
                 match self { $( Integrator::$variant(_) => <$scheme>::order(profile), )* }

@@ -18,6 +18,7 @@ impl TimeIntegrator for Hht {
     const FITS_FORCE_SHAPE: bool = false;
     const LAGS_FORCE_LAWS: bool = true;
     const STEPS_TRACK_ON_DECK: bool = true;
+    const HOLDS_FORCES_AT_END: bool = true;
 
     fn build(system: &System, step: f64, damping: f64) -> Result<(Hht, String), String> {
         let hht = Hht::new(system, damping, step)?;

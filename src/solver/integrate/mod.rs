@@ -374,6 +374,12 @@ pub trait TimeIntegrator: Sized {
     /// Whether it steps the rail layer over the deck (whose effective
     /// matrix is built for it).
     const STEPS_TRACK_ON_DECK: bool;
+    /// Whether the held contact forces act in the frames of the predicted
+    /// end (the last integration's), not the step's start, and the end's
+    /// displacements answer the end forces `body_weights`' ratio times the
+    /// velocities (a Newmark-family scheme): the contact iteration's
+    /// operator is then the step's exact Jacobian (`iteration::turn_rates`).
+    const HOLDS_FORCES_AT_END: bool;
 
     /// The integrator for `system` on steps of `step` with numerical
     /// damping `damping` (where it has any), and its description.

@@ -51,6 +51,9 @@ impl TimeIntegrator for Rk4 {
     // Force elements are evaluated in its stages.
     const LAGS_FORCE_LAWS: bool = false;
     const STEPS_TRACK_ON_DECK: bool = false;
+    // Its stages sample the forces along the step (the paper's operator,
+    // in the start frames).
+    const HOLDS_FORCES_AT_END: bool = false;
 
     fn build(system: &System, _step: f64, _damping: f64) -> Result<(Rk4, String), String> {
         let rk4 = Rk4::new(system.beam.coordinates(), system.bodies.len());
