@@ -9,22 +9,6 @@ use crate::solver::iteration::IterationSettings;
 /// the nominal one).
 pub const SAME_INSTANT: f64 = 1e-9;
 
-/// A step shorter than this fraction of the grid step (an event located
-/// within it of a grid point, the rest of a grid step after one) resolves
-/// a contact force only to m · velocity_tolerance / τ, a hundred times
-/// more coarsely than the grid step: its rigid contacts hold their last
-/// converged forces over it (`Step::solve_with`), uncorrected
-/// (`ContactIteration`). Corrected, a velocity error of a few tolerances
-/// over 1e-10 s had made forces of −40 MN, carried on into the next steps:
-/// a lift-off and a landing at every grid-aligned entry of a coach.
-pub const SHORTEST_RESOLVED_STEP: f64 = 1e-2;
-
-/// Whether a step of length `dt` is shorter than `SHORTEST_RESOLVED_STEP`
-/// of the nominal step `nominal`.
-pub fn is_unresolved_step(dt: f64, nominal: f64) -> bool {
-    dt < SHORTEST_RESOLVED_STEP * nominal
-}
-
 /// Whether a step of length `dt` is the nominal step `nominal` (whose
 /// factors and unit-load responses are cached), to `SAME_INSTANT`.
 pub fn is_nominal_step(dt: f64, nominal: f64) -> bool {

@@ -367,11 +367,7 @@ impl Step<'_> {
             // taken again with the contact closed.
             return self.land(contact, true);
         }
-        // The trial steps resolve their forces at any length.
-        self.work.iteration.hold_unresolved_steps(false);
-        let located = self.locate_landing(contact, forces, dt);
-        self.work.iteration.hold_unresolved_steps(true);
-        let Some((solution, dt, contact)) = located? else {
+        let Some((solution, dt, contact)) = self.locate_landing(contact, forces, dt)? else {
             return self.land(contact, true);
         };
         self.record_lift_offs();
@@ -494,10 +490,6 @@ impl Step<'_> {
         }
     }
 
-    /// The step of `dt` from `guess`; on a step too short to resolve a
-    /// force (`parameters::SHORTEST_RESOLVED_STEP`), the rigid contacts
-    /// hold their last converged forces (the iteration then corrects
-    /// none).
     pub(crate) fn solve_with(
         &mut self,
         guess: &[ContactForce],
@@ -505,13 +497,6 @@ impl Step<'_> {
         dt: f64,
     ) -> Result<StepSolution, SolverError> {
         self.work.unbooked |= !self.work.iteration.integrator_mut().keeps_energy_books();
-        let held;
-        let guess = if self.work.iteration.holds_forces_over(dt) {
-            held = self.held_forces(guess);
-            held.as_slice()
-        } else {
-            guess
-        };
         let s = &*self.state;
         let solution = self
             .work
@@ -534,19 +519,6 @@ impl Step<'_> {
             });
         }
         Ok(solution)
-    }
-}
-
-impl Step<'_> {
-    /// `guess` with each rigid contact's force the last converged one.
-    fn held_forces(&self, guess: &[ContactForce]) -> Vec<ContactForce> {
-        let history = &self.state.force_history;
-        (guess.iter().zip(history).zip(&self.system.contacts))
-            .map(|((&force, h), contact)| match contact.follower {
-                None => h[0],
-                Some(_) => force,
-            })
-            .collect()
     }
 }
 

@@ -46,11 +46,7 @@ impl Step<'_> {
             self.work.iteration.set_open(&self.work.open);
             let solution = self.solve(guess, dt)?;
             if let Some(c) = self.lift_off_inside(&solution.forces) {
-                // The trial steps resolve their forces at any length.
-                self.work.iteration.hold_unresolved_steps(false);
-                let located = self.locate_lift_off(c, &solution.forces, dt);
-                self.work.iteration.hold_unresolved_steps(true);
-                if let Some((solution, tau)) = located {
+                if let Some((solution, tau)) = self.locate_lift_off(c, &solution.forces, dt) {
                     // Another closed contact that pulls at the located
                     // instant opens at the step's start and the step is
                     // solved again: taken as it is, a contact holding a

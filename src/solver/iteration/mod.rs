@@ -20,7 +20,6 @@ use crate::integrate::{
     contact_frames, DynamicState, ForceShape, IntegrationError, Integrator, KnownAtPrediction,
     StepStart,
 };
-use crate::solver::parameters::is_unresolved_step;
 use crate::system::System;
 
 mod condensed;
@@ -360,9 +359,6 @@ pub struct ContactIteration {
     law_lag: laws::LawLag,
     /// The compliant followers' secant step (`followers`).
     secant: followers::Secant,
-    /// Whether a step too short to resolve a force holds its rigid
-    /// contacts' forces (`hold_unresolved_steps`).
-    hold_unresolved: bool,
 }
 
 impl ContactIteration {
@@ -416,7 +412,6 @@ impl ContactIteration {
             memo: Default::default(),
             law_lag: laws::LawLag::default(),
             secant,
-            hold_unresolved: true,
         }
     }
 
@@ -465,21 +460,6 @@ impl ContactIteration {
     pub fn set_force_shapes(&mut self, shapes: &[ForceShape]) {
         self.shapes.clear();
         self.shapes.extend_from_slice(shapes);
-    }
-
-    /// Whether a step shorter than `SHORTEST_RESOLVED_STEP` of the nominal
-    /// one holds its rigid contacts' forces, uncorrected (the default), or
-    /// resolves them like any other (while a lift-off or a landing is
-    /// located inside a step: its trial steps must be one continuous
-    /// function of their length).
-    pub fn hold_unresolved_steps(&mut self, hold: bool) {
-        self.hold_unresolved = hold;
-    }
-
-    /// Whether a step of `dt` holds its rigid contacts' forces
-    /// (`hold_unresolved_steps`).
-    pub fn holds_forces_over(&self, dt: f64) -> bool {
-        self.hold_unresolved && is_unresolved_step(dt, self.nominal_step)
     }
 
     /// From `share_operator(true)` to `share_operator(false)`, the steps
@@ -1117,9 +1097,6 @@ impl ContactIteration {
     ) -> Result<(u32, f64), StepError> {
         let mut iterations = 0;
         let mut first_residual = None;
-        // Too short a step to resolve a force by its velocity error: its
-        // rigid contacts' forces are held (`SHORTEST_RESOLVED_STEP`).
-        let unresolved = self.holds_forces_over(from.dt);
         loop {
             if crate::deadline::passed() {
                 return Err(StepError::OverBudget);
@@ -1130,7 +1107,7 @@ impl ContactIteration {
             if !residual.is_finite() {
                 return Err(StepError::NonFinite { stage: "velocity" });
             }
-            if residual <= settings.velocity_tolerance || unresolved {
+            if residual <= settings.velocity_tolerance {
                 if self.laws_settled_after(system, from, settings, end, iterations)? {
                     return Ok((iterations, residual));
                 }
@@ -1248,11 +1225,7 @@ impl ContactIteration {
     ) -> Result<(u32, f64), StepError> {
         let mut gap = self.gaps(system, end);
         let mut iterations = 0;
-        let resolved = !self.holds_forces_over(from.dt);
-        if !resolved && !gap.is_finite() {
-            return Err(StepError::NonFinite { stage: "position" });
-        }
-        while resolved && (gap.abs() > settings.gap_tolerance || gap.is_nan()) {
+        while gap.abs() > settings.gap_tolerance || gap.is_nan() {
             if !gap.is_finite() {
                 return Err(StepError::NonFinite { stage: "position" });
             }
