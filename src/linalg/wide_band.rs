@@ -650,7 +650,13 @@ mod tests {
     /// four places), then interleaved with a deck (four a node), then
     /// alone again, in one band of half-bandwidth 7: rows of three profiles.
     fn rail_then_deck_then_rail() -> WideBand {
-        let widths = [2, 2, 2, 2, 4, 4, 4, 4, 4, 2, 2, 2, 2];
+        band_of_node_widths(&[2, 2, 2, 2, 4, 4, 4, 4, 4, 2, 2, 2, 2])
+    }
+
+    /// A band of half-bandwidth 7 over nodes of `widths` DOFs, each
+    /// element coupling its two nodes' shared places, diagonally dominant
+    /// (also the recalling solve's tests').
+    pub(super) fn band_of_node_widths(widths: &[usize]) -> WideBand {
         let starts: Vec<usize> = (widths.iter())
             .scan(0, |at, w| {
                 let start = *at;
@@ -661,8 +667,9 @@ mod tests {
         let n = starts[widths.len() - 1] + 2;
         let mut a = WideBand::zeros(n, 7);
         for e in 0..widths.len() - 1 {
-            let dofs: Vec<usize> = (starts[e]..starts[e] + widths[e].min(widths[e + 1]))
-                .chain(starts[e + 1]..starts[e + 1] + widths[e].min(widths[e + 1]))
+            let shared = widths[e].min(widths[e + 1]);
+            let dofs: Vec<usize> = (starts[e]..starts[e] + shared)
+                .chain(starts[e + 1]..starts[e + 1] + shared)
                 .collect();
             for (p, &i) in dofs.iter().enumerate() {
                 for (q, &j) in dofs.iter().enumerate().take(p + 1) {

@@ -232,32 +232,7 @@ mod tests {
     /// along the band below the rounding of the rows it reaches.
     fn long_rail_over_a_deck(rail: usize, deck: usize) -> WideBand {
         let widths: Vec<usize> = [vec![2; rail], vec![4; deck], vec![2; rail]].concat();
-        let starts: Vec<usize> = (widths.iter())
-            .scan(0, |at, w| {
-                let start = *at;
-                *at += w;
-                Some(start)
-            })
-            .collect();
-        let n = starts[widths.len() - 1] + 2;
-        let mut a = WideBand::zeros(n, 7);
-        for e in 0..widths.len() - 1 {
-            let shared = widths[e].min(widths[e + 1]);
-            let dofs: Vec<usize> = (starts[e]..starts[e] + shared)
-                .chain(starts[e + 1]..starts[e + 1] + shared)
-                .collect();
-            for (p, &i) in dofs.iter().enumerate() {
-                for (q, &j) in dofs.iter().enumerate().take(p + 1) {
-                    let value = ((p * 5 + q * 3 + e) % 13) as f64 * 0.1 - 0.6;
-                    a.add_symmetric(i, j, value).expect("in band");
-                }
-            }
-        }
-        for i in 0..n {
-            a.add_symmetric(i, i, 12.0 + (i % 5) as f64)
-                .expect("diagonal");
-        }
-        a
+        super::super::tests::band_of_node_widths(&widths)
     }
 
     fn bits(v: &[f64]) -> Vec<u64> {
