@@ -61,17 +61,14 @@ impl ElementSums {
     }
 }
 
-/// Whether the bodies' states `a` and `b` hold the same bits.
+/// Whether the bodies' states `a` and `b` hold the same bits
+/// (`same_bits_in` over each body's fields).
 fn same_states(a: &[BodyState], b: &[BodyState]) -> bool {
     let fields = |s: &BodyState| {
         let (p, v) = (s.position, s.velocity);
-        [p.x, p.y, v.x, v.y, s.angle, s.angular_velocity].map(f64::to_bits)
+        [p.x, p.y, v.x, v.y, s.angle, s.angular_velocity]
     };
-    let differ = |(x, y): (&BodyState, &BodyState)| {
-        let (x, y) = (fields(x), fields(y));
-        (x.iter().zip(&y)).fold(0u64, |d, (p, q)| d | (p ^ q))
-    };
-    a.len() == b.len() && a.iter().zip(b).map(differ).fold(0, |d, x| d | x) == 0
+    a.len() == b.len() && (a.iter().zip(b)).all(|(x, y)| same_bits_in(&fields(x), &fields(y)))
 }
 
 /// Whether `a` and `b` hold the same bits (on slices: nalgebra's element
