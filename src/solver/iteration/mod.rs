@@ -694,9 +694,7 @@ impl ContactIteration {
             return;
         }
         for ((row, frame), &turn) in rows.iter_mut().zip(frames).zip(turns) {
-            let mut normal: [f64; 4] = row.measure[1].into();
-            turn::add_turn(&mut normal, frame, turn);
-            row.measure[1] = Vector4::from(normal);
+            turn::add_turn(row.measure[1].iter_mut(), frame, turn);
         }
     }
 

@@ -43,9 +43,13 @@ pub(super) fn turn_rates(
 
 /// Add `turn` (κ) times the slope's row at `frame`'s foot point to its
 /// normal row `normal` (nothing where κ is zero: the same bits).
-pub(super) fn add_turn(normal: &mut [f64; 4], frame: &ContactFrame, turn: f64) {
+pub(super) fn add_turn<'a>(
+    normal: impl IntoIterator<Item = &'a mut f64>,
+    frame: &ContactFrame,
+    turn: f64,
+) {
     if turn != 0.0 {
-        for (n, dn) in normal.iter_mut().zip(&frame.shape.dn) {
+        for (n, dn) in normal.into_iter().zip(&frame.shape.dn) {
             *n += turn * dn;
         }
     }
