@@ -5,6 +5,7 @@
 
 pub mod band;
 pub mod band_inverse;
+pub mod bits;
 pub mod complementarity;
 pub mod dense_modes;
 pub mod wide_band;

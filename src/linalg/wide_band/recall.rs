@@ -14,6 +14,7 @@
 //! reaches: ahead of a train the rows keep their bits.
 
 use super::*;
+use crate::linalg::bits::copy_in_blocks;
 
 /// Rows a piece of the sweeps holds at most: where the forward sweep may
 /// stop. A stop test reads up to a profile's width of entries, and a piece
@@ -208,17 +209,11 @@ fn same_rows<'a>(rows: impl Iterator<Item = (&'a f64, &'a f64)>) -> usize {
     rows.take_while(|(a, b)| a.to_bits() == b.to_bits()).count()
 }
 
+/// Whether the few entries a piece's first row reads have the last
+/// solve's bits: an early exit per entry (`linalg::bits::same_bits`'
+/// blocks cost more on a profile's width).
 fn same_bits(a: &[f64], b: &[f64]) -> bool {
     a.iter().zip(b).all(|(a, b)| a.to_bits() == b.to_bits())
-}
-
-/// `to ← from` by slice copies of at most 2 kB: above about 4 kB glibc's
-/// memcpy moves bytes by `rep movsb`, which callgrind counts by the byte.
-fn copy_in_blocks(to: &mut [f64], from: &[f64]) {
-    const BLOCK: usize = 256;
-    for (to, from) in to.chunks_mut(BLOCK).zip(from.chunks(BLOCK)) {
-        to.copy_from_slice(from);
-    }
 }
 
 #[cfg(test)]

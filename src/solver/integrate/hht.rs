@@ -145,19 +145,12 @@ fn fused_band_step(
     });
 }
 
-/// `to ← from` by slice copies (nalgebra's `copy_from` goes entry by
-/// entry: a fifth of an integration's own work on a long viaduct). In
-/// blocks of 2 kB: above about 4 kB glibc's memcpy moves bytes by `rep
-/// movsb`, which callgrind counts as one instruction a byte, and the
-/// copies would seem to cost three times the loop they replace.
+/// `to ← from` by slice copies in blocks (`linalg::bits::copy_in_blocks`;
+/// nalgebra's `copy_from` goes entry by entry: a fifth of an
+/// integration's own work on a long viaduct).
 #[inline]
 fn copy(to: &mut DVector<f64>, from: &DVector<f64>) {
-    const BLOCK: usize = 256;
-    let (to, from) = (to.as_mut_slice(), from.as_slice());
-    assert_eq!(to.len(), from.len(), "copied vectors' lengths");
-    for (to, from) in to.chunks_mut(BLOCK).zip(from.chunks(BLOCK)) {
-        to.copy_from_slice(from);
-    }
+    crate::linalg::bits::copy_in_blocks(to.as_mut_slice(), from.as_slice());
 }
 
 /// Factor of the effective matrix M + (1 + α)(γ Δt C + β Δt² K) for steps of `dt`.

@@ -77,22 +77,8 @@ pub(super) fn same_bits(a: &DVector<f64>, b: &DVector<f64>) -> bool {
     same_bits_in(a.as_slice(), b.as_slice())
 }
 
-/// `same_bits` on slices: the bits' differences or-ed together over
-/// blocks of eight entries, without a branch per entry (the comparisons of
-/// a kept state run on every step, over the rail's 922 entries).
-#[inline]
-pub(super) fn same_bits_in(a: &[f64], b: &[f64]) -> bool {
-    const BLOCK: usize = 8;
-    let differ = |x: &[f64], y: &[f64]| {
-        (x.iter().zip(y)).fold(0u64, |d, (p, q)| d | (p.to_bits() ^ q.to_bits())) != 0
-    };
-    if a.len() != b.len() {
-        return false;
-    }
-    let (blocks_a, blocks_b) = (a.chunks_exact(BLOCK), b.chunks_exact(BLOCK));
-    let (rest_a, rest_b) = (blocks_a.remainder(), blocks_b.remainder());
-    !differ(rest_a, rest_b) && !blocks_a.zip(blocks_b).any(|(x, y)| differ(x, y))
-}
+/// `same_bits` on slices (`linalg::bits::same_bits`).
+pub(super) use crate::linalg::bits::same_bits as same_bits_in;
 
 /// A built-in scene, or one of `scenes/` by its name (tests).
 #[cfg(test)]

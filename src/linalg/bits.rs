@@ -1,0 +1,57 @@
+//! Vectors compared and copied by their bits, as the solver's kept
+//! results need: whether a state is the one a result was kept at, and
+//! copies that cost what they do.
+
+/// Whether `a` and `b` hold the same bits: the bits' differences or-ed
+/// together over blocks of eight entries, without a branch per entry (the
+/// comparisons of a kept state run on every step, over the rail's 922
+/// entries).
+#[inline]
+pub fn same_bits(a: &[f64], b: &[f64]) -> bool {
+    const BLOCK: usize = 8;
+    let differ = |x: &[f64], y: &[f64]| {
+        (x.iter().zip(y)).fold(0u64, |d, (p, q)| d | (p.to_bits() ^ q.to_bits())) != 0
+    };
+    if a.len() != b.len() {
+        return false;
+    }
+    let (blocks_a, blocks_b) = (a.chunks_exact(BLOCK), b.chunks_exact(BLOCK));
+    let (rest_a, rest_b) = (blocks_a.remainder(), blocks_b.remainder());
+    !differ(rest_a, rest_b) && !blocks_a.zip(blocks_b).any(|(x, y)| differ(x, y))
+}
+
+/// `to ← from` (of one length) by slice copies of at most 2 kB: above
+/// about 4 kB glibc's memcpy moves bytes by `rep movsb`, which callgrind
+/// counts as one instruction a byte, and the copies would seem to cost
+/// several times the loops they replace.
+#[inline]
+pub fn copy_in_blocks(to: &mut [f64], from: &[f64]) {
+    const BLOCK: usize = 256;
+    assert_eq!(to.len(), from.len(), "copied vectors' lengths");
+    for (to, from) in to.chunks_mut(BLOCK).zip(from.chunks(BLOCK)) {
+        to.copy_from_slice(from);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bits_not_values_decide() {
+        let a: Vec<f64> = (0..21).map(|i| i as f64 * 0.5).collect();
+        let mut b = a.clone();
+        assert!(same_bits(&a, &b));
+        assert!(same_bits(&a, &b));
+        b[0] = -0.0;
+        assert!(!same_bits(&a, &b), "−0 is not +0");
+        b[0] = 0.0;
+        b[9] = f64::from_bits(b[9].to_bits() + 1);
+        assert!(!same_bits(&a, &b), "one ulp in a block");
+        assert!(!same_bits(&a, &a[..20]), "another length");
+        let mut to = vec![0.0; 600];
+        let from: Vec<f64> = (0..600).map(|i| i as f64).collect();
+        copy_in_blocks(&mut to, &from);
+        assert!(same_bits(&to, &from));
+    }
+}
