@@ -12,6 +12,8 @@ use crate::solver::parameters::SolverParameters;
 use crate::solver::stepper::{constant_forces_now, RunSetup, Stepper};
 use crate::system::System;
 
+#[cfg(test)]
+mod prediction_tests;
 pub mod run_end;
 mod start;
 

@@ -377,8 +377,13 @@ impl ContactIteration {
         }
         let secant = followers::Secant::new(system, integrator.lags_force_laws());
         // Settled on residuals (`followers`), a step gains an integration
-        // from a first prediction nearer its end.
-        integrator.predict_with_accelerations(secant.every());
+        // from a first prediction nearer its end; so does one whose
+        // contacts are all followers (suspension followers too), whose
+        // force elements and laws the integrator evaluates at that
+        // prediction.
+        let all_followers = !followers.is_empty() && !followers.contains(&false);
+        let lagging_followers = integrator.lags_force_laws() && all_followers;
+        integrator.predict_with_accelerations(secant.every() || lagging_followers);
         ContactIteration {
             integrator,
             load: DVector::zeros(free_dofs),
