@@ -376,14 +376,12 @@ impl ContactIteration {
             contacts_of_body[contact.body].push(c);
         }
         let secant = followers::Secant::new(system, integrator.lags_force_laws());
-        // Settled on residuals (`followers`), a step gains an integration
-        // from a first prediction nearer its end; so does one whose
-        // contacts are all followers (suspension followers too), whose
-        // force elements and laws the integrator evaluates at that
-        // prediction.
+        // Where every contact is a follower (compliant or a suspension),
+        // whose laws and force elements the integrator evaluates at its
+        // predicted end, a step gains an integration from a first
+        // prediction nearer that end (`Secant::every`'s steps among them).
         let all_followers = !followers.is_empty() && !followers.contains(&false);
-        let lagging_followers = integrator.lags_force_laws() && all_followers;
-        integrator.predict_with_accelerations(secant.every() || lagging_followers);
+        integrator.predict_with_accelerations(integrator.lags_force_laws() && all_followers);
         ContactIteration {
             integrator,
             load: DVector::zeros(free_dofs),
