@@ -56,6 +56,11 @@ impl InverseBand {
         self.band.len()
     }
 
+    /// Z(a, b) where |a − b| ≤ 3 (within the band), else None.
+    pub fn entry(&self, a: usize, b: usize) -> Option<f64> {
+        (a.abs_diff(b) <= 3 && a.max(b) < self.size()).then(|| entry_within(&self.band, a, b))
+    }
+
     /// Z(rows[p], rows[q]) into `out` (column-major, m × m for the m
     /// `rows`, increasing and distinct); returns the rows the column
     /// recurrences walked: Σ over the columns of their distance to the

@@ -570,7 +570,9 @@ impl WideLdlt {
     }
 }
 
+mod inverse;
 mod recall;
+pub use inverse::InverseWideBand;
 pub use recall::RecallingLdlt;
 
 #[cfg(test)]
@@ -582,7 +584,7 @@ mod tests {
     /// A rail on a deck, interleaved per node (rail w, ψ, deck w, ψ): each
     /// element couples eight consecutive DOFs, half-bandwidth 7; diagonally
     /// dominant, so positive definite.
-    fn coupled(nodes: usize) -> WideBand {
+    pub(crate) fn coupled(nodes: usize) -> WideBand {
         let n = 4 * nodes;
         let mut a = WideBand::zeros(n, 7);
         for e in 0..nodes - 1 {
@@ -649,7 +651,7 @@ mod tests {
     /// A rail alone on the approach (two DOFs a node: each element couples
     /// four places), then interleaved with a deck (four a node), then
     /// alone again, in one band of half-bandwidth 7: rows of three profiles.
-    fn rail_then_deck_then_rail() -> WideBand {
+    pub(crate) fn rail_then_deck_then_rail() -> WideBand {
         band_of_node_widths(&[2, 2, 2, 2, 4, 4, 4, 4, 4, 2, 2, 2, 2])
     }
 
