@@ -15,6 +15,8 @@ use crate::system::System;
 #[cfg(test)]
 mod prediction_tests;
 pub mod run_end;
+#[cfg(test)]
+mod secant_tests;
 mod start;
 
 pub use crate::integrate::{rk4_step_limit, AUTO_MIN_DAMPING};

@@ -165,6 +165,17 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::nominal_band_response(&**s), )* }
             }
 
+            /// See `TimeIntegrator::point_compliance`.
+            pub fn point_compliance(
+                &mut self,
+                system: &System,
+                shape: &crate::beam::Shape,
+                row: &[f64; 4],
+                dt: f64,
+            ) -> Option<(f64, f64)> {
+                match self { $( Integrator::$variant(s) => TimeIntegrator::point_compliance(&mut **s, system, shape, row, dt), )* }
+            }
+
             /// See `TimeIntegrator::beam_response`.
             pub fn beam_response(
                 &mut self,

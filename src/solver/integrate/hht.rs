@@ -13,8 +13,8 @@
 //! of the step until the end state is a fixed point: they act at the end
 //! of the step like every other load, as the scheme needs.
 
-use crate::beam::EffectiveFactor;
-use nalgebra::{DVector, Vector2, Vector3};
+use crate::beam::{EffectiveFactor, InverseWithinBand, Shape};
+use nalgebra::{DVector, Matrix4, Vector2, Vector3, Vector4};
 
 use super::hht_energy::{step_dissipation, StepEnds, Weights};
 use super::step_end::EndForces;
@@ -48,6 +48,12 @@ pub struct Hht {
     /// other step length met (the shortened last step before an exit or a
     /// communication point).
     nominal: (f64, EffectiveFactor),
+    /// The nominal factor's inverse within its band, swept at the first
+    /// `point_compliance` (None inside: the factor has none).
+    nominal_inverse: Option<Option<InverseWithinBand>>,
+    /// Per element, S⁻¹ on its four DOFs from `nominal_inverse`, read at
+    /// the first contact on it (`point_compliance`).
+    element_inverse: Vec<Option<Matrix4<f64>>>,
     other: Option<(f64, EffectiveFactor)>,
     /// The previous iterate's end configuration, within the current step.
     predicted_u: DVector<f64>,
@@ -177,6 +183,8 @@ impl Hht {
             beta,
             gamma,
             nominal: (nominal_step, factor),
+            nominal_inverse: None,
+            element_inverse: Vec::new(),
             other: None,
             predicted_u: z(),
             predicted_v: z(),
@@ -739,6 +747,59 @@ impl Hht {
             forcing * self.beta * h * h,
             forcing * self.gamma * h,
         ))
+    }
+
+    /// See `TimeIntegrator::point_compliance`: rowᵀ S⁻¹ row over the
+    /// shape's coordinates, weighted as `beam_response` weighs the solve.
+    pub fn point_compliance(
+        &mut self,
+        system: &System,
+        shape: &Shape,
+        row: &[f64; 4],
+        dt: f64,
+    ) -> Option<(f64, f64)> {
+        if !self.is_nominal(dt) {
+            return None;
+        }
+        let element = shape.element;
+        if self.element_inverse.len() <= element {
+            self.element_inverse.resize(element + 1, None);
+        }
+        let block = match self.element_inverse[element] {
+            Some(block) => block,
+            None => {
+                let block = self.element_block(system, &shape.dofs)?;
+                self.element_inverse[element] = Some(block);
+                block
+            }
+        };
+        let row = Vector4::from(*row);
+        let compliance = row.dot(&(block * row));
+        let forcing = 1.0 + self.alpha;
+        Some((
+            forcing * self.beta * dt * dt * compliance,
+            forcing * self.gamma * dt * compliance,
+        ))
+    }
+
+    /// S⁻¹ of the nominal step on an element's four `dofs` (0 where
+    /// held), from the inverse within the band (swept at the first call).
+    fn element_block(&mut self, system: &System, dofs: &[Option<usize>; 4]) -> Option<Matrix4<f64>> {
+        let factor = &self.nominal.1;
+        let inverse = self
+            .nominal_inverse
+            .get_or_insert_with(|| factor.inverse_within_band())
+            .as_ref()?;
+        let coordinates = dofs.map(|dof| dof.and_then(|d| system.beam.load_coordinate(d)));
+        let mut block = Matrix4::zeros();
+        for (a, row) in coordinates.iter().enumerate() {
+            for (b, column) in coordinates.iter().enumerate() {
+                if let (Some(row), Some(column)) = (row, column) {
+                    block[(a, b)] = inverse.entry(*row, *column)?;
+                }
+            }
+        }
+        Some(block)
     }
 
     pub fn beam_response(

@@ -91,6 +91,16 @@ impl TimeIntegrator for Hht {
         Hht::nominal_band_response(self)
     }
 
+    fn point_compliance(
+        &mut self,
+        system: &System,
+        shape: &crate::beam::Shape,
+        row: &[f64; 4],
+        dt: f64,
+    ) -> Option<(f64, f64)> {
+        Hht::point_compliance(self, system, shape, row, dt)
+    }
+
     fn beam_response(
         &mut self,
         system: &System,

@@ -449,6 +449,21 @@ pub trait TimeIntegrator: Sized {
     fn nominal_band_response(&self) -> Option<(&crate::band::BandLdlt, f64, f64)> {
         None
     }
+    /// The structure's compliance at a contact over a nominal step: the
+    /// displacement and velocity along `row` on `shape` that `beam_response`
+    /// gives to a unit load along the same row, read from the effective
+    /// matrix's inverse within its band. None off the nominal step, where
+    /// that inverse is not kept (a modal or two-level factor) or where the
+    /// scheme has no effective matrix.
+    fn point_compliance(
+        &mut self,
+        _system: &System,
+        _shape: &crate::beam::Shape,
+        _row: &[f64; 4],
+        _dt: f64,
+    ) -> Option<(f64, f64)> {
+        None
+    }
     /// Displacement and velocity of the beam alone after `dt` under a
     /// constant `load`, from rest: the step's response to a unit contact
     /// load, from which the iteration builds its Delassus operator.

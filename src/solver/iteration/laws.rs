@@ -83,7 +83,7 @@ impl ContactIteration {
 
     /// The bodies' end state after a change `q` of each one's generalized
     /// force at the end of the step, from `end`, into `out`.
-    fn moved(
+    pub(super) fn moved(
         system: &System,
         (velocity_weight, position_weight): (f64, f64),
         end: &[BodyState],

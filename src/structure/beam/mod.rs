@@ -193,7 +193,39 @@ pub enum EffectiveFactor {
     Wide(crate::wide_band::RecallingLdlt),
 }
 
+/// The entries of an effective matrix's inverse within its band, where
+/// its factor is a plain band (the beam's or the rail over the deck's).
+#[derive(Debug, Clone)]
+pub enum InverseWithinBand {
+    Band(crate::linalg::band_inverse::InverseBand),
+    Wide(crate::wide_band::InverseWideBand),
+}
+
+impl InverseWithinBand {
+    /// Z(a, b), or None outside the band.
+    pub fn entry(&self, a: usize, b: usize) -> Option<f64> {
+        match self {
+            InverseWithinBand::Band(inverse) => inverse.entry(a, b),
+            InverseWithinBand::Wide(inverse) => inverse.entry(a, b),
+        }
+    }
+}
+
 impl EffectiveFactor {
+    /// The entries of S⁻¹ within S's band (one sweep of the factor), where
+    /// the factor is a plain band; None for the modal and two-level ones.
+    pub fn inverse_within_band(&self) -> Option<InverseWithinBand> {
+        match self {
+            EffectiveFactor::Band(factor) => Some(InverseWithinBand::Band(
+                crate::linalg::band_inverse::InverseBand::new(factor),
+            )),
+            EffectiveFactor::Wide(factor) => Some(InverseWithinBand::Wide(
+                crate::wide_band::InverseWideBand::new(factor.factor()),
+            )),
+            EffectiveFactor::Modal(_) | EffectiveFactor::TwoLevel(_) => None,
+        }
+    }
+
     /// Whether the solves have the coarse-mesh correction.
     pub fn is_two_level(&self) -> bool {
         matches!(self, EffectiveFactor::TwoLevel(_))
