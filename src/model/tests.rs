@@ -1000,3 +1000,36 @@ fn every_vehicle_s_force_inputs_push_that_vehicle_only() {
         "{pushed} against {expected}"
     );
 }
+
+/// A forged multi-body state with a non-finite body, or with two bodies
+/// swapped under force laws (Hertz wheelsets, which have no gap to check),
+/// is refused whole before it is restored. A NaN compared false with every
+/// bound of the consistency check: on a train both passed.
+#[test]
+fn forged_states_with_a_nan_body_or_swapped_followers_are_refused() {
+    use crate::model::{SceneDynamics, SceneState};
+    let forged = |name: &str, forge: &dyn Fn(&mut crate::state::SimState)| {
+        let scene = crate::scene::builtin(name).unwrap();
+        let mut m = Model::<SceneDynamics>::new(scene).unwrap();
+        m.initialize().unwrap();
+        m.do_step(0.0, 0.01).unwrap();
+        let mut snap = m.snapshot();
+        assert!(m.check_whole(&snap).is_ok(), "{name}: its own state");
+        if let Some(SceneState::Vehicles(s)) = &mut snap.sim {
+            forge(s);
+        }
+        let bytes = Model::<SceneDynamics>::serialize(&snap, "g").unwrap();
+        let back = Model::<SceneDynamics>::deserialize(&bytes, "g").unwrap();
+        m.check_whole(&back).unwrap_err().0
+    };
+    let e = forged("train-3-coaches-2x25-5", &|s| {
+        s.dynamic.bodies[3].position.x = f64::NAN
+    });
+    assert!(e.contains("non-finite number (NaN)"), "{e}");
+    // The car body and its first wheelset, 1.5 m apart, on Hertz contacts.
+    let e = forged("train-8-coaches-3x25-300", &|s| s.dynamic.bodies.swap(0, 3));
+    assert!(
+        e.contains("(a force law)") && e.contains("not where the contacts say"),
+        "{e}"
+    );
+}

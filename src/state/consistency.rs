@@ -18,6 +18,12 @@ const GAP_SLACK: f64 = 1e-6;
 /// from the track is no drift but a body out of place.
 const CLOSED_GAP_LIMIT: f64 = 1e-3;
 
+/// A force law's contact (a follower) has no gap to check, but its stored
+/// foot point is the one of its body's place, found to 1e-14 of the
+/// track's length: a search from it that ends this far away (m) found
+/// another body's.
+const FOOT_SLACK: f64 = 1e-6;
+
 impl SimState {
     /// Refuse a state (of the right shape, all numbers finite) whose bodies
     /// do not sit where its contacts' gaps say, or whose event and exit
@@ -25,6 +31,13 @@ impl SimState {
     /// (`solver.gap_tolerance`).
     pub fn check_consistent(&self, system: &System, gap_tolerance: f64) -> Result<(), String> {
         let state = self;
+        // A NaN compares false with every bound below: refused first (the
+        // shape check counts lengths only).
+        if state.not_finite_sum() != 0.0 {
+            if let Some(x) = state.first_not_finite() {
+                return Err(format!("the state holds a non-finite number ({x})"));
+            }
+        }
         check_times(state)?;
         let d = &state.dynamic;
         // Every contact's frame (a follower's too: each must lie on the
@@ -43,15 +56,16 @@ impl SimState {
         let slack = 10.0 * gap_tolerance + GAP_SLACK;
         for (c, contact) in system.contacts.iter().enumerate() {
             if contact.follower.is_some() {
+                check_follower_foot(system, c, frames[c].x, d.contact_x[c])?;
                 continue;
             }
             let centre = &contact.point(&d.bodies[contact.body]).position;
             let gap = frames[c].gap(&system.beam, contact.radius(), centre);
             let stored = state.contacts[c].gap;
             let closed = !state.contacts[c].open;
-            if (gap - stored).abs() > slack + 1e-9 * stored.abs()
-                || (closed && gap.abs() > CLOSED_GAP_LIMIT + slack)
-            {
+            let fits = (gap - stored).abs() <= slack + 1e-9 * stored.abs()
+                && (!closed || gap.abs() <= CLOSED_GAP_LIMIT + slack);
+            if !fits {
                 return Err(format!(
                     "contact {} is {} with a gap of {stored:.3e} m, but its body {} is {gap:.3e} m \
                      from the track: the bodies are not where the contacts say",
@@ -63,6 +77,21 @@ impl SimState {
         }
         Ok(())
     }
+}
+
+/// A follower's foot point found from the stored one (`found`) is the
+/// stored one (`stored`): otherwise its body is not where the contact was
+/// (two bodies swapped: a wheelset and its car are 1.25 m apart or more).
+fn check_follower_foot(system: &System, c: usize, found: f64, stored: f64) -> Result<(), String> {
+    // False for a NaN: refused.
+    if (found - stored).abs() <= FOOT_SLACK + 1e-9 * stored.abs() {
+        return Ok(());
+    }
+    let contact = &system.contacts[c];
+    Err(format!(
+        "contact {} (a force law) is at x = {stored:.6} m on the track, but its body {} is over          x = {found:.6} m: the bodies are not where the contacts say",
+        contact.name, system.bodies[contact.body].name
+    ))
 }
 
 /// Every event and the exit at or after 0 and at or before the state's time.
