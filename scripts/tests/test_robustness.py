@@ -41,6 +41,24 @@ def test_short_fuzz_run_finds_no_crash_hang_or_broken_rule():
         assert sum(v for k, v in s["tally"].items() if k.startswith(key)) > 0, key
 
 
+def test_short_fuzz_run_on_train_fmus_refuses_forged_multibody_states(tmp_path):
+    """Multi-body FMUs (rigid and Hertz contacts): a forged state with a
+    NaN body or with swapped bodies is refused at deserialization; on
+    e6ce77c both passed (a NaN compared false with every bound, and the
+    force laws' contacts had no check)."""
+    fmus = []
+    for scene in ("train-3-coaches-2x25-5", "train-8-coaches-3x25-300"):
+        out = tmp_path / f"{scene}.fmu"
+        subprocess.run([str(fuzz_names.GUIDEWAY), "export", scene, "-o", str(out)],
+                       check=True, capture_output=True)
+        fmus.append(out)
+    s = fuzz_fmi.fuzz(fmus, 3000, first_seed=1, batch=50, max_calls=150, timeout=60,
+                      log=lambda _: None)
+    assert s["failures"] == [] and s["crashes"] == 0 and s["hangs"] == 0
+    for kind in ("swap", "nan body"):
+        assert s["tally"].get(f"physics forgery {kind} refused", 0) > 0, kind
+
+
 def test_fuzz_driver_names_the_seed_of_a_crash_and_of_a_hang(monkeypatch):
     monkeypatch.setenv("FUZZ_FMI_SELFTEST_CRASH", "3")
     monkeypatch.setenv("FUZZ_FMI_SELFTEST_HANG", "5")
