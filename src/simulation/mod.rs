@@ -13,6 +13,8 @@ use crate::solver::stepper::{constant_forces_now, RunSetup, Stepper};
 use crate::system::System;
 
 #[cfg(test)]
+mod coaches_tests;
+#[cfg(test)]
 mod prediction_tests;
 pub mod run_end;
 #[cfg(test)]

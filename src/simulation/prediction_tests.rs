@@ -4,64 +4,14 @@
 //! of the velocity-only prediction to the iteration's tolerance, in fewer
 //! integrations.
 
-use super::{Advance, Simulation};
+use super::coaches_tests::{every_step, two_coaches};
+use super::Simulation;
 use crate::scene::Scene;
 
-/// Two coaches on massless wheelsets at 300 km/h over a 20 m span from the
-/// approach, HHT-α at 0.25 ms.
+/// Two coaches on massless wheelsets over a 20 m span from the approach.
 fn coaches_on_followers() -> Scene {
-    let coach = |name: &str, (header, table): (&str, &str), position: f64| {
-        format!(
-            r#"
-{header}
-name = "{name}"
-kind = "bogie_vehicle"
-mass = 38884.0
-initial_position = {position:?}
-initial_speed = 83.3333
-[{table}.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 0.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 20000.0
-secondary_stiffness = 5.3e5
-secondary_damping = 45000.0
-"#
-        )
-    };
-    let text = format!(
-        r#"
-name = "coaches-on-followers"
-gravity = 9.81
-[beam]
-length = 20.0
-mass_per_length = 12000.0
-bending_stiffness = 2.3539e10
-surface_offset = 0.0
-elements = 20
-[beam.damping]
-ratio = 0.015
-modes = [1, 3]
-[track]
-approach = 60.0
-run_off = 60.0
-{}
-{}
-[solver]
-step = 0.00025
-integrator = "hht"
-numerical_damping = 0.1
-end_time = 0.3
-start = "static"
-"#,
-        coach("coach1", ("[body]", "body"), -11.0),
-        coach("coach2", ("[[vehicles]]", "vehicles"), -35.0)
-    );
-    Scene::from_toml_str(&text).expect("a valid scene")
+    let track = "[track]\napproach = 60.0\nrun_off = 60.0";
+    two_coaches((0.0, None), track, "end_time = 0.3")
 }
 
 /// Every output after every grid step, and the integrations spent.
@@ -69,18 +19,7 @@ fn run(scene: &Scene, accelerated: bool) -> (Vec<Vec<f64>>, u64) {
     let mut sim = Simulation::new(scene).expect("builds");
     let integrator = sim.stepper.iteration_mut().integrator_mut();
     integrator.predict_with_accelerations(accelerated);
-    let dt = scene.solver.step;
-    let mut values = vec![0.0; sim.outputs().len()];
-    let mut rows = Vec::new();
-    for k in 1..=(0.3 / dt).round() as u64 {
-        match sim.advance_to(k as f64 * dt) {
-            Ok(Advance::Reached) => {}
-            other => panic!("step {k}: {other:?}"),
-        }
-        sim.output_values(&mut values);
-        rows.push(values.clone());
-    }
-    (rows, sim.counters().1)
+    every_step(sim, scene.solver.step, 0.3)
 }
 
 #[test]

@@ -6,92 +6,26 @@
 //! tighter; the compliance read from the inverse is a whole solve's, and
 //! a restored state continues with the same bits.
 
-use super::{Advance, Simulation};
+use super::coaches_tests::{every_step, two_coaches};
+use super::Simulation;
 use crate::scene::Scene;
 
-/// Two coaches on 1,400 kg wheelsets with the Hertz wheel–rail preset at
-/// 300 km/h on a rail over a 20 m span, HHT-α at 0.25 ms, velocity
-/// tolerance `tolerance`.
+/// Two coaches on 1,400 kg wheelsets with the Hertz wheel–rail preset on
+/// a rail over a 20 m span, velocity tolerance `tolerance`.
 fn coaches_on_rail(tolerance: f64) -> Scene {
-    let coach = |name: &str, (header, table): (&str, &str), position: f64| {
-        format!(
-            r#"
-{header}
-name = "{name}"
-kind = "bogie_vehicle"
-mass = 38884.0
-initial_position = {position:?}
-initial_speed = 83.3333
-[{table}.contact_law]
-preset = "wheel-rail"
-[{table}.bogie]
-car_inertia = 1.95e6
-bogie_mass = 2400.0
-bogie_inertia = 3200.0
-wheelset_mass = 1400.0
-bogie_half_distance = 8.75
-axle_half_distance = 1.25
-primary_stiffness = 1.18e6
-primary_damping = 20000.0
-secondary_stiffness = 5.3e5
-secondary_damping = 45000.0
-"#
-        )
-    };
-    let text = format!(
-        r#"
-name = "coaches-on-rail"
-gravity = 9.81
-[beam]
-length = 20.0
-mass_per_length = 12000.0
-bending_stiffness = 2.3539e10
-surface_offset = 0.0
-elements = 20
-[beam.damping]
-ratio = 0.015
-modes = [1, 3]
-[track]
-approach = 50.0
-run_off = 50.0
-[track.on_deck]
-stiffness = 6.6e7
-damping = 9.0e4
-rail_bending_stiffness = 1.28e7
-rail_mass_per_length = 120.0
-{}
-{}
-[solver]
-step = 0.00025
-velocity_tolerance = {tolerance:e}
-max_iterations = 1000
-integrator = "hht"
-numerical_damping = 0.1
-end_time = 0.2
-start = "static"
-"#,
-        coach("coach1", ("[body]", "body"), -11.0),
-        coach("coach2", ("[[vehicles]]", "vehicles"), -35.0)
-    );
-    Scene::from_toml_str(&text).expect("a valid scene")
+    let track = "[track]\napproach = 50.0\nrun_off = 50.0\n[track.on_deck]\n\
+                 stiffness = 6.6e7\ndamping = 9.0e4\nrail_bending_stiffness = 1.28e7\n\
+                 rail_mass_per_length = 120.0";
+    let solver =
+        format!("velocity_tolerance = {tolerance:e}\nmax_iterations = 1000\nend_time = 0.2");
+    two_coaches((1400.0, Some("wheel-rail")), track, &solver)
 }
 
 /// Every output after every grid step, and the integrations spent.
 fn run(scene: &Scene, aided: bool) -> (Vec<Vec<f64>>, u64) {
     let mut sim = Simulation::new(scene).expect("builds");
     sim.stepper.iteration_mut().aid_secant(aided);
-    let dt = scene.solver.step;
-    let mut values = vec![0.0; sim.outputs().len()];
-    let mut rows = Vec::new();
-    for k in 1..=(0.2 / dt).round() as u64 {
-        match sim.advance_to(k as f64 * dt) {
-            Ok(Advance::Reached) => {}
-            other => panic!("step {k}: {other:?}"),
-        }
-        sim.output_values(&mut values);
-        rows.push(values.clone());
-    }
-    (rows, sim.counters().1)
+    every_step(sim, scene.solver.step, 0.2)
 }
 
 /// Per output (but the solver's counts and the energy books, whose
