@@ -81,9 +81,9 @@ pub(super) struct Secant {
     /// Per contact: the structure's compliance under it over the step
     /// (displacement, velocity per unit force), for a first secant step.
     structure: Vec<(f64, f64)>,
-    /// Whether the first slope takes the structure's compliance and the
-    /// next integration's bodies are anticipated (`aided`): off only to
-    /// measure what they save.
+    /// Whether the first slope leaves out the structure's compliance and
+    /// the next integration's bodies are not anticipated: only where a
+    /// test measures what they save (`aid_secant`).
     plain: bool,
 }
 
@@ -303,8 +303,8 @@ impl ContactIteration {
     /// integrating again to measure that change. Otherwise each follower's
     /// next force is a secant step: at the step's first integration with
     /// the slope its body and the structure under it give (`first_slope`),
-    /// then with the slope of the
-    /// step's last two integrations.
+    /// then with the slope of the step's last two integrations; then the
+    /// next integration's bodies are anticipated (`anticipate_bodies`).
     fn settled_on_residuals(
         &mut self,
         system: &System,
