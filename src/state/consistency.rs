@@ -89,7 +89,8 @@ fn check_follower_foot(system: &System, c: usize, found: f64, stored: f64) -> Re
     }
     let contact = &system.contacts[c];
     Err(format!(
-        "contact {} (a force law) is at x = {stored:.6} m on the track, but its body {} is over          x = {found:.6} m: the bodies are not where the contacts say",
+        "contact {} (a force law) is at x = {stored:.6} m on the track, but its body {} is over \
+         x = {found:.6} m: the bodies are not where the contacts say",
         contact.name, system.bodies[contact.body].name
     ))
 }
