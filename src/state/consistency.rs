@@ -33,11 +33,7 @@ impl SimState {
         let state = self;
         // A NaN compares false with every bound below: refused first (the
         // shape check counts lengths only).
-        if state.not_finite_sum() != 0.0 {
-            if let Some(x) = state.first_not_finite() {
-                return Err(format!("the state holds a non-finite number ({x})"));
-            }
-        }
+        state.check_finite()?;
         check_times(state)?;
         let d = &state.dynamic;
         // Every contact's frame (a follower's too: each must lie on the

@@ -119,14 +119,20 @@ impl SimState {
     /// serialized FMU state) must satisfy before anything is sized by it.
     pub fn check_values(&self, step: f64) -> Result<(), String> {
         self.check_lengths()?;
-        // One branch-free sum over every number first (this runs after every
-        // FMU step); the number is looked for only when there is one.
+        self.check_finite()?;
+        self.check_time(step)
+    }
+
+    /// Every number finite. One branch-free sum over every number first
+    /// (this runs after every FMU step); the number is looked for only when
+    /// there is one.
+    fn check_finite(&self) -> Result<(), String> {
         if self.not_finite_sum() != 0.0 {
             if let Some(x) = self.first_not_finite() {
                 return Err(format!("the state holds a non-finite number ({x})"));
             }
         }
-        self.check_time(step)
+        Ok(())
     }
 
     /// The state's scalars that `check_values` checks.
