@@ -164,12 +164,13 @@ const PATTERNS: [&[usize]; 13] = [
     &[8],
 ];
 
-/// The longest period of `PATTERNS`: `over_run` writes out that many rows.
-const LONGEST_PATTERN: usize = 5;
+/// The rows `over_run` writes out at most in a block of whole periods of
+/// a pattern (at least one period of each).
+const UNROLLED_ROWS: usize = 8;
 const _: () = {
     let mut k = 0;
     while k < PATTERNS.len() {
-        assert!(!PATTERNS[k].is_empty() && PATTERNS[k].len() <= LONGEST_PATTERN);
+        assert!(!PATTERNS[k].is_empty() && PATTERNS[k].len() <= UNROLLED_ROWS);
         k += 1;
     }
 };
@@ -323,18 +324,22 @@ const REACHES: [usize; PATTERNS.len()] = {
 /// Runs `$row::<P>` (a row kernel above) over the rows of `$run` in
 /// `$band` (the rows' entries, `stride` a row of which `tail` after the
 /// profile, and the profile's first columns), its arguments `[read]`,
-/// `[written]` vectors then others: a pattern's run period by period, the
-/// vectors cut once a period to the window its rows read (`REACHES`
-/// before it, so that every index within is a constant), the period's
-/// rows written out (up to `LONGEST_PATTERN`) with their widths
-/// constants, so that each row is its unrolled terms; rows one by one
-/// with their widths from the profile. `rev` runs the rows backward.
+/// `[written]` vectors then others: a pattern's run in blocks of whole
+/// periods (as many as `UNROLLED_ROWS` rows hold), then its remaining
+/// periods one by one; the vectors cut once a block to the window its
+/// rows read (`REACHES` before it, so that every index within is a
+/// constant), the block's rows written out with their widths constants,
+/// so that each row is its unrolled terms and a row's result reaches the
+/// next rows of its block in registers, not through memory (a sweep's
+/// rows are a chain: a solve's row waits for the one before it); rows
+/// one by one with their widths from the profile. `rev` runs the rows
+/// backward. The literal row lists below count to `UNROLLED_ROWS`.
 macro_rules! over_run {
     ($run:expr, $band:expr, $row:ident $args:tt) => {
-        over_run!(@rows $run, $band, $row $args, [0 1 2 3 4], )
+        over_run!(@rows $run, $band, $row $args, [0 1 2 3 4 5 6 7], )
     };
     ($run:expr, $band:expr, $row:ident $args:tt, rev) => {
-        over_run!(@rows $run, $band, $row $args, [4 3 2 1 0], rev)
+        over_run!(@rows $run, $band, $row $args, [7 6 5 4 3 2 1 0], rev)
     };
     (@window ($start:expr, $len:expr), ([$($read:ident),*], [$($write:ident),*] $(, $arg:expr)*)) => {
         $(let $read = &$read[$start..][..$len];)*
@@ -344,25 +349,46 @@ macro_rules! over_run {
         ([$($read:ident),*], [$($write:ident),*] $(, $arg:expr)*)) => {
         $row::<$P>($($at,)* $($read,)* $($write,)* $($arg),*)
     };
+    (@in_order , $first:expr, $then:expr) => {{
+        $first;
+        $then;
+    }};
+    (@in_order rev, $first:expr, $then:expr) => {{
+        $then;
+        $first;
+    }};
+    // Chunks of `$n` rows of `$part` (its first row `$start`), each row
+    // r of a chunk of width `pattern[r % period]`.
+    (@chunks ($part:expr, $start:expr, $n:expr), $band:expr,
+        $row:ident $args:tt, [$($r:literal)*], $($rev:ident)?) => {
+        let (pattern, reach, stride, tail): (&[usize], usize, usize, usize) = $band;
+        for (chunk, rows) in $part.chunks_exact($n * stride).enumerate() $(.$rev())? {
+            // Every row's width is at most its index: i ≥ reach.
+            let i = $start + chunk * $n;
+            over_run!(@window (i - reach, reach + $n), $args);
+            $(if $r < $n {
+                let width = pattern[$r % pattern.len()];
+                let row = &rows[($r + 1) * stride - tail - width..($r + 1) * stride];
+                by_width!(width, P => over_run!(@call P, $row, (row, (reach + $r, width)), $args));
+            })*
+        }
+    };
     (@rows $run:expr, $band:expr, $row:ident $args:tt, [$($r:literal)*], $($rev:ident)?) => {{
         let (run, (rows, stride, tail, first)): (Run, (&[f64], usize, usize, &[usize])) =
             ($run, $band);
         match run.pattern {
             Some(k) => by_pattern!(k, K => {
+                const PERIOD: usize = PATTERNS[K].len();
+                const BLOCK: usize = PERIOD * (UNROLLED_ROWS / PERIOD);
                 let (pattern, reach) = (PATTERNS[K], REACHES[K]);
-                let periods = rows[run.start * stride..run.end * stride]
-                    .chunks_exact(pattern.len() * stride)
-                    .enumerate();
-                for (period, rows) in periods $(.$rev())? {
-                    // Every row's width is at most its index: i ≥ reach.
-                    let i = run.start + period * pattern.len();
-                    over_run!(@window (i - reach, reach + pattern.len()), $args);
-                    $(if $r < pattern.len() {
-                        let width = pattern[$r];
-                        let row = &rows[($r + 1) * stride - tail - width..($r + 1) * stride];
-                        by_width!(width, P => over_run!(@call P, $row, (row, (reach + $r, width)), $args));
-                    })*
-                }
+                let all = &rows[run.start * stride..run.end * stride];
+                let (blocks, rest) = all.split_at(all.len() / (BLOCK * stride) * (BLOCK * stride));
+                let rest_start = run.start + blocks.len() / stride;
+                over_run!(@in_order $($rev)?,
+                    over_run!(@chunks (blocks, run.start, BLOCK), (pattern, reach, stride, tail),
+                        $row $args, [$($r)*], $($rev)?),
+                    over_run!(@chunks (rest, rest_start, PERIOD), (pattern, reach, stride, tail),
+                        $row $args, [$($r)*], $($rev)?))
             }),
             None => {
                 for i in (run.start..run.end) $(.$rev())? {
