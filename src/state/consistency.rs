@@ -25,10 +25,10 @@ const CLOSED_GAP_LIMIT: f64 = 1e-3;
 const FOOT_SLACK: f64 = 1e-6;
 
 impl SimState {
-    /// Refuse a state (of the right shape, all numbers finite) whose bodies
-    /// do not sit where its contacts' gaps say, or whose event and exit
-    /// times lie outside [0, its time]; `gap_tolerance` is the run's
-    /// (`solver.gap_tolerance`).
+    /// Refuse a state (of the right shape) that holds a non-finite number,
+    /// whose bodies do not sit where its contacts' gaps and foot points
+    /// say, or whose event and exit times lie outside [0, its time];
+    /// `gap_tolerance` is the run's (`solver.gap_tolerance`).
     pub fn check_consistent(&self, system: &System, gap_tolerance: f64) -> Result<(), String> {
         let state = self;
         // A NaN compares false with every bound below: refused first (the
