@@ -2,12 +2,14 @@
 //! `rows` rows (w, ψ at each node, each element coupling four places), its
 //! middle tenth a rail and a deck interleaved (four DOFs a node, eight
 //! places an element), as the rail-over-deck scenes number them;
-//! `reps` solves, products or quadratic forms:
+//! `reps` solves, products or quadratic forms (`recall`: the recalling
+//! solve of a right-hand side that changes in every row every time, so
+//! that every row is solved again):
 //! `valgrind --tool=callgrind target/release/examples/wide_band_kernels 922 1000 solve`
 //! run at two `reps`; the difference divided by the difference of the
 //! counts is the cost of one call, the set-up excluded.
 
-use guideway::wide_band::WideBand;
+use guideway::wide_band::{RecallingLdlt, WideBand};
 use std::hint::black_box;
 
 /// Each node's DOFs (two on the rail alone, four with the deck) until
@@ -61,7 +63,7 @@ fn band(rows: usize) -> WideBand {
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let usage = "usage: wide_band_kernels <rows> <reps> <solve|product|form>";
+    let usage = "usage: wide_band_kernels <rows> <reps> <solve|recall|product|form>";
     let rows: usize = args.get(1).and_then(|a| a.parse().ok()).expect(usage);
     let reps: usize = args.get(2).and_then(|a| a.parse().ok()).expect(usage);
     let a = band(rows);
@@ -71,11 +73,17 @@ fn main() {
         .collect();
     let mut out = vec![0.0; rows];
     let mut total = 0.0;
-    for _ in 0..reps {
+    let mut recalling = RecallingLdlt::new(factor.clone());
+    for rep in 0..reps {
         match args.get(3).map(String::as_str) {
             Some("solve") => {
                 out.copy_from_slice(&x);
                 factor.solve_in_place(black_box(&mut out));
+            }
+            Some("recall") => {
+                let scale = 1.0 + rep as f64 * 1e-9;
+                out.iter_mut().zip(&x).for_each(|(o, x)| *o = scale * x);
+                recalling.solve_in_place(black_box(&mut out));
             }
             Some("product") => a.mul_to(black_box(&x), &mut out),
             Some("form") => total += a.quadratic_form(black_box(&x)),

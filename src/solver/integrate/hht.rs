@@ -633,8 +633,10 @@ impl Hht {
             u1[i] = to_u * a + u_star[i];
             v1[i] = to_v * a + v_star[i];
         }
-        copy(&mut end.beam_acceleration, &a1);
-        self.rhs = a1;
+        // The solved vector is the end's acceleration: handed over, not
+        // copied (the end's old buffer, of the same length, becomes the
+        // next right-hand side, whose rows are all written before read).
+        self.rhs = std::mem::replace(&mut end.beam_acceleration, a1);
     }
 
     /// Every body: the same forcing and Newmark weights as the beam. Its
