@@ -101,30 +101,19 @@ impl RecallingLdlt {
         let factor = &self.factor;
         let lower = (&factor.lower[..], b, 0, &factor.first[..]);
         let (mut p, mut solved) = (n, self.pieces.len());
-        // D⁻¹ z row by row once no later row reads the row's z: in the
-        // shadow of the next piece's chain of dependent rows, where the
-        // divider is idle (a pass of its own after the sweep was a
-        // thirteenth of the solve). The same divisions of the same z.
-        // Each row's z is kept (from `start`: those before are the last
-        // sweep's) before it is divided.
-        let (mut kept, mut divided) = (start, 0);
         for (k, &piece) in self.pieces.iter().enumerate().skip(from) {
             let i = piece.start;
             let read = self.reach_from[i]..i;
-            if i >= q && same_bits(&x[read.clone()], &last.forward[read.clone()]) {
+            if i >= q && same_bits(&x[read.clone()], &last.forward[read]) {
                 (p, solved) = (i, k);
                 break;
             }
-            copy_in_blocks(&mut last.forward[kept..i], &x[kept..i]);
-            divide(
-                &mut x[divided..read.start],
-                &factor.pivot[divided..read.start],
-            );
-            (kept, divided) = (i, read.start);
             over_run!(piece, lower, forward_row([], [x]));
         }
-        copy_in_blocks(&mut last.forward[kept..p], &x[kept..p]);
-        divide(&mut x[divided..p], &factor.pivot[divided..p]);
+        copy_in_blocks(&mut last.forward[start..p], &x[start..p]);
+        for (xi, d) in x[..p].iter_mut().zip(&factor.pivot) {
+            *xi /= d;
+        }
         factor.subtract_recalled(p, &last.solution, x);
         copy_in_blocks(&mut x[p..], &last.solution[p..]);
         for &piece in self.pieces[..solved].iter().rev() {
@@ -152,14 +141,6 @@ impl WideLdlt {
                 *xj -= l * xk;
             }
         }
-    }
-}
-
-/// `x ← x / pivot`, entry by entry (the solve's D⁻¹).
-#[inline(always)]
-fn divide(x: &mut [f64], pivot: &[f64]) {
-    for (xi, d) in x.iter_mut().zip(pivot) {
-        *xi /= d;
     }
 }
 
