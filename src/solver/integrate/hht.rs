@@ -636,6 +636,8 @@ impl Hht {
         // The solved vector is the end's acceleration: handed over, not
         // copied (the end's old buffer, of the same length, becomes the
         // next right-hand side, whose rows are all written before read).
+        let length = end.beam_acceleration.len();
+        assert_eq!(length, a1.len(), "the end's acceleration's length");
         self.rhs = std::mem::replace(&mut end.beam_acceleration, a1);
     }
 
