@@ -55,10 +55,18 @@ pub struct Hht {
     /// the first contact on it (`point_compliance`).
     element_inverse: Vec<Option<Matrix4<f64>>>,
     other: Option<(f64, EffectiveFactor)>,
-    /// The previous iterate's end configuration, within the current step.
+    /// The first integration's predicted end configuration (the beam's
+    /// part read only while `beam_at_end` is false).
     predicted_u: DVector<f64>,
     predicted_v: DVector<f64>,
     predicted_bodies: Vec<BodyState>,
+    /// Whether the beam's prediction is the previous integration's end,
+    /// still in the `end` this one is given (a step's integrations share
+    /// one end, written only by `beam_step`): read there, not copied (two
+    /// vectors an integration on a rail of 922 rows).
+    beam_at_end: bool,
+    /// The address of that end's displacement, to check it is the same.
+    end_address: usize,
     /// The force elements' generalized force on each body in the last
     /// integration (at the prediction it was given).
     law_loads: Vec<Vector3<f64>>,
@@ -189,6 +197,8 @@ impl Hht {
             predicted_u: z(),
             predicted_v: z(),
             predicted_bodies: Vec::new(),
+            beam_at_end: false,
+            end_address: 0,
             law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
             known_laws: None,
@@ -230,6 +240,7 @@ impl Hht {
     /// if it is not the nominal step's.
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
+        self.beam_at_end = false;
         self.known_laws = None;
         self.start_known = false;
         self.predictor_dt = None;
@@ -316,12 +327,20 @@ impl Hht {
         end: &mut DynamicState,
     ) -> Result<(), IntegrationError> {
         let known_laws = self.known_laws.take();
+        let (predicted_u, predicted_v) = match self.beam_at_end {
+            true => {
+                let address = end.beam_displacement.as_ptr() as usize;
+                assert_eq!(address, self.end_address, "a step's integrations share one end");
+                (&end.beam_displacement, &end.beam_velocity)
+            }
+            false => (&self.predicted_u, &self.predicted_v),
+        };
         if known_laws.is_none() {
             self.guesses.clear();
             self.guesses.extend(from.frames.iter().map(|f| f.x));
             contact_frames(
                 system,
-                &self.predicted_u,
+                predicted_u,
                 &self.predicted_bodies,
                 (&self.guesses, from.parts),
                 &mut self.frames,
@@ -329,7 +348,7 @@ impl Hht {
         }
         // The force elements' loads apart: the contact iteration reads them
         // (`ContactIteration::anticipate_laws`).
-        let at = (self.predicted_bodies.as_slice(), &self.predicted_v);
+        let at = (self.predicted_bodies.as_slice(), predicted_v);
         let followers = HeldFollowers {
             held: &self.held_followers,
             used: &mut self.followers_used,
@@ -367,6 +386,7 @@ impl Hht {
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
         self.known_laws = None;
+        self.beam_at_end = false;
         copy(&mut self.predicted_u, &start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         copy(&mut self.predicted_v, &start.beam_velocity);
@@ -400,11 +420,12 @@ impl Hht {
             }));
     }
 
-    /// The next integration's predicted end: this one's.
+    /// The next integration's predicted end: this one's (the beam's left
+    /// in `end`, `beam_at_end`).
     #[inline]
     fn keep_prediction(&mut self, end: &DynamicState) {
-        copy(&mut self.predicted_u, &end.beam_displacement);
-        copy(&mut self.predicted_v, &end.beam_velocity);
+        self.beam_at_end = true;
+        self.end_address = end.beam_displacement.as_ptr() as usize;
         self.predicted_bodies.clear();
         self.predicted_bodies.extend_from_slice(&end.bodies);
         self.has_prediction = true;
