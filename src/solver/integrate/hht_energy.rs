@@ -203,15 +203,48 @@ fn sums<'a>(
     (m0, m1): (&'a Inertia, &'a Inertia),
     damping: Option<(&'a DVector<f64>, &'a DVector<f64>)>,
 ) -> Sums {
-    let (one_minus_gamma, gamma) = (1.0 - w.gamma, w.gamma);
     let n = start.beam_displacement.len();
-    // Slices cut to one length: the loops index them without checks.
+    // Slices cut to one length: the loop indexes them without checks.
     let of = |x: &'a DVector<f64>| &x.as_slice()[..n];
-    let (u0, u1) = (of(&start.beam_displacement), of(&end.beam_displacement));
-    let (a0, a1) = (of(&start.beam_acceleration), of(&end.beam_acceleration));
-    let (f0, f1) = (of(&start.beam_load), of(&end.beam_load));
-    let (p0, p1) = (of(&m0.product), of(&m1.product));
-    let (i0, i1) = (of(i0), of(i1));
+    let ends = |x: &'a DVector<f64>, y: &'a DVector<f64>| [of(x), of(y)];
+    let entries = Entries {
+        u: ends(&start.beam_displacement, &end.beam_displacement),
+        a: ends(&start.beam_acceleration, &end.beam_acceleration),
+        f: ends(&start.beam_load, &end.beam_load),
+        p: ends(&m0.product, &m1.product),
+        i: ends(i0, i1),
+        v: ends(&start.beam_velocity, &end.beam_velocity),
+        // Not read where the beam is undamped.
+        c: damping.map_or([&[][..]; 2], |(c0, c1)| ends(c0, c1)),
+    };
+    match damping {
+        Some(_) => sums_pass::<true>(w, &entries),
+        None => sums_pass::<false>(w, &entries),
+    }
+}
+
+/// The vectors at a step's two ends that `sums` reads, each cut to the
+/// beam's length (C v empty where the beam is undamped).
+struct Entries<'a> {
+    u: [&'a [f64]; 2],
+    a: [&'a [f64]; 2],
+    f: [&'a [f64]; 2],
+    p: [&'a [f64]; 2],
+    i: [&'a [f64]; 2],
+    v: [&'a [f64]; 2],
+    c: [&'a [f64]; 2],
+}
+
+/// `sums` in one pass over the entries; with `DAMPED`, the damping's two
+/// sums beside the others (each sum's terms in the entries' order, as two
+/// passes took them: the same bits, the four chains of additions side by
+/// side).
+#[inline(always)]
+fn sums_pass<const DAMPED: bool>(w: Weights, e: &Entries) -> Sums {
+    let (one_minus_gamma, gamma) = (1.0 - w.gamma, w.gamma);
+    let ([u0, u1], [a0, a1], [f0, f1]) = (e.u, e.a, e.f);
+    let ([p0, p1], [i0, i1], [v0, v1], [c0, c1]) = (e.p, e.i, e.v, e.c);
+    let n = u0.len();
     let mut s = Sums::default();
     for i in 0..n {
         let (du, da) = (u1[i] - u0[i], a1[i] - a0[i]);
@@ -219,14 +252,10 @@ fn sums<'a>(
         let internal = 0.5 * (i0[i] + i1[i]);
         s.work += du * (load - internal - (one_minus_gamma * p0[i] + gamma * p1[i]));
         s.increment += da * (p1[i] - p0[i]);
-    }
-    if let Some((c0, c1)) = damping {
-        let (v0, v1) = (of(&start.beam_velocity), of(&end.beam_velocity));
-        let (c0, c1) = (of(c0), of(c1));
-        for i in 0..n {
+        if DAMPED {
             let mean_v = 0.5 * (v0[i] + v1[i]);
             let c_mean_v = 0.5 * (c0[i] + c1[i]);
-            s.damping += (a1[i] - a0[i]) * c_mean_v;
+            s.damping += da * c_mean_v;
             s.power += mean_v * c_mean_v;
         }
     }
