@@ -56,16 +56,15 @@ pub struct Hht {
     element_inverse: Vec<Option<Matrix4<f64>>>,
     other: Option<(f64, EffectiveFactor)>,
     /// The first integration's predicted end configuration (the beam's
-    /// part read only while `beam_at_end` is false).
+    /// part read only until `has_prediction`).
     predicted_u: DVector<f64>,
     predicted_v: DVector<f64>,
     predicted_bodies: Vec<BodyState>,
-    /// Whether the beam's prediction is the previous integration's end,
-    /// still in the `end` this one is given (a step's integrations share
-    /// one end, written only by `beam_step`): read there, not copied (two
+    /// The address of the last integration's end displacement: with
+    /// `has_prediction`, the beam's prediction is that end, still in the
+    /// `end` the next integration is given (a step's integrations share
+    /// one end, written only by `beam_step`), read there, not copied (two
     /// vectors an integration on a rail of 922 rows).
-    beam_at_end: bool,
-    /// The address of that end's displacement, to check it is the same.
     end_address: usize,
     /// The force elements' generalized force on each body in the last
     /// integration (at the prediction it was given).
@@ -197,7 +196,6 @@ impl Hht {
             predicted_u: z(),
             predicted_v: z(),
             predicted_bodies: Vec::new(),
-            beam_at_end: false,
             end_address: 0,
             law_loads: vec![Vector3::zeros(); system.bodies.len()],
             has_prediction: false,
@@ -240,7 +238,6 @@ impl Hht {
     /// if it is not the nominal step's.
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
-        self.beam_at_end = false;
         self.known_laws = None;
         self.start_known = false;
         self.predictor_dt = None;
@@ -327,7 +324,7 @@ impl Hht {
         end: &mut DynamicState,
     ) -> Result<(), IntegrationError> {
         let known_laws = self.known_laws.take();
-        let (predicted_u, predicted_v) = match self.beam_at_end {
+        let (predicted_u, predicted_v) = match self.has_prediction {
             true => {
                 let address = end.beam_displacement.as_ptr() as usize;
                 assert_eq!(address, self.end_address, "a step's integrations share one end");
@@ -386,7 +383,6 @@ impl Hht {
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
         self.known_laws = None;
-        self.beam_at_end = false;
         copy(&mut self.predicted_u, &start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         copy(&mut self.predicted_v, &start.beam_velocity);
@@ -421,10 +417,9 @@ impl Hht {
     }
 
     /// The next integration's predicted end: this one's (the beam's left
-    /// in `end`, `beam_at_end`).
+    /// in `end`, `end_address`).
     #[inline]
     fn keep_prediction(&mut self, end: &DynamicState) {
-        self.beam_at_end = true;
         self.end_address = end.beam_displacement.as_ptr() as usize;
         self.predicted_bodies.clear();
         self.predicted_bodies.extend_from_slice(&end.bodies);
