@@ -32,6 +32,8 @@ import tempfile
 import time
 
 BOOTSTRAP_RESAMPLES = 2000
+# Each run's bound: a benchmark run that takes longer is refused, named.
+RUN_TIMEOUT_S = 600
 
 
 def cpu_seconds():
@@ -39,11 +41,20 @@ def cpu_seconds():
     return usage.ru_utime + usage.ru_stime
 
 
+def bounded(command, **kwargs):
+    """`command` run to its end within `RUN_TIMEOUT_S`, or the script's exit
+    naming it."""
+    try:
+        return subprocess.run(command, timeout=RUN_TIMEOUT_S, **kwargs)
+    except subprocess.TimeoutExpired:
+        sys.exit(f"{' '.join(map(str, command))}: longer than {RUN_TIMEOUT_S} s, stopped")
+
+
 def run_once(binary, scene, summary):
     cpu = cpu_seconds()
     started = time.perf_counter()
-    subprocess.run([binary, "run", scene, "--summary", str(summary), "--quiet"],
-                   check=True, stdout=subprocess.DEVNULL)
+    bounded([binary, "run", scene, "--summary", str(summary), "--quiet"],
+            check=True, stdout=subprocess.DEVNULL)
     process = time.perf_counter() - started
     cpu = cpu_seconds() - cpu
     return process, cpu, json.loads(summary.read_text())["wall_time_s"]
@@ -51,7 +62,7 @@ def run_once(binary, scene, summary):
 
 def advance_once(binary, scene, _summary):
     """advance_cpu's one round: its `Simulation::advance_to` CPU time (s)."""
-    run = subprocess.run([binary, scene, "1"], capture_output=True, text=True)
+    run = bounded([binary, scene, "1"], capture_output=True, text=True)
     found = re.search(r"least ([0-9.]+) ms", run.stdout)
     if run.returncode != 0 or not found:
         sys.exit(f"{binary} {scene} 1: exit status {run.returncode}, not an advance_cpu "
