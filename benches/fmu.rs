@@ -12,7 +12,7 @@
 //!
 //! Criterion times each (wall clock); `paired` alternates the three crossing
 //! by crossing (native, model, FMU, native, ...) and prints the median of
-//! the per-round ratios of the thread's CPU time, the figure docs/performance.md quotes
+//! the per-round ratios of the thread's CPU time, the figure docs/performance-log.md quotes
 //! (on a loaded machine the wall clock mostly measures the waits for a
 //! core, which CPU time leaves out).
 //!

@@ -94,7 +94,7 @@ fn cost_per_step(c: &mut Criterion) {
             "cost per step, hht at 2.5 ms",
             IntegratorKind::Hht,
             // Not 100,000: started mid-beam, its fourth step refactorizes
-            // for a shortened step and the band LDLᵀ fails (docs/performance.md, Speed).
+            // for a shortened step and the band LDLᵀ fails (docs/performance-log.md, Speed).
             &[2usize, 16, 128, 1024, 8192, 65_536][..],
         ),
     ] {

@@ -356,7 +356,7 @@ pub fn hertz_compression(coefficient: f64, load: f64) -> f64 {
 /// `hertz_compression(coefficient, preload)`, from `compression_at` =
 /// (its preload, its δ₀) where that preload is this one: the same bits
 /// without one of the law's two powers (4 % of the built-in eight-coach
-/// train's instructions, docs/performance.md).
+/// train's instructions, docs/performance-log.md).
 fn hertz_offset(coefficient: f64, (kept_for, kept): (f64, f64), preload: f64) -> f64 {
     if kept_for == preload {
         kept

@@ -47,7 +47,7 @@ const SLOPE_RANGE: (f64, f64) = (-20.0, 0.5);
 /// integration accepted is then the one measured, not the one after it.
 /// At 0.03 every kind of output of `train-8-coaches-3x25-300` ends nearer
 /// the converged step than the old test left it; at 0.1 half of them ended
-/// 1.7 times farther (docs/performance.md, "The contact iteration's cost").
+/// 1.7 times farther (docs/performance-log.md, "The contact iteration's cost").
 const RESIDUAL_SHARE: f64 = 0.03;
 
 /// Per compliant follower: the force held over the last integration and
