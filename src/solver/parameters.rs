@@ -45,6 +45,10 @@ pub struct SolverParameters {
     pub lift_off_tolerance: f64,
     /// The shortest step a lift-off is located in, as a fraction of the step.
     pub lift_off_earliest: f64,
+    /// Steps between two grid points at most: events shorten steps, and
+    /// contacts that switch back and forth at one instant (Zeno-like
+    /// chatter) would otherwise shorten them for ever.
+    pub max_steps_in_grid_step: usize,
 }
 
 impl SolverParameters {
@@ -64,6 +68,7 @@ impl SolverParameters {
         restart_tolerance: 1e-9,
         lift_off_tolerance: 1e-6,
         lift_off_earliest: 1e-3,
+        max_steps_in_grid_step: 1000,
     };
 
     /// The fixed values with a scene's step and iteration settings.

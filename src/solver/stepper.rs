@@ -15,7 +15,7 @@ use crate::solver::integrate::ForceProfile;
 use crate::solver::parameters::SolverParameters;
 use crate::state::SimState;
 use crate::system::constant_forces;
-use crate::system::System;
+use crate::system::{System, TrackPart};
 use crate::vehicle::speed::SpeedSpec;
 
 /// Result of `advance_to`.
@@ -215,6 +215,43 @@ pub fn constant_forces_now<'a>(
 /// the track before the first correction.
 const MAX_EXTRAPOLATION_GAIN: f64 = SolverParameters::DEFAULT.max_extrapolation_gain;
 
+/// The steps taken since the last grid point, and (over the last half of
+/// `max_steps_in_grid_step`) the contacts whose track part or status each
+/// step changed: what a stalled grid step's error names.
+#[derive(Default)]
+struct Chatter {
+    steps: usize,
+    last: Vec<(TrackPart, bool)>,
+    switching: Vec<usize>,
+}
+
+impl Chatter {
+    fn watching(&self) -> bool {
+        !self.last.is_empty()
+    }
+
+    fn before(&mut self, params: &SolverParameters, state: &SimState) {
+        self.steps += 1;
+        self.last.clear();
+        if self.steps > params.max_steps_in_grid_step / 2 {
+            let now = state.parts.iter().zip(&state.contacts);
+            self.last.extend(now.map(|(&p, c)| (p, c.open)));
+        }
+    }
+
+    fn after(&mut self, state: &SimState) {
+        if !self.watching() {
+            return;
+        }
+        let now = state.parts.iter().zip(&state.contacts);
+        for (c, ((&part, status), &(was, open))) in now.zip(&self.last).enumerate() {
+            if (part != was || status.open != open) && !self.switching.contains(&c) {
+                self.switching.push(c);
+            }
+        }
+    }
+}
+
 impl Step<'_> {
     /// The constant generalized force on each body now.
     pub(crate) fn constant_forces_iter(&self) -> impl Iterator<Item = Vector3<f64>> + '_ {
@@ -231,6 +268,7 @@ impl Step<'_> {
     /// to land on events. Stops early when the run is over.
     pub(crate) fn advance_to(&mut self, target: f64) -> Result<Advance, SolverError> {
         let tolerance = self.params.same_instant();
+        let mut chatter = Chatter::default();
         loop {
             if let Some(time) = self.state.exit_time {
                 return Ok(Advance::Exited { time });
@@ -245,7 +283,9 @@ impl Step<'_> {
                 target
             };
             let to = self.start_up_target(to);
+            chatter.before(self.params, self.state);
             let reached = self.step_to(to)?;
+            chatter.after(self.state);
             // An event within round-off of `to` counts as reaching it: the
             // step left over would be empty.
             if !reached && to - self.state.time <= tolerance {
@@ -254,7 +294,45 @@ impl Step<'_> {
             if to == next_grid && self.state.time == to {
                 self.state.grid_step += 1;
                 self.restart_pending()?;
+                chatter = Chatter::default();
+            } else if chatter.steps > self.params.max_steps_in_grid_step {
+                return Err(self.stalled(&chatter, next_grid));
             }
+        }
+    }
+
+    /// The error of a grid step that `max_steps_in_grid_step` steps did not
+    /// end, naming the contacts whose events kept shortening them.
+    fn stalled(&self, chatter: &Chatter, next_grid: f64) -> SolverError {
+        let names: Vec<&str> = (chatter.switching.iter())
+            .take(4)
+            .map(|&c| self.system.contacts[c].name.as_str())
+            .collect();
+        let who = match names.len() {
+            0 => String::from("events kept shortening them"),
+            1 => format!(
+                "contact {} switches track part, or lifts off and lands, at every step",
+                names[0]
+            ),
+            _ => format!(
+                "contacts {} switch track part, or lift off and land, at every step",
+                names.join(", ")
+            ),
+        };
+        let instant = |t: f64| (t * 1e9).round() / 1e9;
+        let deflection =
+            heaviest_and_deflection(self.system, &self.state.dynamic.beam_displacement)
+                .replacen("the ", "The ", 1);
+        SolverError {
+            time: self.state.time,
+            message: format!(
+                "no progress: {} steps since the grid point at {} s did not reach the next at {} s: \
+                 {who}, a chatter no step resolves. {deflection}; with rigid contacts under \
+                 massive bodies, a compliant contact law (docs/contact-laws.md)",
+                chatter.steps,
+                instant(next_grid - self.params.step),
+                instant(next_grid),
+            ),
         }
     }
 
@@ -568,8 +646,6 @@ fn extrapolate(history: &[ContactForce; 3], steps: &[f64; 2], dt: f64) -> Contac
     history[0]
 }
 
-/// What most often loses a contact: the beam's largest displacement and
-/// the heaviest body, in words.
 /// A failed step's error, naming what most often causes its kind.
 fn step_failure(system: &System, s: &SimState, e: crate::iteration::StepError) -> SolverError {
     use crate::iteration::{StepError, FORCE_LAW_STAGE};
@@ -590,6 +666,8 @@ fn step_failure(system: &System, s: &SimState, e: crate::iteration::StepError) -
     }
 }
 
+/// What most often loses a contact: the beam's largest displacement and
+/// the heaviest body, in words.
 pub(crate) fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
     use crate::numbers::fmt_number;
     let deflection = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));

@@ -388,6 +388,29 @@ fn a_coach_too_heavy_for_its_hertz_contacts_is_named_with_its_mass() {
     assert_a_1e15_kg_first_coach_is_named(builtin("train-8-coaches-3x25-300").unwrap());
 }
 
+/// One coach of the Hertz template with a bogie of 1.2e8 kg (a typo of
+/// 2,400 kg): at 0.4698 s its last wheelset switched between the deck and
+/// the run-off's corner at every step, each event shortening the next step
+/// to nothing, and `guideway run` spun there for ever (stopped by hand
+/// after 5 min, Ctrl-C unheard; main at f553bb7). A grid step now ends
+/// within `max_steps_in_grid_step` steps or the run fails naming the
+/// contact and the heaviest body.
+#[test]
+fn a_contact_that_switches_at_every_step_ends_the_run_naming_it() {
+    let mut scene = builtin("train-8-coaches-20m-300-hertz").unwrap();
+    scene.vehicles.truncate(1);
+    let bogie = scene.vehicles[0].bogie.as_mut().expect("a bogie vehicle");
+    bogie.bogie_mass = 123_456_789.0;
+    let mut sim = guideway::Simulation::new(&scene).unwrap();
+    let error = sim.advance_to(0.6).unwrap_err().to_string();
+    assert!(error.contains("no progress: 1001 steps"), "{error}");
+    assert!(error.contains("coach1_wheelset4"), "{error}");
+    assert!(error.contains("1.23456789e8 kg"), "{error}");
+    // Stopped within the grid step it stalled in.
+    let time = sim.time();
+    assert!((0.4695..0.47).contains(&time), "{time}");
+}
+
 /// `guideway modes --count 60` on 4,096 elements failed with "the
 /// subspace iteration lost rank" (issue 30): from random start vectors
 /// every column of K⁻¹ M X is mode 1 to within λ₁/λ₁₂₀ ≈ 1e-8, and the
