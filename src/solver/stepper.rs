@@ -215,9 +215,10 @@ pub fn constant_forces_now<'a>(
 /// the track before the first correction.
 const MAX_EXTRAPOLATION_GAIN: f64 = SolverParameters::DEFAULT.max_extrapolation_gain;
 
-/// The steps taken since the last grid point, and (over the last half of
-/// `max_steps_in_grid_step`) the contacts whose track part or status each
-/// step changed: what a stalled grid step's error names.
+/// The steps an `advance_to` took since it began or passed a grid point,
+/// and (over the last half of `max_steps_in_grid_step`) the contacts whose
+/// track part or status each step changed: what a stalled grid step's
+/// error names.
 #[derive(Default)]
 struct Chatter {
     steps: usize,
@@ -319,19 +320,16 @@ impl Step<'_> {
                 names.join(", ")
             ),
         };
-        let instant = |t: f64| (t * 1e9).round() / 1e9;
         let deflection =
-            heaviest_and_deflection(self.system, &self.state.dynamic.beam_displacement)
-                .replacen("the ", "The ", 1);
+            heaviest_and_deflection(self.system, &self.state.dynamic.beam_displacement);
         SolverError {
             time: self.state.time,
             message: format!(
-                "no progress: {} steps since the grid point at {} s did not reach the next at {} s: \
-                 {who}, a chatter no step resolves. {deflection}; with rigid contacts under \
-                 massive bodies, a compliant contact law (docs/contact-laws.md)",
+                "no progress: {} steps did not reach the grid point at {} s: {who}, a chatter \
+                 no step resolves; {deflection}; with rigid contacts under massive bodies, a \
+                 compliant contact law (docs/contact-laws.md)",
                 chatter.steps,
-                instant(next_grid - self.params.step),
-                instant(next_grid),
+                (next_grid * 1e9).round() / 1e9,
             ),
         }
     }
