@@ -6,27 +6,57 @@
 # A binary linked on this Debian 12 machine needs glibc >= 2.34: since glibc
 # 2.34, pthread_key_create, pthread_key_delete and pthread_setspecific (used
 # by Rust's std) live in libc with the version GLIBC_2.34, and the linker
-# picks the newest version the build machine has. cargo-zigbuild links
-# against zig's glibc stubs of a chosen version instead; both come from PyPI
-# (cargo-zigbuild, ziglang) through scripts/requirements.txt. The target
-# triple is the host's, so no Rust target needs installing.
+# picks the newest version the build machine has. maturin's `--zig` links
+# against zig's glibc stubs of the manylinux2014 baseline (2.17) instead;
+# both come from PyPI (maturin, ziglang) through scripts/requirements.txt.
+# The target triple is the host's, so no Rust target needs installing.
+#
+# One compile for both portable binaries: maturin builds the wheel's
+# `guideway` command (scripts/build_wheel.sh), and cargo builds the package's
+# library for it with every crate type Cargo.toml declares, the cdylib
+# included, linked by the same zig. A separate `cargo zigbuild --lib` would
+# compile every crate once more (its flags differ from maturin's), which
+# cost about 220 s of the test command (docs/performance-log.md, "The test
+# command's time").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-GLIBC=2.17
 # Beside the native build, in $CARGO_TARGET_DIR when it is set.
 native_dir=${CARGO_TARGET_DIR:-target}
 case "$native_dir" in /*) ;; *) native_dir="$PWD/$native_dir" ;; esac
 TARGET_DIR="$native_dir/portable"
 bash scripts/setup.sh >&2
 ROOT=$PWD
-# Its own target directory: the native build keeps its build scripts.
-mkdir -p "$TARGET_DIR"
-# cargo-zigbuild finds zig as `python3 -m ziglang` in the .venv. Run from
-# the target directory: zig names its lib directory relative to the working
-# directory when it lies below it, and cargo-zigbuild hands that to bindgen
+# pyproject.toml names target/wheel-data, the wheel's data (filled by
+# scripts/build_wheel.sh): maturin wants it to exist. A CARGO_TARGET_DIR
+# elsewhere holds it, linked there. This build's wheel is not kept.
+data="$native_dir/wheel-data"
+mkdir -p "$data" "$TARGET_DIR"
+if [ "$data" != "$ROOT/target/wheel-data" ]; then
+    mkdir -p target
+    rm -rf target/wheel-data
+    ln -s "$data" target/wheel-data
+fi
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+# Its own target directory: the native build keeps its build scripts. Run
+# from inside it: zig names its lib directory relative to the working
+# directory when it lies below it, and the zig wrapper hands that to bindgen
 # (in fmi-sys's build script), which runs elsewhere and then misses stddef.h.
 cd "$TARGET_DIR"
-PATH="$ROOT/.venv/bin:$PATH" cargo zigbuild --manifest-path "$ROOT/Cargo.toml" --release --lib \
-    --target "x86_64-unknown-linux-gnu.$GLIBC" --target-dir "$TARGET_DIR" >&2
-echo "$TARGET_DIR/x86_64-unknown-linux-gnu/release/libguideway.so"
+PATH="$ROOT/.venv/bin:$PATH" CARGO_TARGET_DIR="$TARGET_DIR" \
+    "$ROOT/.venv/bin/maturin" build --release --zig --quiet -m "$ROOT/Cargo.toml" \
+    -o "$scratch" >&2
+deps="$TARGET_DIR/x86_64-unknown-linux-gnu/release/deps"
+built="$deps/libguideway.so"
+# Linked after the library's rlib: older means cargo no longer built it here.
+if [ ! -f "$built" ] || [ "$built" -ot "$deps/libguideway.rlib" ]; then
+    echo "build_portable: maturin's build left no fresh $built" >&2
+    exit 1
+fi
+# Where `guideway export` and `release` look for it (src/fmu/mod.rs,
+# portable_cdylib).
+out="$TARGET_DIR/x86_64-unknown-linux-gnu/release/libguideway.so"
+cp "$built" "$out.tmp"
+mv "$out.tmp" "$out"
+echo "$out"

@@ -40,4 +40,6 @@ done
 export GUIDEWAY_RELEASE_DIR="$PWD/out/dist"
 "$bin" release --out "$GUIDEWAY_RELEASE_DIR" --replace
 
-.venv/bin/python -m pytest -q scripts/tests
+# On every core: the tests are independent processes and temporary
+# directories (84 s on one core, 53 s on two, 2026-11-29).
+.venv/bin/python -m pytest -q -n auto scripts/tests
