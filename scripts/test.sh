@@ -9,22 +9,36 @@
 #  5. `guideway release` into out/dist (all built-in scenes)
 #  6. pytest scripts/tests: fmpy, fmutool, libcosimpy, Ecos against those
 #     FMUs; the binary; the release; the scripted examples; the Dask sweep
+# Each phase's time goes to stderr as it ends, and the whole at the end
+# (CI's budget is 15 minutes; docs/performance.md, "The two commands from
+# a fresh clone").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
+phase_start=$SECONDS
+phase_done() {
+    echo "test.sh: $1 in $((SECONDS - phase_start)) s" >&2
+    phase_start=$SECONDS
+}
+
 bash scripts/setup.sh
+phase_done "set-up"
 
 # One build for everything (tests, the CLI and the cdylib it packages,
 # target/release/libguideway.so), so that the features of the dependencies
-# are unified once and nothing is compiled twice; the shipped binary is
-# built once more, against glibc 2.17, in its own target directory.
+# are unified once and nothing is compiled twice; the shipped binaries are
+# built once more, against glibc 2.17, in their own target directory.
 cargo build --release --all-targets
+phase_done "cargo build"
 cargo test --release --all-targets
+phase_done "cargo test"
 GUIDEWAY_CDYLIB=$(bash scripts/build_portable.sh)
 export GUIDEWAY_CDYLIB
-# The `pip install guideway` wheel (maturin), for scripts/tests/test_wheel.py.
+# The `pip install guideway` wheel (maturin), for scripts/tests/test_wheel.py:
+# packed from the compile above.
 GUIDEWAY_WHEEL=$(bash scripts/build_wheel.sh)
 export GUIDEWAY_WHEEL
+phase_done "the glibc 2.17 build and the wheel"
 # cargo builds into $CARGO_TARGET_DIR when it is set.
 bin="${CARGO_TARGET_DIR:-target}/release/guideway"
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
@@ -39,7 +53,10 @@ done
 # The release of this version (every built-in scene), for the release tests.
 export GUIDEWAY_RELEASE_DIR="$PWD/out/dist"
 "$bin" release --out "$GUIDEWAY_RELEASE_DIR" --replace
+phase_done "the FMUs and the release"
 
 # On every core: the tests are independent processes and temporary
 # directories (84 s on one core, 53 s on two, 2026-11-29).
 .venv/bin/python -m pytest -q -n auto scripts/tests
+phase_done "pytest"
+echo "test.sh: every test passed in $SECONDS s" >&2
