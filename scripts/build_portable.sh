@@ -7,8 +7,9 @@
 # 2.34, pthread_key_create, pthread_key_delete and pthread_setspecific (used
 # by Rust's std) live in libc with the version GLIBC_2.34, and the linker
 # picks the newest version the build machine has. maturin's `--zig` links
-# against zig's glibc stubs of the manylinux2014 baseline (2.17) instead;
-# both come from PyPI (maturin, ziglang) through scripts/requirements.txt.
+# against zig's glibc stubs of the manylinux2014 baseline (2.17) instead
+# (scripts/lib/portable.sh); both come from PyPI (maturin, ziglang) through
+# scripts/requirements.txt.
 # The target triple is the host's, so no Rust target needs installing.
 #
 # One compile for both portable binaries: maturin builds the wheel's
@@ -21,17 +22,17 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Beside the native build, in $CARGO_TARGET_DIR when it is set.
-native_dir=${CARGO_TARGET_DIR:-target}
-case "$native_dir" in /*) ;; *) native_dir="$PWD/$native_dir" ;; esac
-TARGET_DIR="$native_dir/portable"
+# shellcheck source=scripts/lib/portable.sh
+. scripts/lib/portable.sh
+native_dir=$(dirname "$(portable_target_dir)")
+TARGET_DIR=$(portable_target_dir)
 bash scripts/setup.sh >&2
 ROOT=$PWD
 # pyproject.toml names target/wheel-data, the wheel's data (filled by
 # scripts/build_wheel.sh): maturin wants it to exist. A CARGO_TARGET_DIR
 # elsewhere holds it, linked there. This build's wheel is not kept.
 data="$native_dir/wheel-data"
-mkdir -p "$data" "$TARGET_DIR"
+mkdir -p "$data"
 if [ "$data" != "$ROOT/target/wheel-data" ]; then
     mkdir -p target
     rm -rf target/wheel-data
@@ -39,14 +40,7 @@ if [ "$data" != "$ROOT/target/wheel-data" ]; then
 fi
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
-# Its own target directory: the native build keeps its build scripts. Run
-# from inside it: zig names its lib directory relative to the working
-# directory when it lies below it, and the zig wrapper hands that to bindgen
-# (in fmi-sys's build script), which runs elsewhere and then misses stddef.h.
-cd "$TARGET_DIR"
-PATH="$ROOT/.venv/bin:$PATH" CARGO_TARGET_DIR="$TARGET_DIR" \
-    "$ROOT/.venv/bin/maturin" build --release --zig --quiet -m "$ROOT/Cargo.toml" \
-    -o "$scratch" >&2
+maturin_build "$ROOT" "$scratch"
 deps="$TARGET_DIR/x86_64-unknown-linux-gnu/release/deps"
 built="$deps/libguideway.so"
 # Linked after the library's rlib: older means cargo no longer built it here.

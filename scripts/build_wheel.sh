@@ -13,20 +13,16 @@
 # binary, when cargo finds everything built.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-native_dir=${CARGO_TARGET_DIR:-target}
-case "$native_dir" in /*) ;; *) native_dir="$PWD/$native_dir" ;; esac
+# shellcheck source=scripts/lib/portable.sh
+. scripts/lib/portable.sh
 cdylib=$(bash scripts/build_portable.sh)
+native_dir=$(dirname "$(portable_target_dir)")
 # build_portable.sh made it (linked as target/wheel-data, which
 # pyproject.toml names, when CARGO_TARGET_DIR is elsewhere).
 data="$native_dir/wheel-data"
 rm -rf "${data:?}/data" "$native_dir/wheels"
 mkdir -p "$data/data/lib/guideway"
 cp "$cdylib" "$data/data/lib/guideway/libguideway.so"
-# The same target directory, working directory and flags as
-# build_portable.sh, so that cargo has nothing to compile.
-ROOT=$PWD
-cd "$native_dir/portable"
-PATH="$ROOT/.venv/bin:$PATH" CARGO_TARGET_DIR="$native_dir/portable" \
-    "$ROOT/.venv/bin/maturin" build --release --zig --quiet -m "$ROOT/Cargo.toml" \
-    -o "$native_dir/wheels" >&2
+# The same compile as build_portable.sh: cargo has nothing to do.
+maturin_build "$PWD" "$native_dir/wheels"
 ls "$native_dir"/wheels/guideway-*.whl
