@@ -31,12 +31,14 @@ if ! has_bindgen_libclang /; then
     apt_install libclang-dev
 fi
 
-if ! ldconfig -p | grep 'libtbb\.so\.12 ' >/dev/null; then
+# shellcheck source=scripts/lib/packages.sh
+. scripts/lib/packages.sh
+if ! has_libtbb12; then
     echo "setup: installing libtbb12 (for ecospy)"
     apt_install libtbb12
 fi
 
-if ! command -v chromium >/dev/null; then
+if ! has_chromium; then
     echo "setup: installing chromium (renders the bridge check report in tests)"
     apt_install chromium
 fi

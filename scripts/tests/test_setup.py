@@ -1,8 +1,12 @@
-"""The set-up's libclang decision (scripts/lib/libclang.sh), run against
-temporary directory trees so that it does not depend on this machine."""
+"""The set-up's decisions to install Debian packages: libclang
+(scripts/lib/libclang.sh), run against temporary directory trees, and
+libtbb12 and chromium (scripts/lib/packages.sh), run with stand-ins for
+`ldconfig` and `chromium` on the PATH, so that none depends on this
+machine."""
 
 import os
 import pathlib
+import shutil
 import subprocess
 
 import pytest
@@ -59,3 +63,45 @@ def test_libclang_path_is_honoured(tmp_path):
     root = tree(tmp_path, "usr/lib/llvm-14/lib/libclang-cpp.so.14", "opt/clang/libclang.so")
     assert decide(root) == "install"
     assert decide(root, libclang_path=tmp_path / "opt" / "clang") == "present"
+
+
+PACKAGES = ROOT / "scripts" / "lib" / "packages.sh"
+
+
+def decide_package(check, tmp_path, commands):
+    """Run `check` of packages.sh with only `commands` (name -> stdout) on
+    the PATH, each a stand-in script, beside the shell's own tools."""
+    bin_dir = tmp_path / "bin"
+    bin_dir.mkdir()
+    for name, stdout in commands.items():
+        path = bin_dir / name
+        path.write_text(f"#!/bin/sh\ncat <<'END'\n{stdout}\nEND\n")
+        path.chmod(0o755)
+    for tool in ("grep", "cat"):
+        (bin_dir / tool).symlink_to(shutil.which(tool))
+    result = subprocess.run(
+        ["/bin/bash", "-c", f'. "{PACKAGES}"; {check} && echo present || echo install'],
+        capture_output=True, text=True, env={"PATH": str(bin_dir)}, check=True,
+    )
+    return result.stdout.strip()
+
+
+LDCONFIG_FRESH = """2 libs found in cache `/etc/ld.so.cache'
+\tlibtbb.so.2 (libc6,x86-64) => /lib/x86_64-linux-gnu/libtbb.so.2
+\tlibc.so.6 (libc6,x86-64) => /lib/x86_64-linux-gnu/libc.so.6"""
+
+
+def test_libtbb12_is_installed_when_the_linker_knows_only_an_older_tbb(tmp_path):
+    assert decide_package("has_libtbb12", tmp_path, {"ldconfig": LDCONFIG_FRESH}) == "install"
+
+
+def test_libtbb12_known_to_the_linker_is_present(tmp_path):
+    cache = LDCONFIG_FRESH + "\n\tlibtbb.so.12 (libc6,x86-64) => /lib/x86_64-linux-gnu/libtbb.so.12"
+    assert decide_package("has_libtbb12", tmp_path, {"ldconfig": cache}) == "present"
+
+
+def test_chromium_is_installed_unless_it_is_a_command(tmp_path):
+    assert decide_package("has_chromium", tmp_path, {"ldconfig": ""}) == "install"
+    other = tmp_path / "other"
+    other.mkdir()
+    assert decide_package("has_chromium", other, {"chromium": ""}) == "present"
