@@ -58,7 +58,8 @@ PEER_DIR = ROOT.parent / "shared" / "peers" / "exudyn"
 PEER_SCRIPT = PEER_DIR / "runExudynWheelBeam.py"
 VENV = ROOT / "target" / "peers-venv"
 EXUDYN_VERSION = "1.13.6"
-GUIDEWAY = ROOT / "target" / "release" / "guideway"
+# $GUIDEWAY_BIN measures another build (scripts/test.sh tests its glibc 2.17 one).
+GUIDEWAY = Path(os.environ.get("GUIDEWAY_BIN", ROOT / "target" / "release" / "guideway"))
 PAPER_STEP = 0.0025
 
 

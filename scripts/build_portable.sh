@@ -24,20 +24,10 @@ cd "$(dirname "$0")/.."
 
 # shellcheck source=scripts/lib/portable.sh
 . scripts/lib/portable.sh
-native_dir=$(dirname "$(portable_target_dir)")
 TARGET_DIR=$(portable_target_dir)
 bash scripts/setup.sh >&2
 ROOT=$PWD
-# pyproject.toml names target/wheel-data, the wheel's data (filled by
-# scripts/build_wheel.sh): maturin wants it to exist. A CARGO_TARGET_DIR
-# elsewhere holds it, linked there. This build's wheel is not kept.
-data="$native_dir/wheel-data"
-mkdir -p "$data"
-if [ "$data" != "$ROOT/target/wheel-data" ]; then
-    mkdir -p target
-    rm -rf target/wheel-data
-    ln -s "$data" target/wheel-data
-fi
+# This build's wheel is not kept.
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 maturin_build "$ROOT" "$scratch"

@@ -17,9 +17,7 @@ cd "$(dirname "$0")/.."
 . scripts/lib/portable.sh
 cdylib=$(bash scripts/build_portable.sh)
 native_dir=$(dirname "$(portable_target_dir)")
-# build_portable.sh made it (linked as target/wheel-data, which
-# pyproject.toml names, when CARGO_TARGET_DIR is elsewhere).
-data="$native_dir/wheel-data"
+data=$(wheel_data_dir "$PWD")
 rm -rf "${data:?}/data" "$native_dir/wheels"
 mkdir -p "$data/data/lib/guideway"
 cp "$cdylib" "$data/data/lib/guideway/libguideway.so"

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Runs every test of guideway. Usage: bash scripts/test.sh
 #  1. set-up (libclang, .venv), idempotent
-#  2. cargo test (unit, integration, FMU import with the `fmi` crate)
-#  3. the shipped FMU binary, built against glibc 2.17
-#     (scripts/build_portable.sh)
-#     and the `pip install guideway` wheel (scripts/build_wheel.sh)
+#  2. cargo test (unit, integration, FMU import with the `fmi` crate), of
+#     the build against glibc 2.17 that ships
+#  3. the shipped FMU binary from it (scripts/build_portable.sh) and the
+#     `pip install guideway` wheel (scripts/build_wheel.sh)
 #  4. export the FMUs of the built-in scenes (+ cross-check files) with it
 #  5. `guideway release` into out/dist (all built-in scenes)
 #  6. pytest scripts/tests: fmpy, fmutool, libcosimpy, Ecos against those
@@ -24,23 +24,34 @@ phase_done() {
 bash scripts/setup.sh
 phase_done "set-up"
 
-# One build for everything (tests, the CLI and the cdylib it packages,
-# target/release/libguideway.so), so that the features of the dependencies
-# are unified once and nothing is compiled twice; the shipped binaries are
-# built once more, against glibc 2.17, in their own target directory.
-cargo build --release --all-targets
+# One build for everything (the tests, the `guideway` command and the FMU
+# binary libguideway.so), against glibc 2.17 as shipped: the tests run
+# what ships. It is maturin's compile (scripts/lib/portable.sh,
+# portable_cargo), so the wheel's build below finds every crate built, and
+# the features of the dependencies are unified once (Cargo.toml, resolver).
+# shellcheck source=scripts/lib/portable.sh
+. scripts/lib/portable.sh
+release_dir="$(portable_target_dir)/$PORTABLE_TRIPLE/release"
+library="$release_dir/deps/libguideway.rlib"
+portable_cargo "$PWD" build --release --all-targets
 phase_done "cargo build"
-cargo test --release --all-targets
+portable_cargo "$PWD" test --release --all-targets
 phase_done "cargo test"
+built_at=$(stat -c %Y "$library")
 GUIDEWAY_CDYLIB=$(bash scripts/build_portable.sh)
 export GUIDEWAY_CDYLIB
 # The `pip install guideway` wheel (maturin), for scripts/tests/test_wheel.py:
 # packed from the compile above.
 GUIDEWAY_WHEEL=$(bash scripts/build_wheel.sh)
 export GUIDEWAY_WHEEL
-phase_done "the glibc 2.17 build and the wheel"
-# cargo builds into $CARGO_TARGET_DIR when it is set.
-bin="${CARGO_TARGET_DIR:-target}/release/guideway"
+if [ "$(stat -c %Y "$library")" != "$built_at" ]; then
+    echo "test.sh: warning: maturin compiled the library again (the test build's" \
+        "flags or features differ from the wheel's build; scripts/lib/portable.sh)" >&2
+fi
+phase_done "the wheel"
+bin="$release_dir/guideway"
+# The command the Python tests run (scripts/tests/conftest.py).
+export GUIDEWAY_BIN="$bin"
 export GUIDEWAY_FMU_DIR="$PWD/out/fmu"
 rm -rf "$GUIDEWAY_FMU_DIR"
 mkdir -p "$GUIDEWAY_FMU_DIR"

@@ -55,7 +55,7 @@ def test_scene_edits_refuse_a_scene_they_do_not_fit():
 def test_edits_of_the_built_in_scene_run(tmp_path):
     guideway = bench_peers.GUIDEWAY
     if not guideway.exists():
-        pytest.skip("target/release/guideway is not built")
+        pytest.skip(f"{guideway} is not built")
     scene = tmp_path / "modal.toml"
     text = bench_peers.guideway_scene(32, 0.0025, "rk4", modes=4)
     scene.write_text(text.replace("initial_position = 0.0", "initial_position = 23.0"))

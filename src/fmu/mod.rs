@@ -152,17 +152,18 @@ pub fn default_cdylib() -> Result<PathBuf, String> {
 /// (`pip install guideway`: `<prefix>/bin/guideway` beside
 /// `<prefix>/lib/guideway/libguideway.so`, scripts/build_wheel.sh), or where
 /// `scripts/build_portable.sh` puts it for the executable in
-/// `target/<profile>/`.
+/// `target/<profile>/`, or beside the executable of that build itself (the
+/// one `scripts/test.sh` tests).
 fn portable_cdylib() -> Option<PathBuf> {
+    const PORTABLE_RELEASE: &str = "portable/x86_64-unknown-linux-gnu/release";
     let exe = std::env::current_exe().ok()?;
-    let above = exe.parent()?.parent()?;
-    [
-        "lib/guideway/libguideway.so",
-        "portable/x86_64-unknown-linux-gnu/release/libguideway.so",
-    ]
-    .into_iter()
-    .map(|p| above.join(p))
-    .find(|p| p.is_file())
+    let dir = exe.parent()?;
+    let above = dir.parent()?;
+    let beside = dir.ends_with(PORTABLE_RELEASE).then_some(dir);
+    let places = [above.join("lib/guideway"), above.join(PORTABLE_RELEASE)];
+    (beside.map(Path::to_path_buf).into_iter().chain(places))
+        .map(|d| d.join("libguideway.so"))
+        .find(|p| p.is_file())
 }
 
 /// Why a native build is not shipped (README, "The FMU binary").
