@@ -31,7 +31,7 @@ ROOT=$PWD
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 maturin_build "$ROOT" "$scratch"
-deps="$TARGET_DIR/x86_64-unknown-linux-gnu/release/deps"
+deps="$TARGET_DIR/$PORTABLE_TRIPLE/release/deps"
 built="$deps/libguideway.so"
 # Linked after the library's rlib: older means cargo no longer built it here.
 if [ ! -f "$built" ] || [ "$built" -ot "$deps/libguideway.rlib" ]; then
@@ -40,7 +40,7 @@ if [ ! -f "$built" ] || [ "$built" -ot "$deps/libguideway.rlib" ]; then
 fi
 # Where `guideway export` and `release` look for it (src/fmu/mod.rs,
 # portable_cdylib).
-out="$TARGET_DIR/x86_64-unknown-linux-gnu/release/libguideway.so"
+out="$TARGET_DIR/$PORTABLE_TRIPLE/release/libguideway.so"
 cp "$built" "$out.tmp"
 mv "$out.tmp" "$out"
 echo "$out"
