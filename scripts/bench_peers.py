@@ -49,6 +49,7 @@ import sys
 import tempfile
 from pathlib import Path
 
+from built import guideway_command
 from peers import opensees_bench
 from peers.timing import (RUN_TIMEOUT_S, Config, alternate, cheapest_as_accurate, machine,
                           pairings, ratios, run_bounded, spread)
@@ -58,8 +59,8 @@ PEER_DIR = ROOT.parent / "shared" / "peers" / "exudyn"
 PEER_SCRIPT = PEER_DIR / "runExudynWheelBeam.py"
 VENV = ROOT / "target" / "peers-venv"
 EXUDYN_VERSION = "1.13.6"
-# $GUIDEWAY_BIN measures another build (scripts/test.sh tests its glibc 2.17 one).
-GUIDEWAY = Path(os.environ.get("GUIDEWAY_BIN", ROOT / "target" / "release" / "guideway"))
+# The command step 2 builds, or $GUIDEWAY_BIN (scripts/built.py).
+GUIDEWAY = guideway_command()
 PAPER_STEP = 0.0025
 
 

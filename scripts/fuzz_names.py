@@ -24,7 +24,6 @@ Exit status 0 when every case passes.
 """
 
 import argparse
-import os
 import pathlib
 import random
 import subprocess
@@ -34,10 +33,9 @@ import time
 import zipfile
 from xml.etree import ElementTree
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-# cargo builds into $CARGO_TARGET_DIR when it is set (relative to the root).
-TARGET_DIR = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
-GUIDEWAY = pathlib.Path(os.environ.get("GUIDEWAY_BIN", TARGET_DIR / "release" / "guideway"))
+from built import ROOT, guideway_command
+
+GUIDEWAY = guideway_command()
 
 IDENTIFIER = "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_"
 SPECIAL = ["-", ".", " ", "<", ">", "&", '"', "'", "]]>", "\\", "é", "ü", "∂", "😀", "\t"]

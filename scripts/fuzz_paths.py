@@ -35,9 +35,9 @@ import subprocess
 import sys
 import tempfile
 
-ROOT = pathlib.Path(__file__).resolve().parents[1]
-TARGET_DIR = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
-GUIDEWAY = pathlib.Path(os.environ.get("GUIDEWAY_BIN", TARGET_DIR / "release" / "guideway"))
+from built import ROOT, guideway_command
+
+GUIDEWAY = guideway_command()
 SECRET = "secret-line-7f3a,1"   # a line no refusal may show
 TABLE = "0,0\n10,0.001\n30,0\n"
 

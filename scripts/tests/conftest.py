@@ -32,11 +32,10 @@ from fmpy.logging import addLoggerProxy
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 FMU_DIR = pathlib.Path(os.environ.get("GUIDEWAY_FMU_DIR", ROOT / "out" / "fmu"))
 PROFILE = os.environ.get("GUIDEWAY_PROFILE", "release")
-# cargo builds into $CARGO_TARGET_DIR when it is set (relative to the root).
-TARGET_DIR = ROOT / os.environ.get("CARGO_TARGET_DIR", "target")
-# The command under test: $GUIDEWAY_BIN (scripts/test.sh's glibc 2.17
-# build), else the native build.
-GUIDEWAY = pathlib.Path(os.environ.get("GUIDEWAY_BIN", TARGET_DIR / PROFILE / "guideway"))
+sys.path.insert(0, str(ROOT / "scripts"))
+from built import TARGET_DIR, guideway_command  # noqa: E402
+
+GUIDEWAY = guideway_command(PROFILE)
 
 # The quarter-car FMU is built with pythonfmu, whose binary finalizes Python
 # when the library is unloaded. libcosim and Ecos keep it loaded until the
