@@ -24,14 +24,13 @@ cd "$(dirname "$0")/.."
 
 # shellcheck source=scripts/lib/portable.sh
 . scripts/lib/portable.sh
-TARGET_DIR=$(portable_target_dir)
 bash scripts/setup.sh >&2
 ROOT=$PWD
 # This build's wheel is not kept.
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 maturin_build "$ROOT" "$scratch"
-deps="$TARGET_DIR/$PORTABLE_TRIPLE/release/deps"
+deps="$(portable_release_dir)/deps"
 built="$deps/libguideway.so"
 # Linked after the library's rlib: older means cargo no longer built it here.
 if [ ! -f "$built" ] || [ "$built" -ot "$deps/libguideway.rlib" ]; then
@@ -40,7 +39,7 @@ if [ ! -f "$built" ] || [ "$built" -ot "$deps/libguideway.rlib" ]; then
 fi
 # Where `guideway export` and `release` look for it (src/fmu/mod.rs,
 # portable_cdylib).
-out="$TARGET_DIR/$PORTABLE_TRIPLE/release/libguideway.so"
+out="$(portable_release_dir)/libguideway.so"
 cp "$built" "$out.tmp"
 mv "$out.tmp" "$out"
 echo "$out"

@@ -31,19 +31,19 @@ phase_done "set-up"
 # the features of the dependencies are unified once (Cargo.toml, resolver).
 # shellcheck source=scripts/lib/portable.sh
 . scripts/lib/portable.sh
-release_dir="$(portable_target_dir)/$PORTABLE_TRIPLE/release"
+release_dir=$(portable_release_dir)
 library="$release_dir/deps/libguideway.rlib"
 portable_cargo "$PWD" build --release --all-targets
 phase_done "cargo build"
 portable_cargo "$PWD" test --release --all-targets
 phase_done "cargo test"
 built_at=$(stat -c %Y "$library")
-GUIDEWAY_CDYLIB=$(bash scripts/build_portable.sh)
-export GUIDEWAY_CDYLIB
 # The `pip install guideway` wheel (maturin), for scripts/tests/test_wheel.py:
-# packed from the compile above.
+# packed from the compile above, with the FMU binary scripts/build_portable.sh
+# takes from it (build_wheel.sh runs it) into the release directory.
 GUIDEWAY_WHEEL=$(bash scripts/build_wheel.sh)
 export GUIDEWAY_WHEEL
+export GUIDEWAY_CDYLIB="$release_dir/libguideway.so"
 if [ "$(stat -c %Y "$library")" != "$built_at" ]; then
     echo "test.sh: warning: maturin compiled the library again (the test build's" \
         "flags or features differ from the wheel's build; scripts/lib/portable.sh)" >&2

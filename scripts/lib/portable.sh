@@ -51,6 +51,12 @@ maturin_build() {
 # installing (maturin passes it as --target).
 PORTABLE_TRIPLE=x86_64-unknown-linux-gnu
 
+# portable_release_dir: where cargo puts the glibc 2.17 build's binaries
+# (the command, the tests' in deps/, libguideway.so).
+portable_release_dir() {
+    echo "$(portable_target_dir)/$PORTABLE_TRIPLE/release"
+}
+
 # record_maturin_env ROOT FILE: the variables maturin_build's maturin sets
 # for cargo (zig's linker and C compilers for glibc 2.17, build scripts kept
 # native), NUL-separated into FILE. A stand-in cargo on maturin's PATH

@@ -159,9 +159,9 @@ fn portable_cdylib() -> Option<PathBuf> {
     let exe = std::env::current_exe().ok()?;
     let dir = exe.parent()?;
     let above = dir.parent()?;
-    let beside = dir.ends_with(PORTABLE_RELEASE).then_some(dir);
+    let beside = dir.ends_with(PORTABLE_RELEASE).then(|| dir.to_path_buf());
     let places = [above.join("lib/guideway"), above.join(PORTABLE_RELEASE)];
-    (beside.map(Path::to_path_buf).into_iter().chain(places))
+    (beside.into_iter().chain(places))
         .map(|d| d.join("libguideway.so"))
         .find(|p| p.is_file())
 }
