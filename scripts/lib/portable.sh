@@ -42,7 +42,8 @@ maturin_build() {
     target_dir=$(cd "$root" && portable_target_dir)
     mkdir -p "$target_dir"
     wheel_data_dir "$root" > /dev/null
-    (cd "$target_dir" && PATH="$root/.venv/bin:$PATH" CARGO_TARGET_DIR="$target_dir" \
+    # GUIDEWAY_PORTABLE: build.rs refuses flags that build for one CPU.
+    (cd "$target_dir" && GUIDEWAY_PORTABLE=1 PATH="$root/.venv/bin:$PATH" CARGO_TARGET_DIR="$target_dir" \
         "$root/.venv/bin/maturin" build --release --zig --quiet -m "$root/Cargo.toml" \
         -o "$out" >&2)
 }

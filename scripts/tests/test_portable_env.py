@@ -8,6 +8,8 @@ import os
 import pathlib
 import subprocess
 
+import pytest
+
 ROOT = pathlib.Path(__file__).resolve().parents[2]
 PORTABLE = ROOT / "scripts" / "lib" / "portable.sh"
 
@@ -55,6 +57,7 @@ def test_record_maturin_env_records_what_maturin_gives_cargo_at_the_compile(tmp_
     recorded = entries(tmp_path / "env")
     assert recorded["FAKE_LINKER"] == "/z/cc"
     assert recorded["CARGO_TARGET_DIR"] == str(tmp_path / "t" / "portable")
+    assert recorded["GUIDEWAY_PORTABLE"] == "1"  # build.rs's check, in the tests' build too
     assert "PATH" not in recorded and "GUIDEWAY_MATURIN_ENV" not in recorded
 
 
@@ -64,3 +67,33 @@ def test_record_maturin_env_fails_when_maturin_never_compiles(tmp_path):
     r = bash('record_maturin_env "$1" "$2"', repo, tmp_path / "env", env=env, cwd=repo)
     assert r.returncode != 0
     assert "no Cargo.toml" in r.stderr and "maturin never called cargo to compile" in r.stderr
+
+
+def build_script(tmp_path):
+    """build.rs compiled on its own, as cargo would (env! read at compile time)."""
+    exe = tmp_path / "build-script"
+    env = {**os.environ, "CARGO_MANIFEST_DIR": str(ROOT)}
+    r = subprocess.run(["rustc", "--edition", "2021", "-O", str(ROOT / "build.rs"), "-o", str(exe)],
+                       capture_output=True, text=True, env=env)
+    assert r.returncode == 0, r.stderr
+    return exe
+
+
+@pytest.mark.parametrize("portable, features, refused", [
+    ("1", "fxsr,sse,sse2", False),
+    ("1", "fxsr,sse,sse2,x87", False),
+    ("1", "avx,avx2,fma,fxsr,sse,sse2", True),
+    ("1", "fxsr,popcnt,sse,sse2,sse4.2", True),
+    (None, "avx,avx2,fma,fxsr,sse,sse2", False),  # a native build may
+])
+def test_build_rs_refuses_a_portable_build_for_one_cpu(tmp_path, portable, features, refused):
+    env = {k: v for k, v in os.environ.items() if k != "GUIDEWAY_PORTABLE"}
+    env.update({"CARGO_CFG_TARGET_ARCH": "x86_64", "CARGO_CFG_TARGET_FEATURE": features,
+                "PROFILE": "release"})
+    if portable:
+        env["GUIDEWAY_PORTABLE"] = portable
+    r = subprocess.run([build_script(tmp_path)], capture_output=True, text=True, env=env)
+    assert (r.returncode != 0) == refused, r.stderr
+    if refused:
+        extra = [f for f in features.split(",") if f not in ("fxsr", "sse", "sse2", "x87")]
+        assert f"enable {', '.join(extra)} " in r.stderr

@@ -182,8 +182,24 @@ pub fn export_cdylib() -> Result<(PathBuf, Option<String>), String> {
         return Ok((p, None));
     }
     let native = default_cdylib()?;
-    let warning = format!("packaging {}: {NOT_PORTABLE}", native.display());
+    let warning = native_warning(&native, BUILT_FOR_THIS_CPU);
     Ok((native, Some(warning)))
+}
+
+/// Whether this build's Rust flags chose a CPU (`-C target-cpu`, or a
+/// target feature beyond x86-64's SSE2): every such choice enables SSE3.
+/// The native library is built with the command's flags.
+const BUILT_FOR_THIS_CPU: bool = cfg!(all(target_arch = "x86_64", target_feature = "sse3"));
+
+/// What `export` says when it packages the native library at `path`.
+fn native_warning(path: &Path, built_for_this_cpu: bool) -> String {
+    let cpu = if built_for_this_cpu {
+        "; and it is built for this CPU's instructions (its Rust flags), so the \
+         FMU stops with an illegal instruction on CPUs without them"
+    } else {
+        ""
+    };
+    format!("packaging {}: {NOT_PORTABLE}{cpu}", path.display())
 }
 
 /// The binary `guideway release` ships: `$GUIDEWAY_CDYLIB`, else the
@@ -363,4 +379,22 @@ pub fn write_cross_check(scene: &Scene, dir: &Path) -> Result<Vec<PathBuf>, Stri
 pub fn cross_check_files(scene_name: &str, dir: &Path) -> Vec<PathBuf> {
     let id = crate::fmi_common::description::model_identifier(scene_name);
     cross_check::files(&id, dir).to_vec()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_native_warning_names_the_cpu_only_for_a_build_for_one() {
+        let path = Path::new("/t/libguideway.so");
+        let portable = native_warning(path, false);
+        assert!(
+            portable.starts_with("packaging /t/libguideway.so: the native build needs the glibc")
+        );
+        assert!(!portable.contains("CPU"));
+        let for_cpu = native_warning(path, true);
+        assert!(for_cpu.starts_with(&portable));
+        assert!(for_cpu.contains("illegal instruction on CPUs without them"));
+    }
 }
