@@ -5,6 +5,8 @@
 #    headless and reads its PASS/FAIL table.
 #  - libtbb12 (Debian): the Ecos co-simulation engine (PyPI ecospy) links
 #    libtbb.so.12 and does not ship it.
+#  - qemu-user (Debian): the test command runs the guards on an emulated
+#    CPU without AVX and FMA (the same bits on every CPU).
 #  - .venv in the repository root with scripts/requirements.txt (fmpy,
 #    libcosimpy, ecospy, fmu-manipulation-toolbox, pytest, numpy), installed
 #    by uv.
@@ -41,6 +43,11 @@ fi
 if ! has_chromium; then
     echo "setup: installing chromium (renders the bridge check report in tests)"
     apt_install chromium
+fi
+
+if ! has_qemu_user; then
+    echo "setup: installing qemu-user (runs the guards on an older CPU in tests)"
+    apt_install qemu-user
 fi
 
 if ! python3 -c "import venv, ensurepip" 2>/dev/null; then

@@ -2,7 +2,8 @@
 # Runs every test of guideway. Usage: bash scripts/test.sh
 #  1. set-up (libclang, .venv), idempotent
 #  2. cargo test (unit, integration, FMU import with the `fmi` crate), of
-#     the build against glibc 2.17 that ships
+#     the build against glibc 2.17 that ships; the guards again on an
+#     emulated CPU without AVX and FMA (qemu-user)
 #  3. the shipped FMU binary from it (scripts/build_portable.sh) and the
 #     `pip install guideway` wheel (scripts/build_wheel.sh)
 #  4. export the FMUs of the built-in scenes (+ cross-check files) with it
@@ -37,6 +38,13 @@ portable_cargo "$PWD" build --release --all-targets
 phase_done "cargo build"
 portable_cargo "$PWD" test --release --all-targets
 phase_done "cargo test"
+# The guards' recorded bits (tests/guards/layout_guards.rs) again, on an
+# emulated CPU without AVX and FMA: glibc and matrixmultiply choose their
+# code by the CPU at run time, so a result that depends on the CPU fails
+# here (docs/robustness.md, "The same bits on every CPU").
+CARGO_TARGET_X86_64_UNKNOWN_LINUX_GNU_RUNNER="qemu-x86_64 -cpu Nehalem" \
+    portable_cargo "$PWD" test --release --test guards layout_guards::
+phase_done "the guards on a CPU without AVX"
 built_at=$(stat -c %Y "$library")
 # The `pip install guideway` wheel (maturin), for scripts/tests/test_wheel.py:
 # packed from the compile above, with the FMU binary scripts/build_portable.sh

@@ -15,3 +15,11 @@ has_libtbb12() {
 has_chromium() {
     command -v chromium >/dev/null
 }
+
+# has_qemu_user: exit 0 when `qemu-x86_64` is a command: scripts/test.sh
+# runs the guards' recorded bits on an emulated CPU without AVX and FMA,
+# where glibc's and matrixmultiply's run-time choices differ from this
+# machine's (docs/robustness.md, "The same bits on every CPU").
+has_qemu_user() {
+    command -v qemu-x86_64 >/dev/null
+}

@@ -105,3 +105,10 @@ def test_chromium_is_installed_unless_it_is_a_command(tmp_path):
     other = tmp_path / "other"
     other.mkdir()
     assert decide_package("has_chromium", other, {"chromium": ""}) == "present"
+
+
+def test_qemu_user_is_installed_unless_qemu_x86_64_is_a_command(tmp_path):
+    assert decide_package("has_qemu_user", tmp_path, {"ldconfig": ""}) == "install"
+    other = tmp_path / "other"
+    other.mkdir()
+    assert decide_package("has_qemu_user", other, {"qemu-x86_64": ""}) == "present"

@@ -56,11 +56,11 @@ pub fn additional_damping(l: f64) -> f64 {
 /// at up to 200 km/h go without dynamic analysis: upper 94.76 L^−0.748;
 /// lower 80 / L for 4 m ≤ L ≤ 20 m and 23.58 L^−0.592 for 20 m < L ≤ 100 m.
 pub fn frequency_limits(l: f64) -> (f64, f64) {
-    let upper = 94.76 * l.powf(-0.748);
+    let upper = 94.76 * libm::pow(l, -0.748);
     let lower = if l <= 20.0 {
         80.0 / l
     } else {
-        23.58 * l.powf(-0.592)
+        23.58 * libm::pow(l, -0.592)
     };
     (lower, upper)
 }
@@ -157,8 +157,8 @@ pub const DIRECT_FASTENED_ACCELERATION_LIMIT: f64 = 5.0;
 pub fn phi_irregularity(l_phi: f64, n0: f64, v: f64) -> f64 {
     let alpha = if v <= 22.0 { v / 22.0 } else { 1.0 };
     let value = alpha / 100.0
-        * (56.0 * (-(l_phi / 10.0).powi(2)).exp()
-            + 50.0 * (l_phi * n0 / 80.0 - 1.0) * (-(l_phi / 20.0).powi(2)).exp());
+        * (56.0 * libm::exp(-(l_phi / 10.0).powi(2))
+            + 50.0 * (l_phi * n0 / 80.0 - 1.0) * libm::exp(-(l_phi / 20.0).powi(2)));
     value.max(0.0)
 }
 
@@ -379,7 +379,7 @@ mod tests {
     /// 50 × 0.375 × e^−1 = 6.897740, φ″ = 0.0792342; at v = 11 m/s half.
     #[test]
     fn annex_c_phi_irregularity() {
-        let expected = (56.0 * (-4.0f64).exp() + 18.75 * (-1.0f64).exp()) / 100.0;
+        let expected = (56.0 * libm::exp(-4.0f64) + 18.75 * libm::exp(-1.0f64)) / 100.0;
         assert!(close(expected, 0.0792342, 1e-6));
         assert!(close(phi_irregularity(20.0, 5.5, 97.2), expected, 1e-12));
         assert!(close(

@@ -291,7 +291,7 @@ impl LawKind {
                 // ∫ C_H δ^{3/2} dδ from the undeformed contact.
                 let offset = hertz_offset(coefficient, compression_at, f.preload);
                 let compression = (offset + f.rest - gap).max(0.0);
-                0.4 * coefficient * compression.powf(2.5)
+                0.4 * coefficient * libm::pow(compression, 2.5)
             }
             LawKind::Magnet { max_force, .. } => {
                 // The linear spring's energy, continued linearly where the
@@ -350,7 +350,7 @@ pub fn hertz_coefficient(
 
 /// Compression δ (m) at which a Hertz contact carries `load` (N).
 pub fn hertz_compression(coefficient: f64, load: f64) -> f64 {
-    (load / coefficient).powf(2.0 / 3.0)
+    libm::pow(load / coefficient, 2.0 / 3.0)
 }
 
 /// `hertz_compression(coefficient, preload)`, from `compression_at` =
@@ -368,7 +368,7 @@ fn hertz_offset(coefficient: f64, (kept_for, kept): (f64, f64), preload: f64) ->
 /// Hertz's contact stiffness dP/dδ linearised at `load` (N/m):
 /// (3/2) C_H^{2/3} P^{1/3}.
 pub fn hertz_stiffness(coefficient: f64, load: f64) -> f64 {
-    1.5 * coefficient.powf(2.0 / 3.0) * load.cbrt()
+    1.5 * libm::pow(coefficient, 2.0 / 3.0) * libm::cbrt(load)
 }
 
 /// The EMS controller's equivalent stiffness k_e (N/m) and damping c_e

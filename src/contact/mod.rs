@@ -611,7 +611,7 @@ mod tests {
             angle: 0.0,
             angular_velocity: -31.0,
         };
-        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * libm::cos((i as f64) * 0.7));
         (state, v)
     }
 
@@ -627,7 +627,7 @@ mod tests {
         .unwrap();
         let n = beam.free_dofs();
         // A smooth, clearly non-trivial shape.
-        let u = DVector::from_fn(n, |i, _| 0.05 * ((i as f64) * 1.3).sin());
+        let u = DVector::from_fn(n, |i, _| 0.05 * libm::sin((i as f64) * 1.3));
         (beam, u)
     }
 
@@ -767,7 +767,7 @@ mod tests {
             let shape = beam.shape(beam.element_at(x), x);
             // w = −0.17 sin(πx/L): write w and w' into the node's free DOFs.
             let k = std::f64::consts::PI / 24.0;
-            let (w, slope) = (-0.17 * (k * x).sin(), -0.17 * k * (k * x).cos());
+            let (w, slope) = (-0.17 * libm::sin(k * x), -0.17 * k * libm::cos(k * x));
             let local = if node + 1 == beam.node_x.len() { 2 } else { 0 };
             if let Some(i) = shape.dofs[local] {
                 u[i] = w;
@@ -777,7 +777,7 @@ mod tests {
             }
         }
         for (centre_x, guess) in [(12.0f64, 10.0), (3.0, 5.0), (23.5, 24.5)] {
-            let centre = Vector2::new(centre_x, 0.9 - 0.17 * (centre_x * 0.1309).sin());
+            let centre = Vector2::new(centre_x, 0.9 - 0.17 * libm::sin(centre_x * 0.1309));
             let frame = foot_point(&beam, &u, &centre, guess).unwrap();
             let d = Vector2::new(frame.x, frame.deflection);
             let along = frame.tangent().dot(&(centre - d));
@@ -868,8 +868,8 @@ mod profile_tests {
             ..BeamSpec::default()
         })
         .unwrap();
-        let u = DVector::from_fn(beam.free_dofs(), |i, _| 0.05 * ((i as f64) * 1.3).sin());
-        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * ((i as f64) * 0.7).cos());
+        let u = DVector::from_fn(beam.free_dofs(), |i, _| 0.05 * libm::sin((i as f64) * 1.3));
+        let v = DVector::from_fn(beam.free_dofs(), |i, _| 0.3 * libm::cos((i as f64) * 0.7));
         let profile = sine();
         let state = BodyState {
             position: Vector2::new(9.1, 0.95),

@@ -359,7 +359,7 @@ mod tests {
         // A state with every mode moving: q, q̇, q̈ of mixed signs and sizes.
         let field = |scale: f64, phase: f64| {
             DVector::from_fn(k, |j, _| {
-                scale * ((j as f64 + phase) * 1.7).sin() / (1.0 + j as f64)
+                scale * libm::sin((j as f64 + phase) * 1.7) / (1.0 + j as f64)
             })
         };
         let loads = [(10.0, -190e3), (9.0, -190e3), (6.3, -170e3), (13.7, -170e3)]

@@ -2,7 +2,7 @@
 //! eigenproblem K φ = ω² M φ, through the Cholesky factor of M (nalgebra's
 //! symmetric eigensolver has no generalized form, so it is reduced by hand).
 
-use nalgebra::{DMatrix, SymmetricEigen};
+use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 /// The lowest `count` circular frequencies (rad/s, ascending) and their
 /// M-orthonormal shapes (columns; n × 0 for none) of dense `mass` and
@@ -20,7 +20,7 @@ pub fn lowest_modes(
         .l()
         .try_inverse()
         .ok_or(format!("{what} mass matrix is singular"))?;
-    let a = &l_inv * stiffness * l_inv.transpose();
+    let a = product(&product(&l_inv, &stiffness), &l_inv.transpose());
     let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
     let mut order: Vec<usize> = (0..n).collect();
     order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
@@ -40,4 +40,14 @@ pub fn lowest_modes(
         DMatrix::from_columns(&columns)
     };
     Ok((omega, shapes))
+}
+
+/// `a b` a column at a time (nalgebra's matrix-vector product). nalgebra
+/// multiplies matrices above 5 × 5 through `matrixmultiply`, which picks
+/// its kernel (FMA or not) by the CPU at run time: the modes, and every
+/// result damped by them, would then differ in their last bits from one
+/// CPU to another.
+pub fn product(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let columns: Vec<DVector<f64>> = b.column_iter().map(|column| a * column).collect();
+    DMatrix::from_columns(&columns)
 }

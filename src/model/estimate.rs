@@ -149,7 +149,7 @@ const ACCELERATION_ORDER: f64 = 1.0;
 /// The factor from |y(Δt) − y(ratio·Δt)| to the error of y(Δt), for a
 /// quantity converging at order `p` (Richardson).
 fn richardson_scale(ratio: f64, p: f64) -> f64 {
-    let gain = 2f64.powf(p);
+    let gain = libm::pow(2f64, p);
     if ratio > 1.0 {
         1.0 / (gain - 1.0)
     } else {

@@ -127,7 +127,7 @@ impl Steppable for FakeDynamics {
             v.push(s.vx / r);
         }
         for p in &self.sensors {
-            v.push(-1e-3 * (-(s.x - p).powi(2)).exp());
+            v.push(-1e-3 * libm::exp(-(s.x - p).powi(2)));
         }
         v.push(s.steps as f64);
         values.copy_from_slice(&v);

@@ -318,7 +318,7 @@ fn nominal(x: f64) -> Option<f64> {
     if !m.is_finite() || m == 0.0 || (1e-3..1e3).contains(&m) {
         return None;
     }
-    let p = 10f64.powi(m.log10().floor() as i32);
+    let p = 10f64.powi(libm::log10(m).floor() as i32);
     (p.is_finite() && p > 0.0).then_some(p)
 }
 

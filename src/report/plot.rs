@@ -537,7 +537,7 @@ pub fn tick_decimals(span: f64) -> usize {
         return 2;
     }
     let spacing = span / 10.0;
-    ((-spacing.log10()).ceil() + 1.0).clamp(0.0, 15.0) as usize
+    ((-libm::log10(spacing)).ceil() + 1.0).clamp(0.0, 15.0) as usize
 }
 
 /// A tick's label: fixed `decimals`, or scientific when `None`; a value

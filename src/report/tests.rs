@@ -578,7 +578,7 @@ fn legends_go_to_the_corner_the_curves_leave_free() {
     assert!(matches!(rise, At::UpperLeft | At::LowerRight), "{rise:?}");
     // A dip in the middle (the deflection) leaves the lower corners free.
     let dip = plot::least_crowded_corner(
-        &[ramp(|t| 1.0 - (std::f64::consts::PI * t).sin())],
+        &[ramp(|t| 1.0 - libm::sin(std::f64::consts::PI * t))],
         &x,
         &y,
         0.24,

@@ -714,7 +714,7 @@ mod extrapolation_tests {
     #[test]
     fn all_finite_finds_a_non_finite_entry_wherever_it_is() {
         for n in [0usize, 1, 3, 4, 5, 9, 4900] {
-            let x: Vec<f64> = (0..n).map(|i| 1e300 * (i as f64).sin()).collect();
+            let x: Vec<f64> = (0..n).map(|i| 1e300 * libm::sin(i as f64)).collect();
             assert!(all_finite(&x), "{n}");
             for at in [0, n / 2, n.saturating_sub(1)]
                 .into_iter()

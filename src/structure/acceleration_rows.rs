@@ -212,7 +212,7 @@ mod tests {
     fn the_rows_give_the_whole_solves_accelerations_at_their_coordinates() {
         let beam = damped_beam();
         let n = beam.coordinates();
-        let wave = |i: usize, k: f64| 1e-4 * ((i as f64) * k).sin() + 3e-5;
+        let wave = |i: usize, k: f64| 1e-4 * libm::sin((i as f64) * k) + 3e-5;
         let (u, v) = (
             DVector::from_fn(n, |i, _| wave(i, 0.37)),
             DVector::from_fn(n, |i, _| 1e2 * wave(i, 0.11)),
@@ -303,7 +303,7 @@ mod tests {
         for sleepers in [false, true] {
             let track = rail_over_deck(sleepers);
             let n = track.coordinates();
-            let wave = |i: usize, k: f64| 1e-4 * ((i as f64) * k).sin() + 3e-5;
+            let wave = |i: usize, k: f64| 1e-4 * libm::sin((i as f64) * k) + 3e-5;
             let (u, v) = (
                 DVector::from_fn(n, |i, _| wave(i, 0.37)),
                 DVector::from_fn(n, |i, _| 1e2 * wave(i, 0.11)),

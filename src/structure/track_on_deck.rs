@@ -494,7 +494,7 @@ impl TrackAssembly {
         for wheel in wheels.iter_mut() {
             let rail = self.rail_deflection(wheel.x, &u)?;
             wheel.force = wheel.load;
-            wheel.z = rail - (wheel.load / wheel.coefficient).powf(2.0 / 3.0);
+            wheel.z = rail - libm::pow(wheel.load / wheel.coefficient, 2.0 / 3.0);
             wheel.z_velocity = 0.0;
             wheel.z_acceleration = 0.0;
         }
@@ -521,7 +521,8 @@ fn hertz_force(coefficient: f64, free_compression: f64, compliance: f64) -> f64 
     if free_compression <= 0.0 {
         return 0.0;
     }
-    let excess = |p: f64| p - coefficient * (free_compression - compliance * p).max(0.0).powf(1.5);
+    let excess =
+        |p: f64| p - coefficient * libm::pow((free_compression - compliance * p).max(0.0), 1.5);
     let (mut low, mut high) = (0.0, free_compression / compliance);
     for _ in 0..200 {
         let middle = 0.5 * (low + high);

@@ -95,7 +95,7 @@ fn points_of(levels: &[Level], name: &str, reference: f64) -> Vec<Point> {
         .collect();
     let order = |k: usize| -> Option<f64> {
         let (a, b, c) = (values[k - 2]?, values[k - 1]?, values[k]?);
-        let p = ((a - b) / (b - c)).log2();
+        let p = libm::log2((a - b) / (b - c));
         p.is_finite().then_some(p)
     };
     levels

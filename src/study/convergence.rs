@@ -234,7 +234,7 @@ fn richardson(estimate: &mut Estimate, v: &[f64], base: usize) {
         return;
     }
     let ratio = coarse / fine;
-    let order = ratio.log2();
+    let order = libm::log2(ratio);
     let erratic = |why: String| Some(format!("erratic observed order: {why}"));
     estimate.not_converged = if ratio.is_nan() || ratio <= 0.0 {
         erratic(format!(
@@ -329,7 +329,7 @@ pub fn halvings_needed(estimate: &Estimate, rtol: f64) -> Option<u32> {
     let order = estimate.order?;
     let allowed = tolerance_scale(estimate) * rtol;
     let factor = estimate.error? / allowed;
-    let halvings = (factor.log2() / order).ceil();
+    let halvings = (libm::log2(factor) / order).ceil();
     (halvings.is_finite() && allowed > 0.0).then_some(halvings.max(1.0) as u32)
 }
 

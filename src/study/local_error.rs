@@ -150,7 +150,7 @@ mod tests {
         let samples: Vec<f64> = (0..900)
             .map(|i| {
                 let t = i as f64 * dt;
-                0.3 + (300.0 * t).sin() + 0.4 * (60.0 * t).cos()
+                0.3 + libm::sin(300.0 * t) + 0.4 * libm::cos(60.0 * t)
             })
             .collect();
         let omega = dominant_frequency(&samples, dt);

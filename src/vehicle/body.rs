@@ -101,7 +101,7 @@ impl<const SLOTS: usize> Rotations<SLOTS> {
         }
         let slot = &mut self.0[b % SLOTS];
         if slot.0 != b {
-            let (sin, cos) = state.angle.sin_cos();
+            let (sin, cos) = libm::sincos(state.angle);
             *slot = (b, sin, cos);
         }
         rotated((slot.1, slot.2), local)
@@ -152,7 +152,7 @@ impl BodyState {
         if is_centre(local) {
             return Vector2::zeros();
         }
-        rotated(self.angle.sin_cos(), local)
+        rotated(libm::sincos(self.angle), local)
     }
 
     /// State advanced by `h` with rates (velocity, angular velocity) and

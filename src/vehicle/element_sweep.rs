@@ -189,7 +189,7 @@ impl Block {
     #[inline]
     fn rotations(&self, bodies: &[BodyState], table: &mut Table) {
         for (slot, &b) in table.iter_mut().zip(&self.turning) {
-            *slot = bodies[b].angle.sin_cos();
+            *slot = libm::sincos(bodies[b].angle);
         }
     }
 }
@@ -409,8 +409,8 @@ mod tests {
             .map(|i| {
                 let s = i as f64;
                 BodyState {
-                    position: Vector2::new(2.0 * s, 0.1 * s.sin()),
-                    velocity: Vector2::new(0.3, 0.2 * s.cos()),
+                    position: Vector2::new(2.0 * s, 0.1 * libm::sin(s)),
+                    velocity: Vector2::new(0.3, 0.2 * libm::cos(s)),
                     angle: 0.01 * s - 0.1,
                     angular_velocity: 0.05 * (s - 3.0),
                 }

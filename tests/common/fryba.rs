@@ -39,18 +39,18 @@ pub fn series_midspan_with_free_vibration(alpha: f64, t: f64) -> f64 {
     (1..=200)
         .map(|j| {
             let jf = j as f64;
-            let mode = (jf * PI / 2.0).sin();
+            let mode = libm::sin(jf * PI / 2.0);
             let wj = jf * jf * w1;
             let d = jf * jf * (jf * jf - alpha * alpha);
-            let q = |t: f64| ((jf * omega * t).sin() - alpha / jf * (wj * t).sin()) / d;
+            let q = |t: f64| (libm::sin(jf * omega * t) - alpha / jf * libm::sin(wj * t)) / d;
             let q_dot = |t: f64| {
-                (jf * omega * (jf * omega * t).cos() - alpha / jf * wj * (wj * t).cos()) / d
+                (jf * omega * libm::cos(jf * omega * t) - alpha / jf * wj * libm::cos(wj * t)) / d
             };
             let value = if t <= exit {
                 q(t)
             } else {
                 let s = t - exit;
-                q(exit) * (wj * s).cos() + q_dot(exit) / wj * (wj * s).sin()
+                q(exit) * libm::cos(wj * s) + q_dot(exit) / wj * libm::sin(wj * s)
             };
             value * mode
         })

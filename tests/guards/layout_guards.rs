@@ -4,6 +4,10 @@
 //! same list of output names (G2). A move of code that changes a single bit
 //! fails here.
 //!
+//! The recordings hold on every x86-64 CPU: `scripts/test.sh` runs them
+//! again on an emulated CPU without AVX and FMA (docs/robustness.md, "The
+//! same bits on every CPU").
+//!
 //! To record again after a change of the outputs made on purpose:
 //! `GUIDEWAY_RECORD_GUARDS=1 cargo test --release --test guards layout_guards::`
 //! (and say in the commit why the bits changed).

@@ -30,7 +30,7 @@ fn scene() -> Scene {
 /// A passage's envelope over the 4 s record: sin²(π t / 4), quiet at
 /// both ends as a run starting from rest is.
 fn envelope(t: f64) -> f64 {
-    (PI * t / 4.0).sin().powi(2)
+    libm::sin(PI * t / 4.0).powi(2)
 }
 
 /// The summary of a made-up run whose midspan acceleration is the
@@ -42,7 +42,8 @@ fn summary_of(below: f64, above: f64) -> RunSummary {
     let mut builder = SummaryBuilder::new(&scene, &names);
     let signal = |t: f64| {
         envelope(t)
-            * (below * (2.0 * PI * 10.0 * t).sin() + above * (2.0 * PI * 150.0 * t + 0.3).sin())
+            * (below * libm::sin(2.0 * PI * 10.0 * t)
+                + above * libm::sin(2.0 * PI * 150.0 * t + 0.3))
     };
     for k in 0..=4000 {
         let t = k as f64 * STEP;
@@ -68,7 +69,7 @@ fn filtered_peak_keeps_what_is_below_the_cut_off_and_drops_what_is_above() {
     // (The envelope widens the lines by 0.25 Hz: no change in gain.)
     let expected = (0..=4000)
         .map(|k| k as f64 * STEP)
-        .map(|t| below * zero_phase_gain(10.0, 45.0) * envelope(t) * (2.0 * PI * 10.0 * t).sin())
+        .map(|t| below * zero_phase_gain(10.0, 45.0) * envelope(t) * libm::sin(2.0 * PI * 10.0 * t))
         .fold(0.0, |m: f64, x| m.max(x.abs()));
     let leak = above * zero_phase_gain(150.0, 45.0);
     assert!(leak < 1e-3, "{leak}");

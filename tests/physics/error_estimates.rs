@@ -44,9 +44,9 @@ fn series_midspan(alpha: f64, t: f64) -> f64 {
     let sum: f64 = (1..=200)
         .map(|j| {
             let jf = j as f64;
-            let term = ((jf * omega * t).sin() - alpha / jf * (jf * jf * w1 * t).sin())
+            let term = (libm::sin(jf * omega * t) - alpha / jf * libm::sin(jf * jf * w1 * t))
                 / (jf * jf * (jf * jf - alpha * alpha));
-            term * (jf * PI / 2.0).sin()
+            term * libm::sin(jf * PI / 2.0)
         })
         .sum();
     sum * v0

@@ -61,9 +61,9 @@ fn rates(t: f64, y: &[f64]) -> Vec<f64> {
     let m = MODES;
     let (q, qd) = (&y[..m], &y[m..2 * m]);
     let x = SPEED * t;
-    let phi: Vec<f64> = (0..m).map(|n| (wavenumber(n) * x).sin()).collect();
+    let phi: Vec<f64> = (0..m).map(|n| libm::sin(wavenumber(n) * x)).collect();
     let dphi: Vec<f64> = (0..m)
-        .map(|n| wavenumber(n) * (wavenumber(n) * x).cos())
+        .map(|n| wavenumber(n) * libm::cos(wavenumber(n) * x))
         .collect();
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let w_c = dot(&phi, q);
@@ -97,7 +97,7 @@ fn reference_peaks(substeps: usize) -> [f64; 3] {
     let m = MODES;
     let mut y = vec![0.0; 2 * m + 2];
     let mid: Vec<f64> = (0..m)
-        .map(|n| (wavenumber(n) * LENGTH / 2.0).sin())
+        .map(|n| libm::sin(wavenumber(n) * LENGTH / 2.0))
         .collect();
     let at_mid = |v: &[f64]| mid.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
     let mut peaks = [0.0f64; 3];

@@ -41,14 +41,14 @@ fn series_midspan(alpha: f64, t: f64) -> f64 {
     (1..=200)
         .map(|j| {
             let jf = j as f64;
-            let mode = (jf * PI / 2.0).sin();
+            let mode = libm::sin(jf * PI / 2.0);
             if mode.abs() < 1e-12 {
                 return 0.0;
             }
             let term = if j == 1 && (alpha - 1.0).abs() < 1e-12 {
-                0.5 * ((omega * t).sin() - omega * t * (omega * t).cos())
+                0.5 * (libm::sin(omega * t) - omega * t * libm::cos(omega * t))
             } else {
-                ((jf * omega * t).sin() - alpha / jf * (jf * jf * w1 * t).sin())
+                (libm::sin(jf * omega * t) - alpha / jf * libm::sin(jf * jf * w1 * t))
                     / (jf * jf * (jf * jf - alpha * alpha))
             };
             term * mode

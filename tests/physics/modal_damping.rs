@@ -73,7 +73,7 @@ fn decay_ratio(scene: &Scene, mode: usize, coordinates: usize) -> f64 {
         .collect();
     assert!(peaks.len() >= 5, "mode {mode}: {} peaks", peaks.len());
     let cycles = (peaks.len() - 1) as f64;
-    let decrement = (peaks[0] / peaks[peaks.len() - 1]).ln() / cycles;
+    let decrement = libm::log(peaks[0] / peaks[peaks.len() - 1]) / cycles;
     let tau = std::f64::consts::TAU;
     decrement / (tau * tau + decrement * decrement).sqrt()
 }

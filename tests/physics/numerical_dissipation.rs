@@ -24,7 +24,7 @@ fn free_vibration(damping: f64, structural: Option<DampingSpec>, rough: bool) ->
     let d = &mut state.dynamic;
     if rough {
         for (i, v) in d.beam_velocity.iter_mut().enumerate() {
-            *v = (i as f64 * 1.7).sin() + 0.5 * (i as f64 * 0.3).cos();
+            *v = libm::sin(i as f64 * 1.7) + 0.5 * libm::cos(i as f64 * 0.3);
         }
     } else {
         // The shape of the static deflection under a uniform load: the

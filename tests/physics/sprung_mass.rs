@@ -97,9 +97,9 @@ impl Modal {
         let mut ddphi = vec![0.0; self.modes];
         for n in 0..self.modes {
             let k = (n + 1) as f64 * std::f64::consts::PI / LENGTH;
-            phi[n] = (k * x).sin();
-            dphi[n] = k * (k * x).cos();
-            ddphi[n] = -k * k * (k * x).sin();
+            phi[n] = libm::sin(k * x);
+            dphi[n] = k * libm::cos(k * x);
+            ddphi[n] = -k * k * libm::sin(k * x);
         }
         (phi, dphi, ddphi)
     }

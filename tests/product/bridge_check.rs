@@ -227,14 +227,14 @@ fn modal_peaks(
         let on = axles.iter().map(|&(o, f)| (speed * t - o, f));
         for (x, f) in on.filter(|&(x, _)| (0.0..=l).contains(&x)) {
             for (n, s) in sum.iter_mut().enumerate() {
-                *s += f * ((n + 1) as f64 * PI / l * x).sin();
+                *s += f * libm::sin((n + 1) as f64 * PI / l * x);
             }
         }
         sum.map(|s| s * 2.0 / (m * l))
     };
     let stations = [0.1, 0.3, 0.5, 0.7, 0.9];
     let shape =
-        |x: f64| -> [f64; MODES] { std::array::from_fn(|n| ((n + 1) as f64 * PI * x).sin()) };
+        |x: f64| -> [f64; MODES] { std::array::from_fn(|n| libm::sin((n + 1) as f64 * PI * x)) };
     let (midspan, station_shapes) = (shape(0.5), stations.map(shape));
     let at = |shape: &[f64; MODES], values: &[f64; MODES]| -> f64 {
         shape.iter().zip(values).map(|(s, q)| s * q).sum()
@@ -399,7 +399,7 @@ fn multi_span_eigenvalues(spans: usize, (from, to): (f64, f64)) -> Vec<f64> {
     let det = |lam: f64| {
         let n = 4 * spans;
         let mut a = nalgebra::DMatrix::<f64>::zeros(n, n);
-        let (s, c, sh, ch) = (lam.sin(), lam.cos(), lam.sinh(), lam.cosh());
+        let (s, c, sh, ch) = (libm::sin(lam), libm::cos(lam), lam.sinh(), lam.cosh());
         let value_end = [s, c, sh, ch];
         let slope_start = [1.0, 0.0, 1.0, 0.0];
         let slope_end = [c, -s, ch, sh];

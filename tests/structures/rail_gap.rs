@@ -145,8 +145,8 @@ fn check_5_cm_crossing(run: &Crossing) {
     // the tangent of one corner's circle to the other's, 2θ with
     // sin θ = (w/2)/(r + h); the normal impulse takes the normal part.
     let speed = 10.0;
-    let theta = (GAP / 2.0 / REACH).asin();
-    let expected_impulse = MASS * speed * (2.0 * theta).sin();
+    let theta = libm::asin(GAP / 2.0 / REACH);
+    let expected_impulse = MASS * speed * libm::sin(2.0 * theta);
     let impulse = impact.impulse.y;
     println!("impulse {impulse} N s (closed form {expected_impulse})");
     assert!(
@@ -332,7 +332,7 @@ fn a_wheel_crosses_a_joint_on_a_sine_profile_with_either_integrator() {
     // 1 mm, 4 m sine: at the joint the corners are 0.02 mm apart in height
     // and the surface slopes by 1.4 mrad.
     let (amplitude, wavelength, phase) = (0.001, 4.0, 0.7);
-    let r = |x: f64| amplitude * (2.0 * std::f64::consts::PI * x / wavelength + phase).sin();
+    let r = |x: f64| amplitude * libm::sin(2.0 * std::f64::consts::PI * x / wavelength + phase);
     for integrator in [IntegratorKind::Rk4, IntegratorKind::Hht] {
         let mut scene = two_spans(GAP, 8, 2.5e-4, integrator);
         // From the approach, so that the wheel starts on the profile.

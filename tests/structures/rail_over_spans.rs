@@ -222,7 +222,7 @@ fn a_stiff_layer_with_approaches_adds_the_rail_on_the_ground_at_the_ends() {
     // held deck at the abutment, it is there a semi-infinite beam on a
     // Winkler foundation with w(0) = 0: w = B e^(−βx) sin βx, whose end
     // moment per rotation is 2 EI_r β with β = (k_g / 4EI_r)^(1/4).
-    let beta = (GROUND / (4.0 * RAIL_EI)).powf(0.25);
+    let beta = libm::pow(GROUND / (4.0 * RAIL_EI), 0.25);
     let restrained = TwoSpan {
         ei: DECK_EI + RAIL_EI,
         end_spring: 2.0 * RAIL_EI * beta,
@@ -248,7 +248,7 @@ fn a_stiff_layer_with_approaches_adds_the_rail_on_the_ground_at_the_ends() {
 /// = P β / 2k e^(−β|r|) (cos β|r| + sin β|r|).
 fn seat_load(p: f64, beta: f64, r: f64) -> f64 {
     let r = (beta * r).abs();
-    0.5 * p * beta * (-r).exp() * (r.cos() + r.sin())
+    0.5 * p * beta * libm::exp(-r) * (libm::cos(r) + libm::sin(r))
 }
 
 #[test]
@@ -261,7 +261,7 @@ fn through_a_soft_layer_the_rail_bends_as_on_a_rigid_base_over_the_deck() {
     // falls off the deck goes to the ground. The two parts decouple to
     // O(EI_r w_d'''' / k), here far below 1e-3.
     let k = GROUND;
-    let beta = (k / (4.0 * RAIL_EI)).powf(0.25);
+    let beta = libm::pow(k / (4.0 * RAIL_EI), 0.25);
     let continuous = TwoSpan {
         ei: DECK_EI,
         end_spring: 0.0,
@@ -512,7 +512,7 @@ fn over_spans_of_unequal_elements_a_stiff_layer_bends_as_one_two_span_beam() {
     // Elements of 0.5 m and 0.5106 m; with approaches of 10 m and of
     // 10.3 m (not whole elements: 21 of 0.4905 m) the rail on the ground
     // restrains the ends by 2 EI_r β as in the uniform case.
-    let beta = (GROUND / (4.0 * RAIL_EI)).powf(0.25);
+    let beta = libm::pow(GROUND / (4.0 * RAIL_EI), 0.25);
     for (approach, end_spring, tolerance) in [
         (0.0, 0.0, 1e-4),
         (10.0, 2.0 * RAIL_EI * beta, 2e-4),

@@ -69,7 +69,7 @@ fn discrete_support_deflection(load: f64, ei: f64, k: f64, a: f64) -> f64 {
         .map(|i| {
             let theta = -PI + 2.0 * PI * i as f64 / n as f64;
             let inverse_f =
-                ei / a.powi(3) * 48.0 * (theta / 2.0).sin().powi(4) / (2.0 + theta.cos());
+                ei / a.powi(3) * 48.0 * libm::sin(theta / 2.0).powi(4) / (2.0 + libm::cos(theta));
             1.0 / (inverse_f + k)
         })
         .sum();

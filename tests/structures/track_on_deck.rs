@@ -196,7 +196,7 @@ fn matching_mode(assembly: &TrackAssembly, ratio: f64, count: usize) -> (f64, f6
     let sine = |x: f64| {
         let p = PI / SPAN;
         if (0.0..=SPAN).contains(&x) {
-            [(p * x).sin(), p * (p * x).cos()]
+            [libm::sin(p * x), p * libm::cos(p * x)]
         } else {
             [0.0, 0.0]
         }
@@ -632,7 +632,7 @@ fn in_a_scene_a_glider_at_rest_at_midspan_deflects_the_deck_by_pl3_over_48ei() {
     // compression, which a conforming mesh keeps under the infinite rail's
     // on a rigid base, P β / 2k with β = (k / 4EI_r)^(1/4).
     let (k, compression) = (1e11, rows[0][0] - rows[0][1]);
-    let bound = p * (k / (4.0 * RAIL_EI)).powf(0.25) / (2.0 * k);
+    let bound = p * libm::pow(k / (4.0 * RAIL_EI), 0.25) / (2.0 * k);
     println!("layer compression {compression:.3e} m, bound {bound:.3e} m");
     assert!(
         compression > 0.0 && compression <= bound,

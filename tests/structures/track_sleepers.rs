@@ -65,7 +65,7 @@ fn discrete_support_deflection(load: f64, ei: f64, k: f64, a: f64) -> f64 {
         .map(|i| {
             let theta = -PI + 2.0 * PI * i as f64 / n as f64;
             let inverse_f =
-                ei / a.powi(3) * 48.0 * (theta / 2.0).sin().powi(4) / (2.0 + theta.cos());
+                ei / a.powi(3) * 48.0 * libm::sin(theta / 2.0).powi(4) / (2.0 + libm::cos(theta));
             1.0 / (inverse_f + k)
         })
         .sum();
@@ -130,7 +130,7 @@ fn at_close_spacing_the_sleepers_are_the_winkler_layer_to_beta_a_to_the_fourth()
     for spacing in [0.1, 0.2] {
         let sleepers = ballasted(spacing);
         let k = sleepers.series_stiffness() / spacing;
-        let beta = (k / (4.0 * RAIL_EI)).powf(0.25);
+        let beta = libm::pow(k / (4.0 * RAIL_EI), 0.25);
         let track = rail_on_sleepers(sleepers, spacing / 2.0, 40.0, RAIL_EI);
         let (rail, _) = static_at(&track, -20.0, LOAD);
         let winkler = -LOAD * beta / (2.0 * k);

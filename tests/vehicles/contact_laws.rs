@@ -90,7 +90,7 @@ fn a_hertz_wheel_at_rest_on_rigid_ground_sits_at_its_static_compression() {
     let scene = wheel_on_ground(mass, 0.0, 0.0, 1.0e-5, 0.05);
     let (_, h, events) = run(&scene, &["wheel.y", "contact.normal_force"]);
     let weight = mass * GRAVITY;
-    let compression = (weight / preset_hertz_coefficient()).powf(2.0 / 3.0);
+    let compression = libm::pow(weight / preset_hertz_coefficient(), 2.0 / 3.0);
     for (y, force) in h[0].iter().zip(&h[1]) {
         let sunk = WHEEL_RADIUS - y;
         assert!(
@@ -112,9 +112,9 @@ fn a_dropped_hertz_wheel_reaches_the_compression_its_energy_allows_and_never_pul
     let (_, h, events) = run(&scene, &["wheel.y", "contact.normal_force"]);
     let c = preset_hertz_coefficient();
     let weight = mass * GRAVITY;
-    let static_compression = (weight / c).powf(2.0 / 3.0);
+    let static_compression = libm::pow(weight / c, 2.0 / 3.0);
     let fall = height - static_compression;
-    let residual = |d: f64| 0.4 * c * d.powf(2.5) - weight * (fall + d);
+    let residual = |d: f64| 0.4 * c * libm::pow(d, 2.5) - weight * (fall + d);
     let (mut low, mut high) = (0.0, 1e-2);
     for _ in 0..200 {
         let mid = 0.5 * (low + high);
@@ -144,14 +144,14 @@ fn spectral_peak(times: &[f64], signal: &[f64], (low, high, resolution): (f64, f
     let mean = signal.iter().sum::<f64>() / n as f64;
     let (t0, span) = (times[0], times[n - 1] - times[0]);
     let windowed: Vec<f64> = (times.iter().zip(signal))
-        .map(|(t, s)| (s - mean) * (PI * (t - t0) / span).sin().powi(2))
+        .map(|(t, s)| (s - mean) * libm::sin(PI * (t - t0) / span).powi(2))
         .collect();
     let magnitude = |f: f64| {
         let w = 2.0 * PI * f;
         let (mut re, mut im) = (0.0, 0.0);
         for (t, s) in times.iter().zip(&windowed) {
-            re += s * (w * t).cos();
-            im -= s * (w * t).sin();
+            re += s * libm::cos(w * t);
+            im -= s * libm::sin(w * t);
         }
         re.hypot(im)
     };
@@ -176,7 +176,7 @@ fn a_suspended_wheelset_over_a_dip_rings_at_the_two_dof_frequencies_of_its_hertz
     // rings at the two roots ω² of its characteristic polynomial.
     let (sprung, wheelset, k) = (5750.0, 1400.0, 1.595e6);
     let weight = (sprung + wheelset) * GRAVITY;
-    let k_h = 1.5 * preset_hertz_coefficient().powf(2.0 / 3.0) * weight.cbrt();
+    let k_h = 1.5 * libm::pow(preset_hertz_coefficient(), 2.0 / 3.0) * libm::cbrt(weight);
     // det [[k − M ω², −k], [−k, k + k_H − m ω²]] = 0.
     let (a, b, c) = (
         sprung * wheelset,

@@ -70,8 +70,8 @@ fn dip(x: f64) -> (f64, f64) {
     }
     let k = 2.0 * std::f64::consts::PI / DIP_LENGTH;
     (
-        -0.5 * DIP_DEPTH * (1.0 + (k * s).cos()),
-        0.5 * DIP_DEPTH * k * (k * s).sin(),
+        -0.5 * DIP_DEPTH * (1.0 + libm::cos(k * s)),
+        0.5 * DIP_DEPTH * k * libm::sin(k * s),
     )
 }
 
@@ -651,7 +651,7 @@ fn a_follower_dropped_from_above_the_track_lands_and_bounces_as_the_oscillator()
     let fall = (2.0 * (h - s) / GRAVITY).sqrt();
     let speed = GRAVITY * fall;
     let omega = (STIFFNESS / SPRUNG).sqrt();
-    let contact = (std::f64::consts::PI + 2.0 * (s * omega / speed).atan()) / omega;
+    let contact = (std::f64::consts::PI + 2.0 * libm::atan(s * omega / speed)) / omega;
     let expected = [
         (Landing, fall),
         (LiftOff, fall + contact),
@@ -685,7 +685,7 @@ fn a_follower_started_above_its_rest_within_its_spring_oscillates_about_it() {
     let worst = times
         .iter()
         .zip(&out[0])
-        .map(|(&t, &y)| (y - HEIGHT - h * (omega * t).cos()).abs())
+        .map(|(&t, &y)| (y - HEIGHT - h * libm::cos(omega * t)).abs())
         .fold(0.0, f64::max);
     eprintln!("follower started {h} m high: largest error {worst:.3e} m");
     assert!(worst < 1e-6 * h, "{worst}");

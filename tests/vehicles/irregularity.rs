@@ -136,7 +136,7 @@ fn welch(x: &[f64], dx: f64, len: usize) -> Vec<(f64, f64)> {
     use rustfft::num_complex::Complex;
     let fft = rustfft::FftPlanner::new().plan_fft_forward(len);
     let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * std::f64::consts::PI * i as f64 / len as f64).cos())
+        .map(|i| 0.5 - 0.5 * libm::cos(2.0 * std::f64::consts::PI * i as f64 / len as f64))
         .collect();
     let power: f64 = window.iter().map(|w| w * w).sum();
     let mut sum = vec![0.0; len / 2];
@@ -173,7 +173,7 @@ fn spectrum_error(spec: IrregularitySpec, target: impl Fn(f64) -> f64) -> f64 {
     let mut band_low = low;
     let mut bands = 0;
     while band_low < high {
-        let band_high = (band_low * 2f64.powf(1.0 / 3.0)).min(high);
+        let band_high = (band_low * libm::pow(2f64, 1.0 / 3.0)).min(high);
         let inside: Vec<&(f64, f64)> = estimate
             .iter()
             .filter(|(n, _)| *n >= band_low && *n < band_high)

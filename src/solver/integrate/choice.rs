@@ -38,7 +38,7 @@ fn rk4_beam_limit(system: &System) -> f64 {
     let extra = modal_ratio.unwrap_or(0.0);
     // 200 frequencies from ω_max / 10⁴ to ω_max, geometrically spaced.
     (0..=200)
-        .map(|k| omega_max * 10f64.powf(-4.0 * k as f64 / 200.0))
+        .map(|k| omega_max * libm::pow(10f64, -4.0 * k as f64 / 200.0))
         .map(|omega| damped_mode_limit(omega, damping.ratio(omega) + extra))
         .fold(f64::INFINITY, f64::min)
 }

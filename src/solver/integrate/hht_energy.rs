@@ -315,7 +315,7 @@ mod tests {
         let mut start = sim.state().dynamic;
         let mut end = start.clone();
         let field = |scale: f64, k: f64| {
-            move |i: usize| scale * ((k * i as f64).sin() + 0.3 * (0.7 * k * i as f64).cos())
+            move |i: usize| scale * (libm::sin(k * i as f64) + 0.3 * libm::cos(0.7 * k * i as f64))
         };
         for (state, k) in [(&mut start, 0.13), (&mut end, 0.29)] {
             let fill = |x: &mut DVector<f64>, f: &dyn Fn(usize) -> f64| {

@@ -69,7 +69,7 @@ mod tests {
         let assembly = assemble(&crate::integrate::fixtures::two_paper_wheels()).unwrap();
         let system = assembly.system;
         let bodies = assembly.bodies;
-        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).cos());
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * libm::cos(i as f64));
         let v = DVector::zeros(u.len());
         let force = |normal: f64| ContactForce {
             tangential: 0.0,

@@ -141,7 +141,7 @@ mod tests {
     fn searched() -> (System, DVector<f64>, Vec<BodyState>, Vec<ContactFrame>) {
         let assembly = assemble(&crate::integrate::fixtures::two_paper_wheels()).unwrap();
         let system = assembly.system;
-        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * (i as f64).sin());
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * libm::sin(i as f64));
         let mut frames = Vec::new();
         let located = ([2.7, 15.9], [TrackPart::Beam; 2]);
         let bodies = assembly.bodies;
@@ -187,7 +187,7 @@ mod tests {
             scene.vehicles.push(third);
             let assembly = assemble(&scene).unwrap();
             let (system, mut bodies) = (assembly.system, assembly.bodies);
-            let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * (i as f64).sin());
+            let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 3e-2 * libm::sin(i as f64));
             let places = [-4.0, 9.3, system.beam.length + 0.1];
             for (contact, x) in system.contacts.iter().zip(places) {
                 bodies[contact.body].position.x = x;

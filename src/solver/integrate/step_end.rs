@@ -201,8 +201,8 @@ mod tests {
         let scene = scene_named("train-8-coaches-20m-300-rail");
         let system = assemble(&scene).unwrap().system;
         let n = system.beam.coordinates();
-        let u = DVector::from_fn(n, |i, _| 1e-3 * (0.37 * i as f64).sin());
-        let v = DVector::from_fn(n, |i, _| 2e-2 * (0.11 * i as f64).cos());
+        let u = DVector::from_fn(n, |i, _| 1e-3 * libm::sin(0.37 * i as f64));
+        let v = DVector::from_fn(n, |i, _| 2e-2 * libm::cos(0.11 * i as f64));
         let mut scratch = DVector::zeros(n);
         let mut expected = DVector::zeros(n);
         system
@@ -245,8 +245,8 @@ mod tests {
         let start = crate::Simulation::new(&scene).unwrap().state();
         let mut bodies = start.dynamic.bodies;
         for (i, b) in bodies.iter_mut().enumerate() {
-            b.angle += 1e-4 * (i as f64).sin();
-            b.velocity.y += 0.01 * (i as f64).cos();
+            b.angle += 1e-4 * libm::sin(i as f64);
+            b.velocity.y += 0.01 * libm::cos(i as f64);
             b.angular_velocity -= 2e-3 * i as f64;
         }
         let elements = &system.force_elements;
@@ -288,8 +288,8 @@ mod tests {
         ] {
             let system = assemble(&scene_named(name)).unwrap().system;
             let n = system.beam.coordinates();
-            let u = DVector::from_fn(n, |i, _| 1e-3 * (0.37 * i as f64).sin());
-            let v = DVector::from_fn(n, |i, _| 2e-2 * (0.11 * i as f64).cos());
+            let u = DVector::from_fn(n, |i, _| 1e-3 * libm::sin(0.37 * i as f64));
+            let v = DVector::from_fn(n, |i, _| 2e-2 * libm::cos(0.11 * i as f64));
             let (mut scratch, mut expected) = (DVector::zeros(n), DVector::zeros(n));
             system
                 .beam

@@ -1324,7 +1324,7 @@ mod tests {
     fn two_wheels() -> (System, Vec<ContactFrame>) {
         let assembly = assemble(&crate::integrate::fixtures::two_paper_wheels()).unwrap();
         let system = assembly.system;
-        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).sin());
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * libm::sin(i as f64));
         let mut frames = Vec::new();
         let guesses = [3.0, 15.5];
         let parts = [TrackPart::Beam; 2];
@@ -1392,7 +1392,7 @@ mod tests {
         let assembly = assemble(&scene).unwrap();
         let system = assembly.system;
         let mut frames = Vec::new();
-        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * (i as f64).sin());
+        let u = DVector::from_fn(system.beam.free_dofs(), |i, _| 1e-3 * libm::sin(i as f64));
         let located = (&[3.0, 15.5][..], &[TrackPart::Beam; 2][..]);
         contact_frames(&system, &u, &assembly.bodies, located, &mut frames).unwrap();
         let dt = 0.0025;

@@ -13,6 +13,7 @@ use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
 use super::{HermiteBeam, ELEMENTWISE_RATIO};
 use crate::band::{BandLdlt, SymBand};
+use crate::dense_modes::product;
 
 /// Largest n·p² (free DOFs times the squared subspace size) the subspace
 /// iteration is run for: about a second of work per iteration.
@@ -219,11 +220,11 @@ fn rayleigh_ritz(
         .l()
         .try_inverse()
         .ok_or("the subspace iteration lost rank")?;
-    let a = &l_inv * kr * l_inv.transpose();
+    let a = product(&product(&l_inv, &kr), &l_inv.transpose());
     let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
     let mut order: Vec<usize> = (0..p).collect();
     order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
-    let z = l_inv.transpose() * &eig.eigenvectors;
+    let z = product(&l_inv.transpose(), &eig.eigenvectors);
     let columns: Vec<DVector<f64>> = order.iter().map(|&i| y * z.column(i)).collect();
     let lambda = order.iter().map(|&i| eig.eigenvalues[i]).collect();
     Ok((lambda, DMatrix::from_columns(&columns)))

@@ -186,7 +186,7 @@ impl Shape {
                     return [0.0; 4];
                 }
                 let k = 2.0 * PI / wavelength;
-                let (s, c) = (k * u).sin_cos();
+                let (s, c) = libm::sincos(k * u);
                 let d = 0.5 * depth;
                 [-d * (1.0 + c), d * k * s, d * k * k * c, -d * k * k * k * s]
             }
@@ -195,7 +195,7 @@ impl Shape {
                 wavenumber: k,
                 phase,
             } => {
-                let (s, c) = (k * x + phase).sin_cos();
+                let (s, c) = libm::sincos(k * x + phase);
                 [a * s, a * k * c, -a * k * k * s, -a * k * k * k * c]
             }
             Shape::Table(ref spline) => spline.at(x),
@@ -216,7 +216,7 @@ fn smooth_step(u: f64, s: f64) -> Value {
         [1.0, 0.0, 0.0, 0.0]
     } else {
         let k = PI / s;
-        let (sn, c) = (k * u).sin_cos();
+        let (sn, c) = libm::sincos(k * u);
         [
             0.5 * (1.0 + sn),
             0.5 * k * c,
@@ -235,7 +235,7 @@ fn smooth_ramp(u: f64, s: f64) -> Value {
         [u, 1.0, 0.0, 0.0]
     } else {
         let step = smooth_step(u, s);
-        let value = 0.5 * (u + 0.5 * s) - s / (2.0 * PI) * (PI * u / s).cos();
+        let value = 0.5 * (u + 0.5 * s) - s / (2.0 * PI) * libm::cos(PI * u / s);
         [value, step[0], step[1], step[2]]
     }
 }
@@ -317,7 +317,7 @@ mod tests {
             wavelength: 4.0,
             phase: 0.5,
         });
-        assert!((sine.at(1.0)[0] - 0.002 * (PI / 2.0 + 0.5).sin()).abs() < 1e-18);
+        assert!((sine.at(1.0)[0] - 0.002 * libm::sin(PI / 2.0 + 0.5)).abs() < 1e-18);
         assert_consistent(&sine, &[-3.0, 0.1, 7.7]);
     }
 

@@ -10,7 +10,11 @@
 //! fraction of a second where a direct sum of N/2 cosines at N points would
 //! cost N²/2; its scalar planner is used so that the result does not depend
 //! on the SIMD instructions of the machine: the same seed, band and
-//! spacing give the same bits, whatever the track (see `MIN_PERIOD`).
+//! spacing give the same bits, whatever the track (see `MIN_PERIOD`). The
+//! phases' sines and cosines are libm's, the same on every CPU; rustfft's
+//! twiddle factors are glibc's, whose variant glibc picks by the CPU, and
+//! gave the same bits with and without FMA (docs/robustness.md, "The same
+//! bits on every CPU").
 
 use rand_chacha::rand_core::{RngCore, SeedableRng};
 use rand_chacha::ChaCha20Rng;
@@ -206,7 +210,9 @@ pub fn generate(spectrum: &Spectrum, grid: &Grid, seed: u64) -> PeriodicSpline {
             continue;
         }
         let amplitude = (2.0 * spectrum.density(frequency) * dn).sqrt();
-        let c = Complex::from_polar(amplitude, phase);
+        // `Complex::from_polar` would take glibc's sine and cosine.
+        let (sine, cosine) = libm::sincos(phase);
+        let c = Complex::new(amplitude * cosine, amplitude * sine);
         let theta = tau * k as f64 / n as f64;
         values[k] = c;
         curvatures[k] = c * PeriodicSpline::curvature_factor(theta, grid.spacing);

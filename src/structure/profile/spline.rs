@@ -127,7 +127,7 @@ impl PeriodicSpline {
     /// 6 (y_{j−1} − 2 y_j + y_{j+1})/Δx² are a circulant system: diagonal in
     /// the Fourier domain, where mode k (angle θ = 2πk/N) is scaled by this.
     pub fn curvature_factor(theta: f64, spacing: f64) -> f64 {
-        let c = theta.cos();
+        let c = libm::cos(theta);
         6.0 * (2.0 * c - 2.0) / (spacing * spacing * (4.0 + 2.0 * c))
     }
 }
