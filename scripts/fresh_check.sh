@@ -5,7 +5,8 @@
 # Debian packages that scripts/setup.sh installs removed first.
 #
 # Usage: bash scripts/fresh_check.sh [--purge] [--fresh-cargo-home] [--keep]
-#   --purge             apt-get purge libclang-dev, libtbb12 and what they brought
+#   --purge             apt-get purge libclang-dev, libtbb12, chromium, qemu-user
+#                       and what they brought
 #                       (root only), leaving what a fresh machine of our kind has
 #                       (libclang-cpp14)
 #   --fresh-cargo-home  an empty CARGO_HOME: every crate is downloaded again
@@ -26,7 +27,7 @@ done
 
 # Packages scripts/setup.sh may install, beyond a fresh machine's set.
 setup_packages=(libclang-dev libclang-14-dev libclang1-14 libclang-common-14-dev libclang-rt-14-dev
-    libtbb12 libtbbbind-2-5 libtbbmalloc2 chromium chromium-common)
+    libtbb12 libtbbbind-2-5 libtbbmalloc2 chromium chromium-common qemu-user libcapstone4)
 if [ "$purge" = 1 ]; then
     if [ "$(id -u)" != 0 ]; then
         echo "fresh_check: --purge needs root" >&2

@@ -47,7 +47,7 @@ fi
 
 if ! has_qemu_user; then
     echo "setup: installing qemu-user (runs the guards on an older CPU in tests)"
-    apt_install qemu-user
+    apt_install --no-install-recommends qemu-user
 fi
 
 if ! python3 -c "import venv, ensurepip" 2>/dev/null; then

@@ -17,9 +17,21 @@ struct Extremes {
     least_at: (String, f64),
     most: f64,
     balance: f64,
+    /// Where the run stopped with the rigid contact's chattering refusal
+    /// (`extremes_or_chatter`), if it did.
+    refused_at: Option<f64>,
 }
 
 fn extremes(scene: &Scene) -> Extremes {
+    let found = extremes_or_chatter(scene);
+    assert_eq!(found.refused_at, None, "no solver error");
+    found
+}
+
+/// `extremes`, where the run may also stop with the refusal that names
+/// the rigid contact's chattering (src/solver/events/active_set.rs): the
+/// forces up to it are checked all the same.
+fn extremes_or_chatter(scene: &Scene) -> Extremes {
     let mut sim = Simulation::new(scene).expect("builds");
     let names: Vec<String> = sim.outputs().iter().map(|o| o.name.clone()).collect();
     let forces: Vec<usize> = (0..names.len())
@@ -35,11 +47,19 @@ fn extremes(scene: &Scene) -> Extremes {
         least_at: (String::new(), 0.0),
         most: 0.0,
         balance: 0.0,
+        refused_at: None,
     };
     let dt = scene.solver.step;
     let end = (scene.solver.end_time.expect("an end time") / dt).round() as u64;
     for k in 1..=end {
-        let advance = sim.advance_to(k as f64 * dt).expect("no solver error");
+        let advance = match sim.advance_to(k as f64 * dt) {
+            Ok(advance) => advance,
+            Err(e) if e.message.contains("the rigid contact chatters") => {
+                found.refused_at = Some(e.time);
+                break;
+            }
+            Err(e) => panic!("no solver error: {e:?}"),
+        };
         sim.output_values(&mut values);
         for &i in &forces {
             if values[i] < found.least {
@@ -213,10 +233,26 @@ fn rigid_maglev_magnets_never_pull_at_16_elements() {
 /// elements, 0.5 ms) and −0.53 MN (40 elements, 1 ms) on main at c557099,
 /// and −0.44 MN with the energy balance off by 9.3e5 J at 20 elements on
 /// main at 85bf027.
+///
+/// At 40 elements and 1 ms the run stops at 1.524 s with the chattering
+/// refusal: the step's active set does not settle (docs/robustness.md,
+/// "The same bits on every CPU"). It did so before on every CPU without
+/// FMA, whose glibc rounds the bodies' rotations otherwise; it ran to its
+/// end only where glibc took its FMA variant. The rigid contact of massive
+/// wheelsets is ill-posed (docs/contact-laws.md): a refusal that says so
+/// is the contract, and a tensile force before it still fails.
 #[test]
 fn rigid_coach_wheelsets_never_pull() {
-    for (elements, step) in [(20, 5e-4), (40, 1e-3)] {
-        let found = extremes(&rigid_coaches(8, elements, step, 2.6));
+    for (elements, step, may_refuse) in [(20, 5e-4, false), (40, 1e-3, true)] {
+        let scene = rigid_coaches(8, elements, step, 2.6);
+        let found = if may_refuse {
+            extremes_or_chatter(&scene)
+        } else {
+            extremes(&scene)
+        };
+        if let Some(time) = found.refused_at {
+            println!("coaches, {elements} elements, {step} s: the chattering refusal at {time} s");
+        }
         assert_never_pulls(&format!("coaches, {elements} elements, {step} s"), &found);
         // The train's 1.4e9 J: HHT-α's books hold to 1e-3 at this step on
         // the chattering wheelsets (6.8e-4 and 6.5e-3 before the fix of
