@@ -2,7 +2,7 @@
 //! eigenproblem K φ = ω² M φ, through the Cholesky factor of M (nalgebra's
 //! symmetric eigensolver has no generalized form, so it is reduced by hand).
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector, Dyn, SymmetricEigen};
 
 /// The lowest `count` circular frequencies (rad/s, ascending) and their
 /// M-orthonormal shapes (columns; n × 0 for none) of dense `mass` and
@@ -20,10 +20,7 @@ pub fn lowest_modes(
         .l()
         .try_inverse()
         .ok_or(format!("{what} mass matrix is singular"))?;
-    let a = product(&product(&l_inv, &stiffness), &l_inv.transpose());
-    let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let (eig, mut order) = reduced_eigen(&l_inv, &stiffness);
     order.truncate(count.min(n));
     let omega = order
         .iter()
@@ -40,6 +37,20 @@ pub fn lowest_modes(
         DMatrix::from_columns(&columns)
     };
     Ok((omega, shapes))
+}
+
+/// The eigenpairs of K φ = λ M φ reduced by the inverse `l_inv` of M's
+/// Cholesky factor: those of L⁻¹ K L⁻ᵀ (symmetrised; its eigenvectors are
+/// y = Lᵀ φ), with their indices in ascending order of λ.
+pub fn reduced_eigen(
+    l_inv: &DMatrix<f64>,
+    stiffness: &DMatrix<f64>,
+) -> (SymmetricEigen<f64, Dyn>, Vec<usize>) {
+    let a = product(&product(l_inv, stiffness), &l_inv.transpose());
+    let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
+    let mut order: Vec<usize> = (0..a.nrows()).collect();
+    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    (eig, order)
 }
 
 /// `a b` a column at a time (nalgebra's matrix-vector product). nalgebra

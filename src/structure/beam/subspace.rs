@@ -9,11 +9,11 @@
 //! need a sparse-matrix type and a linear solver of their own, where the
 //! beam already has an O(n) band factor and band products.
 
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 use super::{HermiteBeam, ELEMENTWISE_RATIO};
 use crate::band::{BandLdlt, SymBand};
-use crate::dense_modes::product;
+use crate::dense_modes::{product, reduced_eigen};
 
 /// Largest n·p² (free DOFs times the squared subspace size) the subspace
 /// iteration is run for: about a second of work per iteration.
@@ -220,10 +220,7 @@ fn rayleigh_ritz(
         .l()
         .try_inverse()
         .ok_or("the subspace iteration lost rank")?;
-    let a = product(&product(&l_inv, &kr), &l_inv.transpose());
-    let eig = SymmetricEigen::new(0.5 * (&a + a.transpose()));
-    let mut order: Vec<usize> = (0..p).collect();
-    order.sort_by(|&i, &j| eig.eigenvalues[i].total_cmp(&eig.eigenvalues[j]));
+    let (eig, order) = reduced_eigen(&l_inv, &kr);
     let z = product(&l_inv.transpose(), &eig.eigenvectors);
     let columns: Vec<DVector<f64>> = order.iter().map(|&i| y * z.column(i)).collect();
     let lambda = order.iter().map(|&i| eig.eigenvalues[i]).collect();
