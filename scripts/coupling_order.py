@@ -48,13 +48,13 @@ import sys
 import tempfile
 
 import numpy as np
-from fmpy import extract, read_model_description
+from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "scripts" / "tests"))
 from test_coupling import BEAM, BUILTIN, COUPLED, CONNECTIONS, STARTS, STOP, C, D0, G, K, M  # noqa: E402
-from conftest import GUIDEWAY, read_csv  # noqa: E402
+from conftest import GUIDEWAY, extracted, read_csv  # noqa: E402
 
 EI = 8.5347e10
 VARIANTS = {
@@ -94,7 +94,7 @@ def instantiate(paths, starts):
     for name, path in paths.items():
         md = read_model_description(path)
         vrs[name] = {v.name: v.valueReference for v in md.modelVariables}
-        s = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+        s = FMU2Slave(guid=md.guid, unzipDirectory=extracted(path),
                       modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         s.instantiate()
         s.setupExperiment(startTime=0.0)

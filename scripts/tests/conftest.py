@@ -12,6 +12,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import tomllib
 import zipfile
 from xml.etree import ElementTree
@@ -47,9 +48,44 @@ _EXIT_STATUS = 0
 _HOSTS_KEEPING_FMUS = ("libcosimpy", "ecospy")
 
 
+# libcosim and Ecos unpack every FMU or SSP they load into a folder of their
+# own under the temporary directory (`libcosim_<uuid>`, `ecos_ssp_<uuid>`,
+# 4-6 MB each) and never remove it: a test run left dozens in /tmp. They
+# find that directory through TMPDIR, so the session gives them (and every
+# other temporary file of its tests) one of its own, removed when it passes
+# and named when it fails, for a look at what the failing tests left.
+# (Made in `pytest_configure`: scripts that import this module for its
+# helpers keep their own temporary directory.)
+SESSION_TMP = None
+
+
+def pytest_configure(config):
+    global SESSION_TMP
+    SESSION_TMP = pathlib.Path(tempfile.mkdtemp(prefix="guideway-pytest-"))
+    os.environ["TMPDIR"] = str(SESSION_TMP)
+    tempfile.tempdir = str(SESSION_TMP)
+
+
 def pytest_sessionfinish(session, exitstatus):
     global _EXIT_STATUS
     _EXIT_STATUS = int(exitstatus)
+    if SESSION_TMP is None:
+        return
+    if _EXIT_STATUS == 0:
+        shutil.rmtree(SESSION_TMP, ignore_errors=True)
+    else:
+        print(f"\nthe tests' temporary files are kept in {SESSION_TMP}", file=sys.stderr)
+
+
+def extracted(fmu):
+    """`fmu` unpacked once, beside it (`<name>.unzipped`), for every instance
+    a test makes of it: fmpy's `extract` without a folder makes a new one in
+    the temporary directory each time and leaves it there."""
+    fmu = pathlib.Path(fmu)
+    folder = fmu.with_name(fmu.name + ".unzipped")
+    if not folder.is_dir():
+        extract(str(fmu), str(folder))
+    return str(folder)
 
 
 @pytest.hookimpl(trylast=True)

@@ -16,10 +16,10 @@ import subprocess
 
 import numpy as np
 import pytest
-from fmpy import extract, read_model_description
+from fmpy import read_model_description
 from fmpy.fmi2 import FMU2Slave
 
-from conftest import GUIDEWAY, ROOT, read_csv
+from conftest import GUIDEWAY, ROOT, extracted, read_csv
 
 M, K, C, G = 5750.0, 1.595e6, 2.0e4, 9.81  # the quarter car (Yang & Yau 1997)
 UNSPRUNG = 575.0
@@ -122,7 +122,7 @@ def run_fmpy(paths, h, starts=STARTS, observed=OBSERVED):
     for name, path in paths.items():
         md = read_model_description(path)
         vrs[name] = {v.name: v.valueReference for v in md.modelVariables}
-        s = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+        s = FMU2Slave(guid=md.guid, unzipDirectory=extracted(path),
                       modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         s.instantiate()
         s.setupExperiment(startTime=0.0)
