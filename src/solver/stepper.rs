@@ -360,11 +360,13 @@ impl Step<'_> {
     }
 
     /// One step from the current time to `to`, or to the first event inside
-    /// it (a track boundary crossed, an open contact landing). Returns
-    /// whether it reached `to`.
+    /// it (a track boundary crossed, an open contact landing), or as far as
+    /// its active set settles (`solve_active_set`). Returns whether it
+    /// reached `to`.
     pub(crate) fn step_to(&mut self, to: f64) -> Result<bool, SolverError> {
         self.land_at_start()?;
-        let (solution, dt, lifting) = self.solve_extrapolated(to - self.state.time)?;
+        let full = to - self.state.time;
+        let (solution, dt, lifting) = self.solve_extrapolated(full)?;
         let track = self.first_event();
         let landing = self
             .first_landing()
@@ -402,6 +404,10 @@ impl Step<'_> {
         } else if let Some(contact) = lifting {
             self.record_events(None);
             self.lift_off_now(contact)?;
+            Ok(false)
+        } else if dt < full {
+            // The active set settled on a shorter step only
+            // (`solve_active_set`).
             Ok(false)
         } else {
             self.state.time = to;

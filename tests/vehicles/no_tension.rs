@@ -5,6 +5,7 @@
 //! normal force at every grid point is ≥ 0 within the lift-off's location
 //! tolerance.
 
+use guideway::simulation::EventKind;
 use guideway::{Advance, Scene, Simulation};
 
 use crate::common::{coach_bogie_on_gliders, GRAVITY};
@@ -234,32 +235,64 @@ fn rigid_maglev_magnets_never_pull_at_16_elements() {
 /// and −0.44 MN with the energy balance off by 9.3e5 J at 20 elements on
 /// main at 85bf027.
 ///
-/// At 40 elements and 1 ms the run stops at 1.524 s with the chattering
-/// refusal: the step's active set does not settle (docs/robustness.md,
-/// "The same bits on every CPU"). It did so before on every CPU without
-/// FMA, whose glibc rounds the bodies' rotations otherwise; it ran to its
-/// end only where glibc took its FMA variant. The rigid contact of massive
-/// wheelsets is ill-posed (docs/contact-laws.md): a refusal that says so
-/// is the contract, and a tensile force before it still fails.
+/// At 40 elements and 1 ms the run stopped at 1.524 s on main at 06152bf
+/// with the chattering refusal: the step's active set did not settle
+/// (docs/robustness.md, "The same bits on every CPU"). The set now
+/// settles on half that step (`solve_active_set`), and the run goes to
+/// its end.
 #[test]
 fn rigid_coach_wheelsets_never_pull() {
-    for (elements, step, may_refuse) in [(20, 5e-4, false), (40, 1e-3, true)] {
-        let scene = rigid_coaches(8, elements, step, 2.6);
-        let found = if may_refuse {
-            extremes_or_chatter(&scene)
-        } else {
-            extremes(&scene)
-        };
-        if let Some(time) = found.refused_at {
-            println!("coaches, {elements} elements, {step} s: the chattering refusal at {time} s");
-        }
+    for (elements, step) in [(20, 5e-4), (40, 1e-3)] {
+        let found = extremes(&rigid_coaches(8, elements, step, 2.6));
         assert_never_pulls(&format!("coaches, {elements} elements, {step} s"), &found);
         // The train's 1.4e9 J: HHT-α's books hold to 1e-3 at this step on
         // the chattering wheelsets (6.8e-4 and 6.5e-3 before the fix of
         // the greedy active set, 6.8e-4 at 20 elements on main at 85bf027;
-        // 3.8e-5 and 3.9e-5 with HHT-α's lift-off at a step's start).
+        // 3.8e-5 and 3.9e-5 with HHT-α's lift-off at a step's start; at 40
+        // elements 7.0e-5 to the refusal at 1.524 s on main at 06152bf,
+        // 2.8e-4 to the end).
         assert!(found.balance < 1e-3 * 1.37e9, "{}", found.balance);
     }
+}
+
+/// The step of the rigid coaches at 40 elements and 1 ms that starts at
+/// 1.5244342 s (5.66e-4 s to the grid point) has an active set that does
+/// not settle: contact 17 (`coach5_wheelset2`) is open, 19
+/// (`coach5_wheelset4`) closed 3 µm below the track with a separating
+/// velocity of 2.9 mm/s (a bounce just dropped), and 21
+/// (`coach6_wheelset2`) pulls at the step's end; 21's lift-off is located
+/// in the first 6 µs, where 19 pulls about m v / τ; opened at the start, 19
+/// ends the step below the track and closes again, and so on. On half the
+/// step it settles: 19 and 21 open at its start, and 17 lands inside it,
+/// the three together. On main at 06152bf this run stopped there with the
+/// chattering refusal.
+#[test]
+fn rigid_coaches_settle_the_step_at_1_524_s_on_half_of_it() {
+    let scene = rigid_coaches(8, 40, 1e-3, 1.53);
+    let mut sim = Simulation::new(&scene).expect("builds");
+    for k in 1..=1530 {
+        sim.advance_to(k as f64 * 1e-3).expect("no solver error");
+    }
+    let start = 1.524_434_161_253_023_7;
+    let at = |time: f64| (time - start).abs() < 1e-12;
+    let events = sim.events();
+    let lift_offs: Vec<usize> = (events.iter())
+        .filter(|e| at(e.time) && e.kind == EventKind::LiftOff)
+        .map(|e| e.contact)
+        .collect();
+    assert_eq!(lift_offs, [19, 21], "{events:?}");
+    let landing = (events.iter())
+        .find(|e| e.time > start && e.contact == 17)
+        .expect("17 lands");
+    assert_eq!(landing.kind, EventKind::Landing);
+    let half = 0.5 * (1.525 - start);
+    assert!(landing.time - start < half, "{landing:?}");
+    let mut landed: Vec<usize> = (events.iter())
+        .filter(|e| e.time == landing.time && e.kind == EventKind::Landing)
+        .map(|e| e.contact)
+        .collect();
+    landed.sort_unstable();
+    assert_eq!(landed, [17, 19, 21], "{events:?}");
 }
 
 /// The consistent mass matrix of a Hermite beam element of length `l`
@@ -350,10 +383,7 @@ fn a_glider_dropped_on_a_beam_lands_plastically_as_newtons_law_with_the_effectiv
         least_force = least_force.min(values[force]);
         drift = drift.max((values[balance] - start).abs());
     }
-    let landings = sim
-        .events()
-        .iter()
-        .filter(|e| e.kind == guideway::simulation::EventKind::Landing);
+    let landings = sim.events().iter().filter(|e| e.kind == EventKind::Landing);
     assert_eq!(landings.count(), 1, "{:?}", sim.events());
     let (m, m_eff) = (3000.0, midspan_effective_mass());
     let v = (2.0 * GRAVITY * HEIGHT).sqrt();
