@@ -213,7 +213,7 @@ fn no_start_point(
     error: crate::integrate::IntegrationError,
 ) -> String {
     use crate::numbers::fmt_number;
-    let crate::integrate::IntegrationError::LostContact { contact, x } = error else {
+    let crate::integrate::IntegrationError::LostContact { contact, x, .. } = error else {
         return format!("{error:?}");
     };
     let name = system

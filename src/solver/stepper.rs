@@ -656,10 +656,9 @@ fn step_failure(system: &System, s: &SimState, e: crate::iteration::StepError) -
     SolverError {
         time: s.time,
         message: match e {
-            StepError::LostContact { .. } => format!(
-                "{e}: {}",
-                heaviest_and_deflection(system, &s.dynamic.beam_displacement)
-            ),
+            StepError::LostContact { contact, x, centre } => {
+                lost_contact(system, s, (contact, x, centre))
+            }
             StepError::NotConverged { stage, .. } | StepError::Diverged { stage, .. }
                 if stage == FORCE_LAW_STAGE =>
             {
@@ -668,6 +667,37 @@ fn step_failure(system: &System, s: &SimState, e: crate::iteration::StepError) -
             e => e.to_string(),
         },
     }
+}
+
+/// A contact lost inside a step, named, with where the iteration's trial
+/// put it and the two causes seen: a body far heavier than the beam (a
+/// coach of 1e15 kg, thrown 476 km at its first step on the beam), and a
+/// rigid contact of a massive body chattering at a kink of the track (a
+/// 1,400 kg wheelset entering a 20 m span at 0.75 ms, thrown 24 m up with
+/// the beam's displacements at 4.8 mm; `tests/vehicles/no_tension.rs`).
+fn lost_contact(system: &System, s: &SimState, (c, x, centre): (usize, f64, [f64; 2])) -> String {
+    let name = system.contacts.get(c).map_or("?", |c| c.name.as_str());
+    let deflection = (s.dynamic.beam_displacement.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+    format!(
+        "no foot point of {name} on the beam could be found (last abscissa {} m): a trial of \
+         the contact iteration put it {} m {} the beam's axis at x = {} m, with the beam's \
+         displacements at {} m at the step's start: the contact forces it tried diverged. \
+         Either a body is too heavy for the beam (the heaviest is {}; lighter bodies or a \
+         stiffer beam keep the contacts on the track), or a rigid contact chatters at a kink \
+         of the track, a beam's end or a joint (a compliant contact law is well posed there: \
+         docs/contact-laws.md)",
+        short(x),
+        short(centre[1].abs()),
+        if centre[1] < 0.0 { "below" } else { "above" },
+        short(centre[0]),
+        short(deflection),
+        heaviest_body(system)
+    )
+}
+
+/// `x` to four significant digits, in words' width.
+fn short(x: f64) -> String {
+    crate::numbers::fmt_number(format!("{x:.3e}").parse().unwrap_or(x))
 }
 
 /// What most often loses a contact: the beam's largest displacement and

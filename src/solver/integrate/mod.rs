@@ -84,8 +84,14 @@ pub struct KnownLaws<'a> {
 /// Failure of one integration.
 #[derive(Debug, Clone, PartialEq)]
 pub enum IntegrationError {
-    /// No foot point: a body is far from the beam or the beam is wildly deformed.
-    LostContact { contact: usize, x: f64 },
+    /// No foot point: a body is far from the beam or the beam is wildly
+    /// deformed. `centre`: the contact's point (x, y) the search started
+    /// from, the last abscissa `x`.
+    LostContact {
+        contact: usize,
+        x: f64,
+        centre: [f64; 2],
+    },
     /// The implicit scheme's effective matrix for a step of `step` seconds
     /// has no factor (a non-positive pivot met by rounding on a very fine
     /// mesh).
@@ -141,6 +147,7 @@ pub fn contact_frames(
                 return Err(IntegrationError::LostContact {
                     contact: c,
                     x: e.last_x,
+                    centre: [centre.x, centre.y],
                 });
             }
         }

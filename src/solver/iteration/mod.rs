@@ -78,9 +78,11 @@ pub enum StepError {
     NonFinite {
         stage: &'static str,
     },
+    /// See `IntegrationError::LostContact`.
     LostContact {
         contact: usize,
         x: f64,
+        centre: [f64; 2],
     },
     Factorization {
         step: f64,
@@ -120,7 +122,7 @@ impl std::fmt::Display for StepError {
                 "a non-finite value appeared in the {stage} stage; the step is beyond the \
                  integrator's stability limit or the scene is degenerate"
             ),
-            StepError::LostContact { contact, x } => write!(
+            StepError::LostContact { contact, x, .. } => write!(
                 f,
                 "no foot point of contact {} on the beam could be found (last abscissa \
                  {x:.6} m)",
@@ -138,7 +140,9 @@ impl std::fmt::Display for StepError {
 impl From<IntegrationError> for StepError {
     fn from(e: IntegrationError) -> StepError {
         match e {
-            IntegrationError::LostContact { contact, x } => StepError::LostContact { contact, x },
+            IntegrationError::LostContact { contact, x, centre } => {
+                StepError::LostContact { contact, x, centre }
+            }
             IntegrationError::Factorization { step, reason } => {
                 StepError::Factorization { step, reason }
             }
