@@ -3,7 +3,7 @@
 //! the error of each run against the Richardson extrapolation of the three
 //! finest, and the cost of each run.
 
-use super::convergence::{estimate, Level};
+use super::convergence::{estimate, Estimate, Level};
 use super::refine::{level_of, refined, summarise, Refinement};
 use crate::report::check_run_length;
 use crate::scene::Scene;
@@ -61,10 +61,7 @@ pub fn converge(
     })?;
     let finest3 = &levels[rungs - 3..];
     let estimates = estimate(finest3, 2);
-    let not_converged = estimates
-        .iter()
-        .filter_map(|e| Some((e.name.clone(), e.not_converged.clone()?)))
-        .collect();
+    let not_converged = flags_in_order(&estimates);
     let points = estimates
         .iter()
         .flat_map(|e| {
@@ -77,6 +74,19 @@ pub fn converge(
         points,
         not_converged,
     })
+}
+
+/// The flagged figures and why, those that matter first: changing event
+/// counts, then the runs' largest disagreements; a spread at the
+/// iteration's tolerance (an exit time's 5.8e-10 s) last.
+fn flags_in_order(estimates: &[Estimate]) -> Vec<(String, String)> {
+    let mut flagged: Vec<&Estimate> = (estimates.iter())
+        .filter(|e| e.not_converged.is_some())
+        .collect();
+    flagged.sort_by(|a, b| b.disagreement().total_cmp(&a.disagreement()));
+    (flagged.iter())
+        .filter_map(|e| Some((e.name.clone(), e.not_converged.clone()?)))
+        .collect()
 }
 
 /// `Δt = 1e-3 s, 10 elements`.
@@ -126,4 +136,71 @@ pub fn to_csv(points: &[Point]) -> String {
         ));
     }
     csv
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::convergence::Figure;
+
+    fn level(step: f64, figures: &[(&str, f64, bool)]) -> Level {
+        let figure = |&(name, value, count): &(&str, f64, bool)| Figure {
+            name: name.into(),
+            value,
+            count,
+        };
+        Level {
+            step,
+            elements: 2,
+            cost_s: 0.0,
+            figures: figures.iter().map(figure).collect(),
+        }
+    }
+
+    /// A changing event count first, then the figure whose runs disagree
+    /// most, the exit time at the iteration's tolerance last; the names'
+    /// order would put it first.
+    #[test]
+    fn the_flags_that_matter_come_first() {
+        let runs = [
+            [1.0, 1.0 + 5.8e-10, 1.0 - 2e-11, 3.0, 2.2e5],
+            [1.0, 1.0 - 1e-10, 1.0 + 3e-11, 5.0, 1.9e5],
+            [1.0, 1.0 + 4e-10, 1.0 - 1e-11, 5.0, 2.1e5],
+        ];
+        let levels: Vec<Level> = [1e-3, 5e-4, 2.5e-4]
+            .iter()
+            .zip(&runs)
+            .map(|(&step, v)| {
+                level(
+                    step,
+                    &[
+                        ("a_exit_time", v[1], false),
+                        ("b_speed", v[2], false),
+                        ("events.lift_off", v[3], true),
+                        ("peak_contact_force", v[4], false),
+                        ("settled", v[0], false),
+                    ],
+                )
+            })
+            .collect();
+        let flags = flags_in_order(&estimate(&levels, 2));
+        let names: Vec<&str> = flags.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(
+            names,
+            [
+                "events.lift_off",
+                "peak_contact_force",
+                "a_exit_time",
+                "b_speed"
+            ]
+        );
+        assert!(
+            flags[1].1.ends_with("differ by 1.4e-1 of the figure"),
+            "{flags:?}"
+        );
+        assert!(
+            flags[2].1.ends_with("differ by 6.8e-10 of the figure"),
+            "{flags:?}"
+        );
+    }
 }
