@@ -677,7 +677,7 @@ fn step_failure(system: &System, s: &SimState, e: crate::iteration::StepError) -
 /// the beam's displacements at 4.8 mm; `tests/vehicles/no_tension.rs`).
 fn lost_contact(system: &System, s: &SimState, (c, x, centre): (usize, f64, [f64; 2])) -> String {
     let name = system.contacts.get(c).map_or("?", |c| c.name.as_str());
-    let deflection = (s.dynamic.beam_displacement.iter()).fold(0.0f64, |m, v| m.max(v.abs()));
+    let deflection = largest_displacement(&s.dynamic.beam_displacement);
     format!(
         "no foot point of {name} on the beam could be found (last abscissa {} m): a trial of \
          the contact iteration put it {} m {} the beam's axis at x = {} m, with the beam's \
@@ -700,11 +700,16 @@ fn short(x: f64) -> String {
     crate::numbers::fmt_number(format!("{x:.3e}").parse().unwrap_or(x))
 }
 
+/// The largest |u| of the beam's coordinates.
+fn largest_displacement(u: &DVector<f64>) -> f64 {
+    u.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
 /// What most often loses a contact: the beam's largest displacement and
 /// the heaviest body, in words.
 pub(crate) fn heaviest_and_deflection(system: &System, u: &DVector<f64>) -> String {
     use crate::numbers::fmt_number;
-    let deflection = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let deflection = largest_displacement(u);
     format!(
         "the beam's displacements reach {} m under the bodies' weight, the heaviest being \
          {}; lighter bodies or a stiffer beam keep the contacts on the track",

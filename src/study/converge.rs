@@ -80,12 +80,12 @@ pub fn converge(
 /// counts, then the runs' largest disagreements; a spread at the
 /// iteration's tolerance (an exit time's 5.8e-10 s) last.
 fn flags_in_order(estimates: &[Estimate]) -> Vec<(String, String)> {
-    let mut flagged: Vec<&Estimate> = (estimates.iter())
-        .filter(|e| e.not_converged.is_some())
+    let mut flagged: Vec<(&Estimate, &String)> = (estimates.iter())
+        .filter_map(|e| Some((e, e.not_converged.as_ref()?)))
         .collect();
-    flagged.sort_by(|a, b| b.disagreement().total_cmp(&a.disagreement()));
-    (flagged.iter())
-        .filter_map(|e| Some((e.name.clone(), e.not_converged.clone()?)))
+    flagged.sort_by(|(a, _), (b, _)| b.disagreement().total_cmp(&a.disagreement()));
+    (flagged.into_iter())
+        .map(|(e, why)| (e.name.clone(), why.clone()))
         .collect()
 }
 
@@ -141,21 +141,7 @@ pub fn to_csv(points: &[Point]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::study::convergence::Figure;
-
-    fn level(step: f64, figures: &[(&str, f64, bool)]) -> Level {
-        let figure = |&(name, value, count): &(&str, f64, bool)| Figure {
-            name: name.into(),
-            value,
-            count,
-        };
-        Level {
-            step,
-            elements: 2,
-            cost_s: 0.0,
-            figures: figures.iter().map(figure).collect(),
-        }
-    }
+    use crate::study::convergence::tests::level;
 
     /// A changing event count first, then the figure whose runs disagree
     /// most, the exit time at the iteration's tolerance last; the names'

@@ -221,17 +221,24 @@ impl Estimate {
     pub fn disagreement(&self) -> f64 {
         let runs: Option<Vec<f64>> = self.values.iter().copied().collect();
         match runs {
-            _ if self.count => f64::INFINITY,
-            None => f64::INFINITY,
-            Some(v) => {
-                let scale = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-                if scale > 0.0 {
-                    spread(&v) / scale
-                } else {
-                    0.0
-                }
-            }
+            Some(v) if !self.count => relative_spread(&v),
+            _ => f64::INFINITY,
         }
+    }
+}
+
+/// The largest magnitude of `v`.
+fn magnitude(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |m, x| m.max(x.abs()))
+}
+
+/// `spread` relative to the largest magnitude (0 where every run is 0).
+fn relative_spread(v: &[f64]) -> f64 {
+    let scale = magnitude(v);
+    if scale > 0.0 {
+        spread(v) / scale
+    } else {
+        0.0
     }
 }
 
@@ -246,8 +253,7 @@ fn spread(v: &[f64]) -> f64 {
 /// distance from the extrapolated value; a figure whose order is erratic
 /// gets the spread of its runs as its error and a reason.
 fn richardson(estimate: &mut Estimate, v: &[f64], base: usize) {
-    let scale = v.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-    let rounding = ROUNDING * scale;
+    let rounding = ROUNDING * magnitude(v);
     let (coarse, fine) = (v[0] - v[1], v[1] - v[2]);
     if coarse.abs() <= rounding && fine.abs() <= rounding {
         estimate.error = Some(rounding);
@@ -279,7 +285,7 @@ fn richardson(estimate: &mut Estimate, v: &[f64], base: usize) {
         // (an exit time's 5.8e-10 s) is read otherwise than one of 2e5 N.
         why.push_str(&format!(
             "; the runs differ by {:.1e} of the figure",
-            spread(v) / scale
+            relative_spread(v)
         ));
         estimate.error = Some(first_order_bound(v, base).max(rounding));
         estimate.order = order.is_finite().then_some(order);
@@ -361,10 +367,11 @@ pub fn halvings_needed(estimate: &Estimate, rtol: f64) -> Option<u32> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
-    fn level(step: f64, figures: &[(&str, f64, bool)]) -> Level {
+    /// A run of the ladder at `step` with `figures` (name, value, count).
+    pub(crate) fn level(step: f64, figures: &[(&str, f64, bool)]) -> Level {
         Level {
             step,
             elements: 2,
