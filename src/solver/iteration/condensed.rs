@@ -39,8 +39,11 @@ pub(super) struct Condensed {
     /// One loaded row's responses at every DOF of the build and, last, at
     /// a DOF the beam holds (`respond`).
     column: Vec<f64>,
-    /// Per build element (`elements`), its DOFs' places in `dofs`.
-    places: Vec<(usize, [Option<usize>; 4])>,
+    /// Per build element (`elements`), its DOFs' places in `dofs`; a
+    /// DOF the beam holds has the held place, `dofs.len()`.
+    places: Vec<(usize, [usize; 4])>,
+    /// A held DOF's column of A⁻¹ (zeros, `dofs.len()` of them).
+    held_column: Vec<f64>,
     /// The response weights (w_u, w_v) of the build.
     weights: (f64, f64),
     /// The elements `prepare` was given, in their order, this build's and
@@ -93,7 +96,7 @@ impl Condensed {
         std::mem::swap(&mut self.given, &mut self.last_given);
         self.places.clear();
         self.places
-            .extend(self.last_given.iter().map(|&e| (e, [None; 4])));
+            .extend(self.last_given.iter().map(|&e| (e, [0; 4])));
         self.places.sort_unstable_by_key(|p| p.0);
         self.places.dedup_by_key(|p| p.0);
         let mut dofs = std::mem::take(&mut self.next_dofs);
@@ -107,15 +110,17 @@ impl Condensed {
         // (the contacts stay on their elements for many steps).
         let kept = !new_band && dofs == self.dofs;
         self.next_dofs = std::mem::replace(&mut self.dofs, dofs);
+        let m = self.dofs.len();
         for (e, places) in &mut self.places {
             for (place, dof) in places.iter_mut().zip(beam.element_dofs(*e)) {
-                *place = dof.map(|d| self.dofs.binary_search(&d).expect("listed above"));
+                let at = |d| self.dofs.binary_search(&d).expect("listed above");
+                *place = dof.map_or(m, at);
             }
         }
+        self.held_column.resize(m, 0.0);
         if kept {
             return;
         }
-        let m = self.dofs.len();
         self.entries.resize(m * m, 0.0);
         let (inverse, _) = self.inverse.as_ref().expect("computed above");
         let walked = inverse.entries(&self.dofs, &mut self.walks, &mut self.entries);
@@ -124,7 +129,7 @@ impl Condensed {
 
     /// The places in the build's DOFs of element `e`'s (one of
     /// `prepare`'s elements): looked up once per contact, not per pair.
-    pub fn places(&self, e: usize) -> [Option<usize>; 4] {
+    pub fn places(&self, e: usize) -> [usize; 4] {
         let at = self.places.binary_search_by_key(&e, |p| p.0);
         self.places[at.expect("an element of the build")].1
     }
@@ -135,40 +140,36 @@ impl Condensed {
     /// and at a held one: once per loaded row, for all the elements
     /// measured (`response_at`). Each is the product of the pair's 4 × 4
     /// block with the row in nalgebra's order (column by column, the
-    /// entry w A⁻¹ times the row's; a missing DOF's entry 0), so the
-    /// operator keeps its bits.
-    pub fn respond(&mut self, loaded: [Option<usize>; 4], row: &Vector4<f64>, part: Part) {
+    /// entry w A⁻¹ times the row's, a held DOF's entry 0, summed from the
+    /// first column on), so the operator keeps its bits; the four columns
+    /// are taken in one pass.
+    pub fn respond(&mut self, loaded: [usize; 4], row: &Vector4<f64>, part: Part) {
         let m = self.dofs.len();
         let weight = match part {
             Part::Gap => self.weights.0,
             Part::Velocity => self.weights.1,
         };
-        let column = &mut self.column;
-        column.clear();
-        column.resize(m + 1, 0.0);
-        for (l, place) in loaded.iter().enumerate() {
-            let x = row[l];
-            let add = |y: &mut f64, t: f64| *y = if l == 0 { t } else { t + *y };
-            let (free, held) = column.split_at_mut(m);
-            match place {
-                Some(c) => {
-                    let entries = &self.entries[c * m..(c + 1) * m];
-                    for (y, e) in free.iter_mut().zip(entries) {
-                        add(y, (weight * e) * x);
-                    }
-                }
-                None => free.iter_mut().for_each(|y| add(y, 0.0 * x)),
-            }
-            add(&mut held[0], 0.0 * x);
+        // A held DOF's entry, 0 · 0, is the block's 0.
+        let [c0, c1, c2, c3] = loaded.map(|c| match c < m {
+            true => (weight, &self.entries[c * m..(c + 1) * m]),
+            false => (0.0, self.held_column.as_slice()),
+        });
+        let [x0, x1, x2, x3] = [row.x, row.y, row.z, row.w];
+        self.column.resize(m + 1, 0.0);
+        let (free, held) = self.column.split_at_mut(m);
+        let loaded_entries = c0.1.iter().zip(c1.1).zip(c2.1).zip(c3.1);
+        for (y, (((e0, e1), e2), e3)) in free.iter_mut().zip(loaded_entries) {
+            let first = (c1.0 * e1) * x1 + (c0.0 * e0) * x0;
+            *y = (c3.0 * e3) * x3 + ((c2.0 * e2) * x2 + first);
         }
+        held[0] = 0.0 * x3 + (0.0 * x2 + (0.0 * x1 + 0.0 * x0));
     }
 
     /// The last `respond`'s responses at a measured element's DOFs (its
     /// `places`).
     #[inline]
-    pub fn response_at(&self, measured: [Option<usize>; 4]) -> Vector4<f64> {
-        let held = self.column[self.dofs.len()];
-        Vector4::from(measured.map(|p| p.map_or(held, |r| self.column[r])))
+    pub fn response_at(&self, measured: [usize; 4]) -> Vector4<f64> {
+        Vector4::from(measured.map(|r| self.column[r]))
     }
 }
 
@@ -179,14 +180,10 @@ mod tests {
 
     /// The pair's 4 × 4 response block as the operator took it before
     /// `respond`: w A⁻¹ at (measured, loaded) places, 0 at a held DOF.
-    fn block(
-        c: &Condensed,
-        measured: [Option<usize>; 4],
-        loaded: [Option<usize>; 4],
-    ) -> Matrix4<f64> {
+    fn block(c: &Condensed, measured: [usize; 4], loaded: [usize; 4]) -> Matrix4<f64> {
         let m = c.dofs.len();
         Matrix4::from_fn(|k, l| match (measured[k], loaded[l]) {
-            (Some(r), Some(col)) => c.weights.1 * c.entries[col * m + r],
+            (r, col) if r < m && col < m => c.weights.1 * c.entries[col * m + r],
             _ => 0.0,
         })
     }
@@ -200,14 +197,16 @@ mod tests {
                 .map(|i| ((i * 7919 % 101) as f64 - 50.0) * 1.37e-9)
                 .collect(),
             weights: (0.3, 1.0 / 3.0),
+            held_column: vec![0.0; m],
             ..Default::default()
         };
         c.entries[8] = -0.0;
+        let held = m;
         let places = [
-            [Some(0), Some(1), Some(2), Some(3)],
-            [None, None, Some(4), Some(5)],
-            [Some(2), Some(3), None, None],
-            [None, None, None, None],
+            [0, 1, 2, 3],
+            [held, held, 4, 5],
+            [2, 3, held, held],
+            [held, held, held, held],
         ];
         let rows = [
             Vector4::new(0.25, -1.5, 0.75, 1e-3),

@@ -243,6 +243,17 @@ impl ResponseKey {
     }
 }
 
+/// A contact measured on the beam in a condensed build
+/// (`beam_compliance_condensed`): its first row and its rows' kinds in the
+/// operator, its beam rows as measured, and its DOFs' places among the
+/// build's (`Condensed::places`).
+struct MeasuredOnBeam {
+    first: usize,
+    kinds: &'static [usize],
+    rows: [Vector4<f64>; 2],
+    places: [usize; 4],
+}
+
 /// One (measured, applied) contact pair of the beam part of an operator.
 struct PairEntry<'a> {
     /// The measured contact's rows, the applied one's.
@@ -335,6 +346,7 @@ pub struct ContactIteration {
     delassus: Delassus,
     measured_elements: Vec<usize>,
     beam_rows: Vec<BeamRows>,
+    measured_on_beam: Vec<MeasuredOnBeam>,
     /// Per contact: open (no rows: its force is held at zero, its gap only
     /// measured), set by the caller for each step (`set_open`).
     open: Vec<bool>,
@@ -408,6 +420,7 @@ impl ContactIteration {
             delassus: Delassus::unbuilt(rows, system.contacts.len()),
             measured_elements: Vec::new(),
             beam_rows: Vec::new(),
+            measured_on_beam: Vec::new(),
             open: followers.clone(),
             contact_gaps: vec![0.0; system.contacts.len()],
             shapes: vec![ForceShape::default(); system.contacts.len()],
@@ -579,44 +592,66 @@ impl ContactIteration {
         let response = self.integrator.nominal_band_response();
         let response = response.expect("the caller checked it");
         self.condensed.prepare(response, system, elements);
-        let mut rows = std::mem::take(&mut self.beam_rows);
-        rows.clear();
-        rows.extend(
-            (measure_frames.iter().zip(start_frames)).map(|(measure, apply)| BeamRows {
-                measure: rows4(measure.beam_rows(h)),
-                apply: rows4(apply.beam_rows(h)),
-            }),
-        );
-        self.turn_measured_rows(&mut rows, measure_frames, part);
-        let places = |f: &ContactFrame| f.on_beam.then(|| self.condensed.places(f.shape.element));
-        let measured: Vec<_> = measure_frames.iter().map(places).collect();
+        let mut measured = std::mem::take(&mut self.measured_on_beam);
+        self.measure_on_beam(system, measure_frames, part, &mut measured);
+        let n = matrix.nrows();
+        let entries = matrix.as_mut_slice();
         for (j, apply) in start_frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
             let loaded = self.condensed.places(apply.shape.element);
+            let rows = rows4(apply.beam_rows(h));
             // `PairEntry::fill_part`'s entries, each loaded row's responses
             // found once for every measured contact.
-            let kinds_j = match part {
-                Part::Gap => &[1][..],
-                Part::Velocity => row_kinds(system.contacts[j].rolls()),
-            };
+            let (first, kinds_j) = self.operator_rows(system, j, part);
             for (b, &kj) in kinds_j.iter().enumerate() {
-                self.condensed.respond(loaded, &rows[j].apply[kj], part);
-                for (i, measure) in measured.iter().enumerate() {
-                    let Some(measure) = *measure else { continue };
-                    let response = self.condensed.response_at(measure);
-                    let m = &rows[i].measure;
-                    if part == Part::Gap {
-                        matrix[(i, j)] = m[1].dot(&response);
-                        continue;
-                    }
-                    let kinds_i = row_kinds(system.contacts[i].rolls());
-                    for (ai, &ki) in kinds_i.iter().enumerate() {
-                        let at = (self.offsets[i] + ai, self.offsets[j] + b);
-                        matrix[at] = m[ki].dot(&response);
+                self.condensed.respond(loaded, &rows[kj], part);
+                let column = &mut entries[(first + b) * n..][..n];
+                for m in &measured {
+                    let response = self.condensed.response_at(m.places);
+                    for (a, &ki) in m.kinds.iter().enumerate() {
+                        column[m.first + a] = m.rows[ki].dot(&response);
                     }
                 }
             }
         }
-        self.beam_rows = rows;
+        self.measured_on_beam = measured;
+    }
+
+    /// The contacts of `frames` on the beam, into `measured`: their rows
+    /// in `part`'s operator, their measured beam rows (turned, `turn`) and
+    /// their DOFs' places in the condensed build.
+    fn measure_on_beam(
+        &self,
+        system: &System,
+        frames: &[ContactFrame],
+        part: Part,
+        measured: &mut Vec<MeasuredOnBeam>,
+    ) {
+        let h = system.beam.surface_offset;
+        let turns = self.turns(part);
+        measured.clear();
+        for (i, frame) in frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
+            let mut rows = rows4(frame.beam_rows(h));
+            if let Some(&turn) = turns.get(i) {
+                turn::add_turn(rows[1].iter_mut(), frame, turn);
+            }
+            let (first, kinds) = self.operator_rows(system, i, part);
+            let places = self.condensed.places(frame.shape.element);
+            measured.push(MeasuredOnBeam {
+                first,
+                kinds,
+                rows,
+                places,
+            });
+        }
+    }
+
+    /// Contact c's first row in `part`'s operator and its rows' kinds
+    /// there (`row_kinds`; the gap operator has the normal row alone).
+    fn operator_rows(&self, system: &System, c: usize, part: Part) -> (usize, &'static [usize]) {
+        match part {
+            Part::Gap => (c, &[1]),
+            Part::Velocity => (self.offsets[c], row_kinds(system.contacts[c].rolls())),
+        }
     }
 
     /// Beam parts of ∂e/∂p and ∂g/∂p_n for other step lengths (the
