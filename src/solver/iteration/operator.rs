@@ -53,11 +53,31 @@ pub(super) struct Layout {
 }
 
 /// Which entries of a listing are nonzero: the listing's serial
-/// (`Assembly::list`), and a bit per listed entry, in their order.
+/// (`Assembly::list`), and a flag per listed entry, in their order.
 #[derive(Clone, PartialEq, Eq)]
 struct Pattern {
     listing: u64,
-    nonzero: Vec<u64>,
+    nonzero: Vec<bool>,
+}
+
+/// Listed entries of one column: its rows `first..first + count`.
+#[derive(Debug, Clone, Copy)]
+struct Run {
+    column: u32,
+    first: u32,
+    count: u32,
+}
+
+impl Run {
+    fn rows(&self) -> std::ops::Range<usize> {
+        self.first as usize..(self.first + self.count) as usize
+    }
+
+    /// Its entries' places in an n × n column-major matrix.
+    fn places(&self, n: usize) -> std::ops::Range<usize> {
+        let start = self.column as usize * n + self.first as usize;
+        start..start + self.count as usize
+    }
 }
 
 /// Rows an operator's entries couple, inverted together.
@@ -92,10 +112,12 @@ pub(super) struct Assembly {
     pub contacts: Vec<ContactRows>,
     /// Those `entries` were listed for.
     listed_for: Vec<ContactRows>,
-    /// The entries (row, column) the build may write, ordered by the
-    /// column's contact, the row's contact, the column, the row; empty on
-    /// an operator inverted whole (`EXPLICIT_INVERSE_ROWS`).
-    entries: Vec<(u32, u32)>,
+    /// The entries the build may write, column by column, each column's
+    /// rows increasing and run together where they follow each other (the
+    /// contacts on the beam are mostly neighbours: a run is a slice of
+    /// the matrix, no index an entry); empty on an operator inverted whole
+    /// (`EXPLICIT_INVERSE_ROWS`).
+    runs: Vec<Run>,
     /// Whether a contact is open.
     any_open: bool,
     /// Per row: its contact is open (read only when `any_open`).
@@ -116,7 +138,7 @@ impl Default for Assembly {
             matrix: DMatrix::zeros(0, 0),
             contacts: Vec::new(),
             listed_for: Vec::new(),
-            entries: Vec::new(),
+            runs: Vec::new(),
             any_open: false,
             open_rows: Vec::new(),
             measured: Vec::new(),
@@ -127,6 +149,22 @@ impl Default for Assembly {
                 nonzero: Vec::new(),
             },
         }
+    }
+}
+
+/// Lists `rows` of column `column` after the runs of `runs`: in the last
+/// run where they follow it.
+fn push_rows(runs: &mut Vec<Run>, column: usize, rows: std::ops::Range<usize>) {
+    let (column, first, count) = (column as u32, rows.start as u32, rows.len() as u32);
+    match runs.last_mut() {
+        Some(last) if last.column == column && last.first + last.count == first => {
+            last.count += count;
+        }
+        _ => runs.push(Run {
+            column,
+            first,
+            count,
+        }),
     }
 }
 
@@ -158,7 +196,7 @@ impl Assembly {
         if self.matrix.nrows() != n {
             self.matrix = DMatrix::zeros(n, n);
             self.listed_for.clear();
-            self.entries.clear();
+            self.runs.clear();
         }
         // `open_rows` is read only when a contact is open: the paper's
         // scenes, all closed, skip it.
@@ -197,7 +235,7 @@ impl Assembly {
         for c in self.contacts.iter().filter(|c| c.open) {
             self.open_rows[c.first..c.first + c.count].fill(true);
         }
-        self.entries.clear();
+        self.runs.clear();
         let contacts = &self.contacts;
         self.measured.clear();
         let on_beam = (0..contacts.len()).filter(|&c| contacts[c].measured_on_beam);
@@ -210,11 +248,9 @@ impl Assembly {
             } else {
                 body
             };
-            for row in rows_of.iter().map(|&i| &contacts[i]) {
-                for b in column.first..column.first + column.count {
-                    for a in row.first..row.first + row.count {
-                        self.entries.push((a as u32, b as u32));
-                    }
+            for b in column.first..column.first + column.count {
+                for row in rows_of.iter().map(|&i| &contacts[i]) {
+                    push_rows(&mut self.runs, b, row.first..row.first + row.count);
                 }
             }
         }
@@ -237,36 +273,42 @@ impl Assembly {
             return matrix.iter().all(|x| x.is_finite());
         }
         if self.any_open {
-            for &(row, column) in &self.entries {
-                let (r, c) = (row as usize, column as usize);
-                if self.open_rows[r] || self.open_rows[c] {
-                    matrix[c * n + r] = if r == c { 1.0 } else { 0.0 };
+            for run in &self.runs {
+                let c = run.column as usize;
+                for r in run.rows() {
+                    if self.open_rows[r] || self.open_rows[c] {
+                        matrix[c * n + r] = if r == c { 1.0 } else { 0.0 };
+                    }
                 }
             }
         }
-        // Branch-free, a bit an entry: pushing the nonzero entries and
-        // comparing them with the last build's was most of this pass.
+        // Branch-free, a flag an entry, a run's slice at a time: pushing
+        // the nonzero entries and comparing them with the last build's was
+        // most of this pass.
         let mut finite = true;
         self.pattern.listing = self.listing;
         self.pattern.nonzero.clear();
-        for chunk in self.entries.chunks(64) {
-            let mut word = 0u64;
-            for (k, &(row, column)) in chunk.iter().enumerate() {
-                let x = matrix[column as usize * n + row as usize];
+        for run in &self.runs {
+            let nonzero = matrix[run.places(n)].iter().map(|&x| {
                 finite &= x.is_finite();
-                word |= u64::from(x != 0.0) << k;
-            }
-            self.pattern.nonzero.push(word);
+                x != 0.0
+            });
+            self.pattern.nonzero.extend(nonzero);
         }
         finite
     }
 
     /// The nonzero entries (row, column) of the build.
     fn nonzero(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
-        let words = &self.pattern.nonzero;
-        (self.entries.iter().enumerate())
-            .filter(|(k, _)| words[k / 64] >> (k % 64) & 1 == 1)
-            .map(|(_, &(r, c))| (r as usize, c as usize))
+        self.entries()
+            .zip(&self.pattern.nonzero)
+            .filter(|(_, &nonzero)| nonzero)
+            .map(|(entry, _)| entry)
+    }
+
+    /// The listed entries (row, column), in their order.
+    fn entries(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        (self.runs.iter()).flat_map(|run| run.rows().map(|r| (r, run.column as usize)))
     }
 
     /// Zeroes the entries the build wrote.
@@ -277,8 +319,8 @@ impl Assembly {
             matrix.fill(0.0);
             return;
         }
-        for &(row, column) in &self.entries {
-            matrix[column as usize * n + row as usize] = 0.0;
+        for run in &self.runs {
+            matrix[run.places(n)].fill(0.0);
         }
     }
 
@@ -665,7 +707,7 @@ mod tests {
                 })
                 .collect();
             assembly.list(n, &bodies);
-            assert!(assembly.entries.is_empty(), "no listing");
+            assert!(assembly.runs.is_empty(), "no listing");
             assembly.matrix.copy_from(&m);
             let mut inverted = assembly.invert(previous).unwrap();
             assert_eq!(assembly.matrix.amax(), 0.0, "left zero");
@@ -701,22 +743,34 @@ mod tests {
         let bodies = vec![vec![0, 1], vec![2], vec![3]];
         // 17 rows: above those inverted whole (the last 11 no contact's).
         assembly.list(17, &bodies);
-        let mut listed = assembly.entries.clone();
+        let entries: Vec<_> = assembly.entries().collect();
+        let mut listed = entries.clone();
         listed.sort_unstable();
         listed.dedup();
-        assert_eq!(listed.len(), assembly.entries.len(), "each entry once");
-        let body_block = |a: u32, b: u32| a < 4 && b < 4;
-        let beam = |a: u32, b: u32| [0, 1, 4].contains(&a) && [2, 3, 4].contains(&b);
-        let expected: Vec<(u32, u32)> = (0..6u32)
-            .flat_map(|r| (0..6u32).map(move |c| (r, c)))
+        assert_eq!(listed.len(), entries.len(), "each entry once");
+        let body_block = |a: usize, b: usize| a < 4 && b < 4;
+        let beam = |a: usize, b: usize| [0, 1, 4].contains(&a) && [2, 3, 4].contains(&b);
+        let expected: Vec<(usize, usize)> = (0..6)
+            .flat_map(|r| (0..6).map(move |c| (r, c)))
             .filter(|&(r, c)| body_block(r, c) || beam(r, c) || r == c)
             .collect();
         assert_eq!(listed, expected);
-        // Column-major by contacts: the column's contact first.
-        let contact_of = |row: u32| [0, 0, 1, 1, 2, 3][row as usize];
-        let keys: Vec<_> = (assembly.entries.iter())
-            .map(|&(r, c)| (contact_of(c), contact_of(r), c, r))
-            .collect();
+        // Column-major, rows increasing, the rows that follow each other
+        // run together.
+        let keys: Vec<_> = entries.iter().map(|&(r, c)| (c, r)).collect();
         assert!(keys.windows(2).all(|w| w[0] < w[1]), "{keys:?}");
+        let runs: Vec<_> = (assembly.runs.iter())
+            .map(|run| (run.column, run.first, run.count))
+            .collect();
+        let expected_runs = [
+            (0, 0, 4),
+            (1, 0, 4),
+            (2, 0, 5),
+            (3, 0, 5),
+            (4, 0, 2),
+            (4, 4, 1),
+            (5, 5, 1),
+        ];
+        assert_eq!(runs, expected_runs);
     }
 }
