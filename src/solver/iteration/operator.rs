@@ -118,6 +118,8 @@ pub(super) struct Assembly {
     /// the matrix, no index an entry); empty on an operator inverted whole
     /// (`EXPLICIT_INVERSE_ROWS`).
     runs: Vec<Run>,
+    /// The entries the runs hold.
+    listed_entries: usize,
     /// Whether a contact is open.
     any_open: bool,
     /// Per row: its contact is open (read only when `any_open`).
@@ -139,6 +141,7 @@ impl Default for Assembly {
             contacts: Vec::new(),
             listed_for: Vec::new(),
             runs: Vec::new(),
+            listed_entries: 0,
             any_open: false,
             open_rows: Vec::new(),
             measured: Vec::new(),
@@ -254,6 +257,7 @@ impl Assembly {
                 }
             }
         }
+        self.listed_entries = self.runs.iter().map(|run| run.count as usize).sum();
     }
 
     /// Masks the open rows and columns (identity), checks the entries and
@@ -287,13 +291,15 @@ impl Assembly {
         // most of this pass.
         let mut finite = true;
         self.pattern.listing = self.listing;
-        self.pattern.nonzero.clear();
+        self.pattern.nonzero.resize(self.listed_entries, false);
+        let mut flags = self.pattern.nonzero.as_mut_slice();
         for run in &self.runs {
-            let nonzero = matrix[run.places(n)].iter().map(|&x| {
+            let (these, rest) = flags.split_at_mut(run.count as usize);
+            for (nonzero, &x) in these.iter_mut().zip(&matrix[run.places(n)]) {
                 finite &= x.is_finite();
-                x != 0.0
-            });
-            self.pattern.nonzero.extend(nonzero);
+                *nonzero = x != 0.0;
+            }
+            flags = rest;
         }
         finite
     }
@@ -403,19 +409,13 @@ impl Layout {
             let k = group.rows.len();
             let taken =
                 std::mem::replace(&mut group.inverted, Inverted::Inverse(DMatrix::zeros(0, 0)));
-            let mut sub = match taken {
-                Inverted::Inverse(m) if m.nrows() == k => m,
-                _ => DMatrix::zeros(k, k),
+            let mut storage: Vec<f64> = match taken {
+                Inverted::Inverse(m) => m.data.into(),
+                _ => Vec::with_capacity(k * k),
             };
-            // Column by column on the slices: nalgebra's indexing checked
-            // both indices of every entry gathered.
-            let gathered = sub.as_mut_slice().chunks_exact_mut(k);
-            for (to, &j) in gathered.zip(&group.rows) {
-                let column = &mut entries[j * n..(j + 1) * n];
-                for (x, &i) in to.iter_mut().zip(&group.rows) {
-                    *x = std::mem::take(&mut column[i]);
-                }
-            }
+            storage.clear();
+            take_block(entries, n, &group.rows, &mut storage);
+            let mut sub = DMatrix::from_vec(k, k, storage);
             group.inverted = if k > FACTORED_GROUP_ROWS {
                 let lu = sub.lu();
                 lu.is_invertible().then_some(Inverted::Factors(lu))?
@@ -424,6 +424,25 @@ impl Layout {
             };
         }
         Some(())
+    }
+}
+
+/// Takes the entries of `rows` × `rows` (increasing, two or more) out of
+/// the n × n column-major `entries` into `block`, column by column, and
+/// leaves zeros there; a column's slice at a time where the rows follow
+/// each other (a group of contacts on the beam), not an index an entry.
+fn take_block(entries: &mut [f64], n: usize, rows: &[usize], block: &mut Vec<f64>) {
+    let (first, last) = (rows[0], rows[rows.len() - 1]);
+    let contiguous = last - first + 1 == rows.len();
+    for &j in rows {
+        let column = &mut entries[j * n..(j + 1) * n];
+        if contiguous {
+            let taken = &mut column[first..=last];
+            block.extend_from_slice(taken);
+            taken.fill(0.0);
+        } else {
+            block.extend(rows.iter().map(|&i| std::mem::take(&mut column[i])));
+        }
     }
 }
 
