@@ -749,27 +749,34 @@ impl ContactIteration {
         matrix: &mut DMatrix<f64>,
     ) {
         let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
+        let n = matrix.nrows();
+        let entries = matrix.as_mut_slice();
         for (i, ci) in system.contacts.iter().enumerate() {
+            let body = &system.bodies[ci.body];
+            let inverse_inertia = body.inverse_inertia();
             let measure = &measure_frames[i];
             let (mbt, mbn) = measure.body_rows(ci.radius());
             let measure_rows = [mbt, mbn];
+            let (first_i, kinds_i) = self.operator_rows(system, i, part);
             for &j in &self.contacts_of_body[ci.body] {
-                let cj = &system.contacts[j];
-                let body = &system.bodies[ci.body];
                 let apply = &start_frames[j];
-                if part == Part::Gap {
-                    matrix[(i, j)] +=
-                        position_weight * body.compliance(&measure.normal(), &apply.normal());
-                    continue;
-                }
-                let inverse_inertia = body.inverse_inertia();
-                let (bt, bn) = apply.body_rows(cj.radius());
+                let (bt, bn) = apply.body_rows(system.contacts[j].radius());
                 let rows = [bt, bn];
-                for (a, &ki) in row_kinds(ci.rolls()).iter().enumerate() {
-                    for (b, &kj) in row_kinds(cj.rolls()).iter().enumerate() {
+                let (first_j, kinds_j) = self.operator_rows(system, j, part);
+                let entry = |ki: usize, kj: usize| match part {
+                    Part::Gap => {
+                        position_weight * body.compliance(&measure.normal(), &apply.normal())
+                    }
+                    Part::Velocity => {
                         let (m, r) = (&measure_rows[ki], &rows[kj]);
-                        matrix[(self.offsets[i] + a, self.offsets[j] + b)] += velocity_weight
-                            * (body.compliance(&m.xy(), &r.xy()) + m.z * r.z * inverse_inertia);
+                        velocity_weight
+                            * (body.compliance(&m.xy(), &r.xy()) + m.z * r.z * inverse_inertia)
+                    }
+                };
+                for (b, &kj) in kinds_j.iter().enumerate() {
+                    let column = &mut entries[(first_j + b) * n..][..n];
+                    for (a, &ki) in kinds_i.iter().enumerate() {
+                        column[first_i + a] += entry(ki, kj);
                     }
                 }
             }
