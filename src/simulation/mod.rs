@@ -16,6 +16,8 @@ use crate::system::System;
 mod coaches_tests;
 #[cfg(test)]
 mod prediction_tests;
+#[cfg(test)]
+mod restart_seed_tests;
 pub mod run_end;
 #[cfg(test)]
 mod secant_tests;

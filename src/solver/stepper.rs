@@ -101,6 +101,15 @@ pub struct Stepper {
     /// A step was solved without the energy bookkeeping (no sink read it):
     /// the energy totals no longer hold, and are reported as NaN.
     pub(crate) unbooked: bool,
+    /// The forces of a restart's last trial step, its restarted contacts'
+    /// at the restart's p: the guess of the step after it, which is the
+    /// same step from almost the same start (`Step::restart_passes`),
+    /// for a step as long; taken by the next step solved.
+    pub(crate) restart_guess: Option<(f64, Vec<ContactForce>)>,
+    /// Whether a restart's trial steps hand their ends on as the next
+    /// one's prediction (`TimeIntegrator::seed_prediction`); off only
+    /// where a test compares the two ways.
+    pub(crate) seeds_restarts: bool,
 }
 
 /// One call's view of everything a step reads and writes: the stepper's
@@ -142,6 +151,8 @@ impl Stepper {
             reopenings: (0, 0),
             joint_impacts: Vec::new(),
             unbooked: false,
+            restart_guess: None,
+            seeds_restarts: true,
         }
     }
 
@@ -157,6 +168,11 @@ impl Stepper {
         params: &SolverParameters,
         target: f64,
     ) -> Result<Advance, SolverError> {
+        // What a restart hands on is for the step after it, in the same
+        // call (a rest step follows its restart at once): none is left
+        // from a call that ended on an exit or an error, nor crosses a
+        // state set between calls.
+        self.forget_restart();
         let mut step = Step {
             work: self,
             system,
@@ -165,6 +181,12 @@ impl Stepper {
             params,
         };
         step.advance_to(target)
+    }
+
+    /// Forget what the last restart handed on to the step after it.
+    pub(crate) fn forget_restart(&mut self) {
+        self.restart_guess = None;
+        self.iteration.seed_prediction(None);
     }
 
     /// The contact iteration (its integrator, frame memo and counters).
@@ -425,11 +447,16 @@ impl Step<'_> {
         let s = &*self.state;
         let mut guess = std::mem::take(&mut self.work.guess);
         guess.clear();
-        guess.extend(
-            s.force_history
-                .iter()
-                .map(|h| extrapolate(h, &s.step_history, dt)),
-        );
+        match self.work.restart_guess.take() {
+            Some((step, forces)) if step == dt && forces.len() == s.force_history.len() => {
+                guess.extend_from_slice(&forces)
+            }
+            _ => guess.extend(
+                s.force_history
+                    .iter()
+                    .map(|h| extrapolate(h, &s.step_history, dt)),
+            ),
+        }
         let solution = self.solve_active_set(&guess, dt);
         self.work.guess = guess;
         solution

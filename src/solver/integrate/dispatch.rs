@@ -130,6 +130,11 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::hold_followers(&mut **s, held), )* }
             }
 
+            /// See `TimeIntegrator::seed_prediction`.
+            pub fn seed_prediction(&mut self, end: Option<(&DynamicState, f64)>) {
+                match self { $( Integrator::$variant(s) => TimeIntegrator::seed_prediction(&mut **s, end), )* }
+            }
+
             /// See `TimeIntegrator::predict_with_accelerations`.
             pub fn predict_with_accelerations(&mut self, on: bool) {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::predict_with_accelerations(&mut **s, on), )* }

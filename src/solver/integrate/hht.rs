@@ -40,6 +40,16 @@ struct Base {
     acceleration: DVector<f64>,
 }
 
+/// A step's end handed over as the next step's first prediction
+/// (`Hht::seed_prediction`).
+#[derive(Debug, Clone)]
+struct Seed {
+    dt: f64,
+    displacement: DVector<f64>,
+    velocity: DVector<f64>,
+    bodies: Vec<BodyState>,
+}
+
 pub struct Hht {
     alpha: f64,
     beta: f64,
@@ -79,6 +89,10 @@ pub struct Hht {
     /// Whether the first prediction takes the start's accelerations
     /// (`predict_from`).
     pub(super) predicts_accelerations: bool,
+    /// The end handed over for the next step (`seed_prediction`), and the
+    /// one `begin_step` took for the step it begins (a step as long).
+    seed: Option<Seed>,
+    seeded: Option<Seed>,
     frames: Vec<ContactFrame>,
     guesses: Vec<f64>,
     load: DVector<f64>,
@@ -202,6 +216,8 @@ impl Hht {
             known_laws: None,
             known_gaps: Vec::new(),
             predicts_accelerations: false,
+            seed: None,
+            seeded: None,
             frames: Vec::new(),
             guesses: Vec::new(),
             load: z(),
@@ -238,6 +254,7 @@ impl Hht {
     /// if it is not the nominal step's.
     pub fn begin_step(&mut self, system: &System, dt: f64) -> Result<(), IntegrationError> {
         self.has_prediction = false;
+        self.seeded = self.seed.take().filter(|seed| seed.dt == dt);
         self.known_laws = None;
         self.start_known = false;
         self.predictor_dt = None;
@@ -383,6 +400,17 @@ impl Hht {
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
         self.known_laws = None;
+        if let Some(seed) = self.seeded.take() {
+            if seed.displacement.len() == start.beam_displacement.len()
+                && seed.bodies.len() == start.bodies.len()
+            {
+                copy(&mut self.predicted_u, &seed.displacement);
+                copy(&mut self.predicted_v, &seed.velocity);
+                self.predicted_bodies.clear();
+                self.predicted_bodies.extend_from_slice(&seed.bodies);
+                return;
+            }
+        }
         copy(&mut self.predicted_u, &start.beam_displacement);
         self.predicted_u.axpy(dt, &start.beam_velocity, 1.0);
         copy(&mut self.predicted_v, &start.beam_velocity);
@@ -703,6 +731,16 @@ impl Hht {
                 }
             };
         }
+    }
+
+    /// See `TimeIntegrator::seed_prediction`.
+    pub fn seed_prediction(&mut self, end: Option<(&DynamicState, f64)>) {
+        self.seed = end.map(|(end, dt)| Seed {
+            dt,
+            displacement: end.beam_displacement.clone(),
+            velocity: end.beam_velocity.clone(),
+            bodies: end.bodies.clone(),
+        });
     }
 
     /// K u + C v at the last accepted step's end, kept (see `EndForces`).

@@ -63,6 +63,10 @@ impl TimeIntegrator for Hht {
         Hht::hold_followers(self, held)
     }
 
+    fn seed_prediction(&mut self, end: Option<(&DynamicState, f64)>) {
+        Hht::seed_prediction(self, end)
+    }
+
     fn predict_with_accelerations(&mut self, on: bool) {
         self.predicts_accelerations = on;
     }

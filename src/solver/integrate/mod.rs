@@ -424,6 +424,13 @@ pub trait TimeIntegrator: Sized {
     /// start's accelerations (u0 + Δt v0 + ½Δt² a0, v0 + Δt a0) rather
     /// than at constant velocity (a scheme that lags its force laws).
     fn predict_with_accelerations(&mut self, _on: bool) {}
+    /// The next step, if it is `dt` long, predicts its first integration
+    /// at `end` instead of from its start (a scheme that lags its force
+    /// laws): where a step is solved again from almost the same start (a
+    /// restart's trial steps and the step after them), the force elements
+    /// are then taken near where they end. None forgets it; the step after
+    /// the next never sees it.
+    fn seed_prediction(&mut self, _end: Option<(&DynamicState, f64)>) {}
     /// Every follower's force in the last integration (empty where the
     /// scheme evaluates them in its stages).
     fn held_follower_forces(&self) -> &[ContactForce] {
