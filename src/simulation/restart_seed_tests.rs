@@ -88,3 +88,43 @@ fn restarts_seeded_by_their_trial_steps_take_fewer_integrations_as_near_the_conv
     eprintln!("median ratio of the distances, seeded to unseeded: {median}");
     assert!(median <= 1.0, "{median}");
 }
+
+/// What a restart hands on never outlives the call that made it
+/// (`Stepper::forget_restart`): the run taken one grid step a call, as an
+/// FMU's master takes it, ends on the bits of the run taken in one call,
+/// and so does a fresh simulation given the state of either at a grid
+/// point between calls.
+#[test]
+fn a_seeded_run_ends_on_the_same_bits_however_it_is_cut_into_calls() {
+    let scene = coaches_on_rigid_wheelsets(1e-7);
+    let (rows, _) = run(&scene, true);
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    let end_bits = |sim: &mut Simulation| {
+        assert_eq!(sim.advance_to(0.4), Ok(super::Advance::Reached));
+        let mut values = vec![0.0; sim.outputs().len()];
+        sim.output_values(&mut values);
+        bits(&values)
+    };
+    let expected = bits(rows.last().expect("rows"));
+    let mut whole = Simulation::new(&scene).expect("builds");
+    assert_eq!(end_bits(&mut whole), expected);
+    // Cut at the grid points after each event: there a restart has just
+    // handed its trial steps on, or the restart at the grid point was
+    // the call's last work.
+    let h = scene.solver.step;
+    let cuts: Vec<f64> = (whole.events().iter())
+        .map(|e| ((e.time / h).floor() + 1.0) * h)
+        .filter(|&t| t < 0.4 - 0.5 * h)
+        .collect();
+    assert!(cuts.len() >= 4, "{cuts:?}");
+    for cut in cuts {
+        let mut first = Simulation::new(&scene).expect("builds");
+        let steps = (cut / h).round() as u64;
+        for k in 1..=steps {
+            assert_eq!(first.advance_to(k as f64 * h), Ok(super::Advance::Reached));
+        }
+        let mut fresh = Simulation::new(&scene).expect("builds");
+        fresh.restore(&first.state()).expect("its own state");
+        assert_eq!(end_bits(&mut fresh), expected, "restored at {cut} s");
+    }
+}
