@@ -438,8 +438,9 @@ impl Step<'_> {
     }
 
     /// The step of `dt` solved from the force history extrapolated to its
-    /// end (procedure step 1), with its active set settled
-    /// (`solve_active_set`).
+    /// end (procedure step 1; right after a restart's trials of this same
+    /// step, from the last trial's forces: `Stepper::restart_guess`), with
+    /// its active set settled (`solve_active_set`).
     fn solve_extrapolated(
         &mut self,
         dt: f64,
