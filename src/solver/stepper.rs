@@ -186,7 +186,7 @@ impl Stepper {
     /// Forget what the last restart handed on to the step after it.
     pub(crate) fn forget_restart(&mut self) {
         self.restart_guess = None;
-        self.iteration.seed_prediction(None);
+        self.iteration.integrator_mut().seed_prediction(None);
     }
 
     /// The contact iteration (its integrator, frame memo and counters).

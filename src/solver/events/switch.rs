@@ -274,7 +274,10 @@ impl Step<'_> {
             let seeds = self.seeds_trials(dt);
             if seeds {
                 let end = (&self.work.scratch, dt);
-                self.work.iteration.seed_prediction(Some(end));
+                self.work
+                    .iteration
+                    .integrator_mut()
+                    .seed_prediction(Some(end));
             }
             let scale = (forces.iter().chain(&trial.forces))
                 .map(|f| f.as_vector().norm())

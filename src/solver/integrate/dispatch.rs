@@ -135,6 +135,11 @@ macro_rules! integrators {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::seed_prediction(&mut **s, end), )* }
             }
 
+            /// See `TimeIntegrator::seeded_bodies`.
+            pub fn seeded_bodies(&self) -> Option<&[BodyState]> {
+                match self { $( Integrator::$variant(s) => TimeIntegrator::seeded_bodies(&**s), )* }
+            }
+
             /// See `TimeIntegrator::predict_with_accelerations`.
             pub fn predict_with_accelerations(&mut self, on: bool) {
                 match self { $( Integrator::$variant(s) => TimeIntegrator::predict_with_accelerations(&mut **s, on), )* }

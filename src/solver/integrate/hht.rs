@@ -90,7 +90,8 @@ pub struct Hht {
     /// (`predict_from`).
     pub(super) predicts_accelerations: bool,
     /// The end handed over for the next step (`seed_prediction`), and the
-    /// one `begin_step` took for the step it begins (a step as long).
+    /// one `begin_step` took for the step it begins (a step as long),
+    /// kept to the step's end (`seeded_bodies`).
     seed: Option<Seed>,
     seeded: Option<Seed>,
     frames: Vec<ContactFrame>,
@@ -400,7 +401,7 @@ impl Hht {
     #[inline]
     fn predict_from(&mut self, start: &DynamicState, dt: f64) {
         self.known_laws = None;
-        if let Some(seed) = self.seeded.take() {
+        if let Some(seed) = &self.seeded {
             if seed.displacement.len() == start.beam_displacement.len()
                 && seed.bodies.len() == start.bodies.len()
             {
@@ -741,6 +742,11 @@ impl Hht {
             velocity: end.beam_velocity.clone(),
             bodies: end.bodies.clone(),
         });
+    }
+
+    /// See `TimeIntegrator::seeded_bodies`.
+    pub fn seeded_bodies(&self) -> Option<&[BodyState]> {
+        self.seeded.as_ref().map(|seed| seed.bodies.as_slice())
     }
 
     /// K u + C v at the last accepted step's end, kept (see `EndForces`).

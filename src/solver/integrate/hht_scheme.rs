@@ -67,6 +67,10 @@ impl TimeIntegrator for Hht {
         Hht::seed_prediction(self, end)
     }
 
+    fn seeded_bodies(&self) -> Option<&[BodyState]> {
+        Hht::seeded_bodies(self)
+    }
+
     fn predict_with_accelerations(&mut self, on: bool) {
         self.predicts_accelerations = on;
     }

@@ -431,6 +431,11 @@ pub trait TimeIntegrator: Sized {
     /// are then taken near where they end. None forgets it; the step after
     /// the next never sees it.
     fn seed_prediction(&mut self, _end: Option<(&DynamicState, f64)>) {}
+    /// The bodies of the end the step being solved took as its first
+    /// prediction (`seed_prediction`), from `begin_step` to the next.
+    fn seeded_bodies(&self) -> Option<&[BodyState]> {
+        None
+    }
     /// Every follower's force in the last integration (empty where the
     /// scheme evaluates them in its stages).
     fn held_follower_forces(&self) -> &[ContactForce] {

@@ -357,11 +357,10 @@ pub struct ContactIteration {
     shapes: Vec<ForceShape>,
     /// The bodies at the end of the previous integration of the step.
     previous_bodies: Vec<crate::body::BodyState>,
-    /// The bodies of an end handed on as the next step's first prediction
-    /// (`seed_prediction`), with its step's length; and whether the step
-    /// being solved took one, which `settled` then checks the bodies
-    /// against even where every contact is closed.
-    seed: Option<(f64, Vec<crate::body::BodyState>)>,
+    /// Whether the step being solved took an end handed on as its first
+    /// prediction (`TimeIntegrator::seed_prediction`): `settled` then
+    /// checks its bodies against that end's, even where every contact is
+    /// closed.
     seeded: bool,
     /// Per contact: a massless follower (always open to the iteration).
     followers: Vec<bool>,
@@ -431,7 +430,6 @@ impl ContactIteration {
             contact_gaps: vec![0.0; system.contacts.len()],
             shapes: vec![ForceShape::default(); system.contacts.len()],
             previous_bodies: Vec::new(),
-            seed: None,
             seeded: false,
             followers,
             contacts_of_body,
@@ -490,17 +488,6 @@ impl ContactIteration {
         self.shapes.extend_from_slice(shapes);
     }
 
-    /// The next step solved, if it is `dt` long, starts its first
-    /// integration from `end` (`TimeIntegrator::seed_prediction`, a
-    /// scheme that lags its force laws), and is settled only once its
-    /// bodies' velocities are within the tolerance of the last
-    /// integration's, the first's of `end`'s. None forgets it.
-    pub fn seed_prediction(&mut self, end: Option<(&DynamicState, f64)>) {
-        let end = end.filter(|_| self.integrator.lags_force_laws());
-        self.integrator.seed_prediction(end);
-        self.seed = end.map(|(end, dt)| (dt, end.bodies.clone()));
-    }
-
     /// From `share_operator(true)` to `share_operator(false)`, the steps
     /// solved keep the operators the first of them built, for steps from
     /// one state with one length and one open set (a restart's trial steps:
@@ -557,13 +544,11 @@ impl ContactIteration {
         // Each contact's rows once, not once per pair.
         let mut rows = std::mem::take(&mut self.beam_rows);
         rows.clear();
-        rows.extend(
-            (measure_frames.iter().zip(start_frames)).map(|(measure, apply)| BeamRows {
-                measure: rows4(measure.beam_rows(h)),
-                apply: rows4(apply.beam_rows(h)),
-            }),
-        );
-        self.turn_measured_rows(&mut rows, measure_frames, part);
+        let pairs = measure_frames.iter().zip(start_frames).enumerate();
+        rows.extend(pairs.map(|(i, (measure, apply))| BeamRows {
+            measure: self.measured_beam_rows(i, measure, h, part),
+            apply: rows4(apply.beam_rows(h)),
+        }));
         for (j, apply) in start_frames.iter().enumerate() {
             // Four beam integrations per loaded element: on a huge beam
             // the deadline passes here (`build_delassus` then gives up).
@@ -646,13 +631,9 @@ impl ContactIteration {
         measured: &mut Vec<MeasuredOnBeam>,
     ) {
         let h = system.beam.surface_offset;
-        let turns = self.turns(part);
         measured.clear();
         for (i, frame) in frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
-            let mut rows = rows4(frame.beam_rows(h));
-            if let Some(&turn) = turns.get(i) {
-                turn::add_turn(rows[1].iter_mut(), frame, turn);
-            }
+            let rows = self.measured_beam_rows(i, frame, h, part);
             let (first, kinds) = self.operator_rows(system, i, part);
             let places = self.condensed.places(frame.shape.element);
             measured.push(MeasuredOnBeam {
@@ -748,15 +729,20 @@ impl ContactIteration {
         }
     }
 
-    /// Turn the measured normal rows of `rows` (`turn`).
-    fn turn_measured_rows(&self, rows: &mut [BeamRows], frames: &[ContactFrame], part: Part) {
-        let turns = self.turns(part);
-        if turns.is_empty() {
-            return;
+    /// Contact c's beam rows as `part`'s operator measures them at
+    /// `frame`: its normal row turned (`turn`) where `part` turns it.
+    fn measured_beam_rows(
+        &self,
+        c: usize,
+        frame: &ContactFrame,
+        h: f64,
+        part: Part,
+    ) -> [Vector4<f64>; 2] {
+        let mut rows = rows4(frame.beam_rows(h));
+        if let Some(&turn) = self.turns(part).get(c) {
+            turn::add_turn(rows[1].iter_mut(), frame, turn);
         }
-        for ((row, frame), &turn) in rows.iter_mut().zip(frames).zip(turns) {
-            turn::add_turn(row.measure[1].iter_mut(), frame, turn);
-        }
+        rows
     }
 
     /// Body parts: contacts on the same body move it together.
@@ -1111,14 +1097,12 @@ impl ContactIteration {
             self.delassus.gap_built = false;
         }
         self.previous_bodies.clear();
-        let seed = self
-            .seed
-            .take()
-            .filter(|(dt, bodies)| *dt == from.dt && bodies.len() == from.state.bodies.len());
+        // A seeded step's first integration is compared with the seed.
+        let seed = (self.integrator.seeded_bodies())
+            .filter(|bodies| bodies.len() == from.state.bodies.len());
         self.seeded = seed.is_some();
-        if let Some((_, bodies)) = seed {
-            self.previous_bodies = bodies;
-        }
+        self.previous_bodies
+            .extend_from_slice(seed.unwrap_or_default());
         let (mut iterations, mut velocity_error) =
             self.velocity_stage(system, from, settings, end)?;
         let (position_iterations, gap_error) = self.position_stage(system, from, settings, end)?;
