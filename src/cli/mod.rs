@@ -216,6 +216,10 @@ struct CheckArgs {
 
 #[derive(Debug, clap::Args)]
 struct ScenesArgs {
+    /// Print this scene (built-in name or file) as TOML, ready to edit
+    /// (the same as `--show NAME`, as `run` and `export` take their scene).
+    #[arg(value_name = "NAME", conflicts_with = "show")]
+    name: Option<String>,
     /// Print this scene (built-in name or file) as TOML, ready to edit.
     #[arg(long, value_name = "NAME")]
     show: Option<String>,

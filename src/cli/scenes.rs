@@ -1,11 +1,11 @@
-//! `guideway scenes [--show NAME]`.
+//! `guideway scenes [NAME | --show NAME]`.
 
 use super::{load_scene, Failure, ScenesArgs};
 use guideway::moving_load::HSLM_TRAINS;
 use guideway::scene::{builtins, templates, DEFAULT_SCENE};
 
 pub(super) fn scenes(args: ScenesArgs) -> Result<(), Failure> {
-    match args.show {
+    match args.name.or(args.show) {
         Some(name) => {
             let scene = load_scene(&name)?;
             print!("{}", scene.to_annotated_toml());

@@ -32,6 +32,24 @@ fn scenes_show_prints_a_loadable_scene_file() {
 }
 
 #[test]
+fn scenes_takes_the_name_as_run_does_or_with_show_but_not_both() {
+    let shown = guideway(&["scenes", "--show", "lee1994-glider-30"]);
+    let named = guideway(&["scenes", "lee1994-glider-30"]);
+    assert!(named.status.success(), "{}", stderr(&named));
+    assert_eq!(stdout(&named), stdout(&shown));
+    let both = guideway(&["scenes", "lee1994-wheel-10", "--show", "lee1994-glider-30"]);
+    assert_eq!(both.status.code(), Some(2));
+    assert!(stderr(&both).contains("--show"), "{}", stderr(&both));
+    let unknown = guideway(&["scenes", "lee1994-wheel-7"]);
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(
+        stderr(&unknown).contains("lee1994-glider-30"),
+        "{}",
+        stderr(&unknown)
+    );
+}
+
+#[test]
 fn scenes_show_of_an_unknown_name_lists_the_builtins() {
     let output = guideway(&["scenes", "--show", "lee1994-wheel-7"]);
     assert_eq!(output.status.code(), Some(2));
