@@ -42,8 +42,9 @@ impl Step<'_> {
     /// an error saying so. Why: a set is held over the whole step, and a
     /// contact open over part of it only has none. At 1.524 s of eight
     /// coaches on rigid wheelsets (`tests/vehicles/no_tension.rs`, 40
-    /// elements, 1 ms, as run before 2eabf61; docs/robustness.md) contact 19 starts the step closed 3 µm below the
-    /// track with a separating velocity of 2.9 mm/s (a bounce dropped):
+    /// elements, 1 ms, as run before 2eabf61; docs/robustness.md) contact
+    /// 19 starts the step closed 3 µm below the track with a separating
+    /// velocity of 2.9 mm/s (a bounce dropped):
     /// held closed over a sliver τ it pulls about m v / τ (−1.1e7 N at
     /// 5.7e-7 s), over the whole step it pushes 1.7e5 N. Contact 21's
     /// lift-off is located in the first 6 µs, where 19 pulls; opened at the
