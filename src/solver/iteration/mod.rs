@@ -25,6 +25,7 @@ use crate::system::System;
 mod condensed;
 mod followers;
 mod laws;
+mod low_rank;
 mod operator;
 mod responses;
 mod turn;
@@ -249,6 +250,7 @@ impl ResponseKey {
 /// build's (`Condensed::places`).
 struct MeasuredOnBeam {
     first: usize,
+    contact: usize,
     kinds: &'static [usize],
     rows: [Vector4<f64>; 2],
     places: [usize; 4],
@@ -638,6 +640,7 @@ impl ContactIteration {
             let places = self.condensed.places(frame.shape.element);
             measured.push(MeasuredOnBeam {
                 first,
+                contact: i,
                 kinds,
                 rows,
                 places,
@@ -749,13 +752,28 @@ impl ContactIteration {
     fn add_body_compliance(
         &self,
         system: &System,
-        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        frames: (&[ContactFrame], &[ContactFrame]),
         (dt, part): (f64, Part),
         matrix: &mut DMatrix<f64>,
     ) {
-        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
         let n = matrix.nrows();
         let entries = matrix.as_mut_slice();
+        self.body_entries(system, frames, (dt, part), |row, column, x| {
+            entries[column * n + row] += x;
+        });
+    }
+
+    /// Each body part's entry (row, column, value) of `part`'s operator:
+    /// every pair of contacts on one body, column by column of a measured
+    /// contact, the applied contacts' rows in their order.
+    fn body_entries(
+        &self,
+        system: &System,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        (dt, part): (f64, Part),
+        mut entry_at: impl FnMut(usize, usize, f64),
+    ) {
+        let (velocity_weight, position_weight) = self.integrator.body_weights(dt);
         for (i, ci) in system.contacts.iter().enumerate() {
             let body = &system.bodies[ci.body];
             let inverse_inertia = body.inverse_inertia();
@@ -779,9 +797,8 @@ impl ContactIteration {
                     }
                 };
                 for (b, &kj) in kinds_j.iter().enumerate() {
-                    let column = &mut entries[(first_j + b) * n..][..n];
                     for (a, &ki) in kinds_i.iter().enumerate() {
-                        column[first_i + a] += entry(ki, kj);
+                        entry_at(first_i + a, first_j + b, entry(ki, kj));
                     }
                 }
             }
@@ -813,6 +830,14 @@ impl ContactIteration {
         let measured = std::mem::take(&mut self.delassus.frames);
         let applied = if at_end { &measured } else { start_frames };
         let frames = (measured.as_slice(), applied);
+        if part == Part::Velocity && self.low_rank_applies(system, applied, dt) {
+            let previous = std::mem::replace(&mut self.delassus.velocity, Inverted::unbuilt(0));
+            if let Some(inverted) = self.build_low_rank(system, frames, dt, previous) {
+                self.delassus.frames = measured;
+                (self.delassus.velocity, self.delassus.built) = (inverted, true);
+                return Ok(());
+            }
+        }
         let mut assembly = self.delassus.part_mut(part).1.take().unwrap_or_default();
         let written = self.assemble(system, frames, (dt, part), &mut assembly);
         self.delassus.frames = measured;

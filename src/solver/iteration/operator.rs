@@ -17,7 +17,7 @@ use nalgebra::{DMatrix, DVector, Dyn, LU};
 
 /// Operators up to this many rows are inverted explicitly, larger ones
 /// by their blocks.
-const EXPLICIT_INVERSE_ROWS: usize = 16;
+pub(super) const EXPLICIT_INVERSE_ROWS: usize = 16;
 
 /// Groups above this many rows are factored, smaller ones inverted (closed
 /// forms up to 4 rows). An operator is applied about 3 times a build: a
@@ -37,6 +37,8 @@ pub(super) enum Inverted {
     /// each other), each inverted on its own: of a train's 32 contacts a
     /// dozen are on the bridge, and factoring 32 rows was a tenth of its run.
     Blocks(Layout),
+    /// Rolling contacts' operator by Woodbury's identity (`low_rank`).
+    LowRank(Box<super::low_rank::LowRank>),
 }
 
 /// How an operator falls apart: single rows, and groups of rows inverted
@@ -507,6 +509,7 @@ impl Inverted {
                 // Invertible by construction.
                 lu.solve_mut(out);
             }
+            Inverted::LowRank(w) => w.apply(b, out),
             Inverted::Blocks(layout) => {
                 for &(i, d) in &layout.singles {
                     out[i] = b[i] / d;
