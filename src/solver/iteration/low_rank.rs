@@ -49,6 +49,9 @@ pub(super) struct LowRank {
     /// (`apply`).
     z: DVector<f64>,
     correction: Vec<f64>,
+    /// A block's entries gathered (and solved), for blocks of more than
+    /// two rows.
+    gathered: Vec<f64>,
 }
 
 /// One body's block of D: its rows at `rows..rows + size` of
@@ -92,22 +95,12 @@ impl Column {
     }
 }
 
-/// x ← A x for a g × g block `a` (column-major) on the gathered `x`.
+/// `out` = A `x` for a g × g block `a` (column-major), g = `x.len()`.
 #[inline(always)]
-fn times_block(a: &[f64], x: &mut [f64]) {
-    match x.len() {
-        1 => x[0] *= a[0],
-        2 => {
-            let (u, v) = (x[0], x[1]);
-            x[0] = a[0] * u + a[2] * v;
-            x[1] = a[1] * u + a[3] * v;
-        }
-        g => {
-            let gathered: Vec<f64> = x.to_vec();
-            for (r, out) in x.iter_mut().enumerate() {
-                *out = (0..g).map(|c| a[c * g + r] * gathered[c]).sum();
-            }
-        }
+fn block_times(a: &[f64], x: &[f64], out: &mut [f64]) {
+    let g = x.len();
+    for (r, out) in out[..g].iter_mut().enumerate() {
+        *out = (0..g).map(|c| a[c * g + r] * x[c]).sum();
     }
 }
 
@@ -150,9 +143,13 @@ impl LowRank {
                 x[r1] = inverse[1] * u + inverse[3] * v;
                 continue;
             }
-            let mut gathered: Vec<f64> = rows.iter().map(|&r| b[r]).collect();
-            times_block(&inverse[..block.size * block.size], &mut gathered);
-            for (&r, value) in rows.iter().zip(gathered) {
+            let g = block.size;
+            self.gathered.clear();
+            self.gathered.extend(rows.iter().map(|&r| b[r]));
+            self.gathered.resize(2 * g, 0.0);
+            let (gathered, solved) = self.gathered.split_at_mut(g);
+            block_times(&inverse[..g * g], gathered, solved);
+            for (&r, &value) in rows.iter().zip(solved.iter()) {
                 x[r] = value;
             }
         }
@@ -278,7 +275,13 @@ impl LowRank {
                         q[at + 1] = a[1] * u + a[3] * v;
                     }
                 }
-                _ => columns.for_each(|q| times_block(inverse, &mut q[at..at + size])),
+                _ => {
+                    for q in columns {
+                        self.gathered.clear();
+                        self.gathered.extend_from_slice(&q[at..at + size]);
+                        block_times(inverse, &self.gathered, &mut q[at..at + size]);
+                    }
+                }
             }
             at += size;
         }
@@ -368,15 +371,8 @@ impl ContactIteration {
         (measured_frames, applied_frames): (&[ContactFrame], &[ContactFrame]),
         w: &mut LowRank,
     ) {
-        let on_beam = |f: &&ContactFrame| f.on_beam;
-        let elements = (measured_frames.iter().chain(applied_frames))
-            .filter(on_beam)
-            .map(|f| f.shape.element);
-        let response = self.integrator.nominal_band_response();
-        let response = response.expect("`low_rank_applies` checked it");
-        self.condensed.prepare(response, system, elements);
-        let mut measured = std::mem::take(&mut self.measured_on_beam);
-        self.measure_on_beam(system, measured_frames, Part::Velocity, &mut measured);
+        let frames = (measured_frames, applied_frames);
+        let mut measured = self.prepare_condensed(system, frames, Part::Velocity);
         measured.retain(|m| !self.open[m.contact]);
         w.reach(self.rows, &measured);
         w.columns.clear();
@@ -512,14 +508,12 @@ mod tests {
         assert_eq!((out[2], out[3]), (b[2], b[3]), "open rows pass their error");
     }
 
-    /// `count` paper wheels spread over a 40-element beam at 83 m/s under
-    /// HHT-α (α = 0.1) of nominal step `dt`, at rest on the undeformed beam.
+    /// `count` paper wheels spread over a 40-element beam without a
+    /// surface offset, rolling at 83 m/s under HHT-α of nominal step `dt`.
     fn rolling_wheels_on_hht(
         dt: f64,
         count: usize,
     ) -> (System, crate::integrate::DynamicState, ContactIteration) {
-        use crate::integrate::{DynamicState, Integrator};
-        use nalgebra::Vector3;
         let mut scene = crate::integrate::fixtures::two_paper_wheels();
         scene.beam.elements = 40;
         // The low-rank form needs the rows applied without an offset.
@@ -533,32 +527,7 @@ mod tests {
                 v
             })
             .collect();
-        let assembly = crate::assemble::assemble(&scene).unwrap();
-        let system = assembly.system;
-        let n = system.beam.free_dofs();
-        let mut bodies = assembly.bodies;
-        for body in &mut bodies {
-            body.velocity.x = 83.0;
-            body.angular_velocity = -83.0 / system.contacts[0].radius();
-        }
-        let zeros = || DVector::zeros(n);
-        let start = DynamicState {
-            beam_displacement: zeros(),
-            beam_velocity: zeros(),
-            beam_acceleration: zeros(),
-            body_accelerations: vec![Vector3::zeros(); bodies.len()],
-            beam_load: zeros(),
-            body_loads: vec![Vector3::zeros(); bodies.len()],
-            contact_x: bodies.iter().map(|b| b.position.x).collect(),
-            bodies,
-            dissipated: 0.0,
-            beam_dissipated: 0.0,
-            tractive_work: 0.0,
-            numerical_dissipation: 0.0,
-        };
-        let hht = crate::integrate::Hht::new(&system, 0.1, dt).unwrap();
-        let iteration = ContactIteration::new(Integrator::Hht(Box::new(hht)), &system, dt);
-        (system, start, iteration)
+        super::super::tests::moving_on_hht(&scene, 83.0, dt)
     }
 
     #[test]

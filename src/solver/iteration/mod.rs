@@ -591,15 +591,7 @@ impl ContactIteration {
         matrix: &mut DMatrix<f64>,
     ) {
         let h = system.beam.surface_offset;
-        let on_beam = |f: &&ContactFrame| f.on_beam;
-        let elements = (measure_frames.iter().chain(start_frames))
-            .filter(on_beam)
-            .map(|f| f.shape.element);
-        let response = self.integrator.nominal_band_response();
-        let response = response.expect("the caller checked it");
-        self.condensed.prepare(response, system, elements);
-        let mut measured = std::mem::take(&mut self.measured_on_beam);
-        self.measure_on_beam(system, measure_frames, part, &mut measured);
+        let measured = self.prepare_condensed(system, (measure_frames, start_frames), part);
         let n = matrix.nrows();
         let entries = matrix.as_mut_slice();
         for (j, apply) in start_frames.iter().enumerate().filter(|(_, f)| f.on_beam) {
@@ -620,6 +612,28 @@ impl ContactIteration {
             }
         }
         self.measured_on_beam = measured;
+    }
+
+    /// The condensed blocks at the DOFs of the contacts on the beam in
+    /// `frames` (measured, applied), and the measured ones
+    /// (`measure_on_beam`) in `self.measured_on_beam`'s storage, which the
+    /// caller hands back.
+    fn prepare_condensed(
+        &mut self,
+        system: &System,
+        (measure_frames, start_frames): (&[ContactFrame], &[ContactFrame]),
+        part: Part,
+    ) -> Vec<MeasuredOnBeam> {
+        let on_beam = |f: &&ContactFrame| f.on_beam;
+        let elements = (measure_frames.iter().chain(start_frames))
+            .filter(on_beam)
+            .map(|f| f.shape.element);
+        let response = self.integrator.nominal_band_response();
+        let response = response.expect("the caller checked it");
+        self.condensed.prepare(response, system, elements);
+        let mut measured = std::mem::take(&mut self.measured_on_beam);
+        self.measure_on_beam(system, measure_frames, part, &mut measured);
+        measured
     }
 
     /// The contacts of `frames` on the beam, into `measured`: their rows
@@ -1533,12 +1547,26 @@ mod tests {
             vehicle.inertia = None;
             vehicle.radius = None;
         }
-        let assembly = assemble(&scene).unwrap();
+        moving_on_hht(&scene, 83.0, dt)
+    }
+
+    /// `scene`'s bodies moving at `speed` (its wheels rolling) on the
+    /// undeformed beam at rest, and an iteration under HHT-α (α = 0.1) of
+    /// nominal step `dt`.
+    pub(super) fn moving_on_hht(
+        scene: &crate::Scene,
+        speed: f64,
+        dt: f64,
+    ) -> (System, DynamicState, ContactIteration) {
+        let assembly = assemble(scene).unwrap();
         let system = assembly.system;
         let n = system.beam.free_dofs();
         let mut bodies = assembly.bodies;
         for body in &mut bodies {
-            body.velocity.x = 83.0;
+            body.velocity.x = speed;
+        }
+        for contact in system.contacts.iter().filter(|c| c.rolls()) {
+            bodies[contact.body].angular_velocity = -speed / contact.radius();
         }
         let zeros = || DVector::zeros(n);
         let start = DynamicState {
