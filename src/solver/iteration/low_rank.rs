@@ -508,6 +508,50 @@ mod tests {
         assert_eq!((out[2], out[3]), (b[2], b[3]), "open rows pass their error");
     }
 
+    #[test]
+    fn a_singular_or_non_finite_part_is_refused_for_the_dense_form() {
+        // One body of one rolling contact: D singular (a massless body's
+        // zero block), then D regular but S singular (P Vᵀ cancelling D's
+        // coupling to the beam exactly), then a non-finite response.
+        let contacts_of_body = vec![vec![0]];
+        let rows = [(0, 2)];
+        let laid_out = |d: [f64; 4]| {
+            let mut w = LowRank::default();
+            w.lay_out(2, &contacts_of_body, |c| rows[c]);
+            for (k, x) in d.into_iter().enumerate() {
+                w.add_to_d(k % 2, k / 2, x);
+            }
+            w
+        };
+        assert!(!laid_out([0.0; 4]).mask_and_invert(std::iter::empty()));
+        let with_column = |p: [f64; 2]| {
+            let mut w = laid_out([1.0, 0.0, 0.0, 1.0]);
+            assert!(w.mask_and_invert(std::iter::empty()));
+            w.reach(
+                2,
+                &[MeasuredOnBeam {
+                    first: 0,
+                    contact: 0,
+                    kinds: &[0, 1],
+                    rows: [Vector4::zeros(); 2],
+                    places: [0; 4],
+                }],
+            );
+            w.columns = vec![Column {
+                first: 0,
+                count: 2,
+                coefficients: [0.6, 0.8],
+                reached: [0, 1],
+            }];
+            w.q = vec![p[0], p[1], 0.0];
+            w.condense()
+        };
+        assert!(with_column([0.3, 0.4]));
+        // S = 1 + 0.6 p₀ + 0.8 p₁ = 0.
+        assert!(!with_column([-0.6, -0.8]));
+        assert!(!with_column([f64::NAN, 0.4]));
+    }
+
     /// `count` paper wheels spread over a 40-element beam without a
     /// surface offset, rolling at 83 m/s under HHT-α of nominal step `dt`.
     fn rolling_wheels_on_hht(
