@@ -86,8 +86,14 @@ impl fmt::Display for SceneError {
                 write!(f, "cannot read scene file `{path}`: {message}")
             }
             SceneError::NotFound { name } => {
+                // The templates are among the built-ins: each name once.
                 let builtins = super::builtins().iter().map(|(n, _)| *n);
-                let names: Vec<&str> = builtins.chain(super::templates().map(|(n, _)| n)).collect();
+                let mut names: Vec<&str> = Vec::new();
+                for name in builtins.chain(super::templates().map(|(n, _)| n)) {
+                    if !names.contains(&name) {
+                        names.push(name);
+                    }
+                }
                 write!(
                     f,
                     "`{name}` is neither a scene file nor a built-in scene (built-ins: {})",

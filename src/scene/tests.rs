@@ -572,6 +572,12 @@ fn load_reports_missing_files_and_unknown_names() {
         message.contains("lee1994-wheel-10"),
         "lists the built-ins: {message}"
     );
+    // Each built-in and template once.
+    for (name, _) in builtins().iter().copied().chain(templates()) {
+        let listed = message.matches(&format!("{name},")).count()
+            + usize::from(message.ends_with(&format!("{name})")));
+        assert_eq!(listed, 1, "{name} in {message}");
+    }
 }
 
 #[test]
