@@ -18,7 +18,7 @@
 use nalgebra::{DMatrix, DVector, Dyn, Vector4, LU};
 
 use super::operator::{Inverted, EXPLICIT_INVERSE_ROWS};
-use super::{ContactIteration, MeasuredOnBeam, Part};
+use super::{ContactIteration, Part};
 use crate::contact::ContactFrame;
 use crate::system::System;
 
@@ -33,8 +33,11 @@ pub(super) struct LowRank {
     inverses: Vec<f64>,
     /// Per row: its block and its place there.
     place_of_row: Vec<(usize, usize)>,
-    /// The contacts applied on the beam, closed: V's columns.
+    /// The contacts applied on the beam, closed: V's columns; and the
+    /// contacts measured there, closed (`fill_integrated`).
     columns: Vec<Column>,
+    applied: Vec<usize>,
+    measured: Vec<usize>,
     /// The rows of the blocks the beam's responses reach (those of the
     /// bodies of closed contacts measured on it), block by block, and each
     /// row's index among them (`UNREACHED` elsewhere).
@@ -237,13 +240,14 @@ impl LowRank {
             .all(|b| invert_block(&mut self.inverses[b.entries..b.entries + b.size * b.size]))
     }
 
-    /// The reached rows: those of the blocks of `measured`'s rows.
-    fn reach(&mut self, n: usize, measured: &[MeasuredOnBeam]) {
+    /// The reached rows: those of the blocks of the measured contacts'
+    /// first rows `firsts`.
+    fn reach(&mut self, n: usize, firsts: impl IntoIterator<Item = usize>) {
         self.reached.clear();
         self.compact.clear();
         self.compact.resize(n, UNREACHED);
-        for m in measured {
-            let (block, _) = self.place_of_row[m.first];
+        for first in firsts {
+            let (block, _) = self.place_of_row[first];
             let Block { rows, size, .. } = self.blocks[block];
             let rows = &self.block_rows[rows..rows + size];
             if self.compact[rows[0]] != UNREACHED {
@@ -310,9 +314,12 @@ impl LowRank {
 
 impl ContactIteration {
     /// Whether the step's velocity operator is built in its low-rank form:
-    /// HHT-α's nominal step with condensed responses, no surface offset, an
-    /// operator above those inverted whole, and a closed rolling contact
-    /// applied on the beam (gliders have a row a contact already).
+    /// no surface offset, an operator above those inverted whole, a closed
+    /// rolling contact applied on the beam (gliders have a row a contact
+    /// already), and responses either condensed (HHT-α's nominal step on
+    /// the band factor) or integrated (a shortened step); a nominal step
+    /// of another solve reads its cached element responses in the dense
+    /// form.
     pub(super) fn low_rank_applies(
         &self,
         system: &System,
@@ -320,19 +327,19 @@ impl ContactIteration {
         dt: f64,
     ) -> bool {
         let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
+        let condensed = self.integrator.nominal_band_response().is_some();
         let rolling_on_beam = (system.contacts.iter().zip(applied).zip(&self.open))
             .any(|((c, f), &open)| c.rolls() && f.on_beam && !open);
-        nominal
+        (condensed || !nominal)
             && self.rows > EXPLICIT_INVERSE_ROWS
             && system.beam.surface_offset == 0.0
-            && self.integrator.nominal_band_response().is_some()
             && rolling_on_beam
     }
 
     /// The velocity operator in the frames `(measured, applied)` in its
     /// low-rank form (`low_rank_applies`), reusing `previous`'s storage;
-    /// None if D or S is singular or not finite (the caller builds the
-    /// dense form instead).
+    /// None if D or S is singular or not finite, or the step's deadline
+    /// passed (the caller builds the dense form instead, or refuses).
     pub(super) fn build_low_rank(
         &mut self,
         system: &System,
@@ -358,33 +365,30 @@ impl ContactIteration {
         })) {
             return None;
         }
-        self.fill_responses(system, frames, &mut w);
+        match crate::solver::parameters::is_nominal_step(dt, self.nominal_step) {
+            true => self.fill_condensed(system, frames, &mut w),
+            false if self.fill_integrated(system, frames, dt, &mut w) => {}
+            false => return None,
+        }
         w.condense().then_some(Inverted::LowRank(w))
     }
 
-    /// P's entries over the reached rows into `w.q`, and V's columns: the
-    /// responses of the closed contacts measured on the beam to each closed
-    /// contact's N applied there, from the condensed blocks.
-    fn fill_responses(
-        &mut self,
-        system: &System,
-        (measured_frames, applied_frames): (&[ContactFrame], &[ContactFrame]),
-        w: &mut LowRank,
-    ) {
-        let frames = (measured_frames, applied_frames);
-        let mut measured = self.prepare_condensed(system, frames, Part::Velocity);
-        measured.retain(|m| !self.open[m.contact]);
-        w.reach(self.rows, &measured);
+    /// V's columns (the closed contacts applied on the beam, with their
+    /// coefficients and their rows' places among the reached ones), and
+    /// Q zeroed for P.
+    fn lay_columns(&self, system: &System, applied_frames: &[ContactFrame], w: &mut LowRank) {
         w.columns.clear();
-        let closed = |c: &usize| !self.open[*c] && applied_frames[*c].on_beam;
-        for c in (0..system.contacts.len()).filter(closed) {
+        let zero = w.reached.len();
+        w.applied.clear();
+        let closed = (0..system.contacts.len()).filter(|&c| self.closed_on_beam(c, applied_frames));
+        w.applied.extend(closed);
+        for &c in &w.applied {
             let frame = &applied_frames[c];
             let coefficients = match system.contacts[c].rolls() {
                 true => [frame.sin, frame.cos],
                 false => [frame.cos, 0.0],
             };
             let (first, count) = (self.offsets[c], system.contacts[c].rows());
-            let zero = w.reached.len();
             let reached = [0, 1].map(|a| match a < count {
                 true => Some(w.compact[first + a]).filter(|&r| r != UNREACHED),
                 false => None,
@@ -396,11 +400,31 @@ impl ContactIteration {
                 reached: reached.map(|r| r.unwrap_or(zero)),
             });
         }
-        let (reached, k) = (w.reached.len(), w.columns.len());
         w.q.clear();
-        w.q.resize((reached + 1) * k, 0.0);
-        let applied = (0..system.contacts.len()).filter(closed);
-        for (j, c) in applied.enumerate() {
+        w.q.resize((zero + 1) * w.columns.len(), 0.0);
+    }
+
+    /// Whether contact c is closed and on the beam in `frames`.
+    fn closed_on_beam(&self, c: usize, frames: &[ContactFrame]) -> bool {
+        !self.open[c] && frames[c].on_beam
+    }
+
+    /// P's entries over the reached rows into `w.q`, and V's columns: the
+    /// responses of the closed contacts measured on the beam to each closed
+    /// contact's N applied there, from the condensed blocks.
+    fn fill_condensed(
+        &mut self,
+        system: &System,
+        (measured_frames, applied_frames): (&[ContactFrame], &[ContactFrame]),
+        w: &mut LowRank,
+    ) {
+        let frames = (measured_frames, applied_frames);
+        let mut measured = self.prepare_condensed(system, frames, Part::Velocity);
+        measured.retain(|m| !self.open[m.contact]);
+        w.reach(self.rows, measured.iter().map(|m| m.first));
+        self.lay_columns(system, applied_frames, w);
+        let reached = w.reached.len();
+        for (j, &c) in w.applied.iter().enumerate() {
             let shape = &applied_frames[c].shape;
             let loaded = self.condensed.places(shape.element);
             self.condensed
@@ -414,6 +438,61 @@ impl ContactIteration {
             }
         }
         self.measured_on_beam = measured;
+    }
+
+    /// `fill_condensed` on a step of another length: the beam's response
+    /// to each applied contact's N integrated (one beam solve a contact,
+    /// kept while the same load on a step of the same length recurs, as
+    /// the dense form's are a row), read at the measured rows. False if
+    /// the step's deadline passed (or cannot be met) before the solves.
+    fn fill_integrated(
+        &mut self,
+        system: &System,
+        (measured_frames, applied_frames): (&[ContactFrame], &[ContactFrame]),
+        dt: f64,
+        w: &mut LowRank,
+    ) -> bool {
+        if crate::deadline::is_set() {
+            self.foresee_beam_integrations(system, applied_frames, false);
+        }
+        if crate::deadline::passed() {
+            return false;
+        }
+        let beam = &system.beam;
+        w.measured.clear();
+        let measured =
+            (0..system.contacts.len()).filter(|&c| self.closed_on_beam(c, measured_frames));
+        w.measured.extend(measured);
+        let firsts: Vec<usize> = w.measured.iter().map(|&c| self.offsets[c]).collect();
+        w.reach(self.rows, firsts);
+        self.lay_columns(system, applied_frames, w);
+        self.reserve_responses(self.rows);
+        let reached = w.reached.len();
+        for (j, &c) in w.applied.iter().enumerate() {
+            let shape = &applied_frames[c].shape;
+            let slot = self.offsets[c];
+            let key = super::ResponseKey::new(dt, &shape.dofs, &shape.n);
+            if self.response_keys[slot] != Some(key) {
+                self.response_keys[slot] = Some(key);
+                self.load.fill(0.0);
+                beam.scatter(shape, &shape.n, 1.0, &mut self.load);
+                let (u, v) = (&mut self.response_u[slot], &mut self.response_v[slot]);
+                self.integrator.beam_response(system, &self.load, dt, u, v);
+                self.delassus_beam_solves += 1;
+            }
+            let column = &mut w.q[j * (reached + 1)..(j + 1) * (reached + 1)];
+            for &i in &w.measured {
+                let frame = &measured_frames[i];
+                let rows = self.measured_beam_rows(i, frame, beam.surface_offset, Part::Velocity);
+                let kinds = super::row_kinds(system.contacts[i].rolls());
+                for (a, &ki) in kinds.iter().enumerate() {
+                    let row: [f64; 4] = rows[ki].into();
+                    let entry = beam.dot(&frame.shape, &row, &self.response_v[slot]);
+                    column[w.compact[self.offsets[i] + a]] = entry;
+                }
+            }
+        }
+        true
     }
 }
 
@@ -449,16 +528,7 @@ mod tests {
         assert!(w.mask_and_invert([2, 3].into_iter()));
         // Contacts 0, 2 and 3 closed on the beam, measured and applied.
         let measured_rows = [0usize, 4, 6];
-        w.reach(
-            n,
-            &measured_rows.map(|first| MeasuredOnBeam {
-                first,
-                contact: 0,
-                kinds: &[1],
-                rows: [Vector4::zeros(); 2],
-                places: [0; 4],
-            }),
-        );
+        w.reach(n, measured_rows);
         assert_eq!(w.reached, vec![0, 1, 4, 5, 6]);
         w.columns = [
             (0, 2, [0.1, 0.99]),
@@ -527,16 +597,7 @@ mod tests {
         let with_column = |p: [f64; 2]| {
             let mut w = laid_out([1.0, 0.0, 0.0, 1.0]);
             assert!(w.mask_and_invert(std::iter::empty()));
-            w.reach(
-                2,
-                &[MeasuredOnBeam {
-                    first: 0,
-                    contact: 0,
-                    kinds: &[0, 1],
-                    rows: [Vector4::zeros(); 2],
-                    places: [0; 4],
-                }],
-            );
+            w.reach(2, [0]);
             w.columns = vec![Column {
                 first: 0,
                 count: 2,
@@ -576,15 +637,22 @@ mod tests {
 
     #[test]
     fn a_rolling_trains_low_rank_operator_is_the_dense_one_and_the_steps_jacobian() {
-        // Nine wheels (18 rows, above those inverted whole): the operator
-        // in its low-rank form against the dense operator of the same
-        // frames (to rounding), and against finite differences of whole
-        // integrations, W⁻¹ J = I.
+        // Nine wheels (18 rows, above those inverted whole), on the nominal
+        // step (condensed responses) and a shortened one (integrated): the
+        // operator in its low-rank form against the dense operator of the
+        // same frames (to rounding), and against finite differences of
+        // whole integrations, W⁻¹ J = I.
+        let nominal = 1e-3;
+        for dt in [nominal, 0.37 * nominal] {
+            low_rank_against_dense_and_jacobian(nominal, dt);
+        }
+    }
+
+    fn low_rank_against_dense_and_jacobian(nominal: f64, dt: f64) {
         use crate::contact::ContactForce;
         use crate::system::TrackPart;
         use nalgebra::Vector3;
-        let dt = 1e-3;
-        let (system, start, mut iteration) = rolling_wheels_on_hht(dt, 9);
+        let (system, start, mut iteration) = rolling_wheels_on_hht(nominal, 9);
         let rows = iteration.rows;
         assert_eq!(rows, 18);
         let parts = vec![TrackPart::Beam; 9];
