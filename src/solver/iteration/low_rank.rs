@@ -326,14 +326,16 @@ impl ContactIteration {
         applied: &[ContactFrame],
         dt: f64,
     ) -> bool {
+        // The operators inverted whole (the paper's scenes) first: one
+        // comparison a build.
+        if self.rows <= EXPLICIT_INVERSE_ROWS || system.beam.surface_offset != 0.0 {
+            return false;
+        }
         let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
         let condensed = self.integrator.nominal_band_response().is_some();
         let rolling_on_beam = (system.contacts.iter().zip(applied).zip(&self.open))
             .any(|((c, f), &open)| c.rolls() && f.on_beam && !open);
-        (condensed || !nominal)
-            && self.rows > EXPLICIT_INVERSE_ROWS
-            && system.beam.surface_offset == 0.0
-            && rolling_on_beam
+        (condensed || !nominal) && rolling_on_beam
     }
 
     /// The velocity operator in the frames `(measured, applied)` in its
