@@ -10,7 +10,8 @@
 //! cos φ_j) at contact j's rows. Woodbury's identity,
 //!   W⁻¹ = D⁻¹ − D⁻¹ P S⁻¹ Vᵀ D⁻¹,   S = I + Vᵀ D⁻¹ P,
 //! factors S of k rows instead of W's 2k on the beam: an eighth of the
-//! flops, half the responses to take and a quarter of the entries to
+//! flops, half the responses to take (condensed on HHT-α's nominal step,
+//! a beam solve each on a shortened one) and a quarter of the entries to
 //! write. The rounding is not the dense operator's, so a rolling train's
 //! iterates move within the iteration's tolerance; operators inverted
 //! whole (the paper's scenes, `EXPLICIT_INVERSE_ROWS`) keep the dense form.
