@@ -39,6 +39,8 @@ pub(super) struct LowRank {
     columns: Vec<Column>,
     applied: Vec<usize>,
     measured: Vec<usize>,
+    /// The measured contacts' beam rows, turned (`fill_integrated`).
+    measured_rows: Vec<[Vector4<f64>; 2]>,
     /// The rows of the blocks the beam's responses reach (those of the
     /// bodies of closed contacts measured on it), block by block, and each
     /// row's index among them (`UNREACHED` elsewhere).
@@ -455,10 +457,7 @@ impl ContactIteration {
         dt: f64,
         w: &mut LowRank,
     ) -> bool {
-        if crate::deadline::is_set() {
-            self.foresee_beam_integrations(system, applied_frames, false);
-        }
-        if crate::deadline::passed() {
+        if !self.within_deadline(system, applied_frames, false) {
             return false;
         }
         let beam = &system.beam;
@@ -466,6 +465,11 @@ impl ContactIteration {
         let measured =
             (0..system.contacts.len()).filter(|&c| self.closed_on_beam(c, measured_frames));
         w.measured.extend(measured);
+        // Each measured contact's rows once, not once per applied contact.
+        w.measured_rows.clear();
+        let h = beam.surface_offset;
+        let rows = |&i: &usize| self.measured_beam_rows(i, &measured_frames[i], h, Part::Velocity);
+        w.measured_rows.extend(w.measured.iter().map(rows));
         let firsts: Vec<usize> = w.measured.iter().map(|&c| self.offsets[c]).collect();
         w.reach(self.rows, firsts);
         self.lay_columns(system, applied_frames, w);
@@ -484,9 +488,8 @@ impl ContactIteration {
                 self.delassus_beam_solves += 1;
             }
             let column = &mut w.q[j * (reached + 1)..(j + 1) * (reached + 1)];
-            for &i in &w.measured {
+            for (&i, rows) in w.measured.iter().zip(&w.measured_rows) {
                 let frame = &measured_frames[i];
-                let rows = self.measured_beam_rows(i, frame, beam.surface_offset, Part::Velocity);
                 let kinds = super::row_kinds(system.contacts[i].rolls());
                 for (a, &ki) in kinds.iter().enumerate() {
                     let row: [f64; 4] = rows[ki].into();

@@ -905,10 +905,7 @@ impl ContactIteration {
         let matrix = &mut assembly.matrix;
         // Grid steps differ from the nominal step by round-off only.
         let nominal = crate::solver::parameters::is_nominal_step(dt, self.nominal_step);
-        if crate::deadline::is_set() {
-            self.foresee_beam_integrations(system, frames.1, nominal);
-        }
-        if crate::deadline::passed() {
+        if !self.within_deadline(system, frames.1, nominal) {
             return Err(StepError::OverBudget);
         }
         if nominal {
@@ -921,6 +918,21 @@ impl ContactIteration {
         }
         self.add_body_compliance(system, frames, (dt, part), matrix);
         Ok(())
+    }
+
+    /// Whether the step's deadline still allows the beam integrations an
+    /// operator applied in `start_frames` needs (`foresee_beam_integrations`
+    /// refuses it up front where they cannot fit).
+    fn within_deadline(
+        &self,
+        system: &System,
+        start_frames: &[ContactFrame],
+        nominal: bool,
+    ) -> bool {
+        if crate::deadline::is_set() {
+            self.foresee_beam_integrations(system, start_frames, nominal);
+        }
+        !crate::deadline::passed()
     }
 
     /// Refuse the operator up front (`deadline::foresee`) when the beam
