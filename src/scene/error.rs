@@ -86,14 +86,9 @@ impl fmt::Display for SceneError {
                 write!(f, "cannot read scene file `{path}`: {message}")
             }
             SceneError::NotFound { name } => {
-                // The templates are among the built-ins: each name once.
-                let builtins = super::builtins().iter().map(|(n, _)| *n);
-                let mut names: Vec<&str> = Vec::new();
-                for name in builtins.chain(super::templates().map(|(n, _)| n)) {
-                    if !names.contains(&name) {
-                        names.push(name);
-                    }
-                }
+                // The templates are built-ins (`templates` filters them):
+                // listing the built-ins names each once.
+                let names: Vec<&str> = super::builtins().iter().map(|(n, _)| *n).collect();
                 write!(
                     f,
                     "`{name}` is neither a scene file nor a built-in scene (built-ins: {})",
